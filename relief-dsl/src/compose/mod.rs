@@ -1,0 +1,464 @@
+//! Pipeline → one validated `naga::Module`.
+//!
+//! The module holds, for a pipeline `C + R + shadow=S + ao=A`:
+//! - one function per stage (`coarse_linear`, `refine_binary`, `shadow_soft`, …) and
+//!   `trace(ray) -> Hit`, which calls the coarse then the refine stage;
+//! - the same functions again with a `_counted` suffix, which count loop passes and texture
+//!   fetches in two private counters, for the probe;
+//! - the render entry pair `vs_main` (a quad in tangent space) and `fs_main` (trace, then
+//!   shade with albedo and normal at the hit, visibility from the shadow stage, ambient × ao);
+//! - the probe entry `probe` (compute, 64 rays per workgroup: [`ProbeRay`] in, [`ProbeHit`]
+//!   out).
+//!
+//! Resources are declared when a stage first reads them (see [`binding`]), so the module
+//! declares only what its stages read.
+
+use naga::{Binding, BuiltIn, Handle, Module, ShaderStage, TypeInner};
+
+use crate::ir::{Mat4, ModuleCtx, Stage, Ty, UVec3, Val, Vec2, Vec3, Vec4};
+use crate::spec::{Pipeline, Slot, StageSpec};
+use crate::stage::{self, Bracket, Filter, Hit, Ray};
+
+/// Binding numbers (all in group 0). Stable: the runtime binds by these numbers.
+pub mod binding {
+    /// `Params` uniform block: see [`super::PARAMS_LAYOUT`].
+    pub const PARAMS: u32 = 0;
+    /// Height map, `texture_2d<f32>`, height in the red channel.
+    pub const HEIGHT: u32 = 1;
+    /// Sampler with linear filtering (the scene's edge mode as address mode).
+    pub const LINEAR_SAMPLER: u32 = 2;
+    /// Sampler with nearest filtering.
+    pub const NEAREST_SAMPLER: u32 = 3;
+    /// Normal map, `texture_2d<f32>`, `n * 0.5 + 0.5` in rgb.
+    pub const NORMAL: u32 = 4;
+    /// Albedo, `texture_2d<f32>`, rgb.
+    pub const ALBEDO: u32 = 5;
+    /// Probe input, `array<ProbeRay>` (storage, read).
+    pub const RAYS: u32 = 16;
+    /// Probe output, `array<ProbeHit>` (storage, read_write).
+    pub const HITS: u32 = 17;
+}
+
+/// The `Params` uniform block, 112 bytes: `view_proj: mat4x4<f32>` (column-major),
+/// `camera: vec4<f32>` (xyz: camera position in tangent space, w: depth scale — the relief's
+/// depth in texture units), `light: vec4<f32>` (xyz: unit vector toward the light, w:
+/// ambient), `quad: vec4<f32>` (x: the quad's size in texture units, i.e. the tiling).
+pub const PARAMS_LAYOUT: &str = "view_proj: mat4x4<f32>, camera: vec4<f32>, light: vec4<f32>, quad: vec4<f32>";
+
+/// Size of one [`ProbeRay`] in bytes.
+pub const PROBE_RAY_SIZE: u64 = 32;
+/// Size of one [`ProbeHit`] in bytes.
+pub const PROBE_HIT_SIZE: u64 = 24;
+
+/// Documentation of the probe's input record (32 bytes): `origin: vec2<f32>` (texture
+/// coordinates where the ray enters at z = 1), `dir_xy: vec2<f32>`, `dir_z: f32` (the
+/// normalized tangent-space direction), `pixel_x: u32`, `pixel_y: u32`, `pad: u32`.
+pub struct ProbeRay;
+/// Documentation of the probe's output record (24 bytes): `t, u, v, z: f32`,
+/// `iterations: u32` (loop passes over all stages), `fetches: u32` (texture samples).
+pub struct ProbeHit;
+
+/// Workgroup size of the probe entry.
+pub const PROBE_WORKGROUP: u32 = 64;
+
+/// Why a pipeline could not be compiled: which stage, and what went wrong.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("{stage}: {message}")]
+pub struct CompileError {
+    /// The stage (or phase) that failed, e.g. `coarse linear` or `validation`.
+    pub stage: String,
+    /// What went wrong.
+    pub message: String,
+}
+
+impl CompileError {
+    pub(crate) fn not_implemented(slot: &str, name: &str) -> Self {
+        CompileError {
+            stage: format!("{slot} {name}"),
+            message: format!("the {slot} method `{name}` has no stage code yet"),
+        }
+    }
+}
+
+/// A compiled pipeline: the module and its validation info.
+pub struct Compiled {
+    pub module: Module,
+    pub info: naga::valid::ModuleInfo,
+}
+
+/// Struct types shared by the stage functions.
+struct Types {
+    ray: Handle<naga::Type>,
+    bracket: Handle<naga::Type>,
+    hit: Handle<naga::Type>,
+}
+
+fn f32_ty() -> TypeInner {
+    f32::inner()
+}
+
+impl Types {
+    fn new(m: &ModuleCtx) -> Self {
+        Types {
+            ray: m.struct_ty("Ray", &[("origin", Vec2::inner()), ("dir", Vec3::inner()), ("cos_view", f32_ty())]),
+            bracket: m.struct_ty("Bracket", &[("above", f32_ty()), ("below", f32_ty())]),
+            hit: m.struct_ty("Hit", &[("t", f32_ty()), ("uv", Vec2::inner()), ("z", f32_ty())]),
+        }
+    }
+}
+
+fn ray_from<'a>(s: &'a Stage<'a>, h: Handle<naga::Expression>) -> Ray<'a> {
+    Ray { origin: s.field(h, 0), dir: s.field(h, 1), cos_view: s.field(h, 2) }
+}
+fn ray_value<'a>(s: &'a Stage<'a>, ty: &Types, r: &Ray<'a>) -> Handle<naga::Expression> {
+    s.make_struct(ty.ray, &[r.origin.handle(), r.dir.handle(), r.cos_view.handle()])
+}
+fn hit_from<'a>(s: &'a Stage<'a>, h: Handle<naga::Expression>) -> Hit<'a> {
+    Hit { t: s.field(h, 0), uv: s.field(h, 1), z: s.field(h, 2) }
+}
+fn hit_value<'a>(s: &'a Stage<'a>, ty: &Types, h: &Hit<'a>) -> Handle<naga::Expression> {
+    s.make_struct(ty.hit, &[h.t.handle(), h.uv.handle(), h.z.handle()])
+}
+
+/// The stage functions of one variant (plain or counted).
+struct StageFns {
+    trace: Handle<naga::Function>,
+    shadow: Option<Handle<naga::Function>>,
+    ao: Option<Handle<naga::Function>>,
+}
+
+fn fn_name(slot: Slot, spec: &StageSpec, counted: bool) -> String {
+    let base = format!("{}_{}", slot.name(), spec.name);
+    if counted {
+        format!("{base}_counted")
+    } else {
+        base
+    }
+}
+
+fn wrap_err(slot: Slot, spec: &StageSpec) -> impl Fn(CompileError) -> CompileError + '_ {
+    move |mut e| {
+        if !e.stage.starts_with(slot.name()) {
+            e.stage = format!("{} {} ({})", slot.name(), spec.name, e.stage);
+        }
+        e
+    }
+}
+
+fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: bool) -> Result<StageFns, CompileError> {
+    m.counting.set(counted);
+    // coarse(ray) -> Bracket
+    let coarse = {
+        let s = m.function(&fn_name(Slot::Coarse, &p.coarse, counted), &[("ray", ty.ray, None)]);
+        let arg = s.arg::<Vec4>(0).handle();
+        let ray = ray_from(&s, arg);
+        let b = stage::coarse::build(&s, &ray, &p.coarse).map_err(wrap_err(Slot::Coarse, &p.coarse))?;
+        let v = s.make_struct(ty.bracket, &[b.above.handle(), b.below.handle()]);
+        let f = s.finish(Some((ty.bracket, None, v)));
+        m.add_function(f)
+    };
+    // refine(ray, bracket) -> Hit
+    let refine = {
+        let s = m.function(
+            &fn_name(Slot::Refine, &p.refine, counted),
+            &[("ray", ty.ray, None), ("bracket", ty.bracket, None)],
+        );
+        let ray = ray_from(&s, s.arg::<Vec4>(0).handle());
+        let bh = s.arg::<Vec4>(1).handle();
+        let b = Bracket::new(s.field(bh, 0), s.field(bh, 1));
+        let hit = stage::refine::build(&s, &ray, b, &p.refine).map_err(wrap_err(Slot::Refine, &p.refine))?;
+        let v = hit_value(&s, ty, &hit);
+        let f = s.finish(Some((ty.hit, None, v)));
+        m.add_function(f)
+    };
+    // trace(ray) -> Hit
+    let trace = {
+        let name = if counted { "trace_counted" } else { "trace" };
+        let s = m.function(name, &[("ray", ty.ray, None)]);
+        let ray = s.arg::<Vec4>(0).handle();
+        let b = s.call(coarse, &[ray], true).unwrap();
+        let h = s.call(refine, &[ray, b], true).unwrap();
+        let f = s.finish(Some((ty.hit, None, h)));
+        m.add_function(f)
+    };
+    let shadow = if p.shadow.is_none() {
+        None
+    } else {
+        let s = m.function(
+            &fn_name(Slot::Shadow, &p.shadow, counted),
+            &[("hit", ty.hit, None), ("light", m.ty(Vec3::inner()), None)],
+        );
+        let hit = hit_from(&s, s.arg::<Vec4>(0).handle());
+        let light = s.arg::<Vec3>(1);
+        let v = stage::shadow::build(&s, &hit, light, &p.shadow).map_err(wrap_err(Slot::Shadow, &p.shadow))?;
+        let f = s.finish(Some((m.ty(f32::inner()), None, v.handle())));
+        Some(m.add_function(f))
+    };
+    let ao = if p.ao.is_none() {
+        None
+    } else {
+        let s = m.function(&fn_name(Slot::Ao, &p.ao, counted), &[("hit", ty.hit, None)]);
+        let hit = hit_from(&s, s.arg::<Vec4>(0).handle());
+        let v = stage::ao::build(&s, &hit, &p.ao).map_err(wrap_err(Slot::Ao, &p.ao))?;
+        let f = s.finish(Some((m.ty(f32::inner()), None, v.handle())));
+        Some(m.add_function(f))
+    };
+    m.counting.set(false);
+    Ok(StageFns { trace, shadow, ao })
+}
+
+fn params_global(m: &ModuleCtx) -> Handle<naga::GlobalVariable> {
+    m.global("params", |m| {
+        let ty = m.struct_ty(
+            "Params",
+            &[("view_proj", Mat4::inner()), ("camera", Vec4::inner()), ("light", Vec4::inner()), ("quad", Vec4::inner())],
+        );
+        naga::GlobalVariable {
+            name: Some("params".into()),
+            space: naga::AddressSpace::Uniform,
+            binding: Some(naga::ResourceBinding { group: 0, binding: binding::PARAMS }),
+            ty,
+            init: None,
+            memory_decorations: Default::default(),
+        }
+    })
+}
+
+fn param<'a, T: Ty>(s: &'a Stage<'a>, index: u32) -> Val<'a, T> {
+    let g = s.global_ptr(params_global(s.module()));
+    s.load(s.member_ptr(g, index))
+}
+
+fn location(n: u32) -> Binding {
+    Binding::Location {
+        location: n,
+        interpolation: Some(naga::Interpolation::Perspective),
+        sampling: Some(naga::Sampling::Center),
+        blend_src: None,
+        per_primitive: false,
+    }
+}
+
+fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
+    let out_ty = {
+        let v4 = m.ty(Vec4::inner());
+        let v2 = m.ty(Vec2::inner());
+        let loc = location(0);
+        m.module.borrow_mut().types.insert(
+            naga::Type {
+                name: Some("VertexOutput".into()),
+                inner: TypeInner::Struct {
+                    members: vec![
+                        naga::StructMember {
+                            name: Some("clip".into()),
+                            ty: v4,
+                            binding: Some(Binding::BuiltIn(BuiltIn::Position { invariant: false })),
+                            offset: 0,
+                        },
+                        naga::StructMember { name: Some("world".into()), ty: v2, binding: Some(loc), offset: 16 },
+                    ],
+                    span: 32,
+                },
+            },
+            naga::Span::UNDEFINED,
+        )
+    };
+    let s = m.function(
+        "vs_main",
+        &[("vertex", m.ty(u32::inner()), Some(Binding::BuiltIn(BuiltIn::VertexIndex)))],
+    );
+    // Four vertices as a triangle strip: (0,0) (1,0) (0,1) (1,1), scaled to the quad's size.
+    let i = s.arg::<u32>(0);
+    let size = param::<Vec4>(&s, 3).x();
+    let corner = s.vec2(i.and(1).to_f32(), i.shr(1).to_f32()) * size;
+    let clip = param::<Mat4>(&s, 0) * s.vec4(s.vec3(corner, 0.0), 1.0);
+    let out = s.make_struct(out_ty, &[clip.handle(), corner.handle()]);
+    let f = s.finish(Some((out_ty, None, out)));
+    naga::EntryPoint {
+        name: "vs_main".into(),
+        stage: ShaderStage::Vertex,
+        early_depth_test: None,
+        workgroup_size: [0; 3],
+        workgroup_size_overrides: None,
+        function: f,
+        mesh_info: None,
+        task_payload: None,
+        incoming_ray_payload: None,
+    }
+}
+
+fn fragment_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint {
+    let loc = location(0);
+    let s = m.function("fs_main", &[("world", m.ty(Vec2::inner()), Some(loc))]);
+    let world = s.arg::<Vec2>(0);
+    let camera = param::<Vec4>(&s, 1);
+    let depth_scale = s.name("depth_scale", camera.w());
+    // The view ray in tangent space, then scaled so that t = 1 reaches the bottom.
+    let view = (s.vec3(world, 0.0) - camera.xyz()).normalize();
+    let dir = s.vec3(view.xy() * (depth_scale / -view.z()), -1.0);
+    let ray = Ray { origin: world, dir, cos_view: -view.z() };
+    let rv = ray_value(&s, ty, &ray);
+    let hit = hit_from(&s, s.call(fns.trace, &[rv], true).unwrap());
+    let hv = hit_value(&s, ty, &hit);
+
+    let light = param::<Vec4>(&s, 2);
+    let to_light = light.xyz();
+    let ambient = light.w();
+    let visibility = match fns.shadow {
+        Some(f) => {
+            let light_n = s.vec3(to_light.xy() * (depth_scale / to_light.z().max(1e-3)), 1.0);
+            s.wrap::<f32>(s.call(f, &[hv, light_n.handle()], true).unwrap())
+        }
+        None => s.lit(1.0),
+    };
+    let occlusion = match fns.ao {
+        Some(f) => s.wrap::<f32>(s.call(f, &[hv], true).unwrap()),
+        None => s.lit(1.0),
+    };
+    let normal = s.normal(hit.uv);
+    let albedo = s.sample("albedo_map", binding::ALBEDO, hit.uv, Filter::Linear).xyz();
+    let diffuse = normal.dot(to_light).max(0.0);
+    let color = albedo * (ambient * occlusion + (1.0 - ambient) * diffuse * visibility);
+    let out = s.vec4(color, 1.0);
+    let f = s.finish(Some((m.ty(Vec4::inner()), Some(location(0)), out.handle())));
+    naga::EntryPoint {
+        name: "fs_main".into(),
+        stage: ShaderStage::Fragment,
+        early_depth_test: None,
+        workgroup_size: [0; 3],
+        workgroup_size_overrides: None,
+        function: f,
+        mesh_info: None,
+        task_payload: None,
+        incoming_ray_payload: None,
+    }
+}
+
+fn storage_array(m: &ModuleCtx, name: &str, item: Handle<naga::Type>, binding: u32, write: bool) -> Handle<naga::GlobalVariable> {
+    m.global(name, |m| {
+        let (stride, _) = match &m.module.borrow().types[item].inner {
+            TypeInner::Struct { span, .. } => (*span, 0),
+            _ => unreachable!("probe records are structs"),
+        };
+        let arr = m.ty(TypeInner::Array { base: item, size: naga::ArraySize::Dynamic, stride });
+        let access = if write {
+            naga::StorageAccess::LOAD | naga::StorageAccess::STORE
+        } else {
+            naga::StorageAccess::LOAD
+        };
+        naga::GlobalVariable {
+            name: Some(name.to_string()),
+            space: naga::AddressSpace::Storage { access },
+            binding: Some(naga::ResourceBinding { group: 0, binding }),
+            ty: arr,
+            init: None,
+            memory_decorations: Default::default(),
+        }
+    })
+}
+
+fn probe_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint {
+    let u = || u32::inner();
+    let f = f32_ty;
+    let ray_rec = m.struct_ty(
+        "ProbeRay",
+        &[("origin", Vec2::inner()), ("dir_xy", Vec2::inner()), ("dir_z", f()), ("pixel_x", u()), ("pixel_y", u()), ("pad", u())],
+    );
+    let hit_rec = m.struct_ty(
+        "ProbeHit",
+        &[("t", f()), ("u", f()), ("v", f()), ("z", f()), ("iterations", u()), ("fetches", u())],
+    );
+    let rays = storage_array(m, "rays", ray_rec, binding::RAYS, false);
+    let hits = storage_array(m, "hits", hit_rec, binding::HITS, true);
+    let counters = ["relief_iterations", "relief_fetches"].map(|name| {
+        m.global(name, |m| naga::GlobalVariable {
+            name: Some(name.into()),
+            space: naga::AddressSpace::Private,
+            binding: None,
+            ty: m.ty(u32::inner()),
+            init: None,
+            memory_decorations: Default::default(),
+        })
+    });
+
+    let s = m.function(
+        "probe",
+        &[("id", m.ty(UVec3::inner()), Some(Binding::BuiltIn(BuiltIn::GlobalInvocationId)))],
+    );
+    let index = s.arg::<UVec3>(0).x();
+    let rays_ptr = s.global_ptr(rays);
+    s.if_(index.ge(s.array_length(rays_ptr)), |s| s.ret());
+    let rec = s.element_ptr(rays_ptr, index.handle());
+    let origin = s.load::<Vec2>(s.member_ptr(rec, 0));
+    let dir_xy = s.load::<Vec2>(s.member_ptr(rec, 1));
+    let dir_z = s.load::<f32>(s.member_ptr(rec, 2));
+    let depth_scale = param::<Vec4>(&s, 1).w();
+    // The same cosine the render entry gets from the camera: the unscaled view ray is
+    // (dir.xy, dir.z · depth_scale).
+    let vz = dir_z * depth_scale;
+    let cos_view = -vz / (dir_xy.dot(dir_xy) + vz * vz).sqrt();
+    let ray = Ray { origin, dir: s.vec3(dir_xy, dir_z), cos_view };
+    for c in counters {
+        let zero = s.lit_u32(0);
+        s.store(s.global_ptr(c), zero.handle());
+    }
+    let rv = ray_value(&s, ty, &ray);
+    let hit = hit_from(&s, s.call(fns.trace, &[rv], true).unwrap());
+    let out = s.element_ptr(s.global_ptr(hits), index.handle());
+    let iterations = s.load::<u32>(s.global_ptr(counters[0]));
+    let fetches = s.load::<u32>(s.global_ptr(counters[1]));
+    let values = [hit.t.handle(), hit.uv.x().handle(), hit.uv.y().handle(), hit.z.handle(), iterations.handle(), fetches.handle()];
+    for (i, v) in values.into_iter().enumerate() {
+        s.store(s.member_ptr(out, i as u32), v);
+    }
+    let f = s.finish(None);
+    naga::EntryPoint {
+        name: "probe".into(),
+        stage: ShaderStage::Compute,
+        early_depth_test: None,
+        workgroup_size: [PROBE_WORKGROUP, 1, 1],
+        workgroup_size_overrides: None,
+        function: f,
+        mesh_info: None,
+        task_payload: None,
+        incoming_ray_payload: None,
+    }
+}
+
+/// Builds the module for `p` (not yet validated).
+pub fn build_module(p: &Pipeline) -> Result<Module, CompileError> {
+    let m = ModuleCtx::new();
+    let ty = Types::new(&m);
+    let plain = build_stage_fns(&m, &ty, p, false)?;
+    let counted = build_stage_fns(&m, &ty, p, true)?;
+    let vs = vertex_entry(&m);
+    let fs = fragment_entry(&m, &ty, &plain);
+    let cs = probe_entry(&m, &ty, &counted);
+    let mut module = m.finish();
+    module.entry_points.extend([vs, fs, cs]);
+    Ok(module)
+}
+
+/// Builds and validates the module for `p`.
+pub fn compile(p: &Pipeline) -> Result<Compiled, CompileError> {
+    let module = build_module(p)?;
+    let info = validate(&module)?;
+    Ok(Compiled { module, info })
+}
+
+/// Runs naga's validator, the single authority on what a module may be.
+pub fn validate(module: &Module) -> Result<naga::valid::ModuleInfo, CompileError> {
+    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default())
+        .validate(module)
+        .map_err(|e| CompileError { stage: "validation".into(), message: format!("{:?}", e.into_inner()) })
+}
+
+/// Names of the resources the module declares (for tests and `required_maps` checks).
+pub fn declared_resources(module: &Module) -> Vec<String> {
+    module
+        .global_variables
+        .iter()
+        .filter(|(_, g)| g.binding.is_some())
+        .filter_map(|(_, g)| g.name.clone())
+        .collect()
+}

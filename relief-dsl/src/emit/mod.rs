@@ -1,0 +1,83 @@
+//! Emitters: WGSL, SPIR-V and GLSL 450 from a compiled pipeline.
+
+use naga::back::{glsl, spv, wgsl};
+use naga::ShaderStage;
+
+use crate::compose::{CompileError, Compiled};
+
+/// The shader files for one pipeline.
+#[derive(Clone, Debug)]
+pub struct Outputs {
+    /// The whole module (render and probe entries) as WGSL.
+    pub wgsl: String,
+    /// The whole module as SPIR-V words.
+    pub spirv: Vec<u32>,
+    /// GLSL 450, one source per entry point: `(file suffix, source)` with suffixes `vert`,
+    /// `frag` and `comp`.
+    pub glsl: Vec<(&'static str, String)>,
+}
+
+fn err(target: &str, e: impl std::fmt::Debug) -> CompileError {
+    CompileError { stage: format!("emit {target}"), message: format!("{e:?}") }
+}
+
+/// WGSL text of the module.
+pub fn wgsl(c: &Compiled) -> Result<String, CompileError> {
+    wgsl::write_string(&c.module, &c.info, wgsl::WriterFlags::empty()).map_err(|e| err("wgsl", e))
+}
+
+/// SPIR-V words of the module (Vulkan 1.1 target environment). Loops are statically
+/// bounded, so naga's forced loop bounding is off.
+pub fn spirv(c: &Compiled) -> Result<Vec<u32>, CompileError> {
+    let options = spv::Options {
+        lang_version: (1, 3),
+        force_loop_bounding: false,
+        ..spv::Options::default()
+    };
+    spv::write_vec(&c.module, &c.info, &options, None).map_err(|e| err("spir-v", e))
+}
+
+/// The GLSL binding map: every `(group 0, binding n)` resource at binding n.
+pub fn glsl_binding_map(c: &Compiled) -> glsl::BindingMap {
+    c.module
+        .global_variables
+        .iter()
+        .filter_map(|(_, g)| g.binding)
+        .map(|rb| (rb, rb.binding as u8))
+        .collect()
+}
+
+/// GLSL 450 of one entry point.
+pub fn glsl_entry(c: &Compiled, stage: ShaderStage, entry: &str) -> Result<String, CompileError> {
+    let options = glsl::Options {
+        version: glsl::Version::Desktop(450),
+        binding_map: glsl_binding_map(c),
+        ..glsl::Options::default()
+    };
+    let pipeline = glsl::PipelineOptions { shader_stage: stage, entry_point: entry.to_string(), multiview: None };
+    let mut out = String::new();
+    let mut w = glsl::Writer::new(&mut out, &c.module, &c.info, &options, &pipeline, Default::default())
+        .map_err(|e| err("glsl", e))?;
+    w.write().map_err(|e| err("glsl", e))?;
+    Ok(out)
+}
+
+/// All three targets.
+pub fn all(c: &Compiled) -> Result<Outputs, CompileError> {
+    let mut glsl = Vec::new();
+    for ep in &c.module.entry_points {
+        let suffix = match ep.stage {
+            ShaderStage::Vertex => "vert",
+            ShaderStage::Fragment => "frag",
+            ShaderStage::Compute => "comp",
+            _ => continue,
+        };
+        glsl.push((suffix, glsl_entry(c, ep.stage, &ep.name)?));
+    }
+    Ok(Outputs { wgsl: wgsl(c)?, spirv: spirv(c)?, glsl })
+}
+
+/// Compiles a pipeline and emits every target.
+pub fn emit(p: &crate::spec::Pipeline) -> Result<Outputs, CompileError> {
+    all(&crate::compose::compile(p)?)
+}

@@ -1,0 +1,444 @@
+//! A typed builder over naga IR, in the spirit of cranelift-frontend's `FunctionBuilder`.
+//!
+//! The builder owns every `Emit` range, block scope and local variable: stage code writes
+//! arithmetic with Rust operators on [`Val`]s, declares mutable state with [`Stage::var`],
+//! and structures control flow with closures ([`Stage::repeat`], [`Stage::if_`]). It never
+//! sees a `naga::Statement`.
+//!
+//! Values carry their shader type as a Rust type parameter, so `vec2 + f32` either splats
+//! (where WGSL would) or does not compile. Host constants fold in Rust: `1.0 / steps as f32`
+//! becomes one literal.
+//!
+//! Resources (textures, samplers, uniforms) are declared lazily, on first use, with the
+//! fixed binding numbers of [`crate::compose::binding`], so a module declares only what its
+//! stages read.
+
+mod ops;
+mod types;
+mod values;
+
+use std::cell::RefCell;
+
+use naga::{
+    Block, Expression, Function, FunctionArgument, FunctionResult, Handle, LocalVariable,
+    Module, Span, Statement,
+};
+
+pub use types::{Mat4, Ty, UVec3, Vec2, Vec3, Vec4};
+pub use values::{IntoVal, Val, Var};
+
+/// Module-wide state shared by every function being built: the module itself and the
+/// resources already declared in it.
+pub struct ModuleCtx {
+    pub(crate) module: RefCell<Module>,
+    globals: RefCell<Vec<(String, Handle<naga::GlobalVariable>)>>,
+    /// Whether functions built now count iterations and fetches (the probe variant).
+    pub(crate) counting: std::cell::Cell<bool>,
+}
+
+impl Default for ModuleCtx {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl ModuleCtx {
+    /// An empty module.
+    pub fn new() -> Self {
+        ModuleCtx {
+            module: RefCell::new(Module::default()),
+            globals: RefCell::new(Vec::new()),
+            counting: std::cell::Cell::new(false),
+        }
+    }
+
+    /// Takes the finished module out.
+    pub fn finish(self) -> Module {
+        self.module.into_inner()
+    }
+
+    /// Adds (or finds) a type.
+    pub fn ty(&self, inner: naga::TypeInner) -> Handle<naga::Type> {
+        self.module
+            .borrow_mut()
+            .types
+            .insert(naga::Type { name: None, inner }, Span::UNDEFINED)
+    }
+
+    /// Adds (or finds) a named struct type from `(member name, member type)` pairs, laid out
+    /// with WGSL's alignment rules.
+    pub fn struct_ty(&self, name: &str, members: &[(&str, naga::TypeInner)]) -> Handle<naga::Type> {
+        let mut offset = 0u32;
+        let mut max_align = 4u32;
+        let mut out = Vec::new();
+        for (mname, inner) in members {
+            let (size, align) = types::size_align(inner);
+            offset = offset.div_ceil(align) * align;
+            max_align = max_align.max(align);
+            out.push(naga::StructMember {
+                name: Some((*mname).to_string()),
+                ty: self.ty(inner.clone()),
+                binding: None,
+                offset,
+            });
+            offset += size;
+        }
+        let span = offset.div_ceil(max_align) * max_align;
+        self.module.borrow_mut().types.insert(
+            naga::Type {
+                name: Some(name.to_string()),
+                inner: naga::TypeInner::Struct { members: out, span },
+            },
+            Span::UNDEFINED,
+        )
+    }
+
+    /// The global named `name`, declared with `make` the first time it is asked for.
+    pub fn global(
+        &self,
+        name: &str,
+        make: impl FnOnce(&ModuleCtx) -> naga::GlobalVariable,
+    ) -> Handle<naga::GlobalVariable> {
+        if let Some((_, h)) = self.globals.borrow().iter().find(|(n, _)| n == name) {
+            return *h;
+        }
+        let var = make(self);
+        let h = self.module.borrow_mut().global_variables.append(var, Span::UNDEFINED);
+        self.globals.borrow_mut().push((name.to_string(), h));
+        h
+    }
+
+    /// Whether a global of this name has been declared.
+    pub fn has_global(&self, name: &str) -> bool {
+        self.globals.borrow().iter().any(|(n, _)| n == name)
+    }
+
+    /// Starts a function with named, typed arguments (and optional bindings, for entry points).
+    pub fn function<'a>(
+        &'a self,
+        name: &str,
+        args: &[(&str, Handle<naga::Type>, Option<naga::Binding>)],
+    ) -> Stage<'a> {
+        let arguments = args
+            .iter()
+            .map(|(n, ty, binding)| FunctionArgument {
+                name: Some((*n).to_string()),
+                ty: *ty,
+                binding: binding.clone(),
+            })
+            .collect();
+        Stage {
+            ctx: self,
+            f: RefCell::new(FnState {
+                func: Function {
+                    name: Some(name.to_string()),
+                    arguments,
+                    ..Function::default()
+                },
+                blocks: vec![Block::new()],
+                emit_from: None,
+                loop_depth: 0,
+            }),
+        }
+    }
+
+    /// Adds a finished function to the module.
+    pub fn add_function(&self, f: Function) -> Handle<Function> {
+        self.module.borrow_mut().functions.append(f, Span::UNDEFINED)
+    }
+}
+
+struct FnState {
+    func: Function,
+    /// Open blocks, innermost last; the first is the function body.
+    blocks: Vec<Block>,
+    /// Index of the first expression not yet covered by an `Emit`.
+    emit_from: Option<usize>,
+    loop_depth: u32,
+}
+
+/// The function being built. Stage code receives `&Stage` and builds values through it.
+pub struct Stage<'a> {
+    pub(crate) ctx: &'a ModuleCtx,
+    f: RefCell<FnState>,
+}
+
+fn is_pre_emitted(e: &Expression) -> bool {
+    // `CallResult` is produced by its `Call` statement and must not be emitted either.
+    e.needs_pre_emit() || matches!(e, Expression::CallResult(_))
+}
+
+impl<'a> Stage<'a> {
+    /// The module this function belongs to.
+    pub fn module(&self) -> &'a ModuleCtx {
+        self.ctx
+    }
+
+    /// Whether this function counts iterations and fetches.
+    pub fn counting(&self) -> bool {
+        self.ctx.counting.get()
+    }
+
+    /// Appends an expression, keeping the emit bookkeeping.
+    pub(crate) fn expr(&self, e: Expression) -> Handle<Expression> {
+        let pre = is_pre_emitted(&e);
+        let mut f = self.f.borrow_mut();
+        if pre {
+            Self::flush(&mut f);
+            f.func.expressions.append(e, Span::UNDEFINED)
+        } else {
+            let len = f.func.expressions.len();
+            if f.emit_from.is_none() {
+                f.emit_from = Some(len);
+            }
+            f.func.expressions.append(e, Span::UNDEFINED)
+        }
+    }
+
+    fn flush(f: &mut FnState) {
+        if let Some(start) = f.emit_from.take() {
+            if start < f.func.expressions.len() {
+                let range = f.func.expressions.range_from(start);
+                f.blocks.last_mut().unwrap().push(Statement::Emit(range), Span::UNDEFINED);
+            }
+        }
+    }
+
+    /// Appends a statement to the innermost open block, after emitting pending expressions.
+    pub(crate) fn stmt(&self, s: Statement) {
+        let mut f = self.f.borrow_mut();
+        Self::flush(&mut f);
+        f.blocks.last_mut().unwrap().push(s, Span::UNDEFINED);
+    }
+
+    /// Runs `body` in a fresh block and returns it.
+    pub(crate) fn block(&'a self, body: impl FnOnce(&'a Self)) -> Block {
+        {
+            let mut f = self.f.borrow_mut();
+            Self::flush(&mut f);
+            f.blocks.push(Block::new());
+        }
+        body(self);
+        let mut f = self.f.borrow_mut();
+        Self::flush(&mut f);
+        f.blocks.pop().unwrap()
+    }
+
+    /// A typed view of an expression handle.
+    pub fn wrap<T: Ty>(&'a self, h: Handle<Expression>) -> Val<'a, T> {
+        Val::from_handle(self, h)
+    }
+
+    /// The `i`-th argument of the function.
+    pub fn arg<T: Ty>(&'a self, i: u32) -> Val<'a, T> {
+        self.wrap(self.expr(Expression::FunctionArgument(i)))
+    }
+
+    /// A mutable local variable called `name` in the generated shader, initialised with
+    /// `init`.
+    pub fn var<T: Ty>(&'a self, name: &str, init: impl IntoVal<'a, T>) -> Var<'a, T> {
+        let init = init.into_val(self);
+        let ty = self.ctx.ty(T::inner());
+        let lv = {
+            let mut f = self.f.borrow_mut();
+            f.func.local_variables.append(
+                LocalVariable { name: Some(name.to_string()), ty, init: None },
+                Span::UNDEFINED,
+            )
+        };
+        let ptr = self.expr(Expression::LocalVariable(lv));
+        let var = Var::new(self, ptr);
+        var.set(init);
+        var
+    }
+
+    /// Gives a value a name in the generated shader.
+    pub fn name<T: Ty>(&'a self, name: &str, v: Val<'a, T>) -> Val<'a, T> {
+        self.f.borrow_mut().func.named_expressions.insert(v.handle(), name.to_string());
+        v
+    }
+
+    /// `for _ in 0..n { body }`. In the probe variant every pass counts as one iteration.
+    pub fn repeat(&'a self, n: u32, body: impl FnOnce(&'a Self)) {
+        self.repeat_until(n, None, body)
+    }
+
+    /// Like [`Stage::repeat`], but also stops once the pass count reaches `limit` (a run-time
+    /// value never above `n`); `n` stays the static bound the loop is known to end by.
+    pub fn repeat_up_to(&'a self, n: u32, limit: Val<'a, u32>, body: impl FnOnce(&'a Self)) {
+        self.repeat_until(n, Some(limit), body)
+    }
+
+    fn repeat_until(&'a self, n: u32, limit: Option<Val<'a, u32>>, body: impl FnOnce(&'a Self)) {
+        let i = self.var::<u32>("i", 0u32);
+        self.f.borrow_mut().loop_depth += 1;
+        let body_block = self.block(|s| {
+            let i_now = i.get();
+            let mut done = i_now.ge(n);
+            if let Some(limit) = limit {
+                done = done | i_now.ge(limit);
+            }
+            s.break_if(done);
+            if s.counting() {
+                s.count("relief_iterations");
+            }
+            body(s);
+        });
+        let continuing = self.block(|_| i.set(i.get() + 1u32));
+        self.f.borrow_mut().loop_depth -= 1;
+        self.stmt(Statement::Loop { body: body_block, continuing, break_if: None });
+    }
+
+    /// Leaves the innermost loop when `cond` holds.
+    pub fn break_if(&'a self, cond: Val<'a, bool>) {
+        assert!(self.f.borrow().loop_depth > 0, "break_if outside a loop");
+        let accept = self.block(|s| s.stmt(Statement::Break));
+        self.stmt(Statement::If { condition: cond.handle(), accept, reject: Block::new() });
+    }
+
+    /// `if cond { then }`.
+    pub fn if_(&'a self, cond: Val<'a, bool>, then: impl FnOnce(&'a Self)) {
+        let accept = self.block(then);
+        self.stmt(Statement::If { condition: cond.handle(), accept, reject: Block::new() });
+    }
+
+    /// `if cond { then } else { otherwise }`.
+    pub fn if_else(
+        &'a self,
+        cond: Val<'a, bool>,
+        then: impl FnOnce(&'a Self),
+        otherwise: impl FnOnce(&'a Self),
+    ) {
+        let accept = self.block(then);
+        let reject = self.block(otherwise);
+        self.stmt(Statement::If { condition: cond.handle(), accept, reject });
+    }
+
+    /// `cond ? a : b`, both sides evaluated.
+    pub fn select<T: Ty>(
+        &'a self,
+        cond: Val<'a, bool>,
+        a: impl IntoVal<'a, T>,
+        b: impl IntoVal<'a, T>,
+    ) -> Val<'a, T> {
+        let a = a.into_val(self);
+        let b = b.into_val(self);
+        self.wrap(self.expr(Expression::Select {
+            condition: cond.handle(),
+            accept: a.handle(),
+            reject: b.handle(),
+        }))
+    }
+
+    /// Returns from the function (from anywhere in it).
+    pub fn ret_handle(&self, value: Option<Handle<Expression>>) {
+        self.stmt(Statement::Return { value });
+    }
+
+    /// Adds one to the private counter `name` (probe variant only).
+    pub(crate) fn count(&'a self, name: &str) {
+        let g = self.ctx.global(name, |m| naga::GlobalVariable {
+            name: Some(name.to_string()),
+            space: naga::AddressSpace::Private,
+            binding: None,
+            ty: m.ty(u32::inner()),
+            init: None,
+            memory_decorations: Default::default(),
+        });
+        let ptr = self.expr(Expression::GlobalVariable(g));
+        let v: Val<'a, u32> = self.wrap(self.expr(Expression::Load { pointer: ptr }));
+        let next = v + 1u32;
+        self.stmt(Statement::Store { pointer: ptr, value: next.handle() });
+    }
+
+    /// Calls `function` with `args`; returns the result's handle when it has one.
+    pub fn call(
+        &self,
+        function: Handle<Function>,
+        args: &[Handle<Expression>],
+        has_result: bool,
+    ) -> Option<Handle<Expression>> {
+        let result = if has_result {
+            Some(self.expr(Expression::CallResult(function)))
+        } else {
+            None
+        };
+        self.stmt(Statement::Call { function, arguments: args.to_vec(), result });
+        result
+    }
+
+    /// Finishes the function: the body gets a final `return value`, and the function its
+    /// result type.
+    pub fn finish(&self, result: Option<(Handle<naga::Type>, Option<naga::Binding>, Handle<Expression>)>) -> Function {
+        match result {
+            Some((ty, binding, value)) => {
+                self.stmt(Statement::Return { value: Some(value) });
+                let mut f = self.take_state();
+                f.func.result = Some(FunctionResult { ty, binding });
+                f.func.body = f.blocks.pop().unwrap();
+                f.func
+            }
+            None => {
+                self.stmt(Statement::Return { value: None });
+                let mut f = self.take_state();
+                f.func.body = f.blocks.pop().unwrap();
+                f.func
+            }
+        }
+    }
+
+    fn take_state(&self) -> FnState {
+        self.f.replace(FnState {
+            func: Function::default(),
+            blocks: vec![Block::new()],
+            emit_from: None,
+            loop_depth: 0,
+        })
+    }
+
+    /// The expression arena (read only), for inspection in tests.
+    pub fn expression_count(&self) -> usize {
+        self.f.borrow().func.expressions.len()
+    }
+}
+
+/// Struct and pointer plumbing, for the composer (stages use the typed structs of
+/// [`crate::stage`] instead).
+impl<'a> Stage<'a> {
+    /// Member `index` of the struct value `base`.
+    pub fn field<T: Ty>(&'a self, base: Handle<Expression>, index: u32) -> Val<'a, T> {
+        self.wrap(self.expr(Expression::AccessIndex { base, index }))
+    }
+    /// A struct value of type `ty` from its members.
+    pub fn make_struct(&self, ty: Handle<naga::Type>, members: &[Handle<Expression>]) -> Handle<Expression> {
+        self.expr(Expression::Compose { ty, components: members.to_vec() })
+    }
+    /// A pointer to the global `g`.
+    pub fn global_ptr(&self, g: Handle<naga::GlobalVariable>) -> Handle<Expression> {
+        self.expr(Expression::GlobalVariable(g))
+    }
+    /// Pointer to member `index` of the struct behind `ptr`.
+    pub fn member_ptr(&self, ptr: Handle<Expression>, index: u32) -> Handle<Expression> {
+        self.expr(Expression::AccessIndex { base: ptr, index })
+    }
+    /// Pointer to element `index` of the array behind `ptr`.
+    pub fn element_ptr(&self, ptr: Handle<Expression>, index: Handle<Expression>) -> Handle<Expression> {
+        self.expr(Expression::Access { base: ptr, index })
+    }
+    /// Loads through a pointer.
+    pub fn load<T: Ty>(&'a self, ptr: Handle<Expression>) -> Val<'a, T> {
+        self.wrap(self.expr(Expression::Load { pointer: ptr }))
+    }
+    /// Stores through a pointer.
+    pub fn store(&self, ptr: Handle<Expression>, value: Handle<Expression>) {
+        self.stmt(Statement::Store { pointer: ptr, value });
+    }
+    /// Number of elements of the runtime-sized array behind `ptr`.
+    pub fn array_length(&'a self, ptr: Handle<Expression>) -> Val<'a, u32> {
+        self.wrap(self.expr(Expression::ArrayLength(ptr)))
+    }
+    /// Returns from a function without a result.
+    pub fn ret(&self) {
+        self.stmt(Statement::Return { value: None });
+    }
+}

@@ -1,0 +1,110 @@
+//! Typed values and variables.
+
+use std::marker::PhantomData;
+
+use naga::{Expression, Handle, Literal, Statement};
+
+use super::{Stage, Ty};
+
+/// A value of shader type `T` inside the function being built. `Copy`, like a handle.
+pub struct Val<'a, T: Ty> {
+    s: &'a Stage<'a>,
+    h: Handle<Expression>,
+    _t: PhantomData<T>,
+}
+
+impl<T: Ty> Clone for Val<'_, T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<T: Ty> Copy for Val<'_, T> {}
+
+impl<'a, T: Ty> Val<'a, T> {
+    pub(crate) fn from_handle(s: &'a Stage<'a>, h: Handle<Expression>) -> Self {
+        Val { s, h, _t: PhantomData }
+    }
+    /// The naga expression behind the value.
+    pub fn handle(self) -> Handle<Expression> {
+        self.h
+    }
+    /// The function this value belongs to.
+    pub fn stage(self) -> &'a Stage<'a> {
+        self.s
+    }
+    pub(crate) fn derive<U: Ty>(self, e: Expression) -> Val<'a, U> {
+        Val::from_handle(self.s, self.s.expr(e))
+    }
+}
+
+/// Anything that can become a `Val<T>`: the value itself, or a host constant.
+pub trait IntoVal<'a, T: Ty> {
+    /// Converts, adding a literal to `s` when needed.
+    fn into_val(self, s: &'a Stage<'a>) -> Val<'a, T>;
+}
+
+impl<'a, T: Ty> IntoVal<'a, T> for Val<'a, T> {
+    fn into_val(self, _: &'a Stage<'a>) -> Val<'a, T> {
+        self
+    }
+}
+impl<'a> IntoVal<'a, f32> for f32 {
+    fn into_val(self, s: &'a Stage<'a>) -> Val<'a, f32> {
+        s.lit(self)
+    }
+}
+impl<'a> IntoVal<'a, u32> for u32 {
+    fn into_val(self, s: &'a Stage<'a>) -> Val<'a, u32> {
+        s.wrap(s.expr(Expression::Literal(Literal::U32(self))))
+    }
+}
+impl<'a> IntoVal<'a, bool> for bool {
+    fn into_val(self, s: &'a Stage<'a>) -> Val<'a, bool> {
+        s.wrap(s.expr(Expression::Literal(Literal::Bool(self))))
+    }
+}
+
+impl<'a> Stage<'a> {
+    /// An `f32` literal. Panics on a non-finite value, which naga forbids: a host constant
+    /// that is NaN or infinite is a bug in the stage.
+    pub fn lit(&'a self, x: f32) -> Val<'a, f32> {
+        assert!(x.is_finite(), "non-finite shader constant {x}");
+        self.wrap(self.expr(Expression::Literal(Literal::F32(x))))
+    }
+    /// A `u32` literal.
+    pub fn lit_u32(&'a self, x: u32) -> Val<'a, u32> {
+        x.into_val(self)
+    }
+}
+
+/// A function-local variable of type `T`.
+pub struct Var<'a, T: Ty> {
+    s: &'a Stage<'a>,
+    ptr: Handle<Expression>,
+    _t: PhantomData<T>,
+}
+
+impl<T: Ty> Clone for Var<'_, T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<T: Ty> Copy for Var<'_, T> {}
+
+impl<'a, T: Ty> Var<'a, T> {
+    pub(crate) fn new(s: &'a Stage<'a>, ptr: Handle<Expression>) -> Self {
+        Var { s, ptr, _t: PhantomData }
+    }
+    pub(crate) fn ptr(self) -> Handle<Expression> {
+        self.ptr
+    }
+    /// The current value.
+    pub fn get(self) -> Val<'a, T> {
+        self.s.wrap(self.s.expr(Expression::Load { pointer: self.ptr }))
+    }
+    /// Stores a new value.
+    pub fn set(self, v: impl IntoVal<'a, T>) {
+        let v = v.into_val(self.s);
+        self.s.stmt(Statement::Store { pointer: self.ptr, value: v.handle() });
+    }
+}

@@ -1,0 +1,24 @@
+//! relief-dsl: relief-mapping search methods as stages, composed into one naga module.
+//!
+//! - [`spec`]: the pipeline as data and its text form (`linear(10)+binary(5)`);
+//! - [`ir`]: a typed builder over naga IR in which stages are written;
+//! - [`stage`]: the stages, one file per method family;
+//! - [`compose`]: pipeline → validated module with render and probe entry points;
+//! - [`emit`]: WGSL, SPIR-V and GLSL 450.
+//!
+//! ```
+//! use relief_dsl::{compose, emit, spec::Pipeline};
+//! let p: Pipeline = "linear(10)+binary(5)".parse()?;
+//! let shaders = emit::emit(&p)?;
+//! assert!(shaders.wgsl.contains("fn coarse_linear("));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod compose;
+pub mod emit;
+pub mod ir;
+pub mod spec;
+pub mod stage;
+
+pub use compose::{compile, CompileError, Compiled};
+pub use spec::{Pipeline, Slot, StageSpec};

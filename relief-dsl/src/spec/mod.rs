@@ -1,0 +1,293 @@
+//! The pipeline as data: which method fills each slot (coarse, refine, shadow, ao) and with
+//! which parameters, its canonical text form, and the maps it needs.
+//!
+//! # Text form
+//!
+//! `COARSE[+REFINE][+shadow=SHADOW][+ao=AO]`, for example `linear(10)+binary(5)` or
+//! `linear(10)+interval(3)+shadow=soft(30)`. Names are lower_snake. Parameters are positional
+//! or named (`linear(steps=10)`, `csm(15, sample=min4)`), and a parameter may itself be a
+//! stage (`shadow=hard(linear(20))`). Slots may also be named explicitly
+//! (`coarse=linear(10)+refine=binary(5)`). Left-out slots are `none`, left-out parameters take
+//! their defaults. [`Pipeline`]'s `Display` prints the canonical form: positional numbers,
+//! named options only where they differ from the default, `none` slots left out.
+//!
+//! ```
+//! use relief_dsl::spec::Pipeline;
+//! let p: Pipeline = "linear( steps = 10 ) + binary(5)".parse().unwrap();
+//! assert_eq!(p.to_string(), "linear(10)+binary(5)");
+//! let err = "lnear(10)".parse::<Pipeline>().unwrap_err();
+//! assert!(err.to_string().contains("did you mean `linear`"));
+//! ```
+
+mod catalog;
+mod parse;
+
+use std::fmt;
+use std::str::FromStr;
+
+pub use catalog::{catalog, method, MethodDef, ParamDef, ParamKind, MAX_STEPS};
+pub use parse::ParseError;
+
+/// The four slots of a pipeline.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Slot {
+    /// Finds a bracket around the first intersection.
+    Coarse,
+    /// Narrows the bracket down to a hit.
+    Refine,
+    /// Visibility of the light from the hit.
+    Shadow,
+    /// Ambient occlusion at the hit.
+    Ao,
+}
+
+impl Slot {
+    /// All slots in pipeline order.
+    pub const ALL: [Slot; 4] = [Slot::Coarse, Slot::Refine, Slot::Shadow, Slot::Ao];
+    /// The slot's name in the text form.
+    pub fn name(self) -> &'static str {
+        match self {
+            Slot::Coarse => "coarse",
+            Slot::Refine => "refine",
+            Slot::Shadow => "shadow",
+            Slot::Ao => "ao",
+        }
+    }
+}
+
+impl fmt::Display for Slot {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A parameter value.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Value {
+    /// A whole number (step counts, cone counts).
+    Int(u32),
+    /// A word from a fixed choice (`min4`, `hk`).
+    Word(String),
+    /// A nested stage (`hard(linear(20))`).
+    Stage(Box<StageSpec>),
+}
+
+impl fmt::Display for Value {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Value::Int(n) => write!(f, "{n}"),
+            Value::Word(w) => f.write_str(w),
+            Value::Stage(s) => write!(f, "{s}"),
+        }
+    }
+}
+
+/// One method with all its parameters resolved (defaults filled in), in declaration order.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct StageSpec {
+    /// The method's name, e.g. `linear`.
+    pub name: String,
+    /// `(parameter name, value)` for every parameter of the method, in its declared order.
+    pub params: Vec<(String, Value)>,
+}
+
+impl StageSpec {
+    /// The `none` method of any slot.
+    pub fn none() -> Self {
+        StageSpec { name: "none".into(), params: vec![] }
+    }
+    /// Whether this is the `none` method.
+    pub fn is_none(&self) -> bool {
+        self.name == "none"
+    }
+    /// The value of parameter `name`.
+    pub fn get(&self, name: &str) -> Option<&Value> {
+        self.params.iter().find(|(n, _)| n == name).map(|(_, v)| v)
+    }
+    /// The whole-number parameter `name` (0 when missing, which resolution rules out).
+    pub fn int(&self, name: &str) -> u32 {
+        match self.get(name) {
+            Some(Value::Int(n)) => *n,
+            _ => 0,
+        }
+    }
+    /// The word parameter `name`.
+    pub fn word(&self, name: &str) -> &str {
+        match self.get(name) {
+            Some(Value::Word(w)) => w,
+            _ => "",
+        }
+    }
+    /// Builds a spec from a method name and parameters given in order, checking them the
+    /// same way the text form does.
+    pub fn new(slot: Slot, name: &str, params: &[Value]) -> Result<Self, ParseError> {
+        let args: Vec<parse::Arg> = params
+            .iter()
+            .map(|v| parse::Arg { name: None, value: v.clone().into(), pos: 0 })
+            .collect();
+        parse::resolve(slot, name, 0, args)
+    }
+}
+
+impl fmt::Display for StageSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.name)?;
+        let Some(def) = catalog::method_any(&self.name) else {
+            return Ok(());
+        };
+        let mut parts = Vec::new();
+        for (pdef, (_, v)) in def.params.iter().zip(&self.params) {
+            match pdef.kind {
+                ParamKind::Choice(_) => {
+                    if pdef.default.as_ref() != Some(v) {
+                        parts.push(format!("{}={v}", pdef.name));
+                    }
+                }
+                _ => parts.push(v.to_string()),
+            }
+        }
+        if !parts.is_empty() {
+            write!(f, "({})", parts.join(", "))?;
+        }
+        Ok(())
+    }
+}
+
+/// A whole pipeline: one method per slot.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Pipeline {
+    pub coarse: StageSpec,
+    pub refine: StageSpec,
+    pub shadow: StageSpec,
+    pub ao: StageSpec,
+}
+
+impl Pipeline {
+    /// A pipeline from its four stages.
+    pub fn new(coarse: StageSpec, refine: StageSpec, shadow: StageSpec, ao: StageSpec) -> Self {
+        Pipeline { coarse, refine, shadow, ao }
+    }
+    /// The stage in `slot`.
+    pub fn slot(&self, slot: Slot) -> &StageSpec {
+        match slot {
+            Slot::Coarse => &self.coarse,
+            Slot::Refine => &self.refine,
+            Slot::Shadow => &self.shadow,
+            Slot::Ao => &self.ao,
+        }
+    }
+    /// Mutable access to the stage in `slot`.
+    pub fn slot_mut(&mut self, slot: Slot) -> &mut StageSpec {
+        match slot {
+            Slot::Coarse => &mut self.coarse,
+            Slot::Refine => &mut self.refine,
+            Slot::Shadow => &mut self.shadow,
+            Slot::Ao => &mut self.ao,
+        }
+    }
+
+    /// The maps the pipeline's stages read, besides the height map every pipeline reads,
+    /// without duplicates, in a stable order.
+    pub fn required_maps(&self) -> Vec<MapReq> {
+        let mut out = Vec::new();
+        for slot in Slot::ALL {
+            collect_maps(slot, self.slot(slot), &mut out);
+        }
+        out.sort();
+        out.dedup();
+        out
+    }
+
+    /// The canonical text made safe as a file name: `(` → `_`, `)` dropped, `,` → `_`,
+    /// `=` → `-`, `+` → `__`, spaces dropped. `linear(10)+binary(5)+shadow=soft(30)` becomes
+    /// `linear_10__binary_5__shadow-soft_30`.
+    pub fn file_stem(&self) -> String {
+        file_safe(&self.to_string())
+    }
+
+    /// Every combination of the methods in the catalogue at default parameters, for the
+    /// slots coarse, refine and shadow (ao `none`), in catalogue order.
+    pub fn all_defaults() -> Vec<Pipeline> {
+        let of = |slot: Slot| -> Vec<StageSpec> {
+            catalog()
+                .iter()
+                .filter(|m| m.slot == slot && m.implemented)
+                .map(|m| m.default_spec())
+                .collect()
+        };
+        let mut out = Vec::new();
+        for c in of(Slot::Coarse) {
+            for r in of(Slot::Refine) {
+                for s in of(Slot::Shadow) {
+                    out.push(Pipeline::new(c.clone(), r.clone(), s.clone(), StageSpec::none()));
+                }
+            }
+        }
+        out
+    }
+}
+
+/// See [`Pipeline::file_stem`].
+pub fn file_safe(text: &str) -> String {
+    let mut s = String::new();
+    for ch in text.chars() {
+        match ch {
+            '(' | ',' => s.push('_'),
+            ')' | ' ' => {}
+            '=' => s.push('-'),
+            '+' => s.push_str("__"),
+            c => s.push(c),
+        }
+    }
+    s
+}
+
+fn collect_maps(slot: Slot, spec: &StageSpec, out: &mut Vec<MapReq>) {
+    if let Some(def) = method(slot, &spec.name) {
+        out.extend((def.maps)(spec));
+        for (pdef, (_, v)) in def.params.iter().zip(&spec.params) {
+            if let (ParamKind::StageOr(inner_slot), Value::Stage(inner)) = (&pdef.kind, v) {
+                collect_maps(*inner_slot, inner, out);
+            }
+        }
+    }
+}
+
+/// A map a stage reads, besides the height map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum MapReq {
+    /// The tangent-space normal map (encoded `n * 0.5 + 0.5`).
+    Normal,
+}
+
+impl MapReq {
+    /// The name used for the map's shader binding and its kind in `relief maps`.
+    pub fn name(self) -> &'static str {
+        match self {
+            MapReq::Normal => "normal",
+        }
+    }
+}
+
+impl fmt::Display for Pipeline {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.coarse)?;
+        if !self.refine.is_none() {
+            write!(f, "+{}", self.refine)?;
+        }
+        if !self.shadow.is_none() {
+            write!(f, "+shadow={}", self.shadow)?;
+        }
+        if !self.ao.is_none() {
+            write!(f, "+ao={}", self.ao)?;
+        }
+        Ok(())
+    }
+}
+
+impl FromStr for Pipeline {
+    type Err = ParseError;
+    fn from_str(s: &str) -> Result<Self, ParseError> {
+        parse::pipeline(s)
+    }
+}

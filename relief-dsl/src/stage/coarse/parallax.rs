@@ -1,0 +1,52 @@
+//! The parallax family: one-shot (or few-shot) offsets that assume the surface is locally a
+//! plane. Each yields a single point, returned as [`Bracket::point`]. Sources: Burger 2018
+//! §2.2 (eq. 2.3–2.6) and the survey of Szirmay-Kalos & Umenhoffer, §4.1.2–4.2.1.
+//!
+//! In normalized tangent space the ray reaches depth `1 - h` at `t = (1 - h) / -dir.z`. The
+//! survey's "offset limiting" and "safe slope" variants drop the division by the view
+//! vector's z, which in this parameterization multiplies that t by `cos θ` (θ the angle of
+//! the view ray from the normal).
+
+use crate::ir::{Stage, Val};
+use crate::stage::{Bracket, Ray};
+
+/// Plain texture mapping: the hit is where the ray enters, t = 0.
+pub fn none<'a>(s: &'a Stage<'a>, ray: &Ray<'a>) -> Bracket<'a> {
+    Bracket::point(ray, s.lit(0.0))
+}
+
+/// Parallax mapping (Kaneko et al. 2001; Burger eq. 2.3): the surface is taken to be the
+/// plane at the height found under the entry point, `t = (1 - h) / -d.z`.
+pub fn parallax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>) -> Bracket<'a> {
+    let h = s.height(ray.origin);
+    Bracket::point(ray, (1.0 - h) / -ray.dir.z())
+}
+
+/// Parallax with offset limiting (Welsh 2004; survey §4.1.3, Burger eq. 2.6): the offset is
+/// the depth along the *normalized* view vector, so it never exceeds the depth itself.
+pub fn offset_limited<'a>(s: &'a Stage<'a>, ray: &Ray<'a>) -> Bracket<'a> {
+    let h = s.height(ray.origin);
+    Bracket::point(ray, (1.0 - h) * ray.cos_view / -ray.dir.z())
+}
+
+/// Parallax along the slope (survey §4.1.4, the "safer" form): the depth is scaled by the
+/// normal map's z, `offset = h · N.z · V.xy`.
+pub fn slope_parallax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>) -> Bracket<'a> {
+    let h = s.height(ray.origin);
+    let n = s.normal(ray.origin);
+    Bracket::point(ray, (1.0 - h) * n.z() * ray.cos_view / -ray.dir.z())
+}
+
+/// Iterative parallax mapping (Premecz 2006; survey §4.2.1): repeat the slope correction
+/// `uvh += (h - uvh.z) · N.z · V` at the current point, `steps` times.
+pub fn iterative_parallax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
+    let t = s.var("t", 0.0);
+    s.repeat(steps, |s| {
+        let p = ray.at(t.get());
+        let h = s.height(p.xy());
+        let n = s.normal(p.xy());
+        let step: Val<'a, f32> = (p.z() - h) * n.z() * ray.cos_view / -ray.dir.z();
+        t.set(t.get() + step);
+    });
+    Bracket::point(ray, t.get())
+}

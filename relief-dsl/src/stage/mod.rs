@@ -1,0 +1,160 @@
+//! The stage interface and the resources stages read.
+//!
+//! Conventions (DESIGN.md): texture space with u, v in texture coordinates and z the height
+//! in [0, 1], the polygon at z = 1. A [`Ray`] enters at `(origin, 1)` with direction `dir`,
+//! `dir.z < 0`, scaled so that t = 1 reaches z = 0. Every stage speaks in this t.
+//!
+//! - coarse: ray → [`Bracket`] (`above`: a t known to be above the surface, `below`: the first
+//!   t found at or below it);
+//! - refine: ray + bracket → [`Hit`];
+//! - shadow: hit + light direction → visibility in [0, 1];
+//! - ao: hit → ambient factor in [0, 1].
+//!
+//! A method that yields a single point (parallax and its relatives) returns
+//! [`Bracket::point`]: the bracket from the ray's entry (t = 0) to that point, so that any
+//! refine after it searches between the two.
+
+pub mod ao;
+pub mod coarse;
+pub mod refine;
+pub mod shadow;
+
+use naga::{Expression, ImageClass, ImageDimension, SampleLevel, ScalarKind, TypeInner};
+
+use crate::compose::binding;
+use crate::ir::{Stage, Val, Vec2, Vec3, Vec4};
+
+/// A ray in normalized tangent space.
+#[derive(Clone, Copy)]
+pub struct Ray<'a> {
+    /// Texture coordinates where the ray enters the volume (z = 1).
+    pub origin: Val<'a, Vec2>,
+    /// Direction, `dir.z < 0`; t = 1 reaches z = 0 when `dir.z = -1`.
+    pub dir: Val<'a, Vec3>,
+    /// Cosine of the angle between the (unscaled) view ray and the surface normal.
+    pub cos_view: Val<'a, f32>,
+}
+
+impl<'a> Ray<'a> {
+    /// The point at parameter t: `(origin + t·dir.xy, 1 + t·dir.z)`.
+    pub fn at(&self, t: Val<'a, f32>) -> Val<'a, Vec3> {
+        let s = t.stage();
+        s.vec3(self.origin + self.dir.xy() * t, 1.0 + self.dir.z() * t)
+    }
+    /// The t at which the ray reaches z = 0, the bottom of the volume.
+    pub fn t_max(&self) -> Val<'a, f32> {
+        1.0 / -self.dir.z()
+    }
+}
+
+/// An interval of the ray that holds the first intersection.
+#[derive(Clone, Copy)]
+pub struct Bracket<'a> {
+    /// A t above the surface.
+    pub above: Val<'a, f32>,
+    /// A t at or below the surface (or the search's last guess, when it found none).
+    pub below: Val<'a, f32>,
+}
+
+impl<'a> Bracket<'a> {
+    /// The bracket `[above, below]`.
+    pub fn new(above: Val<'a, f32>, below: Val<'a, f32>) -> Self {
+        Bracket { above, below }
+    }
+    /// A single point from a one-shot method, as the bracket from the entry to it, the point
+    /// clamped into the volume.
+    pub fn point(ray: &Ray<'a>, t: Val<'a, f32>) -> Self {
+        let s = t.stage();
+        Bracket { above: s.lit(0.0), below: t.clamp(0.0, ray.t_max()) }
+    }
+}
+
+/// A hit: the ray parameter, where it lands in texture space and its height.
+#[derive(Clone, Copy)]
+pub struct Hit<'a> {
+    pub t: Val<'a, f32>,
+    pub uv: Val<'a, Vec2>,
+    pub z: Val<'a, f32>,
+}
+
+impl<'a> Hit<'a> {
+    /// The hit at parameter t along `ray`.
+    pub fn at(ray: &Ray<'a>, t: Val<'a, f32>) -> Self {
+        let p = ray.at(t);
+        Hit { t, uv: p.xy(), z: p.z() }
+    }
+}
+
+/// How a stage samples a map: bilinear between texel centres, or the nearest texel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Filter {
+    Linear,
+    Nearest,
+}
+
+fn texture_2d(m: &crate::ir::ModuleCtx, name: &str, binding: u32) -> naga::GlobalVariable {
+    naga::GlobalVariable {
+        name: Some(name.to_string()),
+        space: naga::AddressSpace::Handle,
+        binding: Some(naga::ResourceBinding { group: 0, binding }),
+        ty: m.ty(TypeInner::Image {
+            dim: ImageDimension::D2,
+            arrayed: false,
+            class: ImageClass::Sampled { kind: ScalarKind::Float, multi: false },
+        }),
+        init: None,
+        memory_decorations: Default::default(),
+    }
+}
+
+fn sampler(m: &crate::ir::ModuleCtx, name: &str, binding: u32) -> naga::GlobalVariable {
+    naga::GlobalVariable {
+        name: Some(name.to_string()),
+        space: naga::AddressSpace::Handle,
+        binding: Some(naga::ResourceBinding { group: 0, binding }),
+        ty: m.ty(TypeInner::Sampler { comparison: false }),
+        init: None,
+        memory_decorations: Default::default(),
+    }
+}
+
+impl<'a> Stage<'a> {
+    /// Samples the map `map` (bound at `binding`) at `uv`, level 0 (explicit, so sampling is
+    /// valid in any control flow). Counts one fetch in the probe variant.
+    pub fn sample(&'a self, map: &str, map_binding: u32, uv: Val<'a, Vec2>, filter: Filter) -> Val<'a, Vec4> {
+        let m = self.module();
+        let tex = m.global(map, |m| texture_2d(m, map, map_binding));
+        let (sname, sbind) = match filter {
+            Filter::Linear => ("linear_sampler", binding::LINEAR_SAMPLER),
+            Filter::Nearest => ("nearest_sampler", binding::NEAREST_SAMPLER),
+        };
+        let smp = m.global(sname, |m| sampler(m, sname, sbind));
+        if self.counting() {
+            self.count("relief_fetches");
+        }
+        let image = self.expr(Expression::GlobalVariable(tex));
+        let sampler = self.expr(Expression::GlobalVariable(smp));
+        self.wrap(self.expr(Expression::ImageSample {
+            image,
+            sampler,
+            gather: None,
+            coordinate: uv.handle(),
+            array_index: None,
+            offset: None,
+            level: SampleLevel::Zero,
+            depth_ref: None,
+            clamp_to_edge: false,
+        }))
+    }
+
+    /// GETHEIGHT of the algorithm boxes: the height map at `uv`, bilinear.
+    pub fn height(&'a self, uv: Val<'a, Vec2>) -> Val<'a, f32> {
+        self.sample("height_map", binding::HEIGHT, uv, Filter::Linear).x()
+    }
+
+    /// The tangent-space normal at `uv`, from the normal map (stored `n * 0.5 + 0.5`).
+    pub fn normal(&'a self, uv: Val<'a, Vec2>) -> Val<'a, Vec3> {
+        let n = self.sample("normal_map", binding::NORMAL, uv, Filter::Linear).xyz();
+        (n * 2.0 - 1.0).normalize()
+    }
+}

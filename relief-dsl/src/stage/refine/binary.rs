@@ -1,0 +1,19 @@
+//! Binary search refinement.
+
+use crate::ir::Stage;
+use crate::stage::{Bracket, Hit, Ray};
+
+/// Binary search (Burger 2018, Algorithm 2): start half a step back from the coarse hit,
+/// then move by half the previous move each time: backward while below the surface,
+/// forward while above it.
+pub fn binary<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, b: Bracket<'a>, steps: u32) -> Hit<'a> {
+    let step = s.var("step", (b.below - b.above) / 2.0);
+    let t = s.var("t", b.below - step.get());
+    s.repeat(steps, |s| {
+        let p = ray.at(t.get());
+        let below = s.height(p.xy()).ge(p.z());
+        step.set(step.get() / 2.0);
+        t.set(t.get() + s.select(below, -step.get(), step.get()));
+    });
+    Hit::at(ray, t.get())
+}

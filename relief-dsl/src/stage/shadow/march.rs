@@ -1,0 +1,50 @@
+//! Shadows found by marching from the hit toward the light.
+//!
+//! The light ray starts at the hit and rises with direction `light` (normalized tangent
+//! space, scaled so that `light.z = 1`); it leaves the volume after `1 - hit.z`.
+
+use crate::ir::{Stage, Val, Vec3};
+use crate::stage::Hit;
+
+/// The light ray's point at parameter τ.
+fn toward_light<'a>(hit: &Hit<'a>, light: Val<'a, Vec3>, tau: Val<'a, f32>) -> Val<'a, Vec3> {
+    let s = tau.stage();
+    s.vec3(hit.uv + light.xy() * tau, hit.z + tau)
+}
+
+/// Hard shadow (Amaro & Gustafsson §2.1.1): a linear search of `steps` equal steps from the
+/// hit to the top of the volume; any sample below the surface blocks the light.
+pub fn hard<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, light: Val<'a, Vec3>, steps: u32) -> Val<'a, f32> {
+    let step = (1.0 - hit.z) / steps as f32;
+    let tau = s.var("tau", step);
+    let visible = s.var("visible", 1.0);
+    s.repeat(steps, |s| {
+        let p = toward_light(hit, light, tau.get());
+        let blocked = s.height(p.xy()).gt(p.z());
+        visible.set(s.select(blocked, 0.0, visible.get()));
+        s.break_if(blocked);
+        tau.set(tau.get() + step);
+    });
+    visible.get()
+}
+
+/// How wide the light is, as the blocker slope (depth over distance) that fully covers it.
+const LIGHT_WIDTH: f32 = 0.25;
+
+/// Soft shadow after Tatarchuk (2006), with the shadow factor of Amaro & Gustafsson §2.1.2:
+/// march the whole light ray, keep the strongest blocker — the largest depth under the
+/// surface per distance travelled, `w = (h - z) / τ` — and turn it into a visibility with
+/// the fast sigmoid `1 - w / (0.24 + w)`, clamped to [0, 1]. `w` is measured in units of
+/// the light's width ([`LIGHT_WIDTH`]).
+pub fn soft<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, light: Val<'a, Vec3>, steps: u32) -> Val<'a, f32> {
+    let step = (1.0 - hit.z) / steps as f32;
+    let tau = s.var("tau", step);
+    let w = s.var("w", 0.0);
+    s.repeat(steps, |s| {
+        let p = toward_light(hit, light, tau.get());
+        let blocker = (s.height(p.xy()) - p.z()) / tau.get().max(1e-6);
+        w.set(w.get().max(blocker / LIGHT_WIDTH));
+        tau.set(tau.get() + step);
+    });
+    (1.0 - w.get() / (0.24 + w.get())).clamp(0.0, 1.0)
+}

@@ -1,0 +1,1 @@
+pub use relief_dsl as dsl;
