@@ -1,1 +1,22 @@
+//! # relief
+//!
+//! Relief-mapping search methods (parallax occlusion mapping and its relatives) composed
+//! into shaders, rendered, measured against an exact reference and swept into tables.
+//!
+//! This facade re-exports the three crates:
+//! - [`dsl`] (`relief-dsl`): pipeline specs and their text form, the typed naga IR builder,
+//!   the stages, the composer and the WGSL / SPIR-V / GLSL emitters;
+//! - [`runtime`] (`relief-runtime`): height maps, acceleration maps, scenes, the exact
+//!   reference and the GPU runtime;
+//! - `relief-macros`: declaring pipelines in Rust.
+//!
+//! ```
+//! let p: relief::Pipeline = "linear(10)+binary(5)".parse()?;
+//! let shaders = relief::dsl::emit::emit(&p)?;
+//! assert!(shaders.wgsl.contains("fn refine_binary("));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
 pub use relief_dsl as dsl;
+pub use relief_dsl::{compile, CompileError, Pipeline, Slot, StageSpec};
+pub use relief_runtime as runtime;

@@ -1,0 +1,133 @@
+//! The composed module: entry points, the resources each entry reads, and the WGSL of a few
+//! pipelines (snapshots, reviewed by eye: they should read like the algorithm boxes).
+
+use relief::dsl::compose::{self, binding};
+use relief::dsl::emit;
+use relief::dsl::spec::MapReq;
+use relief::Pipeline;
+
+fn p(s: &str) -> Pipeline {
+    s.parse().unwrap_or_else(|e| panic!("{s}: {e}"))
+}
+
+/// Names of the bound resources an entry point reads.
+fn used_by(c: &relief::dsl::Compiled, entry: &str) -> Vec<String> {
+    let (i, _) = c.module.entry_points.iter().enumerate().find(|(_, e)| e.name == entry).unwrap();
+    let info = c.info.get_entry_point(i);
+    let mut out: Vec<String> = c
+        .module
+        .global_variables
+        .iter()
+        .filter(|(h, g)| g.binding.is_some() && !info[*h].is_empty())
+        .map(|(_, g)| g.name.clone().unwrap())
+        .collect();
+    out.sort();
+    out
+}
+
+#[test]
+fn module_has_the_render_pair_and_the_probe() {
+    let c = relief::compile(&p("linear(10)+binary(5)")).unwrap();
+    let names: Vec<_> = c.module.entry_points.iter().map(|e| (e.name.as_str(), e.stage)).collect();
+    assert_eq!(
+        names,
+        [("vs_main", naga::ShaderStage::Vertex), ("fs_main", naga::ShaderStage::Fragment), ("probe", naga::ShaderStage::Compute)]
+    );
+}
+
+#[test]
+fn the_probe_reads_only_what_its_stages_read() {
+    let c = relief::compile(&p("linear(10)+binary(5)")).unwrap();
+    assert_eq!(used_by(&c, "probe"), ["height_map", "hits", "linear_sampler", "params", "rays"]);
+    // Slope parallax reads the normal map as well.
+    let c = relief::compile(&p("slope_parallax")).unwrap();
+    assert!(used_by(&c, "probe").contains(&"normal_map".to_string()));
+    // The render pass shades with albedo and normal; it never touches the probe's buffers.
+    let c = relief::compile(&p("linear(10)")).unwrap();
+    let fs = used_by(&c, "fs_main");
+    assert!(fs.contains(&"albedo_map".into()) && fs.contains(&"normal_map".into()));
+    assert!(!fs.contains(&"rays".into()) && !fs.contains(&"hits".into()));
+}
+
+#[test]
+fn nothing_unread_is_declared() {
+    // No stage here samples with nearest filtering, so no nearest sampler is declared.
+    for pipe in Pipeline::all_defaults() {
+        let c = relief::compile(&pipe).unwrap();
+        let declared = compose::declared_resources(&c.module);
+        assert!(!declared.contains(&"nearest_sampler".to_string()), "{pipe}");
+        let bindings: Vec<u32> = c.module.global_variables.iter().filter_map(|(_, g)| g.binding).map(|b| b.binding).collect();
+        // Plain texture mapping with no refinement and no shadow samples no height at all.
+        let samples_height = !(pipe.coarse.is_none() && pipe.refine.is_none() && pipe.shadow.is_none());
+        assert_eq!(bindings.contains(&binding::HEIGHT), samples_height, "{pipe}");
+    }
+}
+
+#[test]
+fn required_maps_match_what_the_probe_reads() {
+    for pipe in Pipeline::all_defaults() {
+        let c = relief::compile(&pipe).unwrap();
+        let reads_normal = used_by(&c, "probe").contains(&"normal_map".to_string());
+        assert_eq!(pipe.required_maps().contains(&MapReq::Normal), reads_normal, "{pipe}");
+    }
+}
+
+#[test]
+fn counters_exist_only_in_the_probe_variant() {
+    let c = relief::compile(&p("linear(10)+interval(3)+shadow=hard(8)")).unwrap();
+    let wgsl = emit::wgsl(&c).unwrap();
+    let plain = function_body(&wgsl, "fn coarse_linear(");
+    assert!(!plain.contains("relief_fetches") && !plain.contains("relief_iterations"));
+    let counted = function_body(&wgsl, "fn coarse_linear_counted(");
+    assert!(counted.contains("relief_fetches") && counted.contains("relief_iterations"));
+    // The shadow is not traced by the probe, so it has no counted variant in use.
+    assert!(function_body(&wgsl, "fn probe(").contains("trace_counted("));
+}
+
+#[test]
+fn all_sampling_uses_an_explicit_level() {
+    for pipe in Pipeline::all_defaults() {
+        let wgsl = emit::emit(&pipe).unwrap().wgsl;
+        assert!(!wgsl.contains("textureSample("), "{pipe}: implicit-level sampling");
+        assert!(wgsl.contains("textureSampleLevel("));
+    }
+}
+
+fn function_body<'a>(wgsl: &'a str, header: &str) -> &'a str {
+    let start = wgsl.find(header).unwrap_or_else(|| panic!("no `{header}` in\n{wgsl}"));
+    let rest = &wgsl[start..];
+    let end = rest.find("\n}\n").unwrap_or(rest.len());
+    &rest[..end]
+}
+
+fn stage_functions(wgsl: &str) -> String {
+    // The stage functions only (entry points and declarations are shared boilerplate).
+    let mut out = String::new();
+    for header in ["fn coarse_", "fn refine_", "fn shadow_"] {
+        let mut from = 0;
+        while let Some(i) = wgsl[from..].find(header) {
+            let body = function_body(&wgsl[from + i..], header);
+            if !body.contains("_counted(") {
+                out.push_str(body);
+                out.push_str("\n}\n\n");
+            }
+            from += i + header.len();
+        }
+    }
+    out
+}
+
+#[test]
+fn wgsl_snapshots() {
+    for text in [
+        "linear(10)+binary(5)",
+        "linear(16)+interval(4)",
+        "linear(16)+secant(4)",
+        "iterative_parallax(3)",
+        "linear_dynamic(8, 32)+shadow=soft(24)",
+        "parallax+shadow=hard(16)",
+    ] {
+        let wgsl = emit::emit(&p(text)).unwrap().wgsl;
+        insta::assert_snapshot!(relief::dsl::spec::file_safe(text), stage_functions(&wgsl), text);
+    }
+}
