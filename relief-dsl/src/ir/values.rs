@@ -95,9 +95,6 @@ impl<'a, T: Ty> Var<'a, T> {
     pub(crate) fn new(s: &'a Stage<'a>, ptr: Handle<Expression>) -> Self {
         Var { s, ptr, _t: PhantomData }
     }
-    pub(crate) fn ptr(self) -> Handle<Expression> {
-        self.ptr
-    }
     /// The current value.
     pub fn get(self) -> Val<'a, T> {
         self.s.wrap(self.s.expr(Expression::Load { pointer: self.ptr }))
