@@ -1,0 +1,128 @@
+//! `relief maps`: build one acceleration map from a height-map file and write it.
+//!
+//! ```text
+//! relief maps INPUT --kind KIND [--encoding f32|f16|unorm8|unorm16] [--sqrt] [--max-value V]
+//!             [--edge repeat|clamp] [--channel r|g|b|a] [--depth] [--min3x3]
+//!             [--cones K] [--z-resolution D] --out FILE
+//! relief maps --list
+//! ```
+//!
+//! The output format follows the extension of `FILE`: `.png` (unorm8 → 8 bit, unorm16 → 16
+//! bit), `.exr` (f32/f16), `.npy` (float32, the decoded values). See [`crate::maps::encode`].
+
+use crate::heightmap::{Channel, EdgeMode, HeightMap, LoadOptions};
+use crate::maps::{self, encode, MapKind, MapParams};
+use anyhow::{bail, Context};
+use std::path::PathBuf;
+
+/// Arguments of `relief maps`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct MapsArgs {
+    /// Height map: .png (8/16 bit), .tga, .bmp, .exr or .npy (float32 [h, w]).
+    #[arg(required_unless_present = "list")]
+    pub input: Option<PathBuf>,
+    /// Map kind (see --list).
+    #[arg(long, required_unless_present = "list")]
+    pub kind: Option<String>,
+    /// Storage encoding: f32, f16, unorm8 or unorm16.
+    #[arg(long, default_value = "f32")]
+    pub encoding: String,
+    /// Dummer's square-root encoding (store sqrt of the value).
+    #[arg(long)]
+    pub sqrt: bool,
+    /// The value the largest unorm code stands for (default 1, as in GPU Gems 3).
+    #[arg(long, default_value_t = 1.0)]
+    pub max_value: f32,
+    /// Edge mode: repeat (tiling) or clamp.
+    #[arg(long, default_value = "repeat")]
+    pub edge: String,
+    /// Channel holding the heights: r, g, b or a (default: gray, or luma of colour images).
+    #[arg(long)]
+    pub channel: Option<String>,
+    /// The input is a depth map (white = deep): height = 1 - value.
+    #[arg(long)]
+    pub depth: bool,
+    /// Apply the conservative 3x3 pass (min for cones/normals/distances, max for max_mip)
+    /// before encoding, so that bilinear filtering stays conservative.
+    #[arg(long)]
+    pub min3x3: bool,
+    /// K for multi_cone and piecewise_cone.
+    #[arg(long, default_value_t = 4)]
+    pub cones: u32,
+    /// Number of z slices for distance_field.
+    #[arg(long, default_value_t = 64)]
+    pub z_resolution: u32,
+    /// Output file (.png, .exr or .npy).
+    #[arg(long, required_unless_present = "list")]
+    pub out: Option<PathBuf>,
+    /// List the map kinds and their parameters.
+    #[arg(long)]
+    pub list: bool,
+}
+
+/// The `--list` text.
+pub fn list_text() -> String {
+    let mut s = String::from("map kinds (relief maps INPUT --kind KIND ...):\n");
+    for k in MapKind::ALL {
+        s.push_str(&format!("  {:<20} {}\n", k.name(), k.describe()));
+    }
+    s.push_str("parameters: --cones K (default 4), --z-resolution D (default 64), --edge repeat|clamp,\n");
+    s.push_str("            --encoding f32|f16|unorm8|unorm16, --sqrt, --max-value V, --min3x3\n");
+    s
+}
+
+fn parse_edge(s: &str) -> anyhow::Result<EdgeMode> {
+    match s.to_ascii_lowercase().as_str() {
+        "repeat" | "wrap" => Ok(EdgeMode::Repeat),
+        "clamp" => Ok(EdgeMode::Clamp),
+        o => bail!("unknown edge mode `{o}` (expected repeat or clamp)"),
+    }
+}
+
+/// Runs `relief maps`.
+pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
+    if args.list {
+        print!("{}", list_text());
+        return Ok(());
+    }
+    let (Some(input), Some(kind), Some(out)) = (&args.input, &args.kind, &args.out) else {
+        bail!("relief maps needs INPUT, --kind and --out (or --list)");
+    };
+    let kind: MapKind = kind.parse()?;
+    let format: encode::Format = args.encoding.parse().map_err(anyhow::Error::msg)?;
+    let edge = parse_edge(&args.edge)?;
+    let channel = match &args.channel {
+        Some(c) => Some(c.parse::<Channel>().map_err(anyhow::Error::msg)?),
+        None => None,
+    };
+    if !(args.max_value.is_finite() && args.max_value > 0.0) {
+        bail!("--max-value must be a positive number");
+    }
+    let hm = HeightMap::load(input, &LoadOptions { channel, depth: args.depth })?;
+    let params = MapParams { cones: args.cones, z_resolution: args.z_resolution };
+    let start = std::time::Instant::now();
+    let mut map = maps::build(&hm, kind, &params, edge)?;
+    if args.min3x3 {
+        let mips = std::mem::take(&mut map.mips);
+        map = match kind.rounding() {
+            encode::Rounding::Down => encode::min3x3(&map, edge),
+            encode::Rounding::Up => encode::max3x3(&map, edge),
+        };
+        map.mips = mips;
+    }
+    let enc = encode::Encoding { format, sqrt: args.sqrt, max_value: args.max_value };
+    let encoded = encode::encode(&map, &enc, kind.rounding());
+    encode::write_map(out, &encoded).with_context(|| format!("writing {}", out.display()))?;
+    eprintln!(
+        "{}: {} {}x{}x{} ({} ch) from {} in {:.2} s",
+        out.display(),
+        kind,
+        map.width,
+        map.height,
+        map.depth,
+        map.channels,
+        input.display(),
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}

@@ -1,0 +1,57 @@
+//! The GPU side: a headless wgpu device, the scene's textures, the render entry timed with
+//! render-pass timestamp queries, and the probe entry dispatched over CPU-made rays.
+//!
+//! Timing uses render-pass timestamps only: on Mesa's lavapipe compute-pass timestamps are
+//! wrong (DESIGN.md, "Environment facts").
+
+mod device;
+mod probe;
+mod render;
+mod resources;
+
+pub use device::{Gpu, GpuError};
+pub use probe::{probe, GpuHit};
+pub use render::{render, RenderResult};
+pub use resources::SceneTextures;
+
+use relief_dsl::compose::Compiled;
+
+/// A pipeline compiled for the device: the WGSL the device loads, and the bindings each
+/// entry point reads (from naga's analysis of the same module).
+pub struct Program {
+    pub wgsl: String,
+    pub render_bindings: Vec<u32>,
+    pub probe_bindings: Vec<u32>,
+}
+
+impl Program {
+    /// Compiles `p` and records which bindings each entry point reads.
+    pub fn new(p: &relief_dsl::Pipeline) -> Result<Program, relief_dsl::CompileError> {
+        let c = relief_dsl::compile(p)?;
+        Self::from_compiled(&c)
+    }
+
+    /// From an already compiled module.
+    pub fn from_compiled(c: &Compiled) -> Result<Program, relief_dsl::CompileError> {
+        let wgsl = relief_dsl::emit::wgsl(c)?;
+        let used = |names: &[&str]| -> Vec<u32> {
+            let mut out = Vec::new();
+            for (i, ep) in c.module.entry_points.iter().enumerate() {
+                if !names.contains(&ep.name.as_str()) {
+                    continue;
+                }
+                let info = c.info.get_entry_point(i);
+                for (h, g) in c.module.global_variables.iter() {
+                    if let Some(b) = g.binding {
+                        if !info[h].is_empty() && !out.contains(&b.binding) {
+                            out.push(b.binding);
+                        }
+                    }
+                }
+            }
+            out.sort();
+            out
+        };
+        Ok(Program { wgsl, render_bindings: used(&["vs_main", "fs_main"]), probe_bindings: used(&["probe"]) })
+    }
+}

@@ -1,0 +1,158 @@
+//! The render entry on a quad, offscreen, timed with render-pass timestamp queries.
+
+use super::{Gpu, GpuError, Program, SceneTextures};
+use crate::scene::Scene;
+
+/// Frame times and the last frame.
+pub struct RenderResult {
+    /// GPU time of each timed frame's render pass, in milliseconds.
+    pub frame_ms: Vec<f64>,
+    /// The last frame, RGBA8 (sRGB), row-major, `size × size`.
+    pub rgba: Vec<u8>,
+    pub size: u32,
+}
+
+const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+
+/// Renders `frames` timed frames (after `warmup` untimed ones) of `program` on `scene` at
+/// `size × size` pixels.
+pub fn render(
+    gpu: &Gpu,
+    program: &Program,
+    scene: &Scene,
+    tex: &SceneTextures,
+    size: u32,
+    warmup: u32,
+    frames: u32,
+) -> Result<RenderResult, GpuError> {
+    if !gpu.timestamps {
+        return Err(GpuError::Device(format!(
+            "the adapter {} has no timestamp queries, so frames cannot be timed",
+            gpu.adapter
+        )));
+    }
+    let frames = frames.max(1);
+    let module = gpu.checked(|| {
+        gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("relief"),
+            source: wgpu::ShaderSource::Wgsl(program.wgsl.as_str().into()),
+        })
+    })?;
+    let pipeline = gpu.checked(|| {
+        gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("render"),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleStrip, ..Default::default() },
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    })?;
+    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("frame"),
+        size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = target.create_view(&Default::default());
+    let params = SceneTextures::params(gpu, scene, 1.0);
+    let bg = tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), &program.render_bindings, &params, &[])?;
+    let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+        label: Some("frame times"),
+        ty: wgpu::QueryType::Timestamp,
+        count: 2 * frames,
+    });
+    let resolve = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: 16 * frames as u64,
+        usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let ts_read = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: 16 * frames as u64,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let frame = |enc: &mut wgpu::CommandEncoder, timed: Option<u32>| {
+        let ts = timed.map(|i| wgpu::RenderPassTimestampWrites {
+            query_set: &queries,
+            beginning_of_pass_write_index: Some(2 * i),
+            end_of_pass_write_index: Some(2 * i + 1),
+        });
+        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: None,
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color { r: 0.02, g: 0.02, b: 0.03, a: 1.0 }), store: wgpu::StoreOp::Store },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: ts,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bg, &[]);
+        pass.draw(0..4, 0..1);
+    };
+    // Warm-up, then each timed frame in its own submission so frames do not overlap.
+    let mut enc = gpu.device.create_command_encoder(&Default::default());
+    for _ in 0..warmup {
+        frame(&mut enc, None);
+    }
+    gpu.queue.submit([enc.finish()]);
+    gpu.wait()?;
+    for i in 0..frames {
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        frame(&mut enc, Some(i));
+        gpu.queue.submit([enc.finish()]);
+        gpu.wait()?;
+    }
+    let row = (size * 4).div_ceil(256) * 256;
+    let pixels = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: (row * size) as u64,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut enc = gpu.device.create_command_encoder(&Default::default());
+    enc.resolve_query_set(&queries, 0..2 * frames, &resolve, 0);
+    enc.copy_buffer_to_buffer(&resolve, 0, &ts_read, 0, 16 * frames as u64);
+    enc.copy_texture_to_buffer(
+        target.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &pixels,
+            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(size) },
+        },
+        wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
+    );
+    gpu.queue.submit([enc.finish()]);
+    let stamps: Vec<u64> = bytemuck::cast_slice(&gpu.read_buffer(&ts_read)?).to_vec();
+    let period = gpu.queue.get_timestamp_period() as f64;
+    let frame_ms = stamps.chunks(2).map(|p| p[1].saturating_sub(p[0]) as f64 * period / 1e6).collect();
+    let padded = gpu.read_buffer(&pixels)?;
+    let mut rgba = Vec::with_capacity((size * size * 4) as usize);
+    for y in 0..size as usize {
+        rgba.extend_from_slice(&padded[y * row as usize..y * row as usize + size as usize * 4]);
+    }
+    Ok(RenderResult { frame_ms, rgba, size })
+}

@@ -1,0 +1,166 @@
+//! The scene's textures and samplers on the device, and bind groups built from the bindings
+//! an entry point reads.
+
+use relief_dsl::compose::binding;
+use wgpu::util::DeviceExt;
+
+use super::Gpu;
+use crate::heightmap::EdgeMode;
+use crate::scene::Scene;
+
+/// The textures a scene needs on the device.
+pub struct SceneTextures {
+    pub height: wgpu::TextureView,
+    pub normal: wgpu::TextureView,
+    pub albedo: wgpu::TextureView,
+    pub linear: wgpu::Sampler,
+    pub nearest: wgpu::Sampler,
+    /// The heights as the device stores them (f32, or rounded to f16 where 32-bit float
+    /// textures cannot be filtered): the surface the shaders sample, for the reference.
+    pub heights_on_device: Vec<f32>,
+}
+
+fn texture(gpu: &Gpu, label: &str, w: usize, h: usize, format: wgpu::TextureFormat, bytes: &[u8]) -> wgpu::TextureView {
+    let t = gpu.device.create_texture_with_data(
+        &gpu.queue,
+        &wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d { width: w as u32, height: h as u32, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytes,
+    );
+    t.create_view(&Default::default())
+}
+
+/// Normals of the height map by central differences, with the scene's depth scale: the
+/// surface z = depth · h(u, v) in texture units.
+pub fn derived_normals(scene: &Scene) -> Vec<[f32; 3]> {
+    let m = &scene.height;
+    let (w, h) = (m.width as i64, m.height as i64);
+    let mut out = Vec::with_capacity(m.data.len());
+    for y in 0..h {
+        for x in 0..w {
+            let dx = (m.texel(x + 1, y, scene.edge) - m.texel(x - 1, y, scene.edge)) * scene.depth_scale * w as f32 / 2.0;
+            let dy = (m.texel(x, y + 1, scene.edge) - m.texel(x, y - 1, scene.edge)) * scene.depth_scale * h as f32 / 2.0;
+            let n = glam::Vec3::new(-dx, -dy, 1.0).normalize();
+            out.push(n.to_array());
+        }
+    }
+    out
+}
+
+impl SceneTextures {
+    /// Uploads the scene's height map, normal map (derived when the scene has none) and
+    /// albedo (neutral grey when it has none).
+    pub fn new(gpu: &Gpu, scene: &Scene) -> SceneTextures {
+        let m = &scene.height;
+        let (w, h) = (m.width, m.height);
+        let (height, heights_on_device) = if gpu.float32_filterable {
+            let bytes: &[u8] = bytemuck::cast_slice(&m.data);
+            (texture(gpu, "height", w, h, wgpu::TextureFormat::R32Float, bytes), m.data.clone())
+        } else {
+            let halves: Vec<half::f16> = m.data.iter().map(|&x| half::f16::from_f32(x)).collect();
+            let bytes: Vec<u8> = halves.iter().flat_map(|x| x.to_le_bytes()).collect();
+            (
+                texture(gpu, "height", w, h, wgpu::TextureFormat::R16Float, &bytes),
+                halves.iter().map(|x| x.to_f32()).collect(),
+            )
+        };
+        let normals: Vec<[f32; 3]> = match &scene.normal {
+            Some(n) => n.data.clone(),
+            None => derived_normals(scene),
+        };
+        let (nw, nh) = match &scene.normal {
+            Some(n) => (n.width, n.height),
+            None => (w, h),
+        };
+        let nbytes: Vec<u8> = normals
+            .iter()
+            .flat_map(|n| [n[0], n[1], n[2]].map(|c| ((c * 0.5 + 0.5).clamp(0.0, 1.0) * 255.0).round() as u8).into_iter().chain([255]))
+            .collect();
+        let normal = texture(gpu, "normal", nw, nh, wgpu::TextureFormat::Rgba8Unorm, &nbytes);
+        let albedo = match &scene.albedo {
+            Some(a) => texture(gpu, "albedo", a.width, a.height, wgpu::TextureFormat::Rgba8UnormSrgb, &a.rgba),
+            None => texture(gpu, "albedo", 1, 1, wgpu::TextureFormat::Rgba8UnormSrgb, &[180, 170, 160, 255]),
+        };
+        let address = match scene.edge {
+            EdgeMode::Repeat => wgpu::AddressMode::Repeat,
+            EdgeMode::Clamp => wgpu::AddressMode::ClampToEdge,
+        };
+        let sampler = |filter| {
+            gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+                address_mode_u: address,
+                address_mode_v: address,
+                mag_filter: filter,
+                min_filter: filter,
+                ..Default::default()
+            })
+        };
+        SceneTextures {
+            height,
+            normal,
+            albedo,
+            linear: sampler(wgpu::FilterMode::Linear),
+            nearest: sampler(wgpu::FilterMode::Nearest),
+            heights_on_device,
+        }
+    }
+
+    /// The params uniform buffer for a scene seen at `aspect`.
+    pub fn params(gpu: &Gpu, scene: &Scene, aspect: f32) -> wgpu::Buffer {
+        let vp = scene.camera.view_proj(aspect).to_cols_array();
+        let cam = scene.camera.camera_position();
+        let l = scene.light_dir.normalize();
+        let mut data: Vec<f32> = vp.to_vec();
+        data.extend([cam.x, cam.y, cam.z, scene.depth_scale]);
+        data.extend([l.x, l.y, l.z, AMBIENT]);
+        data.extend([scene.tiling, 0.0, 0.0, 0.0]);
+        gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("params"),
+            contents: bytemuck::cast_slice(&data),
+            usage: wgpu::BufferUsages::UNIFORM,
+        })
+    }
+
+    /// A bind group with exactly `bindings`, from this scene's resources and the buffers given.
+    pub fn bind_group(
+        &self,
+        gpu: &Gpu,
+        layout: &wgpu::BindGroupLayout,
+        bindings: &[u32],
+        params: &wgpu::Buffer,
+        storage: &[(u32, &wgpu::Buffer)],
+    ) -> Result<wgpu::BindGroup, super::GpuError> {
+        let mut entries = Vec::new();
+        for &b in bindings {
+            let resource = match b {
+                binding::PARAMS => params.as_entire_binding(),
+                binding::HEIGHT => wgpu::BindingResource::TextureView(&self.height),
+                binding::NORMAL => wgpu::BindingResource::TextureView(&self.normal),
+                binding::ALBEDO => wgpu::BindingResource::TextureView(&self.albedo),
+                binding::LINEAR_SAMPLER => wgpu::BindingResource::Sampler(&self.linear),
+                binding::NEAREST_SAMPLER => wgpu::BindingResource::Sampler(&self.nearest),
+                other => match storage.iter().find(|(n, _)| *n == other) {
+                    Some((_, buf)) => buf.as_entire_binding(),
+                    None => {
+                        return Err(super::GpuError::Pipeline(format!(
+                            "the shader reads binding {other}, which this runtime does not provide yet"
+                        )))
+                    }
+                },
+            };
+            entries.push(wgpu::BindGroupEntry { binding: b, resource });
+        }
+        gpu.checked(|| gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout, entries: &entries }))
+    }
+}
+
+/// Ambient light share in the render.
+pub const AMBIENT: f32 = 0.25;

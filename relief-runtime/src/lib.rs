@@ -1,0 +1,10 @@
+//! relief-runtime: maps, scenes, the GPU runtime, the exact reference, metrics and sweeps.
+
+pub mod gpu;
+pub mod heightmap;
+pub mod cli_gen;
+pub mod cli_maps;
+pub mod maps;
+pub mod scene;
+pub mod reference;
+pub mod metrics;

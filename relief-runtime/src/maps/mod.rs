@@ -1,0 +1,412 @@
+//! Precomputed acceleration maps, one file per kind.
+//!
+//! Units shared by every kind: heights in [0, 1] (1 = top), texel `(x, y)` a point sample at
+//! `((x + .5) / width, (y + .5) / height)`, horizontal distances in texture coordinates (the
+//! map spans [0, 1] in u and v; with [`EdgeMode::Repeat`] the shorter way round). A cone ratio
+//! is horizontal distance over height difference (GPU Gems 3 ch. 18). f32 maps are not
+//! clamped (a cone with nothing above it is `+inf`); only an [`encode::Encoding`] clamps.
+//!
+//! Entry points: [`build`] one map kind from a height map, [`MapCache`] to build each
+//! (height map, kind, parameters, edge mode, encoding) once, [`encode::write_map`] to save.
+pub mod cone;
+pub mod cone_normal;
+pub mod distance_field;
+pub mod encode;
+pub mod max_mip;
+pub mod multi_cone;
+pub mod quad_cone;
+pub mod relaxed_cone;
+pub mod search;
+
+use crate::heightmap::{EdgeMode, HeightMap};
+use encode::{EncodedMap, Encoding, Rounding};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+/// The map kinds, by the names the CLI and the pipeline specs use.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MapKind {
+    /// `cone`: conservative cone ratio (1 channel), [`cone`].
+    Cone,
+    /// `quad_cone`: four quadrant cone ratios (4 channels), [`quad_cone`].
+    QuadCone,
+    /// `relaxed_cone`: relaxed cone ratio (1 channel), [`relaxed_cone`].
+    RelaxedCone,
+    /// `cone_normal`: `n_z` of the conservative cone (1 channel), [`cone_normal`].
+    ConeNormal,
+    /// `relaxed_cone_normal`: `n_z` of the relaxed cone (1 channel), [`cone_normal`].
+    RelaxedConeNormal,
+    /// `multi_cone`: `n_z` of K stacked cones (K channels), [`multi_cone`] method 1.
+    MultiCone,
+    /// `piecewise_cone`: `n_z` of K piecewise cone slopes (K channels), [`multi_cone`] method 2.
+    PiecewiseCone,
+    /// `max_mip`: maximum-height pyramid over the bilinear cells (1 channel, mip levels in
+    /// [`Map::mips`]), [`max_mip`].
+    MaxMip,
+    /// `distance_field`: 3D distance to the surface (1 channel, `depth` = z resolution),
+    /// [`distance_field`].
+    DistanceField,
+}
+
+impl MapKind {
+    /// Every kind, in the order `relief maps --list` prints them.
+    pub const ALL: [MapKind; 9] = [
+        MapKind::Cone,
+        MapKind::QuadCone,
+        MapKind::RelaxedCone,
+        MapKind::ConeNormal,
+        MapKind::RelaxedConeNormal,
+        MapKind::MultiCone,
+        MapKind::PiecewiseCone,
+        MapKind::MaxMip,
+        MapKind::DistanceField,
+    ];
+
+    /// The name used on the command line and in specs.
+    pub fn name(self) -> &'static str {
+        match self {
+            MapKind::Cone => "cone",
+            MapKind::QuadCone => "quad_cone",
+            MapKind::RelaxedCone => "relaxed_cone",
+            MapKind::ConeNormal => "cone_normal",
+            MapKind::RelaxedConeNormal => "relaxed_cone_normal",
+            MapKind::MultiCone => "multi_cone",
+            MapKind::PiecewiseCone => "piecewise_cone",
+            MapKind::MaxMip => "max_mip",
+            MapKind::DistanceField => "distance_field",
+        }
+    }
+
+    /// One line: what the map holds, its channels and the parameters it reads.
+    pub fn describe(self) -> &'static str {
+        match self {
+            MapKind::Cone => "conservative cone ratio (Dummer CSM); 1 channel; +inf where nothing is higher",
+            MapKind::QuadCone => "conservative cone ratio per quadrant of ray direction (QCSM); 4 channels: +u+v, -u+v, -u-v, +u-v",
+            MapKind::RelaxedCone => "relaxed cone ratio (Policarpo & Oliveira, Listing 18-1); 1 channel",
+            MapKind::ConeNormal => "n_z of the conservative cone side (Burger 3.1), r / sqrt(1 + r^2); 1 channel",
+            MapKind::RelaxedConeNormal => "n_z of the relaxed cone side (Burger 3.1); 1 channel",
+            MapKind::MultiCone => "n_z of K stacked cones, apexes at h + (1-h) k/K (Burger 3.4 method 1); K channels; param cones=K",
+            MapKind::PiecewiseCone => "n_z of K piecewise cone slopes over [h + (1-h) k/K, h + (1-h)(k+1)/K] (Burger 3.4 method 2); K channels; param cones=K",
+            MapKind::MaxMip => "maximum-height pyramid over bilinear cells (Tevs et al. 2008); 1 channel + mip levels",
+            MapKind::DistanceField => "3D Euclidean distance to the texel columns (Donnelly); width x height x z_resolution; param z_resolution",
+        }
+    }
+
+    /// Number of channels for `params`.
+    pub fn channels(self, params: &MapParams) -> usize {
+        match self {
+            MapKind::QuadCone => 4,
+            MapKind::MultiCone | MapKind::PiecewiseCone => params.cones as usize,
+            _ => 1,
+        }
+    }
+
+    /// The safe quantisation direction of this kind's values.
+    pub fn rounding(self) -> Rounding {
+        match self {
+            MapKind::MaxMip => Rounding::Up,
+            _ => Rounding::Down,
+        }
+    }
+
+    /// Whether the values are cone ratios (where the sqrt encoding is meant to be used).
+    pub fn is_ratio(self) -> bool {
+        matches!(self, MapKind::Cone | MapKind::QuadCone | MapKind::RelaxedCone)
+    }
+}
+
+impl std::fmt::Display for MapKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for MapKind {
+    type Err = MapError;
+    fn from_str(s: &str) -> Result<Self, MapError> {
+        let s = s.trim().to_ascii_lowercase().replace('-', "_");
+        MapKind::ALL
+            .into_iter()
+            .find(|k| k.name() == s)
+            .ok_or_else(|| MapError::UnknownKind(s.to_string()))
+    }
+}
+
+/// Parameters of the kinds that have any; every kind ignores the others.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct MapParams {
+    /// K for `multi_cone` and `piecewise_cone` (1..=16).
+    pub cones: u32,
+    /// Number of z slices of `distance_field` (1..=1024).
+    pub z_resolution: u32,
+}
+
+impl Default for MapParams {
+    fn default() -> Self {
+        MapParams { cones: 4, z_resolution: 64 }
+    }
+}
+
+impl MapParams {
+    /// The parameters that matter to `kind` (others reset to defaults), for cache keys.
+    pub fn relevant(&self, kind: MapKind) -> MapParams {
+        let d = MapParams::default();
+        match kind {
+            MapKind::MultiCone | MapKind::PiecewiseCone => MapParams { cones: self.cones, ..d },
+            MapKind::DistanceField => MapParams { z_resolution: self.z_resolution, ..d },
+            _ => d,
+        }
+    }
+}
+
+/// A built map: `width * height * depth * channels` f32 values, channels interleaved,
+/// row-major (row y = v), slices (3D maps) outermost.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Map {
+    pub width: usize,
+    pub height: usize,
+    /// 1 for 2D maps; the z resolution for `distance_field`.
+    pub depth: usize,
+    pub channels: usize,
+    pub data: Vec<f32>,
+    /// Coarser levels for pyramid kinds (`max_mip`), level 1 first; empty otherwise.
+    pub mips: Vec<Map>,
+}
+
+impl Map {
+    /// A 2D map.
+    pub fn new_2d(width: usize, height: usize, channels: usize, data: Vec<f32>) -> Map {
+        debug_assert_eq!(data.len(), width * height * channels);
+        Map { width, height, depth: 1, channels, data, mips: Vec::new() }
+    }
+
+    /// Value of channel `c` at texel `(x, y)` of slice `z`.
+    pub fn get(&self, x: usize, y: usize, z: usize, c: usize) -> f32 {
+        self.data[((z * self.height + y) * self.width + x) * self.channels + c]
+    }
+
+    /// One channel as its own single-channel map.
+    pub fn channel(&self, c: usize) -> Map {
+        Map {
+            data: self.data.iter().skip(c).step_by(self.channels).copied().collect(),
+            channels: 1,
+            mips: Vec::new(),
+            ..self.clone_shape()
+        }
+    }
+
+    pub(crate) fn clone_shape(&self) -> Map {
+        Map {
+            width: self.width,
+            height: self.height,
+            depth: self.depth,
+            channels: self.channels,
+            data: Vec::new(),
+            mips: Vec::new(),
+        }
+    }
+
+    /// The minimum-mip chain of a single-channel 2D map (conservative mip-mapping of cone
+    /// ratios and normals, GPU Gems 3 ch. 18), through [`max_mip::min_mip`]; level 0 is `self`.
+    pub fn with_min_mips(mut self) -> Map {
+        assert_eq!(self.channels, 1, "min-mips are built per channel");
+        let p = max_mip::min_mip(self.width, self.height, &self.data);
+        self.mips = p.levels[1..].iter().map(|l| Map::new_2d(l.w, l.h, 1, l.data.clone())).collect();
+        self
+    }
+}
+
+/// Why a map could not be built or written.
+#[derive(Debug, thiserror::Error)]
+pub enum MapError {
+    #[error("unknown map kind `{0}` (see `relief maps --list`)")]
+    UnknownKind(String),
+    #[error("bad parameter for {kind}: {message}")]
+    Params { kind: MapKind, message: String },
+    #[error("{path}: cannot write: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{path}: {message}")]
+    Output { path: PathBuf, message: String },
+}
+
+/// Builds one map of `kind` from `hm` (see each kind's module for the definition).
+pub fn build(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode) -> Result<Map, MapError> {
+    let (w, h) = (hm.width, hm.height);
+    if w == 0 || h == 0 || hm.data.len() != w * h {
+        return Err(MapError::Params { kind, message: format!("height map {w} x {h} is empty or inconsistent") });
+    }
+    let k = params.cones as usize;
+    if matches!(kind, MapKind::MultiCone | MapKind::PiecewiseCone) && !(1..=16).contains(&k) {
+        return Err(MapError::Params { kind, message: format!("cones = {k}, expected 1..=16") });
+    }
+    let map = match kind {
+        MapKind::Cone => Map::new_2d(w, h, 1, cone::cone_ratios(hm, edge)),
+        MapKind::QuadCone => Map::new_2d(w, h, 4, quad_cone::quad_cone_ratios(hm, edge)),
+        MapKind::RelaxedCone => Map::new_2d(w, h, 1, relaxed_cone::relaxed_cone_ratios(hm, edge)),
+        MapKind::ConeNormal => Map::new_2d(w, h, 1, cone_normal::cone_normals(hm, edge)),
+        MapKind::RelaxedConeNormal => Map::new_2d(w, h, 1, cone_normal::relaxed_cone_normals(hm, edge)),
+        MapKind::MultiCone => Map::new_2d(w, h, k, multi_cone::stacked_cone_normals(hm, edge, k)),
+        MapKind::PiecewiseCone => Map::new_2d(w, h, k, multi_cone::piecewise_cone_normals(hm, edge, k)),
+        MapKind::MaxMip => {
+            let p = max_mip::cell_max_mip(hm, edge);
+            let mut levels = p.levels.into_iter().map(|l| Map::new_2d(l.w, l.h, 1, l.data));
+            let mut base = levels.next().expect("a pyramid has level 0");
+            base.mips = levels.collect();
+            base
+        }
+        MapKind::DistanceField => {
+            let d = params.z_resolution as usize;
+            if !(1..=1024).contains(&d) {
+                return Err(MapError::Params { kind, message: format!("z_resolution = {d}, expected 1..=1024") });
+            }
+            Map { width: w, height: h, depth: d, channels: 1, data: distance_field::distance_field(hm, edge, d), mips: Vec::new() }
+        }
+    };
+    Ok(map)
+}
+
+/// Builds and encodes in one go (the form a GPU upload wants). Pyramid levels are encoded
+/// too, in [`EncodedBundle::mips`].
+pub fn build_encoded(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode, enc: &Encoding) -> Result<EncodedBundle, MapError> {
+    let map = build(hm, kind, params, edge)?;
+    Ok(EncodedBundle::from_map(&map, kind, enc))
+}
+
+/// An encoded map with its encoded mip levels (if any).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EncodedBundle {
+    pub base: EncodedMap,
+    pub mips: Vec<EncodedMap>,
+}
+
+impl EncodedBundle {
+    pub fn from_map(map: &Map, kind: MapKind, enc: &Encoding) -> EncodedBundle {
+        EncodedBundle {
+            base: encode::encode(map, enc, kind.rounding()),
+            mips: map.mips.iter().map(|m| encode::encode(m, enc, kind.rounding())).collect(),
+        }
+    }
+}
+
+/// What identifies a built map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct CacheKey {
+    /// [`HeightMap::content_hash`].
+    pub content: u64,
+    pub kind: MapKind,
+    /// Only the parameters the kind reads ([`MapParams::relevant`]).
+    pub params: MapParams,
+    pub edge: EdgeMode,
+    pub encoding: Encoding,
+}
+
+impl CacheKey {
+    pub fn new(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode, encoding: &Encoding) -> CacheKey {
+        CacheKey { content: hm.content_hash(), kind, params: params.relevant(kind), edge, encoding: *encoding }
+    }
+
+    /// A file name that identifies the key (for the on-disk cache).
+    pub fn file_stem(&self) -> String {
+        let mut f = crate::heightmap::Fnv::new();
+        f.write(format!("{:?}", (self.kind, self.params, self.edge, self.encoding)).as_bytes());
+        format!("{:016x}-{}-{:016x}", self.content, self.kind.name(), f.finish())
+    }
+}
+
+/// Builds every (height map, kind, parameters, edge mode, encoding) at most once.
+///
+/// In memory always; with [`MapCache::with_dir`] also on disk, one `.npy` per key holding the
+/// f32 map before encoding (encoding is deterministic, so a disk hit gives the same codes).
+/// `max_mip` is cheap and is not kept on disk.
+#[derive(Default)]
+pub struct MapCache {
+    mem: Mutex<HashMap<CacheKey, Arc<EncodedBundle>>>,
+    dir: Option<PathBuf>,
+    builds: std::sync::atomic::AtomicUsize,
+}
+
+impl MapCache {
+    pub fn new() -> MapCache {
+        MapCache::default()
+    }
+
+    /// A cache that also keeps maps under `dir` (created if missing).
+    pub fn with_dir(dir: impl AsRef<Path>) -> MapCache {
+        MapCache { dir: Some(dir.as_ref().to_path_buf()), ..MapCache::default() }
+    }
+
+    /// How many maps this cache actually built (misses).
+    pub fn builds(&self) -> usize {
+        self.builds.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// The map for the key, built on a miss.
+    pub fn get(&self, hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode, enc: &Encoding) -> Result<Arc<EncodedBundle>, MapError> {
+        let key = CacheKey::new(hm, kind, params, edge, enc);
+        if let Some(hit) = self.mem.lock().unwrap().get(&key) {
+            return Ok(hit.clone());
+        }
+        if let Some(b) = self.load_disk(&key) {
+            let b = Arc::new(b);
+            self.mem.lock().unwrap().insert(key, b.clone());
+            return Ok(b);
+        }
+        let map = build(hm, kind, &key.params, edge)?;
+        self.builds.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        self.store_disk(&key, &map);
+        let bundle = Arc::new(EncodedBundle::from_map(&map, kind, enc));
+        self.mem.lock().unwrap().insert(key, bundle.clone());
+        Ok(bundle)
+    }
+
+    fn load_disk(&self, key: &CacheKey) -> Option<EncodedBundle> {
+        if key.kind == MapKind::MaxMip {
+            return None;
+        }
+        let path = self.dir.as_ref()?.join(format!("{}.npy", key.file_stem()));
+        let bytes = std::fs::read(path).ok()?;
+        let hdr = encode::parse_npy_header(&bytes).ok()?;
+        if hdr.item_size != 4 {
+            return None;
+        }
+        let n: usize = hdr.shape.iter().product();
+        let body = bytes.get(hdr.data_offset..hdr.data_offset + 4 * n)?;
+        let data: Vec<f32> = body.chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect();
+        let (depth, h, w, c) = match key.kind {
+            MapKind::DistanceField => (*hdr.shape.first()?, *hdr.shape.get(1)?, *hdr.shape.get(2)?, 1),
+            _ => (1, *hdr.shape.first()?, *hdr.shape.get(1)?, *hdr.shape.get(2).unwrap_or(&1)),
+        };
+        if w * h * depth * c != n {
+            return None;
+        }
+        let map = Map { width: w, height: h, depth, channels: c, data, mips: Vec::new() };
+        Some(EncodedBundle::from_map(&map, key.kind, &key.encoding))
+    }
+
+    fn store_disk(&self, key: &CacheKey, map: &Map) {
+        let Some(dir) = &self.dir else { return };
+        if key.kind == MapKind::MaxMip || std::fs::create_dir_all(dir).is_err() {
+            return;
+        }
+        let path = dir.join(format!("{}.npy", key.file_stem()));
+        let tmp = dir.join(format!("{}.npy.tmp", key.file_stem()));
+        let mut shape = Vec::new();
+        if map.depth > 1 || key.kind == MapKind::DistanceField {
+            shape.push(map.depth);
+        }
+        shape.extend([map.height, map.width]);
+        if map.channels > 1 || matches!(key.kind, MapKind::MultiCone | MapKind::PiecewiseCone) {
+            shape.push(map.channels);
+        }
+        if std::fs::write(&tmp, encode::npy_bytes(&shape, &map.data)).is_ok() {
+            let _ = std::fs::rename(&tmp, &path);
+        } else {
+            let _ = std::fs::remove_file(&tmp);
+        }
+    }
+}

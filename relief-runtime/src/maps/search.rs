@@ -1,0 +1,208 @@
+//! Branch-and-bound search over a maximum-height quadtree, shared by the cone generators.
+//!
+//! Every cone-like quantity here is a minimum over texels `q` of a score that only depends on
+//! the offset from the centre texel `p` to `q` and on `h(q)`, and that can be bounded from
+//! below for a whole rectangle of texels knowing only the smallest offset into the rectangle
+//! and the largest height inside it. A quadtree of maximum heights (each node the max of its
+//! up-to-four children, sides halved with rounding up) gives those maxima. The search visits
+//! nodes depth first, children in order of increasing bound, and drops a node whose bound is
+//! not below the best score found so far. Regions no higher than the centre are dropped at
+//! once, and so are regions too far away to matter. This is the max-mip pruning of Valasek &
+//! Bán (Eurographics 2022), run on the CPU per texel.
+//!
+//! Exactness: the bound is computed with the same floating-point expressions as the score on
+//! offsets and heights that are each no larger (no smaller) than any texel's, and IEEE
+//! arithmetic rounds monotonically, so a pruned texel could never have lowered the minimum.
+//! The result is bit-identical to a brute-force minimum over all texels.
+
+use crate::heightmap::{EdgeMode, HeightMap};
+
+/// Which offsets along one axis a search may use, and how they are measured.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Axis {
+    /// Both directions; with wrapping the shorter way round (ties go to the positive side).
+    Both { wrap: bool },
+    /// Only offsets `>= 0` (with wrapping: the forward way round, `0..n`).
+    Forward { wrap: bool },
+    /// Only offsets `<= 0` (with wrapping: the backward way round).
+    Backward { wrap: bool },
+}
+
+impl Axis {
+    pub(crate) fn both(edge: EdgeMode) -> Axis {
+        Axis::Both { wrap: edge == EdgeMode::Repeat }
+    }
+
+    /// Signed offset from `p` to texel `q` (both in `0..n`), or `None` if unreachable.
+    #[inline]
+    pub(crate) fn offset(self, p: i64, q: i64, n: i64) -> Option<i64> {
+        match self {
+            Axis::Both { wrap: true } => {
+                let d = (q - p).rem_euclid(n);
+                Some(if d <= n - d { d } else { d - n })
+            }
+            Axis::Both { wrap: false } => Some(q - p),
+            Axis::Forward { wrap: true } => Some((q - p).rem_euclid(n)),
+            Axis::Forward { wrap: false } => (q >= p).then_some(q - p),
+            Axis::Backward { wrap: true } => Some(-(p - q).rem_euclid(n)),
+            Axis::Backward { wrap: false } => (q <= p).then_some(q - p),
+        }
+    }
+
+    /// Smallest `|offset|` from `p` to any texel of `a..=b`, or `None` if none is reachable.
+    #[inline]
+    pub(crate) fn min_offset(self, p: i64, a: i64, b: i64, n: i64) -> Option<i64> {
+        let inside = a <= p && p <= b;
+        match self {
+            Axis::Both { wrap } => Some(if inside {
+                0
+            } else if wrap {
+                (a - p).rem_euclid(n).min((p - b).rem_euclid(n))
+            } else if a > p {
+                a - p
+            } else {
+                p - b
+            }),
+            Axis::Forward { wrap } => {
+                if inside {
+                    Some(0)
+                } else if a > p {
+                    Some(a - p)
+                } else if wrap {
+                    Some(a - p + n)
+                } else {
+                    None
+                }
+            }
+            Axis::Backward { wrap } => {
+                if inside {
+                    Some(0)
+                } else if b < p {
+                    Some(p - b)
+                } else if wrap {
+                    Some(p - b + n)
+                } else {
+                    None
+                }
+            }
+        }
+    }
+}
+
+/// Horizontal distance in texture coordinates for a texel offset, on a `w x h` map.
+/// The one formula every generator and every brute-force test uses.
+#[inline]
+pub fn texel_distance(ox: i64, oy: i64, w: usize, h: usize) -> f64 {
+    let du = ox as f64 / w as f64;
+    let dv = oy as f64 / h as f64;
+    (du * du + dv * dv).sqrt()
+}
+
+/// A score to minimise over texels.
+pub(crate) trait Scorer {
+    /// A lower bound of [`Scorer::score`] over texels with `|offset|` at least `(ox, oy)` and
+    /// height at most `hmax`; `None` if no such texel can score.
+    fn bound(&self, ox: i64, oy: i64, hmax: f32) -> Option<f64>;
+    /// The score of the texel at signed offset `(sx, sy)` with height `hq`; `None`: no constraint.
+    fn score(&self, sx: i64, sy: i64, hq: f32) -> Option<f64>;
+}
+
+/// Maximum-height quadtree. Level 0 is the map; level `k` node `(i, j)` covers texels
+/// `x in [i << k, min((i + 1) << k, w))`, same for y.
+pub(crate) struct MaxTree {
+    pub(crate) w: usize,
+    pub(crate) h: usize,
+    levels: Vec<(usize, usize, Vec<f32>)>,
+}
+
+impl MaxTree {
+    pub(crate) fn new(map: &HeightMap) -> MaxTree {
+        let mut levels = vec![(map.width, map.height, map.data.clone())];
+        loop {
+            let (w, h, ref d) = *levels.last().unwrap();
+            if w == 1 && h == 1 {
+                break;
+            }
+            let (nw, nh) = (w.div_ceil(2), h.div_ceil(2));
+            let mut nd = vec![f32::NEG_INFINITY; nw * nh];
+            for y in 0..h {
+                for x in 0..w {
+                    let o = &mut nd[(y / 2) * nw + x / 2];
+                    *o = o.max(d[y * w + x]);
+                }
+            }
+            levels.push((nw, nh, nd));
+        }
+        MaxTree { w: map.width, h: map.height, levels }
+    }
+
+    #[inline]
+    pub(crate) fn height(&self, x: usize, y: usize) -> f32 {
+        self.levels[0].2[y * self.w + x]
+    }
+
+    /// Minimum score over all texels reachable from `(px, py)`, starting from `best`
+    /// (returned unchanged if nothing scores lower).
+    pub(crate) fn search_min<S: Scorer>(&self, px: usize, py: usize, ax: Axis, ay: Axis, s: &S, best: f64) -> f64 {
+        let mut best = best;
+        let top = self.levels.len() - 1;
+        self.visit(top, 0, 0, px as i64, py as i64, ax, ay, s, &mut best);
+        best
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn visit<S: Scorer>(&self, k: usize, i: usize, j: usize, px: i64, py: i64, ax: Axis, ay: Axis, s: &S, best: &mut f64) {
+        let (w, h) = (self.w as i64, self.h as i64);
+        if k == 0 {
+            let (Some(sx), Some(sy)) = (ax.offset(px, i as i64, w), ay.offset(py, j as i64, h)) else {
+                return;
+            };
+            if let Some(v) = s.score(sx, sy, self.height(i, j)) {
+                if v < *best {
+                    *best = v;
+                }
+            }
+            return;
+        }
+        let (cw, ch, ref cd) = self.levels[k - 1];
+        let mut kids: [(f64, usize, usize); 4] = [(0.0, 0, 0); 4];
+        let mut n = 0;
+        for cj in 2 * j..(2 * j + 2).min(ch) {
+            for ci in 2 * i..(2 * i + 2).min(cw) {
+                let hmax = cd[cj * cw + ci];
+                let shift = k - 1;
+                let (x0, x1) = ((ci << shift) as i64, (((ci + 1) << shift) as i64).min(w) - 1);
+                let (y0, y1) = ((cj << shift) as i64, (((cj + 1) << shift) as i64).min(h) - 1);
+                let (Some(ox), Some(oy)) = (ax.min_offset(px, x0, x1, w), ay.min_offset(py, y0, y1, h)) else {
+                    continue;
+                };
+                let Some(b) = s.bound(ox, oy, hmax) else { continue };
+                if b >= *best {
+                    continue;
+                }
+                kids[n] = (b, ci, cj);
+                n += 1;
+            }
+        }
+        let kids = &mut kids[..n];
+        kids.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        for &(b, ci, cj) in kids.iter() {
+            if b < *best {
+                self.visit(k - 1, ci, cj, px, py, ax, ay, s, best);
+            }
+        }
+    }
+}
+
+/// Runs `f(x, y)` for every texel in parallel (rows split over rayon's threads) and collects
+/// `C` values per texel, row-major.
+pub(crate) fn per_texel<const C: usize>(w: usize, h: usize, f: impl Fn(usize, usize) -> [f32; C] + Sync) -> Vec<f32> {
+    use rayon::prelude::*;
+    let mut out = vec![0.0f32; w * h * C];
+    out.par_chunks_mut(w * C).enumerate().for_each(|(y, row)| {
+        for x in 0..w {
+            row[x * C..(x + 1) * C].copy_from_slice(&f(x, y));
+        }
+    });
+    out
+}
