@@ -4,6 +4,7 @@ pub mod gpu;
 pub mod heightmap;
 pub mod cli_gen;
 pub mod cli_maps;
+pub mod cli_render;
 pub mod maps;
 pub mod scene;
 pub mod reference;

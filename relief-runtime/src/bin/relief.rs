@@ -1,7 +1,7 @@
 //! The `relief` command line.
 
 use clap::{Parser, Subcommand};
-use relief_runtime::{cli_gen, cli_maps};
+use relief_runtime::{cli_gen, cli_maps, cli_render};
 
 /// relief: relief-mapping search methods composed into shaders, measured and swept.
 #[derive(Parser)]
@@ -17,6 +17,9 @@ enum Command {
     Gen(cli_gen::GenArgs),
     /// Build an acceleration map from a height map.
     Maps(cli_maps::MapsArgs),
+    /// Render and probe one pipeline on one scene: frame time, accuracy against the exact
+    /// reference, frame.png, error.png, metrics.json (and hits.csv).
+    Render(cli_render::RenderArgs),
 }
 
 fn main() {
@@ -24,6 +27,7 @@ fn main() {
     let result = match &cli.command {
         Command::Gen(a) => cli_gen::run(a),
         Command::Maps(a) => cli_maps::run(a),
+        Command::Render(a) => cli_render::run(a),
     };
     if let Err(e) = result {
         // One line: the error and its causes.

@@ -42,7 +42,7 @@
 //! adversarial maps). Texels are processed in parallel with rayon. The result is bit-identical
 //! to the brute-force Θ(N⁴) minimum.
 
-use super::search::{texel_distance, Axis, MaxTree, Scorer};
+use super::search::{texel_distance, Axis, Best, MaxTree, Scorer};
 use crate::heightmap::{EdgeMode, HeightMap};
 
 /// Ratio score for an apex at height `apex` (a texel's height, or above it for stacked cones).
@@ -101,8 +101,23 @@ pub(crate) fn ratio_at(tree: &MaxTree, map: &HeightMap, edge: EdgeMode, x: usize
 /// Conservative cone ratios, one per texel, row-major (see the module docs).
 pub fn cone_ratios(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
     let tree = MaxTree::new(map);
-    super::search::per_texel::<1>(map.width, map.height, |x, y| {
-        let h0 = map.data[y * map.width + x] as f64;
-        [super::encode::f32_down(ratio_at(&tree, map, edge, x, y, h0))]
+    let (ax, ay) = (Axis::both(edge), Axis::both(edge));
+    super::search::per_row::<1>(map.width, map.height, |y, row| {
+        let mut prev: Option<(usize, usize)> = None;
+        for (x, out) in row.iter_mut().enumerate() {
+            let s = ConeScorer { apex: map.data[y * map.width + x] as f64, w: map.width, h: map.height };
+            let mut start: Best = (neighbour_seed(map, edge, x, y, &s), None);
+            // The left neighbour's nearest obstacle is usually close to ours: a tight start.
+            if let Some(v) = prev.and_then(|q| tree.score_of(x, y, q, ax, ay, &s)) {
+                if v < start.0 {
+                    start = (v, prev);
+                }
+            }
+            let best = tree.search_argmin(x, y, ax, ay, &s, start);
+            if best.1.is_some() {
+                prev = best.1;
+            }
+            *out = super::encode::f32_down(best.0);
+        }
     })
 }

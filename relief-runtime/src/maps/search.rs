@@ -107,6 +107,9 @@ pub(crate) trait Scorer {
     fn score(&self, sx: i64, sy: i64, hq: f32) -> Option<f64>;
 }
 
+/// A best score and the texel that reached it.
+pub(crate) type Best = (f64, Option<(usize, usize)>);
+
 /// Maximum-height quadtree. Level 0 is the map; level `k` node `(i, j)` covers texels
 /// `x in [i << k, min((i + 1) << k, w))`, same for y.
 pub(crate) struct MaxTree {
@@ -144,22 +147,36 @@ impl MaxTree {
     /// Minimum score over all texels reachable from `(px, py)`, starting from `best`
     /// (returned unchanged if nothing scores lower).
     pub(crate) fn search_min<S: Scorer>(&self, px: usize, py: usize, ax: Axis, ay: Axis, s: &S, best: f64) -> f64 {
-        let mut best = best;
+        self.search_argmin(px, py, ax, ay, s, (best, None)).0
+    }
+
+    /// As [`MaxTree::search_min`], also returning the texel that gave the minimum (the one
+    /// passed in `start` if nothing beat it).
+    pub(crate) fn search_argmin<S: Scorer>(&self, px: usize, py: usize, ax: Axis, ay: Axis, s: &S, start: Best) -> Best {
+        let mut best = start;
         let top = self.levels.len() - 1;
         self.visit(top, 0, 0, px as i64, py as i64, ax, ay, s, &mut best);
         best
     }
 
+    /// The score of texel `q` seen from `p` (a valid starting bound: it is a real candidate).
+    pub(crate) fn score_of<S: Scorer>(&self, px: usize, py: usize, q: (usize, usize), ax: Axis, ay: Axis, s: &S) -> Option<f64> {
+        let (w, h) = (self.w as i64, self.h as i64);
+        let sx = ax.offset(px as i64, q.0 as i64, w)?;
+        let sy = ay.offset(py as i64, q.1 as i64, h)?;
+        s.score(sx, sy, self.height(q.0, q.1))
+    }
+
     #[allow(clippy::too_many_arguments)]
-    fn visit<S: Scorer>(&self, k: usize, i: usize, j: usize, px: i64, py: i64, ax: Axis, ay: Axis, s: &S, best: &mut f64) {
+    fn visit<S: Scorer>(&self, k: usize, i: usize, j: usize, px: i64, py: i64, ax: Axis, ay: Axis, s: &S, best: &mut Best) {
         let (w, h) = (self.w as i64, self.h as i64);
         if k == 0 {
             let (Some(sx), Some(sy)) = (ax.offset(px, i as i64, w), ay.offset(py, j as i64, h)) else {
                 return;
             };
             if let Some(v) = s.score(sx, sy, self.height(i, j)) {
-                if v < *best {
-                    *best = v;
+                if v < best.0 {
+                    *best = (v, Some((i, j)));
                 }
             }
             return;
@@ -177,7 +194,7 @@ impl MaxTree {
                     continue;
                 };
                 let Some(b) = s.bound(ox, oy, hmax) else { continue };
-                if b >= *best {
+                if b >= best.0 {
                     continue;
                 }
                 kids[n] = (b, ci, cj);
@@ -187,11 +204,19 @@ impl MaxTree {
         let kids = &mut kids[..n];
         kids.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
         for &(b, ci, cj) in kids.iter() {
-            if b < *best {
+            if b < best.0 {
                 self.visit(k - 1, ci, cj, px, py, ax, ay, s, best);
             }
         }
     }
+}
+
+/// Runs `f(y, row)` for every row in parallel; `row` holds `w * C` values.
+pub(crate) fn per_row<const C: usize>(w: usize, h: usize, f: impl Fn(usize, &mut [f32]) + Sync) -> Vec<f32> {
+    use rayon::prelude::*;
+    let mut out = vec![0.0f32; w * h * C];
+    out.par_chunks_mut(w * C).enumerate().for_each(|(y, row)| f(y, row));
+    out
 }
 
 /// Runs `f(x, y)` for every texel in parallel (rows split over rayon's threads) and collects

@@ -1,0 +1,201 @@
+//! `relief render`: one pipeline on one scene: timed frames, probe against the exact
+//! reference, and the files that show both.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use anyhow::Context;
+
+use crate::cli_gen::write_atomic;
+use crate::gpu::{self, Gpu, Program, SceneTextures};
+use crate::metrics::{self, Metrics};
+use crate::reference::{reference_hits, Sampling};
+use crate::scene::scene_from_arg;
+
+/// Arguments of `relief render`.
+#[derive(clap::Args, Debug)]
+pub struct RenderArgs {
+    /// The pipeline in the text form, e.g. `linear(10)+binary(5)`.
+    pub pipeline: String,
+    /// `scene:NAME` (a procedural scene; a bare NAME works too) or a height-map file.
+    #[arg(long)]
+    pub scene: String,
+    /// Frame size in pixels (square).
+    #[arg(long, default_value_t = 512)]
+    pub size: u32,
+    /// View angle from the surface normal, in degrees.
+    #[arg(long)]
+    pub angle: Option<f32>,
+    /// Number of timed frames (after 5 warm-up frames).
+    #[arg(long, default_value_t = 50)]
+    pub frames: u32,
+    /// Also write hits.csv, one row per ray.
+    #[arg(long)]
+    pub dump_hits: bool,
+    /// Output folder.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// Runs `relief render`.
+pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
+    let pipeline: relief_dsl::Pipeline = a.pipeline.parse().map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", a.pipeline))?;
+    if a.size == 0 || a.size > 8192 {
+        anyhow::bail!("--size {} is out of range: allowed 1..=8192", a.size);
+    }
+    let arg = if a.scene.contains(':') || std::path::Path::new(&a.scene).exists() { a.scene.clone() } else { format!("scene:{}", a.scene) };
+    let mut scene = scene_from_arg(&arg)?;
+    if let Some(angle) = a.angle {
+        if !(0.0..90.0).contains(&angle) {
+            anyhow::bail!("--angle {angle} is out of range: allowed 0 <= angle < 90 degrees from the normal");
+        }
+        scene.camera.angle_deg = angle;
+    }
+    std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create output folder {}", a.out.display()))?;
+    let g = Gpu::new()?;
+    let program = Program::new(&pipeline)?;
+    let tex = SceneTextures::new(&g, &scene);
+    let frame = gpu::render(&g, &program, &scene, &tex, a.size, 5, a.frames)?;
+    let rays = scene.rays(a.size);
+    let hits = gpu::probe(&g, &program, &scene, &tex, &rays)?;
+    let mut on_device = scene.clone();
+    on_device.height.data = tex.heights_on_device.clone();
+    let refs = reference_hits(&on_device, &rays, Sampling::Bilinear);
+
+    let mut m = Metrics {
+        pipeline: pipeline.to_string(),
+        scene: scene.name.clone(),
+        size: a.size,
+        adapter: format!("{} ({})", g.adapter, g.driver),
+        ..Default::default()
+    };
+    metrics::set_timing(&mut m, &frame.frame_ms);
+    metrics::set_accuracy(&mut m, &rays, &hits, &refs, &on_device.height, scene.edge);
+
+    let png = |name: &str, w: u32, h: u32, rgba: Vec<u8>| -> anyhow::Result<()> {
+        let img = image::RgbaImage::from_raw(w, h, rgba).context("image size")?;
+        let mut bytes = Vec::new();
+        img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)?;
+        write_atomic(&a.out.join(name), &bytes)
+    };
+    png("frame.png", a.size, a.size, frame.rgba)?;
+    let errors: Vec<(u32, u32, f64)> = rays
+        .iter()
+        .zip(&hits)
+        .zip(&refs)
+        .map(|((r, h), rf)| {
+            let e = match rf {
+                Some(rf) if h.t.is_finite() => (h.t as f64 - rf.t).abs(),
+                _ => f64::INFINITY,
+            };
+            (r.x, r.y, e)
+        })
+        .collect();
+    let (w, h, rgba) = error_map(a.size, &errors);
+    png("error.png", w, h, rgba)?;
+    write_atomic(&a.out.join("metrics.json"), serde_json::to_string_pretty(&m)?.as_bytes())?;
+    if a.dump_hits {
+        let mut csv = Vec::new();
+        writeln!(csv, "x,y,origin_u,origin_v,dir_x,dir_y,dir_z,t,u,v,z,t_ref,u_ref,v_ref,iterations,fetches")?;
+        for ((r, h), rf) in rays.iter().zip(&hits).zip(&refs) {
+            let (tr, ur, vr) = rf.map(|x| (x.t.to_string(), x.u.to_string(), x.v.to_string())).unwrap_or_default();
+            writeln!(
+                csv,
+                "{},{},{},{},{},{},{},{},{},{},{},{tr},{ur},{vr},{},{}",
+                r.x, r.y, r.origin[0], r.origin[1], r.dir[0], r.dir[1], r.dir[2], h.t, h.u, h.v, h.z, h.iterations, h.fetches
+            )?;
+        }
+        write_atomic(&a.out.join("hits.csv"), &csv)?;
+    }
+    println!(
+        "{} on {} at {}²: frame {:.3} ms (p10 {:.3}, p90 {:.3}), mse {:.3e}, t err rms {:.2e}, missed {:.2}%, NaN {}, {:.1} iterations, {:.1} fetches → {}",
+        m.pipeline,
+        m.scene,
+        m.size,
+        m.frame_ms_median,
+        m.frame_ms_p10,
+        m.frame_ms_p90,
+        m.mse_dissertation,
+        m.ref_err_t_rms,
+        100.0 * m.missed_rate,
+        m.nan_count,
+        m.avg_iterations,
+        m.avg_fetches,
+        a.out.display()
+    );
+    Ok(())
+}
+
+/// Per-pixel |t − t_ref| as a heat map (log scale, black = exact, yellow = the largest
+/// error, magenta = no finite hit), with a legend bar and its range below the image.
+pub fn error_map(size: u32, errors: &[(u32, u32, f64)]) -> (u32, u32, Vec<u8>) {
+    let legend_h = 24u32;
+    let (w, h) = (size.max(96), size + legend_h);
+    let mut img = vec![0u8; (w * h * 4) as usize];
+    for px in img.chunks_mut(4) {
+        px.copy_from_slice(&[40, 40, 48, 255]);
+    }
+    let max = errors.iter().map(|e| e.2).filter(|e| e.is_finite()).fold(1e-9, f64::max);
+    let lo = (max * 1e-4).max(1e-9);
+    let scale = |e: f64| ((e.max(lo) / lo).ln() / (max / lo).ln()).clamp(0.0, 1.0);
+    let mut put = |x: u32, y: u32, c: [u8; 3]| {
+        if x < w && y < h {
+            let i = ((y * w + x) * 4) as usize;
+            img[i..i + 3].copy_from_slice(&c);
+        }
+    };
+    for &(x, y, e) in errors {
+        let c = if e.is_finite() { heat(if e <= lo { 0.0 } else { scale(e) }) } else { [255, 0, 255] };
+        put(x, y, c);
+    }
+    // Legend: the colour bar from `lo` (left) to `max` (right), labelled with both.
+    for x in 0..w {
+        for y in size + 2..size + 8 {
+            put(x, y, heat(x as f64 / (w - 1).max(1) as f64));
+        }
+    }
+    draw_text(&mut put, 2, size + 11, &format!("{lo:.0e}"));
+    let label = format!("{max:.1e}");
+    draw_text(&mut put, w.saturating_sub(4 * label.len() as u32 + 2), size + 11, &label);
+    (w, h, img)
+}
+
+fn heat(f: f64) -> [u8; 3] {
+    // black → red → yellow
+    let r = (f * 2.0).min(1.0);
+    let g = (f * 2.0 - 1.0).clamp(0.0, 1.0);
+    [(r * 255.0) as u8, (g * 255.0) as u8, (g * 80.0) as u8]
+}
+
+/// 3×5 pixel glyphs for the legend's numbers.
+fn glyph(c: char) -> [u8; 5] {
+    match c {
+        '0' => [7, 5, 5, 5, 7],
+        '1' => [2, 6, 2, 2, 7],
+        '2' => [7, 1, 7, 4, 7],
+        '3' => [7, 1, 7, 1, 7],
+        '4' => [5, 5, 7, 1, 1],
+        '5' => [7, 4, 7, 1, 7],
+        '6' => [7, 4, 7, 5, 7],
+        '7' => [7, 1, 1, 1, 1],
+        '8' => [7, 5, 7, 5, 7],
+        '9' => [7, 5, 7, 1, 7],
+        '.' => [0, 0, 0, 0, 2],
+        'e' => [0, 7, 7, 4, 7],
+        '-' => [0, 0, 7, 0, 0],
+        '+' => [0, 2, 7, 2, 0],
+        _ => [0; 5],
+    }
+}
+
+fn draw_text(put: &mut impl FnMut(u32, u32, [u8; 3]), x0: u32, y0: u32, s: &str) {
+    for (i, c) in s.chars().enumerate() {
+        for (row, bits) in glyph(c).iter().enumerate() {
+            for col in 0..3 {
+                if bits & (4 >> col) != 0 {
+                    put(x0 + 4 * i as u32 + col, y0 + row as u32, [230, 230, 230]);
+                }
+            }
+        }
+    }
+}

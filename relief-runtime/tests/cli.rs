@@ -1,0 +1,82 @@
+//! The `relief` binary: files written, and one-line errors with a non-zero exit.
+
+use std::process::Command;
+
+fn relief() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_relief"));
+    c.env("LP_NUM_THREADS", "1").env("NODEVICE_SELECT", "1");
+    c
+}
+
+fn tmp(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("relief-cli-{name}-{}", std::process::id()));
+    std::fs::remove_dir_all(&d).ok();
+    d
+}
+
+#[test]
+fn gen_all_writes_five_files_per_combination() {
+    let out = tmp("gen");
+    let st = relief().args(["gen", "--all", "--out"]).arg(&out).status().unwrap();
+    assert!(st.success());
+    let files: Vec<_> = std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    assert_eq!(files.len(), 84 * 5);
+    assert!(files.contains(&"linear_32__binary_5__shadow-soft_16.frag.glsl".to_string()));
+    assert!(!files.iter().any(|f| f.ends_with(".tmp")));
+    std::fs::remove_dir_all(&out).ok();
+}
+
+#[test]
+fn render_writes_frame_error_metrics_and_hits() {
+    let out = tmp("render");
+    let o = relief()
+        .args(["render", "linear(8)+binary(3)", "--scene", "scene:step", "--size", "32", "--frames", "2", "--dump-hits", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(summary.lines().count(), 1, "{summary}");
+    let m: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("metrics.json")).unwrap()).unwrap();
+    for key in [
+        "pipeline", "scene", "size", "adapter", "frame_ms_median", "frame_ms_p10", "frame_ms_p90", "mse_dissertation",
+        "ref_err_t_rms", "ref_err_uv_texels_rms", "missed_rate", "nan_count", "avg_iterations", "avg_fetches",
+    ] {
+        assert!(m.get(key).is_some(), "metrics.json lacks {key}");
+    }
+    assert_eq!(m["pipeline"], "linear(8)+binary(3)");
+    assert!(m["frame_ms_median"].as_f64().unwrap() > 0.0);
+    let csv = std::fs::read_to_string(out.join("hits.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next().unwrap(), "x,y,origin_u,origin_v,dir_x,dir_y,dir_z,t,u,v,z,t_ref,u_ref,v_ref,iterations,fetches");
+    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
+    assert!(rows.len() > 32 * 32 / 2);
+    // The documented ray: the point at t is (origin + t·dir.xy, 1 + t·dir.z), the hit's z.
+    for r in &rows {
+        let (t, z, dz) = (r[7], r[10], r[6]);
+        assert!((1.0 + t * dz - z).abs() < 1e-5);
+        // At most 8 linear passes, then exactly 3 binary passes.
+        assert!((4.0..=11.0).contains(&r[14]), "iterations {}", r[14]);
+    }
+    for f in ["frame.png", "error.png"] {
+        let img = image::open(out.join(f)).unwrap();
+        assert!(img.width() >= 32);
+    }
+    std::fs::remove_dir_all(&out).ok();
+}
+
+#[test]
+fn bad_input_gives_one_line_and_a_failure() {
+    for args in [
+        vec!["render", "linear(8)", "--scene", "scene:nope", "--out", "/tmp/relief-x"],
+        vec!["render", "lnear(8)", "--scene", "scene:step", "--out", "/tmp/relief-x"],
+        vec!["gen", "linear(0)", "--out", "/tmp/relief-x"],
+        vec!["gen", "linear(5)", "--out", "/proc/relief-cannot-write-here"],
+    ] {
+        let o = relief().args(&args).output().unwrap();
+        assert!(!o.status.success(), "{args:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.starts_with("relief: error:"), "{err}");
+    }
+}
