@@ -31,6 +31,16 @@ impl Program {
         Self::from_compiled(&c)
     }
 
+    /// The WGSL loaded on `gpu`; a shader the device rejects is an error, not a panic.
+    pub fn shader_module(&self, gpu: &Gpu) -> Result<wgpu::ShaderModule, GpuError> {
+        gpu.checked(|| {
+            gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("relief"),
+                source: wgpu::ShaderSource::Wgsl(self.wgsl.as_str().into()),
+            })
+        })
+    }
+
     /// From an already compiled module.
     pub fn from_compiled(c: &Compiled) -> Result<Program, relief_dsl::CompileError> {
         let wgsl = relief_dsl::emit::wgsl(c)?;

@@ -25,12 +25,7 @@ pub fn probe(gpu: &Gpu, program: &Program, scene: &Scene, tex: &SceneTextures, r
     if rays.is_empty() {
         return Ok(vec![]);
     }
-    let module = gpu.checked(|| {
-        gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("relief"),
-            source: wgpu::ShaderSource::Wgsl(program.wgsl.as_str().into()),
-        })
-    })?;
+    let module = program.shader_module(gpu)?;
     let pipeline = gpu.checked(|| {
         gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("probe"),

@@ -32,12 +32,7 @@ pub fn render(
         )));
     }
     let frames = frames.max(1);
-    let module = gpu.checked(|| {
-        gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("relief"),
-            source: wgpu::ShaderSource::Wgsl(program.wgsl.as_str().into()),
-        })
-    })?;
+    let module = program.shader_module(gpu)?;
     let pipeline = gpu.checked(|| {
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("render"),
