@@ -8,7 +8,9 @@
 //!   the stages, the composer and the WGSL / SPIR-V / GLSL emitters;
 //! - [`runtime`] (`relief-runtime`): height maps, acceleration maps, scenes, the exact
 //!   reference and the GPU runtime;
-//! - `relief-macros`: declaring pipelines in Rust.
+//! - `relief-macros`: declaring pipelines in Rust, checked at compile time: [`relief!`] (a
+//!   [`Pipeline`]), [`relief_shader!`] (shaders emitted while compiling, as constants) and
+//!   [`relief_grid!`] (a [`Grid`] of pipelines); see their docs for the syntax.
 //!
 //! ```
 //! let p: relief::Pipeline = "linear(10)+binary(5)".parse()?;
@@ -16,7 +18,18 @@
 //! assert!(shaders.wgsl.contains("fn refine_binary("));
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! ```
+//! let p = relief::relief! { coarse: linear(10), refine: binary(5) };
+//! assert_eq!(p, "linear(10)+binary(5)".parse().unwrap());
+//! ```
+
+// The macros name their types `::relief::dsl::…`; this makes that path work inside this
+// crate too.
+extern crate self as relief;
 
 pub use relief_dsl as dsl;
+pub use relief_dsl::spec::Grid;
 pub use relief_dsl::{compile, CompileError, Pipeline, Slot, StageSpec};
+pub use relief_macros::{relief, relief_grid, relief_shader};
 pub use relief_runtime as runtime;

@@ -41,7 +41,7 @@ impl fmt::Display for ParseError {
 
 impl std::error::Error for ParseError {}
 
-fn err(pos: usize, token: &str, message: impl Into<String>) -> ParseError {
+pub(crate) fn err(pos: usize, token: &str, message: impl Into<String>) -> ParseError {
     ParseError {
         pos,
         token: token.to_string(),
@@ -164,25 +164,44 @@ impl From<Value> for ArgVal {
     }
 }
 
-#[derive(Debug)]
-pub(crate) struct RawStage {
-    name: String,
-    pos: usize,
-    args: Option<Vec<RawArg>>,
+/// A stage as written, before it is checked against the catalogue: what the text parser
+/// produces and what the macros (relief-macros) build from Rust tokens, so that both are
+/// checked by the same [`resolve_stage`].
+///
+/// Positions (`pos`) are whatever the producer uses to point back at the source: character
+/// offsets in the text form, token numbers in the macros. Errors carry them unchanged in
+/// [`ParseError::pos`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RawStage {
+    /// The method's name.
+    pub name: String,
+    /// Where the name is.
+    pub pos: usize,
+    /// `None` for a bare name (`none`, `linear`), else the arguments in parentheses.
+    pub args: Option<Vec<RawArg>>,
 }
 
-#[derive(Debug)]
-enum RawValue {
+/// An argument's value as written.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum RawValue {
+    /// A whole number (checked against the parameter's range on resolution).
     Int(u64),
+    /// A name or a nested stage: a bare name (`args: None`) is a choice word or a stage at
+    /// default parameters, whichever the parameter takes.
     Stage(RawStage),
 }
 
-#[derive(Debug)]
-struct RawArg {
-    name: Option<(String, usize)>,
-    value: RawValue,
-    pos: usize,
-    text: String,
+/// One argument as written: `value` or `name = value`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RawArg {
+    /// The parameter's name and where it is, for a named argument.
+    pub name: Option<(String, usize)>,
+    /// The value.
+    pub value: RawValue,
+    /// Where the value is.
+    pub pos: usize,
+    /// The value as written (the offending token in errors).
+    pub text: String,
 }
 
 struct Parser {
@@ -335,6 +354,14 @@ pub(crate) fn pipeline(input: &str) -> Result<Pipeline, ParseError> {
         s.unwrap_or_else(StageSpec::none),
         a.unwrap_or_else(StageSpec::none),
     ))
+}
+
+/// Resolves a stage as written against the catalogue for `slot`, with the same checks as
+/// the text form: the method exists in that slot, named and positional arguments land on
+/// parameters, values are in range, defaults are filled in, nested stages are resolved, and
+/// the combination can work. Errors carry the positions found in `raw`.
+pub fn resolve_stage(slot: Slot, raw: RawStage) -> Result<StageSpec, ParseError> {
+    resolve_raw(slot, raw)
 }
 
 fn resolve_raw(slot: Slot, raw: RawStage) -> Result<StageSpec, ParseError> {

@@ -1,0 +1,744 @@
+//! Grids: many pipelines declared at once, as the cartesian product of the stages listed for
+//! each slot.
+//!
+//! # Grid form
+//!
+//! The text that `relief sweep` reads and the body of `relief_grid!` (relief-macros) share
+//! one grammar:
+//!
+//! ```text
+//! # a comment runs to the end of the line
+//! name: "small"                                  # optional
+//! coarse: [linear(5..=35 step 5), linear_dynamic(8, 32)]
+//! refine: [none, binary(3), interval([3, 6])]
+//! shadow: none                                   # one stage needs no brackets
+//! ```
+//!
+//! - An entry is `SLOT: [STAGE, …]` or `SLOT: STAGE`, for the slots `coarse`, `refine`,
+//!   `shadow` and `ao`, plus an optional `name: "…"`. Entries are separated by new lines or
+//!   commas (or both); trailing commas are fine.
+//! - A stage is written as in the text form (`linear(10)`, `linear(steps = 10)`,
+//!   `hard(linear(20))`), except that any parameter may be a **range** `a..=b` or
+//!   `a..=b step s` (inclusive), or a **list** `[v1, v2, …]`. Such a stage stands for one
+//!   stage per value, and a stage with several of them for their cartesian product (first
+//!   parameter outermost).
+//! - The grid is the product of the slots' lists, coarse outermost, then refine, shadow, ao;
+//!   a slot left out is `none`, except coarse, which must be given. A stage that occurs
+//!   twice in a slot's list (after expansion and resolution) is kept once, at its first place.
+//!
+//! Every stage is checked against the catalogue exactly like the text form
+//! ([`resolve_stage`]), so a grid holds only valid pipelines; errors name the line, the
+//! column and the offending token.
+//!
+//! ```
+//! use relief_dsl::spec::Grid;
+//! let grid: Grid = "coarse: [linear(8..=16 step 8), parallax]\nrefine: [none, binary(3)]".parse()?;
+//! let texts: Vec<String> = grid.iter().map(|p| p.to_string()).collect();
+//! assert_eq!(texts, ["linear(8)", "linear(8)+binary(3)", "linear(16)", "linear(16)+binary(3)",
+//!                    "parallax", "parallax+binary(3)"]);
+//! let err = "coarse: [linear(8), lnear(4)]".parse::<Grid>().unwrap_err();
+//! assert_eq!((err.line, err.column), (1, 21));
+//! assert!(err.to_string().contains("did you mean `linear`"));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use std::collections::HashSet;
+use std::fmt;
+use std::str::FromStr;
+
+use super::parse::err;
+use super::{resolve_stage, ParseError, Pipeline, RawArg, RawStage, RawValue, Slot, StageSpec};
+
+/// The most pipelines one grid may hold (and the most stages one stage pattern may expand
+/// to): a guard against a typo such as `1..=4096 step 1` in several places.
+pub const MAX_CELLS: usize = 100_000;
+
+/// A list of pipelines in declaration order: what a grid file or `relief_grid!` declares.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Grid {
+    /// The grid's name, from its `name:` entry.
+    pub name: Option<String>,
+    cells: Vec<Pipeline>,
+}
+
+impl Grid {
+    /// A grid of the given pipelines, in this order.
+    pub fn new(name: Option<String>, cells: Vec<Pipeline>) -> Self {
+        Grid { name, cells }
+    }
+    /// The cartesian product of the stages of each slot (`lists` indexed like [`Slot::ALL`]),
+    /// coarse outermost, then refine, shadow, ao. The stages are taken as they are: build
+    /// them with [`StageSpec::new`] or [`resolve_stage`] to have them checked.
+    pub fn product(name: Option<String>, lists: [Vec<StageSpec>; 4]) -> Self {
+        let [coarse, r, s, a] = lists;
+        let mut cells = Vec::with_capacity(coarse.len() * r.len() * s.len() * a.len());
+        for c in &coarse {
+            for r in &r {
+                for s in &s {
+                    for a in &a {
+                        cells.push(Pipeline::new(c.clone(), r.clone(), s.clone(), a.clone()));
+                    }
+                }
+            }
+        }
+        Grid { name, cells }
+    }
+    /// The number of pipelines.
+    pub fn len(&self) -> usize {
+        self.cells.len()
+    }
+    /// Whether the grid holds no pipeline (never the case for a parsed grid).
+    pub fn is_empty(&self) -> bool {
+        self.cells.is_empty()
+    }
+    /// The pipelines in declaration order.
+    pub fn iter(&self) -> std::slice::Iter<'_, Pipeline> {
+        self.cells.iter()
+    }
+    /// The pipelines as a slice.
+    pub fn cells(&self) -> &[Pipeline] {
+        &self.cells
+    }
+    /// The pipelines, by value.
+    pub fn into_cells(self) -> Vec<Pipeline> {
+        self.cells
+    }
+}
+
+impl IntoIterator for Grid {
+    type Item = Pipeline;
+    type IntoIter = std::vec::IntoIter<Pipeline>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.cells.into_iter()
+    }
+}
+
+impl<'a> IntoIterator for &'a Grid {
+    type Item = &'a Pipeline;
+    type IntoIter = std::slice::Iter<'a, Pipeline>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.cells.iter()
+    }
+}
+
+impl FromStr for Grid {
+    type Err = GridError;
+    fn from_str(s: &str) -> Result<Self, GridError> {
+        parse_pattern(s).and_then(|p| p.expand()).map_err(|e| GridError::new(s, e))
+    }
+}
+
+/// Why a grid text was rejected: a [`ParseError`] (whose `pos` is a character offset in the
+/// text) with its line and column (both from 1).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GridError {
+    /// Line of the offending token, from 1.
+    pub line: usize,
+    /// Column (in characters) of the offending token, from 1.
+    pub column: usize,
+    /// What is wrong.
+    pub error: ParseError,
+}
+
+impl GridError {
+    /// Locates `error` (positions are character offsets) in `text`.
+    pub fn new(text: &str, error: ParseError) -> Self {
+        let (mut line, mut column) = (1, 1);
+        for c in text.chars().take(error.pos) {
+            if c == '\n' {
+                line += 1;
+                column = 1;
+            } else {
+                column += 1;
+            }
+        }
+        GridError { line, column, error }
+    }
+}
+
+impl fmt::Display for GridError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "line {}, column {}", self.line, self.column)?;
+        let e = &self.error;
+        if !e.token.is_empty() {
+            write!(f, " (`{}`)", e.token)?;
+        }
+        write!(f, ": {}", e.message)?;
+        if !e.expected.is_empty() {
+            write!(f, "; expected one of: {}", e.expected.join(", "))?;
+        }
+        if let Some(s) = &e.suggestion {
+            write!(f, "; did you mean `{s}`?")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for GridError {}
+
+// ---------------------------------------------------------------------------------------
+// Patterns: a grid as written, before expansion. The text parser below and relief-macros
+// both build these, with their own positions (character offsets, token numbers).
+
+/// A grid as written: the parsed form of a grid text or of a `relief_grid!` body.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GridPattern {
+    /// The `name:` entry.
+    pub name: Option<String>,
+    /// The slot entries in the order written.
+    pub slots: Vec<SlotPattern>,
+    /// The position to report for what is missing at the end (no coarse slot).
+    pub end: usize,
+}
+
+/// `SLOT: [STAGE, …]`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SlotPattern {
+    /// The slot.
+    pub slot: Slot,
+    /// Where the slot's name is.
+    pub pos: usize,
+    /// The stages listed, in order.
+    pub stages: Vec<StagePattern>,
+}
+
+/// A stage whose parameters may hold ranges and lists.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct StagePattern {
+    /// The method's name.
+    pub name: String,
+    /// Where the name is.
+    pub pos: usize,
+    /// `None` for a bare name.
+    pub args: Option<Vec<ArgPattern>>,
+}
+
+/// `value` or `name = value`, where the value may be a range or a list.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ArgPattern {
+    /// The parameter's name and where it is.
+    pub name: Option<(String, usize)>,
+    /// The value or values.
+    pub value: ValuePattern,
+}
+
+/// A parameter value that may stand for several.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ValuePattern {
+    /// One whole number.
+    Int { value: u64, pos: usize, text: String },
+    /// `start..=end step step`, inclusive (`step` 1 when not written).
+    Range { start: u64, end: u64, step: u64, pos: usize, text: String },
+    /// `[v1, v2, …]`.
+    List { items: Vec<ValuePattern>, pos: usize },
+    /// A name or a nested stage (which may itself hold ranges and lists).
+    Stage(StagePattern),
+}
+
+impl ValuePattern {
+    fn expand(&self, out: &mut Vec<(RawValue, usize, String)>) -> Result<(), ParseError> {
+        match self {
+            ValuePattern::Int { value, pos, text } => out.push((RawValue::Int(*value), *pos, text.clone())),
+            ValuePattern::Range { start, end, step, pos, text } => {
+                if *step == 0 {
+                    return Err(err(*pos, text, "a range's step must be at least 1"));
+                }
+                if start > end {
+                    return Err(err(*pos, text, format!("empty range: {start} is greater than {end}")));
+                }
+                let count = (end - start) / step + 1;
+                if count > MAX_CELLS as u64 {
+                    return Err(err(*pos, text, format!("the range has {count} values, more than {MAX_CELLS}")));
+                }
+                let mut v = *start;
+                loop {
+                    out.push((RawValue::Int(v), *pos, v.to_string()));
+                    match v.checked_add(*step) {
+                        Some(n) if n <= *end => v = n,
+                        _ => break,
+                    }
+                }
+            }
+            ValuePattern::List { items, pos } => {
+                if items.is_empty() {
+                    return Err(err(*pos, "[", "an empty list; a list needs at least one value"));
+                }
+                for item in items {
+                    item.expand(out)?;
+                }
+            }
+            ValuePattern::Stage(s) => {
+                for raw in s.expand()? {
+                    let (pos, text) = (raw.pos, raw.name.clone());
+                    out.push((RawValue::Stage(raw), pos, text));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl StagePattern {
+    /// The stages this pattern stands for, in declaration order (first parameter outermost),
+    /// not yet checked against the catalogue.
+    pub fn expand(&self) -> Result<Vec<RawStage>, ParseError> {
+        let Some(args) = &self.args else {
+            return Ok(vec![RawStage { name: self.name.clone(), pos: self.pos, args: None }]);
+        };
+        let mut combos: Vec<Vec<RawArg>> = vec![vec![]];
+        for a in args {
+            let mut values = Vec::new();
+            a.value.expand(&mut values)?;
+            if combos.len().saturating_mul(values.len()) > MAX_CELLS {
+                return Err(err(
+                    self.pos,
+                    &self.name,
+                    format!("the stage stands for more than {MAX_CELLS} stages"),
+                ));
+            }
+            let mut next = Vec::with_capacity(combos.len() * values.len());
+            for c in &combos {
+                for (value, pos, text) in &values {
+                    let mut c = c.clone();
+                    c.push(RawArg { name: a.name.clone(), value: value.clone(), pos: *pos, text: text.clone() });
+                    next.push(c);
+                }
+            }
+            combos = next;
+        }
+        Ok(combos
+            .into_iter()
+            .map(|args| RawStage { name: self.name.clone(), pos: self.pos, args: Some(args) })
+            .collect())
+    }
+}
+
+impl GridPattern {
+    /// Expands and resolves every stage, then forms the product of the slots.
+    pub fn expand(&self) -> Result<Grid, ParseError> {
+        Ok(Grid::product(self.name.clone(), self.resolve()?))
+    }
+
+    /// Expands and resolves every stage: the distinct stages of each slot in declaration
+    /// order, indexed like [`Slot::ALL`] (`[none]` for a slot left out). Checks that the
+    /// grid has a coarse slot and at most [`MAX_CELLS`] pipelines.
+    pub fn resolve(&self) -> Result<[Vec<StageSpec>; 4], ParseError> {
+        let mut lists: [Option<Vec<StageSpec>>; 4] = [None, None, None, None];
+        for sp in &self.slots {
+            let idx = sp.slot as usize;
+            if lists[idx].is_some() {
+                return Err(err(sp.pos, sp.slot.name(), format!("the {} slot is given twice", sp.slot)));
+            }
+            if sp.stages.is_empty() {
+                return Err(err(sp.pos, sp.slot.name(), format!("the {} slot's list is empty", sp.slot)));
+            }
+            let mut seen = HashSet::new();
+            let mut specs = Vec::new();
+            for stage in &sp.stages {
+                for raw in stage.expand()? {
+                    let spec = resolve_stage(sp.slot, raw)?;
+                    if seen.insert(spec.clone()) {
+                        specs.push(spec);
+                    }
+                }
+            }
+            lists[idx] = Some(specs);
+        }
+        let [c, r, s, a] = lists;
+        let Some(coarse) = c else {
+            return Err(err(
+                self.end,
+                "",
+                "the grid has no coarse slot; add one such as `coarse: [linear(32)]`",
+            ));
+        };
+        let none = || vec![StageSpec::none()];
+        let (r, s, a) = (r.unwrap_or_else(none), s.unwrap_or_else(none), a.unwrap_or_else(none));
+        let total = [coarse.len(), r.len(), s.len(), a.len()].iter().try_fold(1usize, |acc, n| acc.checked_mul(*n));
+        if total.is_none_or(|t| t > MAX_CELLS) {
+            let pos = self.slots.iter().find(|sp| sp.slot == Slot::Coarse).map_or(self.end, |sp| sp.pos);
+            return Err(err(pos, "coarse", format!("the grid has more than {MAX_CELLS} pipelines")));
+        }
+        Ok([coarse, r, s, a])
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// The text parser.
+
+#[derive(Clone, Debug, PartialEq)]
+enum Tok {
+    Ident(String),
+    Int(u64),
+    Str(String),
+    Open,
+    Close,
+    LBracket,
+    RBracket,
+    Comma,
+    Eq,
+    Colon,
+    RangeEq,
+    End,
+}
+
+#[derive(Clone, Debug)]
+struct Token {
+    tok: Tok,
+    pos: usize,
+    text: String,
+}
+
+fn lex(input: &str) -> Result<Vec<Token>, ParseError> {
+    let chars: Vec<char> = input.chars().collect();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i];
+        let start = i;
+        let single = |tok| Token { tok, pos: start, text: c.to_string() };
+        match c {
+            c if c.is_whitespace() => {}
+            '#' => {
+                while i < chars.len() && chars[i] != '\n' {
+                    i += 1;
+                }
+                continue;
+            }
+            '(' => out.push(single(Tok::Open)),
+            ')' => out.push(single(Tok::Close)),
+            '[' => out.push(single(Tok::LBracket)),
+            ']' => out.push(single(Tok::RBracket)),
+            ',' => out.push(single(Tok::Comma)),
+            '=' => out.push(single(Tok::Eq)),
+            ':' => out.push(single(Tok::Colon)),
+            '.' => {
+                if chars.get(i + 1) == Some(&'.') && chars.get(i + 2) == Some(&'=') {
+                    out.push(Token { tok: Tok::RangeEq, pos: start, text: "..=".into() });
+                    i += 3;
+                    continue;
+                }
+                let text: String = chars[i..(i + 2).min(chars.len())].iter().collect();
+                return Err(err(start, &text, "ranges are inclusive and written `a..=b` or `a..=b step s`"));
+            }
+            '"' => {
+                i += 1;
+                while i < chars.len() && chars[i] != '"' && chars[i] != '\n' {
+                    i += 1;
+                }
+                if chars.get(i) != Some(&'"') {
+                    return Err(err(start, "\"", "a string that is not closed on its line"));
+                }
+                let text: String = chars[start + 1..i].iter().collect();
+                out.push(Token { tok: Tok::Str(text.clone()), pos: start, text: format!("\"{text}\"") });
+            }
+            c if c.is_ascii_digit() => {
+                while i < chars.len() && (chars[i].is_ascii_alphanumeric() || chars[i] == '_') {
+                    i += 1;
+                }
+                let text: String = chars[start..i].iter().collect();
+                let n = text.parse::<u64>().map_err(|_| {
+                    err(start, &text, "not a whole number (parameters are whole numbers or names)")
+                })?;
+                out.push(Token { tok: Tok::Int(n), pos: start, text });
+                continue;
+            }
+            c if c.is_ascii_alphabetic() || c == '_' => {
+                while i < chars.len() && (chars[i].is_ascii_alphanumeric() || chars[i] == '_') {
+                    i += 1;
+                }
+                let text: String = chars[start..i].iter().collect();
+                out.push(Token { tok: Tok::Ident(text.clone()), pos: start, text });
+                continue;
+            }
+            '-' => return Err(err(start, "-", "negative numbers are not allowed")),
+            other => {
+                return Err(err(
+                    start,
+                    &other.to_string(),
+                    "unexpected character; a grid is made of names, whole numbers, ( ) [ ] , = : ..= and # comments",
+                ))
+            }
+        }
+        i += 1;
+    }
+    out.push(Token { tok: Tok::End, pos: chars.len(), text: String::new() });
+    Ok(out)
+}
+
+struct Parser {
+    toks: Vec<Token>,
+    i: usize,
+}
+
+/// Nesting deeper than this is refused.
+const MAX_DEPTH: usize = 8;
+
+impl Parser {
+    fn peek(&self) -> &Token {
+        &self.toks[self.i.min(self.toks.len() - 1)]
+    }
+    fn peek2(&self) -> Option<&Tok> {
+        self.toks.get(self.i + 1).map(|t| &t.tok)
+    }
+    fn next(&mut self) -> Token {
+        let t = self.peek().clone();
+        if self.i < self.toks.len() {
+            self.i += 1;
+        }
+        t
+    }
+    fn eat(&mut self, tok: &Tok) -> bool {
+        if &self.peek().tok == tok {
+            self.next();
+            true
+        } else {
+            false
+        }
+    }
+    fn unexpected(&self, what: &str) -> ParseError {
+        let t = self.peek();
+        if t.tok == Tok::End {
+            err(t.pos, "", format!("the input ends where {what} was expected"))
+        } else {
+            err(t.pos, &t.text, format!("expected {what}"))
+        }
+    }
+
+    fn grid(&mut self) -> Result<GridPattern, ParseError> {
+        let mut g = GridPattern { name: None, slots: vec![], end: 0 };
+        let mut name_seen = false;
+        loop {
+            while self.eat(&Tok::Comma) {}
+            let t = self.next();
+            let key = match &t.tok {
+                Tok::End => break,
+                Tok::Ident(k) => k.clone(),
+                _ => {
+                    self.i -= 1;
+                    return Err(self.unexpected("a slot such as `coarse:`"));
+                }
+            };
+            if !self.eat(&Tok::Colon) {
+                return Err(self.unexpected(&format!("`:` after `{key}`")));
+            }
+            if key == "name" {
+                if name_seen {
+                    return Err(err(t.pos, &t.text, "the grid's name is given twice"));
+                }
+                name_seen = true;
+                let v = self.next();
+                g.name = Some(match v.tok {
+                    Tok::Str(s) | Tok::Ident(s) => s,
+                    _ => {
+                        self.i -= 1;
+                        return Err(self.unexpected("the grid's name as a \"string\""));
+                    }
+                });
+                continue;
+            }
+            let slot = slot_named(&key, t.pos)?;
+            let stages = if self.eat(&Tok::LBracket) {
+                let mut stages = Vec::new();
+                loop {
+                    if self.eat(&Tok::RBracket) {
+                        break;
+                    }
+                    stages.push(self.stage(0)?);
+                    if !self.eat(&Tok::Comma) {
+                        if self.eat(&Tok::RBracket) {
+                            break;
+                        }
+                        return Err(self.unexpected("`,` or `]`"));
+                    }
+                }
+                stages
+            } else {
+                vec![self.stage(0)?]
+            };
+            g.slots.push(SlotPattern { slot, pos: t.pos, stages });
+        }
+        g.end = self.toks.last().map_or(0, |t| t.pos);
+        Ok(g)
+    }
+
+    fn stage(&mut self, depth: usize) -> Result<StagePattern, ParseError> {
+        let t = self.next();
+        let Tok::Ident(name) = t.tok else {
+            self.i -= 1;
+            return Err(self.unexpected("a stage name such as linear(32)"));
+        };
+        if depth > MAX_DEPTH {
+            return Err(err(t.pos, &t.text, "stages nested too deeply"));
+        }
+        let args = if self.eat(&Tok::Open) {
+            let mut args = Vec::new();
+            loop {
+                if self.eat(&Tok::Close) {
+                    break;
+                }
+                args.push(self.arg(depth)?);
+                if !self.eat(&Tok::Comma) {
+                    if self.eat(&Tok::Close) {
+                        break;
+                    }
+                    return Err(self.unexpected("`,` or `)`"));
+                }
+            }
+            Some(args)
+        } else {
+            None
+        };
+        Ok(StagePattern { name, pos: t.pos, args })
+    }
+
+    fn arg(&mut self, depth: usize) -> Result<ArgPattern, ParseError> {
+        let start = self.peek().clone();
+        let mut name = None;
+        if let (Tok::Ident(n), Some(Tok::Eq)) = (&start.tok, self.peek2()) {
+            name = Some((n.clone(), start.pos));
+            self.i += 2;
+        }
+        Ok(ArgPattern { name, value: self.value(depth)? })
+    }
+
+    fn value(&mut self, depth: usize) -> Result<ValuePattern, ParseError> {
+        let t = self.peek().clone();
+        match t.tok {
+            Tok::Int(start) => {
+                self.next();
+                if !self.eat(&Tok::RangeEq) {
+                    return Ok(ValuePattern::Int { value: start, pos: t.pos, text: t.text });
+                }
+                let e = self.next();
+                let Tok::Int(end) = e.tok else {
+                    self.i -= 1;
+                    return Err(self.unexpected("the range's last value, a whole number"));
+                };
+                let mut text = format!("{start}..={end}");
+                let mut step = 1;
+                if matches!(&self.peek().tok, Tok::Ident(w) if w == "step") {
+                    self.next();
+                    let s = self.next();
+                    let Tok::Int(s) = s.tok else {
+                        self.i -= 1;
+                        return Err(self.unexpected("the range's step, a whole number"));
+                    };
+                    step = s;
+                    text = format!("{text} step {s}");
+                }
+                Ok(ValuePattern::Range { start, end, step, pos: t.pos, text })
+            }
+            Tok::LBracket => {
+                self.next();
+                let mut items = Vec::new();
+                loop {
+                    if self.eat(&Tok::RBracket) {
+                        break;
+                    }
+                    items.push(self.value(depth)?);
+                    if !self.eat(&Tok::Comma) {
+                        if self.eat(&Tok::RBracket) {
+                            break;
+                        }
+                        return Err(self.unexpected("`,` or `]`"));
+                    }
+                }
+                Ok(ValuePattern::List { items, pos: t.pos })
+            }
+            Tok::Ident(_) => Ok(ValuePattern::Stage(self.stage(depth + 1)?)),
+            _ => Err(self.unexpected("a parameter value (a whole number, a range, a [list] or a name)")),
+        }
+    }
+}
+
+/// The slot called `name`, or an error at `pos` with the nearest slot name.
+pub fn slot_named(name: &str, pos: usize) -> Result<Slot, ParseError> {
+    if let Some(s) = Slot::ALL.iter().copied().find(|s| s.name() == name) {
+        return Ok(s);
+    }
+    let names: Vec<String> = Slot::ALL.iter().map(|s| s.name().to_string()).collect();
+    let mut e = err(pos, name, format!("unknown slot `{name}`"));
+    e.suggestion = super::parse::nearest(name, names.iter().map(String::as_str));
+    e.expected = names;
+    Err(e)
+}
+
+/// Parses a grid text into its pattern (positions are character offsets), without checking
+/// the stages.
+pub fn parse_pattern(text: &str) -> Result<GridPattern, ParseError> {
+    Parser { toks: lex(text)?, i: 0 }.grid()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn texts(g: &Grid) -> Vec<String> {
+        g.iter().map(|p| p.to_string()).collect()
+    }
+
+    #[test]
+    fn product_in_declaration_order() {
+        let g: Grid = "# a grid\nname: \"t\"\ncoarse: [linear(5..=15 step 5), linear_dynamic(8, 32)]  # coarse\n\
+                       refine: [none, binary(3), interval(3)]\nshadow: [none]\n"
+            .parse()
+            .unwrap();
+        assert_eq!(g.name.as_deref(), Some("t"));
+        assert_eq!(g.len(), 12);
+        assert_eq!(
+            texts(&g)[..4],
+            ["linear(5)", "linear(5)+binary(3)", "linear(5)+interval(3)", "linear(10)"]
+        );
+        assert_eq!(texts(&g)[11], "linear_dynamic(8, 32)+interval(3)");
+    }
+
+    #[test]
+    fn lists_ranges_names_and_nesting() {
+        let g: Grid = "coarse: linear(steps = [8, 16]), refine: binary(1..=2), shadow: [hard(linear([4, 8])), soft(2..=6 step 4)],"
+            .parse()
+            .unwrap();
+        assert_eq!(g.len(), 2 * 2 * 4);
+        assert_eq!(texts(&g)[0], "linear(8)+binary(1)+shadow=hard(4)");
+        assert_eq!(texts(&g)[3], "linear(8)+binary(1)+shadow=soft(6)");
+        let g: Grid = "coarse: linear_dynamic([4, 8], 16..=32 step 16)".parse().unwrap();
+        assert_eq!(texts(&g), ["linear_dynamic(4, 16)", "linear_dynamic(4, 32)", "linear_dynamic(8, 16)", "linear_dynamic(8, 32)"]);
+        // Duplicates after resolution are kept once.
+        let g: Grid = "coarse: [linear(32), linear, linear(steps=32)]".parse().unwrap();
+        assert_eq!(g.len(), 1);
+        let all: Vec<Pipeline> = g.clone().into_iter().collect();
+        assert_eq!(all, g.cells());
+    }
+
+    #[test]
+    fn errors_name_line_column_and_token() {
+        let cases = [
+            ("coarse: [linear(5)]\nrefine: [binary(3), lnear(3)]", 2, 21, "lnear", "unknown refine stage"),
+            ("coarse: [linear(5)]\nrefine: [linear(3)]", 2, 10, "linear", "is a coarse stage, not a refine stage"),
+            ("coarse: [linear(0..=8 step 4)]", 1, 17, "0", "out of range"),
+            ("coarse: [linear(8..=4)]", 1, 17, "8..=4", "empty range"),
+            ("coarse: [linear(4..=8 step 0)]", 1, 17, "4..=8 step 0", "step must be at least 1"),
+            ("coarse: [linear_dynamic(32, 8)]", 1, 10, "linear_dynamic", "min <= max"),
+            ("coarse: [linear(stps = 4)]", 1, 17, "stps", "no parameter `stps`"),
+            ("  corse: [linear]", 1, 3, "corse", "unknown slot"),
+            ("coarse: [linear]\ncoarse: [parallax]", 2, 1, "coarse", "given twice"),
+            ("refine: [binary]", 1, 17, "", "no coarse slot"),
+            ("coarse: []", 1, 1, "coarse", "list is empty"),
+            ("coarse: [linear([])]", 1, 17, "[", "empty list"),
+            ("coarse: [linear(4..8)]", 1, 18, "..", "inclusive"),
+            ("coarse: [linear(4) binary]", 1, 20, "binary", "expected `,` or `]`"),
+        ];
+        for (text, line, column, token, msg) in cases {
+            let e = text.parse::<Grid>().unwrap_err();
+            assert_eq!((e.line, e.column, e.error.token.as_str()), (line, column, token), "{text}: {e}");
+            assert!(e.to_string().contains(msg), "{text}: {e}");
+            assert!(e.to_string().starts_with(&format!("line {line}, column {column}")), "{e}");
+        }
+    }
+
+    #[test]
+    fn too_many_cells_is_an_error() {
+        let e = "coarse: linear(1..=4096), refine: binary(1..=4096)".parse::<Grid>().unwrap_err();
+        assert!(e.to_string().contains("more than"), "{e}");
+    }
+}
