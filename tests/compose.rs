@@ -51,25 +51,48 @@ fn the_probe_reads_only_what_its_stages_read() {
 
 #[test]
 fn nothing_unread_is_declared() {
-    // No stage here samples with nearest filtering, so no nearest sampler is declared.
     for pipe in Pipeline::all_defaults() {
         let c = relief::compile(&pipe).unwrap();
         let declared = compose::declared_resources(&c.module);
-        assert!(!declared.contains(&"nearest_sampler".to_string()), "{pipe}");
+        // Only a map read with nearest filtering brings the nearest sampler.
+        let nearest = declared.iter().any(|d| d.ends_with("_nearest"));
+        assert_eq!(declared.contains(&"nearest_sampler".to_string()), nearest, "{pipe}");
         let bindings: Vec<u32> = c.module.global_variables.iter().filter_map(|(_, g)| g.binding).map(|b| b.binding).collect();
         // Plain texture mapping with no refinement and no shadow samples no height at all.
         let samples_height = !(pipe.coarse.is_none() && pipe.refine.is_none() && pipe.shadow.is_none());
         assert_eq!(bindings.contains(&binding::HEIGHT), samples_height, "{pipe}");
+        // Each map the pipeline needs is declared, and no other.
+        for m in [MapReq::Cone, MapReq::QuadCone, MapReq::RelaxedCone, MapReq::ConeNormal, MapReq::DistanceField] {
+            let declared_map = declared.iter().any(|d| d.starts_with(&m.texture_name()));
+            assert_eq!(declared_map, pipe.required_maps().contains(&m), "{pipe}: {}", m.name());
+        }
     }
+    let plain = relief::compile(&p("linear(10)+binary(5)")).unwrap();
+    assert!(!compose::declared_resources(&plain.module).contains(&"nearest_sampler".to_string()));
+    let cone = relief::compile(&p("csm(10, sample=nearest)")).unwrap();
+    let declared = compose::declared_resources(&cone.module);
+    assert!(declared.contains(&"cone_map_nearest".to_string()) && declared.contains(&"nearest_sampler".to_string()));
 }
 
 #[test]
-fn required_maps_match_what_the_probe_reads() {
-    for pipe in Pipeline::all_defaults() {
+fn required_maps_match_what_the_probe_and_shading_read() {
+    let mut pipes = Pipeline::all_defaults();
+    pipes.push(p("rcs(15)+binary(5)+ao=cone_normal"));
+    pipes.push(p("mcns(15, 3)+shadow=hard(pcns(5, 2))+ao=cone_ratio"));
+    for pipe in pipes {
         let c = relief::compile(&pipe).unwrap();
-        let reads_normal = used_by(&c, "probe").contains(&"normal_map".to_string());
-        assert_eq!(pipe.required_maps().contains(&MapReq::Normal), reads_normal, "{pipe}");
+        let read: Vec<String> = [used_by(&c, "probe"), used_by(&c, "fs_main")].concat();
+        let reads = |m: MapReq| read.iter().any(|r| r.starts_with(&m.texture_name()));
+        assert_eq!(pipe.required_maps().contains(&MapReq::Normal), used_by(&c, "probe").contains(&"normal_map".to_string()), "{pipe}");
+        for m in pipe.required_maps() {
+            assert!(reads(m), "{pipe}: requires {} but reads {read:?}", m.name());
+        }
+        for m in [MapReq::Cone, MapReq::QuadCone, MapReq::RelaxedCone, MapReq::ConeNormal, MapReq::RelaxedConeNormal, MapReq::DistanceField] {
+            assert_eq!(reads(m), pipe.required_maps().contains(&m), "{pipe}: {}", m.name());
+        }
     }
+    // The example: relaxed stepping with cone-normal AO needs both maps.
+    assert_eq!(p("rcs(15)+binary(5)+ao=cone_normal").required_maps(), [MapReq::RelaxedCone, MapReq::ConeNormal]);
 }
 
 #[test]
@@ -126,6 +149,8 @@ fn wgsl_snapshots() {
         "iterative_parallax(3)",
         "linear_dynamic(8, 32)+shadow=soft(24)",
         "parallax+shadow=hard(16)",
+        "csm(15)+binary(5)",
+        "cns(15)+shadow=soft_cone(16)+ao=cone_normal",
     ] {
         let wgsl = emit::emit(&p(text)).unwrap().wgsl;
         insta::assert_snapshot!(relief::dsl::spec::file_safe(text), stage_functions(&wgsl), text);

@@ -54,7 +54,8 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create output folder {}", a.out.display()))?;
     let g = Gpu::new()?;
     let program = Program::new(&pipeline)?;
-    let tex = SceneTextures::new(&g, &scene);
+    let mut tex = SceneTextures::new(&g, &scene);
+    tex.add_maps(&g, &scene, &pipeline.required_maps())?;
     let frame = gpu::render(&g, &program, &scene, &tex, a.size, 5, a.frames)?;
     let rays = scene.rays(a.size);
     let hits = gpu::probe(&g, &program, &scene, &tex, &rays)?;

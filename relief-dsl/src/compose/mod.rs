@@ -33,10 +33,31 @@ pub mod binding {
     pub const NORMAL: u32 = 4;
     /// Albedo, `texture_2d<f32>`, rgb.
     pub const ALBEDO: u32 = 5;
+    /// Cone ratio map (`texture_2d<f32>`, r).
+    pub const CONE: u32 = 6;
+    /// Quad cone ratio map (rgba).
+    pub const QUAD_CONE: u32 = 7;
+    /// Relaxed cone ratio map (r).
+    pub const RELAXED_CONE: u32 = 8;
+    /// Cone normal map, `n_z` (r).
+    pub const CONE_NORMAL: u32 = 9;
+    /// Relaxed cone normal map, `n_z` (r).
+    pub const RELAXED_CONE_NORMAL: u32 = 10;
+    /// Stacked cones, `n_z` per cone (rgba, K ≤ 4 channels used).
+    pub const MULTI_CONE: u32 = 11;
+    /// Piecewise cone slopes as `n_z` (rgba, K ≤ 4 channels used).
+    pub const PIECEWISE_CONE: u32 = 12;
+    /// Maximum mipmap of the height map's bilinear cells (r, full mip chain).
+    pub const MAX_MIP: u32 = 13;
+    /// Distance field, `texture_3d<f32>` (r), z slices from the bottom (0) to the top (1).
+    pub const DISTANCE_FIELD: u32 = 14;
+    /// A 2D map read with nearest filtering is bound a second time at its binding plus this
+    /// offset (`cone_map_nearest` at 38 for `cone_map` at 6).
+    pub const NEAREST_OFFSET: u32 = 32;
     /// Probe input, `array<ProbeRay>` (storage, read).
-    pub const RAYS: u32 = 16;
+    pub const RAYS: u32 = 64;
     /// Probe output, `array<ProbeHit>` (storage, read_write).
-    pub const HITS: u32 = 17;
+    pub const HITS: u32 = 65;
 }
 
 /// The `Params` uniform block, 112 bytes: `view_proj: mat4x4<f32>` (column-major),
@@ -186,11 +207,12 @@ fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: bool) -> Re
     } else {
         let s = m.function(
             &fn_name(Slot::Shadow, &p.shadow, counted),
-            &[("hit", ty.hit, None), ("light", m.ty(Vec3::inner()), None)],
+            &[("hit", ty.hit, None), ("light", m.ty(Vec3::inner()), None), ("light_cos", m.ty(f32::inner()), None)],
         );
         let hit = hit_from(&s, s.arg::<Vec4>(0).handle());
         let light = s.arg::<Vec3>(1);
-        let v = stage::shadow::build(&s, &hit, light, &p.shadow).map_err(wrap_err(Slot::Shadow, &p.shadow))?;
+        let light_cos = s.arg::<f32>(2);
+        let v = stage::shadow::build(&s, &hit, light, light_cos, &p.shadow).map_err(wrap_err(Slot::Shadow, &p.shadow))?;
         let f = s.finish(Some((m.ty(f32::inner()), None, v.handle())));
         Some(m.add_function(f))
     };
@@ -307,7 +329,7 @@ fn fragment_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint
     let visibility = match fns.shadow {
         Some(f) => {
             let light_n = s.vec3(to_light.xy() * (depth_scale / to_light.z().max(1e-3)), 1.0);
-            s.wrap::<f32>(s.call(f, &[hv, light_n.handle()], true).unwrap())
+            s.wrap::<f32>(s.call(f, &[hv, light_n.handle(), to_light.z().handle()], true).unwrap())
         }
         None => s.lit(1.0),
     };

@@ -32,6 +32,10 @@ impl<'a, T: Ty> Val<'a, T> {
     pub fn stage(self) -> &'a Stage<'a> {
         self.s
     }
+    /// Gives the value a name in the generated shader (`let NAME = …;`).
+    pub fn named(self, name: &str) -> Self {
+        self.s.name(name, self)
+    }
     pub(crate) fn derive<U: Ty>(self, e: Expression) -> Val<'a, U> {
         Val::from_handle(self.s, self.s.expr(e))
     }

@@ -80,6 +80,42 @@ fn normal_map(_: &StageSpec) -> Vec<MapReq> {
     vec![MapReq::Normal]
 }
 
+fn cone(_: &StageSpec) -> Vec<MapReq> {
+    vec![MapReq::Cone]
+}
+fn quad_cone(_: &StageSpec) -> Vec<MapReq> {
+    vec![MapReq::QuadCone]
+}
+fn relaxed_cone(_: &StageSpec) -> Vec<MapReq> {
+    vec![MapReq::RelaxedCone]
+}
+fn cone_normal(_: &StageSpec) -> Vec<MapReq> {
+    vec![MapReq::ConeNormal]
+}
+fn relaxed_cone_normal(_: &StageSpec) -> Vec<MapReq> {
+    vec![MapReq::RelaxedConeNormal]
+}
+fn multi_cone(s: &StageSpec) -> Vec<MapReq> {
+    vec![MapReq::MultiCone(s.int("k"))]
+}
+fn piecewise_cone(s: &StageSpec) -> Vec<MapReq> {
+    vec![MapReq::PiecewiseCone(s.int("k"))]
+}
+fn distance_field(_: &StageSpec) -> Vec<MapReq> {
+    vec![MapReq::DistanceField]
+}
+fn max_mip(_: &StageSpec) -> Vec<MapReq> {
+    vec![MapReq::MaxMip]
+}
+
+fn cones(default: u32) -> ParamDef {
+    ParamDef { name: "k", kind: ParamKind::Count { min: 1, max: 4 }, default: Some(Value::Int(default)) }
+}
+
+fn choice(name: &'static str, words: &'static [&'static str]) -> ParamDef {
+    ParamDef { name, kind: ParamKind::Choice(words), default: Some(Value::Word(words[0].to_string())) }
+}
+
 fn steps(name: &'static str, default: u32) -> ParamDef {
     ParamDef { name, kind: ParamKind::Steps, default: Some(Value::Int(default)) }
 }
@@ -113,6 +149,30 @@ pub fn catalog() -> &'static [MethodDef] {
                 vec![steps("min", 8), steps("max", 32)],
                 no_maps,
             ),
+            def(
+                Coarse,
+                "csm",
+                "cone step mapping (Dummer 2006; Burger Algorithm 4); sample=linear|nearest|min4 (Burger 4.3.1)",
+                vec![steps("steps", 15), choice("sample", &["linear", "nearest", "min4"])],
+                cone,
+            ),
+            def(Coarse, "qcsm", "quad-directional cone stepping (Policarpo & Oliveira, GPU Gems 3 18.4.1)", vec![steps("steps", 15)], quad_cone),
+            def(
+                Coarse,
+                "rcs",
+                "relaxed cone stepping (GPU Gems 3 Listing 18-3); start=hk|bracket (Fig. 18-10)",
+                vec![steps("steps", 15), choice("start", &["hk", "bracket"])],
+                relaxed_cone,
+            ),
+            def(Coarse, "cns", "cone normal stepping (Burger 3.3, eq. 3.2)", vec![steps("steps", 15)], cone_normal),
+            def(Coarse, "rcns", "relaxed cone normal stepping (Burger 4.3.4)", vec![steps("steps", 15)], relaxed_cone_normal),
+            def(Coarse, "mcns", "multiple cone normal stepping, K stacked cones (Burger 3.4, method 1)", vec![steps("steps", 15), cones(4)], multi_cone),
+            def(Coarse, "pcns", "piecewise cone normal stepping, K cone pieces (Burger 3.4, method 2)", vec![steps("steps", 15), cones(4)], piecewise_cone),
+            def(Coarse, "sphere", "sphere tracing a 3D distance field (Donnelly 2005)", vec![steps("steps", 15)], distance_field),
+            MethodDef {
+                implemented: false,
+                ..def(Coarse, "maxmip", "maximum-mipmap traversal (Tevs et al. 2008)", vec![steps("steps", 64)], max_mip)
+            },
             def(Refine, "none", "no refinement: the hit is the bracket's far end", vec![], no_maps),
             def(Refine, "binary", "binary search (Burger Algorithm 2)", vec![steps("steps", 5)], no_maps),
             def(Refine, "interval", "interval mapping, false position (Burger Algorithm 3; Risser et al. 2005)", vec![steps("steps", 5)], no_maps),
@@ -132,7 +192,17 @@ pub fn catalog() -> &'static [MethodDef] {
                 vec![steps("steps", 16)],
                 no_maps,
             ),
+            def(
+                Shadow,
+                "soft_cone",
+                "soft shadow from the cone-normal distance d = h n_z (Burger 3.2) with penumbra k d / t",
+                vec![steps("steps", 16)],
+                cone_normal,
+            ),
+            def(Shadow, "soft_ratio", "the same soft shadow from CSM's cone ratio", vec![steps("steps", 16)], cone),
             def(Ao, "none", "no ambient occlusion: factor 1", vec![], no_maps),
+            def(Ao, "cone_ratio", "ambient occlusion from the cone ratio at the hit (Burger 4.5)", vec![], cone),
+            def(Ao, "cone_normal", "ambient occlusion from the cone normal at the hit (Burger 4.5)", vec![], cone_normal),
         ]
     })
 }

@@ -20,13 +20,15 @@
 //! ```
 
 mod catalog;
+pub mod grid;
 mod parse;
 
 use std::fmt;
 use std::str::FromStr;
 
 pub use catalog::{catalog, method, MethodDef, ParamDef, ParamKind, MAX_STEPS};
-pub use parse::ParseError;
+pub use grid::{Grid, GridError};
+pub use parse::{resolve_stage, ParseError, RawArg, RawStage, RawValue};
 
 /// The four slots of a pipeline.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -253,11 +255,30 @@ fn collect_maps(slot: Slot, spec: &StageSpec, out: &mut Vec<MapReq>) {
     }
 }
 
-/// A map a stage reads, besides the height map.
+/// A map a stage reads, besides the height map. Names, channels and units are those of
+/// `relief maps` (relief-runtime's `maps` module).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum MapReq {
     /// The tangent-space normal map (encoded `n * 0.5 + 0.5`).
     Normal,
+    /// Conservative cone ratio (CSM).
+    Cone,
+    /// Four quadrant cone ratios (QCSM), channels `+u+v, -u+v, -u-v, +u-v`.
+    QuadCone,
+    /// Relaxed cone ratio (RCS).
+    RelaxedCone,
+    /// `n_z` of the conservative cone (CNS).
+    ConeNormal,
+    /// `n_z` of the relaxed cone (RCNS).
+    RelaxedConeNormal,
+    /// `n_z` of K stacked cones (MCNS), K channels.
+    MultiCone(u32),
+    /// `n_z` of K piecewise cone slopes (PCNS), K channels.
+    PiecewiseCone(u32),
+    /// The maximum-height pyramid over the bilinear cells, as a mip chain.
+    MaxMip,
+    /// 3D Euclidean distance to the surface.
+    DistanceField,
 }
 
 impl MapReq {
@@ -265,7 +286,38 @@ impl MapReq {
     pub fn name(self) -> &'static str {
         match self {
             MapReq::Normal => "normal",
+            MapReq::Cone => "cone",
+            MapReq::QuadCone => "quad_cone",
+            MapReq::RelaxedCone => "relaxed_cone",
+            MapReq::ConeNormal => "cone_normal",
+            MapReq::RelaxedConeNormal => "relaxed_cone_normal",
+            MapReq::MultiCone(_) => "multi_cone",
+            MapReq::PiecewiseCone(_) => "piecewise_cone",
+            MapReq::MaxMip => "max_mip",
+            MapReq::DistanceField => "distance_field",
         }
+    }
+
+    /// The shader binding (group 0) the map is bound at.
+    pub fn binding(self) -> u32 {
+        use crate::compose::binding as b;
+        match self {
+            MapReq::Normal => b::NORMAL,
+            MapReq::Cone => b::CONE,
+            MapReq::QuadCone => b::QUAD_CONE,
+            MapReq::RelaxedCone => b::RELAXED_CONE,
+            MapReq::ConeNormal => b::CONE_NORMAL,
+            MapReq::RelaxedConeNormal => b::RELAXED_CONE_NORMAL,
+            MapReq::MultiCone(_) => b::MULTI_CONE,
+            MapReq::PiecewiseCone(_) => b::PIECEWISE_CONE,
+            MapReq::MaxMip => b::MAX_MIP,
+            MapReq::DistanceField => b::DISTANCE_FIELD,
+        }
+    }
+
+    /// The map's texture name in the generated shader.
+    pub fn texture_name(self) -> String {
+        format!("{}_map", self.name())
     }
 }
 

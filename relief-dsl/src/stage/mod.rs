@@ -23,6 +23,7 @@ use naga::{Expression, ImageClass, ImageDimension, SampleLevel, ScalarKind, Type
 
 use crate::compose::binding;
 use crate::ir::{Stage, Val, Vec2, Vec3, Vec4};
+use crate::spec::MapReq;
 
 /// A ray in normalized tangent space.
 #[derive(Clone, Copy)]
@@ -107,6 +108,21 @@ fn texture_2d(m: &crate::ir::ModuleCtx, name: &str, binding: u32) -> naga::Globa
     }
 }
 
+fn texture_3d(m: &crate::ir::ModuleCtx, name: &str, binding: u32) -> naga::GlobalVariable {
+    naga::GlobalVariable {
+        name: Some(name.to_string()),
+        space: naga::AddressSpace::Handle,
+        binding: Some(naga::ResourceBinding { group: 0, binding }),
+        ty: m.ty(TypeInner::Image {
+            dim: ImageDimension::D3,
+            arrayed: false,
+            class: ImageClass::Sampled { kind: ScalarKind::Float, multi: false },
+        }),
+        init: None,
+        memory_decorations: Default::default(),
+    }
+}
+
 fn sampler(m: &crate::ir::ModuleCtx, name: &str, binding: u32) -> naga::GlobalVariable {
     naga::GlobalVariable {
         name: Some(name.to_string()),
@@ -119,11 +135,14 @@ fn sampler(m: &crate::ir::ModuleCtx, name: &str, binding: u32) -> naga::GlobalVa
 }
 
 impl<'a> Stage<'a> {
-    /// Samples the map `map` (bound at `binding`) at `uv`, level 0 (explicit, so sampling is
-    /// valid in any control flow). Counts one fetch in the probe variant.
-    pub fn sample(&'a self, map: &str, map_binding: u32, uv: Val<'a, Vec2>, filter: Filter) -> Val<'a, Vec4> {
+    fn image_sample(
+        &'a self,
+        tex: naga::Handle<naga::GlobalVariable>,
+        coordinate: naga::Handle<Expression>,
+        filter: Filter,
+        gather: bool,
+    ) -> Val<'a, Vec4> {
         let m = self.module();
-        let tex = m.global(map, |m| texture_2d(m, map, map_binding));
         let (sname, sbind) = match filter {
             Filter::Linear => ("linear_sampler", binding::LINEAR_SAMPLER),
             Filter::Nearest => ("nearest_sampler", binding::NEAREST_SAMPLER),
@@ -137,14 +156,61 @@ impl<'a> Stage<'a> {
         self.wrap(self.expr(Expression::ImageSample {
             image,
             sampler,
-            gather: None,
-            coordinate: uv.handle(),
+            gather: gather.then_some(naga::SwizzleComponent::X),
+            coordinate,
             array_index: None,
             offset: None,
             level: SampleLevel::Zero,
             depth_ref: None,
             clamp_to_edge: false,
         }))
+    }
+
+    /// Samples the 2D map `map` (bound at `map_binding`) at `uv`, level 0 (explicit, so
+    /// sampling is valid in any control flow). Counts one fetch in the probe variant.
+    ///
+    /// A map read with nearest filtering is declared a second time, as `NAME_nearest` at
+    /// binding [`binding::NEAREST_OFFSET`] + its binding (the runtime binds the same texture
+    /// to both): GLSL combines textures with samplers, and one texture read through two
+    /// samplers has no GLSL form.
+    pub fn sample(&'a self, map: &str, map_binding: u32, uv: Val<'a, Vec2>, filter: Filter) -> Val<'a, Vec4> {
+        let (name, b) = match filter {
+            Filter::Linear => (map.to_string(), map_binding),
+            Filter::Nearest => (format!("{map}_nearest"), map_binding + binding::NEAREST_OFFSET),
+        };
+        let tex = self.module().global(&name, |m| texture_2d(m, &name, b));
+        self.image_sample(tex, uv.handle(), filter, false)
+    }
+
+    /// Samples a precomputed map (all channels).
+    pub fn map(&'a self, map: MapReq, uv: Val<'a, Vec2>, filter: Filter) -> Val<'a, Vec4> {
+        self.sample(&map.texture_name(), map.binding(), uv, filter)
+    }
+
+    /// The smallest of the four texels around `uv` in the map's first channel (one gather):
+    /// what a bilinear sample at `uv` can never undercut.
+    pub fn map_min4(&'a self, map: MapReq, uv: Val<'a, Vec2>) -> Val<'a, f32> {
+        let name = map.texture_name();
+        let tex = self.module().global(&name, |m| texture_2d(m, &name, map.binding()));
+        let g = self.image_sample(tex, uv.handle(), Filter::Linear, true);
+        g.x().min(g.y()).min(g.z().min(g.w()))
+    }
+
+    /// Samples the 3D distance field at `(u, v, height)`, trilinear.
+    pub fn distance(&'a self, p: Val<'a, Vec3>) -> Val<'a, f32> {
+        let map = MapReq::DistanceField;
+        let name = map.texture_name();
+        let tex = self.module().global(&name, |m| texture_3d(m, &name, map.binding()));
+        self.image_sample(tex, p.handle(), Filter::Linear, false).x()
+    }
+
+    /// The size of the height map in texels, as floats.
+    pub fn height_map_size(&'a self) -> Val<'a, Vec2> {
+        let tex = self.module().global("height_map", |m| texture_2d(m, "height_map", binding::HEIGHT));
+        let image = self.expr(Expression::GlobalVariable(tex));
+        let level = self.lit_u32(0).handle();
+        let size = self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::Size { level: Some(level) } });
+        self.wrap(self.expr(Expression::As { expr: size, kind: ScalarKind::Float, convert: Some(4) }))
     }
 
     /// GETHEIGHT of the algorithm boxes: the height map at `uv`, bilinear.

@@ -1,8 +1,13 @@
 //! The scene's textures and samplers on the device, and bind groups built from the bindings
 //! an entry point reads.
 
+use std::collections::HashMap;
+
 use relief_dsl::compose::binding;
+use relief_dsl::spec::MapReq;
 use wgpu::util::DeviceExt;
+
+use crate::maps::{MapKind, MapParams};
 
 use super::Gpu;
 use crate::heightmap::EdgeMode;
@@ -15,6 +20,8 @@ pub struct SceneTextures {
     pub albedo: wgpu::TextureView,
     pub linear: wgpu::Sampler,
     pub nearest: wgpu::Sampler,
+    /// Acceleration maps by binding (see [`SceneTextures::add_maps`]).
+    pub maps: HashMap<u32, wgpu::TextureView>,
     /// The heights as the device stores them (f32, or rounded to f16 where 32-bit float
     /// textures cannot be filtered): the surface the shaders sample, for the reference.
     pub heights_on_device: Vec<f32>,
@@ -109,8 +116,25 @@ impl SceneTextures {
             albedo,
             linear: sampler(wgpu::FilterMode::Linear),
             nearest: sampler(wgpu::FilterMode::Nearest),
+            maps: HashMap::new(),
             heights_on_device,
         }
+    }
+
+    /// Builds and uploads the acceleration maps in `reqs` that are not there yet (the normal
+    /// map is always there). Ratios are uploaded clamped to [`MAX_RATIO`]: a narrower cone
+    /// than the exact one, which stays conservative and keeps `+inf` out of the shaders.
+    pub fn add_maps(&mut self, gpu: &Gpu, scene: &Scene, reqs: &[MapReq]) -> Result<(), crate::maps::MapError> {
+        for &req in reqs {
+            if req == MapReq::Normal || self.maps.contains_key(&req.binding()) {
+                continue;
+            }
+            let (kind, params) = map_kind(req);
+            let map = crate::maps::build(&scene.height, kind, &params, scene.edge)?;
+            let view = upload_map(gpu, &map, kind.is_ratio());
+            self.maps.insert(req.binding(), view);
+        }
+        Ok(())
     }
 
     /// The params uniform buffer for a scene seen at `aspect`.
@@ -146,6 +170,16 @@ impl SceneTextures {
                 binding::NORMAL => wgpu::BindingResource::TextureView(&self.normal),
                 binding::ALBEDO => wgpu::BindingResource::TextureView(&self.albedo),
                 binding::LINEAR_SAMPLER => wgpu::BindingResource::Sampler(&self.linear),
+                b if b >= binding::NEAREST_OFFSET && b < binding::RAYS => {
+                    let base = b - binding::NEAREST_OFFSET;
+                    match base {
+                        binding::HEIGHT => wgpu::BindingResource::TextureView(&self.height),
+                        binding::NORMAL => wgpu::BindingResource::TextureView(&self.normal),
+                        binding::ALBEDO => wgpu::BindingResource::TextureView(&self.albedo),
+                        _ => wgpu::BindingResource::TextureView(self.maps.get(&base).ok_or_else(|| missing_map(base))?),
+                    }
+                }
+                b if self.maps.contains_key(&b) => wgpu::BindingResource::TextureView(&self.maps[&b]),
                 binding::NEAREST_SAMPLER => wgpu::BindingResource::Sampler(&self.nearest),
                 other => match storage.iter().find(|(n, _)| *n == other) {
                     Some((_, buf)) => buf.as_entire_binding(),
@@ -160,6 +194,63 @@ impl SceneTextures {
         }
         gpu.checked(|| gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout, entries: &entries }))
     }
+}
+
+fn missing_map(b: u32) -> super::GpuError {
+    super::GpuError::Pipeline(format!("the shader reads the map at binding {b}, which was not built (call add_maps with the pipeline's required_maps)"))
+}
+
+/// The largest cone ratio uploaded (a cone 89.99° wide).
+pub const MAX_RATIO: f32 = 1.0e4;
+
+/// The map kind and parameters behind a map requirement.
+pub fn map_kind(req: MapReq) -> (MapKind, MapParams) {
+    let d = MapParams::default();
+    match req {
+        MapReq::Normal => unreachable!("the normal map is uploaded with the scene"),
+        MapReq::Cone => (MapKind::Cone, d),
+        MapReq::QuadCone => (MapKind::QuadCone, d),
+        MapReq::RelaxedCone => (MapKind::RelaxedCone, d),
+        MapReq::ConeNormal => (MapKind::ConeNormal, d),
+        MapReq::RelaxedConeNormal => (MapKind::RelaxedConeNormal, d),
+        MapReq::MultiCone(k) => (MapKind::MultiCone, MapParams { cones: k, ..d }),
+        MapReq::PiecewiseCone(k) => (MapKind::PiecewiseCone, MapParams { cones: k, ..d }),
+        MapReq::MaxMip => (MapKind::MaxMip, d),
+        MapReq::DistanceField => (MapKind::DistanceField, d),
+    }
+}
+
+/// Uploads a map as R32Float (one channel) or Rgba32Float (2 to 4 channels, padded), 2D or 3D.
+fn upload_map(gpu: &Gpu, map: &crate::maps::Map, ratio: bool) -> wgpu::TextureView {
+    let fix = |x: f32| if ratio { x.min(MAX_RATIO) } else { x };
+    let (format, data): (wgpu::TextureFormat, Vec<f32>) = if map.channels == 1 {
+        (wgpu::TextureFormat::R32Float, map.data.iter().map(|&x| fix(x)).collect())
+    } else {
+        let mut out = Vec::with_capacity(map.data.len() / map.channels * 4);
+        for texel in map.data.chunks(map.channels) {
+            for c in 0..4 {
+                out.push(texel.get(c).map_or(0.0, |&x| fix(x)));
+            }
+        }
+        (wgpu::TextureFormat::Rgba32Float, out)
+    };
+    let dimension = if map.depth > 1 { wgpu::TextureDimension::D3 } else { wgpu::TextureDimension::D2 };
+    let t = gpu.device.create_texture_with_data(
+        &gpu.queue,
+        &wgpu::TextureDescriptor {
+            label: Some("map"),
+            size: wgpu::Extent3d { width: map.width as u32, height: map.height as u32, depth_or_array_layers: map.depth as u32 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension,
+            format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytemuck::cast_slice(&data),
+    );
+    t.create_view(&Default::default())
 }
 
 /// Ambient light share in the render.

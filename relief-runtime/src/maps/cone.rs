@@ -54,7 +54,7 @@ pub(crate) struct ConeScorer {
 
 impl Scorer for ConeScorer {
     #[inline]
-    fn bound(&self, ox: i64, oy: i64, hmax: f32) -> Option<f64> {
+    fn bound(&self, ox: i64, oy: i64, hmax: f32, _aux: f32) -> Option<f64> {
         let dh = hmax as f64 - self.apex;
         (dh > 0.0).then(|| texel_distance(ox, oy, self.w, self.h) / dh)
     }

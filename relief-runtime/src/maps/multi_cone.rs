@@ -80,7 +80,7 @@ struct PieceScorer {
 
 impl Scorer for PieceScorer {
     #[inline]
-    fn bound(&self, ox: i64, oy: i64, hmax: f32) -> Option<f64> {
+    fn bound(&self, ox: i64, oy: i64, hmax: f32, _aux: f32) -> Option<f64> {
         let dh = (hmax as f64).min(self.hi) - self.lo;
         (hmax as f64 > self.lo && dh > 0.0).then(|| (texel_distance(ox, oy, self.w, self.h) - self.radius).max(0.0) / dh)
     }

@@ -36,37 +36,41 @@ impl Axis {
     /// Signed offset from `p` to texel `q` (both in `0..n`), or `None` if unreachable.
     #[inline]
     pub(crate) fn offset(self, p: i64, q: i64, n: i64) -> Option<i64> {
+        // `p`, `q` in 0..n, so `q - p` in (-n, n): one conditional add replaces `rem_euclid`.
+        let d = q - p;
+        let fwd = if d < 0 { d + n } else { d };
         match self {
-            Axis::Both { wrap: true } => {
-                let d = (q - p).rem_euclid(n);
-                Some(if d <= n - d { d } else { d - n })
-            }
-            Axis::Both { wrap: false } => Some(q - p),
-            Axis::Forward { wrap: true } => Some((q - p).rem_euclid(n)),
-            Axis::Forward { wrap: false } => (q >= p).then_some(q - p),
-            Axis::Backward { wrap: true } => Some(-(p - q).rem_euclid(n)),
-            Axis::Backward { wrap: false } => (q <= p).then_some(q - p),
+            Axis::Both { wrap: true } => Some(if fwd <= n - fwd { fwd } else { fwd - n }),
+            Axis::Both { wrap: false } => Some(d),
+            Axis::Forward { wrap: true } => Some(fwd),
+            Axis::Forward { wrap: false } => (d >= 0).then_some(d),
+            Axis::Backward { wrap: true } => Some(if d > 0 { d - n } else { d }),
+            Axis::Backward { wrap: false } => (d <= 0).then_some(d),
         }
     }
 
-    /// Smallest `|offset|` from `p` to any texel of `a..=b`, or `None` if none is reachable.
+    /// Smallest `|offset|` from `p` to any texel of `a..=b` (all in `0..n`), or `None` if
+    /// none is reachable.
     #[inline]
     pub(crate) fn min_offset(self, p: i64, a: i64, b: i64, n: i64) -> Option<i64> {
-        let inside = a <= p && p <= b;
+        if a <= p && p <= b {
+            return Some(0);
+        }
+        let right = a > p; // the interval lies after p (else before it)
         match self {
-            Axis::Both { wrap } => Some(if inside {
-                0
-            } else if wrap {
-                (a - p).rem_euclid(n).min((p - b).rem_euclid(n))
-            } else if a > p {
-                a - p
+            Axis::Both { wrap } => Some(if !wrap {
+                if right {
+                    a - p
+                } else {
+                    p - b
+                }
+            } else if right {
+                (a - p).min(p - b + n)
             } else {
-                p - b
+                (p - b).min(a - p + n)
             }),
             Axis::Forward { wrap } => {
-                if inside {
-                    Some(0)
-                } else if a > p {
+                if right {
                     Some(a - p)
                 } else if wrap {
                     Some(a - p + n)
@@ -75,9 +79,7 @@ impl Axis {
                 }
             }
             Axis::Backward { wrap } => {
-                if inside {
-                    Some(0)
-                } else if b < p {
+                if !right {
                     Some(p - b)
                 } else if wrap {
                     Some(p - b + n)
@@ -102,7 +104,8 @@ pub fn texel_distance(ox: i64, oy: i64, w: usize, h: usize) -> f64 {
 pub(crate) trait Scorer {
     /// A lower bound of [`Scorer::score`] over texels with `|offset|` at least `(ox, oy)` and
     /// height at most `hmax`; `None` if no such texel can score.
-    fn bound(&self, ox: i64, oy: i64, hmax: f32) -> Option<f64>;
+    /// `aux` is the node's maximum of the tree's auxiliary per-texel value (0 if none).
+    fn bound(&self, ox: i64, oy: i64, hmax: f32, aux: f32) -> Option<f64>;
     /// The score of the texel at signed offset `(sx, sy)` with height `hq`; `None`: no constraint.
     fn score(&self, sx: i64, sy: i64, hq: f32) -> Option<f64>;
 }
@@ -116,11 +119,26 @@ pub(crate) struct MaxTree {
     pub(crate) w: usize,
     pub(crate) h: usize,
     levels: Vec<(usize, usize, Vec<f32>)>,
+    /// Per-node maxima of an optional second per-texel value (same shapes), for scorers
+    /// whose bound needs more than the height.
+    aux: Vec<Vec<f32>>,
 }
 
 impl MaxTree {
     pub(crate) fn new(map: &HeightMap) -> MaxTree {
-        let mut levels = vec![(map.width, map.height, map.data.clone())];
+        let levels = Self::pyramid(map.width, map.height, map.data.clone());
+        MaxTree { w: map.width, h: map.height, levels, aux: Vec::new() }
+    }
+
+    /// A tree that also keeps per-node maxima of `aux` (one value per texel).
+    pub(crate) fn with_aux(map: &HeightMap, aux: Vec<f32>) -> MaxTree {
+        let mut t = Self::new(map);
+        t.aux = Self::pyramid(map.width, map.height, aux).into_iter().map(|l| l.2).collect();
+        t
+    }
+
+    fn pyramid(w0: usize, h0: usize, data: Vec<f32>) -> Vec<(usize, usize, Vec<f32>)> {
+        let mut levels = vec![(w0, h0, data)];
         loop {
             let (w, h, ref d) = *levels.last().unwrap();
             if w == 1 && h == 1 {
@@ -136,7 +154,7 @@ impl MaxTree {
             }
             levels.push((nw, nh, nd));
         }
-        MaxTree { w: map.width, h: map.height, levels }
+        levels
     }
 
     #[inline]
@@ -187,13 +205,14 @@ impl MaxTree {
         for cj in 2 * j..(2 * j + 2).min(ch) {
             for ci in 2 * i..(2 * i + 2).min(cw) {
                 let hmax = cd[cj * cw + ci];
+                let aux = if self.aux.is_empty() { 0.0 } else { self.aux[k - 1][cj * cw + ci] };
                 let shift = k - 1;
                 let (x0, x1) = ((ci << shift) as i64, (((ci + 1) << shift) as i64).min(w) - 1);
                 let (y0, y1) = ((cj << shift) as i64, (((cj + 1) << shift) as i64).min(h) - 1);
                 let (Some(ox), Some(oy)) = (ax.min_offset(px, x0, x1, w), ay.min_offset(py, y0, y1, h)) else {
                     continue;
                 };
-                let Some(b) = s.bound(ox, oy, hmax) else { continue };
+                let Some(b) = s.bound(ox, oy, hmax, aux) else { continue };
                 if b >= best.0 {
                     continue;
                 }

@@ -1,7 +1,9 @@
 //! Coarse searches: ray → bracket. One file per method family.
 
+pub mod cone;
 pub mod linear;
 pub mod parallax;
+pub mod sphere;
 
 use crate::compose::CompileError;
 use crate::ir::Stage;
@@ -18,6 +20,31 @@ pub fn build<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, spec: &StageSpec) -> Result<Br
         "iterative_parallax" => parallax::iterative_parallax(s, ray, spec.int("steps")),
         "linear" => linear::linear(s, ray, spec.int("steps")),
         "linear_dynamic" => linear::linear_dynamic(s, ray, spec.int("min"), spec.int("max")),
+        "csm" => {
+            let sample = match spec.word("sample") {
+                "nearest" => cone::ConeSample::Nearest,
+                "min4" => cone::ConeSample::Min4,
+                _ => cone::ConeSample::Linear,
+            };
+            cone::csm(s, ray, spec.int("steps"), sample)
+        }
+        "qcsm" => cone::qcsm(s, ray, spec.int("steps")),
+        "rcs" => {
+            let start = match spec.word("start") {
+                "bracket" => cone::RelaxedStart::Bracket,
+                _ => cone::RelaxedStart::Hk,
+            };
+            cone::rcs(s, ray, spec.int("steps"), start)
+        }
+        "cns" => cone::cns(s, ray, spec.int("steps")),
+        "rcns" => cone::rcns(s, ray, spec.int("steps")),
+        "mcns" => cone::mcns(s, ray, spec.int("steps"), spec.int("k")),
+        "pcns" => cone::pcns(s, ray, spec.int("steps"), spec.int("k")),
+        "sphere" => sphere::sphere(s, ray, spec.int("steps"), DISTANCE_FIELD_Z),
         other => return Err(CompileError::not_implemented("coarse", other)),
     })
 }
+
+/// The z resolution of the distance field `sphere` reads (relief-runtime builds it with its
+/// default `MapParams::z_resolution`, which must match).
+pub const DISTANCE_FIELD_Z: u32 = 64;

@@ -4,7 +4,7 @@
 //! space, scaled so that `light.z = 1`); it leaves the volume after `1 - hit.z`.
 
 use crate::ir::{Stage, Val, Vec3};
-use crate::stage::Hit;
+use crate::stage::{Bracket, Hit, Ray};
 
 /// The light ray's point at parameter τ.
 fn toward_light<'a>(hit: &Hit<'a>, light: Val<'a, Vec3>, tau: Val<'a, f32>) -> Val<'a, Vec3> {
@@ -47,4 +47,23 @@ pub fn soft<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, light: Val<'a, Vec3>, steps: u3
         tau.set(tau.get() + step);
     });
     (1.0 - w.get() / (0.24 + w.get())).clamp(0.0, 1.0)
+}
+
+/// Hard shadow with any coarse search: the light ray is traced from where it enters the
+/// volume down toward the hit — an ordinary view ray, so every coarse stage applies — and the
+/// hit is in shadow when the search stops on the surface clearly before reaching it.
+pub fn hard_with<'a>(
+    s: &'a Stage<'a>,
+    hit: &Hit<'a>,
+    light: Val<'a, Vec3>,
+    light_cos: Val<'a, f32>,
+    search: impl FnOnce(&'a Stage<'a>, &Ray<'a>) -> Bracket<'a>,
+) -> Val<'a, f32> {
+    let t_hit = 1.0 - hit.z;
+    let ray = Ray { origin: hit.uv + light.xy() * t_hit, dir: s.vec3(-light.xy(), -1.0), cos_view: light_cos };
+    let b = search(s, &ray);
+    let p = ray.at(b.below);
+    let on_surface = s.height(p.xy()).ge(p.z());
+    let before_hit = b.below.lt(t_hit * 0.99 - 1e-3);
+    s.select(on_surface & before_hit, 0.0, 1.0)
 }
