@@ -7,9 +7,8 @@ use std::path::PathBuf;
 use anyhow::Context;
 
 use crate::cli_gen::write_atomic;
-use crate::gpu::{self, Gpu, Program, SceneTextures};
-use crate::metrics::{self, Metrics};
-use crate::reference::{reference_hits, Sampling};
+use crate::gpu::Gpu;
+use crate::measure::{measure, write_images, Prepared};
 use crate::scene::scene_from_arg;
 
 /// Arguments of `relief render`.
@@ -53,52 +52,15 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     }
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create output folder {}", a.out.display()))?;
     let g = Gpu::new()?;
-    let program = Program::new(&pipeline)?;
-    let mut tex = SceneTextures::new(&g, &scene);
-    tex.add_maps(&g, &scene, &pipeline.required_maps())?;
-    let frame = gpu::render(&g, &program, &scene, &tex, a.size, 5, a.frames)?;
-    let rays = scene.rays(a.size);
-    let hits = gpu::probe(&g, &program, &scene, &tex, &rays)?;
-    let mut on_device = scene.clone();
-    on_device.height.data = tex.heights_on_device.clone();
-    let refs = reference_hits(&on_device, &rays, Sampling::Bilinear);
-
-    let mut m = Metrics {
-        pipeline: pipeline.to_string(),
-        scene: scene.name.clone(),
-        size: a.size,
-        adapter: format!("{} ({})", g.adapter, g.driver),
-        ..Default::default()
-    };
-    metrics::set_timing(&mut m, &frame.frame_ms);
-    metrics::set_accuracy(&mut m, &rays, &hits, &refs, &on_device.height, scene.edge);
-
-    let png = |name: &str, w: u32, h: u32, rgba: Vec<u8>| -> anyhow::Result<()> {
-        let img = image::RgbaImage::from_raw(w, h, rgba).context("image size")?;
-        let mut bytes = Vec::new();
-        img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)?;
-        write_atomic(&a.out.join(name), &bytes)
-    };
-    png("frame.png", a.size, a.size, frame.rgba)?;
-    let errors: Vec<(u32, u32, f64)> = rays
-        .iter()
-        .zip(&hits)
-        .zip(&refs)
-        .map(|((r, h), rf)| {
-            let e = match rf {
-                Some(rf) if h.t.is_finite() => (h.t as f64 - rf.t).abs(),
-                _ => f64::INFINITY,
-            };
-            (r.x, r.y, e)
-        })
-        .collect();
-    let (w, h, rgba) = error_map(a.size, &errors);
-    png("error.png", w, h, rgba)?;
-    write_atomic(&a.out.join("metrics.json"), serde_json::to_string_pretty(&m)?.as_bytes())?;
+    let mut prep = Prepared::new(&g, scene, a.size);
+    let measured = measure(&g, &mut prep, &pipeline, 5, a.frames)?;
+    write_images(&a.out, &prep, &measured)?;
+    let (m, rays, hits, refs) = (&measured.metrics, &prep.rays, &measured.hits, &prep.refs);
+    write_atomic(&a.out.join("metrics.json"), serde_json::to_string_pretty(m)?.as_bytes())?;
     if a.dump_hits {
         let mut csv = Vec::new();
         writeln!(csv, "x,y,origin_u,origin_v,dir_x,dir_y,dir_z,t,u,v,z,t_ref,u_ref,v_ref,iterations,fetches")?;
-        for ((r, h), rf) in rays.iter().zip(&hits).zip(&refs) {
+        for ((r, h), rf) in rays.iter().zip(hits).zip(refs) {
             let (tr, ur, vr) = rf.map(|x| (x.t.to_string(), x.u.to_string(), x.v.to_string())).unwrap_or_default();
             writeln!(
                 csv,

@@ -1,7 +1,7 @@
 //! The `relief` command line.
 
 use clap::{Parser, Subcommand};
-use relief_runtime::{cli_gen, cli_maps, cli_render};
+use relief_runtime::{cli_gen, cli_maps, cli_render, cli_sweep};
 
 /// relief: relief-mapping search methods composed into shaders, measured and swept.
 #[derive(Parser)]
@@ -20,6 +20,8 @@ enum Command {
     /// Render and probe one pipeline on one scene: frame time, accuracy against the exact
     /// reference, frame.png, error.png, metrics.json (and hits.csv).
     Render(cli_render::RenderArgs),
+    /// Measure a whole grid (the dissertation's tables and figures, or a grid file), resumable.
+    Sweep(cli_sweep::SweepArgs),
 }
 
 fn main() {
@@ -28,6 +30,7 @@ fn main() {
         Command::Gen(a) => cli_gen::run(a),
         Command::Maps(a) => cli_maps::run(a),
         Command::Render(a) => cli_render::run(a),
+        Command::Sweep(a) => cli_sweep::run(a),
     };
     if let Err(e) = result {
         // One line: the error and its causes.

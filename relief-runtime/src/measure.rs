@@ -1,0 +1,92 @@
+//! One measurement: a pipeline on a prepared scene — frame times from the render entry,
+//! hits from the probe entry, the exact reference for the same rays, and the metrics.
+//! `relief render` measures one; `relief sweep` measures a grid, preparing each scene once.
+
+use std::path::Path;
+
+use anyhow::Context;
+
+use crate::gpu::{self, Gpu, GpuHit, Program, RenderResult, SceneTextures};
+use crate::metrics::{self, Metrics};
+use crate::reference::{reference_hits, RefHit, Sampling};
+use crate::scene::{ProbeRay, Scene};
+
+/// A scene on the device, with its probe rays and their exact first hits (computed once,
+/// shared by every pipeline measured on it).
+pub struct Prepared {
+    pub scene: Scene,
+    /// The scene with the heights as the device stores them: the surface measured against.
+    pub on_device: Scene,
+    pub textures: SceneTextures,
+    pub rays: Vec<ProbeRay>,
+    pub refs: Vec<Option<RefHit>>,
+    pub size: u32,
+}
+
+impl Prepared {
+    /// Uploads `scene` and traces the reference for one ray per pixel at `size²`.
+    pub fn new(gpu: &Gpu, scene: Scene, size: u32) -> Prepared {
+        let textures = SceneTextures::new(gpu, &scene);
+        let mut on_device = scene.clone();
+        on_device.height.data = textures.heights_on_device.clone();
+        let rays = scene.rays(size);
+        let refs = reference_hits(&on_device, &rays, Sampling::Bilinear);
+        Prepared { scene, on_device, textures, rays, refs, size }
+    }
+}
+
+/// The outcome of measuring one pipeline.
+pub struct Measured {
+    pub metrics: Metrics,
+    pub frame: RenderResult,
+    pub hits: Vec<GpuHit>,
+}
+
+/// Builds the maps `pipeline` needs (once per scene), renders `frames` timed frames after
+/// `warmup`, probes every ray, and compares with the reference.
+pub fn measure(gpu: &Gpu, prep: &mut Prepared, pipeline: &relief_dsl::Pipeline, warmup: u32, frames: u32) -> anyhow::Result<Measured> {
+    let program = Program::new(pipeline)?;
+    prep.textures.add_maps(gpu, &prep.scene, &pipeline.required_maps())?;
+    let frame = gpu::render(gpu, &program, &prep.scene, &prep.textures, prep.size, warmup, frames)?;
+    let hits = gpu::probe(gpu, &program, &prep.scene, &prep.textures, &prep.rays)?;
+    let mut m = Metrics {
+        pipeline: pipeline.to_string(),
+        scene: prep.scene.name.clone(),
+        size: prep.size,
+        adapter: format!("{} ({})", gpu.adapter, gpu.driver),
+        ..Default::default()
+    };
+    metrics::set_timing(&mut m, &frame.frame_ms);
+    metrics::set_accuracy(&mut m, &prep.rays, &hits, &prep.refs, &prep.on_device.height, prep.scene.edge);
+    Ok(Measured { metrics: m, frame, hits })
+}
+
+/// Writes `frame.png` and `error.png` of a measurement into `dir`.
+pub fn write_images(dir: &Path, prep: &Prepared, m: &Measured) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let size = prep.size;
+    png(&dir.join("frame.png"), size, size, m.frame.rgba.clone())?;
+    let errors: Vec<(u32, u32, f64)> = prep
+        .rays
+        .iter()
+        .zip(&m.hits)
+        .zip(&prep.refs)
+        .map(|((r, h), rf)| {
+            let e = match rf {
+                Some(rf) if h.t.is_finite() => (h.t as f64 - rf.t).abs(),
+                _ => f64::INFINITY,
+            };
+            (r.x, r.y, e)
+        })
+        .collect();
+    let (w, h, rgba) = crate::cli_render::error_map(size, &errors);
+    png(&dir.join("error.png"), w, h, rgba)
+}
+
+/// Writes an RGBA8 image as PNG, atomically.
+pub fn png(path: &Path, w: u32, h: u32, rgba: Vec<u8>) -> anyhow::Result<()> {
+    let img = image::RgbaImage::from_raw(w, h, rgba).context("image size")?;
+    let mut bytes = Vec::new();
+    img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)?;
+    crate::cli_gen::write_atomic(path, &bytes)
+}

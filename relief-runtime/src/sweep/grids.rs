@@ -1,0 +1,193 @@
+//! The dissertation's grids (Burger 2018, Tables 4.1-4.15 and Figures 4.5, 4.7-4.11) as
+//! grid files, in `relief-runtime/grids/`, embedded at build time.
+//!
+//! A grid file uses the grid form of `relief_grid!` (see `relief_dsl::spec::grid`); a file
+//! may hold several such grids separated by a line `---`, and stands for their union (Table
+//! 4.3, for instance, pairs a linear-only half with a linear + binary half). The first
+//! comment line describes the grid.
+
+use relief_dsl::spec::{Grid, GridError};
+use relief_dsl::Pipeline;
+
+/// A named grid and the scenes it is measured on.
+#[derive(Clone, Debug)]
+pub struct NamedGrid {
+    pub name: String,
+    /// The first comment line of its file.
+    pub description: String,
+    /// Its cells: pipelines with the scene each is measured on, in declaration order, each
+    /// pair once.
+    pub cells: Vec<(Pipeline, String)>,
+}
+
+const FILES: &[(&str, &str)] = &[
+    ("t4.1", include_str!("../../grids/t4.1.grid")),
+    ("t4.2", include_str!("../../grids/t4.2.grid")),
+    ("t4.3", include_str!("../../grids/t4.3.grid")),
+    ("t4.4", include_str!("../../grids/t4.4.grid")),
+    ("t4.5", include_str!("../../grids/t4.5.grid")),
+    ("t4.6", include_str!("../../grids/t4.6.grid")),
+    ("t4.7", include_str!("../../grids/t4.7.grid")),
+    ("t4.8", include_str!("../../grids/t4.8.grid")),
+    ("t4.9", include_str!("../../grids/t4.9.grid")),
+    ("t4.10", include_str!("../../grids/t4.10.grid")),
+    ("t4.11", include_str!("../../grids/t4.11.grid")),
+    ("t4.12", include_str!("../../grids/t4.12.grid")),
+    ("t4.13", include_str!("../../grids/t4.13.grid")),
+    ("t4.14", include_str!("../../grids/t4.14.grid")),
+    ("t4.15", include_str!("../../grids/t4.15.grid")),
+    ("f4.5", include_str!("../../grids/f4.5.grid")),
+    ("f4.7", include_str!("../../grids/f4.7.grid")),
+    ("f4.8", include_str!("../../grids/f4.8.grid")),
+    ("f4.9", include_str!("../../grids/f4.9.grid")),
+    ("f4.10", include_str!("../../grids/f4.10.grid")),
+    ("f4.11", include_str!("../../grids/f4.11.grid")),
+];
+
+/// The dissertation's five scenes (relief's procedural stand-ins).
+pub const FIVE_SCENES: [&str; 5] = ["lion", "self_shadow", "collage", "shapes", "rock_bump"];
+
+/// The scenes a named grid is measured on unless `--scene` says otherwise: Lion, the main
+/// test scene, except where the dissertation names others.
+pub fn default_scenes(name: &str) -> Vec<String> {
+    let v: &[&str] = match name {
+        "f4.5" => &["rock_bump", "self_shadow"],
+        "f4.7" => &FIVE_SCENES,
+        _ => &["lion"],
+    };
+    v.iter().map(|s| s.to_string()).collect()
+}
+
+/// Parses a grid file's text: one or more grids separated by `---` lines, as their union.
+pub fn parse_grid_file(text: &str) -> Result<Vec<Pipeline>, GridError> {
+    let mut out: Vec<Pipeline> = Vec::new();
+    let mut line_offset = 0;
+    let mut block = String::new();
+    let mut blocks = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        if line.trim() == "---" {
+            blocks.push((line_offset, std::mem::take(&mut block)));
+            line_offset = i + 1;
+        } else {
+            block.push_str(line);
+            block.push('\n');
+        }
+    }
+    blocks.push((line_offset, block));
+    for (offset, b) in blocks {
+        let grid: Grid = b.parse().map_err(|mut e: GridError| {
+            e.line += offset;
+            e
+        })?;
+        for p in grid {
+            if !out.contains(&p) {
+                out.push(p);
+            }
+        }
+    }
+    Ok(out)
+}
+
+fn description(text: &str) -> String {
+    text.lines()
+        .find_map(|l| l.trim().strip_prefix('#').map(|d| d.trim().to_string()))
+        .unwrap_or_default()
+}
+
+fn named(name: &str, text: &str, scenes: Option<&[String]>) -> NamedGrid {
+    let pipelines = parse_grid_file(text).unwrap_or_else(|e| panic!("built-in grid {name}: {e}"));
+    let scenes = scenes.map(|s| s.to_vec()).unwrap_or_else(|| default_scenes(name));
+    let mut cells = Vec::new();
+    for p in pipelines {
+        for s in &scenes {
+            cells.push((p.clone(), s.clone()));
+        }
+    }
+    NamedGrid { name: name.to_string(), description: description(text), cells }
+}
+
+/// Every built-in grid, then `dissertation`: all of them, each (pipeline, scene) once.
+pub fn builtin(scenes: Option<&[String]>) -> Vec<NamedGrid> {
+    let mut all: Vec<NamedGrid> = FILES.iter().map(|(n, t)| named(n, t, scenes)).collect();
+    let mut union: Vec<(Pipeline, String)> = Vec::new();
+    for g in &all {
+        for c in &g.cells {
+            if !union.contains(c) {
+                union.push(c.clone());
+            }
+        }
+    }
+    all.push(NamedGrid {
+        name: "dissertation".into(),
+        description: "every table and figure of Burger 2018 chapter 4, duplicate cells measured once".into(),
+        cells: union,
+    });
+    all
+}
+
+/// The names of the built-in grids.
+pub fn names() -> Vec<&'static str> {
+    FILES.iter().map(|(n, _)| *n).chain(["dissertation"]).collect()
+}
+
+/// A grid by built-in name, or from a grid file.
+pub fn load(arg: &str, scenes: Option<&[String]>) -> anyhow::Result<NamedGrid> {
+    if let Some(g) = builtin(scenes).into_iter().find(|g| g.name == arg) {
+        return Ok(g);
+    }
+    let path = std::path::Path::new(arg);
+    if !path.exists() {
+        let names = names();
+        let near = names.iter().min_by_key(|n| levenshtein(n, arg)).copied().unwrap_or("t4.1");
+        anyhow::bail!(
+            "no grid `{arg}`: not a built-in grid ({}; did you mean `{near}`?) and no such file",
+            names.join(", ")
+        );
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let pipelines = parse_grid_file(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let scenes = scenes.map(|s| s.to_vec()).unwrap_or_else(|| vec!["lion".to_string()]);
+    let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("grid").to_string();
+    let cells = pipelines.into_iter().flat_map(|p| scenes.iter().map(move |s| (p.clone(), s.clone()))).collect();
+    Ok(NamedGrid { name, description: description(&text), cells })
+}
+
+fn levenshtein(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut cur = vec![i + 1; b.len() + 1];
+        for j in 0..b.len() {
+            cur[j + 1] = (prev[j] + usize::from(ca != b[j])).min(prev[j + 1] + 1).min(cur[j] + 1);
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_builtin_grid_parses_and_the_union_has_no_duplicates() {
+        let all = builtin(None);
+        assert_eq!(all.len(), FILES.len() + 1);
+        let diss = all.last().unwrap();
+        let sum: usize = all[..all.len() - 1].iter().map(|g| g.cells.len()).sum();
+        assert!(diss.cells.len() < sum, "duplicate cells are measured once");
+        for (i, c) in diss.cells.iter().enumerate() {
+            assert!(!diss.cells[..i].contains(c));
+        }
+        // Table 4.1 has the dissertation's 13 step counts.
+        assert_eq!(all[0].cells.len(), 13);
+        // Table 4.3 is the union of its two halves (7 + 7).
+        assert_eq!(all[2].cells.len(), 14);
+    }
+
+    #[test]
+    fn grid_file_errors_name_the_line_of_the_whole_file() {
+        let e = parse_grid_file("coarse: linear(5)\n---\ncoarse: lnear(5)\n").unwrap_err();
+        assert_eq!(e.line, 3);
+    }
+}

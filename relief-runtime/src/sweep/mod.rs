@@ -1,0 +1,250 @@
+//! `relief sweep`: measure every cell of a grid (pipeline × scene) and keep the results.
+//!
+//! Results go to `DIR/results.jsonl` (one JSON object per line, the source of truth) and
+//! `DIR/results.csv` (the same rows, rewritten whole through a temporary file after every
+//! cell), with each cell's `frame.png` and `error.png` under `DIR/cells/SCENE/PIPELINE/`.
+//! A row is appended with one write as soon as its cell finishes, so a run killed at any
+//! moment loses at most the cell in flight; a line cut short by the kill is dropped when the
+//! next run starts, and cells already recorded (same pipeline, scene and size) are skipped.
+//! A cell that fails is recorded with its error, and the sweep goes on.
+
+pub mod grids;
+
+use std::collections::{HashMap, HashSet};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use serde::{Deserialize, Serialize};
+
+use crate::gpu::Gpu;
+use crate::measure::{measure, write_images, Prepared};
+use crate::metrics::Metrics;
+use crate::scene::scene_from_arg;
+pub use grids::NamedGrid;
+
+/// One results row: the metrics and where they came from.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct Row {
+    pub grid: String,
+    #[serde(flatten)]
+    pub metrics: Metrics,
+    /// `ok` or `error`.
+    pub status: String,
+    /// The error of a failed cell (empty otherwise).
+    pub error: String,
+    pub relief_version: String,
+    /// The cell's folder, relative to the sweep's folder (holds frame.png and error.png).
+    pub cell_dir: String,
+}
+
+/// The columns of `results.csv`, in order.
+pub const COLUMNS: &[&str] = &[
+    "grid",
+    "pipeline",
+    "scene",
+    "size",
+    "adapter",
+    "status",
+    "error",
+    "relief_version",
+    "frame_ms_median",
+    "frame_ms_p10",
+    "frame_ms_p90",
+    "mse_dissertation",
+    "mse_dissertation_mean",
+    "ref_err_t_rms",
+    "ref_err_uv_texels_rms",
+    "missed_rate",
+    "nan_count",
+    "avg_iterations",
+    "avg_fetches",
+    "cell_dir",
+];
+
+/// What `relief sweep` measures.
+pub struct Options {
+    pub grid: NamedGrid,
+    pub size: u32,
+    pub frames: u32,
+    pub warmup: u32,
+    pub out: PathBuf,
+    /// Show a progress bar.
+    pub progress: bool,
+}
+
+/// What a sweep did.
+#[derive(Debug, Default)]
+pub struct Summary {
+    pub measured: usize,
+    pub skipped: usize,
+    pub failed: usize,
+}
+
+/// Reads the rows of `results.jsonl`, dropping a last line that a kill cut short (the file
+/// is truncated to its last complete line).
+pub fn read_rows(out: &Path) -> anyhow::Result<Vec<Row>> {
+    let path = out.join("results.jsonl");
+    let Ok(text) = std::fs::read_to_string(&path) else {
+        return Ok(vec![]);
+    };
+    let complete = match text.rfind('\n') {
+        Some(i) => &text[..=i],
+        None => "",
+    };
+    if complete.len() != text.len() {
+        let f = std::fs::OpenOptions::new().write(true).open(&path)?;
+        f.set_len(complete.len() as u64)?;
+    }
+    let mut rows = Vec::new();
+    for (i, line) in complete.lines().enumerate() {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let row: Row = serde_json::from_str(line).with_context(|| format!("{}: line {} is not a results row", path.display(), i + 1))?;
+        rows.push(row);
+    }
+    Ok(rows)
+}
+
+/// The key that says a cell is done.
+fn key(pipeline: &str, scene: &str, size: u32) -> (String, String, u32) {
+    (pipeline.to_string(), scene.to_string(), size)
+}
+
+/// Rewrites `results.csv` from `rows`, atomically.
+pub fn write_csv(out: &Path, rows: &[Row]) -> anyhow::Result<()> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(COLUMNS)?;
+    for r in rows {
+        let v = serde_json::to_value(r)?;
+        let record: Vec<String> = COLUMNS
+            .iter()
+            .map(|c| match &v[*c] {
+                serde_json::Value::String(s) => s.clone(),
+                serde_json::Value::Null => String::new(),
+                other => other.to_string(),
+            })
+            .collect();
+        w.write_record(&record)?;
+    }
+    let bytes = w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))?;
+    crate::cli_gen::write_atomic(&out.join("results.csv"), &bytes)
+}
+
+fn append_row(out: &Path, row: &Row) -> anyhow::Result<()> {
+    let mut line = serde_json::to_string(row)?;
+    line.push('\n');
+    let mut f = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(out.join("results.jsonl"))
+        .with_context(|| format!("cannot write {}", out.join("results.jsonl").display()))?;
+    // One write of the whole line: a kill leaves either the whole row or a cut line, which
+    // the next run drops.
+    f.write_all(line.as_bytes())?;
+    f.sync_data()?;
+    Ok(())
+}
+
+/// Runs the sweep.
+pub fn run(opts: &Options) -> anyhow::Result<Summary> {
+    std::fs::create_dir_all(&opts.out).with_context(|| format!("cannot create output folder {}", opts.out.display()))?;
+    let mut rows = read_rows(&opts.out)?;
+    let done: HashSet<_> = rows.iter().map(|r| key(&r.metrics.pipeline, &r.metrics.scene, r.metrics.size)).collect();
+    let todo: Vec<_> = opts
+        .grid
+        .cells
+        .iter()
+        .filter(|(p, s)| !done.contains(&key(&p.to_string(), &scene_label(s), opts.size)))
+        .cloned()
+        .collect();
+    let mut summary = Summary { skipped: opts.grid.cells.len() - todo.len(), ..Default::default() };
+    if todo.is_empty() {
+        write_csv(&opts.out, &rows)?;
+        return Ok(summary);
+    }
+    let gpu = Gpu::new()?;
+    let bar = if opts.progress {
+        let b = indicatif::ProgressBar::new(todo.len() as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} cells, ETA {eta} | {msg}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let mut prepared: HashMap<String, Result<Prepared, String>> = HashMap::new();
+    for (pipeline, scene_arg) in todo {
+        let text = pipeline.to_string();
+        bar.set_message(format!("{text} on {scene_arg}"));
+        let prep = prepared.entry(scene_arg.clone()).or_insert_with(|| {
+            scene_from_arg(&scene_spec(&scene_arg)).map(|s| Prepared::new(&gpu, s, opts.size)).map_err(|e| e.to_string())
+        });
+        let cell_dir = format!("cells/{}/{}", folder_name(&scene_arg), pipeline.file_stem());
+        let mut row = Row {
+            grid: opts.grid.name.clone(),
+            status: "ok".into(),
+            relief_version: env!("CARGO_PKG_VERSION").into(),
+            cell_dir: cell_dir.clone(),
+            ..Default::default()
+        };
+        let result = match prep {
+            Err(e) => Err(anyhow::anyhow!("scene {scene_arg}: {e}")),
+            Ok(prep) => {
+                let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    let m = measure(&gpu, prep, &pipeline, opts.warmup, opts.frames)?;
+                    write_images(&opts.out.join(&cell_dir), prep, &m)?;
+                    Ok::<_, anyhow::Error>(m.metrics)
+                }));
+                match outcome {
+                    Ok(r) => r,
+                    Err(panic) => Err(anyhow::anyhow!(
+                        "panicked: {}",
+                        panic.downcast_ref::<String>().cloned().or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string())).unwrap_or_default()
+                    )),
+                }
+            }
+        };
+        match result {
+            Ok(m) => {
+                row.metrics = m;
+                summary.measured += 1;
+            }
+            Err(e) => {
+                row.metrics = Metrics { pipeline: text.clone(), scene: scene_label(&scene_arg), size: opts.size, adapter: format!("{} ({})", gpu.adapter, gpu.driver), ..Default::default() };
+                row.status = "error".into();
+                row.error = e.chain().map(|c| c.to_string()).collect::<Vec<_>>().join(": ");
+                summary.failed += 1;
+            }
+        }
+        append_row(&opts.out, &row)?;
+        rows.push(row);
+        write_csv(&opts.out, &rows)?;
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    Ok(summary)
+}
+
+/// How a scene argument is named in results: `scene:NAME` for procedural scenes (a bare
+/// name is one), the path otherwise.
+pub fn scene_label(arg: &str) -> String {
+    scene_spec(arg)
+}
+
+fn scene_spec(arg: &str) -> String {
+    if arg.contains(':') || Path::new(arg).exists() {
+        arg.to_string()
+    } else {
+        format!("scene:{arg}")
+    }
+}
+
+/// A scene's folder under `cells/`: its name without `scene:`, file-safe.
+fn folder_name(scene_arg: &str) -> String {
+    let label = scene_label(scene_arg);
+    let name = label.strip_prefix("scene:").unwrap_or(&label);
+    name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.' { c } else { '_' }).collect()
+}
