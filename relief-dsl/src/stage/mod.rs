@@ -79,8 +79,12 @@ pub struct Hit<'a> {
 }
 
 impl<'a> Hit<'a> {
-    /// The hit at parameter t along `ray`.
+    /// The hit at parameter t along `ray`, t clamped into the volume (`0..=t_max`): whatever
+    /// a search did, a hit never lies above the polygon or below the floor. (`relief
+    /// stability` found linear + binary and the cone searches ending below the floor at
+    /// grazing angles before this clamp.)
     pub fn at(ray: &Ray<'a>, t: Val<'a, f32>) -> Self {
+        let t = t.clamp(0.0, ray.t_max());
         let p = ray.at(t);
         Hit { t, uv: p.xy(), z: p.z() }
     }

@@ -1,7 +1,7 @@
 //! The `relief` command line.
 
 use clap::{Parser, Subcommand};
-use relief_runtime::{cli_gen, cli_maps, cli_render, cli_sweep};
+use relief_runtime::{cli_gen, cli_maps, cli_render, cli_stability, cli_sweep};
 
 /// relief: relief-mapping search methods composed into shaders, measured and swept.
 #[derive(Parser)]
@@ -22,6 +22,8 @@ enum Command {
     Render(cli_render::RenderArgs),
     /// Measure a whole grid (the dissertation's tables and figures, or a grid file), resumable.
     Sweep(cli_sweep::SweepArgs),
+    /// Every coarse × refine method on stress scenes and grazing angles: where each fails.
+    Stability(cli_stability::StabilityArgs),
 }
 
 fn main() {
@@ -31,6 +33,7 @@ fn main() {
         Command::Maps(a) => cli_maps::run(a),
         Command::Render(a) => cli_render::run(a),
         Command::Sweep(a) => cli_sweep::run(a),
+        Command::Stability(a) => cli_stability::run(a),
     };
     if let Err(e) = result {
         // One line: the error and its causes.

@@ -1,0 +1,48 @@
+//! `relief stability`: every coarse × refine method on every stress condition.
+
+use std::path::PathBuf;
+
+use crate::gpu::Gpu;
+use crate::stability;
+
+/// Arguments of `relief stability`.
+#[derive(clap::Args, Debug)]
+pub struct StabilityArgs {
+    /// Rays per side (size² rays per method and condition).
+    #[arg(long, default_value_t = 128)]
+    pub size: u32,
+    /// Output folder.
+    #[arg(long, default_value = "out/stability")]
+    pub out: PathBuf,
+}
+
+/// Runs `relief stability`.
+pub fn run(a: &StabilityArgs) -> anyhow::Result<()> {
+    if a.size == 0 || a.size > 1024 {
+        anyhow::bail!("--size {} is out of range: allowed 1..=1024", a.size);
+    }
+    std::fs::create_dir_all(&a.out).map_err(|e| anyhow::anyhow!("cannot create output folder {}: {e}", a.out.display()))?;
+    let gpu = Gpu::new()?;
+    let methods = stability::methods();
+    let total = (stability::SCENES.len() * stability::ANGLES.len()) as u64;
+    let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        indicatif::ProgressBar::new(total)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let cells = stability::run(&gpu, a.size, &methods, &stability::SCENES, &stability::ANGLES, |scene, angle| {
+        bar.set_message(format!("{scene} at {angle}°"));
+        bar.inc(1);
+    })?;
+    bar.finish_and_clear();
+    stability::write(&a.out, &cells)?;
+    let nan: usize = cells.iter().map(|c| c.nan_count).sum();
+    let outside: usize = cells.iter().map(|c| c.outside_count).sum();
+    println!(
+        "{} methods × {} conditions: {nan} NaN hits, {outside} hits outside the volume → {}",
+        methods.len(),
+        total,
+        a.out.join("stability.csv").display()
+    );
+    Ok(())
+}

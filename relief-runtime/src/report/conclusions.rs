@@ -1,0 +1,762 @@
+//! The dissertation's conclusions, each checked against our rows with a stated criterion,
+//! and the same criterion applied to the dissertation's own numbers (a check that the
+//! criterion says what the dissertation says). Error criteria are checked twice: with
+//! `mse_dissertation` (the dissertation's metric) and with `ref_err_t_rms`.
+
+use std::fmt::Write as _;
+
+use relief_dsl::Pipeline;
+
+use super::diss::Diss;
+use super::tables::ReportTable;
+use super::{fmt_num, short_scene, Data, Metric, TextTable, DASH};
+
+/// Whether a conclusion holds in a set of numbers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    Holds,
+    DoesNotHold,
+    NotMeasured,
+}
+
+impl Verdict {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Verdict::Holds => "holds",
+            Verdict::DoesNotHold => "does not hold",
+            Verdict::NotMeasured => "not measured",
+        }
+    }
+}
+
+impl std::fmt::Display for Verdict {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// One conclusion of the dissertation, checked.
+#[derive(Clone, Debug)]
+pub struct Conclusion {
+    /// The table it comes from (`4.1`, `4.11` …); several conclusions may share a table.
+    pub table: String,
+    /// What the dissertation concludes.
+    pub claim: String,
+    /// How it is checked.
+    pub criterion: String,
+    /// Our rows, error measured by `mse_dissertation` (or frame time only).
+    pub ours_mse: Verdict,
+    pub evidence_mse: String,
+    /// Our rows, error measured by `ref_err_t_rms`; None when the criterion is about frame
+    /// time only.
+    pub ours_ref: Option<Verdict>,
+    pub evidence_ref: String,
+    /// The dissertation's own numbers under the same criterion.
+    pub diss: Verdict,
+    pub evidence_diss: String,
+    /// The scene our rows were taken from.
+    pub scene: String,
+}
+
+/// Where the numbers come from.
+trait Src {
+    /// Frame time of pipeline `p` (canonical text), in table `table`.
+    fn ms(&self, table: &str, p: &str) -> Option<f64>;
+    /// Error of `p` in table `table`.
+    fn err(&self, table: &str, p: &str) -> Option<f64>;
+    /// A squared error from `err` (MSE is one already; an RMS is squared).
+    fn sq(&self, v: f64) -> f64;
+}
+
+struct Ours<'a> {
+    data: &'a Data,
+    scene: String,
+    metric: Metric,
+}
+
+impl Src for Ours<'_> {
+    fn ms(&self, _: &str, p: &str) -> Option<f64> {
+        self.data.ok(p, &self.scene).map(|r| r.metrics.frame_ms_median).filter(|v| v.is_finite())
+    }
+    fn err(&self, _: &str, p: &str) -> Option<f64> {
+        self.data.ok(p, &self.scene).map(|r| self.metric.of(r)).filter(|v| v.is_finite())
+    }
+    fn sq(&self, v: f64) -> f64 {
+        match self.metric {
+            Metric::RefT => v * v,
+            _ => v,
+        }
+    }
+}
+
+struct Theirs<'a> {
+    diss: &'a Diss,
+}
+
+impl Src for Theirs<'_> {
+    fn ms(&self, table: &str, p: &str) -> Option<f64> {
+        let p: Pipeline = p.parse().ok()?;
+        self.diss.find(table, &p)?.ms_f()
+    }
+    fn err(&self, table: &str, p: &str) -> Option<f64> {
+        let p: Pipeline = p.parse().ok()?;
+        self.diss.find(table, &p)?.mse_f()
+    }
+    fn sq(&self, v: f64) -> f64 {
+        v
+    }
+}
+
+/// A criterion's outcome: Ok((holds, evidence)) or Err(why it could not be checked).
+type Outcome = Result<(bool, String), String>;
+
+struct Check {
+    table: &'static str,
+    claim: &'static str,
+    criterion: &'static str,
+    /// Whether the criterion looks at errors (else frame time only).
+    uses_error: bool,
+    run: fn(&dyn Src) -> Outcome,
+}
+
+fn verdict(o: &Outcome) -> (Verdict, String) {
+    match o {
+        Ok((true, e)) => (Verdict::Holds, e.clone()),
+        Ok((false, e)) => (Verdict::DoesNotHold, e.clone()),
+        Err(e) => (Verdict::NotMeasured, e.clone()),
+    }
+}
+
+/// Checks every conclusion on the main scene's rows.
+pub(crate) fn check(data: &Data, diss: &Diss) -> Vec<Conclusion> {
+    let scene = data.main_scene().unwrap_or_else(|| "scene:lion".into());
+    let mse = Ours { data, scene: scene.clone(), metric: Metric::Mse };
+    let rft = Ours { data, scene: scene.clone(), metric: Metric::RefT };
+    let theirs = Theirs { diss };
+    checks()
+        .iter()
+        .map(|c| {
+            let (ours_mse, evidence_mse) = verdict(&(c.run)(&mse));
+            let (ours_ref, evidence_ref) = if c.uses_error {
+                let (v, e) = verdict(&(c.run)(&rft));
+                (Some(v), e)
+            } else {
+                (None, String::new())
+            };
+            let (dv, de) = verdict(&(c.run)(&theirs));
+            Conclusion {
+                table: c.table.into(),
+                claim: c.claim.into(),
+                criterion: c.criterion.into(),
+                ours_mse,
+                evidence_mse,
+                ours_ref,
+                evidence_ref,
+                diss: dv,
+                evidence_diss: de,
+                scene: scene.clone(),
+            }
+        })
+        .collect()
+}
+
+// ---------------------------------------------------------------------------------------
+// Helpers
+
+fn g(v: f64) -> String {
+    if v == 0.0 {
+        "0".into()
+    } else if v.abs() >= 0.01 && v.abs() < 1000.0 {
+        format!("{v:.3}")
+    } else {
+        format!("{v:.2e}")
+    }
+}
+
+/// `share` of `flags` true among the measured (Some) ones, at least `min` measured.
+fn share(flags: &[Option<bool>], need: f64, min: usize, what: &str) -> Outcome {
+    let measured: Vec<bool> = flags.iter().flatten().copied().collect();
+    if measured.len() < min {
+        return Err(format!("{} of the needed cells measured (need {min})", measured.len()));
+    }
+    let yes = measured.iter().filter(|b| **b).count();
+    let holds = yes as f64 >= need * measured.len() as f64 - 1e-9;
+    Ok((holds, format!("{yes}/{} {what}", measured.len())))
+}
+
+/// Spearman rank correlation (average ranks for ties); None for fewer than 3 points or no
+/// spread.
+pub(crate) fn spearman(xs: &[f64], ys: &[f64]) -> Option<f64> {
+    if xs.len() < 3 || xs.len() != ys.len() {
+        return None;
+    }
+    let rx = ranks(xs);
+    let ry = ranks(ys);
+    pearson(&rx, &ry)
+}
+
+fn ranks(v: &[f64]) -> Vec<f64> {
+    let mut idx: Vec<usize> = (0..v.len()).collect();
+    idx.sort_by(|&a, &b| v[a].total_cmp(&v[b]));
+    let mut r = vec![0.0; v.len()];
+    let mut i = 0;
+    while i < idx.len() {
+        let mut j = i;
+        while j + 1 < idx.len() && v[idx[j + 1]] == v[idx[i]] {
+            j += 1;
+        }
+        let avg = (i + j) as f64 / 2.0 + 1.0;
+        for k in i..=j {
+            r[idx[k]] = avg;
+        }
+        i = j + 1;
+    }
+    r
+}
+
+fn pearson(a: &[f64], b: &[f64]) -> Option<f64> {
+    let n = a.len() as f64;
+    let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
+    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
+    for (x, y) in a.iter().zip(b) {
+        sab += (x - ma) * (y - mb);
+        saa += (x - ma) * (x - ma);
+        sbb += (y - mb) * (y - mb);
+    }
+    (saa > 0.0 && sbb > 0.0).then(|| sab / (saa * sbb).sqrt())
+}
+
+/// Kendall's tau-b between two metrics over the same items; None without pairs.
+pub(crate) fn kendall(a: &[f64], b: &[f64]) -> Option<(f64, usize)> {
+    let (mut c, mut d, mut ta, mut tb) = (0i64, 0i64, 0i64, 0i64);
+    let mut discordant = 0;
+    for i in 0..a.len() {
+        for j in i + 1..a.len() {
+            let sa = (a[i] - a[j]).signum() * f64::from(a[i] != a[j]);
+            let sb = (b[i] - b[j]).signum() * f64::from(b[i] != b[j]);
+            if sa == 0.0 && sb == 0.0 {
+                continue;
+            } else if sa == 0.0 {
+                ta += 1;
+            } else if sb == 0.0 {
+                tb += 1;
+            } else if sa == sb {
+                c += 1;
+            } else {
+                d += 1;
+                discordant += 1;
+            }
+        }
+    }
+    let denom = (((c + d + ta) * (c + d + tb)) as f64).sqrt();
+    (denom > 0.0).then(|| ((c - d) as f64 / denom, discordant))
+}
+
+const LINEAR_41: [u32; 13] = [5, 10, 15, 20, 25, 30, 40, 50, 60, 75, 100, 150, 200];
+const CONE_STEPS: [u32; 6] = [5, 8, 10, 15, 20, 30];
+const SHADOW_BASE: &str = "linear(20)+binary(4)";
+
+fn checks() -> Vec<Check> {
+    vec![
+        Check {
+            table: "4.1",
+            claim: "More linear steps lower the error.",
+            criterion: "Table 4.1's linear(N), N = 5…200: the error falls (5% tolerance) in at least 80% of consecutive measured step counts, and the largest N has lower error than the smallest.",
+            uses_error: true,
+            run: |s| {
+                let pts: Vec<(u32, f64)> = LINEAR_41.iter().filter_map(|&n| s.err("4.1", &format!("linear({n})")).map(|e| (n, e))).collect();
+                if pts.len() < 3 {
+                    return Err(format!("{} of 13 step counts measured (need 3)", pts.len()));
+                }
+                let flags: Vec<Option<bool>> = pts.windows(2).map(|w| Some(w[1].1 <= w[0].1 * 1.05)).collect();
+                let (ok, ev) = share(&flags, 0.8, 2, "consecutive step counts lower or equal")?;
+                let (first, last) = (pts[0], pts[pts.len() - 1]);
+                Ok((ok && last.1 < first.1, format!("{ev}; linear({}) {} → linear({}) {}", first.0, g(first.1), last.0, g(last.1))))
+            },
+        },
+        Check {
+            table: "4.1",
+            claim: "Frame time grows with the number of linear steps.",
+            criterion: "Spearman rank correlation between N and frame time over Table 4.1's linear(N) is at least 0.8.",
+            uses_error: false,
+            run: |s| {
+                let pts: Vec<(f64, f64)> = LINEAR_41.iter().filter_map(|&n| s.ms("4.1", &format!("linear({n})")).map(|t| (n as f64, t))).collect();
+                let (x, y): (Vec<f64>, Vec<f64>) = pts.iter().copied().unzip();
+                let rho = spearman(&x, &y).ok_or_else(|| format!("{} step counts measured (need 3)", pts.len()))?;
+                Ok((rho >= 0.8, format!("ρ = {rho:.2} over {} step counts", pts.len())))
+            },
+        },
+        Check {
+            table: "4.2",
+            claim: "Each binary search step cuts the MSE roughly 4×.",
+            criterion: "Over linear(5) and linear(10) + binary(1…6) (Table 4.2), the geometric mean of the per-step reduction of the squared error (MSE; for ref_err_t_rms its square) lies in [2.5, 6.5].",
+            uses_error: true,
+            run: |s| {
+                let mut factors = Vec::new();
+                for c in [5u32, 10] {
+                    let e: Vec<Option<f64>> = (1..=6u32).map(|k| s.err("4.2", &format!("linear({c})+binary({k})")).map(|v| s.sq(v))).collect();
+                    for w in e.windows(2) {
+                        if let (Some(a), Some(b)) = (w[0], w[1]) {
+                            if a > 0.0 && b > 0.0 {
+                                factors.push(a / b);
+                            }
+                        }
+                    }
+                }
+                if factors.len() < 2 {
+                    return Err(format!("{} consecutive binary step pairs measured with nonzero error (need 2)", factors.len()));
+                }
+                let gm = (factors.iter().map(|f| f.ln()).sum::<f64>() / factors.len() as f64).exp();
+                Ok(((2.5..=6.5).contains(&gm), format!("geometric mean {gm:.2}× per step over {} steps", factors.len())))
+            },
+        },
+        Check {
+            table: "4.3",
+            claim: "Two binary steps reach a linear-only error at a lower frame time.",
+            criterion: "For at least 75% of Table 4.3's pairs (linear(N) vs linear(n)+binary(2)), the binary row is faster and its error is at most 1.5× the linear-only row's.",
+            uses_error: true,
+            run: |s| {
+                let pairs = [(25u32, 3u32), (30, 4), (40, 5), (50, 7), (60, 8), (75, 10), (100, 14)];
+                let flags: Vec<Option<bool>> = pairs
+                    .iter()
+                    .map(|&(n, m)| {
+                        let (l, b) = (format!("linear({n})"), format!("linear({m})+binary(2)"));
+                        Some(s.ms("4.3", &b)? < s.ms("4.3", &l)? && s.err("4.3", &b)? <= 1.5 * s.err("4.3", &l)?)
+                    })
+                    .collect();
+                share(&flags, 0.75, 2, "pairs faster at similar or lower error")
+            },
+        },
+        Check {
+            table: "4.4",
+            claim: "Interval mapping's first step improves the error far more than binary search's first step.",
+            criterion: "After linear(5) and linear(10): the error reduction of the first interval step (Table 4.4) is at least 2× that of the first binary step (Table 4.2), for every measured coarse step count.",
+            uses_error: true,
+            run: |s| {
+                let mut ev = Vec::new();
+                let mut all = true;
+                for c in [5u32, 10] {
+                    let f = || -> Option<(f64, f64)> {
+                        let e0 = s.err("4.4", &format!("linear({c})")).or_else(|| s.err("4.2", &format!("linear({c})")))?;
+                        let ei = s.err("4.4", &format!("linear({c})+interval(1)"))?;
+                        let eb = s.err("4.2", &format!("linear({c})+binary(1)"))?;
+                        (ei > 0.0 && eb > 0.0).then(|| (e0 / ei, e0 / eb))
+                    };
+                    if let Some((fi, fb)) = f() {
+                        all &= fi >= 2.0 * fb;
+                        ev.push(format!("linear({c}): interval ÷{} vs binary ÷{}", g(fi), g(fb)));
+                    }
+                }
+                if ev.is_empty() {
+                    return Err("no linear(N), +binary(1), +interval(1) triple measured".into());
+                }
+                Ok((all, ev.join("; ")))
+            },
+        },
+        Check {
+            table: "4.5",
+            claim: "An interval mapping step costs more frame time than a binary search step.",
+            criterion: "After linear(10), interval(k) is slower than binary(k) for at least 75% of k = 1…6 (Table 4.5).",
+            uses_error: false,
+            run: |s| {
+                let flags: Vec<Option<bool>> = (1..=6u32)
+                    .map(|k| Some(s.ms("4.5", &format!("linear(10)+interval({k})"))? > s.ms("4.5", &format!("linear(10)+binary({k})"))?))
+                    .collect();
+                share(&flags, 0.75, 3, "step counts where interval is slower")
+            },
+        },
+        Check {
+            table: "4.5",
+            claim: "Interval mapping reaches a lower error than binary search at equal step count.",
+            criterion: "After linear(10), interval(k) has lower error than binary(k) for at least 75% of k = 1…6 (Table 4.5).",
+            uses_error: true,
+            run: |s| {
+                let flags: Vec<Option<bool>> = (1..=6u32)
+                    .map(|k| Some(s.err("4.5", &format!("linear(10)+interval({k})"))? < s.err("4.5", &format!("linear(10)+binary({k})"))?))
+                    .collect();
+                share(&flags, 0.75, 3, "step counts where interval is more accurate")
+            },
+        },
+        Check {
+            table: "4.6",
+            claim: "Two binary steps after cone step mapping lower its error.",
+            criterion: "csm(N)+binary(2) has lower error than csm(N) for at least 75% of Table 4.6's N.",
+            uses_error: true,
+            run: |s| {
+                let flags: Vec<Option<bool>> = [5u32, 10, 15, 20, 25, 30, 40, 50]
+                    .iter()
+                    .map(|n| Some(s.err("4.6", &format!("csm({n})+binary(2)"))? < s.err("4.6", &format!("csm({n})"))?))
+                    .collect();
+                share(&flags, 0.75, 2, "step counts improved by binary(2)")
+            },
+        },
+        Check {
+            table: "4.7",
+            claim: "Cone step mapping has a lower error than linear search at equal step count.",
+            criterion: "csm(N) has lower error than linear(N) for at least 75% of Table 4.7's N.",
+            uses_error: true,
+            run: |s| {
+                let flags: Vec<Option<bool>> = [5u32, 10, 15, 20, 25, 30, 40, 50, 60, 75]
+                    .iter()
+                    .map(|n| Some(s.err("4.7", &format!("csm({n})"))? < s.err("4.7", &format!("linear({n})"))?))
+                    .collect();
+                share(&flags, 0.75, 2, "step counts where CSM is more accurate")
+            },
+        },
+        Check {
+            table: "4.8",
+            claim: "Quad-directional cones (QCSM) have a lower error than CSM at low step counts.",
+            criterion: "qcsm(N) has lower error than csm(N) for every measured N ≤ 10 (Table 4.8; at higher N the dissertation's QCSM is worse).",
+            uses_error: true,
+            run: |s| {
+                let flags: Vec<Option<bool>> =
+                    [5u32, 10].iter().map(|n| Some(s.err("4.8", &format!("qcsm({n})"))? < s.err("4.8", &format!("csm({n})"))?)).collect();
+                share(&flags, 1.0, 1, "step counts where QCSM is more accurate")
+            },
+        },
+        Check {
+            table: "4.9",
+            claim: "With binary refinement, relaxed cone stepping beats CSM and QCSM.",
+            criterion: "At least 75% of the rcs(N)+binary(5) points (Table 4.9) are not dominated (faster and more accurate) by any csm/qcsm+binary(5) point.",
+            uses_error: true,
+            run: |s| {
+                let steps = [5u32, 10, 15, 20, 25];
+                let pts = |m: &str| -> Vec<(f64, f64)> {
+                    steps.iter().filter_map(|n| {
+                        let p = format!("{m}({n})+binary(5)");
+                        Some((s.ms("4.9", &p)?, s.err("4.9", &p)?))
+                    }).collect()
+                };
+                let others: Vec<(f64, f64)> = pts("csm").into_iter().chain(pts("qcsm")).collect();
+                if others.is_empty() {
+                    return Err("no csm/qcsm+binary(5) point measured".into());
+                }
+                let flags: Vec<Option<bool>> = pts("rcs").iter().map(|&(t, e)| Some(!others.iter().any(|&(t2, e2)| t2 < t && e2 < e))).collect();
+                share(&flags, 0.75, 2, "RCS points on the front")
+            },
+        },
+        Check {
+            table: "4.10",
+            claim: "After relaxed cone stepping, interval mapping is more accurate than binary search at equal step count.",
+            criterion: "rcs(N)+interval(k) has lower error than rcs(N)+binary(k) for at least 75% of N ∈ {10, 20}, k ∈ {2, 4, 6} (Table 4.10).",
+            uses_error: true,
+            run: |s| {
+                let mut flags = Vec::new();
+                for n in [10u32, 20] {
+                    for k in [2u32, 4, 6] {
+                        let f = || Some(s.err("4.10", &format!("rcs({n})+interval({k})"))? < s.err("4.10", &format!("rcs({n})+binary({k})"))?);
+                        flags.push(f());
+                    }
+                }
+                share(&flags, 0.75, 2, "cases where interval is more accurate")
+            },
+        },
+        Check {
+            table: "4.11",
+            claim: "Cone normal stepping has about the same error as CSM.",
+            criterion: "cns(N)+binary(5) is within 10% of csm(N)+binary(5)'s error for at least 75% of N (Table 4.11).",
+            uses_error: true,
+            run: |s| {
+                let flags: Vec<Option<bool>> = CONE_STEPS
+                    .iter()
+                    .map(|n| {
+                        let (a, b) = (s.err("4.11", &format!("cns({n})+binary(5)"))?, s.err("4.11", &format!("csm({n})+binary(5)"))?);
+                        Some(if b == 0.0 { a == 0.0 } else { (a / b - 1.0).abs() <= 0.10 })
+                    })
+                    .collect();
+                share(&flags, 0.75, 2, "step counts within 10%")
+            },
+        },
+        Check {
+            table: "4.11",
+            claim: "Cone normal stepping is slower than CSM.",
+            criterion: "cns(N)+binary(5) is slower than csm(N)+binary(5) for at least 2/3 of N (Table 4.11).",
+            uses_error: false,
+            run: |s| {
+                let flags: Vec<Option<bool>> = CONE_STEPS
+                    .iter()
+                    .map(|n| Some(s.ms("4.11", &format!("cns({n})+binary(5)"))? > s.ms("4.11", &format!("csm({n})+binary(5)"))?))
+                    .collect();
+                share(&flags, 2.0 / 3.0, 2, "step counts where CNS is slower")
+            },
+        },
+        Check {
+            table: "4.12",
+            claim: "Relaxed cone normal stepping has about the same error as relaxed cone stepping.",
+            criterion: "rcns(N)+binary(5) is within 10% of rcs(N)+binary(5)'s error for at least 75% of N (Table 4.12).",
+            uses_error: true,
+            run: |s| {
+                let flags: Vec<Option<bool>> = CONE_STEPS
+                    .iter()
+                    .map(|n| {
+                        let (a, b) = (s.err("4.12", &format!("rcns({n})+binary(5)"))?, s.err("4.12", &format!("rcs({n})+binary(5)"))?);
+                        Some(if b == 0.0 { a == 0.0 } else { (a / b - 1.0).abs() <= 0.10 })
+                    })
+                    .collect();
+                share(&flags, 0.75, 2, "step counts within 10%")
+            },
+        },
+        Check {
+            table: "4.13",
+            claim: "Multiple cone normal stepping (MCNS) improves on CNS's error.",
+            criterion: "mcns(N)+binary(5) has lower error than cns(N)+binary(5) for at least 75% of N (Table 4.13).",
+            uses_error: true,
+            run: |s| {
+                let flags: Vec<Option<bool>> = CONE_STEPS
+                    .iter()
+                    .map(|n| Some(s.err("4.13", &format!("mcns({n})+binary(5)"))? < s.err("4.13", &format!("cns({n})+binary(5)"))?))
+                    .collect();
+                share(&flags, 0.75, 2, "step counts where MCNS is more accurate")
+            },
+        },
+        Check {
+            table: "4.13",
+            claim: "MCNS costs more frame time than CNS.",
+            criterion: "mcns(N)+binary(5) is slower than cns(N)+binary(5) for at least 75% of N (Table 4.13).",
+            uses_error: false,
+            run: |s| {
+                let flags: Vec<Option<bool>> = CONE_STEPS
+                    .iter()
+                    .map(|n| Some(s.ms("4.13", &format!("mcns({n})+binary(5)"))? > s.ms("4.13", &format!("cns({n})+binary(5)"))?))
+                    .collect();
+                share(&flags, 0.75, 2, "step counts where MCNS is slower")
+            },
+        },
+        Check {
+            table: "4.14",
+            claim: "Shadow cost grows with the number of shadow steps.",
+            criterion: "For each of hard, soft (heightmap) and soft_cone shadows, the Spearman correlation of steps (0 = no shadow, 10…60) with frame time is at least 0.8 (Table 4.14).",
+            uses_error: false,
+            run: |s| {
+                let mut ev = Vec::new();
+                let mut all = true;
+                for m in ["hard", "soft", "soft_cone"] {
+                    let mut x = Vec::new();
+                    let mut y = Vec::new();
+                    if let Some(t) = s.ms("4.14", SHADOW_BASE) {
+                        x.push(0.0);
+                        y.push(t);
+                    }
+                    for n in (10..=60u32).step_by(10) {
+                        if let Some(t) = s.ms("4.14", &format!("{SHADOW_BASE}+shadow={m}({n})")) {
+                            x.push(n as f64);
+                            y.push(t);
+                        }
+                    }
+                    if let Some(rho) = spearman(&x, &y) {
+                        all &= rho >= 0.8;
+                        ev.push(format!("{m}: ρ = {rho:.2}"));
+                    }
+                }
+                if ev.is_empty() {
+                    return Err("no shadow method with 3 measured step counts".into());
+                }
+                Ok((all, ev.join("; ")))
+            },
+        },
+        Check {
+            table: "4.14",
+            claim: "Cone-normal soft shadows cost the most.",
+            criterion: "soft_cone(N) is slower than both hard(N) and soft(N) for at least 75% of N = 10…60 (Table 4.14).",
+            uses_error: false,
+            run: |s| {
+                let flags: Vec<Option<bool>> = (10..=60u32)
+                    .step_by(10)
+                    .map(|n| {
+                        let t = |m: &str| s.ms("4.14", &format!("{SHADOW_BASE}+shadow={m}({n})"));
+                        Some(t("soft_cone")? > t("hard")?.max(t("soft")?))
+                    })
+                    .collect();
+                share(&flags, 0.75, 2, "step counts where soft_cone is slowest")
+            },
+        },
+        Check {
+            table: "4.15",
+            claim: "Ambient occlusion from the cone maps costs almost nothing.",
+            criterion: "Adding ao=cone_ratio to csm(15)+binary(5) and ao=cone_normal to cns(15)+binary(5) raises frame time by at most 5% each (Table 4.15).",
+            uses_error: false,
+            run: |s| {
+                let mut ev = Vec::new();
+                let mut all = true;
+                for (p, ao) in [("csm(15)+binary(5)", "cone_ratio"), ("cns(15)+binary(5)", "cone_normal")] {
+                    if let (Some(a), Some(b)) = (s.ms("4.15", &format!("{p}+ao={ao}")), s.ms("4.15", p)) {
+                        if b > 0.0 {
+                            let inc = a / b - 1.0;
+                            all &= inc <= 0.05;
+                            ev.push(format!("{ao}: {:+.1}%", inc * 100.0));
+                        }
+                    }
+                }
+                if ev.is_empty() {
+                    return Err("no pipeline measured with and without AO".into());
+                }
+                Ok((all, ev.join("; ")))
+            },
+        },
+    ]
+}
+
+// ---------------------------------------------------------------------------------------
+// Output
+
+/// The conclusions as a table.
+pub(crate) fn table(cs: &[Conclusion]) -> TextTable {
+    let scene = cs.first().map(|c| short_scene(&c.scene).to_string()).unwrap_or_default();
+    let cell = |v: Verdict, e: &str| if e.is_empty() { v.as_str().to_string() } else { format!("{} ({e})", v.as_str()) };
+    TextTable {
+        title: "Conclusions".into(),
+        notes: vec![format!(
+            "Each of the dissertation's conclusions with the criterion used to check it, on our rows (scene {scene}) by \
+             `mse_dissertation` and by `ref_err_t_rms`, and on the dissertation's own printed numbers (a check of the \
+             criterion). Criteria about frame time only have no separate `ref_err_t_rms` verdict. Frame times from a \
+             software rasterizer or a busy machine are noisy: read timing verdicts with the adapter in mind."
+        )],
+        header: ["table", "conclusion", "criterion", "ours (mse_dissertation)", "ours (ref_err_t_rms)", "dissertation's numbers"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect(),
+        rows: cs
+            .iter()
+            .map(|c| {
+                vec![
+                    c.table.clone(),
+                    c.claim.clone(),
+                    c.criterion.clone(),
+                    cell(c.ours_mse, &c.evidence_mse),
+                    match c.ours_ref {
+                        Some(v) => cell(v, &c.evidence_ref),
+                        None => "(frame time only)".into(),
+                    },
+                    cell(c.diss, &c.evidence_diss),
+                ]
+            })
+            .collect(),
+    }
+}
+
+/// Short lists: which hold and which do not (by mse_dissertation and by ref_err_t_rms).
+pub(crate) fn summary_lines(cs: &[Conclusion]) -> Vec<String> {
+    let mut out = Vec::new();
+    let by = |v: Verdict, r: bool| -> Vec<String> {
+        cs.iter()
+            .filter(|c| if r { c.ours_ref.unwrap_or(c.ours_mse) == v } else { c.ours_mse == v })
+            .map(|c| format!("{} {}", c.table, c.claim.trim_end_matches('.')))
+            .collect()
+    };
+    for (label, r) in [("by mse_dissertation", false), ("by ref_err_t_rms", true)] {
+        for v in [Verdict::Holds, Verdict::DoesNotHold, Verdict::NotMeasured] {
+            let l = by(v, r);
+            out.push(format!("**{} {label}** ({}): {}", capitalize(v.as_str()), l.len(), if l.is_empty() { DASH.to_string() } else { l.join("; ") }));
+        }
+    }
+    out
+}
+
+fn capitalize(s: &str) -> String {
+    let mut c = s.chars();
+    match c.next() {
+        Some(f) => f.to_uppercase().collect::<String>() + c.as_str(),
+        None => String::new(),
+    }
+}
+
+/// How differently the metrics rank the rows of each table: Kendall's τ between
+/// `mse_dissertation` and `ref_err_t_rms` / `missed_rate`, and the pairs the first two
+/// order most differently.
+pub(crate) fn metric_agreement(data: &Data, tables: &[ReportTable]) -> TextTable {
+    let mut rows = Vec::new();
+    let mut groups: Vec<(String, Vec<&crate::sweep::Row>)> = Vec::new();
+    for t in tables {
+        let mut v = Vec::new();
+        for i in 0..t.entries.len() {
+            if let Some(r) = t.row(data, i).filter(|r| r.status == "ok") {
+                if !v.iter().any(|x: &&crate::sweep::Row| std::ptr::eq(*x, r)) {
+                    v.push(r);
+                }
+            }
+        }
+        let name = if t.scene == "scene:lion" { format!("Table {}", t.id) } else { format!("Table {} ({})", t.id, short_scene(&t.scene)) };
+        groups.push((name, v));
+    }
+    for scene in data.scenes() {
+        let v: Vec<_> = data.rows.iter().filter(|r| r.status == "ok" && r.metrics.scene == scene && {
+            // one row per pipeline: the one the index picked
+            data.get(&r.metrics.pipeline, &scene).is_some_and(|x| std::ptr::eq(x, *r))
+        }).collect();
+        groups.push((format!("all rows, {}", short_scene(&scene)), v));
+    }
+    for (name, v) in groups {
+        let finite: Vec<_> = v.into_iter().filter(|r| Metric::ALL.iter().all(|m| m.of(r).is_finite())).collect();
+        if finite.len() < 2 {
+            continue;
+        }
+        let col = |m: Metric| finite.iter().map(|r| m.of(r)).collect::<Vec<f64>>();
+        let (mse, rft, mis) = (col(Metric::Mse), col(Metric::RefT), col(Metric::Missed));
+        let k1 = kendall(&mse, &rft);
+        let k2 = kendall(&mse, &mis);
+        // The pair the two metrics disagree on most (product of the log ratios).
+        let mut worst: Option<(f64, usize, usize)> = None;
+        for i in 0..finite.len() {
+            for j in i + 1..finite.len() {
+                if mse[i] > 0.0 && mse[j] > 0.0 && rft[i] > 0.0 && rft[j] > 0.0 {
+                    let a = (mse[i] / mse[j]).ln();
+                    let b = (rft[i] / rft[j]).ln();
+                    if a * b < 0.0 {
+                        let score = -(a * b);
+                        if worst.is_none_or(|w| score > w.0) {
+                            worst = Some((score, i, j));
+                        }
+                    }
+                }
+            }
+        }
+        let example = match worst {
+            None => DASH.to_string(),
+            Some((_, i, j)) => {
+                let (lo, hi) = if mse[i] < mse[j] { (i, j) } else { (j, i) };
+                format!(
+                    "`{}` has {}× lower mse_dissertation than `{}` but {}× higher ref_err_t_rms",
+                    finite[lo].metrics.pipeline,
+                    fmt_num(mse[hi] / mse[lo], 1),
+                    finite[hi].metrics.pipeline,
+                    fmt_num(rft[lo] / rft[hi], 1)
+                )
+            }
+        };
+        let tau = |k: Option<(f64, usize)>| k.map(|(t, _)| format!("{t:.2}")).unwrap_or_else(|| DASH.into());
+        rows.push(vec![
+            name,
+            finite.len().to_string(),
+            tau(k1),
+            k1.map(|(_, d)| d.to_string()).unwrap_or_else(|| DASH.into()),
+            tau(k2),
+            example,
+        ]);
+    }
+    TextTable {
+        title: "How the metrics rank the methods".into(),
+        notes: vec!["Kendall's τ between `mse_dissertation` and the other metrics over each table's ok rows (1 = same order, \
+            −1 = reversed, — = no spread), the number of pairs `mse_dissertation` and `ref_err_t_rms` order oppositely, \
+            and the most striking such pair. `mse_dissertation` does not penalise rays that skip a feature and land on \
+            a wrong but consistent surface point; `ref_err_t_rms` and `missed_rate` do."
+            .into()],
+        header: ["rows of", "n", "τ(mse, ref_err_t_rms)", "opposite pairs", "τ(mse, missed_rate)", "largest disagreement"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect(),
+        rows,
+    }
+}
+
+/// The conclusions section of `tables.md`.
+pub(crate) fn to_markdown(cs: &[Conclusion], agreement: &TextTable) -> String {
+    let mut md = String::new();
+    let t = table(cs);
+    md.push_str(&t.to_markdown(2));
+    for l in summary_lines(cs) {
+        let _ = writeln!(md, "- {l}");
+    }
+    md.push('\n');
+    md.push_str(&agreement.to_markdown(2));
+    md
+}

@@ -1,0 +1,93 @@
+//! Image strips: for each table, each row's frame and error images side by side, rows
+//! stacked in table order (a grey tile where a row has no image).
+
+use std::path::Path;
+
+use image::{imageops, Rgba, RgbaImage};
+
+use super::tables::ReportTable;
+use super::Data;
+
+/// Height of each tile in pixels.
+pub(crate) const TILE: u32 = 128;
+const GAP: u32 = 4;
+
+/// A strip written under `report/`.
+pub(crate) struct Strip {
+    /// The table's key (`t4.1`).
+    pub key: String,
+    /// Path relative to the sweep folder (`report/strip_t4.1.png`).
+    pub file: String,
+    /// The label of each stacked row, in order.
+    pub rows: Vec<String>,
+    /// Rows that had at least one image.
+    pub with_images: usize,
+}
+
+pub(crate) fn write_all(data: &Data, tables: &[ReportTable], sub: &Path, warnings: &mut Vec<String>) -> Vec<Strip> {
+    let mut out = Vec::new();
+    for t in tables {
+        let mut tiles: Vec<(Option<RgbaImage>, Option<RgbaImage>)> = Vec::new();
+        let mut labels = Vec::new();
+        for (i, e) in t.entries.iter().enumerate() {
+            let row = t.row(data, i).filter(|r| r.status == "ok" && !r.cell_dir.is_empty());
+            let load = |name: &str, warnings: &mut Vec<String>| -> Option<RgbaImage> {
+                let r = row?;
+                let path = data.dir.join(&r.cell_dir).join(name);
+                if !path.exists() {
+                    return None;
+                }
+                match image::open(&path) {
+                    Ok(img) => Some(scale(&img.to_rgba8())),
+                    Err(err) => {
+                        warnings.push(format!("cannot read {}: {err}", path.display()));
+                        None
+                    }
+                }
+            };
+            let f = load("frame.png", warnings);
+            let er = load("error.png", warnings);
+            tiles.push((f, er));
+            labels.push(format!("{}. {}", i + 1, e.label));
+        }
+        let with_images = tiles.iter().filter(|(a, b)| a.is_some() || b.is_some()).count();
+        if with_images == 0 {
+            continue;
+        }
+        let width_of = |x: &Option<RgbaImage>| x.as_ref().map(|i| i.width()).unwrap_or(TILE);
+        let left = tiles.iter().map(|(a, _)| width_of(a)).max().unwrap_or(TILE);
+        let right = tiles.iter().map(|(_, b)| width_of(b)).max().unwrap_or(TILE);
+        let n = tiles.len() as u32;
+        let (w, h) = (left + GAP + right, n * TILE + n.saturating_sub(1) * GAP);
+        let mut canvas = RgbaImage::from_pixel(w, h, Rgba([255, 255, 255, 255]));
+        for (k, (a, b)) in tiles.iter().enumerate() {
+            let y = k as u32 * (TILE + GAP);
+            for (img, x) in [(a, 0u32), (b, left + GAP)] {
+                match img {
+                    Some(img) => imageops::overlay(&mut canvas, img, x as i64, y as i64),
+                    None => {
+                        let grey = RgbaImage::from_pixel(TILE, TILE, Rgba([200, 200, 200, 255]));
+                        imageops::overlay(&mut canvas, &grey, x as i64, y as i64);
+                    }
+                }
+            }
+        }
+        let name = format!("strip_{}.png", super::file_safe(&t.key));
+        let path = sub.join(&name);
+        match canvas.save(&path) {
+            Ok(()) => out.push(Strip { key: t.key.clone(), file: format!("report/{name}"), rows: labels, with_images }),
+            Err(e) => warnings.push(format!("cannot write {}: {e}", path.display())),
+        }
+    }
+    out
+}
+
+/// Scales an image to TILE pixels high, keeping its aspect (at most 2 TILE wide).
+fn scale(img: &RgbaImage) -> RgbaImage {
+    let (w, h) = img.dimensions();
+    if w == 0 || h == 0 {
+        return RgbaImage::from_pixel(TILE, TILE, Rgba([200, 200, 200, 255]));
+    }
+    let nw = ((w as u64 * TILE as u64) / h as u64).clamp(1, 2 * TILE as u64) as u32;
+    imageops::resize(img, nw, TILE, imageops::FilterType::Triangle)
+}

@@ -1,0 +1,301 @@
+//! One table per dissertation table: the dissertation's rows in its order, our measurements
+//! and its numbers side by side, and trend columns relative to each row's base row.
+
+use relief_dsl::spec::StageSpec;
+use relief_dsl::Pipeline;
+
+use super::diss::{Diss, DissRow};
+use super::{fmt_ms, fmt_num, fmt_pct, fmt_sci, ours, short_scene, Data, TextTable, DASH};
+use crate::sweep::grids;
+use crate::sweep::{scene_label, Row};
+
+/// One table of the report: a dissertation table on one scene.
+pub(crate) struct ReportTable {
+    /// `t4.1`, or `t4.1-rock_bump` when not on Lion.
+    pub key: String,
+    /// `4.1`.
+    pub id: String,
+    /// The scene label (`scene:lion`).
+    pub scene: String,
+    pub entries: Vec<Entry>,
+    pub table: TextTable,
+}
+
+/// One row of a table.
+pub(crate) struct Entry {
+    /// Our pipeline (None for a printed row no cell of the grid matches).
+    pub pipeline: Option<Pipeline>,
+    /// The pipeline's canonical text, or a description of the printed row.
+    pub label: String,
+    pub diss: Option<DissRow>,
+    /// The entry the trend columns are relative to.
+    pub base: usize,
+}
+
+impl ReportTable {
+    /// Our row of entry `i` (any status).
+    pub fn row<'a>(&self, data: &'a Data, i: usize) -> Option<&'a Row> {
+        let e = self.entries.get(i)?;
+        data.get(&e.pipeline.as_ref()?.to_string(), &self.scene)
+    }
+}
+
+/// The table ids `4.1` … `4.15`, in order.
+pub(crate) fn table_ids() -> Vec<String> {
+    (1..=15).map(|i| format!("4.{i}")).collect()
+}
+
+/// Every table, for every scene that has rows of it (Lion when none has).
+pub(crate) fn build(data: &Data, diss: &Diss) -> Vec<ReportTable> {
+    let all = grids::builtin(None);
+    let mut out = Vec::new();
+    for id in table_ids() {
+        let name = format!("t{id}");
+        let Some(grid) = all.iter().find(|g| g.name == name) else { continue };
+        let mut pipelines: Vec<Pipeline> = Vec::new();
+        for (p, _) in &grid.cells {
+            if !pipelines.contains(p) {
+                pipelines.push(p.clone());
+            }
+        }
+        let entries_template = entries(&id, &pipelines, diss);
+        // Scenes: those with at least one row of this table, else the grid's own.
+        let mut scenes: Vec<String> = data
+            .scenes()
+            .into_iter()
+            .filter(|s| pipelines.iter().any(|p| data.get(&p.to_string(), s).is_some()))
+            .collect();
+        if scenes.is_empty() {
+            for (_, s) in &grid.cells {
+                let l = scene_label(s);
+                if !scenes.contains(&l) {
+                    scenes.push(l);
+                }
+            }
+        }
+        for scene in scenes {
+            let key = if scene == "scene:lion" { name.clone() } else { format!("{name}-{}", super::file_safe(short_scene(&scene))) };
+            let mut t = ReportTable {
+                key,
+                id: id.clone(),
+                scene: scene.clone(),
+                entries: entries_template
+                    .iter()
+                    .map(|e| Entry { pipeline: e.pipeline.clone(), label: e.label.clone(), diss: e.diss.clone(), base: e.base })
+                    .collect(),
+                table: TextTable::default(),
+            };
+            t.table = render(&t, data, &grid.description);
+            out.push(t);
+        }
+    }
+    out
+}
+
+/// The rows of table `id`: the printed rows in the dissertation's order, each with the grid
+/// cell that is it, then the grid's cells nothing printed matches.
+fn entries(id: &str, pipelines: &[Pipeline], diss: &Diss) -> Vec<Entry> {
+    let mut out: Vec<Entry> = Vec::new();
+    let mut used = vec![false; pipelines.len()];
+    for d in diss.table(id) {
+        let found = pipelines.iter().position(|p| d.matches(p));
+        match found {
+            Some(i) => {
+                used[i] = true;
+                out.push(Entry { pipeline: Some(pipelines[i].clone()), label: pipelines[i].to_string(), diss: Some(d.clone()), base: 0 });
+            }
+            None => out.push(Entry { pipeline: None, label: describe(d), diss: Some(d.clone()), base: 0 }),
+        }
+    }
+    for (i, p) in pipelines.iter().enumerate() {
+        if !used[i] {
+            out.push(Entry { pipeline: Some(p.clone()), label: p.to_string(), diss: None, base: 0 });
+        }
+    }
+    for i in 0..out.len() {
+        out[i].base = base_of(id, &out, i);
+    }
+    out
+}
+
+fn describe(d: &DissRow) -> String {
+    let mut s = String::from("(dissertation) ");
+    let part = |name: &str, steps: &str| if steps.is_empty() { name.to_string() } else { format!("{name}({steps})") };
+    s.push_str(&part(if d.coarse.is_empty() { "?" } else { &d.coarse }, &d.coarse_steps));
+    if !d.refine.is_empty() && d.refine != "none" {
+        s.push_str(&format!("+{}", part(&d.refine, &d.refine_steps)));
+    }
+    if !d.shadow.is_empty() && d.shadow != "none" {
+        s.push_str(&format!("+shadow={}", part(&d.shadow, &d.shadow_steps)));
+    }
+    if !d.ao.is_empty() && d.ao != "none" {
+        s.push_str(&format!("+ao={}", d.ao));
+    }
+    s
+}
+
+/// The reference method of a comparison table: (slot, method name). Rows of another method
+/// in that slot are compared with the same pipeline using the reference method.
+fn reference(id: &str) -> Option<(&'static str, &'static str)> {
+    Some(match id {
+        "4.5" | "4.10" => ("refine", "binary"),
+        "4.7" => ("coarse", "linear"),
+        "4.8" | "4.9" | "4.11" => ("coarse", "csm"),
+        "4.12" => ("coarse", "rcs"),
+        "4.13" => ("coarse", "cns"),
+        _ => return None,
+    })
+}
+
+/// Describes how the base row is chosen (for the table's notes).
+fn base_rule(id: &str) -> String {
+    match (id, reference(id)) {
+        ("4.3", _) => "Base: the paired linear-only row just above (the dissertation's \"% of linear-only frame time\").".into(),
+        (_, Some((slot, name))) => format!(
+            "Base: the same pipeline with {slot} `{name}` (e.g. relative MSE); rows of `{name}` itself: the same search without refinement if the table has it, else the table's first row."
+        ),
+        _ => "Base: the same search without AO / shadow / refinement where the table has that row, else the table's first row.".into(),
+    }
+}
+
+fn base_of(id: &str, entries: &[Entry], i: usize) -> usize {
+    let Some(p) = entries[i].pipeline.as_ref() else { return 0 };
+    let find = |q: &Pipeline| entries.iter().position(|e| e.pipeline.as_ref() == Some(q));
+    if id == "4.3" && !p.refine.is_none() && i > 0 {
+        if let Some(prev) = entries[i - 1].pipeline.as_ref() {
+            if prev.refine.is_none() {
+                return i - 1;
+            }
+        }
+    }
+    if let Some((slot, name)) = reference(id) {
+        let mut q = p.clone();
+        let stage = if slot == "coarse" { &mut q.coarse } else { &mut q.refine };
+        if stage.name != name {
+            stage.name = name.to_string();
+            // Keep only the steps: the reference method's other parameters are its defaults.
+            let steps = super::stage_steps(stage);
+            if let Ok(s) = StageSpec::new(if slot == "coarse" { relief_dsl::Slot::Coarse } else { relief_dsl::Slot::Refine }, name, &[relief_dsl::spec::Value::Int(steps)]) {
+                *stage = s;
+            }
+            if let Some(j) = find(&q) {
+                return j;
+            }
+        }
+    }
+    for which in ["ao", "shadow", "refine"] {
+        let mut q = p.clone();
+        let stage = match which {
+            "ao" => &mut q.ao,
+            "shadow" => &mut q.shadow,
+            _ => &mut q.refine,
+        };
+        if !stage.is_none() {
+            *stage = StageSpec::none();
+            if let Some(j) = find(&q) {
+                return j;
+            }
+            // Only the outermost extra is dropped (AO before shadow before refinement).
+            break;
+        }
+    }
+    0
+}
+
+fn ratio_pct(v: f64, base: f64) -> Option<f64> {
+    (v.is_finite() && base.is_finite() && base != 0.0).then(|| 100.0 * v / base)
+}
+
+pub(crate) const HEADER: [&str; 16] = [
+    "#",
+    "pipeline",
+    "base",
+    "frame ms",
+    "diss ms",
+    "ms % base",
+    "diss ms % base",
+    "avg iter",
+    "diss avg steps",
+    "mse_dissertation",
+    "diss MSE",
+    "MSE % base",
+    "diss MSE % base",
+    "ref_err_t_rms",
+    "ref_t % base",
+    "missed_rate",
+];
+
+fn render(t: &ReportTable, data: &Data, description: &str) -> TextTable {
+    let mut title = description.to_string();
+    if title.is_empty() {
+        title = format!("Table {}", t.id);
+    }
+    if t.scene != "scene:lion" {
+        title.push_str(&format!(" — scene {}", short_scene(&t.scene)));
+    }
+    let measured = (0..t.entries.len()).filter(|&i| t.row(data, i).is_some()).count();
+    let mut notes = vec![format!(
+        "{} rows ({} printed in the dissertation), {} measured here. {}",
+        t.entries.len(),
+        t.entries.iter().filter(|e| e.diss.is_some()).count(),
+        measured,
+        base_rule(&t.id)
+    )];
+    if t.scene != "scene:lion" {
+        notes.push("The dissertation's numbers are from Lion; compare trends only.".into());
+    }
+    let mut rows = Vec::new();
+    for (i, e) in t.entries.iter().enumerate() {
+        let r = t.row(data, i);
+        let b = t.row(data, e.base).filter(|b| b.status == "ok");
+        let d = e.diss.as_ref();
+        let bd = t.entries.get(e.base).and_then(|x| x.diss.as_ref());
+        let rel = |f: fn(&Row) -> f64| -> String {
+            ours(r, |r| match b {
+                Some(b) => fmt_pct(ratio_pct(f(r), f(b))),
+                None => DASH.into(),
+            })
+        };
+        let diss_rel = |f: fn(&DissRow) -> Option<f64>| -> String {
+            match (d.and_then(f), bd.and_then(f)) {
+                (Some(v), Some(bv)) => fmt_pct(ratio_pct(v, bv)),
+                _ => DASH.into(),
+            }
+        };
+        let text = |s: Option<&String>| s.filter(|s| !s.is_empty()).cloned().unwrap_or_else(|| DASH.into());
+        rows.push(vec![
+            (i + 1).to_string(),
+            format!("`{}`", e.label),
+            if e.base == i { DASH.into() } else { format!("#{}", e.base + 1) },
+            ours(r, |r| fmt_ms(r.metrics.frame_ms_median)),
+            text(d.map(|d| &d.frame_ms)),
+            rel(|r| r.metrics.frame_ms_median),
+            diss_rel(DissRow::ms_f),
+            ours(r, |r| fmt_num(r.metrics.avg_iterations, 2)),
+            text(d.map(|d| &d.avg_steps)),
+            ours(r, |r| fmt_sci(r.metrics.mse_dissertation)),
+            text(d.map(|d| &d.mse)),
+            rel(|r| r.metrics.mse_dissertation),
+            diss_rel(DissRow::mse_f),
+            ours(r, |r| fmt_sci(r.metrics.ref_err_t_rms)),
+            rel(|r| r.metrics.ref_err_t_rms),
+            ours(r, |r| fmt_num(r.metrics.missed_rate, 4)),
+        ]);
+    }
+    TextTable { title, notes, header: HEADER.iter().map(|s| s.to_string()).collect(), rows }
+}
+
+/// The explanation printed before the tables.
+pub(crate) fn intro_md() -> String {
+    "## Tables\n\n\
+Each table has the dissertation's rows in its order (rows the grid adds come last). Our columns: \
+`frame ms` (median frame time), `avg iter` (average search iterations per ray), `mse_dissertation` \
+(squared height errors summed over the probe rays, as the dissertation does), `ref_err_t_rms` (RMS \
+error of the hit's ray parameter t against the exact reference) and `missed_rate` (share of rays \
+whose hit lies more than one texel beyond the true first hit, or that miss). `diss …` columns are \
+the dissertation's numbers as printed (GTX 780, Lion). Absolute times and MSE sums depend on the \
+hardware and the pixel count, so compare the `% base` trend columns: each row relative to its base \
+row (`base` names it by `#`). `—` = not measured / not printed, `error` = the cell failed (see \
+Failed cells).\n\n"
+        .to_string()
+}

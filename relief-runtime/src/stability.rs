@@ -1,0 +1,273 @@
+//! `relief stability`: where each method fails. Every coarse × refine combination at
+//! default parameters is probed on the stress scenes, a tiled map viewed across its seam and
+//! the five dissertation-like scenes, at view angles from head-on to 89.9° from the normal,
+//! and compared with the exact reference.
+//!
+//! Rays: `size²` entry points on a regular grid over the map, all with the same view
+//! direction (azimuth 30°, the given angle from the normal, the scene's depth scale), so
+//! that an angle means the same thing on every scene.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use anyhow::Context;
+use relief_dsl::spec::{catalog, Slot};
+use relief_dsl::Pipeline;
+
+use crate::gpu::{self, Gpu, GpuHit, Program, SceneTextures};
+use crate::heightmap::{EdgeMode, HeightMap};
+use crate::reference::{reference_hits, RefHit, Sampling};
+use crate::scene::{ProbeRay, Scene};
+
+/// View angles from the surface normal, in degrees.
+pub const ANGLES: [f32; 7] = [0.0, 30.0, 60.0, 75.0, 85.0, 89.0, 89.9];
+
+/// The scenes of the stability grid: the stress scenes, a seam, and the five main scenes.
+pub const SCENES: [&str; 12] =
+    ["spikes", "walls", "flat0", "flat1", "step", "checker", "seam", "lion", "self_shadow", "collage", "shapes", "rock_bump"];
+
+/// One method on one condition.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Cell {
+    pub method: String,
+    pub scene: String,
+    pub angle: f32,
+    pub rays: usize,
+    /// Hits with NaN or Inf anywhere.
+    pub nan_count: usize,
+    /// Finite hits outside the volume (t < 0, or z outside [0, 1]).
+    pub outside_count: usize,
+    /// Share of rays whose hit is more than one texel of travel past the exact first hit.
+    pub missed_rate: f64,
+    /// Share of rays whose search ended above the surface (z above the height there by more
+    /// than 1/1000).
+    pub nonconverged_rate: f64,
+    pub ref_err_t_max: f64,
+    pub ref_err_t_rms: f64,
+}
+
+/// A scene for the stability grid by name; `seam` is a ramp that does not tile, with edge
+/// mode repeat, so rays that cross its edge meet a cliff.
+pub fn scene(name: &str, size: usize) -> anyhow::Result<Scene> {
+    if name == "seam" {
+        let hm = HeightMap::from_fn(size, size, |x, _| 0.1 + 0.8 * x as f32 / (size - 1) as f32);
+        let mut s = Scene::from_height_map("seam", hm);
+        s.edge = EdgeMode::Repeat;
+        return Ok(s);
+    }
+    Ok(Scene::by_name(name, Some(size))?)
+}
+
+/// Rays over the map at `angle` degrees from the normal.
+pub fn rays(scene: &Scene, n: u32, angle: f32) -> Vec<ProbeRay> {
+    let (az, th) = (30f32.to_radians(), angle.to_radians());
+    // Horizontal travel per unit of depth, in texture units, scaled by the relief's depth.
+    let reach = th.tan() * scene.depth_scale;
+    let dir = [reach * az.cos(), reach * az.sin(), -1.0];
+    let mut out = Vec::with_capacity((n * n) as usize);
+    for y in 0..n {
+        for x in 0..n {
+            let origin = [(x as f32 + 0.5) / n as f32, (y as f32 + 0.5) / n as f32];
+            out.push(ProbeRay { origin, dir, x, y, pad: 0 });
+        }
+    }
+    out
+}
+
+/// Scores one method's hits against the reference.
+pub fn score(method: &str, scene: &Scene, angle: f32, rays: &[ProbeRay], hits: &[GpuHit], refs: &[Option<RefHit>]) -> Cell {
+    let n = scene.height.width.max(scene.height.height) as f64;
+    let (mut nan, mut outside, mut missed, mut nonconv) = (0, 0, 0, 0);
+    let (mut max, mut sq, mut both) = (0f64, 0f64, 0usize);
+    for ((r, h), rf) in rays.iter().zip(hits).zip(refs) {
+        if ![h.t, h.u, h.v, h.z].iter().all(|x| x.is_finite()) {
+            nan += 1;
+            missed += 1;
+            continue;
+        }
+        if h.t < 0.0 || h.z > 1.0 + 1e-5 || h.z < -1e-5 {
+            outside += 1;
+        }
+        if (h.z as f64) > scene.height.bilinear(h.u as f64, h.v as f64, scene.edge) + 1e-3 {
+            nonconv += 1;
+        }
+        if let Some(rf) = rf {
+            let dt = h.t as f64 - rf.t;
+            max = max.max(dt.abs());
+            sq += dt * dt;
+            both += 1;
+            let horizontal = ((r.dir[0] as f64).powi(2) + (r.dir[1] as f64).powi(2)).sqrt();
+            if dt > 1.0 / (n * horizontal.max(1e-9)) {
+                missed += 1;
+            }
+        }
+    }
+    let count = rays.len().max(1) as f64;
+    Cell {
+        method: method.to_string(),
+        scene: scene.name.clone(),
+        angle,
+        rays: rays.len(),
+        nan_count: nan,
+        outside_count: outside,
+        missed_rate: missed as f64 / count,
+        nonconverged_rate: nonconv as f64 / count,
+        ref_err_t_max: max,
+        ref_err_t_rms: if both > 0 { (sq / both as f64).sqrt() } else { 0.0 },
+    }
+}
+
+/// Every implemented coarse × refine combination at default parameters.
+pub fn methods() -> Vec<Pipeline> {
+    let of = |slot| catalog().iter().filter(move |m| m.slot == slot && m.implemented).map(|m| m.default_spec());
+    let mut out = vec![];
+    for c in of(Slot::Coarse) {
+        for r in of(Slot::Refine) {
+            out.push(Pipeline::new(c.clone(), r, relief_dsl::StageSpec::none(), relief_dsl::StageSpec::none()));
+        }
+    }
+    out
+}
+
+/// Runs the whole stability grid; `progress` is told each finished (scene, angle).
+pub fn run(gpu: &Gpu, size: u32, methods: &[Pipeline], scenes: &[&str], angles: &[f32], mut progress: impl FnMut(&str, f32)) -> anyhow::Result<Vec<Cell>> {
+    let programs: Vec<(String, Program, Vec<relief_dsl::spec::MapReq>)> = methods
+        .iter()
+        .map(|p| Ok((p.to_string(), Program::new(p)?, p.required_maps())))
+        .collect::<Result<_, relief_dsl::CompileError>>()?;
+    let mut cells = Vec::new();
+    for &name in scenes {
+        let scene = scene(name, 64)?;
+        let mut tex = SceneTextures::new(gpu, &scene);
+        let mut on_device = scene.clone();
+        on_device.height.data = tex.heights_on_device.clone();
+        for &angle in angles {
+            let rays = rays(&scene, size, angle);
+            let refs = reference_hits(&on_device, &rays, Sampling::Bilinear);
+            for (text, program, maps) in &programs {
+                tex.add_maps(gpu, &scene, maps)?;
+                let hits = gpu::probe(gpu, program, &scene, &tex, &rays).with_context(|| format!("{text} on {name}"))?;
+                cells.push(score(text, &on_device, angle, &rays, &hits, &refs));
+            }
+            progress(name, angle);
+        }
+    }
+    Ok(cells)
+}
+
+/// Writes `stability.csv`, one heat map per metric (`stability_METRIC.svg`) and
+/// `worst.md` (the worst condition of each method).
+pub fn write(out: &Path, cells: &[Cell]) -> anyhow::Result<()> {
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create output folder {}", out.display()))?;
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for c in cells {
+        w.serialize(c)?;
+    }
+    crate::cli_gen::write_atomic(&out.join("stability.csv"), &w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))?)?;
+    let metrics: [(&str, fn(&Cell) -> f64); 6] = [
+        ("nan_count", |c| c.nan_count as f64),
+        ("outside_count", |c| c.outside_count as f64),
+        ("missed_rate", |c| c.missed_rate),
+        ("nonconverged_rate", |c| c.nonconverged_rate),
+        ("ref_err_t_max", |c| c.ref_err_t_max),
+        ("ref_err_t_rms", |c| c.ref_err_t_rms),
+    ];
+    for (name, f) in metrics {
+        crate::cli_gen::write_atomic(&out.join(format!("stability_{name}.svg")), heat_map(name, cells, f).as_bytes())?;
+    }
+    crate::cli_gen::write_atomic(&out.join("worst.md"), worst_table(cells).as_bytes())?;
+    Ok(())
+}
+
+/// The worst condition of each method, by missed rate then RMS error.
+pub fn worst_table(cells: &[Cell]) -> String {
+    let mut s = String::from("| method | worst condition | missed rate | non-converged | max t error | NaN | outside |\n|---|---|---|---|---|---|---|\n");
+    let mut methods: Vec<&str> = cells.iter().map(|c| c.method.as_str()).collect();
+    methods.dedup();
+    let mut seen = std::collections::HashSet::new();
+    for m in methods {
+        if !seen.insert(m) {
+            continue;
+        }
+        let worst = cells
+            .iter()
+            .filter(|c| c.method == m)
+            .max_by(|a, b| (a.missed_rate, a.ref_err_t_rms).partial_cmp(&(b.missed_rate, b.ref_err_t_rms)).unwrap_or(std::cmp::Ordering::Equal));
+        if let Some(c) = worst {
+            let nan: usize = cells.iter().filter(|x| x.method == m).map(|x| x.nan_count).sum();
+            let outside: usize = cells.iter().filter(|x| x.method == m).map(|x| x.outside_count).sum();
+            let _ = writeln!(
+                s,
+                "| `{m}` | {} at {}° | {:.1}% | {:.1}% | {:.3} | {nan} | {outside} |",
+                c.scene.trim_start_matches("scene:"),
+                c.angle,
+                100.0 * c.missed_rate,
+                100.0 * c.nonconverged_rate,
+                c.ref_err_t_max
+            );
+        }
+    }
+    s
+}
+
+/// A method × condition heat map as SVG, darker = worse (log scale over the metric's range).
+fn heat_map(metric: &str, cells: &[Cell], f: fn(&Cell) -> f64) -> String {
+    let mut methods: Vec<String> = vec![];
+    let mut conditions: Vec<(String, f32)> = vec![];
+    for c in cells {
+        if !methods.contains(&c.method) {
+            methods.push(c.method.clone());
+        }
+        let cond = (c.scene.clone(), c.angle);
+        if !conditions.contains(&cond) {
+            conditions.push(cond);
+        }
+    }
+    let (cw, ch, left, top) = (14.0, 14.0, 230.0, 120.0);
+    let width = left + cw * conditions.len() as f64 + 20.0;
+    let height = top + ch * methods.len() as f64 + 40.0;
+    let max = cells.iter().map(f).fold(0.0, f64::max);
+    let floor = cells.iter().map(f).filter(|v| *v > 0.0).fold(f64::INFINITY, f64::min).min(max);
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" font-family=\"sans-serif\" font-size=\"10\">\n<text x=\"4\" y=\"14\" font-size=\"13\">{metric}: method × condition (white = 0, dark red = {max:.3e})</text>\n"
+    );
+    for (j, (scene, angle)) in conditions.iter().enumerate() {
+        let x = left + cw * j as f64 + cw / 2.0;
+        let _ = writeln!(
+            s,
+            "<text transform=\"translate({x},{}) rotate(-60)\">{} {angle}°</text>",
+            top - 4.0,
+            scene.trim_start_matches("scene:")
+        );
+    }
+    for (i, m) in methods.iter().enumerate() {
+        let y = top + ch * i as f64;
+        let _ = writeln!(s, "<text x=\"{}\" y=\"{}\" text-anchor=\"end\">{m}</text>", left - 4.0, y + ch - 3.0);
+        for (j, cond) in conditions.iter().enumerate() {
+            let Some(c) = cells.iter().find(|c| &c.method == m && c.scene == cond.0 && c.angle == cond.1) else {
+                continue;
+            };
+            let v = f(c);
+            let k = if v <= 0.0 || max <= 0.0 {
+                0.0
+            } else if max <= floor {
+                1.0
+            } else {
+                0.15 + 0.85 * ((v / floor).ln() / (max / floor).ln()).clamp(0.0, 1.0)
+            };
+            let (r, g, b) = (255.0 - 100.0 * k, 255.0 * (1.0 - k), 255.0 * (1.0 - k));
+            let _ = writeln!(
+                s,
+                "<rect x=\"{}\" y=\"{y}\" width=\"{cw}\" height=\"{ch}\" fill=\"rgb({},{},{})\" stroke=\"#ddd\"><title>{m} on {} at {}°: {v:.4e}</title></rect>",
+                left + cw * j as f64,
+                r as u8,
+                g as u8,
+                b as u8,
+                cond.0,
+                cond.1
+            );
+        }
+    }
+    s.push_str("</svg>\n");
+    s
+}
