@@ -14,3 +14,5 @@ pub mod measure;
 pub mod metrics;
 pub mod stability;
 pub mod sweep;
+pub mod report;
+pub mod cli_report;

@@ -141,6 +141,17 @@ fn cone_methods_never_skip_geometry() {
 }
 
 #[test]
+fn following_the_best_corner_cone_is_not_conservative_on_the_bilinear_surface() {
+    // csm(sample=corners): near its apex a texel's cone is pierced by the bilinear patches
+    // around it, and the lowest corner's cone leads right into them (see the stage's docs).
+    let g = Gpu::new().unwrap();
+    let probe = Probe::new("walls", 64, 4);
+    let hits = probe.run(&g, "csm(24, sample=corners)");
+    let worst = probe.skipped(&hits).into_iter().fold(0.0, f64::max);
+    assert!(worst > 2.0, "csm(sample=corners) skips at most {worst} texels on one-texel walls");
+}
+
+#[test]
 fn piecewise_cones_over_texel_samples_are_not_conservative_on_the_bilinear_surface() {
     // Burger's method 2 with pieces fitted to the texel columns (maps::multi_cone): above
     // the first piece the region reaches out to the columns themselves, but the bilinear

@@ -152,8 +152,8 @@ pub fn catalog() -> &'static [MethodDef] {
             def(
                 Coarse,
                 "csm",
-                "cone step mapping (Dummer 2006; Burger Algorithm 4); sample=linear|nearest|min4 (Burger 4.3.1)",
-                vec![steps("steps", 15), choice("sample", &["linear", "nearest", "min4"])],
+                "cone step mapping (Dummer 2006; Burger Algorithm 4); sample=linear|nearest|min4 (Burger 4.3.1)|corners (best of the 4 corner cones, conservative on the bilinear surface)",
+                vec![steps("steps", 15), choice("sample", &["linear", "nearest", "min4", "corners"])],
                 cone,
             ),
             def(Coarse, "qcsm", "quad-directional cone stepping (Policarpo & Oliveira, GPU Gems 3 18.4.1)", vec![steps("steps", 15)], quad_cone),

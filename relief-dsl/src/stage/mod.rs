@@ -200,6 +200,21 @@ impl<'a> Stage<'a> {
         g.x().min(g.y()).min(g.z().min(g.w()))
     }
 
+    /// The first channel of the four texels a bilinear sample at `uv` blends (one gather), in
+    /// gather order: `(i, j+1), (i+1, j+1), (i+1, j), (i, j)` with `(i, j)` the lower-left
+    /// texel.
+    pub fn map_gather(&'a self, map: MapReq, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
+        let name = map.texture_name();
+        let tex = self.module().global(&name, |m| texture_2d(m, &name, map.binding()));
+        self.image_sample(tex, uv.handle(), Filter::Linear, true)
+    }
+
+    /// The four heights a bilinear sample at `uv` blends (see [`Stage::map_gather`]).
+    pub fn height_gather(&'a self, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
+        let tex = self.module().global("height_map", |m| texture_2d(m, "height_map", binding::HEIGHT));
+        self.image_sample(tex, uv.handle(), Filter::Linear, true)
+    }
+
     /// Samples the 3D distance field at `(u, v, height)`, trilinear.
     pub fn distance(&'a self, p: Val<'a, Vec3>) -> Val<'a, f32> {
         let map = MapReq::DistanceField;

@@ -14,7 +14,6 @@ use crate::sweep::grids;
 pub(crate) struct Chart {
     /// `f4.8`.
     pub figure: String,
-    pub metric: Metric,
     /// File name under `report/`.
     pub file: String,
     pub title: String,
@@ -98,7 +97,7 @@ pub(crate) fn write_all(data: &Data, sub: &Path, warnings: &mut Vec<String>) -> 
                 caption.push(' ');
                 caption.push_str(&n);
             }
-            out.push(Chart { figure: fig.into(), metric, file, title: chart_title, caption });
+            out.push(Chart { figure: fig.into(), file, title: chart_title, caption });
         }
     }
     out

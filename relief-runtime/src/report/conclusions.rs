@@ -76,10 +76,10 @@ struct Ours<'a> {
 
 impl Src for Ours<'_> {
     fn ms(&self, _: &str, p: &str) -> Option<f64> {
-        self.data.ok(p, &self.scene).map(|r| r.metrics.frame_ms_median).filter(|v| v.is_finite())
+        self.data.ok(&super::canonical(p), &self.scene).map(|r| r.metrics.frame_ms_median).filter(|v| v.is_finite())
     }
     fn err(&self, _: &str, p: &str) -> Option<f64> {
-        self.data.ok(p, &self.scene).map(|r| self.metric.of(r)).filter(|v| v.is_finite())
+        self.data.ok(&super::canonical(p), &self.scene).map(|r| self.metric.of(r)).filter(|v| v.is_finite())
     }
     fn sq(&self, v: f64) -> f64 {
         match self.metric {
@@ -717,9 +717,9 @@ pub(crate) fn metric_agreement(data: &Data, tables: &[ReportTable]) -> TextTable
                 format!(
                     "`{}` has {}× lower mse_dissertation than `{}` but {}× higher ref_err_t_rms",
                     finite[lo].metrics.pipeline,
-                    fmt_num(mse[hi] / mse[lo], 1),
+                    fmt_num(mse[hi] / mse[lo], 2),
                     finite[hi].metrics.pipeline,
-                    fmt_num(rft[lo] / rft[hi], 1)
+                    fmt_num(rft[lo] / rft[hi], 2)
                 )
             }
         };

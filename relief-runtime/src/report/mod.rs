@@ -90,6 +90,7 @@ pub fn write(dir: &Path) -> anyhow::Result<ReportSummary> {
     }
     let sub = dir.join("report");
     std::fs::create_dir_all(&sub).with_context(|| format!("cannot create {}", sub.display()))?;
+    remove_stale(&sub);
 
     let mut summary = ReportSummary {
         dir: dir.to_path_buf(),
@@ -125,6 +126,13 @@ pub fn write(dir: &Path) -> anyhow::Result<ReportSummary> {
             let _ = writeln!(md, "Image strip (rows in table order, frame | error): [{}]({})\n", s.file, s.file);
         }
     }
+    md.push_str("## Charts\n\n");
+    if charts.is_empty() {
+        md.push_str("No figure grid (f4.5, f4.7–f4.11) has ok rows.\n\n");
+    }
+    for c in &charts {
+        let _ = writeln!(md, "![{}](report/{})  \n{}\n", c.title, c.file, c.caption);
+    }
     md.push_str(&conclusions::to_markdown(&conclusions, &agreement));
     md.push_str(&failed_md(&summary));
     write_file(&dir.join("tables.md"), md.as_bytes(), &mut summary.files)?;
@@ -153,6 +161,19 @@ pub fn write(dir: &Path) -> anyhow::Result<ReportSummary> {
     summary.files.extend(pareto_svgs.iter().map(|p| dir.join(&p.1)));
     summary.conclusions = conclusions;
     Ok(summary)
+}
+
+/// Removes charts and strips an earlier report wrote (only names this module writes).
+fn remove_stale(sub: &Path) {
+    let Ok(rd) = std::fs::read_dir(sub) else { return };
+    for e in rd.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let ours = (name.starts_with("strip_") && name.ends_with(".png"))
+            || ((name.starts_with('f') || name.starts_with("pareto_")) && name.ends_with(".svg"));
+        if ours {
+            let _ = std::fs::remove_file(e.path());
+        }
+    }
 }
 
 fn write_file(path: &Path, bytes: &[u8], files: &mut Vec<PathBuf>) -> anyhow::Result<()> {
@@ -476,11 +497,14 @@ impl TextTable {
         for r in &self.rows {
             h.push_str("<tr>");
             for c in r {
-                let class = match c.as_str() {
-                    "holds" => " class=\"holds\"",
-                    "does not hold" => " class=\"fails\"",
-                    "error" => " class=\"err\"",
-                    _ => "",
+                let class = if c.starts_with("holds") {
+                    " class=\"holds\""
+                } else if c.starts_with("does not hold") {
+                    " class=\"fails\""
+                } else if c == "error" {
+                    " class=\"err\""
+                } else {
+                    ""
                 };
                 let _ = write!(h, "<td{class}>{}</td>", html::md_inline(c));
             }

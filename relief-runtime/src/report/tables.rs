@@ -63,7 +63,13 @@ pub(crate) fn build(data: &Data, diss: &Diss) -> Vec<ReportTable> {
         let mut scenes: Vec<String> = data
             .scenes()
             .into_iter()
-            .filter(|s| pipelines.iter().any(|p| data.get(&p.to_string(), s).is_some()))
+            .filter(|s| {
+                let have = pipelines.iter().filter(|p| data.get(&p.to_string(), s).is_some()).count();
+                // The grid's own scenes with any row; other scenes only when they cover at
+                // least half the table (not just cells another grid shares with it).
+                let own = grid.cells.iter().any(|(_, g)| &scene_label(g) == s);
+                have > 0 && (own || 2 * have >= pipelines.len())
+            })
             .collect();
         if scenes.is_empty() {
             for (_, s) in &grid.cells {
@@ -231,6 +237,7 @@ fn render(t: &ReportTable, data: &Data, description: &str) -> TextTable {
         title = format!("Table {}", t.id);
     }
     if t.scene != "scene:lion" {
+        title = title.replace(" (Lion)", "");
         title.push_str(&format!(" — scene {}", short_scene(&t.scene)));
     }
     let measured = (0..t.entries.len()).filter(|&i| t.row(data, i).is_some()).count();
@@ -243,6 +250,17 @@ fn render(t: &ReportTable, data: &Data, description: &str) -> TextTable {
     )];
     if t.scene != "scene:lion" {
         notes.push("The dissertation's numbers are from Lion; compare trends only.".into());
+    }
+    let mut source_notes: Vec<&str> = Vec::new();
+    for e in &t.entries {
+        if let Some(n) = e.diss.as_ref().map(|d| d.note.as_str()).filter(|n| !n.is_empty()) {
+            if !source_notes.contains(&n) {
+                source_notes.push(n);
+            }
+        }
+    }
+    if !source_notes.is_empty() {
+        notes.push(format!("Notes on the dissertation's rows: {}.", source_notes.join(" / ")));
     }
     let mut rows = Vec::new();
     for (i, e) in t.entries.iter().enumerate() {

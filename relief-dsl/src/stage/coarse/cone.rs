@@ -33,6 +33,9 @@ pub enum ConeSample {
     Linear,
     Nearest,
     Min4,
+    /// The best of the four corner texels' cones, each padded for the point's offset from
+    /// its axis ([`Corners`]).
+    Corners,
 }
 
 /// Guards divisions by a speed that may be zero (a ray straight down into a zero-width cone).
@@ -54,16 +57,21 @@ struct Footing<'a> {
     min_step: Val<'a, f32>,
 }
 
+/// The step in t that moves the ray [`MIN_STEP_TEXELS`] of a texel.
+fn min_step<'a>(s: &'a Stage<'a>, ray: &Ray<'a>) -> Val<'a, f32> {
+    let size = s.height_map_size();
+    (MIN_STEP_TEXELS / size.x().max(size.y()) / ray.dir.xy().length().max(-ray.dir.z())).named("min_step")
+}
+
 fn footing<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, uv: Val<'a, Vec2>, h: Val<'a, f32>) -> Footing<'a> {
     let size = s.height_map_size();
     let centre = ((uv * size).floor() + 0.5) / size;
-    let texel = 1.0 / size.x().max(size.y());
     let texel_height = apex(s, uv).named("texel_height");
     Footing {
         texel_height,
         apex: texel_height.max(h).named("apex"),
         offset: (uv - centre).length().named("offset"),
-        min_step: (MIN_STEP_TEXELS * texel / ray.dir.xy().length().max(-ray.dir.z())).named("min_step"),
+        min_step: min_step(s, ray),
     }
 }
 
@@ -81,6 +89,7 @@ fn ratio<'a>(s: &'a Stage<'a>, map: MapReq, uv: Val<'a, Vec2>, sample: ConeSampl
         ConeSample::Linear => s.map(map, uv, Filter::Linear).x(),
         ConeSample::Nearest => s.map(map, uv, Filter::Nearest).x(),
         ConeSample::Min4 => s.map_min4(map, uv),
+        ConeSample::Corners => unreachable!("corner sampling steps with Corners::best_step"),
     }
 }
 
@@ -88,6 +97,57 @@ fn ratio<'a>(s: &'a Stage<'a>, map: MapReq, uv: Val<'a, Vec2>, sample: ConeSampl
 /// below the current point.
 fn cone_step<'a>(ray: &Ray<'a>, r: Val<'a, f32>, gap: Val<'a, f32>) -> Val<'a, f32> {
     r * gap / (ray.dir.xy().length() + r * -ray.dir.z()).max(TINY)
+}
+
+/// The four texels around a ray point — the corners of its bilinear cell — each with the
+/// value of a single-channel cone map. Every corner's cone is free of the surface's samples,
+/// so so is their union, and a step may follow whichever corner's cone reaches farthest.
+/// The corner the point is lowest above usually has the clearance the padding takes from
+/// the others, so steps keep shrinking in proportion to the gap instead of stalling: on
+/// relief's Rock-Bump-like scene CSM's error at 15 steps falls by a third.
+///
+/// But near its apex a texel's cone is pierced by the bilinear patches around it (three
+/// high corners around a low one rise √2 times faster along the diagonal than along the
+/// axes), and following the lowest corner's cone walks into exactly that: relief's cone
+/// tests measured stretches of 4 texels inside one-texel walls. The texel-sample cone maps
+/// would need the patches' slopes next to the apex folded in to make this safe.
+struct Corners<'a> {
+    heights: [Val<'a, f32>; 4],
+    offsets: [Val<'a, f32>; 4],
+    values: [Val<'a, f32>; 4],
+}
+
+fn corners<'a>(s: &'a Stage<'a>, uv: Val<'a, Vec2>, map: MapReq) -> Corners<'a> {
+    let size = s.height_map_size();
+    let base = (uv * size - 0.5).floor();
+    let h = s.height_gather(uv);
+    let v = s.map_gather(map, uv);
+    // Gather order: (i, j+1), (i+1, j+1), (i+1, j), (i, j).
+    let at = |dx: f32, dy: f32| ((base + s.vec2(dx + 0.5, dy + 0.5)) / size - uv).length();
+    Corners {
+        heights: [h.x(), h.y(), h.z(), h.w()],
+        offsets: [at(0.0, 1.0), at(1.0, 1.0), at(1.0, 0.0), at(0.0, 0.0)],
+        values: [v.x(), v.y(), v.z(), v.w()],
+    }
+}
+
+impl<'a> Corners<'a> {
+    /// The longest step any corner's cone allows: `step(value, clearance)` for each corner,
+    /// with the clearance above that corner's apex padded for the point's offset from it.
+    fn best_step(
+        &self,
+        p_z: Val<'a, f32>,
+        ratio: impl Fn(Val<'a, f32>) -> Val<'a, f32>,
+        step: impl Fn(Val<'a, f32>, Val<'a, f32>) -> Val<'a, f32>,
+    ) -> Val<'a, f32> {
+        let mut best = p_z * 0.0;
+        for i in 0..4 {
+            let r = ratio(self.values[i]);
+            let clearance = (p_z - self.heights[i] - self.offsets[i] / r.max(TINY)).max(0.0);
+            best = best.max(step(self.values[i], clearance));
+        }
+        best
+    }
 }
 
 /// The height of the cone's apex: the sample of the texel the cone map was read at.
@@ -104,10 +164,16 @@ pub fn csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, sample: ConeSample) 
         let p = ray.at(t.get());
         let h = s.height(p.xy()).named("h");
         s.break_if(h.ge(p.z()));
-        let r = ratio(s, MapReq::Cone, p.xy(), sample).named("r");
         let foot = footing(s, ray, p.xy(), h);
+        let step = match sample {
+            ConeSample::Corners => corners(s, p.xy(), MapReq::Cone).best_step(p.z(), |r| r, |r, gap| cone_step(ray, r, gap)),
+            _ => {
+                let r = ratio(s, MapReq::Cone, p.xy(), sample).named("r");
+                cone_step(ray, r, foot.clearance(p.z(), r))
+            }
+        };
         t_prev.set(t.get());
-        t.set(t.get() + cone_step(ray, r, foot.clearance(p.z(), r)).max(foot.min_step));
+        t.set(t.get() + step.max(foot.min_step));
     });
     Bracket::new(t_prev.get(), t.get())
 }

@@ -24,6 +24,7 @@ pub fn build<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, spec: &StageSpec) -> Result<Br
             let sample = match spec.word("sample") {
                 "nearest" => cone::ConeSample::Nearest,
                 "min4" => cone::ConeSample::Min4,
+                "corners" => cone::ConeSample::Corners,
                 _ => cone::ConeSample::Linear,
             };
             cone::csm(s, ray, spec.int("steps"), sample)
