@@ -71,6 +71,12 @@ fn sweep_survives_a_kill_and_resumes_without_losing_or_repeating_cells() {
         let cell = out.join(r["cell_dir"].as_str().unwrap());
         assert!(cell.join("frame.png").exists() && cell.join("error.png").exists(), "{}", cell.display());
     }
+    // The report runs on the result.
+    let o = relief().arg("report").arg(&out).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let index = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(index.contains("tables.md") || index.contains("<table"), "index.html links the tables");
+    assert!(out.join("tables.md").exists() && out.join("pareto.md").exists());
     // A third run has nothing left to do.
     let mut cmd = relief();
     args(&mut cmd);

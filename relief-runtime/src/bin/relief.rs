@@ -1,7 +1,7 @@
 //! The `relief` command line.
 
 use clap::{Parser, Subcommand};
-use relief_runtime::{cli_gen, cli_maps, cli_render, cli_stability, cli_sweep};
+use relief_runtime::{cli_gen, cli_maps, cli_render, cli_report, cli_stability, cli_sweep};
 
 /// relief: relief-mapping search methods composed into shaders, measured and swept.
 #[derive(Parser)]
@@ -24,6 +24,8 @@ enum Command {
     Sweep(cli_sweep::SweepArgs),
     /// Every coarse × refine method on stress scenes and grazing angles: where each fails.
     Stability(cli_stability::StabilityArgs),
+    /// Tables, conclusions, charts, picture strips and Pareto fronts from a sweep folder.
+    Report(cli_report::ReportArgs),
 }
 
 fn main() {
@@ -34,6 +36,7 @@ fn main() {
         Command::Render(a) => cli_render::run(a),
         Command::Sweep(a) => cli_sweep::run(a),
         Command::Stability(a) => cli_stability::run(a),
+        Command::Report(a) => cli_report::run(a),
     };
     if let Err(e) = result {
         // One line: the error and its causes.
