@@ -72,6 +72,11 @@ fn bad_input_gives_one_line_and_a_failure() {
         vec!["render", "lnear(8)", "--scene", "scene:step", "--out", "/tmp/relief-x"],
         vec!["gen", "linear(0)", "--out", "/tmp/relief-x"],
         vec!["gen", "linear(5)", "--out", "/proc/relief-cannot-write-here"],
+        vec!["gen", "--no-such-flag"],
+        vec!["render", "linear(8)"],
+        vec!["sweep", "--grid", "no_such_grid", "--out", "/tmp/relief-x"],
+        vec!["report", "/tmp/relief-no-such-sweep-folder"],
+        vec!["frobnicate"],
     ] {
         let o = relief().args(&args).output().unwrap();
         assert!(!o.status.success(), "{args:?}");

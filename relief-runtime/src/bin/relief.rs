@@ -29,7 +29,25 @@ enum Command {
 }
 
 fn main() {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand) {
+                e.exit();
+            }
+            // One line: clap's first line of the error, without the usage that follows.
+            let text = e.render().to_string();
+            let message: Vec<&str> = text
+                .lines()
+                .take_while(|l| !l.trim().is_empty() && !l.starts_with("Usage:"))
+                .map(|l| l.trim())
+                .collect();
+            let message = message.join(" ");
+            eprintln!("relief: error: {} (relief --help lists the commands)", message.trim_start_matches("error: "));
+            std::process::exit(2);
+        }
+    };
     let result = match &cli.command {
         Command::Gen(a) => cli_gen::run(a),
         Command::Maps(a) => cli_maps::run(a),

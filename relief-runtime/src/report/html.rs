@@ -60,7 +60,7 @@ pub(crate) fn page(p: &Parts) -> String {
         h,
         "<nav><a href=\"#overview\">Overview</a><a href=\"#conclusions\">Conclusions</a><a href=\"#charts\">Charts</a>\
          <a href=\"#tables\">Tables</a><a href=\"#pareto\">Pareto fronts</a><a href=\"#failed\">Failed cells</a>\
-         <a href=\"tables.md\">tables.md</a><a href=\"pareto.md\">pareto.md</a><a href=\"results.csv\">results.csv</a></nav>"
+         <a href=\"#stability\">Stability</a><a href=\"tables.md\">tables.md</a><a href=\"pareto.md\">pareto.md</a><a href=\"results.csv\">results.csv</a></nav>"
     );
 
     // Overview.
@@ -72,6 +72,20 @@ pub(crate) fn page(p: &Parts) -> String {
     let _ = writeln!(h, "<li>Sizes: {}</li>", esc(&p.data.distinct(|r| r.metrics.size.to_string()).join(", ")));
     let _ = writeln!(h, "<li>Adapters: {}</li>", esc(&p.data.distinct(|r| r.metrics.adapter.clone()).join("; ")));
     let _ = writeln!(h, "</ul>");
+
+    // Stability, when `relief stability --out DIR/stability` has run.
+    let stab = p.data.dir.join("stability");
+    if let Ok(worst) = std::fs::read_to_string(stab.join("worst.md")) {
+        let _ = writeln!(h, "<h2 id=\"stability\">Stability: where each method fails</h2>");
+        let _ = writeln!(h, "<p><a href=\"stability/stability.csv\">stability.csv</a>; heat maps (method × scene and angle):</p><ul>");
+        for metric in ["nan_count", "outside_count", "missed_rate", "nonconverged_rate", "ref_err_t_max", "ref_err_t_rms"] {
+            let f = format!("stability/stability_{metric}.svg");
+            if stab.join(format!("stability_{metric}.svg")).exists() {
+                let _ = writeln!(h, "<li><a href=\"{f}\">{metric}</a></li>");
+            }
+        }
+        let _ = writeln!(h, "</ul><h3>Worst condition per method</h3><pre>{}</pre>", esc(&worst));
+    }
 
     // Conclusions.
     let ct = conclusions::table(p.conclusions);
