@@ -112,6 +112,7 @@ fn cone_methods_never_skip_geometry() {
             "mcns(24, 3)",
             "pcns(24, 1)",
             "sphere(24)",
+            "maxmip(64)",
             // Relaxed cones let the ray cross the surface once; refined, the hit is the first
             // crossing.
             "rcs(24, start=bracket)+binary(8)",
@@ -123,6 +124,10 @@ fn cone_methods_never_skip_geometry() {
             let worst = skipped.iter().cloned().fold(0.0, f64::max);
             let past = hits.iter().zip(&probe.refs).filter(|(h, r)| h.t as f64 > r.unwrap().t + 1e-4).count();
             eprintln!("{method} on {scene}: longest stretch skipped {worst:.3} texel; {past} rays end past the exact first hit");
+            if method.starts_with("maxmip") {
+                // Exact traversal of the bilinear surface: never past the first hit at all.
+                assert_eq!(past, 0, "{method} on {scene}: {past} rays end past the exact first hit");
+            }
             let slack = if method.starts_with('r') { SLACK_RELAXED } else { SLACK };
             let bad: Vec<(usize, f64)> = skipped.iter().copied().enumerate().filter(|(_, s)| *s >= slack).collect();
             if !bad.is_empty() {
@@ -177,4 +182,3 @@ fn conservative_cone_stepping_converges_from_above() {
     let e32 = err(&probe.run(&g, "cns(32)"));
     assert!(e32 < e8 * 0.5, "cns(32) error {e32} vs cns(8) {e8}");
 }
-

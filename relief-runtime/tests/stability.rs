@@ -9,7 +9,7 @@ use relief_runtime::stability;
 fn every_method_stays_finite_and_inside_the_volume_at_every_angle() {
     let gpu = Gpu::new().unwrap();
     let methods = stability::methods();
-    assert_eq!(methods.len(), 15 * 4, "every implemented coarse × refine at default parameters");
+    assert_eq!(methods.len(), 16 * 4, "every implemented coarse × refine at default parameters");
     let cells = stability::run(&gpu, 16, &methods, &["spikes", "flat1", "seam", "walls"], &stability::ANGLES, |_, _| {}).unwrap();
     assert_eq!(cells.len(), methods.len() * 4 * stability::ANGLES.len());
     let bad: Vec<_> = cells.iter().filter(|c| c.nan_count > 0 || c.outside_count > 0).collect();

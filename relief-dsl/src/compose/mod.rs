@@ -63,7 +63,8 @@ pub mod binding {
 /// The `Params` uniform block, 112 bytes: `view_proj: mat4x4<f32>` (column-major),
 /// `camera: vec4<f32>` (xyz: camera position in tangent space, w: depth scale — the relief's
 /// depth in texture units), `light: vec4<f32>` (xyz: unit vector toward the light, w:
-/// ambient), `quad: vec4<f32>` (x: the quad's size in texture units, i.e. the tiling).
+/// ambient), `quad: vec4<f32>` (x: the quad's size in texture units, i.e. the tiling; y: 1 when the
+/// scene's edge mode is clamp, 0 for repeat).
 pub const PARAMS_LAYOUT: &str = "view_proj: mat4x4<f32>, camera: vec4<f32>, light: vec4<f32>, quad: vec4<f32>";
 
 /// Size of one [`ProbeRay`] in bytes.
@@ -244,6 +245,12 @@ fn params_global(m: &ModuleCtx) -> Handle<naga::GlobalVariable> {
             memory_decorations: Default::default(),
         }
     })
+}
+
+/// Whether the scene's edge mode is clamp (`params.quad.y` is 1), for stages that address
+/// texels themselves.
+pub(crate) fn edge_is_clamp<'a>(s: &'a Stage<'a>) -> Val<'a, bool> {
+    param::<Vec4>(s, 3).y().gt(0.5)
 }
 
 fn param<'a, T: Ty>(s: &'a Stage<'a>, index: u32) -> Val<'a, T> {

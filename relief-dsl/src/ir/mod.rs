@@ -24,7 +24,7 @@ use naga::{
     Module, Span, Statement,
 };
 
-pub use types::{Mat4, Ty, UVec3, Vec2, Vec3, Vec4};
+pub use types::{Mat4, Ty, UVec2, UVec3, Vec2, Vec3, Vec4};
 pub use values::{IntoVal, Val, Var};
 
 /// Module-wide state shared by every function being built: the module itself and the

@@ -199,6 +199,14 @@ impl<'a, T: Float> Val<'a, T> {
     pub fn floor(self) -> Self {
         self.math(MathFunction::Floor, &[])
     }
+    /// `log2(self)`
+    pub fn log2(self) -> Self {
+        self.math(MathFunction::Log2, &[])
+    }
+    /// `exp2(self)`
+    pub fn exp2(self) -> Self {
+        self.math(MathFunction::Exp2, &[])
+    }
     /// Linear interpolation `mix(self, o, f)`.
     pub fn mix(self, o: impl IntoSame<'a, T>, f: impl IntoSame<'a, T>) -> Self {
         let s = self.stage();
@@ -371,5 +379,12 @@ impl<'a> Val<'a, super::types::UVec3> {
     /// First component.
     pub fn x(self) -> Val<'a, u32> {
         self.derive(Expression::AccessIndex { base: self.handle(), index: 0 })
+    }
+}
+
+impl<'a> Val<'a, Vec2> {
+    /// Conversion to `vec2<u32>` (truncation; the components must be non-negative).
+    pub fn to_u32(self) -> Val<'a, super::types::UVec2> {
+        self.derive(Expression::As { expr: self.handle(), kind: ScalarKind::Uint, convert: Some(4) })
     }
 }

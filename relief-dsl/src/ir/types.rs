@@ -101,3 +101,12 @@ impl Ty for UVec3 {
         TypeInner::Vector { size: VectorSize::Tri, scalar: Scalar::U32 }
     }
 }
+
+/// `vec2<u32>`.
+#[derive(Clone, Copy, Debug)]
+pub struct UVec2;
+impl Ty for UVec2 {
+    fn inner() -> TypeInner {
+        TypeInner::Vector { size: VectorSize::Bi, scalar: Scalar::U32 }
+    }
+}

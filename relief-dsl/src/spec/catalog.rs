@@ -169,10 +169,7 @@ pub fn catalog() -> &'static [MethodDef] {
             def(Coarse, "mcns", "multiple cone normal stepping, K stacked cones (Burger 3.4, method 1)", vec![steps("steps", 15), cones(4)], multi_cone),
             def(Coarse, "pcns", "piecewise cone normal stepping, K cone pieces (Burger 3.4, method 2)", vec![steps("steps", 15), cones(4)], piecewise_cone),
             def(Coarse, "sphere", "sphere tracing a 3D distance field (Donnelly 2005)", vec![steps("steps", 15)], distance_field),
-            MethodDef {
-                implemented: false,
-                ..def(Coarse, "maxmip", "maximum-mipmap traversal (Tevs et al. 2008)", vec![steps("steps", 64)], max_mip)
-            },
+            def(Coarse, "maxmip", "maximum-mipmap traversal with the exact bilinear patch in the finest cells (Tevs et al. 2008)", vec![steps("steps", 64)], max_mip),
             def(Refine, "none", "no refinement: the hit is the bracket's far end", vec![], no_maps),
             def(Refine, "binary", "binary search (Burger Algorithm 2)", vec![steps("steps", 5)], no_maps),
             def(Refine, "interval", "interval mapping, false position (Burger Algorithm 3; Risser et al. 2005)", vec![steps("steps", 5)], no_maps),

@@ -215,6 +215,23 @@ impl<'a> Stage<'a> {
         self.image_sample(tex, uv.handle(), Filter::Linear, true)
     }
 
+    /// The texel `coords` of mip level `level` of a map (no filtering).
+    pub fn map_texel(&'a self, map: MapReq, coords: Val<'a, crate::ir::UVec2>, level: Val<'a, u32>) -> Val<'a, Vec4> {
+        let name = map.texture_name();
+        let tex = self.module().global(&name, |m| texture_2d(m, &name, map.binding()));
+        if self.counting() {
+            self.count("relief_fetches");
+        }
+        let image = self.expr(Expression::GlobalVariable(tex));
+        self.wrap(self.expr(Expression::ImageLoad {
+            image,
+            coordinate: coords.handle(),
+            array_index: None,
+            sample: None,
+            level: Some(level.handle()),
+        }))
+    }
+
     /// Samples the 3D distance field at `(u, v, height)`, trilinear.
     pub fn distance(&'a self, p: Val<'a, Vec3>) -> Val<'a, f32> {
         let map = MapReq::DistanceField;

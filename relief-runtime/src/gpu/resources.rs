@@ -145,7 +145,8 @@ impl SceneTextures {
         let mut data: Vec<f32> = vp.to_vec();
         data.extend([cam.x, cam.y, cam.z, scene.depth_scale]);
         data.extend([l.x, l.y, l.z, AMBIENT]);
-        data.extend([scene.tiling, 0.0, 0.0, 0.0]);
+        let clamp = if scene.edge == EdgeMode::Clamp { 1.0 } else { 0.0 };
+        data.extend([scene.tiling, clamp, 0.0, 0.0]);
         gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("params"),
             contents: bytemuck::cast_slice(&data),
@@ -220,27 +221,35 @@ pub fn map_kind(req: MapReq) -> (MapKind, MapParams) {
     }
 }
 
-/// Uploads a map as R32Float (one channel) or Rgba32Float (2 to 4 channels, padded), 2D or 3D.
+/// Uploads a map as R32Float (one channel) or Rgba32Float (2 to 4 channels, padded), 2D or
+/// 3D, with its pyramid levels (max-mip) as mip levels.
 fn upload_map(gpu: &Gpu, map: &crate::maps::Map, ratio: bool) -> wgpu::TextureView {
     let fix = |x: f32| if ratio { x.min(MAX_RATIO) } else { x };
-    let (format, data): (wgpu::TextureFormat, Vec<f32>) = if map.channels == 1 {
-        (wgpu::TextureFormat::R32Float, map.data.iter().map(|&x| fix(x)).collect())
-    } else {
-        let mut out = Vec::with_capacity(map.data.len() / map.channels * 4);
-        for texel in map.data.chunks(map.channels) {
-            for c in 0..4 {
-                out.push(texel.get(c).map_or(0.0, |&x| fix(x)));
+    let texels = |m: &crate::maps::Map| -> Vec<f32> {
+        if m.channels == 1 {
+            m.data.iter().map(|&x| fix(x)).collect()
+        } else {
+            let mut out = Vec::with_capacity(m.data.len() / m.channels * 4);
+            for texel in m.data.chunks(m.channels) {
+                for c in 0..4 {
+                    out.push(texel.get(c).map_or(0.0, |&x| fix(x)));
+                }
             }
+            out
         }
-        (wgpu::TextureFormat::Rgba32Float, out)
     };
+    let format = if map.channels == 1 { wgpu::TextureFormat::R32Float } else { wgpu::TextureFormat::Rgba32Float };
+    let mut data = texels(map);
+    for level in &map.mips {
+        data.extend(texels(level));
+    }
     let dimension = if map.depth > 1 { wgpu::TextureDimension::D3 } else { wgpu::TextureDimension::D2 };
     let t = gpu.device.create_texture_with_data(
         &gpu.queue,
         &wgpu::TextureDescriptor {
             label: Some("map"),
             size: wgpu::Extent3d { width: map.width as u32, height: map.height as u32, depth_or_array_layers: map.depth as u32 },
-            mip_level_count: 1,
+            mip_level_count: 1 + map.mips.len() as u32,
             sample_count: 1,
             dimension,
             format,

@@ -2,6 +2,7 @@
 
 pub mod cone;
 pub mod linear;
+pub mod maxmip;
 pub mod parallax;
 pub mod sphere;
 
@@ -41,6 +42,7 @@ pub fn build<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, spec: &StageSpec) -> Result<Br
         "rcns" => cone::rcns(s, ray, spec.int("steps")),
         "mcns" => cone::mcns(s, ray, spec.int("steps"), spec.int("k")),
         "pcns" => cone::pcns(s, ray, spec.int("steps"), spec.int("k")),
+        "maxmip" => maxmip::maxmip(s, ray, spec.int("steps")),
         "sphere" => sphere::sphere(s, ray, spec.int("steps"), DISTANCE_FIELD_Z),
         other => return Err(CompileError::not_implemented("coarse", other)),
     })

@@ -1,0 +1,121 @@
+//! Maximum-mipmap traversal (Tevs, Ihrke & Seidel 2008, *Maximum Mipmaps for Fast, Accurate,
+//! and Scalable Dynamic Height Field Rendering*; the survey's pyramidal methods).
+//!
+//! The pyramid holds, per node, the highest point of the bilinear surface over the node's
+//! cells (a cell spans four texel centres; level 0 is the cells, level L nodes of `2^L`
+//! cells a side, up to one node). The ray is walked from node to node: where it stays above
+//! a node's maximum it skips the whole node and climbs a level; where it dips below it
+//! descends; in a single cell it meets the bilinear patch exactly (a quadratic in t).
+//! Each pass through the loop is one node visit.
+
+use crate::ir::{Stage, Val, Vec2};
+use crate::spec::MapReq;
+use crate::stage::{Bracket, Ray};
+
+/// Nudges a ray past a node boundary, in cells of travel.
+const EPSILON_CELLS: f32 = 1e-3;
+
+/// Maximum-mipmap traversal with the exact bilinear-patch intersection in the finest cells.
+pub fn maxmip<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
+    let size = s.height_map_size();
+    let n = size.x().max(size.y());
+    let top = n.log2().floor();
+    let clamp = crate::compose::edge_is_clamp(s);
+    // Cell coordinates: cell i spans X in [i, i + 1), X = u·N - 1/2.
+    let to_cells = |uv: Val<'a, Vec2>| uv * size - 0.5;
+    let speed = ray.dir.xy() * size;
+    let fall = ray.dir.z();
+    // Capped: for a near-vertical ray a thousandth of a cell sideways is a long way down,
+    // enough to step over the surface in the next cell (one such ray in relief's tests).
+    let nudge = (EPSILON_CELLS / speed.length().max(1e-6)).min(2e-4);
+    let t = s.var("t", 0.0);
+    let level = s.var("level", top);
+    let hit = s.var("hit", false);
+    s.repeat(steps, |s| {
+        s.break_if(hit.get() | t.get().ge(ray.t_max()));
+        let p = ray.at(t.get());
+        let x = to_cells(p.xy());
+        let span = level.get().exp2();
+        let node = (x / span).floor();
+        // The node's place in the pyramid: wrapped (repeat) or clamped (clamp).
+        let nodes = (size / span).floor().max(1.0);
+        let wrapped = node - nodes * (node / nodes).floor();
+        let clamped = node.clamp(0.0, nodes - 1.0);
+        let at = s.vec2(s.select(clamp, clamped.x(), wrapped.x()), s.select(clamp, clamped.y(), wrapped.y()));
+        let node_max = s.map_texel(MapReq::MaxMip, at.to_u32(), level.get().to_u32()).x().named("node_max");
+        // Where the ray leaves the node, and where it comes down to the node's maximum.
+        let exit_x = s.select(speed.x().ge(0.0), (node.x() + 1.0) * span - x.x(), node.x() * span - x.x()) / speed.x();
+        let exit_y = s.select(speed.y().ge(0.0), (node.y() + 1.0) * span - x.y(), node.y() * span - x.y()) / speed.y();
+        let exit = t.get() + exit_x.abs().min(exit_y.abs()).min(ray.t_max() - t.get());
+        let down = ((node_max - 1.0) / fall).max(t.get());
+        s.if_else(
+            down.lt(exit),
+            |s| {
+                s.if_else(
+                    level.get().le(0.0),
+                    |s| {
+                        // One cell: meet its bilinear patch exactly, from `down` to `exit`.
+                        let root = patch_root(s, ray, size, down, exit);
+                        s.if_else(
+                            root.ge(0.0),
+                            |_| {
+                                t.set(root);
+                                hit.set(true);
+                            },
+                            |_| t.set(exit + nudge),
+                        );
+                    },
+                    |_| {
+                        t.set(down);
+                        level.set(level.get() - 1.0);
+                    },
+                );
+            },
+            |_| {
+                t.set(exit + nudge);
+                level.set((level.get() + 1.0).min(top));
+            },
+        );
+    });
+    let end = t.get().min(ray.t_max());
+    Bracket::new(end, end)
+}
+
+/// The first t in `[from, to]` where the ray meets the bilinear patch of the cell it is in at
+/// `from`, or -1. Along the ray the patch height is quadratic in t: with the cell's corner
+/// heights h00, h10, h01, h11 and fractions (fx, fy) moving at (ax, ay) per unit t,
+/// `h - z = A s² + B s + C`, `s = t - from`.
+fn patch_root<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, size: Val<'a, Vec2>, from: Val<'a, f32>, to: Val<'a, f32>) -> Val<'a, f32> {
+    let p = ray.at(from);
+    let x = p.xy() * size - 0.5;
+    let cell = x.floor();
+    let f = x - cell;
+    // The four corners in one gather at the cell's centre: (i, j+1), (i+1, j+1), (i+1, j), (i, j).
+    let corners = s.height_gather((cell + 1.0) / size);
+    let (h01, h11, h10, h00) = (corners.x(), corners.y(), corners.z(), corners.w());
+    let a = ray.dir.xy() * size;
+    let k = h00 - h10 - h01 + h11;
+    let big_a = k * a.x() * a.y();
+    let big_b = (h10 - h00) * a.x() + (h01 - h00) * a.y() + k * (f.x() * a.y() + f.y() * a.x()) - ray.dir.z();
+    let h = h00 + (h10 - h00) * f.x() + (h01 - h00) * f.y() + k * f.x() * f.y();
+    let big_c = h - p.z();
+    let span = to - from;
+    // (The textbook (-B ± √disc)/2A lost the root of near-vertical rays, where A is tiny:
+    // relief's cone tests caught rays passing 12 texels through the surface.)
+    // Both roots in the cancellation-free form q = -(B + sign(B)·√disc)/2, roots q/A and
+    // C/q (C/q is the linear root -C/B as A → 0); keep the smallest in [0, span].
+    let disc = big_b * big_b - 4.0 * big_a * big_c;
+    let sign_b = s.select(big_b.ge(0.0), 1.0, -1.0);
+    let q = -0.5 * (big_b + sign_b * disc.max(0.0).sqrt());
+    let safe_q = s.select(q.ge(0.0), q.max(1e-20), q.min(-1e-20));
+    let safe_a = s.select(big_a.ge(0.0), big_a.max(1e-20), big_a.min(-1e-20));
+    let r1 = q / safe_a;
+    let r2 = big_c / safe_q;
+    let lo = r1.min(r2);
+    let hi = r1.max(r2);
+    let in_span = |r: Val<'a, f32>| r.ge(0.0) & r.le(span);
+    let root = s.select(disc.lt(0.0), -1.0, s.select(in_span(lo), lo, s.select(in_span(hi), hi, -1.0)));
+    // Already under the patch at `from`: the hit is there.
+    let root = s.select(big_c.ge(0.0), s.lit(0.0), root);
+    s.select(in_span(root), from + root, -1.0)
+}
