@@ -22,7 +22,7 @@
 //! point to the last one. Relaxed methods (`rcs`, `rcns`) let the ray enter the surface once
 //! and return the bracket around that crossing.
 
-use crate::ir::{Stage, Val, Vec2};
+use crate::ir::{Stage, Val, Vec2, Vec3};
 use crate::spec::MapReq;
 use crate::stage::{Bracket, Filter, Ray};
 
@@ -46,6 +46,7 @@ const TINY: f32 = 1e-7;
 pub const MIN_STEP_TEXELS: f32 = 0.25;
 
 /// Where a ray point stands relative to the texel whose cone it reads.
+#[derive(Clone, Copy)]
 struct Footing<'a> {
     /// The texel's own height, where its cones' heights `b_k` start.
     texel_height: Val<'a, f32>,
@@ -155,9 +156,15 @@ fn apex<'a>(s: &'a Stage<'a>, uv: Val<'a, Vec2>) -> Val<'a, f32> {
     s.sample("height_map", crate::compose::binding::HEIGHT, uv, Filter::Nearest).x()
 }
 
-/// Cone step mapping (Dummer 2006; Burger Algorithm 4): while above the surface, step to the
-/// side of the conservative cone below.
-pub fn csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, sample: ConeSample) -> Bracket<'a> {
+/// The loop all cone searches share (Burger Algorithm 4's): from the entry, while the ray
+/// point is above the surface, advance by `step(s, p, footing)` (never less than the
+/// minimum step); returns the last two positions `(t_prev, t)`.
+fn march<'a>(
+    s: &'a Stage<'a>,
+    ray: &Ray<'a>,
+    steps: u32,
+    step: impl Fn(&'a Stage<'a>, Val<'a, Vec3>, &Footing<'a>) -> Val<'a, f32>,
+) -> (Val<'a, f32>, Val<'a, f32>) {
     let t = s.var("t", 0.0);
     let t_prev = s.var("t_prev", 0.0);
     s.repeat(steps, |s| {
@@ -165,37 +172,37 @@ pub fn csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, sample: ConeSample) 
         let h = s.height(p.xy()).named("h");
         s.break_if(h.ge(p.z()));
         let foot = footing(s, ray, p.xy(), h);
-        let step = match sample {
-            ConeSample::Corners => corners(s, p.xy(), MapReq::Cone).best_step(p.z(), |r| r, |r, gap| cone_step(ray, r, gap)),
-            _ => {
-                let r = ratio(s, MapReq::Cone, p.xy(), sample).named("r");
-                cone_step(ray, r, foot.clearance(p.z(), r))
-            }
-        };
+        let advance = step(s, p, &foot).max(foot.min_step);
         t_prev.set(t.get());
-        t.set(t.get() + step.max(foot.min_step));
+        t.set(t.get() + advance);
     });
-    Bracket::new(t_prev.get(), t.get())
+    (t_prev.get(), t.get())
+}
+
+/// Cone step mapping (Dummer 2006; Burger Algorithm 4): while above the surface, step to the
+/// side of the conservative cone below.
+pub fn csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, sample: ConeSample) -> Bracket<'a> {
+    let (above, below) = march(s, ray, steps, |s, p, foot| match sample {
+        ConeSample::Corners => corners(s, p.xy(), MapReq::Cone).best_step(p.z(), |r| r, |r, gap| cone_step(ray, r, gap)),
+        _ => {
+            let r = ratio(s, MapReq::Cone, p.xy(), sample).named("r");
+            cone_step(ray, r, foot.clearance(p.z(), r))
+        }
+    });
+    Bracket::new(above, below)
 }
 
 /// Quad-directional cone stepping (Policarpo & Oliveira, GPU Gems 3 §18.4.1): as CSM, with
 /// the cone of the quadrant the ray is heading into (channels `+u+v, -u+v, -u-v, +u-v`).
 pub fn qcsm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
-    let t = s.var("t", 0.0);
-    let t_prev = s.var("t_prev", 0.0);
     let west = ray.dir.x().lt(0.0);
     let south = ray.dir.y().lt(0.0);
-    s.repeat(steps, |s| {
-        let p = ray.at(t.get());
-        let h = s.height(p.xy()).named("h");
-        s.break_if(h.ge(p.z()));
+    let (above, below) = march(s, ray, steps, |s, p, foot| {
         let q = s.map(MapReq::QuadCone, p.xy(), Filter::Nearest);
         let r = s.select(south, s.select(west, q.z(), q.w()), s.select(west, q.y(), q.x()));
-        let foot = footing(s, ray, p.xy(), h);
-        t_prev.set(t.get());
-        t.set(t.get() + cone_step(ray, r, foot.clearance(p.z(), r)).max(foot.min_step));
+        cone_step(ray, r, foot.clearance(p.z(), r))
     });
-    Bracket::new(t_prev.get(), t.get())
+    Bracket::new(above, below)
 }
 
 /// Where relaxed stepping starts the refinement (GPU Gems 3 Fig. 18-10).
@@ -211,20 +218,13 @@ pub enum RelaxedStart {
 /// relaxed cone, whose ray may enter the surface but never leave it; stop at the first point
 /// below the surface (K).
 pub fn rcs<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, start: RelaxedStart) -> Bracket<'a> {
-    let t = s.var("t", 0.0);
-    let t_prev = s.var("t_prev", 0.0);
-    s.repeat(steps, |s| {
-        let p = ray.at(t.get());
-        let h = s.height(p.xy()).named("h");
-        s.break_if(h.ge(p.z()));
+    let (j, k) = march(s, ray, steps, |s, p, foot| {
         let r = s.map(MapReq::RelaxedCone, p.xy(), Filter::Nearest).x().named("r");
-        let foot = footing(s, ray, p.xy(), h);
-        t_prev.set(t.get());
-        t.set(t.get() + cone_step(ray, r, foot.clearance(p.z(), r)).max(foot.min_step));
+        cone_step(ray, r, foot.clearance(p.z(), r))
     });
     match start {
-        RelaxedStart::Hk => Bracket::new(t.get() / 2.0, t.get()),
-        RelaxedStart::Bracket => Bracket::new(t_prev.get(), t.get()),
+        RelaxedStart::Hk => Bracket::new(k / 2.0, k),
+        RelaxedStart::Bracket => Bracket::new(j, k),
     }
 }
 
@@ -248,19 +248,12 @@ pub fn rcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
 }
 
 fn normal_stepping<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, map: MapReq) -> Bracket<'a> {
-    let t = s.var("t", 0.0);
-    let t_prev = s.var("t_prev", 0.0);
-    s.repeat(steps, |s| {
-        let p = ray.at(t.get());
-        let h = s.height(p.xy()).named("h");
-        s.break_if(h.ge(p.z()));
+    let (above, below) = march(s, ray, steps, |s, p, foot| {
         let n_z = s.map(map, p.xy(), Filter::Nearest).x().named("n_z");
-        let foot = footing(s, ray, p.xy(), h);
         let gap = foot.clearance(p.z(), ratio_of(n_z)).named("gap");
-        t_prev.set(t.get());
-        t.set(t.get() + cone_normal_step(ray, n_z, gap).max(foot.min_step));
+        cone_normal_step(ray, n_z, gap)
     });
-    Bracket::new(t_prev.get(), t.get())
+    Bracket::new(above, below)
 }
 
 /// The cone ratio of a cone side with normal z `n_z`: `r = n_z / sqrt(1 - n_z²)`.
@@ -278,13 +271,7 @@ fn channels<'a>(s: &'a Stage<'a>, map: MapReq, uv: Val<'a, Vec2>, k: u32) -> Vec
 /// at heights `b_k = h + (1 - h)·k/K`; of the cones below the ray point, take the one that
 /// gives the longest step.
 pub fn mcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32) -> Bracket<'a> {
-    let t = s.var("t", 0.0);
-    let t_prev = s.var("t_prev", 0.0);
-    s.repeat(steps, |s| {
-        let p = ray.at(t.get());
-        let surface = s.height(p.xy());
-        s.break_if(surface.ge(p.z()));
-        let foot = footing(s, ray, p.xy(), surface);
+    let (above, below) = march(s, ray, steps, |s, p, foot| {
         // The cones stand at b_k = h + (1 - h)·k/K above the texel's height h; where the
         // surface under the point is higher, all of them are raised with the apex (a raised
         // cone lies inside the original one).
@@ -292,14 +279,12 @@ pub fn mcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32) -> Bracket<
         let mut step = foot.min_step;
         for (i, n_z) in channels(s, MapReq::MultiCone(k), p.xy(), k).into_iter().enumerate() {
             let b_k = foot.apex + (1.0 - h) * (i as f32 / k as f32);
-            let cone = Footing { apex: b_k, ..foot };
-            let candidate = cone_normal_step(ray, n_z, cone.clearance(p.z(), ratio_of(n_z)));
-            step = step.max(candidate);
+            let cone = Footing { apex: b_k, ..*foot };
+            step = step.max(cone_normal_step(ray, n_z, cone.clearance(p.z(), ratio_of(n_z))));
         }
-        t_prev.set(t.get());
-        t.set(t.get() + step.max(foot.min_step));
+        step
     });
-    Bracket::new(t_prev.get(), t.get())
+    Bracket::new(above, below)
 }
 
 /// Multiple cone normal stepping, method 2 (Burger §3.4, proposed there and never
@@ -309,15 +294,9 @@ pub fn mcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32) -> Bracket<
 /// outside (piece 0 when there is none); within piece j it meets the piece's line after
 /// `(R_j + r_j·(z - b_j)) / (L + r_j·(-d.z))`.
 pub fn pcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32) -> Bracket<'a> {
-    let t = s.var("t", 0.0);
-    let t_prev = s.var("t_prev", 0.0);
     let speed = ray.dir.xy().length();
     let fall = -ray.dir.z();
-    s.repeat(steps, |s| {
-        let p = ray.at(t.get());
-        let surface = s.height(p.xy());
-        s.break_if(surface.ge(p.z()));
-        let foot = footing(s, ray, p.xy(), surface);
+    let (above, below) = march(s, ray, steps, |s, p, foot| {
         // Pieces of height (1 - h)/K from the texel's height h, the whole profile raised
         // with the apex where the surface under the point is higher (a raised region lies
         // inside the original one).
@@ -336,8 +315,7 @@ pub fn pcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32) -> Bracket<
             let outside = p.z().gt(base(j)) & (speed * (p.z() - base(j))).gt(radius[j] * fall);
             step = s.select(outside, meet(j), step);
         }
-        t_prev.set(t.get());
-        t.set(t.get() + step.max(foot.min_step));
+        step
     });
-    Bracket::new(t_prev.get(), t.get())
+    Bracket::new(above, below)
 }
