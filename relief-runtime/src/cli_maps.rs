@@ -18,15 +18,17 @@ use std::path::PathBuf;
 /// Arguments of `relief maps`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct MapsArgs {
-    /// Height map: .png (8/16 bit), .tga, .bmp, .exr or .npy (float32 [h, w]).
+    /// Height map: .png (8/16 bit), .tga, .bmp, .exr or .npy (float32 [h, w]), or
+    /// `scene:NAME` for a procedural scene.
     #[arg(required_unless_present = "list")]
     pub input: Option<PathBuf>,
     /// Map kind (see --list).
     #[arg(long, required_unless_present = "list")]
     pub kind: Option<String>,
-    /// Storage encoding: f32, f16, unorm8 or unorm16.
-    #[arg(long, default_value = "f32")]
-    pub encoding: String,
+    /// Storage encoding: f32, f16, unorm8 or unorm16 (default: unorm16 for .png, f32 for
+    /// .exr and .npy).
+    #[arg(long)]
+    pub encoding: Option<String>,
     /// Dummer's square-root encoding (store sqrt of the value).
     #[arg(long)]
     pub sqrt: bool,
@@ -89,7 +91,12 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
         bail!("relief maps needs INPUT, --kind and --out (or --list)");
     };
     let kind: MapKind = kind.parse()?;
-    let format: encode::Format = args.encoding.parse().map_err(anyhow::Error::msg)?;
+    let default_encoding = match out.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).as_deref() {
+        Some("png") => "unorm16",
+        _ => "f32",
+    };
+    let format: encode::Format =
+        args.encoding.as_deref().unwrap_or(default_encoding).parse().map_err(anyhow::Error::msg)?;
     let edge = parse_edge(&args.edge)?;
     let channel = match &args.channel {
         Some(c) => Some(c.parse::<Channel>().map_err(anyhow::Error::msg)?),
@@ -98,7 +105,10 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
     if !(args.max_value.is_finite() && args.max_value > 0.0) {
         bail!("--max-value must be a positive number");
     }
-    let hm = HeightMap::load(input, &LoadOptions { channel, depth: args.depth })?;
+    let hm = match input.to_str().and_then(|s| s.strip_prefix("scene:")) {
+        Some(name) => crate::scene::Scene::by_name(name, None)?.height,
+        None => HeightMap::load(input, &LoadOptions { channel, depth: args.depth })?,
+    };
     let params = MapParams { cones: args.cones, z_resolution: args.z_resolution };
     let start = std::time::Instant::now();
     let mut map = maps::build(&hm, kind, &params, edge)?;

@@ -85,3 +85,33 @@ fn bad_input_gives_one_line_and_a_failure() {
         assert!(err.starts_with("relief: error:"), "{err}");
     }
 }
+
+#[test]
+fn maps_writes_png_and_npy_from_a_scene_or_a_file() {
+    let out = tmp("maps");
+    std::fs::create_dir_all(&out).unwrap();
+    // A scene by name, to NumPy's format: float32, shape [h, w].
+    let npy = out.join("cone.npy");
+    let o = relief().args(["maps", "scene:step", "--kind", "cone", "--out"]).arg(&npy).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bytes = std::fs::read(&npy).unwrap();
+    assert!(bytes.starts_with(b"\x93NUMPY"));
+    let header = String::from_utf8_lossy(&bytes[10..128.min(bytes.len())]).to_string();
+    assert!(header.contains("'<f4'") && header.contains("(256, 256)"), "{header}");
+    // An image file; .png defaults to a 16-bit encoding.
+    let img = out.join("h.png");
+    image::GrayImage::from_fn(16, 16, |x, _| image::Luma([(x * 16) as u8])).save(&img).unwrap();
+    let png = out.join("cone.png");
+    let o = relief().args(["maps"]).arg(&img).args(["--kind", "cone_normal", "--out"]).arg(&png).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let decoded = image::open(&png).unwrap();
+    assert_eq!((decoded.width(), decoded.height()), (16, 16));
+    assert!(matches!(decoded, image::DynamicImage::ImageLuma16(_)));
+    // Bad input: a kind that does not exist, a file that does not exist.
+    for args in [vec!["maps", "scene:step", "--kind", "cones", "--out", "/tmp/x.npy"], vec!["maps", "/no/such.png", "--kind", "cone", "--out", "/tmp/x.npy"]] {
+        let o = relief().args(&args).output().unwrap();
+        assert!(!o.status.success());
+        assert_eq!(String::from_utf8_lossy(&o.stderr).trim().lines().count(), 1);
+    }
+    std::fs::remove_dir_all(&out).ok();
+}
