@@ -32,3 +32,21 @@ fn generate_writes_five_files_per_pipeline() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[path = "../examples/sweep.rs"]
+#[allow(dead_code)]
+mod sweep;
+
+#[test]
+fn sweep_measures_the_grid_and_writes_the_report() {
+    let dir = std::env::temp_dir().join(format!("relief-example-sweep-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let (cells, files) = sweep::run(&dir).unwrap();
+    assert_eq!(cells, 4 * 2 * 2, "4 coarse × 2 refine × 2 scenes");
+    assert!(files > 0);
+    let rows = relief::runtime::sweep::read_rows(&dir).unwrap();
+    assert_eq!(rows.len(), cells);
+    assert!(rows.iter().all(|r| r.status == "ok" && r.metrics.frame_ms_median > 0.0));
+    assert!(dir.join("index.html").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
