@@ -98,26 +98,40 @@ pub(crate) fn ratio_at(tree: &MaxTree, map: &HeightMap, edge: EdgeMode, x: usize
     tree.search_min(x, y, Axis::both(edge), Axis::both(edge), &s, seed)
 }
 
+/// The smallest score at texel `(x, y)`, searched from a tight start: the 8 neighbours, and
+/// `prev`, the texel that constrained the left neighbour (usually close to ours), which is
+/// updated for the next texel of the row.
+pub(crate) fn seeded_search<S: Scorer>(
+    tree: &MaxTree,
+    map: &HeightMap,
+    edge: EdgeMode,
+    x: usize,
+    y: usize,
+    s: &S,
+    prev: &mut Option<(usize, usize)>,
+) -> f64 {
+    let (ax, ay) = (Axis::both(edge), Axis::both(edge));
+    let mut start: Best = (neighbour_seed(map, edge, x, y, s), None);
+    if let Some(v) = prev.and_then(|q| tree.score_of(x, y, q, ax, ay, s)) {
+        if v < start.0 {
+            start = (v, *prev);
+        }
+    }
+    let best = tree.search_argmin(x, y, ax, ay, s, start);
+    if best.1.is_some() {
+        *prev = best.1;
+    }
+    best.0
+}
+
 /// Conservative cone ratios, one per texel, row-major (see the module docs).
 pub fn cone_ratios(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
     let tree = MaxTree::new(map);
-    let (ax, ay) = (Axis::both(edge), Axis::both(edge));
     super::search::per_row::<1>(map.width, map.height, |y, row| {
         let mut prev: Option<(usize, usize)> = None;
         for (x, out) in row.iter_mut().enumerate() {
             let s = ConeScorer { apex: map.data[y * map.width + x] as f64, w: map.width, h: map.height };
-            let mut start: Best = (neighbour_seed(map, edge, x, y, &s), None);
-            // The left neighbour's nearest obstacle is usually close to ours: a tight start.
-            if let Some(v) = prev.and_then(|q| tree.score_of(x, y, q, ax, ay, &s)) {
-                if v < start.0 {
-                    start = (v, prev);
-                }
-            }
-            let best = tree.search_argmin(x, y, ax, ay, &s, start);
-            if best.1.is_some() {
-                prev = best.1;
-            }
-            *out = super::encode::f32_down(best.0);
+            *out = super::encode::f32_down(seeded_search(&tree, map, edge, x, y, &s, &mut prev));
         }
     })
 }

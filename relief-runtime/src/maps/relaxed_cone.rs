@@ -47,7 +47,7 @@
 //! reach: up to Θ(N⁴) in the worst case (6-octave value noise: about 1 s at 256², well over
 //! 10 s at 1024²). A faster exact method for smooth maps is open work.
 
-use super::search::{texel_distance, Axis, Best, MaxTree, Scorer};
+use super::search::{texel_distance, MaxTree, Scorer};
 use crate::heightmap::{EdgeMode, HeightMap};
 
 struct RelaxedScorer<'a> {
@@ -131,7 +131,6 @@ pub fn relaxed_cone_ratios(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
     let tree = MaxTree::with_aux(map, exit_rates(map, edge));
     let (w, h) = (map.width, map.height);
     let delta = 1.0 / (w.max(h) as f64);
-    let (ax, ay) = (Axis::both(edge), Axis::both(edge));
     super::search::per_row::<1>(w, h, |y, row| {
         let mut prev: Option<(usize, usize)> = None;
         for (x, out) in row.iter_mut().enumerate() {
@@ -143,18 +142,7 @@ pub fn relaxed_cone_ratios(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
                 v0: (y as f64 + 0.5) / h as f64,
                 delta,
             };
-            let mut start: Best = (super::cone::neighbour_seed(map, edge, x, y, &s), None);
-            // The left neighbour's constraining texel is a real candidate: a tight start.
-            if let Some(v) = prev.and_then(|q| tree.score_of(x, y, q, ax, ay, &s)) {
-                if v < start.0 {
-                    start = (v, prev);
-                }
-            }
-            let best = tree.search_argmin(x, y, ax, ay, &s, start);
-            if best.1.is_some() {
-                prev = best.1;
-            }
-            *out = super::encode::f32_down(best.0);
+            *out = super::encode::f32_down(super::cone::seeded_search(&tree, map, edge, x, y, &s, &mut prev));
         }
     })
 }
