@@ -97,13 +97,13 @@ pub enum Filter {
     Nearest,
 }
 
-fn texture_2d(m: &crate::ir::ModuleCtx, name: &str, binding: u32) -> naga::GlobalVariable {
+fn texture(m: &crate::ir::ModuleCtx, name: &str, binding: u32, dim: ImageDimension) -> naga::GlobalVariable {
     naga::GlobalVariable {
         name: Some(name.to_string()),
         space: naga::AddressSpace::Handle,
         binding: Some(naga::ResourceBinding { group: 0, binding }),
         ty: m.ty(TypeInner::Image {
-            dim: ImageDimension::D2,
+            dim,
             arrayed: false,
             class: ImageClass::Sampled { kind: ScalarKind::Float, multi: false },
         }),
@@ -112,19 +112,8 @@ fn texture_2d(m: &crate::ir::ModuleCtx, name: &str, binding: u32) -> naga::Globa
     }
 }
 
-fn texture_3d(m: &crate::ir::ModuleCtx, name: &str, binding: u32) -> naga::GlobalVariable {
-    naga::GlobalVariable {
-        name: Some(name.to_string()),
-        space: naga::AddressSpace::Handle,
-        binding: Some(naga::ResourceBinding { group: 0, binding }),
-        ty: m.ty(TypeInner::Image {
-            dim: ImageDimension::D3,
-            arrayed: false,
-            class: ImageClass::Sampled { kind: ScalarKind::Float, multi: false },
-        }),
-        init: None,
-        memory_decorations: Default::default(),
-    }
+fn texture_2d(m: &crate::ir::ModuleCtx, name: &str, binding: u32) -> naga::GlobalVariable {
+    texture(m, name, binding, ImageDimension::D2)
 }
 
 fn sampler(m: &crate::ir::ModuleCtx, name: &str, binding: u32) -> naga::GlobalVariable {
@@ -194,9 +183,7 @@ impl<'a> Stage<'a> {
     /// The smallest of the four texels around `uv` in the map's first channel (one gather):
     /// what a bilinear sample at `uv` can never undercut.
     pub fn map_min4(&'a self, map: MapReq, uv: Val<'a, Vec2>) -> Val<'a, f32> {
-        let name = map.texture_name();
-        let tex = self.module().global(&name, |m| texture_2d(m, &name, map.binding()));
-        let g = self.image_sample(tex, uv.handle(), Filter::Linear, true);
+        let g = self.map_gather(map, uv);
         g.x().min(g.y()).min(g.z().min(g.w()))
     }
 
@@ -236,7 +223,7 @@ impl<'a> Stage<'a> {
     pub fn distance(&'a self, p: Val<'a, Vec3>) -> Val<'a, f32> {
         let map = MapReq::DistanceField;
         let name = map.texture_name();
-        let tex = self.module().global(&name, |m| texture_3d(m, &name, map.binding()));
+        let tex = self.module().global(&name, |m| texture(m, &name, map.binding(), ImageDimension::D3));
         self.image_sample(tex, p.handle(), Filter::Linear, false).x()
     }
 
