@@ -49,6 +49,14 @@ pub fn percentile(xs: &[f64], q: f64) -> f64 {
     v[i]
 }
 
+/// One texel of travel: the t it takes `ray` to cross one texel horizontally on a map of
+/// `texels` texels a side. A hit further than that past the true first hit has missed
+/// geometry (the `missed_rate` criterion).
+pub fn one_texel_t(ray: &ProbeRay, texels: f64) -> f64 {
+    let horizontal = ((ray.dir[0] as f64).powi(2) + (ray.dir[1] as f64).powi(2)).sqrt();
+    1.0 / (texels * horizontal.max(1e-9))
+}
+
 /// Fills the frame-time fields from per-frame milliseconds.
 pub fn set_timing(m: &mut Metrics, frame_ms: &[f64]) {
     m.frame_ms_median = percentile(frame_ms, 0.5);
@@ -83,10 +91,7 @@ pub fn set_accuracy(m: &mut Metrics, rays: &[ProbeRay], hits: &[GpuHit], refs: &
             t_sq += dt * dt;
             let (du, dv) = (h.u as f64 - rh.u, h.v as f64 - rh.v);
             uv_sq += (du * du + dv * dv) * texels * texels;
-            // One texel of travel: the t it takes the ray to cross one texel horizontally.
-            let horizontal = ((r.dir[0] as f64).powi(2) + (r.dir[1] as f64).powi(2)).sqrt();
-            let one_texel = 1.0 / (texels * horizontal.max(1e-9));
-            if dt > one_texel {
+            if dt > one_texel_t(r, texels) {
                 missed += 1;
             }
         }

@@ -96,8 +96,7 @@ pub fn score(method: &str, scene: &Scene, angle: f32, rays: &[ProbeRay], hits: &
             max = max.max(dt.abs());
             sq += dt * dt;
             both += 1;
-            let horizontal = ((r.dir[0] as f64).powi(2) + (r.dir[1] as f64).powi(2)).sqrt();
-            if dt > 1.0 / (n * horizontal.max(1e-9)) {
+            if dt > crate::metrics::one_texel_t(r, n) {
                 missed += 1;
             }
         }
