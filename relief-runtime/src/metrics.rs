@@ -18,6 +18,9 @@ pub struct Metrics {
     pub size: u32,
     pub adapter: String,
     pub frame_ms_median: f64,
+    /// Mean frame time over the timed frames (the dissertation reports the mean of 500).
+    #[serde(default)]
+    pub frame_ms_mean: f64,
     pub frame_ms_p10: f64,
     pub frame_ms_p90: f64,
     /// Burger 2018 §4.1: Σ over pixels of (h(hit.uv) − hit.z)², summed as the dissertation
@@ -34,7 +37,22 @@ pub struct Metrics {
     pub missed_rate: f64,
     /// Hits with NaN or Inf anywhere.
     pub nan_count: u64,
+    /// Hits whose raw t lies outside the volume (`t < 0` or `t > t_max`), counted before any
+    /// clamp.
+    #[serde(default)]
+    pub outside_count: u64,
+    /// Share of rays whose coarse search ran out of steps without finding the surface.
+    #[serde(default)]
+    pub nonconverged_rate: f64,
+    /// Loop passes of the coarse search per ray (the dissertation's "avg steps").
+    #[serde(default)]
+    pub avg_coarse_steps: f64,
+    /// Loop passes of the refine search per ray.
+    #[serde(default)]
+    pub avg_refine_steps: f64,
+    /// Loop passes over all stages per ray (coarse + refine).
     pub avg_iterations: f64,
+    /// Texture fetches per ray over all stages.
     pub avg_fetches: f64,
 }
 
@@ -60,6 +78,7 @@ pub fn one_texel_t(ray: &ProbeRay, texels: f64) -> f64 {
 /// Fills the frame-time fields from per-frame milliseconds.
 pub fn set_timing(m: &mut Metrics, frame_ms: &[f64]) {
     m.frame_ms_median = percentile(frame_ms, 0.5);
+    m.frame_ms_mean = if frame_ms.is_empty() { f64::NAN } else { frame_ms.iter().sum::<f64>() / frame_ms.len() as f64 };
     m.frame_ms_p10 = percentile(frame_ms, 0.1);
     m.frame_ms_p90 = percentile(frame_ms, 0.9);
 }

@@ -33,6 +33,7 @@ fn row(pipeline: &str, ms: f64, mse: f64, ref_t: f64, missed: f64) -> Row {
             nan_count: 0,
             avg_iterations: 3.0,
             avg_fetches: 3.0,
+            ..Default::default()
         },
         status: "ok".into(),
         error: String::new(),
