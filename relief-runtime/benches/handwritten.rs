@@ -21,6 +21,7 @@ fn main() {
         wgsl: include_str!("handwritten_pom.wgsl").to_string(),
         render_bindings: vec![0, 1, 2, 4, 5],
         probe_bindings: vec![],
+        maps: vec![],
     };
     let size = 512;
     let rounds = 8;

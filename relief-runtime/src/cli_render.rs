@@ -52,20 +52,34 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     }
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create output folder {}", a.out.display()))?;
     let g = Gpu::new()?;
-    let mut prep = Prepared::new(&g, scene, a.size);
+    let mut prep = Prepared::new(&g, scene, a.size)?;
     let measured = measure(&g, &mut prep, &pipeline, 5, a.frames)?;
     write_images(&a.out, &prep, &measured)?;
     let (m, rays, hits, refs) = (&measured.metrics, &prep.rays, &measured.hits, &prep.refs);
     write_atomic(&a.out.join("metrics.json"), serde_json::to_string_pretty(m)?.as_bytes())?;
     if a.dump_hits {
         let mut csv = Vec::new();
-        writeln!(csv, "x,y,origin_u,origin_v,dir_x,dir_y,dir_z,t,u,v,z,t_ref,u_ref,v_ref,iterations,fetches")?;
+        writeln!(csv, "x,y,origin_u,origin_v,dir_x,dir_y,dir_z,t,u,v,z,t_ref,u_ref,v_ref,coarse_steps,refine_steps,fetches,converged")?;
         for ((r, h), rf) in rays.iter().zip(hits).zip(refs) {
             let (tr, ur, vr) = rf.map(|x| (x.t.to_string(), x.u.to_string(), x.v.to_string())).unwrap_or_default();
             writeln!(
                 csv,
-                "{},{},{},{},{},{},{},{},{},{},{},{tr},{ur},{vr},{},{}",
-                r.x, r.y, r.origin[0], r.origin[1], r.dir[0], r.dir[1], r.dir[2], h.t, h.u, h.v, h.z, h.iterations, h.fetches
+                "{},{},{},{},{},{},{},{},{},{},{},{tr},{ur},{vr},{},{},{},{}",
+                r.x,
+                r.y,
+                r.origin[0],
+                r.origin[1],
+                r.dir[0],
+                r.dir[1],
+                r.dir[2],
+                h.t,
+                h.u,
+                h.v,
+                h.z,
+                h.coarse_steps,
+                h.refine_steps,
+                h.fetches,
+                h.converged
             )?;
         }
         write_atomic(&a.out.join("hits.csv"), &csv)?;

@@ -25,13 +25,13 @@ pub struct Prepared {
 
 impl Prepared {
     /// Uploads `scene` and traces the reference for one ray per pixel at `size²`.
-    pub fn new(gpu: &Gpu, scene: Scene, size: u32) -> Prepared {
+    pub fn new(gpu: &Gpu, scene: Scene, size: u32) -> anyhow::Result<Prepared> {
         let textures = SceneTextures::new(gpu, &scene);
         let mut on_device = scene.clone();
         on_device.height.data = textures.heights_on_device.clone();
         let rays = scene.rays(size);
-        let refs = reference_hits(&on_device, &rays, Sampling::Bilinear);
-        Prepared { scene, on_device, textures, rays, refs, size }
+        let refs = reference_hits(&on_device, &rays, Sampling::Bilinear).with_context(|| format!("scene {}", scene.name))?;
+        Ok(Prepared { scene, on_device, textures, rays, refs, size })
     }
 }
 

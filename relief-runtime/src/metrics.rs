@@ -23,17 +23,18 @@ pub struct Metrics {
     pub frame_ms_mean: f64,
     pub frame_ms_p10: f64,
     pub frame_ms_p90: f64,
-    /// Burger 2018 §4.1: Σ over pixels of (h(hit.uv) − hit.z)², summed as the dissertation
-    /// reports it.
+    /// Burger 2018 §4.1: Σ over pixels of (h(hit.uv) − hit.z)², the sum (a NaN hit adds 1,
+    /// the largest error a hit in the volume can have).
     pub mse_dissertation: f64,
-    /// The same, divided by the number of rays.
+    /// The same, divided by the number of rays: the per-pixel mean, which is how the
+    /// dissertation's numbers behave (Table 4.1's MSE × N² stays near 0.4–0.55 for N = 5…200).
     pub mse_dissertation_mean: f64,
     /// RMS of (t − t_ref) over rays both hit.
     pub ref_err_t_rms: f64,
     /// RMS distance between hit and reference hit in texels.
     pub ref_err_uv_texels_rms: f64,
     /// Share of rays whose hit lies beyond the true first hit by more than one texel of
-    /// travel, or that report no (finite) hit where the reference hits.
+    /// travel ([`one_texel_t`]), or that report no (finite) hit.
     pub missed_rate: f64,
     /// Hits with NaN or Inf anywhere.
     pub nan_count: u64,
@@ -67,12 +68,14 @@ pub fn percentile(xs: &[f64], q: f64) -> f64 {
     v[i]
 }
 
-/// One texel of travel: the t it takes `ray` to cross one texel horizontally on a map of
-/// `texels` texels a side. A hit further than that past the true first hit has missed
-/// geometry (the `missed_rate` criterion).
+/// One texel of travel: the t it takes `ray` to cross one texel, horizontally (one texel of
+/// a map `texels` texels a side) or vertically (1/`texels` of the depth), whichever comes
+/// first. A hit further than that past the true first hit has missed geometry (the
+/// `missed_rate` criterion), and the cone tests use the same measure.
 pub fn one_texel_t(ray: &ProbeRay, texels: f64) -> f64 {
     let horizontal = ((ray.dir[0] as f64).powi(2) + (ray.dir[1] as f64).powi(2)).sqrt();
-    1.0 / (texels * horizontal.max(1e-9))
+    let vertical = (ray.dir[2] as f64).abs();
+    1.0 / (texels * horizontal.max(vertical))
 }
 
 /// Fills the frame-time fields from per-frame milliseconds.
@@ -83,44 +86,118 @@ pub fn set_timing(m: &mut Metrics, frame_ms: &[f64]) {
     m.frame_ms_p90 = percentile(frame_ms, 0.9);
 }
 
+/// A hit's z above the surface by more than this counts as ending above it.
+pub const ABOVE_SURFACE: f64 = 1e-3;
+
+/// Accuracy of a set of probe hits against the reference hits of the same rays, from the
+/// raw hits: nothing is clamped, filtered or skipped before it is counted.
+///
+/// A hit with a NaN or infinite coordinate is an error of the largest size a hit inside the
+/// volume can have: height error 1 in the MSE, t error `t_max` (the ray's whole length in
+/// the volume), uv error the ray's whole horizontal travel, and it counts as missed.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Accuracy {
+    pub rays: usize,
+    /// Σ (h(hit.uv) − hit.z)² over all rays (Burger §4.1).
+    pub mse_sum: f64,
+    /// Rays the reference hits (the t and uv errors are over these).
+    pub both: usize,
+    pub t_sq_sum: f64,
+    pub t_abs_max: f64,
+    pub uv_texels_sq_sum: f64,
+    pub missed: usize,
+    pub nan: usize,
+    pub outside: usize,
+    pub nonconverged: usize,
+    /// Finite hits that end above the surface by more than [`ABOVE_SURFACE`].
+    pub above_surface: usize,
+    pub coarse_steps: u64,
+    pub refine_steps: u64,
+    pub fetches: u64,
+}
+
+impl Accuracy {
+    /// Scores `hits` against `refs` for the same `rays`, on the surface the shader samples
+    /// (`heights`, bilinear, with `edge`).
+    pub fn of(rays: &[ProbeRay], hits: &[GpuHit], refs: &[Option<RefHit>], heights: &HeightMap, edge: EdgeMode) -> Accuracy {
+        let n = hits.len().min(rays.len()).min(refs.len());
+        let texels = heights.width.max(heights.height) as f64;
+        let mut a = Accuracy { rays: n, ..Default::default() };
+        for i in 0..n {
+            let (r, h) = (&rays[i], &hits[i]);
+            a.coarse_steps += h.coarse_steps as u64;
+            a.refine_steps += h.refine_steps as u64;
+            a.fetches += h.fetches as u64;
+            a.nonconverged += (h.converged == 0) as usize;
+            let t_max = 1.0 / -(r.dir[2] as f64);
+            if !h.is_finite() {
+                a.nan += 1;
+                a.missed += 1;
+                a.mse_sum += 1.0;
+                if refs[i].is_some() {
+                    let reach = ((r.dir[0] as f64).powi(2) + (r.dir[1] as f64).powi(2)).sqrt() * t_max * texels;
+                    a.both += 1;
+                    a.t_sq_sum += t_max * t_max;
+                    a.t_abs_max = a.t_abs_max.max(t_max);
+                    a.uv_texels_sq_sum += reach * reach;
+                }
+                continue;
+            }
+            a.outside += h.outside(r) as usize;
+            let surface = heights.bilinear(h.u as f64, h.v as f64, edge);
+            let e = surface - h.z as f64;
+            a.mse_sum += e * e;
+            a.above_surface += (h.z as f64 > surface + ABOVE_SURFACE) as usize;
+            if let Some(rh) = refs[i] {
+                a.both += 1;
+                let dt = h.t as f64 - rh.t;
+                a.t_sq_sum += dt * dt;
+                a.t_abs_max = a.t_abs_max.max(dt.abs());
+                let (du, dv) = (h.u as f64 - rh.u, h.v as f64 - rh.v);
+                a.uv_texels_sq_sum += (du * du + dv * dv) * texels * texels;
+                if dt > one_texel_t(r, texels) {
+                    a.missed += 1;
+                }
+            }
+        }
+        a
+    }
+
+    fn share(&self, count: usize) -> f64 {
+        if self.rays > 0 { count as f64 / self.rays as f64 } else { 0.0 }
+    }
+    fn per_ray(&self, sum: f64) -> f64 {
+        if self.rays > 0 { sum / self.rays as f64 } else { 0.0 }
+    }
+    /// RMS of t − t_ref over the rays the reference hits.
+    pub fn t_rms(&self) -> f64 {
+        if self.both > 0 { (self.t_sq_sum / self.both as f64).sqrt() } else { 0.0 }
+    }
+    pub fn missed_rate(&self) -> f64 {
+        self.share(self.missed)
+    }
+    pub fn nonconverged_rate(&self) -> f64 {
+        self.share(self.nonconverged)
+    }
+    pub fn above_surface_rate(&self) -> f64 {
+        self.share(self.above_surface)
+    }
+}
+
 /// The accuracy fields, from the probe's hits and the reference hits of the same rays, on
 /// the surface the shader samples (`heights`, bilinear, with `edge`).
 pub fn set_accuracy(m: &mut Metrics, rays: &[ProbeRay], hits: &[GpuHit], refs: &[Option<RefHit>], heights: &HeightMap, edge: EdgeMode) {
-    let n = hits.len().min(rays.len()).min(refs.len());
-    let texels = heights.width.max(heights.height) as f64;
-    let (mut sq_sum, mut t_sq, mut uv_sq, mut both) = (0.0, 0.0, 0.0, 0usize);
-    let (mut missed, mut nans, mut iters, mut fetches) = (0usize, 0u64, 0u64, 0u64);
-    for i in 0..n {
-        let (r, h) = (&rays[i], &hits[i]);
-        iters += h.iterations as u64;
-        fetches += h.fetches as u64;
-        let finite = [h.t, h.u, h.v, h.z].iter().all(|x| x.is_finite());
-        if !finite {
-            nans += 1;
-            if refs[i].is_some() {
-                missed += 1;
-            }
-            continue;
-        }
-        let e = heights.bilinear(h.u as f64, h.v as f64, edge) - h.z as f64;
-        sq_sum += e * e;
-        if let Some(rh) = refs[i] {
-            both += 1;
-            let dt = h.t as f64 - rh.t;
-            t_sq += dt * dt;
-            let (du, dv) = (h.u as f64 - rh.u, h.v as f64 - rh.v);
-            uv_sq += (du * du + dv * dv) * texels * texels;
-            if dt > one_texel_t(r, texels) {
-                missed += 1;
-            }
-        }
-    }
-    m.mse_dissertation = sq_sum;
-    m.mse_dissertation_mean = if n > 0 { sq_sum / n as f64 } else { 0.0 };
-    m.ref_err_t_rms = if both > 0 { (t_sq / both as f64).sqrt() } else { 0.0 };
-    m.ref_err_uv_texels_rms = if both > 0 { (uv_sq / both as f64).sqrt() } else { 0.0 };
-    m.missed_rate = if n > 0 { missed as f64 / n as f64 } else { 0.0 };
-    m.nan_count = nans;
-    m.avg_iterations = if n > 0 { iters as f64 / n as f64 } else { 0.0 };
-    m.avg_fetches = if n > 0 { fetches as f64 / n as f64 } else { 0.0 };
+    let a = Accuracy::of(rays, hits, refs, heights, edge);
+    m.mse_dissertation = a.mse_sum;
+    m.mse_dissertation_mean = a.per_ray(a.mse_sum);
+    m.ref_err_t_rms = a.t_rms();
+    m.ref_err_uv_texels_rms = if a.both > 0 { (a.uv_texels_sq_sum / a.both as f64).sqrt() } else { 0.0 };
+    m.missed_rate = a.missed_rate();
+    m.nan_count = a.nan as u64;
+    m.outside_count = a.outside as u64;
+    m.nonconverged_rate = a.nonconverged_rate();
+    m.avg_coarse_steps = a.per_ray(a.coarse_steps as f64);
+    m.avg_refine_steps = a.per_ray(a.refine_steps as f64);
+    m.avg_iterations = a.per_ray((a.coarse_steps + a.refine_steps) as f64);
+    m.avg_fetches = a.per_ray(a.fetches as f64);
 }

@@ -62,7 +62,27 @@ pub struct Reference {
     edge: EdgeMode,
     sampling: Sampling,
     pyramid: Pyramid,
+    /// The most traversal passes a query may take before it is an error.
+    pass_limit: u64,
 }
+
+/// The traversal did not end within its pass limit: a logic error in the reference (or a
+/// limit set too low with [`Reference::with_pass_limit`]), never a silent "no hit".
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("the exact reference did not finish the ray from ({u}, {v}) with direction ({dx}, {dy}, {dz}) within {passes} traversal passes")]
+pub struct ReferenceError {
+    pub u: f64,
+    pub v: f64,
+    pub dx: f64,
+    pub dy: f64,
+    pub dz: f64,
+    pub passes: u64,
+}
+
+/// The default pass limit: each pass descends a level or moves to the next cell or block, so
+/// a ray over an N² map takes at most a few times N·(levels + 1) passes; 10⁸ is far beyond
+/// any map relief loads (8192² included).
+pub const PASS_LIMIT: u64 = 100_000_000;
 
 impl Reference {
     /// Prepares `map` (copied) for queries.
@@ -71,7 +91,13 @@ impl Reference {
             Sampling::Bilinear => cell_max_mip(map, edge),
             Sampling::Nearest => max_mip(map),
         };
-        Reference { map: map.clone(), edge, sampling, pyramid }
+        Reference { map: map.clone(), edge, sampling, pyramid, pass_limit: PASS_LIMIT }
+    }
+
+    /// The same reference with another pass limit (tests use a tiny one to see the error).
+    pub fn with_pass_limit(mut self, passes: u64) -> Reference {
+        self.pass_limit = passes;
+        self
     }
 
     /// Prepares a scene's height map with the scene's edge mode.
@@ -89,34 +115,35 @@ impl Reference {
 
     /// The first hit of the ray `(origin, 1) + t·dir`, with empty-space skipping. `None` if
     /// `dir.z >= 0`, the ray is not finite, or (only with negative heights) nothing is hit
-    /// before height 0.
-    pub fn first_hit(&self, origin: [f64; 2], dir: [f64; 3]) -> Option<RefHit> {
+    /// before height 0; an error if the traversal does not end within its pass limit.
+    pub fn first_hit(&self, origin: [f64; 2], dir: [f64; 3]) -> Result<Option<RefHit>, ReferenceError> {
         self.traverse(origin, dir, true)
     }
 
     /// The same query visiting every cell along the ray (no skipping). Slower; the tests use
     /// it to show that skipping changes nothing.
-    pub fn first_hit_cells(&self, origin: [f64; 2], dir: [f64; 3]) -> Option<RefHit> {
+    pub fn first_hit_cells(&self, origin: [f64; 2], dir: [f64; 3]) -> Result<Option<RefHit>, ReferenceError> {
         self.traverse(origin, dir, false)
     }
 
     /// The first hit of a probe ray (its f32 values widened exactly to f64).
-    pub fn trace(&self, ray: &ProbeRay) -> Option<RefHit> {
+    pub fn trace(&self, ray: &ProbeRay) -> Result<Option<RefHit>, ReferenceError> {
         let o = [ray.origin[0] as f64, ray.origin[1] as f64];
         let d = [ray.dir[0] as f64, ray.dir[1] as f64, ray.dir[2] as f64];
         self.first_hit(o, d)
     }
 
-    /// [`Reference::trace`] for every ray, in parallel (rayon), in input order.
-    pub fn trace_all(&self, rays: &[ProbeRay]) -> Vec<Option<RefHit>> {
+    /// [`Reference::trace`] for every ray, in parallel (rayon), in input order; the first
+    /// error, naming its ray, if any ray fails.
+    pub fn trace_all(&self, rays: &[ProbeRay]) -> Result<Vec<Option<RefHit>>, ReferenceError> {
         rays.par_iter().map(|r| self.trace(r)).collect()
     }
 
-    fn traverse(&self, origin: [f64; 2], dir: [f64; 3], skip: bool) -> Option<RefHit> {
+    fn traverse(&self, origin: [f64; 2], dir: [f64; 3], skip: bool) -> Result<Option<RefHit>, ReferenceError> {
         let finite = origin.iter().chain(dir.iter()).all(|c| c.is_finite());
         let dz = dir[2];
         if !finite || dz >= 0.0 {
-            return None;
+            return Ok(None);
         }
         let (w, h) = (self.map.width as f64, self.map.height as f64);
         // Grid coordinates: cell (or texel) c spans [c, c + 1).
@@ -140,9 +167,9 @@ impl Reference {
 
         // Each pass either descends a level or moves (cx, cy) forward along the ray, so the
         // loop ends; the bound is a guard against a logic error only.
-        for _ in 0..100_000_000u64 {
+        for _ in 0..self.pass_limit {
             if t > t_end {
-                return None;
+                return Ok(None);
             }
             if level == 0 {
                 let (tx, ty) = (ray.exit_x(cx, cx + 1), ray.exit_y(cy, cy + 1));
@@ -153,12 +180,12 @@ impl Reference {
                     Sampling::Nearest => self.solve_nearest(&ray, cx, cy, t, tb),
                 };
                 if let Some(th) = s {
-                    return Some(hit(origin, dir, th));
+                    return Ok(Some(hit(origin, dir, th)));
                 }
                 if t_exit >= t_end {
                     // The ray reached height 0 in this cell: a hit unless heights are negative.
                     let z = self.height_at(origin[0] + t_end * dir[0], origin[1] + t_end * dir[1]);
-                    return (z >= -1e-12).then(|| hit(origin, dir, t_end));
+                    return Ok((z >= -1e-12).then(|| hit(origin, dir, t_end)));
                 }
                 (cx, cy) = ray.step(cx, cy, tx, ty, [cx, cx + 1, cy, cy + 1]);
                 t = t.max(t_exit);
@@ -187,8 +214,7 @@ impl Reference {
             }
             level -= 1;
         }
-        debug_assert!(false, "reference traversal did not terminate");
-        None
+        Err(ReferenceError { u: origin[0], v: origin[1], dx: dir[0], dy: dir[1], dz, passes: self.pass_limit })
     }
 
     /// First t in [ta, tb] where the ray is at or below the bilinear patch of cell (cx, cy).
@@ -302,6 +328,6 @@ fn hit(o: [f64; 2], d: [f64; 3], t: f64) -> RefHit {
 
 /// Exact first hits of `rays` on `scene`'s height map (its edge mode, the given sampling),
 /// in parallel and in input order.
-pub fn reference_hits(scene: &Scene, rays: &[ProbeRay], sampling: Sampling) -> Vec<Option<RefHit>> {
+pub fn reference_hits(scene: &Scene, rays: &[ProbeRay], sampling: Sampling) -> Result<Vec<Option<RefHit>>, ReferenceError> {
     Reference::for_scene(scene, sampling).trace_all(rays)
 }

@@ -35,13 +35,16 @@ pub struct Cell {
     pub rays: usize,
     /// Hits with NaN or Inf anywhere.
     pub nan_count: usize,
-    /// Finite hits outside the volume (t < 0, or z outside [0, 1]).
+    /// Finite hits whose raw t lies outside the volume ([`GpuHit::outside`]).
     pub outside_count: usize,
-    /// Share of rays whose hit is more than one texel of travel past the exact first hit.
+    /// Share of rays whose hit is more than one texel of travel past the exact first hit, or
+    /// NaN ([`crate::metrics::one_texel_t`]).
     pub missed_rate: f64,
-    /// Share of rays whose search ended above the surface (z above the height there by more
-    /// than 1/1000).
+    /// Share of rays whose coarse search ran out of steps before it found the surface.
     pub nonconverged_rate: f64,
+    /// Share of rays whose hit ends above the surface (z above the height there by more than
+    /// [`crate::metrics::ABOVE_SURFACE`]): what a one-shot method's non-convergence looks like.
+    pub above_surface_rate: f64,
     pub ref_err_t_max: f64,
     pub ref_err_t_rms: f64,
 }
@@ -74,45 +77,22 @@ pub fn rays(scene: &Scene, n: u32, angle: f32) -> Vec<ProbeRay> {
     out
 }
 
-/// Scores one method's hits against the reference.
+/// Scores one method's hits against the reference, with the metrics' own per-ray rules
+/// ([`crate::metrics::Accuracy`]).
 pub fn score(method: &str, scene: &Scene, angle: f32, rays: &[ProbeRay], hits: &[GpuHit], refs: &[Option<RefHit>]) -> Cell {
-    let n = scene.height.width.max(scene.height.height) as f64;
-    let (mut nan, mut outside, mut missed, mut nonconv) = (0, 0, 0, 0);
-    let (mut max, mut sq, mut both) = (0f64, 0f64, 0usize);
-    for ((r, h), rf) in rays.iter().zip(hits).zip(refs) {
-        if ![h.t, h.u, h.v, h.z].iter().all(|x| x.is_finite()) {
-            nan += 1;
-            missed += 1;
-            continue;
-        }
-        if h.t < 0.0 || h.z > 1.0 + 1e-5 || h.z < -1e-5 {
-            outside += 1;
-        }
-        if (h.z as f64) > scene.height.bilinear(h.u as f64, h.v as f64, scene.edge) + 1e-3 {
-            nonconv += 1;
-        }
-        if let Some(rf) = rf {
-            let dt = h.t as f64 - rf.t;
-            max = max.max(dt.abs());
-            sq += dt * dt;
-            both += 1;
-            if dt > crate::metrics::one_texel_t(r, n) {
-                missed += 1;
-            }
-        }
-    }
-    let count = rays.len().max(1) as f64;
+    let a = crate::metrics::Accuracy::of(rays, hits, refs, &scene.height, scene.edge);
     Cell {
         method: method.to_string(),
         scene: scene.name.clone(),
         angle,
-        rays: rays.len(),
-        nan_count: nan,
-        outside_count: outside,
-        missed_rate: missed as f64 / count,
-        nonconverged_rate: nonconv as f64 / count,
-        ref_err_t_max: max,
-        ref_err_t_rms: if both > 0 { (sq / both as f64).sqrt() } else { 0.0 },
+        rays: a.rays,
+        nan_count: a.nan,
+        outside_count: a.outside,
+        missed_rate: a.missed_rate(),
+        nonconverged_rate: a.nonconverged_rate(),
+        above_surface_rate: a.above_surface_rate(),
+        ref_err_t_max: a.t_abs_max,
+        ref_err_t_rms: a.t_rms(),
     }
 }
 
@@ -142,7 +122,7 @@ pub fn run(gpu: &Gpu, size: u32, methods: &[Pipeline], scenes: &[&str], angles: 
         on_device.height.data = tex.heights_on_device.clone();
         for &angle in angles {
             let rays = rays(&scene, size, angle);
-            let refs = reference_hits(&on_device, &rays, Sampling::Bilinear);
+            let refs = reference_hits(&on_device, &rays, Sampling::Bilinear).with_context(|| format!("{name} at {angle}°"))?;
             for (text, program, maps) in &programs {
                 tex.add_maps(gpu, &scene, maps)?;
                 let hits = gpu::probe(gpu, program, &scene, &tex, &rays).with_context(|| format!("{text} on {name}"))?;
@@ -163,11 +143,12 @@ pub fn write(out: &Path, cells: &[Cell]) -> anyhow::Result<()> {
         w.serialize(c)?;
     }
     crate::cli_gen::write_atomic(&out.join("stability.csv"), &w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))?)?;
-    let metrics: [(&str, fn(&Cell) -> f64); 6] = [
+    let metrics: [(&str, fn(&Cell) -> f64); 7] = [
         ("nan_count", |c| c.nan_count as f64),
         ("outside_count", |c| c.outside_count as f64),
         ("missed_rate", |c| c.missed_rate),
         ("nonconverged_rate", |c| c.nonconverged_rate),
+        ("above_surface_rate", |c| c.above_surface_rate),
         ("ref_err_t_max", |c| c.ref_err_t_max),
         ("ref_err_t_rms", |c| c.ref_err_t_rms),
     ];
@@ -180,7 +161,9 @@ pub fn write(out: &Path, cells: &[Cell]) -> anyhow::Result<()> {
 
 /// The worst condition of each method, by missed rate then RMS error.
 pub fn worst_table(cells: &[Cell]) -> String {
-    let mut s = String::from("| method | worst condition | missed rate | non-converged | max t error | NaN | outside |\n|---|---|---|---|---|---|---|\n");
+    let mut s = String::from(
+        "| method | worst condition | missed rate | non-converged | ends above surface | max t error | NaN | outside |\n|---|---|---|---|---|---|---|---|\n",
+    );
     let mut methods: Vec<&str> = cells.iter().map(|c| c.method.as_str()).collect();
     methods.dedup();
     let mut seen = std::collections::HashSet::new();
@@ -197,11 +180,12 @@ pub fn worst_table(cells: &[Cell]) -> String {
             let outside: usize = cells.iter().filter(|x| x.method == m).map(|x| x.outside_count).sum();
             let _ = writeln!(
                 s,
-                "| `{m}` | {} at {}° | {:.1}% | {:.1}% | {:.3} | {nan} | {outside} |",
+                "| `{m}` | {} at {}° | {:.1}% | {:.1}% | {:.1}% | {:.3} | {nan} | {outside} |",
                 c.scene.trim_start_matches("scene:"),
                 c.angle,
                 100.0 * c.missed_rate,
                 100.0 * c.nonconverged_rate,
+                100.0 * c.above_surface_rate,
                 c.ref_err_t_max
             );
         }

@@ -34,7 +34,7 @@ impl Probe {
     fn new(name: &str, size: usize, seed: u64) -> Probe {
         let scene = Scene::by_name(name, Some(size)).unwrap();
         let rays = random_rays(4096, seed);
-        let refs = reference_hits(&scene, &rays, Sampling::Bilinear);
+        let refs = reference_hits(&scene, &rays, Sampling::Bilinear).unwrap();
         Probe { rays, refs, scene }
     }
 
@@ -47,12 +47,9 @@ impl Probe {
         gpu::probe(g, &program, &self.scene, &tex, &self.rays).unwrap_or_else(|e| panic!("{pipeline}: {e}"))
     }
 
-    /// The t it takes `ray` to cross one texel: horizontally, or vertically (1/N of the
-    /// depth), whichever comes first.
+    /// The t it takes `ray` to cross one texel (the metrics' definition).
     fn texel_t(&self, ray: &ProbeRay) -> f64 {
-        let n = self.scene.height.width as f64;
-        let horizontal = ((ray.dir[0] as f64).powi(2) + (ray.dir[1] as f64).powi(2)).sqrt();
-        1.0 / (n * horizontal.max(1.0))
+        relief_runtime::metrics::one_texel_t(ray, self.scene.height.width as f64)
     }
 
     /// The longest stretch of the ray before the hit that runs inside the surface, in texels
@@ -138,7 +135,7 @@ fn cone_methods_never_skip_geometry() {
                     &bad[..bad.len().min(3)]
                 ));
             }
-            let outside: Vec<_> = hits.iter().enumerate().filter(|(_, h)| !(h.t >= 0.0 && h.z <= 1.0 + 1e-6)).take(3).collect();
+            let outside: Vec<_> = hits.iter().zip(&probe.rays).enumerate().filter(|(_, (h, r))| !h.is_finite() || h.outside(r)).take(3).collect();
             assert!(outside.is_empty(), "{method} on {scene}: hit outside the volume: {outside:?}");
         }
     }

@@ -19,7 +19,7 @@ fn measure(g: &Gpu, pipeline: &str, scene: &Scene, size: u32) -> (Metrics, Vec<g
     let hits = gpu::probe(g, &program, scene, &tex, &rays).unwrap_or_else(|e| panic!("{e}"));
     let mut on_device = scene.clone();
     on_device.height.data = tex.heights_on_device.clone();
-    let refs = reference_hits(&on_device, &rays, Sampling::Bilinear);
+    let refs = reference_hits(&on_device, &rays, Sampling::Bilinear).unwrap();
     let mut m = Metrics { pipeline: pipeline.into(), scene: scene.name.clone(), size, ..Default::default() };
     metrics::set_accuracy(&mut m, &rays, &hits, &refs, &on_device.height, scene.edge);
     (m, hits)
@@ -41,7 +41,7 @@ fn dissertation_reference_configuration_matches_the_exact_reference_on_smooth_sc
         assert!(m.ref_err_t_rms < 1e-4, "{name}: t error {}", m.ref_err_t_rms);
         assert!(m.missed_rate < 0.01, "{name}: missed {}", m.missed_rate);
         assert!(m.ref_err_uv_texels_rms < 0.5, "{name}: uv error {} texels", m.ref_err_uv_texels_rms);
-        assert!(hits.iter().all(|h| h.fetches > 0 && h.iterations > 0));
+        assert!(hits.iter().all(|h| h.fetches > 0 && h.coarse_steps > 0 && h.refine_steps == 8 && h.converged == 1));
     }
 }
 
@@ -52,13 +52,18 @@ fn coarse_only_linear_is_worse_than_refined_and_counts_its_work() {
     let (coarse, hits_c) = measure(&g, "linear(8)", &scene, 64);
     let (refined, hits_r) = measure(&g, "linear(8)+binary(6)", &scene, 64);
     assert!(refined.ref_err_t_rms < coarse.ref_err_t_rms / 4.0, "{} vs {}", refined.ref_err_t_rms, coarse.ref_err_t_rms);
-    // Binary adds exactly 6 loop passes and 6 fetches per ray.
+    // Binary adds exactly 6 refine passes and 6 fetches per ray, and leaves the coarse count
+    // alone.
     for (c, r) in hits_c.iter().zip(&hits_r) {
-        assert_eq!(r.iterations, c.iterations + 6);
+        assert_eq!((r.coarse_steps, r.refine_steps), (c.coarse_steps, 6));
+        assert_eq!(c.refine_steps, 0);
         assert_eq!(r.fetches, c.fetches + 6);
     }
+    assert_eq!(refined.avg_refine_steps, 6.0);
+    assert_eq!(refined.avg_coarse_steps, coarse.avg_coarse_steps);
+    assert_eq!(refined.avg_iterations, coarse.avg_iterations + 6.0);
     // Linear stops at the first sample under the surface: never more than 8 passes.
-    assert!(hits_c.iter().all(|h| (1..=8).contains(&h.iterations)));
+    assert!(hits_c.iter().all(|h| (1..=8).contains(&h.coarse_steps)));
 }
 
 #[test]

@@ -92,7 +92,7 @@ fn test_map(kind: u8, w: usize, h: usize, seed: u64) -> HeightMap {
 /// Checks one ray against the oracle. Returns true when the oracle missed a thin feature the
 /// reference found (allowed, counted by the caller).
 fn check(r: &Reference, o: [f64; 2], d: [f64; 3], sampling: Sampling) -> Result<bool, TestCaseError> {
-    let hit = r.first_hit(o, d).ok_or_else(|| TestCaseError::fail("reference found no hit"))?;
+    let hit = r.first_hit(o, d).map_err(|e| TestCaseError::fail(e.to_string()))?.ok_or_else(|| TestCaseError::fail("reference found no hit"))?;
     let t_o = oracle(r, o, d);
     let g = |t: f64| r.height_at(o[0] + t * d[0], o[1] + t * d[1]) - (1.0 + t * d[2]);
     // A nearest-texel wall hit lies on the boundary between two texels, where the sampled
@@ -149,8 +149,8 @@ proptest! {
         let r = Reference::new(&map, edge, sampling);
         check(&r, o, d, sampling)?;
         // Skipping never changes the answer.
-        let a = r.first_hit(o, d).unwrap();
-        let b = r.first_hit_cells(o, d).unwrap();
+        let a = r.first_hit(o, d).unwrap().unwrap();
+        let b = r.first_hit_cells(o, d).unwrap().unwrap();
         prop_assert!((a.t - b.t).abs() < 1e-12, "skip {a:?} vs cells {b:?}");
     }
 }
@@ -202,8 +202,8 @@ fn max_mip_skipping_matches_plain_cell_traversal() {
                     rays.push(([rng.next() * 2.0 - 0.5, rng.next()], [len * phi.cos(), len * phi.sin(), -1.0]));
                 }
                 for (o, d) in rays {
-                    let a = r.first_hit(o, d).expect("skip: no hit");
-                    let b = r.first_hit_cells(o, d).expect("cells: no hit");
+                    let a = r.first_hit(o, d).unwrap().expect("skip: no hit");
+                    let b = r.first_hit_cells(o, d).unwrap().expect("cells: no hit");
                     assert!((a.t - b.t).abs() < 1e-12, "{name} {edge:?} {sampling:?} {o:?} {d:?}: {a:?} vs {b:?}");
                 }
             }
@@ -217,30 +217,30 @@ fn closed_form_cases() {
     for s in [Sampling::Bilinear, Sampling::Nearest] {
         // Flat at 1: hit at the entry. Flat at 0: at t = 1, exactly.
         let one = r(HeightMap::from_fn(5, 7, |_, _| 1.0), s);
-        assert_eq!(one.first_hit([0.3, 0.2], [2.0, 1.0, -1.0]).unwrap().t, 0.0);
+        assert_eq!(one.first_hit([0.3, 0.2], [2.0, 1.0, -1.0]).unwrap().unwrap().t, 0.0);
         let zero = r(HeightMap::from_fn(5, 7, |_, _| 0.0), s);
-        let hz = zero.first_hit([0.3, 0.2], [2.0, -1.0, -1.0]).unwrap();
+        let hz = zero.first_hit([0.3, 0.2], [2.0, -1.0, -1.0]).unwrap().unwrap();
         assert_eq!((hz.t, hz.z), (1.0, 0.0));
         // Flat at 0.25 with a steeper normalization (dz = -2: height 0 at t = 0.5).
         let q = r(HeightMap::from_fn(4, 4, |_, _| 0.25), s);
-        assert!((q.first_hit([0.1, 0.9], [0.3, 0.0, -2.0]).unwrap().t - 0.375).abs() < 1e-15);
+        assert!((q.first_hit([0.1, 0.9], [0.3, 0.0, -2.0]).unwrap().unwrap().t - 0.375).abs() < 1e-15);
         // Vertical ray: t = 1 - h(origin).
         let m = test_map(1, 13, 11, 5);
         let rr = r(m.clone(), s);
         let h = rr.height_at(0.37, 0.61);
-        assert!((rr.first_hit([0.37, 0.61], [0.0, 0.0, -1.0]).unwrap().t - (1.0 - h)).abs() < 1e-12);
+        assert!((rr.first_hit([0.37, 0.61], [0.0, 0.0, -1.0]).unwrap().unwrap().t - (1.0 - h)).abs() < 1e-12);
         // Rays that point up or are not finite have no hit.
-        assert!(rr.first_hit([0.5, 0.5], [0.1, 0.0, 0.0]).is_none());
-        assert!(rr.first_hit([f64::NAN, 0.5], [0.1, 0.0, -1.0]).is_none());
+        assert!(rr.first_hit([0.5, 0.5], [0.1, 0.0, 0.0]).unwrap().is_none());
+        assert!(rr.first_hit([f64::NAN, 0.5], [0.1, 0.0, -1.0]).unwrap().is_none());
     }
     // Nearest: a ray running along +u into the 0.875 half of the step hits its wall at u = 0.5.
     let st = r(test_map(3, 8, 8, 0), Sampling::Nearest);
-    let hit = st.first_hit([0.25, 0.5], [1.0, 0.0, -1.0]).unwrap();
+    let hit = st.first_hit([0.25, 0.5], [1.0, 0.0, -1.0]).unwrap().unwrap();
     assert!((hit.u - 0.5).abs() < 1e-12 && (hit.t - 0.25).abs() < 1e-12, "{hit:?}");
     // Bilinear: the same cliff is a ramp between the texel centres at u = 7/16 and 9/16
     // (0.125 to 0.875); a ray at height 0.5 hits it half way, at u = 0.5.
     let sb = r(test_map(3, 8, 8, 0), Sampling::Bilinear);
-    let hit = sb.first_hit([0.25, 0.5], [1.0, 0.0, -2.0]).unwrap();
+    let hit = sb.first_hit([0.25, 0.5], [1.0, 0.0, -2.0]).unwrap().unwrap();
     assert!((hit.u - 0.5).abs() < 1e-12 && (hit.z - 0.5).abs() < 1e-12, "{hit:?}");
 }
 
@@ -252,10 +252,10 @@ fn clamp_continues_past_the_edge() {
     let r = Reference::new(&map, EdgeMode::Clamp, Sampling::Bilinear);
     // Starts left of the last column, passes over its ramp and goes far right, where the
     // height is 0.625 everywhere: it comes down to it at t = 0.375, u = 7.6.
-    let hit = r.first_hit([0.1, 0.5], [20.0, 0.0, -1.0]).unwrap();
+    let hit = r.first_hit([0.1, 0.5], [20.0, 0.0, -1.0]).unwrap().unwrap();
     assert!((hit.z - 0.625).abs() < 1e-12 && (hit.u - 7.6).abs() < 1e-9, "{hit:?}");
     let rep = Reference::new(&map, EdgeMode::Repeat, Sampling::Bilinear);
-    let h2 = rep.first_hit([0.1, 0.5], [20.0, 0.0, -1.0]).unwrap();
+    let h2 = rep.first_hit([0.1, 0.5], [20.0, 0.0, -1.0]).unwrap().unwrap();
     // Repeated, the map is mostly 0 out there: the same ray goes further.
     assert!(h2.t > hit.t, "{h2:?}");
 }
@@ -266,12 +266,26 @@ fn clamp_continues_past_the_edge() {
 fn scene_rays_all_hit() {
     let scene = Scene::by_name("rock_bump", Some(128)).unwrap();
     let rays = scene.rays(64);
-    let hits = reference_hits(&scene, &rays, Sampling::Bilinear);
+    let hits = reference_hits(&scene, &rays, Sampling::Bilinear).unwrap();
     let r = Reference::for_scene(&scene, Sampling::Bilinear);
     assert_eq!(hits.len(), rays.len());
     for (ray, h) in rays.iter().zip(&hits) {
         let h = h.expect("every camera ray hits");
         assert!((0.0..=1.0).contains(&h.t));
-        assert_eq!(Some(h), r.trace(ray));
+        assert_eq!(Some(h), r.trace(ray).unwrap());
     }
+}
+
+/// The traversal's loop guard is an error that names the ray, never a silent "no hit": with
+/// a pass limit of 3, a grazing ray across a 64² map (which needs far more passes) fails,
+/// and the message gives its origin and direction.
+#[test]
+fn a_traversal_that_does_not_finish_is_an_error_naming_the_ray() {
+    let scene = Scene::by_name("rock_bump", Some(64)).unwrap();
+    let r = Reference::for_scene(&scene, Sampling::Bilinear);
+    let (o, d) = ([0.125, 0.5], [3.0, 0.25, -1.0]);
+    assert!(r.first_hit(o, d).unwrap().is_some(), "with the default limit the ray hits");
+    let err = r.with_pass_limit(3).first_hit(o, d).unwrap_err();
+    let text = err.to_string();
+    assert!(text.contains("(0.125, 0.5)") && text.contains("(3, 0.25, -1)") && text.contains("3 traversal passes"), "{text}");
 }

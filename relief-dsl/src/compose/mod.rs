@@ -70,14 +70,17 @@ pub const PARAMS_LAYOUT: &str = "view_proj: mat4x4<f32>, camera: vec4<f32>, ligh
 /// Size of one [`ProbeRay`] in bytes.
 pub const PROBE_RAY_SIZE: u64 = 32;
 /// Size of one [`ProbeHit`] in bytes.
-pub const PROBE_HIT_SIZE: u64 = 24;
+pub const PROBE_HIT_SIZE: u64 = 32;
 
 /// Documentation of the probe's input record (32 bytes): `origin: vec2<f32>` (texture
 /// coordinates where the ray enters at z = 1), `dir_xy: vec2<f32>`, `dir_z: f32` (the
 /// normalized tangent-space direction), `pixel_x: u32`, `pixel_y: u32`, `pad: u32`.
 pub struct ProbeRay;
-/// Documentation of the probe's output record (24 bytes): `t, u, v, z: f32`,
-/// `iterations: u32` (loop passes over all stages), `fetches: u32` (texture samples).
+/// Documentation of the probe's output record (32 bytes): `t, u, v, z: f32` (the search's
+/// raw result: never clamped into the volume), `coarse_steps: u32` and `refine_steps: u32`
+/// (loop passes of the coarse and of the refine stage), `fetches: u32` (texture samples over
+/// both), `converged: u32` (1 when the coarse search found the surface, 0 when it ran out of
+/// steps and the hit is the last point it knew to be above the surface).
 pub struct ProbeHit;
 
 /// Workgroup size of the probe entry.
@@ -123,8 +126,8 @@ impl Types {
     fn new(m: &ModuleCtx) -> Self {
         Types {
             ray: m.struct_ty("Ray", &[("origin", Vec2::inner()), ("dir", Vec3::inner()), ("cos_view", f32_ty())]),
-            bracket: m.struct_ty("Bracket", &[("above", f32_ty()), ("below", f32_ty())]),
-            hit: m.struct_ty("Hit", &[("t", f32_ty()), ("uv", Vec2::inner()), ("z", f32_ty())]),
+            bracket: m.struct_ty("Bracket", &[("above", f32_ty()), ("below", f32_ty()), ("found", bool::inner())]),
+            hit: m.struct_ty("Hit", &[("t", f32_ty()), ("uv", Vec2::inner()), ("z", f32_ty()), ("found", bool::inner())]),
         }
     }
 }
@@ -136,10 +139,10 @@ fn ray_value<'a>(s: &'a Stage<'a>, ty: &Types, r: &Ray<'a>) -> Handle<naga::Expr
     s.make_struct(ty.ray, &[r.origin.handle(), r.dir.handle(), r.cos_view.handle()])
 }
 fn hit_from<'a>(s: &'a Stage<'a>, h: Handle<naga::Expression>) -> Hit<'a> {
-    Hit { t: s.field(h, 0), uv: s.field(h, 1), z: s.field(h, 2) }
+    Hit { t: s.field(h, 0), uv: s.field(h, 1), z: s.field(h, 2), found: s.field(h, 3) }
 }
 fn hit_value<'a>(s: &'a Stage<'a>, ty: &Types, h: &Hit<'a>) -> Handle<naga::Expression> {
-    s.make_struct(ty.hit, &[h.t.handle(), h.uv.handle(), h.z.handle()])
+    s.make_struct(ty.hit, &[h.t.handle(), h.uv.handle(), h.z.handle(), h.found.handle()])
 }
 
 /// The stage functions of one variant (plain or counted).
@@ -170,16 +173,18 @@ fn wrap_err(slot: Slot, spec: &StageSpec) -> impl Fn(CompileError) -> CompileErr
 fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: bool) -> Result<StageFns, CompileError> {
     m.counting.set(counted);
     // coarse(ray) -> Bracket
+    m.step_counter.set(crate::ir::counter::COARSE_STEPS);
     let coarse = {
         let s = m.function(&fn_name(Slot::Coarse, &p.coarse, counted), &[("ray", ty.ray, None)]);
         let arg = s.arg::<Vec4>(0).handle();
         let ray = ray_from(&s, arg);
         let b = stage::coarse::build(&s, &ray, &p.coarse).map_err(wrap_err(Slot::Coarse, &p.coarse))?;
-        let v = s.make_struct(ty.bracket, &[b.above.handle(), b.below.handle()]);
+        let v = s.make_struct(ty.bracket, &[b.above.handle(), b.below.handle(), b.found.handle()]);
         let f = s.finish(Some((ty.bracket, None, v)));
         m.add_function(f)
     };
     // refine(ray, bracket) -> Hit
+    m.step_counter.set(crate::ir::counter::REFINE_STEPS);
     let refine = {
         let s = m.function(
             &fn_name(Slot::Refine, &p.refine, counted),
@@ -187,22 +192,34 @@ fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: bool) -> Re
         );
         let ray = ray_from(&s, s.arg::<Vec4>(0).handle());
         let bh = s.arg::<Vec4>(1).handle();
-        let b = Bracket::new(s.field(bh, 0), s.field(bh, 1));
+        let b = Bracket::searched(s.field(bh, 0), s.field(bh, 1), s.field(bh, 2));
         let hit = stage::refine::build(&s, &ray, b, &p.refine).map_err(wrap_err(Slot::Refine, &p.refine))?;
         let v = hit_value(&s, ty, &hit);
         let f = s.finish(Some((ty.hit, None, v)));
         m.add_function(f)
     };
-    // trace(ray) -> Hit
+    // trace(ray) -> Hit: the refinement runs on a bracket that holds a crossing; a search
+    // that found none ends at the last point it knew to be above the surface.
     let trace = {
         let name = if counted { "trace_counted" } else { "trace" };
         let s = m.function(name, &[("ray", ty.ray, None)]);
-        let ray = s.arg::<Vec4>(0).handle();
-        let b = s.call(coarse, &[ray], true).unwrap();
-        let h = s.call(refine, &[ray, b], true).unwrap();
+        let ray_h = s.arg::<Vec4>(0).handle();
+        let b = s.call(coarse, &[ray_h], true).unwrap();
+        let found: Val<bool> = s.field(b, 2);
+        s.if_(!found, |s| {
+            let ray = ray_from(s, ray_h);
+            let above = Hit::at_found(&ray, s.field(b, 0), found);
+            s.ret_handle(Some(hit_value(s, ty, &above)));
+        });
+        let h = s.call(refine, &[ray_h, b], true).unwrap();
         let f = s.finish(Some((ty.hit, None, h)));
         m.add_function(f)
     };
+    m.counting.set(false);
+    if counted {
+        // The probe traces only: shadow and ao have no counted variant.
+        return Ok(StageFns { trace, shadow: None, ao: None });
+    }
     let shadow = if p.shadow.is_none() {
         None
     } else {
@@ -226,7 +243,6 @@ fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: bool) -> Re
         let f = s.finish(Some((m.ty(f32::inner()), None, v.handle())));
         Some(m.add_function(f))
     };
-    m.counting.set(false);
     Ok(StageFns { trace, shadow, ao })
 }
 
@@ -327,7 +343,10 @@ fn fragment_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint
     let dir = s.vec3(view.xy() * (depth_scale / -view.z()), -1.0);
     let ray = Ray { origin: world, dir, cos_view: -view.z() };
     let rv = ray_value(&s, ty, &ray);
-    let hit = hit_from(&s, s.call(fns.trace, &[rv], true).unwrap());
+    let traced = hit_from(&s, s.call(fns.trace, &[rv], true).unwrap());
+    // The pixel is drawn inside the volume whatever the search returned (the probe, not
+    // this entry, measures the raw result).
+    let hit = Hit::at_found(&ray, traced.t.clamp(0.0, ray.t_max()), traced.found);
     let hv = hit_value(&s, ty, &hit);
 
     let light = param::<Vec4>(&s, 2);
@@ -395,11 +414,21 @@ fn probe_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint {
     );
     let hit_rec = m.struct_ty(
         "ProbeHit",
-        &[("t", f()), ("u", f()), ("v", f()), ("z", f()), ("iterations", u()), ("fetches", u())],
+        &[
+            ("t", f()),
+            ("u", f()),
+            ("v", f()),
+            ("z", f()),
+            ("coarse_steps", u()),
+            ("refine_steps", u()),
+            ("fetches", u()),
+            ("converged", u()),
+        ],
     );
     let rays = storage_array(m, "rays", ray_rec, binding::RAYS, false);
     let hits = storage_array(m, "hits", hit_rec, binding::HITS, true);
-    let counters = ["relief_iterations", "relief_fetches"].map(|name| {
+    use crate::ir::counter;
+    let counters = [counter::COARSE_STEPS, counter::REFINE_STEPS, counter::FETCHES].map(|name| {
         m.global(name, |m| naga::GlobalVariable {
             name: Some(name.into()),
             space: naga::AddressSpace::Private,
@@ -434,9 +463,18 @@ fn probe_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint {
     let rv = ray_value(&s, ty, &ray);
     let hit = hit_from(&s, s.call(fns.trace, &[rv], true).unwrap());
     let out = s.element_ptr(s.global_ptr(hits), index.handle());
-    let iterations = s.load::<u32>(s.global_ptr(counters[0]));
-    let fetches = s.load::<u32>(s.global_ptr(counters[1]));
-    let values = [hit.t.handle(), hit.uv.x().handle(), hit.uv.y().handle(), hit.z.handle(), iterations.handle(), fetches.handle()];
+    let [coarse_steps, refine_steps, fetches] = counters.map(|c| s.load::<u32>(s.global_ptr(c)));
+    let converged = s.select(hit.found, 1u32, 0u32);
+    let values = [
+        hit.t.handle(),
+        hit.uv.x().handle(),
+        hit.uv.y().handle(),
+        hit.z.handle(),
+        coarse_steps.handle(),
+        refine_steps.handle(),
+        fetches.handle(),
+        converged.handle(),
+    ];
     for (i, v) in values.into_iter().enumerate() {
         s.store(s.member_ptr(out, i as u32), v);
     }

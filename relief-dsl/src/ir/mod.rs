@@ -34,6 +34,19 @@ pub struct ModuleCtx {
     globals: RefCell<Vec<(String, Handle<naga::GlobalVariable>)>>,
     /// Whether functions built now count iterations and fetches (the probe variant).
     pub(crate) counting: std::cell::Cell<bool>,
+    /// The private counter a loop pass adds one to while counting: the coarse stage's and
+    /// the refine stage's passes are counted apart ([`counter`]).
+    pub(crate) step_counter: std::cell::Cell<&'static str>,
+}
+
+/// Names of the probe's private counters.
+pub mod counter {
+    /// Loop passes of the coarse stage.
+    pub const COARSE_STEPS: &str = "relief_coarse_steps";
+    /// Loop passes of the refine stage.
+    pub const REFINE_STEPS: &str = "relief_refine_steps";
+    /// Texture fetches of every stage.
+    pub const FETCHES: &str = "relief_fetches";
 }
 
 impl Default for ModuleCtx {
@@ -49,6 +62,7 @@ impl ModuleCtx {
             module: RefCell::new(Module::default()),
             globals: RefCell::new(Vec::new()),
             counting: std::cell::Cell::new(false),
+            step_counter: std::cell::Cell::new(counter::COARSE_STEPS),
         }
     }
 
@@ -280,7 +294,7 @@ impl<'a> Stage<'a> {
             }
             s.break_if(done);
             if s.counting() {
-                s.count("relief_iterations");
+                s.count(s.ctx.step_counter.get());
             }
             body(s);
         });

@@ -79,6 +79,10 @@ impl<'a> Stage<'a> {
     pub fn lit_u32(&'a self, x: u32) -> Val<'a, u32> {
         x.into_val(self)
     }
+    /// A `bool` literal.
+    pub fn lit_bool(&'a self, x: bool) -> Val<'a, bool> {
+        x.into_val(self)
+    }
 }
 
 /// A function-local variable of type `T`.

@@ -5,14 +5,15 @@
 //! `dir.z < 0`, scaled so that t = 1 reaches z = 0. Every stage speaks in this t.
 //!
 //! - coarse: ray → [`Bracket`] (`above`: a t known to be above the surface, `below`: the first
-//!   t found at or below it);
+//!   t found at or below it, `found`: whether it found one);
 //! - refine: ray + bracket → [`Hit`];
 //! - shadow: hit + light direction → visibility in [0, 1];
 //! - ao: hit → ambient factor in [0, 1].
 //!
 //! A method that yields a single point (parallax and its relatives) returns
 //! [`Bracket::point`]: the bracket from the ray's entry (t = 0) to that point, so that any
-//! refine after it searches between the two.
+//! refine after it searches between the two. A search that runs out of steps before it
+//! finds the surface returns [`Bracket::searched`] with `found` false.
 
 pub mod ao;
 pub mod coarse;
@@ -48,45 +49,63 @@ impl<'a> Ray<'a> {
     }
 }
 
-/// An interval of the ray that holds the first intersection.
+/// What a coarse search found: an interval of the ray that holds the first intersection,
+/// or, when the search ran out of steps first, the last point known to be above the surface.
 #[derive(Clone, Copy)]
 pub struct Bracket<'a> {
-    /// A t above the surface.
+    /// A t above the surface: when `found` is false, the last such point the search knows of.
     pub above: Val<'a, f32>,
-    /// A t at or below the surface (or the search's last guess, when it found none).
+    /// A t at or below the surface when `found` holds (meaningless otherwise).
     pub below: Val<'a, f32>,
+    /// Whether `[above, below]` holds a crossing. When it does not, no stage after the search
+    /// reports anything past `above` (the composer skips the refinement: DESIGN.md, "Stage
+    /// interface").
+    pub found: Val<'a, bool>,
 }
 
 impl<'a> Bracket<'a> {
-    /// The bracket `[above, below]`.
+    /// The bracket `[above, below]`, a crossing found.
     pub fn new(above: Val<'a, f32>, below: Val<'a, f32>) -> Self {
-        Bracket { above, below }
+        Bracket { above, below, found: above.stage().lit_bool(true) }
     }
-    /// A single point from a one-shot method, as the bracket from the entry to it, the point
-    /// clamped into the volume.
-    pub fn point(ray: &Ray<'a>, t: Val<'a, f32>) -> Self {
+    /// What a search that may run out of steps returns: `[above, below]` when `found`, else
+    /// `above`, the last point it knows to be above the surface.
+    pub fn searched(above: Val<'a, f32>, below: Val<'a, f32>, found: Val<'a, bool>) -> Self {
+        Bracket { above, below, found }
+    }
+    /// A single point from a one-shot method, as the bracket from the entry to it. A one-shot
+    /// method does not search, so its point counts as found; how often it lies above the
+    /// surface is what `relief stability` measures.
+    pub fn point(t: Val<'a, f32>) -> Self {
         let s = t.stage();
-        Bracket { above: s.lit(0.0), below: t.clamp(0.0, ray.t_max()) }
+        Bracket::new(s.lit(0.0), t)
     }
 }
 
 /// A hit: the ray parameter, where it lands in texture space and its height.
+///
+/// The t is the search's raw result: nothing clamps it into the volume, so that the probe
+/// measures what the search computed (a clamp that keeps a drawn pixel inside the volume
+/// belongs to the fragment entry only).
 #[derive(Clone, Copy)]
 pub struct Hit<'a> {
     pub t: Val<'a, f32>,
     pub uv: Val<'a, Vec2>,
     pub z: Val<'a, f32>,
+    /// Whether the coarse search found the surface (false: the hit is the last point known
+    /// to be above it).
+    pub found: Val<'a, bool>,
 }
 
 impl<'a> Hit<'a> {
-    /// The hit at parameter t along `ray`, t clamped into the volume (`0..=t_max`): whatever
-    /// a search did, a hit never lies above the polygon or below the floor. (`relief
-    /// stability` found linear + binary and the cone searches ending below the floor at
-    /// grazing angles before this clamp.)
+    /// The hit at parameter t along `ray`, as found.
     pub fn at(ray: &Ray<'a>, t: Val<'a, f32>) -> Self {
-        let t = t.clamp(0.0, ray.t_max());
+        Self::at_found(ray, t, t.stage().lit_bool(true))
+    }
+    /// The hit at parameter t along `ray`, `found` saying whether the search found the surface.
+    pub fn at_found(ray: &Ray<'a>, t: Val<'a, f32>, found: Val<'a, bool>) -> Self {
         let p = ray.at(t);
-        Hit { t, uv: p.xy(), z: p.z() }
+        Hit { t, uv: p.xy(), z: p.z(), found }
     }
 }
 
@@ -142,7 +161,7 @@ impl<'a> Stage<'a> {
         };
         let smp = m.global(sname, |m| sampler(m, sname, sbind));
         if self.counting() {
-            self.count("relief_fetches");
+            self.count(crate::ir::counter::FETCHES);
         }
         let image = self.expr(Expression::GlobalVariable(tex));
         let sampler = self.expr(Expression::GlobalVariable(smp));
@@ -207,7 +226,7 @@ impl<'a> Stage<'a> {
         let name = map.texture_name();
         let tex = self.module().global(&name, |m| texture_2d(m, &name, map.binding()));
         if self.counting() {
-            self.count("relief_fetches");
+            self.count(crate::ir::counter::FETCHES);
         }
         let image = self.expr(Expression::GlobalVariable(tex));
         self.wrap(self.expr(Expression::ImageLoad {

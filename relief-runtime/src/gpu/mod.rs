@@ -10,7 +10,7 @@ mod render;
 mod resources;
 
 pub use device::{Gpu, GpuError};
-pub use probe::{probe, GpuHit};
+pub use probe::{probe, GpuHit, OUTSIDE_TOLERANCE};
 pub use render::{render, RenderResult};
 pub use resources::SceneTextures;
 
@@ -22,13 +22,27 @@ pub struct Program {
     pub wgsl: String,
     pub render_bindings: Vec<u32>,
     pub probe_bindings: Vec<u32>,
+    /// The maps the pipeline reads, each with its parameters: which map a map binding takes.
+    pub maps: Vec<relief_dsl::spec::MapReq>,
 }
 
 impl Program {
     /// Compiles `p` and records which bindings each entry point reads.
     pub fn new(p: &relief_dsl::Pipeline) -> Result<Program, relief_dsl::CompileError> {
+        let maps = p.required_maps();
+        for (i, a) in maps.iter().enumerate() {
+            if let Some(b) = maps[..i].iter().find(|b| b.binding() == a.binding()) {
+                return Err(relief_dsl::CompileError {
+                    stage: "maps".into(),
+                    message: format!(
+                        "the pipeline reads two `{}` maps with different parameters ({b:?} and {a:?}), which share one binding; use one parameter for both stages",
+                        a.name()
+                    ),
+                });
+            }
+        }
         let c = relief_dsl::compile(p)?;
-        Self::from_compiled(&c)
+        Ok(Program { maps, ..Self::from_compiled(&c)? })
     }
 
     /// The WGSL loaded on `gpu`; a shader the device rejects is an error, not a panic.
@@ -41,7 +55,8 @@ impl Program {
         })
     }
 
-    /// From an already compiled module.
+    /// From an already compiled module that reads no acceleration map (set [`Program::maps`]
+    /// for one that does).
     pub fn from_compiled(c: &Compiled) -> Result<Program, relief_dsl::CompileError> {
         let wgsl = relief_dsl::emit::wgsl(c)?;
         let used = |names: &[&str]| -> Vec<u32> {
@@ -62,6 +77,6 @@ impl Program {
             out.sort();
             out
         };
-        Ok(Program { wgsl, render_bindings: used(&["vs_main", "fs_main"]), probe_bindings: used(&["probe"]) })
+        Ok(Program { wgsl, render_bindings: used(&["vs_main", "fs_main"]), probe_bindings: used(&["probe"]), maps: vec![] })
     }
 }

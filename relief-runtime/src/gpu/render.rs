@@ -68,7 +68,7 @@ pub fn render(
     });
     let view = target.create_view(&Default::default());
     let params = SceneTextures::params(gpu, scene, 1.0);
-    let bg = tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), &program.render_bindings, &params, &[])?;
+    let bg = tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), &program.render_bindings, &program.maps, &params, &[])?;
     let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
         label: Some("frame times"),
         ty: wgpu::QueryType::Timestamp,

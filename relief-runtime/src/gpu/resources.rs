@@ -20,8 +20,10 @@ pub struct SceneTextures {
     pub albedo: wgpu::TextureView,
     pub linear: wgpu::Sampler,
     pub nearest: wgpu::Sampler,
-    /// Acceleration maps by binding (see [`SceneTextures::add_maps`]).
-    pub maps: HashMap<u32, wgpu::TextureView>,
+    /// Acceleration maps by the full request: kind and every parameter that changes the map
+    /// (see [`SceneTextures::add_maps`]). Two maps of one kind with different parameters are
+    /// two entries, though a shader binds either at the same binding.
+    pub maps: HashMap<MapKey, wgpu::TextureView>,
     /// The heights as the device stores them (f32, or rounded to f16 where 32-bit float
     /// textures cannot be filtered): the surface the shaders sample, for the reference.
     pub heights_on_device: Vec<f32>,
@@ -126,15 +128,23 @@ impl SceneTextures {
     /// than the exact one, which stays conservative and keeps `+inf` out of the shaders.
     pub fn add_maps(&mut self, gpu: &Gpu, scene: &Scene, reqs: &[MapReq]) -> Result<(), crate::maps::MapError> {
         for &req in reqs {
-            if req == MapReq::Normal || self.maps.contains_key(&req.binding()) {
+            if req == MapReq::Normal || self.maps.contains_key(&MapKey::of(req)) {
                 continue;
             }
             let (kind, params) = map_kind(req);
             let map = crate::maps::build(&scene.height, kind, &params, scene.edge)?;
             let view = upload_map(gpu, &map, kind.is_ratio());
-            self.maps.insert(req.binding(), view);
+            self.maps.insert(MapKey::of(req), view);
         }
         Ok(())
+    }
+
+    /// The uploaded map a shader binding `b` of a program reading `reqs` takes.
+    fn map_view(&self, b: u32, reqs: &[MapReq]) -> Result<&wgpu::TextureView, super::GpuError> {
+        let req = reqs.iter().find(|r| **r != MapReq::Normal && r.binding() == b).ok_or_else(|| {
+            super::GpuError::Pipeline(format!("the shader reads a map at binding {b}, which the pipeline's required maps do not name"))
+        })?;
+        self.maps.get(&MapKey::of(*req)).ok_or_else(|| missing_map(b))
     }
 
     /// The params uniform buffer for a scene seen at `aspect`.
@@ -154,12 +164,14 @@ impl SceneTextures {
         })
     }
 
-    /// A bind group with exactly `bindings`, from this scene's resources and the buffers given.
+    /// A bind group with exactly `bindings`, from this scene's resources (the maps of
+    /// `program`'s requests) and the buffers given.
     pub fn bind_group(
         &self,
         gpu: &Gpu,
         layout: &wgpu::BindGroupLayout,
         bindings: &[u32],
+        reqs: &[MapReq],
         params: &wgpu::Buffer,
         storage: &[(u32, &wgpu::Buffer)],
     ) -> Result<wgpu::BindGroup, super::GpuError> {
@@ -177,11 +189,11 @@ impl SceneTextures {
                         binding::HEIGHT => wgpu::BindingResource::TextureView(&self.height),
                         binding::NORMAL => wgpu::BindingResource::TextureView(&self.normal),
                         binding::ALBEDO => wgpu::BindingResource::TextureView(&self.albedo),
-                        _ => wgpu::BindingResource::TextureView(self.maps.get(&base).ok_or_else(|| missing_map(base))?),
+                        _ => wgpu::BindingResource::TextureView(self.map_view(base, reqs)?),
                     }
                 }
-                b if self.maps.contains_key(&b) => wgpu::BindingResource::TextureView(&self.maps[&b]),
                 binding::NEAREST_SAMPLER => wgpu::BindingResource::Sampler(&self.nearest),
+                b if b < binding::NEAREST_OFFSET && b > binding::ALBEDO => wgpu::BindingResource::TextureView(self.map_view(b, reqs)?),
                 other => match storage.iter().find(|(n, _)| *n == other) {
                     Some((_, buf)) => buf.as_entire_binding(),
                     None => {
@@ -199,6 +211,21 @@ impl SceneTextures {
 
 fn missing_map(b: u32) -> super::GpuError {
     super::GpuError::Pipeline(format!("the shader reads the map at binding {b}, which was not built (call add_maps with the pipeline's required_maps)"))
+}
+
+/// Which uploaded map a request takes: its kind and the parameters that matter to that kind.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct MapKey {
+    pub kind: MapKind,
+    pub params: MapParams,
+}
+
+impl MapKey {
+    /// The key of a map request.
+    pub fn of(req: MapReq) -> MapKey {
+        let (kind, params) = map_kind(req);
+        MapKey { kind, params: params.relevant(kind) }
+    }
 }
 
 /// The largest cone ratio uploaded (a cone 89.99° wide).

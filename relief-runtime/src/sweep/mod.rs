@@ -185,7 +185,10 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
         let text = pipeline.to_string();
         bar.set_message(format!("{text} on {scene_arg}"));
         let prep = prepared.entry(scene_arg.clone()).or_insert_with(|| {
-            scene_from_arg(&scene_spec(&scene_arg)).map(|s| Prepared::new(&gpu, s, opts.size)).map_err(|e| e.to_string())
+            scene_from_arg(&scene_spec(&scene_arg))
+                .map_err(anyhow::Error::from)
+                .and_then(|s| Prepared::new(&gpu, s, opts.size))
+                .map_err(|e| format!("{e:#}"))
         });
         let cell_dir = format!("cells/{}/{}", folder_name(&scene_arg), pipeline.file_stem());
         let mut row = Row {

@@ -156,40 +156,71 @@ fn apex<'a>(s: &'a Stage<'a>, uv: Val<'a, Vec2>) -> Val<'a, f32> {
     s.sample("height_map", crate::compose::binding::HEIGHT, uv, Filter::Nearest).x()
 }
 
+/// Where the loop all cone searches share ended.
+#[derive(Clone, Copy)]
+struct Marched<'a> {
+    /// The last point checked and found above the surface.
+    prev: Val<'a, f32>,
+    /// The point the loop ended at: at or below the surface when `found`; otherwise where
+    /// the last step led, not checked.
+    end: Val<'a, f32>,
+    /// Whether the march stopped on the surface (false: it ran out of steps).
+    found: Val<'a, bool>,
+}
+
+impl<'a> Marched<'a> {
+    /// The bracket of a conservative search: a step never passes the surface, so when the
+    /// steps run out the end point is still above it.
+    fn conservative(self) -> Bracket<'a> {
+        let s = self.end.stage();
+        Bracket::searched(s.select(self.found, self.prev, self.end), self.end, self.found)
+    }
+}
+
+/// The floor (z = 0) is surface everywhere, since no height is below 0: a step that would
+/// take the ray past it (the minimum step near the floor, or a piecewise cone's step) stops
+/// on it instead, so that the search ends on the floor rather than below the volume (`relief
+/// stability` found csm, qcsm and pcns hits below the floor on the spikes scene).
+fn not_past_the_floor<'a>(ray: &Ray<'a>, t: Val<'a, f32>) -> Val<'a, f32> {
+    t.min(ray.t_max())
+}
+
 /// The loop all cone searches share (Burger Algorithm 4's): from the entry, while the ray
 /// point is above the surface, advance by `step(s, p, footing)` (never less than the
-/// minimum step); returns the last two positions `(t_prev, t)`.
+/// minimum step).
 fn march<'a>(
     s: &'a Stage<'a>,
     ray: &Ray<'a>,
     steps: u32,
     step: impl Fn(&'a Stage<'a>, Val<'a, Vec3>, &Footing<'a>) -> Val<'a, f32>,
-) -> (Val<'a, f32>, Val<'a, f32>) {
+) -> Marched<'a> {
     let t = s.var("t", 0.0);
     let t_prev = s.var("t_prev", 0.0);
+    let found = s.var("found", false);
     s.repeat(steps, |s| {
         let p = ray.at(t.get());
         let h = s.height(p.xy()).named("h");
-        s.break_if(h.ge(p.z()));
+        found.set(h.ge(p.z()));
+        s.break_if(found.get());
         let foot = footing(s, ray, p.xy(), h);
         let advance = step(s, p, &foot).max(foot.min_step);
         t_prev.set(t.get());
-        t.set(t.get() + advance);
+        t.set(not_past_the_floor(ray, t.get() + advance));
     });
-    (t_prev.get(), t.get())
+    Marched { prev: t_prev.get(), end: t.get(), found: found.get() }
 }
 
 /// Cone step mapping (Dummer 2006; Burger Algorithm 4): while above the surface, step to the
 /// side of the conservative cone below.
 pub fn csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, sample: ConeSample) -> Bracket<'a> {
-    let (above, below) = march(s, ray, steps, |s, p, foot| match sample {
+    march(s, ray, steps, |s, p, foot| match sample {
         ConeSample::Corners => corners(s, p.xy(), MapReq::Cone).best_step(p.z(), |r| r, |r, gap| cone_step(ray, r, gap)),
         _ => {
             let r = ratio(s, MapReq::Cone, p.xy(), sample).named("r");
             cone_step(ray, r, foot.clearance(p.z(), r))
         }
-    });
-    Bracket::new(above, below)
+    })
+    .conservative()
 }
 
 /// Quad-directional cone stepping (Policarpo & Oliveira, GPU Gems 3 §18.4.1): as CSM, with
@@ -197,12 +228,12 @@ pub fn csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, sample: ConeSample) 
 pub fn qcsm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     let west = ray.dir.x().lt(0.0);
     let south = ray.dir.y().lt(0.0);
-    let (above, below) = march(s, ray, steps, |s, p, foot| {
+    march(s, ray, steps, |s, p, foot| {
         let q = s.map(MapReq::QuadCone, p.xy(), Filter::Nearest);
         let r = s.select(south, s.select(west, q.z(), q.w()), s.select(west, q.y(), q.x()));
         cone_step(ray, r, foot.clearance(p.z(), r))
-    });
-    Bracket::new(above, below)
+    })
+    .conservative()
 }
 
 /// Where relaxed stepping starts the refinement (GPU Gems 3 Fig. 18-10).
@@ -216,15 +247,17 @@ pub enum RelaxedStart {
 
 /// Relaxed cone stepping (Policarpo & Oliveira, GPU Gems 3 Listing 18-3): step with the
 /// relaxed cone, whose ray may enter the surface but never leave it; stop at the first point
-/// below the surface (K).
+/// below the surface (K). A relaxed step may end inside the surface, so when the steps run
+/// out the last point known to be above it is J, the last one checked.
 pub fn rcs<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, start: RelaxedStart) -> Bracket<'a> {
-    let (j, k) = march(s, ray, steps, |s, p, foot| {
+    let m = march(s, ray, steps, |s, p, foot| {
         let r = s.map(MapReq::RelaxedCone, p.xy(), Filter::Nearest).x().named("r");
         cone_step(ray, r, foot.clearance(p.z(), r))
     });
+    let (j, k) = (m.prev, m.end);
     match start {
-        RelaxedStart::Hk => Bracket::new(k / 2.0, k),
-        RelaxedStart::Bracket => Bracket::new(j, k),
+        RelaxedStart::Hk => Bracket::searched(s.select(m.found, k / 2.0, j), k, m.found),
+        RelaxedStart::Bracket => Bracket::searched(j, k, m.found),
     }
 }
 
@@ -238,22 +271,22 @@ fn cone_normal_step<'a>(ray: &Ray<'a>, n_z: Val<'a, f32>, gap: Val<'a, f32>) -> 
 /// Cone normal stepping (Burger 2018 §3.3): CSM with the cone stored as the normal of its
 /// side, stepping by the ray-plane intersection of eq. 3.2.
 pub fn cns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
-    normal_stepping(s, ray, steps, MapReq::ConeNormal)
+    normal_stepping(s, ray, steps, MapReq::ConeNormal).conservative()
 }
 
 /// Relaxed cone normal stepping (Burger §4.3.4): cone normal stepping on the relaxed cones;
-/// returns the bracket around the crossing.
+/// returns the bracket around the crossing (as [`rcs`] with `start=bracket`).
 pub fn rcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
-    normal_stepping(s, ray, steps, MapReq::RelaxedConeNormal)
+    let m = normal_stepping(s, ray, steps, MapReq::RelaxedConeNormal);
+    Bracket::searched(m.prev, m.end, m.found)
 }
 
-fn normal_stepping<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, map: MapReq) -> Bracket<'a> {
-    let (above, below) = march(s, ray, steps, |s, p, foot| {
+fn normal_stepping<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, map: MapReq) -> Marched<'a> {
+    march(s, ray, steps, |s, p, foot| {
         let n_z = s.map(map, p.xy(), Filter::Nearest).x().named("n_z");
         let gap = foot.clearance(p.z(), ratio_of(n_z)).named("gap");
         cone_normal_step(ray, n_z, gap)
-    });
-    Bracket::new(above, below)
+    })
 }
 
 /// The cone ratio of a cone side with normal z `n_z`: `r = n_z / sqrt(1 - n_z²)`.
@@ -271,7 +304,7 @@ fn channels<'a>(s: &'a Stage<'a>, map: MapReq, uv: Val<'a, Vec2>, k: u32) -> Vec
 /// at heights `b_k = h + (1 - h)·k/K`; of the cones below the ray point, take the one that
 /// gives the longest step.
 pub fn mcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32) -> Bracket<'a> {
-    let (above, below) = march(s, ray, steps, |s, p, foot| {
+    march(s, ray, steps, |s, p, foot| {
         // The cones stand at b_k = h + (1 - h)·k/K above the texel's height h; where the
         // surface under the point is higher, all of them are raised with the apex (a raised
         // cone lies inside the original one).
@@ -283,8 +316,8 @@ pub fn mcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32) -> Bracket<
             step = step.max(cone_normal_step(ray, n_z, cone.clearance(p.z(), ratio_of(n_z))));
         }
         step
-    });
-    Bracket::new(above, below)
+    })
+    .conservative()
 }
 
 /// Multiple cone normal stepping, method 2 (Burger §3.4, proposed there and never
@@ -296,7 +329,7 @@ pub fn mcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32) -> Bracket<
 pub fn pcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32) -> Bracket<'a> {
     let speed = ray.dir.xy().length();
     let fall = -ray.dir.z();
-    let (above, below) = march(s, ray, steps, |s, p, foot| {
+    march(s, ray, steps, |s, p, foot| {
         // Pieces of height (1 - h)/K from the texel's height h, the whole profile raised
         // with the apex where the surface under the point is higher (a raised region lies
         // inside the original one).
@@ -316,6 +349,6 @@ pub fn pcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32) -> Bracket<
             step = s.select(outside, meet(j), step);
         }
         step
-    });
-    Bracket::new(above, below)
+    })
+    .conservative()
 }

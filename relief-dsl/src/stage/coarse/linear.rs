@@ -1,6 +1,6 @@
 //! Linear search: equal steps down the ray until it dips below the surface.
 
-use crate::ir::Stage;
+use crate::ir::{IntoVal, Stage, Val};
 use crate::stage::{Bracket, Ray};
 
 /// Linear search (Burger 2018, Algorithm 1): `steps` equal steps that reach the bottom of the
@@ -13,7 +13,16 @@ pub fn linear<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
         s.break_if(s.height(p.xy()).ge(p.z()));
         t.set(t.get() + step);
     });
-    Bracket::new(t.get() - step, t.get())
+    one_step_back(t.get(), step)
+}
+
+/// The bracket from one step before `t` to `t`, never starting before the entry: when the
+/// first sample (t = 0) is already at or below the surface, Algorithm 1's "previous point"
+/// would be a step above the polygon, outside the volume, and a refinement would end there
+/// (`relief stability` found linear + binary ending at t < 0 on a flat map at height 1).
+fn one_step_back<'a>(t: Val<'a, f32>, step: impl IntoVal<'a, f32>) -> Bracket<'a> {
+    let step = step.into_val(t.stage());
+    Bracket::new((t - step).max(0.0), t)
 }
 
 /// Linear search with the step count chosen from the view angle, as parallax occlusion
@@ -28,5 +37,5 @@ pub fn linear_dynamic<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, min: u32, max: u32) -
         s.break_if(s.height(p.xy()).ge(p.z()));
         t.set(t.get() + step);
     });
-    Bracket::new(t.get() - step, t.get())
+    one_step_back(t.get(), step)
 }

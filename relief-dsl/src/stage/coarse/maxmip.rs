@@ -77,8 +77,10 @@ pub fn maxmip<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
             },
         );
     });
+    // Reaching the floor is a hit (every height is at least 0). Out of steps, the ray is
+    // known to be above the surface up to where the traversal stopped.
     let end = t.get().min(ray.t_max());
-    Bracket::new(end, end)
+    Bracket::searched(end, end, hit.get() | t.get().ge(ray.t_max()))
 }
 
 /// The first t in `[from, to]` where the ray meets the bilinear patch of the cell it is in at

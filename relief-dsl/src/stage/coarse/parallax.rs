@@ -11,22 +11,22 @@ use crate::ir::{Stage, Val};
 use crate::stage::{Bracket, Ray};
 
 /// Plain texture mapping: the hit is where the ray enters, t = 0.
-pub fn none<'a>(s: &'a Stage<'a>, ray: &Ray<'a>) -> Bracket<'a> {
-    Bracket::point(ray, s.lit(0.0))
+pub fn none<'a>(s: &'a Stage<'a>, _ray: &Ray<'a>) -> Bracket<'a> {
+    Bracket::point(s.lit(0.0))
 }
 
 /// Parallax mapping (Kaneko et al. 2001; Burger eq. 2.3): the surface is taken to be the
 /// plane at the height found under the entry point, `t = (1 - h) / -d.z`.
 pub fn parallax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>) -> Bracket<'a> {
     let h = s.height(ray.origin);
-    Bracket::point(ray, (1.0 - h) / -ray.dir.z())
+    Bracket::point((1.0 - h) / -ray.dir.z())
 }
 
 /// Parallax with offset limiting (Welsh 2004; survey §4.1.3, Burger eq. 2.6): the offset is
 /// the depth along the *normalized* view vector, so it never exceeds the depth itself.
 pub fn offset_limited<'a>(s: &'a Stage<'a>, ray: &Ray<'a>) -> Bracket<'a> {
     let h = s.height(ray.origin);
-    Bracket::point(ray, (1.0 - h) * ray.cos_view / -ray.dir.z())
+    Bracket::point((1.0 - h) * ray.cos_view / -ray.dir.z())
 }
 
 /// Parallax along the slope (survey §4.1.4, the "safer" form): the depth is scaled by the
@@ -34,7 +34,7 @@ pub fn offset_limited<'a>(s: &'a Stage<'a>, ray: &Ray<'a>) -> Bracket<'a> {
 pub fn slope_parallax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>) -> Bracket<'a> {
     let h = s.height(ray.origin);
     let n = s.normal(ray.origin);
-    Bracket::point(ray, (1.0 - h) * n.z() * ray.cos_view / -ray.dir.z())
+    Bracket::point((1.0 - h) * n.z() * ray.cos_view / -ray.dir.z())
 }
 
 /// Iterative parallax mapping (Premecz 2006; survey §4.2.1): repeat the slope correction
@@ -48,5 +48,5 @@ pub fn iterative_parallax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Br
         let step: Val<'a, f32> = (p.z() - h) * n.z() * ray.cos_view / -ray.dir.z();
         t.set(t.get() + step);
     });
-    Bracket::point(ray, t.get())
+    Bracket::point(t.get())
 }

@@ -20,12 +20,15 @@ pub fn sphere<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, z_resolution: u32
     let min_step = super::cone::MIN_STEP_TEXELS * texel / ray.dir.xy().length().max(-ray.dir.z());
     let t = s.var("t", 0.0);
     let t_prev = s.var("t_prev", 0.0);
+    let found = s.var("found", false);
     s.repeat(steps, |s| {
         let p = ray.at(t.get());
-        s.break_if(s.height(p.xy()).ge(p.z()));
+        found.set(s.height(p.xy()).ge(p.z()));
+        s.break_if(found.get());
         let d = s.distance(p);
         t_prev.set(t.get());
         t.set((t.get() + ((d - margin) / speed).max(min_step)).min(ray.t_max()));
     });
-    Bracket::new(t_prev.get(), t.get())
+    // A step never passes the surface: out of steps, the end point is still above it.
+    Bracket::searched(s.select(found.get(), t_prev.get(), t.get()), t.get(), found.get())
 }

@@ -65,5 +65,5 @@ pub fn hard_with<'a>(
     let p = ray.at(b.below);
     let on_surface = s.height(p.xy()).ge(p.z());
     let before_hit = b.below.lt(t_hit * 0.99 - 1e-3);
-    s.select(on_surface & before_hit, 0.0, 1.0)
+    s.select(b.found & on_surface & before_hit, 0.0, 1.0)
 }
