@@ -100,11 +100,15 @@ fn counters_exist_only_in_the_probe_variant() {
     let c = relief::compile(&p("linear(10)+interval(3)+shadow=hard(8)")).unwrap();
     let wgsl = emit::wgsl(&c).unwrap();
     let plain = function_body(&wgsl, "fn coarse_linear(");
-    assert!(!plain.contains("relief_fetches") && !plain.contains("relief_iterations"));
+    assert!(!plain.contains("relief_fetches") && !plain.contains("relief_coarse_steps"));
     let counted = function_body(&wgsl, "fn coarse_linear_counted(");
-    assert!(counted.contains("relief_fetches") && counted.contains("relief_iterations"));
-    // The shadow is not traced by the probe, so it has no counted variant in use.
+    assert!(counted.contains("relief_fetches") && counted.contains("relief_coarse_steps") && !counted.contains("relief_refine_steps"));
+    // The refine stage's passes go to their own counter.
+    let refine = function_body(&wgsl, "fn refine_interval_counted(");
+    assert!(refine.contains("relief_refine_steps") && !refine.contains("relief_coarse_steps"));
+    // The shadow is not traced by the probe, so it has no counted variant.
     assert!(function_body(&wgsl, "fn probe(").contains("trace_counted("));
+    assert!(!wgsl.contains("fn shadow_hard_counted("));
 }
 
 #[test]
