@@ -1,7 +1,8 @@
 //! The composed module: entry points, the resources each entry reads, and the WGSL of a few
 //! pipelines (snapshots, reviewed by eye: they should read like the algorithm boxes).
 
-use relief::dsl::compose::{self, binding};
+use relief::dsl::abi::binding;
+use relief::dsl::compose;
 use relief::dsl::emit;
 use relief::dsl::spec::MapReq;
 use relief::Pipeline;
@@ -159,4 +160,24 @@ fn wgsl_snapshots() {
         let wgsl = emit::emit(&p(text)).unwrap().wgsl;
         insta::assert_snapshot!(relief::dsl::spec::file_safe(text), stage_functions(&wgsl), text);
     }
+}
+
+/// The ABI's records are laid out by naga exactly as the Rust structs the runtime uploads
+/// and reads: same size, and each member at the offset the `#[repr(C)]` struct gives it.
+#[test]
+fn abi_records_match_their_rust_structs() {
+    use relief::dsl::abi::{Params, ProbeHit, ProbeRay};
+    let c = relief::compile(&p("linear(4)")).unwrap();
+    let span_of = |name: &str| -> (u32, Vec<u32>) {
+        let ty = c.module.types.iter().find(|(_, t)| t.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("no type {name}")).1;
+        match &ty.inner {
+            naga::TypeInner::Struct { members, span } => (*span, members.iter().map(|m| m.offset).collect()),
+            other => panic!("{name} is {other:?}"),
+        }
+    };
+    assert_eq!(span_of("Params"), (std::mem::size_of::<Params>() as u32, vec![0, 64, 80, 96]));
+    assert_eq!(span_of("ProbeRay"), (std::mem::size_of::<ProbeRay>() as u32, vec![0, 8, 16, 20, 24, 28]));
+    assert_eq!(span_of("ProbeHit"), (std::mem::size_of::<ProbeHit>() as u32, (0..8).map(|i| 4 * i).collect()));
+    assert_eq!(std::mem::offset_of!(Params, quad), 96);
+    assert_eq!(std::mem::offset_of!(ProbeHit, converged), 28);
 }

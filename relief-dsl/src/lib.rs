@@ -1,5 +1,7 @@
 //! relief-dsl: relief-mapping search methods as stages, composed into one naga module.
 //!
+//! - [`abi`]: what a generated module and the runtime agree on (bindings, `Params`, probe
+//!   records);
 //! - [`spec`]: the pipeline as data and its text form (`linear(10)+binary(5)`);
 //! - [`ir`]: a typed builder over naga IR in which stages are written;
 //! - [`stage`]: the stages, one file per method family;
@@ -14,11 +16,31 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod abi;
 pub mod compose;
 pub mod emit;
 pub mod ir;
 pub mod spec;
 pub mod stage;
 
-pub use compose::{compile, CompileError, Compiled};
+pub use compose::{compile, Compiled};
+
+/// Why a pipeline could not be compiled: which stage, and what went wrong.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("{stage}: {message}")]
+pub struct CompileError {
+    /// The stage (or phase) that failed, e.g. `coarse linear` or `validation`.
+    pub stage: String,
+    /// What went wrong.
+    pub message: String,
+}
+
+impl CompileError {
+    pub(crate) fn not_implemented(slot: &str, name: &str) -> Self {
+        CompileError {
+            stage: format!("{slot} {name}"),
+            message: format!("the {slot} method `{name}` has no stage code yet"),
+        }
+    }
+}
 pub use spec::{Pipeline, Slot, StageSpec};

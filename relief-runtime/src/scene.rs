@@ -126,52 +126,8 @@ impl Camera {
     }
 }
 
-/// One probe ray, laid out for a GPU storage buffer: 32 bytes, eight 4-byte words.
-///
-/// | word | field | type |
-/// | --- | --- | --- |
-/// | 0, 1 | `origin` = (u, v) where the ray enters the relief volume at height 1 | f32 |
-/// | 2, 3, 4 | `dir` = (dx, dy, dz), normalized so t = 1 reaches height 0 (dz = -1) | f32 |
-/// | 5, 6 | `x`, `y`: the pixel (column, row; row 0 at the top) | u32 |
-/// | 7 | `pad` = 0 | u32 |
-///
-/// The ray's point at t is `(origin.x + t·dir.x, origin.y + t·dir.y, 1 + t·dir.z)`.
-/// In WGSL, read it as two 16-byte words (no implicit padding anywhere):
-///
-/// ```wgsl
-/// struct ProbeRay {
-///     origin_dir: vec4<f32>, // (origin_u, origin_v, dir_x, dir_y)
-///     dir_z: f32,
-///     x: u32,
-///     y: u32,
-///     pad: u32,
-/// }
-/// @group(0) @binding(0) var<storage, read> rays: array<ProbeRay>;
-/// ```
-///
-/// (or as `array<vec4<f32>>` with two entries per ray and `bitcast<u32>` for x and y).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct ProbeRay {
-    pub origin: [f32; 2],
-    pub dir: [f32; 3],
-    pub x: u32,
-    pub y: u32,
-    pub pad: u32,
-}
-
-const _: () = assert!(std::mem::size_of::<ProbeRay>() == 32);
-
-impl ProbeRay {
-    /// The ray's point (u, v, height) at parameter t.
-    pub fn at(&self, t: f32) -> [f32; 3] {
-        [
-            self.origin[0] + t * self.dir[0],
-            self.origin[1] + t * self.dir[1],
-            1.0 + t * self.dir[2],
-        ]
-    }
-}
+/// One probe ray: the shader ABI's record ([`relief_dsl::abi::ProbeRay`]), 32 bytes.
+pub use relief_dsl::abi::ProbeRay;
 
 /// A scene: everything a render, a probe or the reference needs, and no more.
 #[derive(Clone, Debug, PartialEq)]

@@ -15,95 +15,11 @@
 
 use naga::{Binding, BuiltIn, Handle, Module, ShaderStage, TypeInner};
 
-use crate::ir::{Mat4, ModuleCtx, Stage, Ty, UVec3, Val, Vec2, Vec3, Vec4};
+use crate::abi::{binding, Param, ProbeHit, ProbeRay, PROBE_WORKGROUP};
+use crate::ir::{ModuleCtx, Stage, Ty, UVec3, Val, Vec2, Vec3, Vec4};
+use crate::CompileError;
 use crate::spec::{Pipeline, Slot, StageSpec};
 use crate::stage::{self, Bracket, Filter, Hit, Ray};
-
-/// Binding numbers (all in group 0). Stable: the runtime binds by these numbers.
-pub mod binding {
-    /// `Params` uniform block: see [`super::PARAMS_LAYOUT`].
-    pub const PARAMS: u32 = 0;
-    /// Height map, `texture_2d<f32>`, height in the red channel.
-    pub const HEIGHT: u32 = 1;
-    /// Sampler with linear filtering (the scene's edge mode as address mode).
-    pub const LINEAR_SAMPLER: u32 = 2;
-    /// Sampler with nearest filtering.
-    pub const NEAREST_SAMPLER: u32 = 3;
-    /// Normal map, `texture_2d<f32>`, `n * 0.5 + 0.5` in rgb.
-    pub const NORMAL: u32 = 4;
-    /// Albedo, `texture_2d<f32>`, rgb.
-    pub const ALBEDO: u32 = 5;
-    /// Cone ratio map (`texture_2d<f32>`, r).
-    pub const CONE: u32 = 6;
-    /// Quad cone ratio map (rgba).
-    pub const QUAD_CONE: u32 = 7;
-    /// Relaxed cone ratio map (r).
-    pub const RELAXED_CONE: u32 = 8;
-    /// Cone normal map, `n_z` (r).
-    pub const CONE_NORMAL: u32 = 9;
-    /// Relaxed cone normal map, `n_z` (r).
-    pub const RELAXED_CONE_NORMAL: u32 = 10;
-    /// Stacked cones, `n_z` per cone (rgba, K ≤ 4 channels used).
-    pub const MULTI_CONE: u32 = 11;
-    /// Piecewise cone slopes as `n_z` (rgba, K ≤ 4 channels used).
-    pub const PIECEWISE_CONE: u32 = 12;
-    /// Maximum mipmap of the height map's bilinear cells (r, full mip chain).
-    pub const MAX_MIP: u32 = 13;
-    /// Distance field, `texture_3d<f32>` (r), z slices from the bottom (0) to the top (1).
-    pub const DISTANCE_FIELD: u32 = 14;
-    /// A 2D map read with nearest filtering is bound a second time at its binding plus this
-    /// offset (`cone_map_nearest` at 38 for `cone_map` at 6).
-    pub const NEAREST_OFFSET: u32 = 32;
-    /// Probe input, `array<ProbeRay>` (storage, read).
-    pub const RAYS: u32 = 64;
-    /// Probe output, `array<ProbeHit>` (storage, read_write).
-    pub const HITS: u32 = 65;
-}
-
-/// The `Params` uniform block, 112 bytes: `view_proj: mat4x4<f32>` (column-major),
-/// `camera: vec4<f32>` (xyz: camera position in tangent space, w: depth scale — the relief's
-/// depth in texture units), `light: vec4<f32>` (xyz: unit vector toward the light, w:
-/// ambient), `quad: vec4<f32>` (x: the quad's size in texture units, i.e. the tiling; y: 1 when the
-/// scene's edge mode is clamp, 0 for repeat).
-pub const PARAMS_LAYOUT: &str = "view_proj: mat4x4<f32>, camera: vec4<f32>, light: vec4<f32>, quad: vec4<f32>";
-
-/// Size of one [`ProbeRay`] in bytes.
-pub const PROBE_RAY_SIZE: u64 = 32;
-/// Size of one [`ProbeHit`] in bytes.
-pub const PROBE_HIT_SIZE: u64 = 32;
-
-/// Documentation of the probe's input record (32 bytes): `origin: vec2<f32>` (texture
-/// coordinates where the ray enters at z = 1), `dir_xy: vec2<f32>`, `dir_z: f32` (the
-/// normalized tangent-space direction), `pixel_x: u32`, `pixel_y: u32`, `pad: u32`.
-pub struct ProbeRay;
-/// Documentation of the probe's output record (32 bytes): `t, u, v, z: f32` (the search's
-/// raw result: never clamped into the volume), `coarse_steps: u32` and `refine_steps: u32`
-/// (loop passes of the coarse and of the refine stage), `fetches: u32` (texture samples over
-/// both), `converged: u32` (1 when the coarse search found the surface, 0 when it ran out of
-/// steps and the hit is the last point it knew to be above the surface).
-pub struct ProbeHit;
-
-/// Workgroup size of the probe entry.
-pub const PROBE_WORKGROUP: u32 = 64;
-
-/// Why a pipeline could not be compiled: which stage, and what went wrong.
-#[derive(Debug, Clone, thiserror::Error)]
-#[error("{stage}: {message}")]
-pub struct CompileError {
-    /// The stage (or phase) that failed, e.g. `coarse linear` or `validation`.
-    pub stage: String,
-    /// What went wrong.
-    pub message: String,
-}
-
-impl CompileError {
-    pub(crate) fn not_implemented(slot: &str, name: &str) -> Self {
-        CompileError {
-            stage: format!("{slot} {name}"),
-            message: format!("the {slot} method `{name}` has no stage code yet"),
-        }
-    }
-}
 
 /// A compiled pipeline: the module and its validation info.
 pub struct Compiled {
@@ -246,34 +162,6 @@ fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: bool) -> Re
     Ok(StageFns { trace, shadow, ao })
 }
 
-fn params_global(m: &ModuleCtx) -> Handle<naga::GlobalVariable> {
-    m.global("params", |m| {
-        let ty = m.struct_ty(
-            "Params",
-            &[("view_proj", Mat4::inner()), ("camera", Vec4::inner()), ("light", Vec4::inner()), ("quad", Vec4::inner())],
-        );
-        naga::GlobalVariable {
-            name: Some("params".into()),
-            space: naga::AddressSpace::Uniform,
-            binding: Some(naga::ResourceBinding { group: 0, binding: binding::PARAMS }),
-            ty,
-            init: None,
-            memory_decorations: Default::default(),
-        }
-    })
-}
-
-/// Whether the scene's edge mode is clamp (`params.quad.y` is 1), for stages that address
-/// texels themselves.
-pub(crate) fn edge_is_clamp<'a>(s: &'a Stage<'a>) -> Val<'a, bool> {
-    param::<Vec4>(s, 3).y().gt(0.5)
-}
-
-fn param<'a, T: Ty>(s: &'a Stage<'a>, index: u32) -> Val<'a, T> {
-    let g = s.global_ptr(params_global(s.module()));
-    s.load(s.member_ptr(g, index))
-}
-
 fn location(n: u32) -> Binding {
     Binding::Location {
         location: n,
@@ -314,9 +202,9 @@ fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
     );
     // Four vertices as a triangle strip: (0,0) (1,0) (0,1) (1,1), scaled to the quad's size.
     let i = s.arg::<u32>(0);
-    let size = param::<Vec4>(&s, 3).x();
+    let size = s.param::<Vec4>(Param::Quad).x();
     let corner = s.vec2(i.and(1).to_f32(), i.shr(1).to_f32()) * size;
-    let clip = param::<Mat4>(&s, 0) * s.vec4(s.vec3(corner, 0.0), 1.0);
+    let clip = s.param::<crate::ir::Mat4>(Param::ViewProj) * s.vec4(s.vec3(corner, 0.0), 1.0);
     let out = s.make_struct(out_ty, &[clip.handle(), corner.handle()]);
     let f = s.finish(Some((out_ty, None, out)));
     naga::EntryPoint {
@@ -336,7 +224,7 @@ fn fragment_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint
     let loc = location(0);
     let s = m.function("fs_main", &[("world", m.ty(Vec2::inner()), Some(loc))]);
     let world = s.arg::<Vec2>(0);
-    let camera = param::<Vec4>(&s, 1);
+    let camera = s.param::<Vec4>(Param::Camera);
     let depth_scale = s.name("depth_scale", camera.w());
     // The view ray in tangent space, then scaled so that t = 1 reaches the bottom.
     let view = (s.vec3(world, 0.0) - camera.xyz()).normalize();
@@ -349,7 +237,7 @@ fn fragment_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint
     let hit = Hit::at_found(&ray, traced.t.clamp(0.0, ray.t_max()), traced.found);
     let hv = hit_value(&s, ty, &hit);
 
-    let light = param::<Vec4>(&s, 2);
+    let light = s.param::<Vec4>(Param::Light);
     let to_light = light.xyz();
     let ambient = light.w();
     let visibility = match fns.shadow {
@@ -406,25 +294,8 @@ fn storage_array(m: &ModuleCtx, name: &str, item: Handle<naga::Type>, binding: u
 }
 
 fn probe_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint {
-    let u = || u32::inner();
-    let f = f32_ty;
-    let ray_rec = m.struct_ty(
-        "ProbeRay",
-        &[("origin", Vec2::inner()), ("dir_xy", Vec2::inner()), ("dir_z", f()), ("pixel_x", u()), ("pixel_y", u()), ("pad", u())],
-    );
-    let hit_rec = m.struct_ty(
-        "ProbeHit",
-        &[
-            ("t", f()),
-            ("u", f()),
-            ("v", f()),
-            ("z", f()),
-            ("coarse_steps", u()),
-            ("refine_steps", u()),
-            ("fetches", u()),
-            ("converged", u()),
-        ],
-    );
+    let ray_rec = m.record_ty("ProbeRay", &ProbeRay::MEMBERS);
+    let hit_rec = m.record_ty("ProbeHit", &ProbeHit::MEMBERS);
     let rays = storage_array(m, "rays", ray_rec, binding::RAYS, false);
     let hits = storage_array(m, "hits", hit_rec, binding::HITS, true);
     use crate::ir::counter;
@@ -450,7 +321,7 @@ fn probe_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint {
     let origin = s.load::<Vec2>(s.member_ptr(rec, 0));
     let dir_xy = s.load::<Vec2>(s.member_ptr(rec, 1));
     let dir_z = s.load::<f32>(s.member_ptr(rec, 2));
-    let depth_scale = param::<Vec4>(&s, 1).w();
+    let depth_scale = s.param::<Vec4>(Param::Camera).w();
     // The same cosine the render entry gets from the camera: the unscaled view ray is
     // (dir.xy, dir.z · depth_scale).
     let vz = dir_z * depth_scale;

@@ -3,7 +3,8 @@
 use naga::back::{glsl, spv, wgsl};
 use naga::ShaderStage;
 
-use crate::compose::{CompileError, Compiled};
+use crate::compose::Compiled;
+use crate::CompileError;
 
 /// The shader files for one pipeline.
 #[derive(Clone, Debug)]

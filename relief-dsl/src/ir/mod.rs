@@ -10,7 +10,7 @@
 //! becomes one literal.
 //!
 //! Resources (textures, samplers, uniforms) are declared lazily, on first use, with the
-//! fixed binding numbers of [`crate::compose::binding`], so a module declares only what its
+//! fixed binding numbers of [`crate::abi::binding`], so a module declares only what its
 //! stages read.
 
 mod ops;
@@ -80,24 +80,22 @@ impl ModuleCtx {
     }
 
     /// Adds (or finds) a named struct type from `(member name, member type)` pairs, laid out
-    /// with WGSL's alignment rules.
+    /// by naga's own [`naga::proc::Layouter`] (WGSL's alignment rules).
     pub fn struct_ty(&self, name: &str, members: &[(&str, naga::TypeInner)]) -> Handle<naga::Type> {
+        let handles: Vec<Handle<naga::Type>> = members.iter().map(|(_, inner)| self.ty(inner.clone())).collect();
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(self.module.borrow().to_ctx()).expect("member types of relief's structs have layouts");
         let mut offset = 0u32;
-        let mut max_align = 4u32;
+        let mut max_align = naga::proc::Alignment::ONE;
         let mut out = Vec::new();
-        for (mname, inner) in members {
-            let (size, align) = types::size_align(inner);
-            offset = offset.div_ceil(align) * align;
-            max_align = max_align.max(align);
-            out.push(naga::StructMember {
-                name: Some((*mname).to_string()),
-                ty: self.ty(inner.clone()),
-                binding: None,
-                offset,
-            });
-            offset += size;
+        for ((mname, _), ty) in members.iter().zip(handles) {
+            let layout = layouter[ty];
+            offset = layout.alignment.round_up(offset);
+            max_align = max_align.max(layout.alignment);
+            out.push(naga::StructMember { name: Some((*mname).to_string()), ty, binding: None, offset });
+            offset += layout.size;
         }
-        let span = offset.div_ceil(max_align) * max_align;
+        let span = max_align.round_up(offset);
         self.module.borrow_mut().types.insert(
             naga::Type {
                 name: Some(name.to_string()),
@@ -105,6 +103,12 @@ impl ModuleCtx {
             },
             Span::UNDEFINED,
         )
+    }
+
+    /// A struct type for one of the ABI's records ([`crate::abi`]).
+    pub fn record_ty(&self, name: &str, members: &[(&str, crate::abi::Member)]) -> Handle<naga::Type> {
+        let members: Vec<(&str, naga::TypeInner)> = members.iter().map(|(n, m)| (*n, types::member_inner(*m))).collect();
+        self.struct_ty(name, &members)
     }
 
     /// The global named `name`, declared with `make` the first time it is asked for.

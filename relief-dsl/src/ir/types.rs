@@ -64,24 +64,16 @@ impl FloatVec for Vec4 {
     const SIZE: VectorSize = VectorSize::Quad;
 }
 
-/// Size and alignment under WGSL's layout rules, for the types relief uses.
-pub(crate) fn size_align(inner: &TypeInner) -> (u32, u32) {
-    match inner {
-        TypeInner::Scalar(s) => (s.width as u32, s.width as u32),
-        TypeInner::Vector { size, scalar } => {
-            let w = scalar.width as u32;
-            match size {
-                VectorSize::Bi => (2 * w, 2 * w),
-                VectorSize::Tri => (3 * w, 4 * w),
-                VectorSize::Quad => (4 * w, 4 * w),
-            }
-        }
-        TypeInner::Matrix { columns, rows, scalar } => {
-            let (col_size, align) = size_align(&TypeInner::Vector { size: *rows, scalar: *scalar });
-            let stride = col_size.div_ceil(align) * align;
-            (stride * *columns as u32, align)
-        }
-        other => panic!("no layout rule for {other:?}"),
+/// The shader type of an ABI record member.
+pub(crate) fn member_inner(m: crate::abi::Member) -> TypeInner {
+    use crate::abi::Member;
+    match m {
+        Member::F32 => f32::inner(),
+        Member::U32 => u32::inner(),
+        Member::Vec2 => Vec2::inner(),
+        Member::Vec3 => Vec3::inner(),
+        Member::Vec4 => Vec4::inner(),
+        Member::Mat4 => Mat4::inner(),
     }
 }
 

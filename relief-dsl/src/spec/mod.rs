@@ -300,7 +300,7 @@ impl MapReq {
 
     /// The shader binding (group 0) the map is bound at.
     pub fn binding(self) -> u32 {
-        use crate::compose::binding as b;
+        use crate::abi::binding as b;
         match self {
             MapReq::Normal => b::NORMAL,
             MapReq::Cone => b::CONE,

@@ -22,7 +22,7 @@ pub mod shadow;
 
 use naga::{Expression, ImageClass, ImageDimension, SampleLevel, ScalarKind, TypeInner};
 
-use crate::compose::binding;
+use crate::abi::{binding, Param, Params};
 use crate::ir::{Stage, Val, Vec2, Vec3, Vec4};
 use crate::spec::MapReq;
 
@@ -258,6 +258,25 @@ impl<'a> Stage<'a> {
     /// GETHEIGHT of the algorithm boxes: the height map at `uv`, bilinear.
     pub fn height(&'a self, uv: Val<'a, Vec2>) -> Val<'a, f32> {
         self.sample("height_map", binding::HEIGHT, uv, Filter::Linear).x()
+    }
+
+    /// The member `p` of the `Params` uniform block ([`crate::abi::Params`]).
+    pub fn param<T: crate::ir::Ty>(&'a self, p: Param) -> Val<'a, T> {
+        let g = self.module().global("params", |m| naga::GlobalVariable {
+            name: Some("params".into()),
+            space: naga::AddressSpace::Uniform,
+            binding: Some(naga::ResourceBinding { group: 0, binding: binding::PARAMS }),
+            ty: m.record_ty("Params", &Params::MEMBERS),
+            init: None,
+            memory_decorations: Default::default(),
+        });
+        self.load(self.member_ptr(self.global_ptr(g), p.index()))
+    }
+
+    /// Whether the scene's edge mode is clamp (`params.quad.y` is 1), for stages that address
+    /// texels themselves.
+    pub fn edge_is_clamp(&'a self) -> Val<'a, bool> {
+        self.param::<Vec4>(Param::Quad).y().gt(0.5)
     }
 
     /// The tangent-space normal at `uv`, from the normal map (stored `n * 0.5 + 0.5`).

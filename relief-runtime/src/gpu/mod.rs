@@ -10,7 +10,8 @@ mod render;
 mod resources;
 
 pub use device::{Gpu, GpuError};
-pub use probe::{probe, GpuHit, OUTSIDE_TOLERANCE};
+pub use probe::{probe, GpuHit};
+pub use relief_dsl::abi::OUTSIDE_TOLERANCE;
 pub use render::{render, RenderResult};
 pub use resources::SceneTextures;
 

@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 
-use relief_dsl::compose::binding;
+use relief_dsl::abi::{binding, Params};
 use relief_dsl::spec::MapReq;
 use wgpu::util::DeviceExt;
 
@@ -149,17 +149,18 @@ impl SceneTextures {
 
     /// The params uniform buffer for a scene seen at `aspect`.
     pub fn params(gpu: &Gpu, scene: &Scene, aspect: f32) -> wgpu::Buffer {
-        let vp = scene.camera.view_proj(aspect).to_cols_array();
         let cam = scene.camera.camera_position();
         let l = scene.light_dir.normalize();
-        let mut data: Vec<f32> = vp.to_vec();
-        data.extend([cam.x, cam.y, cam.z, scene.depth_scale]);
-        data.extend([l.x, l.y, l.z, AMBIENT]);
         let clamp = if scene.edge == EdgeMode::Clamp { 1.0 } else { 0.0 };
-        data.extend([scene.tiling, clamp, 0.0, 0.0]);
+        let params = Params {
+            view_proj: scene.camera.view_proj(aspect).to_cols_array(),
+            camera: [cam.x, cam.y, cam.z, scene.depth_scale],
+            light: [l.x, l.y, l.z, AMBIENT],
+            quad: [scene.tiling, clamp, 0.0, 0.0],
+        };
         gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("params"),
-            contents: bytemuck::cast_slice(&data),
+            contents: bytemuck::bytes_of(&params),
             usage: wgpu::BufferUsages::UNIFORM,
         })
     }
@@ -193,7 +194,7 @@ impl SceneTextures {
                     }
                 }
                 binding::NEAREST_SAMPLER => wgpu::BindingResource::Sampler(&self.nearest),
-                b if b < binding::NEAREST_OFFSET && b > binding::ALBEDO => wgpu::BindingResource::TextureView(self.map_view(b, reqs)?),
+                b if b > binding::ALBEDO && b < binding::NEAREST_OFFSET => wgpu::BindingResource::TextureView(self.map_view(b, reqs)?),
                 other => match storage.iter().find(|(n, _)| *n == other) {
                     Some((_, buf)) => buf.as_entire_binding(),
                     None => {

@@ -144,7 +144,7 @@ pub struct MapParams {
 
 impl Default for MapParams {
     fn default() -> Self {
-        MapParams { cones: 4, z_resolution: 64 }
+        MapParams { cones: 4, z_resolution: relief_dsl::abi::DISTANCE_FIELD_Z }
     }
 }
 

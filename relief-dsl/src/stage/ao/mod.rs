@@ -3,7 +3,7 @@
 //! The cone above a point is the open sky it sees (Burger 2018 §4.5): a cone of half-angle α
 //! (`tan α = r`, `sin α = n_z`) lets in the share `sin² α` of cosine-weighted ambient light.
 
-use crate::compose::CompileError;
+use crate::CompileError;
 use crate::ir::{Stage, Val};
 use crate::spec::{MapReq, StageSpec};
 use crate::stage::{Filter, Hit};

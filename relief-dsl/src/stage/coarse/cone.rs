@@ -153,7 +153,7 @@ impl<'a> Corners<'a> {
 
 /// The height of the cone's apex: the sample of the texel the cone map was read at.
 fn apex<'a>(s: &'a Stage<'a>, uv: Val<'a, Vec2>) -> Val<'a, f32> {
-    s.sample("height_map", crate::compose::binding::HEIGHT, uv, Filter::Nearest).x()
+    s.sample("height_map", crate::abi::binding::HEIGHT, uv, Filter::Nearest).x()
 }
 
 /// Where the loop all cone searches share ended.

@@ -20,7 +20,7 @@ pub fn maxmip<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     let size = s.height_map_size();
     let n = size.x().max(size.y());
     let top = n.log2().floor();
-    let clamp = crate::compose::edge_is_clamp(s);
+    let clamp = s.edge_is_clamp();
     // Cell coordinates: cell i spans X in [i, i + 1), X = u·N - 1/2.
     let to_cells = |uv: Val<'a, Vec2>| uv * size - 0.5;
     let speed = ray.dir.xy() * size;

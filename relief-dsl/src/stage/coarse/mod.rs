@@ -6,7 +6,7 @@ pub mod maxmip;
 pub mod parallax;
 pub mod sphere;
 
-use crate::compose::CompileError;
+use crate::CompileError;
 use crate::ir::Stage;
 use crate::spec::StageSpec;
 use crate::stage::{Bracket, Ray};
@@ -43,11 +43,7 @@ pub fn build<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, spec: &StageSpec) -> Result<Br
         "mcns" => cone::mcns(s, ray, spec.int("steps"), spec.int("k")),
         "pcns" => cone::pcns(s, ray, spec.int("steps"), spec.int("k")),
         "maxmip" => maxmip::maxmip(s, ray, spec.int("steps")),
-        "sphere" => sphere::sphere(s, ray, spec.int("steps"), DISTANCE_FIELD_Z),
+        "sphere" => sphere::sphere(s, ray, spec.int("steps"), crate::abi::DISTANCE_FIELD_Z),
         other => return Err(CompileError::not_implemented("coarse", other)),
     })
 }
-
-/// The z resolution of the distance field `sphere` reads (relief-runtime builds it with its
-/// default `MapParams::z_resolution`, which must match).
-pub const DISTANCE_FIELD_Z: u32 = 64;

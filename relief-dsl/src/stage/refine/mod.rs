@@ -3,7 +3,7 @@
 pub mod binary;
 pub mod secant;
 
-use crate::compose::CompileError;
+use crate::CompileError;
 use crate::ir::Stage;
 use crate::spec::StageSpec;
 use crate::stage::{Bracket, Hit, Ray};

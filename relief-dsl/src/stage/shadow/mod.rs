@@ -3,7 +3,7 @@
 pub mod cone;
 pub mod march;
 
-use crate::compose::CompileError;
+use crate::CompileError;
 use crate::ir::{Stage, Val, Vec3};
 use crate::spec::{StageSpec, Value};
 use crate::stage::{Bracket, Hit};

@@ -1,0 +1,197 @@
+//! The shader ABI: what a generated module and the runtime that drives it agree on — binding
+//! numbers, the `Params` uniform block, the probe's ray and hit records, the probe's workgroup
+//! size, and the constants both sides build maps with.
+//!
+//! A leaf: every layer of relief-dsl and relief-runtime may read it, and it reads nothing of
+//! theirs. Each record is one `#[repr(C)]` Rust struct; the shader's struct type is built from
+//! the same member list ([`Params::MEMBERS`], [`ProbeRay::MEMBERS`], [`ProbeHit::MEMBERS`]),
+//! and a test checks that naga lays it out at the Rust struct's size.
+
+use bytemuck::{Pod, Zeroable};
+
+/// Binding numbers (all in group 0). Stable: the runtime binds by these numbers.
+pub mod binding {
+    /// `Params` uniform block: see [`super::Params`].
+    pub const PARAMS: u32 = 0;
+    /// Height map, `texture_2d<f32>`, height in the red channel.
+    pub const HEIGHT: u32 = 1;
+    /// Sampler with linear filtering (the scene's edge mode as address mode).
+    pub const LINEAR_SAMPLER: u32 = 2;
+    /// Sampler with nearest filtering.
+    pub const NEAREST_SAMPLER: u32 = 3;
+    /// Normal map, `texture_2d<f32>`, `n * 0.5 + 0.5` in rgb.
+    pub const NORMAL: u32 = 4;
+    /// Albedo, `texture_2d<f32>`, rgb.
+    pub const ALBEDO: u32 = 5;
+    /// Cone ratio map (`texture_2d<f32>`, r).
+    pub const CONE: u32 = 6;
+    /// Quad cone ratio map (rgba).
+    pub const QUAD_CONE: u32 = 7;
+    /// Relaxed cone ratio map (r).
+    pub const RELAXED_CONE: u32 = 8;
+    /// Cone normal map, `n_z` (r).
+    pub const CONE_NORMAL: u32 = 9;
+    /// Relaxed cone normal map, `n_z` (r).
+    pub const RELAXED_CONE_NORMAL: u32 = 10;
+    /// Stacked cones, `n_z` per cone (rgba, K ≤ 4 channels used).
+    pub const MULTI_CONE: u32 = 11;
+    /// Piecewise cone slopes as `n_z` (rgba, K ≤ 4 channels used).
+    pub const PIECEWISE_CONE: u32 = 12;
+    /// Maximum mipmap of the height map's bilinear cells (r, full mip chain).
+    pub const MAX_MIP: u32 = 13;
+    /// Distance field, `texture_3d<f32>` (r), z slices from the bottom (0) to the top (1).
+    pub const DISTANCE_FIELD: u32 = 14;
+    /// A 2D map read with nearest filtering is bound a second time at its binding plus this
+    /// offset (`cone_map_nearest` at 38 for `cone_map` at 6): GLSL combines a texture with one
+    /// sampler.
+    pub const NEAREST_OFFSET: u32 = 32;
+    /// Probe input, `array<ProbeRay>` (storage, read).
+    pub const RAYS: u32 = 64;
+    /// Probe output, `array<ProbeHit>` (storage, read_write).
+    pub const HITS: u32 = 65;
+}
+
+/// Workgroup size of the probe entry.
+pub const PROBE_WORKGROUP: u32 = 64;
+
+/// The z resolution of the distance field `sphere` reads: the stage folds the voxel size
+/// into its steps, and the runtime builds the field with it.
+pub const DISTANCE_FIELD_Z: u32 = 64;
+
+/// The scalar type of a record member, for building the shader's struct type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Member {
+    F32,
+    U32,
+    Vec2,
+    Vec3,
+    Vec4,
+    Mat4,
+}
+
+/// The `Params` uniform block (112 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Params {
+    /// Tangent space → clip space, column-major.
+    pub view_proj: [f32; 16],
+    /// xyz: the camera's position in tangent space; w: the depth scale (the relief's depth
+    /// in texture units).
+    pub camera: [f32; 4],
+    /// xyz: unit vector toward the light; w: the ambient share.
+    pub light: [f32; 4],
+    /// x: the quad's size in texture units (the tiling); y: 1 when the scene's edge mode is
+    /// clamp, 0 for repeat; z, w: 0.
+    pub quad: [f32; 4],
+}
+
+/// A member of [`Params`], in order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Param {
+    ViewProj,
+    Camera,
+    Light,
+    Quad,
+}
+
+impl Params {
+    /// The members as the shader declares them, in order.
+    pub const MEMBERS: [(&'static str, Member); 4] =
+        [("view_proj", Member::Mat4), ("camera", Member::Vec4), ("light", Member::Vec4), ("quad", Member::Vec4)];
+}
+
+impl Param {
+    /// The member's index in [`Params::MEMBERS`].
+    pub fn index(self) -> u32 {
+        self as u32
+    }
+}
+
+/// One probe ray, 32 bytes, as the probe's storage buffer holds it.
+///
+/// The ray's point at t is `(origin.x + t·dir.x, origin.y + t·dir.y, 1 + t·dir.z)`: it enters
+/// the relief volume at height 1, and `dir` is normalized so that t = 1 reaches height 0
+/// (`dir.z = -1`). `x`, `y` are the pixel (column, row; row 0 at the top).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct ProbeRay {
+    pub origin: [f32; 2],
+    pub dir: [f32; 3],
+    pub x: u32,
+    pub y: u32,
+    pub pad: u32,
+}
+
+impl ProbeRay {
+    /// The members as the shader declares them (`dir` split into `dir_xy` and `dir_z`, so
+    /// that no member needs 16-byte alignment).
+    pub const MEMBERS: [(&'static str, Member); 6] = [
+        ("origin", Member::Vec2),
+        ("dir_xy", Member::Vec2),
+        ("dir_z", Member::F32),
+        ("pixel_x", Member::U32),
+        ("pixel_y", Member::U32),
+        ("pad", Member::U32),
+    ];
+
+    /// The ray's point (u, v, height) at parameter t.
+    pub fn at(&self, t: f32) -> [f32; 3] {
+        [self.origin[0] + t * self.dir[0], self.origin[1] + t * self.dir[1], 1.0 + t * self.dir[2]]
+    }
+}
+
+/// One probe hit, 32 bytes: the search's raw result, never clamped into the volume.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct ProbeHit {
+    pub t: f32,
+    pub u: f32,
+    pub v: f32,
+    pub z: f32,
+    /// Loop passes of the coarse stage.
+    pub coarse_steps: u32,
+    /// Loop passes of the refine stage.
+    pub refine_steps: u32,
+    /// Texture samples over both stages.
+    pub fetches: u32,
+    /// 1 when the coarse search found the surface; 0 when it ran out of steps (the hit is
+    /// then the last point it knew to be above the surface, and nothing refined it).
+    pub converged: u32,
+}
+
+impl ProbeHit {
+    /// The members as the shader declares them, in order.
+    pub const MEMBERS: [(&'static str, Member); 8] = [
+        ("t", Member::F32),
+        ("u", Member::F32),
+        ("v", Member::F32),
+        ("z", Member::F32),
+        ("coarse_steps", Member::U32),
+        ("refine_steps", Member::U32),
+        ("fetches", Member::U32),
+        ("converged", Member::U32),
+    ];
+
+    /// Loop passes over both stages.
+    pub fn iterations(&self) -> u32 {
+        self.coarse_steps + self.refine_steps
+    }
+
+    /// Whether every coordinate of the hit is finite.
+    pub fn is_finite(&self) -> bool {
+        [self.t, self.u, self.v, self.z].iter().all(|x| x.is_finite())
+    }
+
+    /// Whether the raw hit lies outside the volume of `ray`: the ray's height at the hit's t,
+    /// `1 + t·dir.z`, above the polygon (t < 0) or below the floor, by more than
+    /// [`OUTSIDE_TOLERANCE`]. A NaN t is not outside (it is counted as NaN).
+    pub fn outside(&self, ray: &ProbeRay) -> bool {
+        let z = 1.0 + self.t as f64 * ray.dir[2] as f64;
+        z > 1.0 + OUTSIDE_TOLERANCE || z < -OUTSIDE_TOLERANCE
+    }
+}
+
+/// How far (in height) a hit may lie outside the volume and still count as inside: the
+/// rounding of a t summed in f32 over up to 128 steps of at most the volume's depth is below
+/// 128 · 2⁻²⁴ ≈ 7.6e-6, so 1e-5 separates rounding from a search that left the volume.
+pub const OUTSIDE_TOLERANCE: f64 = 1e-5;
