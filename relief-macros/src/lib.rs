@@ -95,7 +95,8 @@ use syn::parse::{ParseStream, Parser};
 
 mod syntax;
 
-use syntax::{Mode, Spans};
+use relief_dsl::spec::Form;
+use syntax::Spans;
 
 /// The path of relief-dsl as the generated code sees it: through the facade.
 fn dsl() -> TokenStream2 {
@@ -146,15 +147,14 @@ fn pipeline_body(input: ParseStream) -> syn::Result<Pipeline> {
         return lit.value().parse::<Pipeline>().map_err(|e| syn::Error::new(lit.span(), e.to_string()));
     }
     let mut spans = Spans::default();
-    let pattern = syntax::body(input, Mode::Pipeline, &mut spans)?;
+    let pattern = syntax::body(input, Form::Pipeline, &mut spans)?;
     if !pattern.slots.iter().any(|s| s.slot == relief_dsl::Slot::Coarse) {
         return Err(syn::Error::new(
             proc_macro2::Span::call_site(),
             "the pipeline has no coarse stage; add one such as `coarse: linear(32)`",
         ));
     }
-    let grid = pattern.expand().map_err(|e| spans.error(&e))?;
-    Ok(grid.into_cells().remove(0))
+    pattern.pipeline().map_err(|e| spans.error(&e))
 }
 
 /// A [`Pipeline`](relief_dsl::spec::Pipeline) declared in Rust and checked at
@@ -174,7 +174,7 @@ pub fn relief(input: TokenStream) -> TokenStream {
 #[proc_macro]
 pub fn relief_grid(input: TokenStream) -> TokenStream {
     let mut spans = Spans::default();
-    let parsed = (|input: ParseStream| syntax::body(input, Mode::Grid, &mut spans)).parse(input);
+    let parsed = (|input: ParseStream| syntax::body(input, Form::Grid, &mut spans)).parse(input);
     let pattern = match parsed {
         Ok(p) => p,
         Err(e) => return e.to_compile_error().into(),

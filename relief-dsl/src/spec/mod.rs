@@ -21,14 +21,18 @@
 
 mod catalog;
 pub mod grid;
+mod lex;
 mod parse;
+mod resolve;
+pub mod suggest;
 
 use std::fmt;
 use std::str::FromStr;
 
 pub use catalog::{catalog, method, MethodDef, ParamDef, ParamKind, MAX_STEPS};
-pub use grid::{Grid, GridError};
-pub use parse::{resolve_stage, ParseError, RawArg, RawStage, RawValue};
+pub use grid::Grid;
+pub use parse::{parse_pattern, slot_named, Form, ParseError, MAX_DEPTH};
+pub use resolve::{resolve_stage, RawArg, RawStage, RawValue};
 
 /// The four slots of a pipeline.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -123,11 +127,11 @@ impl StageSpec {
     /// Builds a spec from a method name and parameters given in order, checking them the
     /// same way the text form does.
     pub fn new(slot: Slot, name: &str, params: &[Value]) -> Result<Self, ParseError> {
-        let args: Vec<parse::Arg> = params
+        let args: Vec<resolve::Arg> = params
             .iter()
-            .map(|v| parse::Arg { name: None, value: v.clone().into(), pos: 0 })
+            .map(|v| resolve::Arg { name: None, value: v.clone().into(), pos: 0 })
             .collect();
-        parse::resolve(slot, name, 0, args)
+        resolve::resolve(slot, name, 0, args)
     }
 }
 
@@ -340,6 +344,6 @@ impl fmt::Display for Pipeline {
 impl FromStr for Pipeline {
     type Err = ParseError;
     fn from_str(s: &str) -> Result<Self, ParseError> {
-        parse::pipeline(s)
+        parse_pattern(s, Form::Pipeline)?.pipeline()
     }
 }
