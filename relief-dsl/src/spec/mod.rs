@@ -18,6 +18,16 @@
 //! let err = "lnear(10)".parse::<Pipeline>().unwrap_err();
 //! assert!(err.to_string().contains("did you mean `linear`"));
 //! ```
+//!
+//! # How text is read
+//!
+//! One lexer (`lex`) and one parser ([`parse_pattern`]) read both text forms: a pipeline is
+//! a grid with one stage per slot, so both parse into a [`grid::GridPattern`]. The macros
+//! (relief-macros) build the same patterns from Rust tokens. A pattern is expanded (ranges,
+//! lists) and each stage is checked against the [`catalog`] by [`resolve_stage`];
+//! [`grid::GridPattern::pipeline`] makes the one pipeline of a pipeline text, and
+//! [`grid::GridPattern::expand`] the [`Grid`] of a grid text. Every error is a
+//! [`ParseError`]; "did you mean" comes from [`suggest::nearest`].
 
 mod catalog;
 pub mod grid;

@@ -348,3 +348,67 @@ impl Parser {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::{Grid, Pipeline};
+    use super::*;
+
+    fn pipeline_err(text: &str) -> ParseError {
+        text.parse::<Pipeline>().unwrap_err()
+    }
+
+    #[test]
+    fn a_pipeline_is_a_grid_of_one_cell() {
+        for (pipeline, grid) in [
+            ("linear(10)+binary(5)", "coarse: linear(10), refine: binary(5)"),
+            ("ao=cone_ratio+coarse=csm(15, sample=min4)", "ao: [cone_ratio]\ncoarse: csm(steps = 15, sample = min4)"),
+            ("parallax+shadow=hard(linear(20))", "coarse: parallax, shadow: hard(20)"),
+        ] {
+            let p: Pipeline = pipeline.parse().unwrap();
+            let g: Grid = grid.parse().unwrap();
+            assert_eq!(g.cells(), [p.clone()], "{pipeline}");
+            assert_eq!(parse_pattern(pipeline, Form::Pipeline).unwrap().expand().unwrap().cells(), [p]);
+        }
+    }
+
+    #[test]
+    fn errors_come_in_reading_order() {
+        // A complete slot is checked before a later syntax error ...
+        let e = pipeline_err("lnear(3)+");
+        assert_eq!((e.pos, e.token.as_str()), (0, "lnear"), "{e}");
+        let e = "coarse: [lnear]\nrefine: [binary(3)".parse::<Grid>().unwrap_err();
+        assert_eq!((e.line_column, e.token.as_str()), (Some((1, 10)), "lnear"), "{e}");
+        // ... and the syntax error is reported when the slots before it are valid.
+        let e = pipeline_err("linear(3)+");
+        assert!(e.message.contains("the input ends"), "{e}");
+        assert_eq!(e.pos, 10);
+        // A slot's own syntax comes before its stages: the stage being read is not checked.
+        let e = pipeline_err("lnear(3");
+        assert!(e.message.contains("`,` or `)`"), "{e}");
+    }
+
+    #[test]
+    fn one_error_type_two_ways_to_name_the_place() {
+        let e = pipeline_err("linear(10)+binary(0)");
+        assert_eq!((e.pos, e.line_column), (18, None));
+        assert!(e.to_string().starts_with("at 18 (`0`): step count 0"), "{e}");
+        let e = "coarse: linear(10)\nrefine: binary(0)".parse::<Grid>().unwrap_err();
+        assert_eq!((e.pos, e.line_column), (34, Some((2, 16))));
+        assert!(e.to_string().starts_with("line 2, column 16 (`0`): step count 0"), "{e}");
+    }
+
+    #[test]
+    fn trailing_commas_and_form_specific_punctuation() {
+        // The stage grammar is shared: a trailing comma in the parameters is fine in both.
+        assert_eq!("linear(10,)".parse::<Pipeline>().unwrap().to_string(), "linear(10)");
+        assert_eq!("coarse: linear(10,)".parse::<Grid>().unwrap().cells()[0].to_string(), "linear(10)");
+        // A range or a list is only a grid's; `+` only a pipeline's.
+        for text in ["linear(1..=2)", "linear([1])"] {
+            let e = pipeline_err(text);
+            assert!(e.message.starts_with("unexpected character; a pipeline is made of"), "{text}: {e}");
+        }
+        let e = "coarse: linear(10)+binary(3)".parse::<Grid>().unwrap_err();
+        assert_eq!((e.line_column, e.token.as_str()), (Some((1, 19)), "+"), "{e}");
+    }
+}

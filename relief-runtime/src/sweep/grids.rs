@@ -175,6 +175,14 @@ mod tests {
     #[test]
     fn grid_file_errors_name_the_line_of_the_whole_file() {
         let e = parse_grid_file("coarse: linear(5)\n---\ncoarse: lnear(5)\n").unwrap_err();
-        assert_eq!(e.line, 3);
+        assert_eq!(e.line_column.map(|(line, _)| line), Some(3));
+    }
+
+    #[test]
+    fn an_unknown_grid_suggests_only_a_near_name() {
+        let e = load("t4.l", None).unwrap_err().to_string();
+        assert!(e.contains("did you mean `t4.1`?"), "{e}");
+        let e = load("/nonexistent/relief/sweep.grid", None).unwrap_err().to_string();
+        assert!(e.contains("no such file") && !e.contains("did you mean"), "{e}");
     }
 }
