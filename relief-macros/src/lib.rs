@@ -16,7 +16,7 @@
 //! as in the text form: `linear(10)`, `linear(steps = 10)`, `linear` (defaults),
 //! `hard(linear(20))`. Trailing commas are fine.
 //!
-//! ## `relief!` — a [`Pipeline`](relief_dsl::spec::Pipeline) value
+//! ## `relief!` — a [`Pipeline`] value
 //!
 //! ```
 //! use relief::{relief, Pipeline};
@@ -157,7 +157,7 @@ fn pipeline_body(input: ParseStream) -> syn::Result<Pipeline> {
     pattern.pipeline().map_err(|e| spans.error(&e))
 }
 
-/// A [`Pipeline`](relief_dsl::spec::Pipeline) declared in Rust and checked at
+/// A [`Pipeline`] declared in Rust and checked at
 /// compile time: `relief!{ coarse: linear(15), refine: binary(6), shadow: soft(30) }`.
 /// See the [crate docs](crate) for the syntax.
 #[proc_macro]

@@ -35,7 +35,7 @@ pub struct ParseError {
     pub pos: usize,
     /// `(line, column)` of `pos`, both from 1, for a text of several lines (a grid text,
     /// see [`ParseError::locate`]); `None` for a pipeline text, whose errors name `pos`.
-    pub line_column: Option<(usize, usize)>,
+    pub line_column: Option<(u32, u32)>,
     /// The offending token (empty at the end of the input).
     pub token: String,
     /// What is wrong, in one sentence.
@@ -49,13 +49,13 @@ pub struct ParseError {
 impl ParseError {
     /// The error with its line and column in `text` (`pos` a character offset in it).
     pub fn locate(mut self, text: &str) -> Self {
-        let (mut line, mut column) = (1, 1);
+        let (mut line, mut column) = (1u32, 1u32);
         for c in text.chars().take(self.pos) {
             if c == '\n' {
-                line += 1;
+                line = line.saturating_add(1);
                 column = 1;
             } else {
-                column += 1;
+                column = column.saturating_add(1);
             }
         }
         self.line_column = Some((line, column));

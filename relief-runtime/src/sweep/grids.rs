@@ -78,7 +78,7 @@ pub fn parse_grid_file(text: &str) -> Result<Vec<Pipeline>, ParseError> {
     for (offset, b) in blocks {
         let grid: Grid = b.parse().map_err(|mut e: ParseError| {
             if let Some((line, _)) = &mut e.line_column {
-                *line += offset;
+                *line = line.saturating_add(u32::try_from(offset).unwrap_or(u32::MAX));
             }
             e
         })?;
