@@ -317,17 +317,21 @@ impl GridPattern {
         let Some(coarse) = c else {
             return Err(err(self.end, "", "the pipeline has no coarse stage; start it with one such as linear(32)"));
         };
-        let lists = [coarse, r.unwrap_or_else(none), s.unwrap_or_else(none), a.unwrap_or_else(none)];
-        let mut one = Vec::new();
-        for (slot, list) in Slot::ALL.into_iter().zip(lists) {
-            let [stage] = <[StageSpec; 1]>::try_from(list).map_err(|l| {
+        let one = |slot: Slot, list: Option<Vec<StageSpec>>| -> Result<StageSpec, ParseError> {
+            let list = list.unwrap_or_else(none);
+            let n = list.len();
+            let [stage] = <[StageSpec; 1]>::try_from(list).map_err(|_| {
                 let pos = self.slots.iter().find(|sp| sp.slot == slot).map_or(self.end, |sp| sp.pos);
-                err(pos, slot.name(), format!("the {slot} slot declares {} stages where a pipeline has one", l.len()))
+                err(pos, slot.name(), format!("the {slot} slot declares {n} stages where a pipeline has one"))
             })?;
-            one.push(stage);
-        }
-        let [c, r, s, a] = <[StageSpec; 4]>::try_from(one).expect("four slots");
-        Ok(Pipeline::new(c, r, s, a))
+            Ok(stage)
+        };
+        Ok(Pipeline::new(
+            one(Slot::Coarse, Some(coarse))?,
+            one(Slot::Refine, r)?,
+            one(Slot::Shadow, s)?,
+            one(Slot::Ao, a)?,
+        ))
     }
 
     /// Expands and resolves every stage: the distinct stages of each slot in declaration

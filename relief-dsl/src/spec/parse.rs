@@ -367,9 +367,13 @@ mod tests {
         ] {
             let p: Pipeline = pipeline.parse().unwrap();
             let g: Grid = grid.parse().unwrap();
-            assert_eq!(g.cells(), [p.clone()], "{pipeline}");
+            assert_eq!(g.cells(), std::slice::from_ref(&p), "{pipeline}");
             assert_eq!(parse_pattern(pipeline, Form::Pipeline).unwrap().expand().unwrap().cells(), [p]);
         }
+        // A pattern of several cells is not one pipeline: an error at the slot, not a pick.
+        let e = parse_pattern("coarse: linear(4)\nrefine: binary([4, 8])", Form::Grid).unwrap().pipeline().unwrap_err();
+        assert_eq!((e.pos, e.token.as_str()), (18, "refine"), "{e}");
+        assert!(e.message.contains("declares 2 stages"), "{e}");
     }
 
     #[test]
