@@ -16,7 +16,7 @@
 //! as in the text form: `linear(10)`, `linear(steps = 10)`, `linear` (defaults),
 //! `hard(linear(20))`. Trailing commas are fine.
 //!
-//! ## `relief!` — a [`Pipeline`](relief_dsl::spec::Pipeline) value
+//! ## `relief!` — a [`Pipeline`] value
 //!
 //! ```
 //! use relief::{relief, Pipeline};
@@ -95,7 +95,8 @@ use syn::parse::{ParseStream, Parser};
 
 mod syntax;
 
-use syntax::{Mode, Spans};
+use relief_dsl::spec::Form;
+use syntax::Spans;
 
 /// The path of relief-dsl as the generated code sees it: through the facade.
 fn dsl() -> TokenStream2 {
@@ -146,18 +147,17 @@ fn pipeline_body(input: ParseStream) -> syn::Result<Pipeline> {
         return lit.value().parse::<Pipeline>().map_err(|e| syn::Error::new(lit.span(), e.to_string()));
     }
     let mut spans = Spans::default();
-    let pattern = syntax::body(input, Mode::Pipeline, &mut spans)?;
+    let pattern = syntax::body(input, Form::Pipeline, &mut spans)?;
     if !pattern.slots.iter().any(|s| s.slot == relief_dsl::Slot::Coarse) {
         return Err(syn::Error::new(
             proc_macro2::Span::call_site(),
             "the pipeline has no coarse stage; add one such as `coarse: linear(32)`",
         ));
     }
-    let grid = pattern.expand().map_err(|e| spans.error(&e))?;
-    Ok(grid.into_cells().remove(0))
+    pattern.pipeline().map_err(|e| spans.error(&e))
 }
 
-/// A [`Pipeline`](relief_dsl::spec::Pipeline) declared in Rust and checked at
+/// A [`Pipeline`] declared in Rust and checked at
 /// compile time: `relief!{ coarse: linear(15), refine: binary(6), shadow: soft(30) }`.
 /// See the [crate docs](crate) for the syntax.
 #[proc_macro]
@@ -174,7 +174,7 @@ pub fn relief(input: TokenStream) -> TokenStream {
 #[proc_macro]
 pub fn relief_grid(input: TokenStream) -> TokenStream {
     let mut spans = Spans::default();
-    let parsed = (|input: ParseStream| syntax::body(input, Mode::Grid, &mut spans)).parse(input);
+    let parsed = (|input: ParseStream| syntax::body(input, Form::Grid, &mut spans)).parse(input);
     let pattern = match parsed {
         Ok(p) => p,
         Err(e) => return e.to_compile_error().into(),

@@ -3,21 +3,12 @@
 //! error relief-dsl reports (it carries the position unchanged) maps back to its token.
 
 use proc_macro2::{Span, TokenStream};
-use relief_dsl::spec::grid::{slot_named, ArgPattern, GridPattern, SlotPattern, StagePattern, ValuePattern};
-use relief_dsl::spec::ParseError;
+use relief_dsl::spec::grid::{ArgPattern, GridPattern, SlotPattern, StagePattern, ValuePattern};
+use relief_dsl::spec::{slot_named, Form, ParseError, MAX_DEPTH};
 use syn::ext::IdentExt;
 use syn::parse::ParseStream;
 use syn::spanned::Spanned;
 use syn::{Ident, LitInt, LitStr, Token};
-
-/// What a body may contain.
-#[derive(Clone, Copy, PartialEq, Eq)]
-pub enum Mode {
-    /// `relief!` / `relief_shader!`: one stage per slot, single values.
-    Pipeline,
-    /// `relief_grid!`: lists of stages, ranges and lists of values, a `name:` entry.
-    Grid,
-}
 
 /// The spans behind pattern positions: `(first token, last token)` of each.
 #[derive(Default)]
@@ -62,7 +53,7 @@ pub fn spanned_error(first: Span, last: Span, msg: impl std::fmt::Display) -> sy
 }
 
 /// Parses a whole body: `SLOT: STAGE, …` (and, for grids, `SLOT: [STAGE, …]`, `name: "…"`).
-pub fn body(input: ParseStream, mode: Mode, spans: &mut Spans) -> syn::Result<GridPattern> {
+pub fn body(input: ParseStream, form: Form, spans: &mut Spans) -> syn::Result<GridPattern> {
     let mut g = GridPattern { name: None, slots: vec![], end: 0 };
     let mut name_seen = false;
     while !input.is_empty() {
@@ -71,7 +62,7 @@ pub fn body(input: ParseStream, mode: Mode, spans: &mut Spans) -> syn::Result<Gr
         })?;
         let key_str = key.to_string();
         input.parse::<Token![:]>().map_err(|e| syn::Error::new(e.span(), format!("expected `:` after `{key_str}`")))?;
-        if key_str == "name" && mode == Mode::Grid {
+        if key_str == "name" && form == Form::Grid {
             if name_seen {
                 return Err(syn::Error::new(key.span(), "the grid's name is given twice"));
             }
@@ -87,7 +78,7 @@ pub fn body(input: ParseStream, mode: Mode, spans: &mut Spans) -> syn::Result<Gr
             let stages = if input.peek(syn::token::Bracket) {
                 let content;
                 let bracket = syn::bracketed!(content in input);
-                if mode == Mode::Pipeline {
+                if form == Form::Pipeline {
                     return Err(syn::Error::new(
                         bracket.span.join(),
                         "a list of stages declares several pipelines: use `relief_grid!`",
@@ -95,7 +86,7 @@ pub fn body(input: ParseStream, mode: Mode, spans: &mut Spans) -> syn::Result<Gr
                 }
                 let mut stages = Vec::new();
                 while !content.is_empty() {
-                    stages.push(stage(&content, mode, spans, 0)?);
+                    stages.push(stage(&content, form, spans, 0)?);
                     if content.is_empty() {
                         break;
                     }
@@ -103,7 +94,7 @@ pub fn body(input: ParseStream, mode: Mode, spans: &mut Spans) -> syn::Result<Gr
                 }
                 stages
             } else {
-                vec![stage(input, mode, spans, 0)?]
+                vec![stage(input, form, spans, 0)?]
             };
             g.slots.push(SlotPattern { slot, pos, stages });
         }
@@ -116,9 +107,7 @@ pub fn body(input: ParseStream, mode: Mode, spans: &mut Spans) -> syn::Result<Gr
     Ok(g)
 }
 
-const MAX_DEPTH: usize = 8;
-
-fn stage(input: ParseStream, mode: Mode, spans: &mut Spans, depth: usize) -> syn::Result<StagePattern> {
+fn stage(input: ParseStream, form: Form, spans: &mut Spans, depth: usize) -> syn::Result<StagePattern> {
     let name = input
         .call(Ident::parse_any)
         .map_err(|e| syn::Error::new(e.span(), "expected a stage name such as `linear(32)`"))?;
@@ -137,7 +126,7 @@ fn stage(input: ParseStream, mode: Mode, spans: &mut Spans, depth: usize) -> syn
                 content.parse::<Token![=]>()?;
                 pname = Some((n.to_string(), spans.one(n.span())));
             }
-            args.push(ArgPattern { name: pname, value: value(&content, mode, spans, depth)? });
+            args.push(ArgPattern { name: pname, value: value(&content, form, spans, depth)? });
             if content.is_empty() {
                 break;
             }
@@ -164,7 +153,7 @@ fn int(input: ParseStream) -> syn::Result<(u64, LitInt)> {
     Ok((n, lit))
 }
 
-fn value(input: ParseStream, mode: Mode, spans: &mut Spans, depth: usize) -> syn::Result<ValuePattern> {
+fn value(input: ParseStream, form: Form, spans: &mut Spans, depth: usize) -> syn::Result<ValuePattern> {
     if input.peek(LitInt) {
         let (start, lit) = int(input)?;
         if input.peek(Token![..=]) || input.peek(Token![..]) {
@@ -185,7 +174,7 @@ fn value(input: ParseStream, mode: Mode, spans: &mut Spans, depth: usize) -> syn
                 last = s_lit.span();
                 text = format!("{text} step {s}");
             }
-            if mode == Mode::Pipeline {
+            if form == Form::Pipeline {
                 return Err(spanned_error(lit.span(), last, "a range declares several pipelines: use `relief_grid!`"));
             }
             let pos = spans.push(lit.span(), last);
@@ -197,13 +186,13 @@ fn value(input: ParseStream, mode: Mode, spans: &mut Spans, depth: usize) -> syn
     if input.peek(syn::token::Bracket) {
         let content;
         let bracket = syn::bracketed!(content in input);
-        if mode == Mode::Pipeline {
+        if form == Form::Pipeline {
             return Err(syn::Error::new(bracket.span.join(), "a list of values declares several pipelines: use `relief_grid!`"));
         }
         let pos = spans.one(bracket.span.open());
         let mut items = Vec::new();
         while !content.is_empty() {
-            items.push(value(&content, mode, spans, depth)?);
+            items.push(value(&content, form, spans, depth)?);
             if content.is_empty() {
                 break;
             }
@@ -212,7 +201,7 @@ fn value(input: ParseStream, mode: Mode, spans: &mut Spans, depth: usize) -> syn
         return Ok(ValuePattern::List { items, pos });
     }
     if input.peek(Ident::peek_any) {
-        return Ok(ValuePattern::Stage(stage(input, mode, spans, depth + 1)?));
+        return Ok(ValuePattern::Stage(stage(input, form, spans, depth + 1)?));
     }
     if input.peek(Token![-]) {
         let m: Token![-] = input.parse()?;

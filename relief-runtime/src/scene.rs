@@ -321,12 +321,7 @@ pub enum SceneError {
 
 impl SceneError {
     fn unknown(name: &str) -> SceneError {
-        let suggestion = SCENES
-            .iter()
-            .map(|(n, _)| (edit_distance(name, n), *n))
-            .min()
-            .filter(|(d, n)| *d <= (n.len().max(name.len()) / 2).max(2))
-            .map(|(_, n)| n);
+        let suggestion = relief_dsl::spec::suggest::nearest(name, SCENES.iter().map(|(n, _)| *n));
         SceneError::Unknown { name: name.to_string(), suggestion }
     }
 }
@@ -339,21 +334,6 @@ fn unknown_message(name: &str, suggestion: &Option<&'static str>) -> String {
     m += "; valid scenes: ";
     m += &scene_names().join(", ");
     m
-}
-
-/// Levenshtein distance (small strings).
-fn edit_distance(a: &str, b: &str) -> usize {
-    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
-    let mut prev: Vec<usize> = (0..=b.len()).collect();
-    for i in 1..=a.len() {
-        let mut cur = vec![i; b.len() + 1];
-        for j in 1..=b.len() {
-            let sub = prev[j - 1] + (a[i - 1] != b[j - 1]) as usize;
-            cur[j] = sub.min(prev[j] + 1).min(cur[j - 1] + 1);
-        }
-        prev = cur;
-    }
-    prev[b.len()]
 }
 
 impl fmt::Display for Scene {

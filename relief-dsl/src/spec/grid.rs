@@ -37,17 +37,17 @@
 //! assert_eq!(texts, ["linear(8)", "linear(8)+binary(3)", "linear(16)", "linear(16)+binary(3)",
 //!                    "parallax", "parallax+binary(3)"]);
 //! let err = "coarse: [linear(8), lnear(4)]".parse::<Grid>().unwrap_err();
-//! assert_eq!((err.line, err.column), (1, 21));
+//! assert_eq!(err.line_column, Some((1, 21)));
 //! assert!(err.to_string().contains("did you mean `linear`"));
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 use std::collections::HashSet;
-use std::fmt;
 use std::str::FromStr;
 
-use super::parse::err;
-use super::{resolve_stage, ParseError, Pipeline, RawArg, RawStage, RawValue, Slot, StageSpec};
+use super::parse::{err, parse_pattern, Form, ParseError};
+use super::resolve::{resolve_stage, RawArg, RawStage, RawValue};
+use super::{Pipeline, Slot, StageSpec};
 
 /// The most pipelines one grid may hold (and the most stages one stage pattern may expand
 /// to): a guard against a typo such as `1..=4096 step 1` in several places.
@@ -122,66 +122,20 @@ impl<'a> IntoIterator for &'a Grid {
 }
 
 impl FromStr for Grid {
-    type Err = GridError;
-    fn from_str(s: &str) -> Result<Self, GridError> {
-        parse_pattern(s).and_then(|p| p.expand()).map_err(|e| GridError::new(s, e))
+    type Err = ParseError;
+    /// Parses a grid text; errors carry their line and column ([`ParseError::line_column`]).
+    fn from_str(s: &str) -> Result<Self, ParseError> {
+        parse_pattern(s, Form::Grid).and_then(|p| p.expand()).map_err(|e| e.locate(s))
     }
 }
-
-/// Why a grid text was rejected: a [`ParseError`] (whose `pos` is a character offset in the
-/// text) with its line and column (both from 1).
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct GridError {
-    /// Line of the offending token, from 1.
-    pub line: usize,
-    /// Column (in characters) of the offending token, from 1.
-    pub column: usize,
-    /// What is wrong.
-    pub error: ParseError,
-}
-
-impl GridError {
-    /// Locates `error` (positions are character offsets) in `text`.
-    pub fn new(text: &str, error: ParseError) -> Self {
-        let (mut line, mut column) = (1, 1);
-        for c in text.chars().take(error.pos) {
-            if c == '\n' {
-                line += 1;
-                column = 1;
-            } else {
-                column += 1;
-            }
-        }
-        GridError { line, column, error }
-    }
-}
-
-impl fmt::Display for GridError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "line {}, column {}", self.line, self.column)?;
-        let e = &self.error;
-        if !e.token.is_empty() {
-            write!(f, " (`{}`)", e.token)?;
-        }
-        write!(f, ": {}", e.message)?;
-        if !e.expected.is_empty() {
-            write!(f, "; expected one of: {}", e.expected.join(", "))?;
-        }
-        if let Some(s) = &e.suggestion {
-            write!(f, "; did you mean `{s}`?")?;
-        }
-        Ok(())
-    }
-}
-
-impl std::error::Error for GridError {}
 
 // ---------------------------------------------------------------------------------------
-// Patterns: a grid as written, before expansion. The text parser below and relief-macros
-// both build these, with their own positions (character offsets, token numbers).
+// Patterns: a grid as written, before expansion. The text parser (`spec::parse`) and
+// relief-macros both build these, with their own positions (character offsets, span indices).
 
-/// A grid as written: the parsed form of a grid text or of a `relief_grid!` body.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// A grid as written: the parsed form of a grid text, of a pipeline text (one stage per
+/// slot) or of a macro body.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct GridPattern {
     /// The `name:` entry.
     pub name: Option<String>,
@@ -313,24 +267,27 @@ impl StagePattern {
     }
 }
 
-impl GridPattern {
-    /// Expands and resolves every stage, then forms the product of the slots.
-    pub fn expand(&self) -> Result<Grid, ParseError> {
-        Ok(Grid::product(self.name.clone(), self.resolve()?))
-    }
+fn none() -> Vec<StageSpec> {
+    vec![StageSpec::none()]
+}
 
-    /// Expands and resolves every stage: the distinct stages of each slot in declaration
-    /// order, indexed like [`Slot::ALL`] (`[none]` for a slot left out). Checks that the
-    /// grid has a coarse slot and at most [`MAX_CELLS`] pipelines.
-    pub fn resolve(&self) -> Result<[Vec<StageSpec>; 4], ParseError> {
+impl GridPattern {
+    /// Expands and resolves the stages of each slot written, in reading order: the distinct
+    /// stages in declaration order, indexed like [`Slot::ALL`] (`None` for a slot left out).
+    pub(crate) fn resolve_slots(&self) -> Result<[Option<Vec<StageSpec>>; 4], ParseError> {
         let mut lists: [Option<Vec<StageSpec>>; 4] = [None, None, None, None];
         for sp in &self.slots {
             let idx = sp.slot as usize;
+            // The slot's name, or the stage where the slot follows from the order (`+`).
+            let token = match sp.stages.first() {
+                Some(first) if first.pos == sp.pos => first.name.as_str(),
+                _ => sp.slot.name(),
+            };
             if lists[idx].is_some() {
-                return Err(err(sp.pos, sp.slot.name(), format!("the {} slot is given twice", sp.slot)));
+                return Err(err(sp.pos, token, format!("the {} slot is given twice", sp.slot)));
             }
             if sp.stages.is_empty() {
-                return Err(err(sp.pos, sp.slot.name(), format!("the {} slot's list is empty", sp.slot)));
+                return Err(err(sp.pos, token, format!("the {} slot's list is empty", sp.slot)));
             }
             let mut seen = HashSet::new();
             let mut specs = Vec::new();
@@ -344,6 +301,44 @@ impl GridPattern {
             }
             lists[idx] = Some(specs);
         }
+        Ok(lists)
+    }
+
+    /// Expands and resolves every stage, then forms the product of the slots.
+    pub fn expand(&self) -> Result<Grid, ParseError> {
+        Ok(Grid::product(self.name.clone(), self.resolve()?))
+    }
+
+    /// The pattern as one pipeline: each slot must hold one stage with one value per
+    /// parameter (what a pipeline text or `relief!` body declares). Checks the stages like
+    /// [`GridPattern::resolve`]; slots left out are `none`, and coarse must be given.
+    pub fn pipeline(&self) -> Result<Pipeline, ParseError> {
+        let [c, r, s, a] = self.resolve_slots()?;
+        let Some(coarse) = c else {
+            return Err(err(self.end, "", "the pipeline has no coarse stage; start it with one such as linear(32)"));
+        };
+        let one = |slot: Slot, list: Option<Vec<StageSpec>>| -> Result<StageSpec, ParseError> {
+            let list = list.unwrap_or_else(none);
+            let n = list.len();
+            let [stage] = <[StageSpec; 1]>::try_from(list).map_err(|_| {
+                let pos = self.slots.iter().find(|sp| sp.slot == slot).map_or(self.end, |sp| sp.pos);
+                err(pos, slot.name(), format!("the {slot} slot declares {n} stages where a pipeline has one"))
+            })?;
+            Ok(stage)
+        };
+        Ok(Pipeline::new(
+            one(Slot::Coarse, Some(coarse))?,
+            one(Slot::Refine, r)?,
+            one(Slot::Shadow, s)?,
+            one(Slot::Ao, a)?,
+        ))
+    }
+
+    /// Expands and resolves every stage: the distinct stages of each slot in declaration
+    /// order, indexed like [`Slot::ALL`] (`[none]` for a slot left out). Checks that the
+    /// grid has a coarse slot and at most [`MAX_CELLS`] pipelines.
+    pub fn resolve(&self) -> Result<[Vec<StageSpec>; 4], ParseError> {
+        let lists = self.resolve_slots()?;
         let [c, r, s, a] = lists;
         let Some(coarse) = c else {
             return Err(err(
@@ -352,7 +347,6 @@ impl GridPattern {
                 "the grid has no coarse slot; add one such as `coarse: [linear(32)]`",
             ));
         };
-        let none = || vec![StageSpec::none()];
         let (r, s, a) = (r.unwrap_or_else(none), s.unwrap_or_else(none), a.unwrap_or_else(none));
         let total = [coarse.len(), r.len(), s.len(), a.len()].iter().try_fold(1usize, |acc, n| acc.checked_mul(*n));
         if total.is_none_or(|t| t > MAX_CELLS) {
@@ -361,313 +355,6 @@ impl GridPattern {
         }
         Ok([coarse, r, s, a])
     }
-}
-
-// ---------------------------------------------------------------------------------------
-// The text parser.
-
-#[derive(Clone, Debug, PartialEq)]
-enum Tok {
-    Ident(String),
-    Int(u64),
-    Str(String),
-    Open,
-    Close,
-    LBracket,
-    RBracket,
-    Comma,
-    Eq,
-    Colon,
-    RangeEq,
-    End,
-}
-
-#[derive(Clone, Debug)]
-struct Token {
-    tok: Tok,
-    pos: usize,
-    text: String,
-}
-
-fn lex(input: &str) -> Result<Vec<Token>, ParseError> {
-    let chars: Vec<char> = input.chars().collect();
-    let mut out = Vec::new();
-    let mut i = 0;
-    while i < chars.len() {
-        let c = chars[i];
-        let start = i;
-        let single = |tok| Token { tok, pos: start, text: c.to_string() };
-        match c {
-            c if c.is_whitespace() => {}
-            '#' => {
-                while i < chars.len() && chars[i] != '\n' {
-                    i += 1;
-                }
-                continue;
-            }
-            '(' => out.push(single(Tok::Open)),
-            ')' => out.push(single(Tok::Close)),
-            '[' => out.push(single(Tok::LBracket)),
-            ']' => out.push(single(Tok::RBracket)),
-            ',' => out.push(single(Tok::Comma)),
-            '=' => out.push(single(Tok::Eq)),
-            ':' => out.push(single(Tok::Colon)),
-            '.' => {
-                if chars.get(i + 1) == Some(&'.') && chars.get(i + 2) == Some(&'=') {
-                    out.push(Token { tok: Tok::RangeEq, pos: start, text: "..=".into() });
-                    i += 3;
-                    continue;
-                }
-                let text: String = chars[i..(i + 2).min(chars.len())].iter().collect();
-                return Err(err(start, &text, "ranges are inclusive and written `a..=b` or `a..=b step s`"));
-            }
-            '"' => {
-                i += 1;
-                while i < chars.len() && chars[i] != '"' && chars[i] != '\n' {
-                    i += 1;
-                }
-                if chars.get(i) != Some(&'"') {
-                    return Err(err(start, "\"", "a string that is not closed on its line"));
-                }
-                let text: String = chars[start + 1..i].iter().collect();
-                out.push(Token { tok: Tok::Str(text.clone()), pos: start, text: format!("\"{text}\"") });
-            }
-            c if c.is_ascii_digit() => {
-                while i < chars.len() && (chars[i].is_ascii_alphanumeric() || chars[i] == '_') {
-                    i += 1;
-                }
-                let text: String = chars[start..i].iter().collect();
-                let n = text.parse::<u64>().map_err(|_| {
-                    err(start, &text, "not a whole number (parameters are whole numbers or names)")
-                })?;
-                out.push(Token { tok: Tok::Int(n), pos: start, text });
-                continue;
-            }
-            c if c.is_ascii_alphabetic() || c == '_' => {
-                while i < chars.len() && (chars[i].is_ascii_alphanumeric() || chars[i] == '_') {
-                    i += 1;
-                }
-                let text: String = chars[start..i].iter().collect();
-                out.push(Token { tok: Tok::Ident(text.clone()), pos: start, text });
-                continue;
-            }
-            '-' => return Err(err(start, "-", "negative numbers are not allowed")),
-            other => {
-                return Err(err(
-                    start,
-                    &other.to_string(),
-                    "unexpected character; a grid is made of names, whole numbers, ( ) [ ] , = : ..= and # comments",
-                ))
-            }
-        }
-        i += 1;
-    }
-    out.push(Token { tok: Tok::End, pos: chars.len(), text: String::new() });
-    Ok(out)
-}
-
-struct Parser {
-    toks: Vec<Token>,
-    i: usize,
-}
-
-/// Nesting deeper than this is refused.
-const MAX_DEPTH: usize = 8;
-
-impl Parser {
-    fn peek(&self) -> &Token {
-        &self.toks[self.i.min(self.toks.len() - 1)]
-    }
-    fn peek2(&self) -> Option<&Tok> {
-        self.toks.get(self.i + 1).map(|t| &t.tok)
-    }
-    fn next(&mut self) -> Token {
-        let t = self.peek().clone();
-        if self.i < self.toks.len() {
-            self.i += 1;
-        }
-        t
-    }
-    fn eat(&mut self, tok: &Tok) -> bool {
-        if &self.peek().tok == tok {
-            self.next();
-            true
-        } else {
-            false
-        }
-    }
-    fn unexpected(&self, what: &str) -> ParseError {
-        let t = self.peek();
-        if t.tok == Tok::End {
-            err(t.pos, "", format!("the input ends where {what} was expected"))
-        } else {
-            err(t.pos, &t.text, format!("expected {what}"))
-        }
-    }
-
-    fn grid(&mut self) -> Result<GridPattern, ParseError> {
-        let mut g = GridPattern { name: None, slots: vec![], end: 0 };
-        let mut name_seen = false;
-        loop {
-            while self.eat(&Tok::Comma) {}
-            let t = self.next();
-            let key = match &t.tok {
-                Tok::End => break,
-                Tok::Ident(k) => k.clone(),
-                _ => {
-                    self.i -= 1;
-                    return Err(self.unexpected("a slot such as `coarse:`"));
-                }
-            };
-            if !self.eat(&Tok::Colon) {
-                return Err(self.unexpected(&format!("`:` after `{key}`")));
-            }
-            if key == "name" {
-                if name_seen {
-                    return Err(err(t.pos, &t.text, "the grid's name is given twice"));
-                }
-                name_seen = true;
-                let v = self.next();
-                g.name = Some(match v.tok {
-                    Tok::Str(s) | Tok::Ident(s) => s,
-                    _ => {
-                        self.i -= 1;
-                        return Err(self.unexpected("the grid's name as a \"string\""));
-                    }
-                });
-                continue;
-            }
-            let slot = slot_named(&key, t.pos)?;
-            let stages = if self.eat(&Tok::LBracket) {
-                let mut stages = Vec::new();
-                loop {
-                    if self.eat(&Tok::RBracket) {
-                        break;
-                    }
-                    stages.push(self.stage(0)?);
-                    if !self.eat(&Tok::Comma) {
-                        if self.eat(&Tok::RBracket) {
-                            break;
-                        }
-                        return Err(self.unexpected("`,` or `]`"));
-                    }
-                }
-                stages
-            } else {
-                vec![self.stage(0)?]
-            };
-            g.slots.push(SlotPattern { slot, pos: t.pos, stages });
-        }
-        g.end = self.toks.last().map_or(0, |t| t.pos);
-        Ok(g)
-    }
-
-    fn stage(&mut self, depth: usize) -> Result<StagePattern, ParseError> {
-        let t = self.next();
-        let Tok::Ident(name) = t.tok else {
-            self.i -= 1;
-            return Err(self.unexpected("a stage name such as linear(32)"));
-        };
-        if depth > MAX_DEPTH {
-            return Err(err(t.pos, &t.text, "stages nested too deeply"));
-        }
-        let args = if self.eat(&Tok::Open) {
-            let mut args = Vec::new();
-            loop {
-                if self.eat(&Tok::Close) {
-                    break;
-                }
-                args.push(self.arg(depth)?);
-                if !self.eat(&Tok::Comma) {
-                    if self.eat(&Tok::Close) {
-                        break;
-                    }
-                    return Err(self.unexpected("`,` or `)`"));
-                }
-            }
-            Some(args)
-        } else {
-            None
-        };
-        Ok(StagePattern { name, pos: t.pos, args })
-    }
-
-    fn arg(&mut self, depth: usize) -> Result<ArgPattern, ParseError> {
-        let start = self.peek().clone();
-        let mut name = None;
-        if let (Tok::Ident(n), Some(Tok::Eq)) = (&start.tok, self.peek2()) {
-            name = Some((n.clone(), start.pos));
-            self.i += 2;
-        }
-        Ok(ArgPattern { name, value: self.value(depth)? })
-    }
-
-    fn value(&mut self, depth: usize) -> Result<ValuePattern, ParseError> {
-        let t = self.peek().clone();
-        match t.tok {
-            Tok::Int(start) => {
-                self.next();
-                if !self.eat(&Tok::RangeEq) {
-                    return Ok(ValuePattern::Int { value: start, pos: t.pos, text: t.text });
-                }
-                let e = self.next();
-                let Tok::Int(end) = e.tok else {
-                    self.i -= 1;
-                    return Err(self.unexpected("the range's last value, a whole number"));
-                };
-                let mut text = format!("{start}..={end}");
-                let mut step = 1;
-                if matches!(&self.peek().tok, Tok::Ident(w) if w == "step") {
-                    self.next();
-                    let s = self.next();
-                    let Tok::Int(s) = s.tok else {
-                        self.i -= 1;
-                        return Err(self.unexpected("the range's step, a whole number"));
-                    };
-                    step = s;
-                    text = format!("{text} step {s}");
-                }
-                Ok(ValuePattern::Range { start, end, step, pos: t.pos, text })
-            }
-            Tok::LBracket => {
-                self.next();
-                let mut items = Vec::new();
-                loop {
-                    if self.eat(&Tok::RBracket) {
-                        break;
-                    }
-                    items.push(self.value(depth)?);
-                    if !self.eat(&Tok::Comma) {
-                        if self.eat(&Tok::RBracket) {
-                            break;
-                        }
-                        return Err(self.unexpected("`,` or `]`"));
-                    }
-                }
-                Ok(ValuePattern::List { items, pos: t.pos })
-            }
-            Tok::Ident(_) => Ok(ValuePattern::Stage(self.stage(depth + 1)?)),
-            _ => Err(self.unexpected("a parameter value (a whole number, a range, a [list] or a name)")),
-        }
-    }
-}
-
-/// The slot called `name`, or an error at `pos` with the nearest slot name.
-pub fn slot_named(name: &str, pos: usize) -> Result<Slot, ParseError> {
-    if let Some(s) = Slot::ALL.iter().copied().find(|s| s.name() == name) {
-        return Ok(s);
-    }
-    let names: Vec<String> = Slot::ALL.iter().map(|s| s.name().to_string()).collect();
-    let mut e = err(pos, name, format!("unknown slot `{name}`"));
-    e.suggestion = super::parse::nearest(name, names.iter().map(String::as_str));
-    e.expected = names;
-    Err(e)
-}
-
-/// Parses a grid text into its pattern (positions are character offsets), without checking
-/// the stages.
-pub fn parse_pattern(text: &str) -> Result<GridPattern, ParseError> {
-    Parser { toks: lex(text)?, i: 0 }.grid()
 }
 
 #[cfg(test)]
@@ -730,7 +417,7 @@ mod tests {
         ];
         for (text, line, column, token, msg) in cases {
             let e = text.parse::<Grid>().unwrap_err();
-            assert_eq!((e.line, e.column, e.error.token.as_str()), (line, column, token), "{text}: {e}");
+            assert_eq!((e.line_column, e.token.as_str()), (Some((line, column)), token), "{text}: {e}");
             assert!(e.to_string().contains(msg), "{text}: {e}");
             assert!(e.to_string().starts_with(&format!("line {line}, column {column}")), "{e}");
         }

@@ -18,17 +18,31 @@
 //! let err = "lnear(10)".parse::<Pipeline>().unwrap_err();
 //! assert!(err.to_string().contains("did you mean `linear`"));
 //! ```
+//!
+//! # How text is read
+//!
+//! One lexer (`lex`) and one parser ([`parse_pattern`]) read both text forms: a pipeline is
+//! a grid with one stage per slot, so both parse into a [`grid::GridPattern`]. The macros
+//! (relief-macros) build the same patterns from Rust tokens. A pattern is expanded (ranges,
+//! lists) and each stage is checked against the [`catalog`] by [`resolve_stage`];
+//! [`grid::GridPattern::pipeline`] makes the one pipeline of a pipeline text, and
+//! [`grid::GridPattern::expand`] the [`Grid`] of a grid text. Every error is a
+//! [`ParseError`]; "did you mean" comes from [`suggest::nearest`].
 
 mod catalog;
 pub mod grid;
+mod lex;
 mod parse;
+mod resolve;
+pub mod suggest;
 
 use std::fmt;
 use std::str::FromStr;
 
 pub use catalog::{catalog, method, MethodDef, ParamDef, ParamKind, MAX_STEPS};
-pub use grid::{Grid, GridError};
-pub use parse::{resolve_stage, ParseError, RawArg, RawStage, RawValue};
+pub use grid::Grid;
+pub use parse::{parse_pattern, slot_named, Form, ParseError, MAX_DEPTH};
+pub use resolve::{resolve_stage, RawArg, RawStage, RawValue};
 
 /// The four slots of a pipeline.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -123,11 +137,11 @@ impl StageSpec {
     /// Builds a spec from a method name and parameters given in order, checking them the
     /// same way the text form does.
     pub fn new(slot: Slot, name: &str, params: &[Value]) -> Result<Self, ParseError> {
-        let args: Vec<parse::Arg> = params
+        let args: Vec<resolve::Arg> = params
             .iter()
-            .map(|v| parse::Arg { name: None, value: v.clone().into(), pos: 0 })
+            .map(|v| resolve::Arg { name: None, value: v.clone().into(), pos: 0 })
             .collect();
-        parse::resolve(slot, name, 0, args)
+        resolve::resolve(slot, name, 0, args)
     }
 }
 
@@ -340,6 +354,6 @@ impl fmt::Display for Pipeline {
 impl FromStr for Pipeline {
     type Err = ParseError;
     fn from_str(s: &str) -> Result<Self, ParseError> {
-        parse::pipeline(s)
+        parse_pattern(s, Form::Pipeline)?.pipeline()
     }
 }

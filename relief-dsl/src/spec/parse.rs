@@ -1,17 +1,41 @@
-//! The text form's parser. It never panics: every input gives a pipeline or a [`ParseError`]
-//! that names the position, the offending token, what was expected and, for a misspelt
-//! name, the nearest valid one.
+//! The one parser of the text forms. A pipeline text (`linear(10)+binary(5)`) is a grid with
+//! one stage per slot, so both forms parse into a [`GridPattern`] with the same methods for
+//! stages, arguments and values; the grid machinery ([`GridPattern::pipeline`],
+//! [`GridPattern::expand`]) and the catalogue ([`resolve_stage`](super::resolve_stage))
+//! then check it. The parser never panics: every input gives a pattern or a [`ParseError`]
+//! that names the position, the offending token, what was expected and, for a misspelt name,
+//! the nearest valid one.
+//!
+//! Errors come in reading order: a slot that is complete is checked against the catalogue
+//! before a syntax error after it is reported.
 
 use std::fmt;
 
-use super::catalog::{catalog, method, ParamKind, MAX_STEPS};
-use super::{Pipeline, Slot, StageSpec, Value};
+use super::grid::{ArgPattern, GridPattern, SlotPattern, StagePattern, ValuePattern};
+use super::lex::{lex, Tok, Token};
+use super::suggest::nearest;
+use super::Slot;
 
-/// Why a text pipeline (or a stage built in Rust) was rejected.
+/// Which text form is read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Form {
+    /// `COARSE[+REFINE][+shadow=SHADOW][+ao=AO]`: one stage per slot, one value per
+    /// parameter (`relief!` and `relief_shader!` take the same with the grid's punctuation).
+    Pipeline,
+    /// `SLOT: [STAGE, …]` entries with ranges and lists inside parameters, a `name:` entry
+    /// and `#` comments (`relief_grid!` and grid files).
+    Grid,
+}
+
+/// Why a text pipeline or grid (or a stage built in Rust) was rejected.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ParseError {
-    /// Character offset of the offending token in the input.
+    /// Where the offending token is: a character offset in a text, or whatever position the
+    /// producer of a pattern used (the macros: an index into their table of spans).
     pub pos: usize,
+    /// `(line, column)` of `pos`, both from 1, for a text of several lines (a grid text,
+    /// see [`ParseError::locate`]); `None` for a pipeline text, whose errors name `pos`.
+    pub line_column: Option<(u32, u32)>,
     /// The offending token (empty at the end of the input).
     pub token: String,
     /// What is wrong, in one sentence.
@@ -22,13 +46,33 @@ pub struct ParseError {
     pub suggestion: Option<String>,
 }
 
+impl ParseError {
+    /// The error with its line and column in `text` (`pos` a character offset in it).
+    pub fn locate(mut self, text: &str) -> Self {
+        let (mut line, mut column) = (1u32, 1u32);
+        for c in text.chars().take(self.pos) {
+            if c == '\n' {
+                line = line.saturating_add(1);
+                column = 1;
+            } else {
+                column = column.saturating_add(1);
+            }
+        }
+        self.line_column = Some((line, column));
+        self
+    }
+}
+
 impl fmt::Display for ParseError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.token.is_empty() {
-            write!(f, "at {}: {}", self.pos, self.message)?;
-        } else {
-            write!(f, "at {} (`{}`): {}", self.pos, self.token, self.message)?;
+        match self.line_column {
+            Some((line, column)) => write!(f, "line {line}, column {column}")?,
+            None => write!(f, "at {}", self.pos)?,
         }
+        if !self.token.is_empty() {
+            write!(f, " (`{}`)", self.token)?;
+        }
+        write!(f, ": {}", self.message)?;
         if !self.expected.is_empty() {
             write!(f, "; expected one of: {}", self.expected.join(", "))?;
         }
@@ -44,6 +88,7 @@ impl std::error::Error for ParseError {}
 pub(crate) fn err(pos: usize, token: &str, message: impl Into<String>) -> ParseError {
     ParseError {
         pos,
+        line_column: None,
         token: token.to_string(),
         message: message.into(),
         expected: vec![],
@@ -51,170 +96,58 @@ pub(crate) fn err(pos: usize, token: &str, message: impl Into<String>) -> ParseE
     }
 }
 
-#[derive(Clone, Debug, PartialEq)]
-enum Tok {
-    Ident(String),
-    Int(u64),
-    Open,
-    Close,
-    Comma,
-    Eq,
-    Plus,
-    End,
-}
-
-#[derive(Clone, Debug)]
-struct Token {
-    tok: Tok,
-    pos: usize,
-    text: String,
-}
-
-fn lex(input: &str) -> Result<Vec<Token>, ParseError> {
-    let chars: Vec<char> = input.chars().collect();
-    let mut out = Vec::new();
-    let mut i = 0;
-    while i < chars.len() {
-        let c = chars[i];
-        let start = i;
-        let single = |tok| Token { tok, pos: start, text: c.to_string() };
-        match c {
-            c if c.is_whitespace() => {
-                i += 1;
-                continue;
-            }
-            '(' => out.push(single(Tok::Open)),
-            ')' => out.push(single(Tok::Close)),
-            ',' => out.push(single(Tok::Comma)),
-            '=' => out.push(single(Tok::Eq)),
-            '+' => out.push(single(Tok::Plus)),
-            c if c.is_ascii_digit() => {
-                while i < chars.len() && chars[i].is_ascii_alphanumeric() {
-                    i += 1;
-                }
-                let text: String = chars[start..i].iter().collect();
-                let n = text.parse::<u64>().map_err(|_| {
-                    err(start, &text, "not a whole number (parameters are whole numbers or names)")
-                })?;
-                out.push(Token { tok: Tok::Int(n), pos: start, text });
-                continue;
-            }
-            c if c.is_ascii_alphabetic() || c == '_' => {
-                while i < chars.len() && (chars[i].is_ascii_alphanumeric() || chars[i] == '_') {
-                    i += 1;
-                }
-                let text: String = chars[start..i].iter().collect();
-                out.push(Token { tok: Tok::Ident(text.clone()), pos: start, text });
-                continue;
-            }
-            '-' => {
-                return Err(err(start, "-", "negative numbers are not allowed"));
-            }
-            other => {
-                return Err(err(
-                    start,
-                    &other.to_string(),
-                    "unexpected character; a pipeline is made of names, whole numbers, ( ) , = and +",
-                ))
-            }
-        }
-        i += 1;
+/// The slot called `name`, or an error at `pos` that lists the slots and names the nearest.
+pub fn slot_named(name: &str, pos: usize) -> Result<Slot, ParseError> {
+    if let Some(s) = Slot::ALL.iter().copied().find(|s| s.name() == name) {
+        return Ok(s);
     }
-    out.push(Token { tok: Tok::End, pos: chars.len(), text: String::new() });
-    Ok(out)
+    let names: Vec<String> = Slot::ALL.iter().map(|s| s.name().to_string()).collect();
+    let mut e = err(pos, name, format!("unknown slot `{name}`"));
+    e.suggestion = nearest(name, names.iter().map(String::as_str)).map(str::to_string);
+    e.expected = names;
+    Err(e)
 }
 
-/// A raw argument before resolution against the catalogue.
-#[derive(Debug)]
-pub(crate) struct Arg {
-    pub name: Option<(String, usize)>,
-    pub value: ArgVal,
-    pub pos: usize,
-}
+/// Nesting deeper than this is refused (no method needs more than two levels).
+pub const MAX_DEPTH: usize = 8;
 
-/// An argument's value before it is checked against its parameter.
-#[derive(Debug)]
-pub(crate) enum ArgVal {
-    Int(u32),
-    Word(String),
-    /// A stage written in text, not yet resolved.
-    Raw(RawStage),
-    /// A stage built in Rust, already resolved.
-    Spec(StageSpec),
-}
-
-impl ArgVal {
-    fn text(&self) -> String {
-        match self {
-            ArgVal::Int(n) => n.to_string(),
-            ArgVal::Word(w) => w.clone(),
-            ArgVal::Raw(s) => s.name.clone(),
-            ArgVal::Spec(s) => s.to_string(),
+/// Parses a text of `form` into its pattern (positions are character offsets), checking the
+/// slots that are complete before a syntax error after them is reported. The stages are
+/// checked against the catalogue only by [`GridPattern::pipeline`] or
+/// [`GridPattern::expand`].
+pub fn parse_pattern(text: &str, form: Form) -> Result<GridPattern, ParseError> {
+    let mut p = Parser { toks: lex(text, form)?, i: 0, form, pattern: GridPattern::default() };
+    let read = match form {
+        Form::Pipeline => p.pipeline(),
+        Form::Grid => p.grid(),
+    };
+    match read {
+        Ok(()) => Ok(p.pattern),
+        Err(e) => {
+            p.pattern.resolve_slots()?;
+            Err(e)
         }
     }
-}
-
-impl From<Value> for ArgVal {
-    fn from(v: Value) -> Self {
-        match v {
-            Value::Int(n) => ArgVal::Int(n),
-            Value::Word(w) => ArgVal::Word(w),
-            Value::Stage(s) => ArgVal::Spec(*s),
-        }
-    }
-}
-
-/// A stage as written, before it is checked against the catalogue: what the text parser
-/// produces and what the macros (relief-macros) build from Rust tokens, so that both are
-/// checked by the same [`resolve_stage`].
-///
-/// Positions (`pos`) are whatever the producer uses to point back at the source: character
-/// offsets in the text form, token numbers in the macros. Errors carry them unchanged in
-/// [`ParseError::pos`].
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct RawStage {
-    /// The method's name.
-    pub name: String,
-    /// Where the name is.
-    pub pos: usize,
-    /// `None` for a bare name (`none`, `linear`), else the arguments in parentheses.
-    pub args: Option<Vec<RawArg>>,
-}
-
-/// An argument's value as written.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum RawValue {
-    /// A whole number (checked against the parameter's range on resolution).
-    Int(u64),
-    /// A name or a nested stage: a bare name (`args: None`) is a choice word or a stage at
-    /// default parameters, whichever the parameter takes.
-    Stage(RawStage),
-}
-
-/// One argument as written: `value` or `name = value`.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct RawArg {
-    /// The parameter's name and where it is, for a named argument.
-    pub name: Option<(String, usize)>,
-    /// The value.
-    pub value: RawValue,
-    /// Where the value is.
-    pub pos: usize,
-    /// The value as written (the offending token in errors).
-    pub text: String,
 }
 
 struct Parser {
     toks: Vec<Token>,
     i: usize,
+    form: Form,
+    /// What is read so far: the complete slots.
+    pattern: GridPattern,
 }
-
-/// Nesting deeper than this is refused (no method needs more than two levels).
-const MAX_DEPTH: usize = 8;
 
 impl Parser {
     fn peek(&self) -> &Token {
         &self.toks[self.i.min(self.toks.len() - 1)]
+    }
+    /// Whether the next two tokens are `NAME =` (a named slot or argument); the name if so.
+    fn named(&self) -> Option<(String, usize)> {
+        match (&self.peek().tok, self.toks.get(self.i + 1).map(|t| &t.tok)) {
+            (Tok::Ident(n), Some(Tok::Eq)) => Some((n.clone(), self.peek().pos)),
+            _ => None,
+        }
     }
     fn next(&mut self) -> Token {
         let t = self.peek().clone();
@@ -222,6 +155,14 @@ impl Parser {
             self.i += 1;
         }
         t
+    }
+    fn eat(&mut self, tok: &Tok) -> bool {
+        if &self.peek().tok == tok {
+            self.next();
+            true
+        } else {
+            false
+        }
     }
     fn unexpected(&self, what: &str) -> ParseError {
         let t = self.peek();
@@ -231,8 +172,118 @@ impl Parser {
             err(t.pos, &t.text, format!("expected {what}"))
         }
     }
+    /// Items up to `close`, separated by commas (a trailing comma is fine), the opening
+    /// token already read.
+    fn list<T>(&mut self, close: Tok, mut item: impl FnMut(&mut Self) -> Result<T, ParseError>) -> Result<Vec<T>, ParseError> {
+        let mut items = Vec::new();
+        loop {
+            if self.eat(&close) {
+                return Ok(items);
+            }
+            items.push(item(self)?);
+            if !self.eat(&Tok::Comma) {
+                if self.eat(&close) {
+                    return Ok(items);
+                }
+                let c = if close == Tok::Close { ")" } else { "]" };
+                return Err(self.unexpected(&format!("`,` or `{c}`")));
+            }
+        }
+    }
 
-    fn stage(&mut self, depth: usize) -> Result<RawStage, ParseError> {
+    /// `COARSE[+REFINE][+shadow=SHADOW][+ao=AO]`, slots also named as `coarse=…`.
+    fn pipeline(&mut self) -> Result<(), ParseError> {
+        if self.peek().tok == Tok::End {
+            return Err(err(0, "", "empty pipeline; expected a coarse stage such as linear(32)"));
+        }
+        let mut unnamed = 0;
+        loop {
+            let pos = self.peek().pos;
+            let named = match self.named() {
+                Some((n, npos)) => {
+                    self.i += 2;
+                    Some(slot_named(&n, npos)?)
+                }
+                None => None,
+            };
+            let stage = self.stage(0)?;
+            let slot = match named {
+                Some(s) => s,
+                None => {
+                    unnamed += 1;
+                    match unnamed {
+                        1 => Slot::Coarse,
+                        2 => Slot::Refine,
+                        _ => {
+                            return Err(err(
+                                stage.pos,
+                                &stage.name,
+                                "a third stage needs its slot named: shadow=… or ao=…",
+                            ))
+                        }
+                    }
+                }
+            };
+            self.pattern.slots.push(SlotPattern { slot, pos, stages: vec![stage] });
+            match self.peek().tok {
+                Tok::Plus => {
+                    self.next();
+                }
+                Tok::End => break,
+                _ => return Err(self.unexpected("`+` or the end of the pipeline")),
+            }
+        }
+        self.pattern.end = 0;
+        Ok(())
+    }
+
+    /// Entries `SLOT: [STAGE, …]`, `SLOT: STAGE` and `name: "…"`, separated by commas or
+    /// new lines.
+    fn grid(&mut self) -> Result<(), ParseError> {
+        let mut name_seen = false;
+        loop {
+            while self.eat(&Tok::Comma) {}
+            let t = self.next();
+            let key = match &t.tok {
+                Tok::End => break,
+                Tok::Ident(k) => k.clone(),
+                _ => {
+                    self.i -= 1;
+                    return Err(self.unexpected("a slot such as `coarse:`"));
+                }
+            };
+            if !self.eat(&Tok::Colon) {
+                return Err(self.unexpected(&format!("`:` after `{key}`")));
+            }
+            if key == "name" {
+                if name_seen {
+                    return Err(err(t.pos, &t.text, "the grid's name is given twice"));
+                }
+                name_seen = true;
+                let v = self.next();
+                self.pattern.name = Some(match v.tok {
+                    Tok::Str(s) | Tok::Ident(s) => s,
+                    _ => {
+                        self.i -= 1;
+                        return Err(self.unexpected("the grid's name as a \"string\""));
+                    }
+                });
+                continue;
+            }
+            let slot = slot_named(&key, t.pos)?;
+            let stages = if self.eat(&Tok::LBracket) {
+                self.list(Tok::RBracket, |p| p.stage(0))?
+            } else {
+                vec![self.stage(0)?]
+            };
+            self.pattern.slots.push(SlotPattern { slot, pos: t.pos, stages });
+        }
+        self.pattern.end = self.toks.last().map_or(0, |t| t.pos);
+        Ok(())
+    }
+
+    /// `NAME` or `NAME(ARG, …)`.
+    fn stage(&mut self, depth: usize) -> Result<StagePattern, ParseError> {
         let t = self.next();
         let Tok::Ident(name) = t.tok else {
             self.i -= 1;
@@ -241,341 +292,127 @@ impl Parser {
         if depth > MAX_DEPTH {
             return Err(err(t.pos, &t.text, "stages nested too deeply"));
         }
-        let args = if self.peek().tok == Tok::Open {
-            self.next();
-            let mut args = Vec::new();
-            if self.peek().tok == Tok::Close {
-                self.next();
-            } else {
-                loop {
-                    args.push(self.arg(depth)?);
-                    match self.peek().tok {
-                        Tok::Comma => {
-                            self.next();
-                        }
-                        Tok::Close => {
-                            self.next();
-                            break;
-                        }
-                        _ => return Err(self.unexpected("`,` or `)`")),
-                    }
+        let args = if self.eat(&Tok::Open) {
+            Some(self.list(Tok::Close, |p| {
+                let name = p.named();
+                if name.is_some() {
+                    p.i += 2;
                 }
-            }
-            Some(args)
+                Ok(ArgPattern { name, value: p.value(depth)? })
+            })?)
         } else {
             None
         };
-        Ok(RawStage { name, pos: t.pos, args })
+        Ok(StagePattern { name, pos: t.pos, args })
     }
 
-    fn arg(&mut self, depth: usize) -> Result<RawArg, ParseError> {
-        let start = self.peek().clone();
-        let mut name = None;
-        if let (Tok::Ident(n), Some(Tok::Eq)) = (&start.tok, self.toks.get(self.i + 1).map(|t| &t.tok)) {
-            name = Some((n.clone(), start.pos));
-            self.i += 2;
+    /// A whole number, a name or a nested stage, and in a grid a range or a `[list]`.
+    fn value(&mut self, depth: usize) -> Result<ValuePattern, ParseError> {
+        let t = self.peek().clone();
+        match t.tok {
+            Tok::Int(start) => {
+                self.next();
+                if !self.eat(&Tok::RangeEq) {
+                    return Ok(ValuePattern::Int { value: start, pos: t.pos, text: t.text });
+                }
+                let end = self.int("the range's last value, a whole number")?;
+                let mut text = format!("{start}..={end}");
+                let mut step = 1;
+                if matches!(&self.peek().tok, Tok::Ident(w) if w == "step") {
+                    self.next();
+                    step = self.int("the range's step, a whole number")?;
+                    text = format!("{text} step {step}");
+                }
+                Ok(ValuePattern::Range { start, end, step, pos: t.pos, text })
+            }
+            Tok::LBracket => {
+                self.next();
+                let items = self.list(Tok::RBracket, |p| p.value(depth))?;
+                Ok(ValuePattern::List { items, pos: t.pos })
+            }
+            Tok::Ident(_) => Ok(ValuePattern::Stage(self.stage(depth + 1)?)),
+            _ => Err(self.unexpected(match self.form {
+                Form::Pipeline => "a parameter value (a whole number or a name)",
+                Form::Grid => "a parameter value (a whole number, a range, a [list] or a name)",
+            })),
         }
-        let vt = self.peek().clone();
-        let value = match vt.tok {
+    }
+
+    fn int(&mut self, what: &str) -> Result<u64, ParseError> {
+        match self.peek().tok {
             Tok::Int(n) => {
                 self.next();
-                RawValue::Int(n)
+                Ok(n)
             }
-            Tok::Ident(_) => RawValue::Stage(self.stage(depth + 1)?),
-            _ => return Err(self.unexpected("a parameter value (a whole number or a name)")),
-        };
-        Ok(RawArg { name, value, pos: vt.pos, text: vt.text })
-    }
-}
-
-/// Parses a whole pipeline.
-pub(crate) fn pipeline(input: &str) -> Result<Pipeline, ParseError> {
-    let toks = lex(input)?;
-    let mut p = Parser { toks, i: 0 };
-    if p.peek().tok == Tok::End {
-        return Err(err(0, "", "empty pipeline; expected a coarse stage such as linear(32)"));
-    }
-    let mut slots: [Option<StageSpec>; 4] = [None, None, None, None];
-    let mut unnamed = 0;
-    loop {
-        // An explicit slot: `shadow=soft(30)`.
-        let mut slot = None;
-        let t = p.peek().clone();
-        if let (Tok::Ident(n), Some(Tok::Eq)) = (&t.tok, p.toks.get(p.i + 1).map(|t| &t.tok)) {
-            let Some(s) = Slot::ALL.iter().copied().find(|s| s.name() == n) else {
-                let names: Vec<String> = Slot::ALL.iter().map(|s| s.name().to_string()).collect();
-                let mut e = err(t.pos, n, format!("unknown slot `{n}`"));
-                e.suggestion = nearest(n, names.iter().map(String::as_str));
-                e.expected = names;
-                return Err(e);
-            };
-            slot = Some(s);
-            p.i += 2;
-        }
-        let raw = p.stage(0)?;
-        let slot = match slot {
-            Some(s) => s,
-            None => {
-                unnamed += 1;
-                match unnamed {
-                    1 => Slot::Coarse,
-                    2 => Slot::Refine,
-                    _ => {
-                        return Err(err(
-                            raw.pos,
-                            &raw.name,
-                            "a third stage needs its slot named: shadow=… or ao=…",
-                        ))
-                    }
-                }
-            }
-        };
-        let spec = resolve_raw(slot, raw)?;
-        let idx = slot as usize;
-        if slots[idx].is_some() {
-            return Err(err(t.pos, &t.text, format!("the {slot} slot is given twice")));
-        }
-        slots[idx] = Some(spec);
-        match p.peek().tok {
-            Tok::Plus => {
-                p.next();
-            }
-            Tok::End => break,
-            _ => return Err(p.unexpected("`+` or the end of the pipeline")),
+            _ => Err(self.unexpected(what)),
         }
     }
-    let [c, r, s, a] = slots;
-    let Some(coarse) = c else {
-        return Err(err(0, "", "the pipeline has no coarse stage; start it with one such as linear(32)"));
-    };
-    Ok(Pipeline::new(
-        coarse,
-        r.unwrap_or_else(StageSpec::none),
-        s.unwrap_or_else(StageSpec::none),
-        a.unwrap_or_else(StageSpec::none),
-    ))
 }
 
-/// Resolves a stage as written against the catalogue for `slot`, with the same checks as
-/// the text form: the method exists in that slot, named and positional arguments land on
-/// parameters, values are in range, defaults are filled in, nested stages are resolved, and
-/// the combination can work. Errors carry the positions found in `raw`.
-pub fn resolve_stage(slot: Slot, raw: RawStage) -> Result<StageSpec, ParseError> {
-    resolve_raw(slot, raw)
-}
+#[cfg(test)]
+mod tests {
+    use super::super::{Grid, Pipeline};
+    use super::*;
 
-fn resolve_raw(slot: Slot, raw: RawStage) -> Result<StageSpec, ParseError> {
-    let mut args = Vec::new();
-    for a in raw.args.unwrap_or_default() {
-        let value = match a.value {
-            RawValue::Int(n) => {
-                let n = u32::try_from(n).map_err(|_| {
-                    err(a.pos, &a.text, format!("{n} is too large; step counts are 1..={MAX_STEPS}"))
-                })?;
-                ArgVal::Int(n)
-            }
-            // A bare word: a choice, or a stage with default parameters; the parameter it
-            // lands on decides.
-            RawValue::Stage(s) if s.args.is_none() => ArgVal::Word(s.name),
-            // A nested stage, resolved once the parameter's slot is known.
-            RawValue::Stage(s) => ArgVal::Raw(s),
-        };
-        args.push(Arg { name: a.name, value, pos: a.pos });
+    fn pipeline_err(text: &str) -> ParseError {
+        text.parse::<Pipeline>().unwrap_err()
     }
-    resolve(slot, &raw.name, raw.pos, args)
-}
 
-fn method_names(slot: Slot) -> Vec<String> {
-    catalog().iter().filter(|m| m.slot == slot).map(|m| m.name.to_string()).collect()
-}
-
-/// Resolves a method and its arguments against the catalogue: fills defaults, checks ranges
-/// and choices, resolves nested stages.
-pub(crate) fn resolve(slot: Slot, name: &str, pos: usize, args: Vec<Arg>) -> Result<StageSpec, ParseError> {
-    let Some(def) = method(slot, name) else {
-        let names = method_names(slot);
-        let mut e = match catalog().iter().find(|m| m.name == name) {
-            Some(other) => err(
-                pos,
-                name,
-                format!("`{name}` is a {} stage, not a {slot} stage", other.slot),
-            ),
-            None => err(pos, name, format!("unknown {slot} stage `{name}`")),
-        };
-        e.suggestion = nearest(name, names.iter().map(String::as_str));
-        e.expected = names;
-        return Err(e);
-    };
-    if !def.implemented {
-        return Err(err(pos, name, format!("the {slot} stage `{name}` is not implemented yet")));
-    }
-    let mut values: Vec<Option<Value>> = vec![None; def.params.len()];
-    let mut next_positional = 0;
-    for a in args {
-        let idx = match &a.name {
-            Some((pname, ppos)) => match def.params.iter().position(|p| p.name == pname) {
-                Some(i) => i,
-                None => {
-                    let names: Vec<String> = def.params.iter().map(|p| p.name.to_string()).collect();
-                    let msg = if names.is_empty() {
-                        format!("`{name}` takes no parameters")
-                    } else {
-                        format!("`{name}` has no parameter `{pname}`")
-                    };
-                    let mut e = err(*ppos, pname, msg);
-                    e.suggestion = nearest(pname, names.iter().map(String::as_str));
-                    e.expected = names;
-                    return Err(e);
-                }
-            },
-            None => {
-                let i = next_positional;
-                next_positional += 1;
-                if i >= def.params.len() {
-                    let msg = match def.params.len() {
-                        0 => format!("`{name}` takes no parameters"),
-                        n => format!("`{name}` takes at most {n} parameter(s)"),
-                    };
-                    return Err(err(a.pos, &a.value.text(), msg));
-                }
-                i
-            }
-        };
-        if values[idx].is_some() {
-            return Err(err(
-                a.pos,
-                &a.value.text(),
-                format!("parameter `{}` of `{name}` is given twice", def.params[idx].name),
-            ));
+    #[test]
+    fn a_pipeline_is_a_grid_of_one_cell() {
+        for (pipeline, grid) in [
+            ("linear(10)+binary(5)", "coarse: linear(10), refine: binary(5)"),
+            ("ao=cone_ratio+coarse=csm(15, sample=min4)", "ao: [cone_ratio]\ncoarse: csm(steps = 15, sample = min4)"),
+            ("parallax+shadow=hard(linear(20))", "coarse: parallax, shadow: hard(20)"),
+        ] {
+            let p: Pipeline = pipeline.parse().unwrap();
+            let g: Grid = grid.parse().unwrap();
+            assert_eq!(g.cells(), std::slice::from_ref(&p), "{pipeline}");
+            assert_eq!(parse_pattern(pipeline, Form::Pipeline).unwrap().expand().unwrap().cells(), [p]);
         }
-        let pdef = &def.params[idx];
-        let text = a.value.text();
-        let bad = |what: &str| {
-            err(
-                a.pos,
-                &text,
-                format!("{what} for `{}` of `{name}`: expected {}", pdef.name, pdef.kind.describe()),
-            )
-        };
-        let v = match (&pdef.kind, a.value) {
-            (ParamKind::Steps, ArgVal::Int(n)) | (ParamKind::StageOr(_), ArgVal::Int(n)) => {
-                if n == 0 || n > MAX_STEPS {
-                    return Err(err(
-                        a.pos,
-                        &n.to_string(),
-                        format!(
-                            "step count {n} for `{}` of `{name}` is out of range: allowed 1..={MAX_STEPS}",
-                            pdef.name
-                        ),
-                    ));
-                }
-                Value::Int(n)
-            }
-            (ParamKind::Count { min, max }, ArgVal::Int(n)) => {
-                if n < *min || n > *max {
-                    return Err(err(
-                        a.pos,
-                        &n.to_string(),
-                        format!("{n} for `{}` of `{name}` is out of range: allowed {min}..={max}", pdef.name),
-                    ));
-                }
-                Value::Int(n)
-            }
-            (ParamKind::Choice(words), ArgVal::Word(w)) => {
-                if !words.contains(&w.as_str()) {
-                    let mut e = err(
-                        a.pos,
-                        &w,
-                        format!("`{w}` is not a valid `{}` for `{name}`", pdef.name),
-                    );
-                    e.expected = words.iter().map(|s| s.to_string()).collect();
-                    e.suggestion = nearest(&w, words.iter().copied());
-                    return Err(e);
-                }
-                Value::Word(w)
-            }
-            (ParamKind::StageOr(inner), ArgVal::Word(w)) => {
-                normalize_nested(resolve(*inner, &w, a.pos, vec![])?)
-            }
-            (ParamKind::StageOr(inner), ArgVal::Raw(raw)) => normalize_nested(resolve_raw(*inner, raw)?),
-            (ParamKind::StageOr(inner), ArgVal::Spec(spec)) => {
-                let args = spec.params.into_iter().map(|(n, v)| Arg { name: Some((n, a.pos)), value: v.into(), pos: a.pos }).collect();
-                normalize_nested(resolve(*inner, &spec.name, a.pos, args)?)
-            }
-            (ParamKind::Steps, _) | (ParamKind::Count { .. }, _) => return Err(bad("not a whole number")),
-            (ParamKind::Choice(_), _) => return Err(bad("not a name")),
-        };
-        values[idx] = Some(v);
+        // A pattern of several cells is not one pipeline: an error at the slot, not a pick.
+        let e = parse_pattern("coarse: linear(4)\nrefine: binary([4, 8])", Form::Grid).unwrap().pipeline().unwrap_err();
+        assert_eq!((e.pos, e.token.as_str()), (18, "refine"), "{e}");
+        assert!(e.message.contains("declares 2 stages"), "{e}");
     }
-    let mut params = Vec::new();
-    for (pdef, v) in def.params.iter().zip(values) {
-        let v = match v.or_else(|| pdef.default.clone()) {
-            Some(v) => v,
-            None => {
-                return Err(err(
-                    pos,
-                    name,
-                    format!("`{name}` needs parameter `{}` ({})", pdef.name, pdef.kind.describe()),
-                ))
-            }
-        };
-        params.push((pdef.name.to_string(), v));
-    }
-    let spec = StageSpec { name: name.to_string(), params };
-    check_combination(&spec, pos)?;
-    Ok(spec)
-}
 
-/// A nested `linear(n)` is the same as `n`; a nested stage is kept otherwise.
-fn normalize_nested(spec: StageSpec) -> Value {
-    if spec.name == "linear" {
-        Value::Int(spec.int("steps"))
-    } else {
-        Value::Stage(Box::new(spec))
+    #[test]
+    fn errors_come_in_reading_order() {
+        // A complete slot is checked before a later syntax error ...
+        let e = pipeline_err("lnear(3)+");
+        assert_eq!((e.pos, e.token.as_str()), (0, "lnear"), "{e}");
+        let e = "coarse: [lnear]\nrefine: [binary(3)".parse::<Grid>().unwrap_err();
+        assert_eq!((e.line_column, e.token.as_str()), (Some((1, 10)), "lnear"), "{e}");
+        // ... and the syntax error is reported when the slots before it are valid.
+        let e = pipeline_err("linear(3)+");
+        assert!(e.message.contains("the input ends"), "{e}");
+        assert_eq!(e.pos, 10);
+        // A slot's own syntax comes before its stages: the stage being read is not checked.
+        let e = pipeline_err("lnear(3");
+        assert!(e.message.contains("`,` or `)`"), "{e}");
     }
-}
 
-/// Parameter combinations that cannot work.
-fn check_combination(spec: &StageSpec, pos: usize) -> Result<(), ParseError> {
-    if spec.name == "linear_dynamic" && spec.int("min") > spec.int("max") {
-        return Err(err(
-            pos,
-            &spec.name,
-            format!(
-                "`linear_dynamic` needs min <= max, got min {} and max {}",
-                spec.int("min"),
-                spec.int("max")
-            ),
-        ));
+    #[test]
+    fn one_error_type_two_ways_to_name_the_place() {
+        let e = pipeline_err("linear(10)+binary(0)");
+        assert_eq!((e.pos, e.line_column), (18, None));
+        assert!(e.to_string().starts_with("at 18 (`0`): step count 0"), "{e}");
+        let e = "coarse: linear(10)\nrefine: binary(0)".parse::<Grid>().unwrap_err();
+        assert_eq!((e.pos, e.line_column), (34, Some((2, 16))));
+        assert!(e.to_string().starts_with("line 2, column 16 (`0`): step count 0"), "{e}");
     }
-    Ok(())
-}
 
-/// The candidate closest to `word` by edit distance, when it is close enough to be a typo.
-pub(crate) fn nearest<'a>(word: &str, candidates: impl Iterator<Item = &'a str>) -> Option<String> {
-    let mut best: Option<(usize, &str)> = None;
-    for c in candidates {
-        let d = edit_distance(word, c);
-        if best.is_none_or(|(bd, _)| d < bd) {
-            best = Some((d, c));
+    #[test]
+    fn trailing_commas_and_form_specific_punctuation() {
+        // The stage grammar is shared: a trailing comma in the parameters is fine in both.
+        assert_eq!("linear(10,)".parse::<Pipeline>().unwrap().to_string(), "linear(10)");
+        assert_eq!("coarse: linear(10,)".parse::<Grid>().unwrap().cells()[0].to_string(), "linear(10)");
+        // A range or a list is only a grid's; `+` only a pipeline's.
+        for text in ["linear(1..=2)", "linear([1])"] {
+            let e = pipeline_err(text);
+            assert!(e.message.starts_with("unexpected character; a pipeline is made of"), "{text}: {e}");
         }
+        let e = "coarse: linear(10)+binary(3)".parse::<Grid>().unwrap_err();
+        assert_eq!((e.line_column, e.token.as_str()), (Some((1, 19)), "+"), "{e}");
     }
-    let (d, c) = best?;
-    let limit = (word.chars().count().max(c.len()) / 2).max(2);
-    (d <= limit && d > 0).then(|| c.to_string())
-}
-
-fn edit_distance(a: &str, b: &str) -> usize {
-    let a: Vec<char> = a.chars().collect();
-    let b: Vec<char> = b.chars().collect();
-    let mut prev: Vec<usize> = (0..=b.len()).collect();
-    for i in 1..=a.len() {
-        let mut cur = vec![i; b.len() + 1];
-        for j in 1..=b.len() {
-            let sub = prev[j - 1] + usize::from(a[i - 1] != b[j - 1]);
-            cur[j] = sub.min(prev[j] + 1).min(cur[j - 1] + 1);
-        }
-        prev = cur;
-    }
-    prev[b.len()]
 }

@@ -6,7 +6,8 @@
 //! 4.3, for instance, pairs a linear-only half with a linear + binary half). The first
 //! comment line describes the grid.
 
-use relief_dsl::spec::{Grid, GridError};
+use relief_dsl::spec::suggest::nearest;
+use relief_dsl::spec::{Grid, ParseError};
 use relief_dsl::Pipeline;
 
 /// A named grid and the scenes it is measured on.
@@ -59,7 +60,7 @@ pub fn default_scenes(name: &str) -> Vec<String> {
 }
 
 /// Parses a grid file's text: one or more grids separated by `---` lines, as their union.
-pub fn parse_grid_file(text: &str) -> Result<Vec<Pipeline>, GridError> {
+pub fn parse_grid_file(text: &str) -> Result<Vec<Pipeline>, ParseError> {
     let mut out: Vec<Pipeline> = Vec::new();
     let mut line_offset = 0;
     let mut block = String::new();
@@ -75,8 +76,10 @@ pub fn parse_grid_file(text: &str) -> Result<Vec<Pipeline>, GridError> {
     }
     blocks.push((line_offset, block));
     for (offset, b) in blocks {
-        let grid: Grid = b.parse().map_err(|mut e: GridError| {
-            e.line += offset;
+        let grid: Grid = b.parse().map_err(|mut e: ParseError| {
+            if let Some((line, _)) = &mut e.line_column {
+                *line = line.saturating_add(u32::try_from(offset).unwrap_or(u32::MAX));
+            }
             e
         })?;
         for p in grid {
@@ -138,11 +141,8 @@ pub fn load(arg: &str, scenes: Option<&[String]>) -> anyhow::Result<NamedGrid> {
     let path = std::path::Path::new(arg);
     if !path.exists() {
         let names = names();
-        let near = names.iter().min_by_key(|n| levenshtein(n, arg)).copied().unwrap_or("t4.1");
-        anyhow::bail!(
-            "no grid `{arg}`: not a built-in grid ({}; did you mean `{near}`?) and no such file",
-            names.join(", ")
-        );
+        let near = nearest(arg, names.iter().copied()).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
+        anyhow::bail!("no grid `{arg}`: not a built-in grid ({}{near}) and no such file", names.join(", "));
     }
     let text = std::fs::read_to_string(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     let pipelines = parse_grid_file(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
@@ -150,19 +150,6 @@ pub fn load(arg: &str, scenes: Option<&[String]>) -> anyhow::Result<NamedGrid> {
     let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("grid").to_string();
     let cells = pipelines.into_iter().flat_map(|p| scenes.iter().map(move |s| (p.clone(), s.clone()))).collect();
     Ok(NamedGrid { name, description: description(&text), cells })
-}
-
-fn levenshtein(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut prev: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut cur = vec![i + 1; b.len() + 1];
-        for j in 0..b.len() {
-            cur[j + 1] = (prev[j] + usize::from(ca != b[j])).min(prev[j + 1] + 1).min(cur[j] + 1);
-        }
-        prev = cur;
-    }
-    prev[b.len()]
 }
 
 #[cfg(test)]
@@ -188,6 +175,14 @@ mod tests {
     #[test]
     fn grid_file_errors_name_the_line_of_the_whole_file() {
         let e = parse_grid_file("coarse: linear(5)\n---\ncoarse: lnear(5)\n").unwrap_err();
-        assert_eq!(e.line, 3);
+        assert_eq!(e.line_column.map(|(line, _)| line), Some(3));
+    }
+
+    #[test]
+    fn an_unknown_grid_suggests_only_a_near_name() {
+        let e = load("t4.l", None).unwrap_err().to_string();
+        assert!(e.contains("did you mean `t4.1`?"), "{e}");
+        let e = load("/nonexistent/relief/sweep.grid", None).unwrap_err().to_string();
+        assert!(e.contains("no such file") && !e.contains("did you mean"), "{e}");
     }
 }
