@@ -234,7 +234,7 @@ pub(crate) const HEADER: [&str; 24] = [
     "frame ms (mean)",
     "diss ms (mean of 500)",
     "mean ms % base",
-    "diss ms % base",
+    "diss ms (mean) % base",
     "avg coarse steps",
     "diss avg steps (coarse)",
     "avg refine steps",
