@@ -70,45 +70,45 @@ pub(crate) fn write_all(data: &Data, sub: &Path, warnings: &mut Vec<String>) -> 
         // One chart per size: points of different sizes are different measurements (issue #11).
         let sizes = data.sizes();
         for &size in &sizes {
-        let scenes: Vec<String> =
-            data.scenes().into_iter().filter(|s| pipelines.iter().any(|p| data.ok(&p.to_string(), s, size).is_some())).collect();
-        if scenes.is_empty() {
-            continue;
-        }
-        for metric in Metric::ALL {
-            let (series, not_finite) = figure_series(fig, data, &pipelines, &scenes, size, metric);
-            if series.iter().all(|s| s.points.is_empty()) && not_finite.is_empty() {
+            let scenes: Vec<String> =
+                data.scenes().into_iter().filter(|s| pipelines.iter().any(|p| data.ok(&p.to_string(), s, size).is_some())).collect();
+            if scenes.is_empty() {
                 continue;
             }
-            let xlabel = if fig == "f4.5" { "refinement steps" } else { "frame time, mean (ms)" };
-            let size_part = if sizes.len() > 1 { format!(" ({size}²)") } else { String::new() };
-            let chart_title = format!("{title}{size_part} — {}", metric.name());
-            let (svg, clamp_note) = svg_chart(&chart_title, xlabel, metric.name(), &series);
-            let file = if sizes.len() > 1 { format!("{fig}_s{size}_{}.svg", metric.name()) } else { format!("{fig}_{}.svg", metric.name()) };
-            if let Err(e) = std::fs::write(sub.join(&file), svg) {
-                warnings.push(format!("cannot write {}: {e}", sub.join(&file).display()));
-                continue;
+            for metric in Metric::ALL {
+                let (series, not_finite) = figure_series(fig, data, &pipelines, &scenes, size, metric);
+                if series.iter().all(|s| s.points.is_empty()) && not_finite.is_empty() {
+                    continue;
+                }
+                let xlabel = if fig == "f4.5" { "refinement steps" } else { "frame time, mean (ms)" };
+                let size_part = if sizes.len() > 1 { format!(" ({size}²)") } else { String::new() };
+                let chart_title = format!("{title}{size_part} — {}", metric.name());
+                let (svg, clamp_note) = svg_chart(&chart_title, xlabel, metric.name(), &series);
+                let file = if sizes.len() > 1 { format!("{fig}_s{size}_{}.svg", metric.name()) } else { format!("{fig}_{}.svg", metric.name()) };
+                if let Err(e) = std::fs::write(sub.join(&file), svg) {
+                    warnings.push(format!("cannot write {}: {e}", sub.join(&file).display()));
+                    continue;
+                }
+                let scenes_text = scenes.iter().map(|s| short_scene(s)).collect::<Vec<_>>().join(", ");
+                let mut caption = format!(
+                    "{}; y = {} (log scale); scene{} {scenes_text}; points labelled with {}.",
+                    if fig == "f4.5" { "x = refinement steps after linear(10)" } else { "x = mean frame time (the dissertation's measure)" },
+                    metric.name(),
+                    if scenes.len() > 1 { "s" } else { "" },
+                    if fig == "f4.5" { "refinement steps" } else { "coarse step counts" },
+                );
+                if let Some(n) = clamp_note {
+                    caption.push(' ');
+                    caption.push_str(&n);
+                }
+                if !not_finite.is_empty() {
+                    caption.push_str(&format!(
+                        " Not drawn, their error or frame time is not a finite number (a failure, not a skipped ray): {}.",
+                        not_finite.join(", ")
+                    ));
+                }
+                out.push(Chart { figure: fig.into(), file, title: chart_title, caption });
             }
-            let scenes_text = scenes.iter().map(|s| short_scene(s)).collect::<Vec<_>>().join(", ");
-            let mut caption = format!(
-                "{}; y = {} (log scale); scene{} {scenes_text}; points labelled with {}.",
-                if fig == "f4.5" { "x = refinement steps after linear(10)" } else { "x = mean frame time (the dissertation's measure)" },
-                metric.name(),
-                if scenes.len() > 1 { "s" } else { "" },
-                if fig == "f4.5" { "refinement steps" } else { "coarse step counts" },
-            );
-            if let Some(n) = clamp_note {
-                caption.push(' ');
-                caption.push_str(&n);
-            }
-            if !not_finite.is_empty() {
-                caption.push_str(&format!(
-                    " Not drawn, their error or frame time is not a finite number (a failure, not a skipped ray): {}.",
-                    not_finite.join(", ")
-                ));
-            }
-            out.push(Chart { figure: fig.into(), file, title: chart_title, caption });
-        }
         }
     }
     out

@@ -29,40 +29,40 @@ pub(crate) fn build(data: &Data) -> Vec<Front> {
     let multi_size = data.sizes().len() > 1;
     for scene in data.scenes() {
         for size in data.sizes_of(&scene) {
-        for metric in [Metric::RefT, Metric::Mse] {
-            let mut all: Vec<(String, f64, f64)> = Vec::new();
-            let mut not_finite = Vec::new();
-            for r in &data.rows {
-                if r.status != "ok" || r.metrics.scene != scene || r.metrics.size != size {
-                    continue;
-                }
-                // Only the row the index picked for this pipeline.
-                if !data.is_indexed(r) {
-                    continue;
-                }
-                if let Ok(p) = r.metrics.pipeline.parse::<Pipeline>() {
-                    if !p.shadow.is_none() || !p.ao.is_none() {
+            for metric in [Metric::RefT, Metric::Mse] {
+                let mut all: Vec<(String, f64, f64)> = Vec::new();
+                let mut not_finite = Vec::new();
+                for r in &data.rows {
+                    if r.status != "ok" || r.metrics.scene != scene || r.metrics.size != size {
                         continue;
                     }
+                    // Only the row the index picked for this pipeline.
+                    if !data.is_indexed(r) {
+                        continue;
+                    }
+                    if let Ok(p) = r.metrics.pipeline.parse::<Pipeline>() {
+                        if !p.shadow.is_none() || !p.ao.is_none() {
+                            continue;
+                        }
+                    }
+                    let (ms, e) = (r.metrics.frame_ms_mean, metric.of(r));
+                    if ms.is_finite() && e.is_finite() {
+                        all.push((r.metrics.pipeline.clone(), ms, e));
+                    } else {
+                        not_finite.push(r.metrics.pipeline.clone());
+                    }
                 }
-                let (ms, e) = (r.metrics.frame_ms_mean, metric.of(r));
-                if ms.is_finite() && e.is_finite() {
-                    all.push((r.metrics.pipeline.clone(), ms, e));
-                } else {
-                    not_finite.push(r.metrics.pipeline.clone());
+                all.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.2.total_cmp(&b.2)));
+                let mut front: Vec<(String, f64, f64)> = Vec::new();
+                for c in &all {
+                    if front.last().is_none_or(|l| c.2 < l.2) {
+                        front.push(c.clone());
+                    }
+                }
+                if !all.is_empty() || !not_finite.is_empty() {
+                    out.push(Front { scene: scene.clone(), size, multi_size, not_finite, metric, front, all });
                 }
             }
-            all.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.2.total_cmp(&b.2)));
-            let mut front: Vec<(String, f64, f64)> = Vec::new();
-            for c in &all {
-                if front.last().is_none_or(|l| c.2 < l.2) {
-                    front.push(c.clone());
-                }
-            }
-            if !all.is_empty() || !not_finite.is_empty() {
-                out.push(Front { scene: scene.clone(), size, multi_size, not_finite, metric, front, all });
-            }
-        }
         }
     }
     out

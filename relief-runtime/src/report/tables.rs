@@ -70,7 +70,7 @@ pub(crate) fn build(data: &Data, diss: &Diss) -> Vec<ReportTable> {
                 let have = pipelines.iter().filter(|p| data.get(&p.to_string(), &s, size).is_some()).count();
                 // The grid's own scenes with any row; other scenes only when they cover at
                 // least half the table (not just cells another grid shares with it).
-                let own = grid.cells.iter().any(|(_, g)| &scene_label(g) == &s);
+                let own = grid.cells.iter().any(|(_, g)| scene_label(g) == s);
                 if have > 0 && (own || 2 * have >= pipelines.len()) {
                     groups.push((s.clone(), Some(size)));
                 }
