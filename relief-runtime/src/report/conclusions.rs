@@ -848,6 +848,9 @@ fn checks() -> Vec<Check> {
                     .iter()
                     .map(|n| Some(s.ms("4.6", &format!("csm({n}, sample=min4)"))? > s.ms("4.6", &format!("csm({n})"))?))
                     .collect();
+                if flags.iter().all(Option::is_none) {
+                    return Err("no csm(N, sample=min4) and csm(N) pair with frame times (the dissertation prints no min-of-4 row)".into());
+                }
                 share(&flags, SHARE, 2, "step counts where min-of-4 sampling is slower")
             },
         },

@@ -56,7 +56,7 @@ pub struct ReportSummary {
 }
 
 impl ReportSummary {
-    /// How many conclusions hold / do not hold / were not measured, by `mse_dissertation`.
+    /// How many conclusions hold / do not hold / were not measured, by `mse_dissertation_mean`.
     pub fn verdict_counts(&self) -> (usize, usize, usize) {
         let mut c = (0, 0, 0);
         for k in &self.conclusions {
