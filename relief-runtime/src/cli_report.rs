@@ -16,7 +16,7 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<()> {
     let s = report::write(&a.dir)?;
     let (holds, fails, unmeasured) = s.verdict_counts();
     println!(
-        "{} rows ({} ok, {} failed); conclusions by mse_dissertation: {holds} hold, {fails} do not hold, {unmeasured} not measured",
+        "{} rows ({} ok, {} failed); conclusions by mse_dissertation_mean: {holds} hold, {fails} do not hold, {unmeasured} not measured",
         s.rows,
         s.ok,
         s.failed.len()

@@ -67,52 +67,66 @@ pub(crate) fn write_all(data: &Data, sub: &Path, warnings: &mut Vec<String>) -> 
                 pipelines.push(p.clone());
             }
         }
-        let scenes: Vec<String> =
-            data.scenes().into_iter().filter(|s| pipelines.iter().any(|p| data.ok(&p.to_string(), s).is_some())).collect();
-        if scenes.is_empty() {
-            continue;
-        }
-        for metric in Metric::ALL {
-            let series = figure_series(fig, data, &pipelines, &scenes, metric);
-            if series.iter().all(|s| s.points.is_empty()) {
+        // One chart per size: points of different sizes are different measurements (issue #11).
+        let sizes = data.sizes();
+        for &size in &sizes {
+            let scenes: Vec<String> =
+                data.scenes().into_iter().filter(|s| pipelines.iter().any(|p| data.ok(&p.to_string(), s, size).is_some())).collect();
+            if scenes.is_empty() {
                 continue;
             }
-            let xlabel = if fig == "f4.5" { "refinement steps" } else { "frame time, median (ms)" };
-            let chart_title = format!("{title} — {}", metric.name());
-            let (svg, clamp_note) = svg_chart(&chart_title, xlabel, metric.name(), &series);
-            let file = format!("{fig}_{}.svg", metric.name());
-            if let Err(e) = std::fs::write(sub.join(&file), svg) {
-                warnings.push(format!("cannot write {}: {e}", sub.join(&file).display()));
-                continue;
+            for metric in Metric::ALL {
+                let (series, not_finite) = figure_series(fig, data, &pipelines, &scenes, size, metric);
+                if series.iter().all(|s| s.points.is_empty()) && not_finite.is_empty() {
+                    continue;
+                }
+                let xlabel = if fig == "f4.5" { "refinement steps" } else { "frame time, mean (ms)" };
+                let size_part = if sizes.len() > 1 { format!(" ({size}²)") } else { String::new() };
+                let chart_title = format!("{title}{size_part} — {}", metric.name());
+                let (svg, clamp_note) = svg_chart(&chart_title, xlabel, metric.name(), &series);
+                let file = if sizes.len() > 1 { format!("{fig}_s{size}_{}.svg", metric.name()) } else { format!("{fig}_{}.svg", metric.name()) };
+                if let Err(e) = std::fs::write(sub.join(&file), svg) {
+                    warnings.push(format!("cannot write {}: {e}", sub.join(&file).display()));
+                    continue;
+                }
+                let scenes_text = scenes.iter().map(|s| short_scene(s)).collect::<Vec<_>>().join(", ");
+                let mut caption = format!(
+                    "{}; y = {} (log scale); scene{} {scenes_text}; points labelled with {}.",
+                    if fig == "f4.5" { "x = refinement steps after linear(10)" } else { "x = mean frame time (the dissertation's measure)" },
+                    metric.name(),
+                    if scenes.len() > 1 { "s" } else { "" },
+                    if fig == "f4.5" { "refinement steps" } else { "coarse step counts" },
+                );
+                if let Some(n) = clamp_note {
+                    caption.push(' ');
+                    caption.push_str(&n);
+                }
+                if !not_finite.is_empty() {
+                    caption.push_str(&format!(
+                        " Not drawn, their error or frame time is not a finite number (a failure, not a skipped ray): {}.",
+                        not_finite.join(", ")
+                    ));
+                }
+                out.push(Chart { figure: fig.into(), file, title: chart_title, caption });
             }
-            let scenes_text = scenes.iter().map(|s| short_scene(s)).collect::<Vec<_>>().join(", ");
-            let mut caption = format!(
-                "{}; y = {} (log scale); scene{} {scenes_text}; points labelled with {}.",
-                if fig == "f4.5" { "x = refinement steps after linear(10)" } else { "x = median frame time" },
-                metric.name(),
-                if scenes.len() > 1 { "s" } else { "" },
-                if fig == "f4.5" { "refinement steps" } else { "coarse step counts" },
-            );
-            if let Some(n) = clamp_note {
-                caption.push(' ');
-                caption.push_str(&n);
-            }
-            out.push(Chart { figure: fig.into(), file, title: chart_title, caption });
         }
     }
     out
 }
 
-fn figure_series(fig: &str, data: &Data, pipelines: &[Pipeline], scenes: &[String], metric: Metric) -> Vec<Series> {
+/// The series of one figure at one size, and the points that could not be drawn.
+fn figure_series(fig: &str, data: &Data, pipelines: &[Pipeline], scenes: &[String], size: u32, metric: Metric) -> (Vec<Series>, Vec<String>) {
+    let mut not_finite = Vec::new();
     let multi = scenes.len() > 1;
     let mut series: Vec<Series> = Vec::new();
     // (series name, order key, point)
     let mut pts: Vec<(String, u32, Pt)> = Vec::new();
     for scene in scenes {
         for p in pipelines {
-            let Some(r) = data.ok(&p.to_string(), scene) else { continue };
-            let (y, ms) = (metric.of(r), r.metrics.frame_ms_median);
-            if !y.is_finite() || !ms.is_finite() {
+            let Some(r) = data.ok(&p.to_string(), scene, size) else { continue };
+            let (y, ms) = (metric.of(r), r.metrics.frame_ms_mean);
+            if !y.is_finite() || (!ms.is_finite() && fig != "f4.5") {
+                not_finite.push(format!("`{p}` on {}", short_scene(scene)));
                 continue;
             }
             let sc = short_scene(scene);
@@ -152,7 +166,7 @@ fn figure_series(fig: &str, data: &Data, pipelines: &[Pipeline], scenes: &[Strin
         v.sort_by_key(|(o, _)| *o);
         series.push(Series { name, points: v.into_iter().map(|(_, p)| p).collect(), line: Line::Poly, faint: false });
     }
-    series
+    (series, not_finite)
 }
 
 const PALETTE: [&str; 10] = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22", "#7f7f7f"];

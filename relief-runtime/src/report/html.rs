@@ -49,8 +49,73 @@ const STYLE: &str = "body{font-family:sans-serif;margin:1.5em;max-width:110em;co
 table{border-collapse:collapse;margin:.5em 0 1.5em;font-size:13px}\
 th,td{border:1px solid #ccc;padding:2px 6px;text-align:left;vertical-align:top}\
 th{background:#f0f0f0}td.holds{background:#dfd}td.fails{background:#fdd}td.err{background:#fdd}\
-code{font-size:12px}img{max-width:100%}nav a{margin-right:1em}.fig{display:inline-block;margin:0 1em 1em 0}\
+code{font-size:12px}img{max-width:100%}.frames{display:flex;flex-wrap:wrap;gap:.8em}\
+.frames figure{margin:0;font-size:12px;max-width:300px}.noimg{display:inline-block;width:128px;height:128px;background:#ccc;color:#555;text-align:center}nav a{margin-right:1em}.fig{display:inline-block;margin:0 1em 1em 0}\
 .strip{display:flex;gap:1em;align-items:flex-start}.strip ol{font-size:12px;margin:0}";
+
+/// Splits a Markdown table line into its cells (`\|` is a literal bar).
+fn md_cells(line: &str) -> Vec<String> {
+    let inner = line.trim().trim_start_matches('|');
+    let inner = inner.strip_suffix('|').filter(|s| !s.ends_with('\\')).unwrap_or(inner);
+    let mut cells = vec![String::new()];
+    let mut chars = inner.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '\\' if chars.peek() == Some(&'|') => {
+                cells.last_mut().expect("one cell").push('|');
+                chars.next();
+            }
+            '|' => cells.push(String::new()),
+            _ => cells.last_mut().expect("one cell").push(c),
+        }
+    }
+    cells.into_iter().map(|c| c.trim().to_string()).collect()
+}
+
+/// Markdown as written by relief's own writers (headings, paragraphs, pipe tables) as
+/// HTML: tables become `<table>`, never preformatted text.
+pub(crate) fn md_block(md: &str) -> String {
+    let mut h = String::new();
+    let lines: Vec<&str> = md.lines().collect();
+    let mut i = 0;
+    while i < lines.len() {
+        let l = lines[i].trim();
+        if l.starts_with('|') {
+            let mut block = Vec::new();
+            while i < lines.len() && lines[i].trim().starts_with('|') {
+                block.push(lines[i].trim());
+                i += 1;
+            }
+            let is_sep = |s: &str| md_cells(s).iter().all(|c| !c.is_empty() && c.chars().all(|ch| ch == '-' || ch == ':'));
+            h.push_str("<table>\n");
+            let (head, body) = if block.len() >= 2 && is_sep(block[1]) { (Some(block[0]), &block[2..]) } else { (None, &block[..]) };
+            if let Some(head) = head {
+                h.push_str("<thead><tr>");
+                for c in md_cells(head) {
+                    let _ = write!(h, "<th>{}</th>", md_inline(&c));
+                }
+                h.push_str("</tr></thead>\n");
+            }
+            h.push_str("<tbody>\n");
+            for r in body {
+                h.push_str("<tr>");
+                for c in md_cells(r) {
+                    let _ = write!(h, "<td>{}</td>", md_inline(&c));
+                }
+                h.push_str("</tr>\n");
+            }
+            h.push_str("</tbody></table>\n");
+            continue;
+        }
+        if let Some(t) = l.strip_prefix('#') {
+            let _ = writeln!(h, "<h4>{}</h4>", md_inline(t.trim_start_matches('#').trim()));
+        } else if !l.is_empty() {
+            let _ = writeln!(h, "<p>{}</p>", md_inline(l));
+        }
+        i += 1;
+    }
+    h
+}
 
 pub(crate) fn page(p: &Parts) -> String {
     let mut h = String::new();
@@ -84,7 +149,8 @@ pub(crate) fn page(p: &Parts) -> String {
                 let _ = writeln!(h, "<li><a href=\"{f}\">{metric}</a></li>");
             }
         }
-        let _ = writeln!(h, "</ul><h3>Worst condition per method</h3><pre>{}</pre>", esc(&worst));
+        let _ = writeln!(h, "</ul><h3>Worst condition per method</h3>");
+        h.push_str(&md_block(&worst));
     }
 
     // Conclusions.
@@ -123,12 +189,29 @@ pub(crate) fn page(p: &Parts) -> String {
     for t in p.tables {
         h.push_str(&t.table.to_html(3));
         if let Some(st) = p.strips.iter().find(|s| s.key == t.key) {
-            let _ = writeln!(h, "<details><summary>Image strip: frame | error per row ({} of {} rows with images)</summary><div class=\"strip\"><a href=\"{f}\"><img src=\"{f}\" alt=\"strip {k}\"></a><ol>", st.with_images, st.rows.len(), f = esc(&st.file), k = esc(&t.key));
-            for r in &st.rows {
-                let label = r.split_once(". ").map(|x| x.1).unwrap_or(r);
-                let _ = write!(h, "<li><code>{}</code></li>", esc(label));
+            let _ = writeln!(
+                h,
+                "<details><summary>Image strip: frame | error per row ({} of {} rows with images; <a href=\"{f}\">as one image</a>)</summary><div class=\"frames\">",
+                st.with_images,
+                st.rows.len(),
+                f = esc(&st.file)
+            );
+            for fr in &st.frames {
+                h.push_str("<figure>");
+                for (img, what) in [(&fr.frame, "frame"), (&fr.error, "error")] {
+                    match img {
+                        Some(src) => {
+                            let _ = write!(h, "<img src=\"{}\" alt=\"{} {}\" height=\"128\">", esc(src), what, esc(&fr.label));
+                        }
+                        None => {
+                            let _ = write!(h, "<span class=\"noimg\">no {what}</span>");
+                        }
+                    }
+                }
+                let (num, pipeline) = fr.label.split_once(". ").unwrap_or(("", &fr.label));
+                let _ = write!(h, "<figcaption>#{} <code>{}</code><br>{}</figcaption></figure>", esc(num), esc(pipeline), esc(&fr.values));
             }
-            h.push_str("</ol></div></details>\n");
+            h.push_str("</div></details>\n");
         }
     }
 

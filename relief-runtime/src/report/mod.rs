@@ -56,7 +56,7 @@ pub struct ReportSummary {
 }
 
 impl ReportSummary {
-    /// How many conclusions hold / do not hold / were not measured, by `mse_dissertation`.
+    /// How many conclusions hold / do not hold / were not measured, by `mse_dissertation_mean`.
     pub fn verdict_counts(&self) -> (usize, usize, usize) {
         let mut c = (0, 0, 0);
         for k in &self.conclusions {
@@ -124,6 +124,10 @@ pub fn write(dir: &Path) -> anyhow::Result<ReportSummary> {
         md.push_str(&t.table.to_markdown(2));
         if let Some(s) = strips.iter().find(|s| s.key == t.key) {
             let _ = writeln!(md, "Image strip (rows in table order, frame | error): [{}]({})\n", s.file, s.file);
+            for f in &s.frames {
+                let _ = writeln!(md, "- {}: {}", f.label, f.values);
+            }
+            md.push('\n');
         }
     }
     md.push_str("## Charts\n\n");
@@ -211,12 +215,13 @@ fn failed_md(s: &ReportSummary) -> String {
 // ---------------------------------------------------------------------------------------
 // Data
 
-/// The sweep's rows, indexed by (canonical pipeline, scene label).
+/// The sweep's rows, indexed by (canonical pipeline, scene label, size): rows of one
+/// pipeline and scene at two sizes are two rows, never one replacing the other (issue #11).
 pub(crate) struct Data {
     pub dir: PathBuf,
     pub rows: Vec<Row>,
     pub bad_lines: Vec<String>,
-    index: HashMap<(String, String), usize>,
+    index: HashMap<(String, String, u32), usize>,
 }
 
 impl Data {
@@ -249,9 +254,9 @@ impl Data {
         }
         // A later row replaces an earlier one, except that an ok row is never replaced by a
         // failed one.
-        let mut index: HashMap<(String, String), usize> = HashMap::new();
+        let mut index: HashMap<(String, String, u32), usize> = HashMap::new();
         for (i, r) in rows.iter().enumerate() {
-            let k = (r.metrics.pipeline.clone(), r.metrics.scene.clone());
+            let k = (r.metrics.pipeline.clone(), r.metrics.scene.clone(), r.metrics.size);
             match index.get(&k) {
                 Some(&j) if rows[j].status == "ok" && r.status != "ok" => {}
                 _ => {
@@ -262,19 +267,54 @@ impl Data {
         Data { dir: dir.to_path_buf(), rows, bad_lines, index }
     }
 
-    /// The row of `pipeline` (canonical text) on `scene` (label, `scene:NAME`), any status.
-    pub fn get(&self, pipeline: &str, scene: &str) -> Option<&Row> {
-        self.index.get(&(pipeline.to_string(), scene.to_string())).and_then(|&i| self.rows.get(i))
+    /// The row of `pipeline` (canonical text) on `scene` (label, `scene:NAME`) at `size`,
+    /// any status.
+    pub fn get(&self, pipeline: &str, scene: &str, size: u32) -> Option<&Row> {
+        self.index.get(&(pipeline.to_string(), scene.to_string(), size)).and_then(|&i| self.rows.get(i))
     }
 
     /// The same, only if it succeeded.
-    pub fn ok(&self, pipeline: &str, scene: &str) -> Option<&Row> {
-        self.get(pipeline, scene).filter(|r| r.status == "ok")
+    pub fn ok(&self, pipeline: &str, scene: &str, size: u32) -> Option<&Row> {
+        self.get(pipeline, scene, size).filter(|r| r.status == "ok")
+    }
+
+    /// The ok rows of `pipeline` on `scene` at every size, smallest size first.
+    pub fn ok_any_size(&self, pipeline: &str, scene: &str) -> Vec<&Row> {
+        let mut v: Vec<&Row> = self.sizes().into_iter().filter_map(|z| self.ok(pipeline, scene, z)).collect();
+        v.sort_by_key(|r| r.metrics.size);
+        v
+    }
+
+    /// Whether `r` is the row the index keeps for its (pipeline, scene, size).
+    pub fn is_indexed(&self, r: &Row) -> bool {
+        self.get(&r.metrics.pipeline, &r.metrics.scene, r.metrics.size).is_some_and(|x| std::ptr::eq(x, r))
     }
 
     /// Scene labels in first-seen order.
     pub fn scenes(&self) -> Vec<String> {
         self.distinct(|r| r.metrics.scene.clone())
+    }
+
+    /// Sizes in first-seen order.
+    pub fn sizes(&self) -> Vec<u32> {
+        let mut out: Vec<u32> = Vec::new();
+        for r in &self.rows {
+            if !out.contains(&r.metrics.size) {
+                out.push(r.metrics.size);
+            }
+        }
+        out
+    }
+
+    /// The sizes with rows on `scene`, first-seen order.
+    pub fn sizes_of(&self, scene: &str) -> Vec<u32> {
+        let mut out: Vec<u32> = Vec::new();
+        for r in self.rows.iter().filter(|r| r.metrics.scene == scene) {
+            if !out.contains(&r.metrics.size) {
+                out.push(r.metrics.size);
+            }
+        }
+        out
     }
 
     pub fn distinct(&self, f: impl Fn(&Row) -> String) -> Vec<String> {
@@ -299,6 +339,11 @@ impl Data {
     }
 }
 
+/// A scene and size as a short label: `lion, 64²`.
+pub(crate) fn group_label(scene: &str, size: u32) -> String {
+    format!("{}, {size}²", short_scene(scene))
+}
+
 /// Parses one results line; numbers written as `null` (NaN or infinite when measured) come
 /// back as NaN.
 fn parse_row(line: &str) -> anyhow::Result<Row> {
@@ -308,6 +353,13 @@ fn parse_row(line: &str) -> anyhow::Result<Row> {
     };
     let mut base = serde_json::to_value(Row::default())?;
     let mut nulls = Vec::new();
+    // Fields that rows written before issue #11 lack: not recorded, so NaN (shown as such),
+    // never a silent 0.
+    for k in LATER_FIELDS {
+        if !obj.contains_key(*k) {
+            nulls.push(k.to_string());
+        }
+    }
     if let serde_json::Value::Object(b) = &mut base {
         for (k, val) in obj {
             if val.is_null() {
@@ -324,9 +376,16 @@ fn parse_row(line: &str) -> anyhow::Result<Row> {
     Ok(row)
 }
 
+/// Metrics fields added with issue #11 (absent from older results files).
+const LATER_FIELDS: &[&str] = &["frame_ms_mean", "avg_coarse_steps", "avg_refine_steps", "nonconverged_rate"];
+
 fn set_nan(m: &mut Metrics, field: &str) {
     let f = match field {
         "frame_ms_median" => &mut m.frame_ms_median,
+        "frame_ms_mean" => &mut m.frame_ms_mean,
+        "avg_coarse_steps" => &mut m.avg_coarse_steps,
+        "avg_refine_steps" => &mut m.avg_refine_steps,
+        "nonconverged_rate" => &mut m.nonconverged_rate,
         "frame_ms_p10" => &mut m.frame_ms_p10,
         "frame_ms_p90" => &mut m.frame_ms_p90,
         "mse_dissertation" => &mut m.mse_dissertation,
@@ -373,7 +432,10 @@ pub(crate) fn stage_steps(s: &StageSpec) -> u32 {
 // ---------------------------------------------------------------------------------------
 // Error metrics and formatting
 
-/// An error metric of our rows.
+/// An error metric of our rows. `Mse` is `mse_dissertation_mean`, the per-ray mean: the
+/// dissertation's printed MSE behaves like a per-pixel mean (Burger 2018 Table 4.1: MSE × N²
+/// stays near 0.4–0.55 for N = 5…200 linear steps), so the mean is what compares with it
+/// and what does not change with the number of probe rays.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Metric {
     Mse,
@@ -385,14 +447,14 @@ impl Metric {
     pub const ALL: [Metric; 3] = [Metric::Mse, Metric::RefT, Metric::Missed];
     pub fn name(self) -> &'static str {
         match self {
-            Metric::Mse => "mse_dissertation",
+            Metric::Mse => "mse_dissertation_mean",
             Metric::RefT => "ref_err_t_rms",
             Metric::Missed => "missed_rate",
         }
     }
     pub fn of(self, r: &Row) -> f64 {
         match self {
-            Metric::Mse => r.metrics.mse_dissertation,
+            Metric::Mse => r.metrics.mse_dissertation_mean,
             Metric::RefT => r.metrics.ref_err_t_rms,
             Metric::Missed => r.metrics.missed_rate,
         }

@@ -12,6 +12,11 @@ use super::{fmt_ms, fmt_sci, short_scene, Data, Metric, TextTable};
 
 pub(crate) struct Front {
     pub scene: String,
+    pub size: u32,
+    /// Whether the sweep has several sizes (then titles and file names name the size).
+    pub multi_size: bool,
+    /// Rows left out because their error or frame time is not a finite number.
+    pub not_finite: Vec<String>,
     pub metric: Metric,
     /// (pipeline, frame ms, error) on the front, fastest first.
     pub front: Vec<(String, f64, f64)>,
@@ -21,40 +26,55 @@ pub(crate) struct Front {
 
 pub(crate) fn build(data: &Data) -> Vec<Front> {
     let mut out = Vec::new();
+    let multi_size = data.sizes().len() > 1;
     for scene in data.scenes() {
-        for metric in [Metric::RefT, Metric::Mse] {
-            let mut all: Vec<(String, f64, f64)> = Vec::new();
-            for r in &data.rows {
-                if r.status != "ok" || r.metrics.scene != scene {
-                    continue;
-                }
-                // Only the row the index picked for this pipeline.
-                if !data.get(&r.metrics.pipeline, &scene).is_some_and(|x| std::ptr::eq(x, r)) {
-                    continue;
-                }
-                if let Ok(p) = r.metrics.pipeline.parse::<Pipeline>() {
-                    if !p.shadow.is_none() || !p.ao.is_none() {
+        for size in data.sizes_of(&scene) {
+            for metric in [Metric::RefT, Metric::Mse] {
+                let mut all: Vec<(String, f64, f64)> = Vec::new();
+                let mut not_finite = Vec::new();
+                for r in &data.rows {
+                    if r.status != "ok" || r.metrics.scene != scene || r.metrics.size != size {
                         continue;
                     }
+                    // Only the row the index picked for this pipeline.
+                    if !data.is_indexed(r) {
+                        continue;
+                    }
+                    if let Ok(p) = r.metrics.pipeline.parse::<Pipeline>() {
+                        if !p.shadow.is_none() || !p.ao.is_none() {
+                            continue;
+                        }
+                    }
+                    let (ms, e) = (r.metrics.frame_ms_mean, metric.of(r));
+                    if ms.is_finite() && e.is_finite() {
+                        all.push((r.metrics.pipeline.clone(), ms, e));
+                    } else {
+                        not_finite.push(r.metrics.pipeline.clone());
+                    }
                 }
-                let (ms, e) = (r.metrics.frame_ms_median, metric.of(r));
-                if ms.is_finite() && e.is_finite() {
-                    all.push((r.metrics.pipeline.clone(), ms, e));
+                all.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.2.total_cmp(&b.2)));
+                let mut front: Vec<(String, f64, f64)> = Vec::new();
+                for c in &all {
+                    if front.last().is_none_or(|l| c.2 < l.2) {
+                        front.push(c.clone());
+                    }
                 }
-            }
-            all.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.2.total_cmp(&b.2)));
-            let mut front: Vec<(String, f64, f64)> = Vec::new();
-            for c in &all {
-                if front.last().is_none_or(|l| c.2 < l.2) {
-                    front.push(c.clone());
+                if !all.is_empty() || !not_finite.is_empty() {
+                    out.push(Front { scene: scene.clone(), size, multi_size, not_finite, metric, front, all });
                 }
-            }
-            if !all.is_empty() {
-                out.push(Front { scene: scene.clone(), metric, front, all });
             }
         }
     }
     out
+}
+
+/// `lion`, or `lion, 64²` when the sweep has several sizes.
+fn front_place(f: &Front) -> String {
+    if f.multi_size {
+        super::group_label(&f.scene, f.size)
+    } else {
+        short_scene(&f.scene).to_string()
+    }
 }
 
 /// The front as a budget table.
@@ -64,14 +84,22 @@ pub(crate) fn table(f: &Front) -> TextTable {
         let until = f.front.get(i + 1).map(|n| format!("< {}", fmt_ms(n.1))).unwrap_or_else(|| "and more".into());
         rows.push(vec![format!("≥ {} {until}", fmt_ms(*ms)), format!("`{p}`"), fmt_sci(*e), fmt_ms(*ms)]);
     }
+    let mut notes = vec![format!(
+        "{} candidate rows (no shadow / AO stages), {} on the front. Frame time is the mean over the timed frames \
+         (the dissertation's measure). For a frame-time budget in the first column, the second column is the least-error method.",
+        f.all.len(),
+        f.front.len()
+    )];
+    if !f.not_finite.is_empty() {
+        notes.push(format!(
+            "Left out, their error or frame time is not a finite number (failures, not skipped rays): {}.",
+            f.not_finite.iter().map(|p| format!("`{p}`")).collect::<Vec<_>>().join(", ")
+        ));
+    }
     TextTable {
-        title: format!("Pareto front, scene {}, by {}", short_scene(&f.scene), f.metric.name()),
-        notes: vec![format!(
-            "{} candidate rows (no shadow / AO stages), {} on the front. For a frame-time budget in the first column, the second column is the least-error method.",
-            f.all.len(),
-            f.front.len()
-        )],
-        header: ["budget (ms)", "least-error method", f.metric.name(), "its frame ms"].iter().map(|s| s.to_string()).collect(),
+        title: format!("Pareto front, scene {}, by {}", front_place(f), f.metric.name()),
+        notes,
+        header: ["budget, mean frame ms", "least-error method", f.metric.name(), "its mean frame ms"].iter().map(|s| s.to_string()).collect(),
         rows,
     }
 }
@@ -95,9 +123,10 @@ pub(crate) fn write_svgs(fronts: &[Front], sub: &Path, warnings: &mut Vec<String
                 faint: false,
             },
         ];
-        let title = format!("Pareto front, scene {} — {}", short_scene(&f.scene), f.metric.name());
-        let (svg, _) = svg_chart(&title, "frame time, median (ms)", f.metric.name(), &series);
-        let name = format!("pareto_{}_{}.svg", super::file_safe(short_scene(&f.scene)), f.metric.name());
+        let title = format!("Pareto front, scene {} — {}", front_place(f), f.metric.name());
+        let (svg, _) = svg_chart(&title, "frame time, mean (ms)", f.metric.name(), &series);
+        let place = if f.multi_size { format!("{}_s{}", short_scene(&f.scene), f.size) } else { short_scene(&f.scene).to_string() };
+        let name = format!("pareto_{}_{}.svg", super::file_safe(&place), f.metric.name());
         match std::fs::write(sub.join(&name), svg) {
             Ok(()) => out.push((i, format!("report/{name}"))),
             Err(e) => warnings.push(format!("cannot write {}: {e}", sub.join(&name).display())),

@@ -6,7 +6,7 @@ use std::path::Path;
 use image::{imageops, Rgba, RgbaImage};
 
 use super::tables::ReportTable;
-use super::Data;
+use super::{fmt_ms, fmt_num, fmt_sci, Data};
 
 /// Height of each tile in pixels.
 pub(crate) const TILE: u32 = 128;
@@ -22,6 +22,40 @@ pub(crate) struct Strip {
     pub rows: Vec<String>,
     /// Rows that had at least one image.
     pub with_images: usize,
+    /// Each row as a captioned frame, for the HTML figure.
+    pub frames: Vec<Frame>,
+}
+
+/// One row of a strip as the HTML report shows it: its images and a caption naming the
+/// pipeline and its metric values, so the strip reads without the table beside it.
+pub(crate) struct Frame {
+    /// `3. linear(15)`.
+    pub label: String,
+    /// The frame and error images, relative to the sweep folder, when they exist.
+    pub frame: Option<String>,
+    pub error: Option<String>,
+    /// `mean 0.512 ms · mse_dissertation_mean 1.2e-5 · …`, or why there are no values.
+    pub values: String,
+}
+
+/// The caption values of a row.
+pub(crate) fn caption_values(r: Option<&crate::sweep::Row>) -> String {
+    match r {
+        None => "not measured".into(),
+        Some(r) if r.status != "ok" => format!("failed: {}", r.error.replace('\n', " ")),
+        Some(r) => {
+            let m = &r.metrics;
+            format!(
+                "{}² · mean {} ms · mse_dissertation_mean {} · ref_err_t_rms {} · missed_rate {} · nan_count {}",
+                m.size,
+                fmt_ms(m.frame_ms_mean),
+                fmt_sci(m.mse_dissertation_mean),
+                fmt_sci(m.ref_err_t_rms),
+                fmt_num(m.missed_rate, 4),
+                m.nan_count
+            )
+        }
+    }
 }
 
 pub(crate) fn write_all(data: &Data, tables: &[ReportTable], sub: &Path, warnings: &mut Vec<String>) -> Vec<Strip> {
@@ -29,6 +63,7 @@ pub(crate) fn write_all(data: &Data, tables: &[ReportTable], sub: &Path, warning
     for t in tables {
         let mut tiles: Vec<(Option<RgbaImage>, Option<RgbaImage>)> = Vec::new();
         let mut labels = Vec::new();
+        let mut frames = Vec::new();
         for (i, e) in t.entries.iter().enumerate() {
             let row = t.row(data, i).filter(|r| r.status == "ok" && !r.cell_dir.is_empty());
             let load = |name: &str, warnings: &mut Vec<String>| -> Option<RgbaImage> {
@@ -47,6 +82,13 @@ pub(crate) fn write_all(data: &Data, tables: &[ReportTable], sub: &Path, warning
             };
             let f = load("frame.png", warnings);
             let er = load("error.png", warnings);
+            let rel = |name: &str, present: bool| present.then(|| format!("{}/{name}", row.map(|r| r.cell_dir.as_str()).unwrap_or("")));
+            frames.push(Frame {
+                label: format!("{}. {}", i + 1, e.label),
+                frame: rel("frame.png", f.is_some()),
+                error: rel("error.png", er.is_some()),
+                values: caption_values(t.row(data, i)),
+            });
             tiles.push((f, er));
             labels.push(format!("{}. {}", i + 1, e.label));
         }
@@ -75,7 +117,7 @@ pub(crate) fn write_all(data: &Data, tables: &[ReportTable], sub: &Path, warning
         let name = format!("strip_{}.png", super::file_safe(&t.key));
         let path = sub.join(&name);
         match canvas.save(&path) {
-            Ok(()) => out.push(Strip { key: t.key.clone(), file: format!("report/{name}"), rows: labels, with_images }),
+            Ok(()) => out.push(Strip { key: t.key.clone(), file: format!("report/{name}"), rows: labels, with_images, frames }),
             Err(e) => warnings.push(format!("cannot write {}: {e}", path.display())),
         }
     }

@@ -17,6 +17,8 @@ pub(crate) struct ReportTable {
     pub id: String,
     /// The scene label (`scene:lion`).
     pub scene: String,
+    /// The image size our rows were measured at (None: no row of this table anywhere).
+    pub size: Option<u32>,
     pub entries: Vec<Entry>,
     pub table: TextTable,
 }
@@ -36,7 +38,7 @@ impl ReportTable {
     /// Our row of entry `i` (any status).
     pub fn row<'a>(&self, data: &'a Data, i: usize) -> Option<&'a Row> {
         let e = self.entries.get(i)?;
-        data.get(&e.pipeline.as_ref()?.to_string(), &self.scene)
+        data.get(&e.pipeline.as_ref()?.to_string(), &self.scene, self.size?)
     }
 }
 
@@ -59,39 +61,46 @@ pub(crate) fn build(data: &Data, diss: &Diss) -> Vec<ReportTable> {
             }
         }
         let entries_template = entries(&id, &pipelines, diss);
-        // Scenes: those with at least one row of this table, else the grid's own.
-        let mut scenes: Vec<String> = data
-            .scenes()
-            .into_iter()
-            .filter(|s| {
-                let have = pipelines.iter().filter(|p| data.get(&p.to_string(), s).is_some()).count();
+        // (scene, size) groups: those with at least one row of this table, else the grid's
+        // own scenes, unmeasured. A table never mixes sizes (issue #11).
+        let multi_size = data.sizes().len() > 1;
+        let mut groups: Vec<(String, Option<u32>)> = Vec::new();
+        for s in data.scenes() {
+            for size in data.sizes_of(&s) {
+                let have = pipelines.iter().filter(|p| data.get(&p.to_string(), &s, size).is_some()).count();
                 // The grid's own scenes with any row; other scenes only when they cover at
                 // least half the table (not just cells another grid shares with it).
-                let own = grid.cells.iter().any(|(_, g)| &scene_label(g) == s);
-                have > 0 && (own || 2 * have >= pipelines.len())
-            })
-            .collect();
-        if scenes.is_empty() {
-            for (_, s) in &grid.cells {
-                let l = scene_label(s);
-                if !scenes.contains(&l) {
-                    scenes.push(l);
+                let own = grid.cells.iter().any(|(_, g)| scene_label(g) == s);
+                if have > 0 && (own || 2 * have >= pipelines.len()) {
+                    groups.push((s.clone(), Some(size)));
                 }
             }
         }
-        for scene in scenes {
-            let key = if scene == "scene:lion" { name.clone() } else { format!("{name}-{}", super::file_safe(short_scene(&scene))) };
+        if groups.is_empty() {
+            for (_, s) in &grid.cells {
+                let l = scene_label(s);
+                if !groups.iter().any(|(g, _)| *g == l) {
+                    groups.push((l, None));
+                }
+            }
+        }
+        for (scene, size) in groups {
+            let mut key = if scene == "scene:lion" { name.clone() } else { format!("{name}-{}", super::file_safe(short_scene(&scene))) };
+            if let (true, Some(z)) = (multi_size, size) {
+                key.push_str(&format!("-s{z}"));
+            }
             let mut t = ReportTable {
                 key,
                 id: id.clone(),
                 scene: scene.clone(),
+                size,
                 entries: entries_template
                     .iter()
                     .map(|e| Entry { pipeline: e.pipeline.clone(), label: e.label.clone(), diss: e.diss.clone(), base: e.base })
                     .collect(),
                 table: TextTable::default(),
             };
-            t.table = render(&t, data, &grid.description);
+            t.table = render(&t, data, &grid.description, multi_size);
             out.push(t);
         }
     }
@@ -212,26 +221,39 @@ fn ratio_pct(v: f64, base: f64) -> Option<f64> {
     (v.is_finite() && base.is_finite() && base != 0.0).then(|| 100.0 * v / base)
 }
 
-pub(crate) const HEADER: [&str; 16] = [
+/// The columns of every table. Each frame-time column says whether it is the median or
+/// the mean; the dissertation's frame times are means over 500 frames (Burger 2018 §4.1),
+/// so they sit next to our mean and the trend columns use the mean. The dissertation's
+/// "avg steps" counts the coarse search only (Table 4.11's csm(5)+binary(5) shows 2.016 as
+/// Table 4.8's csm(5) does), so it sits next to our coarse steps.
+pub(crate) const HEADER: [&str; 24] = [
     "#",
     "pipeline",
     "base",
-    "frame ms",
-    "diss ms",
-    "ms % base",
-    "diss ms % base",
-    "avg iter",
-    "diss avg steps",
-    "mse_dissertation",
+    "frame ms (median)",
+    "frame ms (mean)",
+    "diss ms (mean of 500)",
+    "mean ms % base",
+    "diss ms (mean) % base",
+    "avg coarse steps",
+    "diss avg steps (coarse)",
+    "avg refine steps",
+    "avg iter (total)",
+    "avg fetches (total)",
+    "mse_dissertation (sum)",
+    "mse_dissertation_mean",
     "diss MSE",
-    "MSE % base",
+    "MSE mean % base",
     "diss MSE % base",
     "ref_err_t_rms",
     "ref_t % base",
     "missed_rate",
+    "nan_count",
+    "outside_count",
+    "nonconverged_rate",
 ];
 
-fn render(t: &ReportTable, data: &Data, description: &str) -> TextTable {
+fn render(t: &ReportTable, data: &Data, description: &str, multi_size: bool) -> TextTable {
     let mut title = description.to_string();
     if title.is_empty() {
         title = format!("Table {}", t.id);
@@ -240,9 +262,16 @@ fn render(t: &ReportTable, data: &Data, description: &str) -> TextTable {
         title = title.replace(" (Lion)", "");
         title.push_str(&format!(" — scene {}", short_scene(&t.scene)));
     }
+    if let (true, Some(z)) = (multi_size, t.size) {
+        title.push_str(&format!(" — size {z}²"));
+    }
     let measured = (0..t.entries.len()).filter(|&i| t.row(data, i).is_some()).count();
+    let size_text = match t.size {
+        Some(z) => format!("Our rows: size {z}²."),
+        None => "No row measured.".into(),
+    };
     let mut notes = vec![format!(
-        "{} rows ({} printed in the dissertation), {} measured here. {}",
+        "{} rows ({} printed in the dissertation), {} measured here. {size_text} {}",
         t.entries.len(),
         t.entries.iter().filter(|e| e.diss.is_some()).count(),
         measured,
@@ -286,18 +315,26 @@ fn render(t: &ReportTable, data: &Data, description: &str) -> TextTable {
             format!("`{}`", e.label),
             if e.base == i { DASH.into() } else { format!("#{}", e.base + 1) },
             ours(r, |r| fmt_ms(r.metrics.frame_ms_median)),
+            ours(r, |r| fmt_ms(r.metrics.frame_ms_mean)),
             text(d.map(|d| &d.frame_ms)),
-            rel(|r| r.metrics.frame_ms_median),
+            rel(|r| r.metrics.frame_ms_mean),
             diss_rel(DissRow::ms_f),
-            ours(r, |r| fmt_num(r.metrics.avg_iterations, 2)),
+            ours(r, |r| fmt_num(r.metrics.avg_coarse_steps, 3)),
             text(d.map(|d| &d.avg_steps)),
+            ours(r, |r| fmt_num(r.metrics.avg_refine_steps, 3)),
+            ours(r, |r| fmt_num(r.metrics.avg_iterations, 2)),
+            ours(r, |r| fmt_num(r.metrics.avg_fetches, 2)),
             ours(r, |r| fmt_sci(r.metrics.mse_dissertation)),
+            ours(r, |r| fmt_sci(r.metrics.mse_dissertation_mean)),
             text(d.map(|d| &d.mse)),
-            rel(|r| r.metrics.mse_dissertation),
+            rel(|r| r.metrics.mse_dissertation_mean),
             diss_rel(DissRow::mse_f),
             ours(r, |r| fmt_sci(r.metrics.ref_err_t_rms)),
             rel(|r| r.metrics.ref_err_t_rms),
             ours(r, |r| fmt_num(r.metrics.missed_rate, 4)),
+            ours(r, |r| r.metrics.nan_count.to_string()),
+            ours(r, |r| r.metrics.outside_count.to_string()),
+            ours(r, |r| fmt_num(r.metrics.nonconverged_rate, 4)),
         ]);
     }
     TextTable { title, notes, header: HEADER.iter().map(|s| s.to_string()).collect(), rows }
@@ -306,14 +343,27 @@ fn render(t: &ReportTable, data: &Data, description: &str) -> TextTable {
 /// The explanation printed before the tables.
 pub(crate) fn intro_md() -> String {
     "## Tables\n\n\
-Each table has the dissertation's rows in its order (rows the grid adds come last). Our columns: \
-`frame ms` (median frame time), `avg iter` (average search iterations per ray), `mse_dissertation` \
-(squared height errors summed over the probe rays, as the dissertation does), `ref_err_t_rms` (RMS \
-error of the hit's ray parameter t against the exact reference) and `missed_rate` (share of rays \
-whose hit lies more than one texel beyond the true first hit, or that miss). `diss …` columns are \
-the dissertation's numbers as printed (GTX 780, Lion). Absolute times and MSE sums depend on the \
-hardware and the pixel count, so compare the `% base` trend columns: each row relative to its base \
-row (`base` names it by `#`). `—` = not measured / not printed, `error` = the cell failed (see \
-Failed cells).\n\n"
+Each table has the dissertation's rows in its order (rows the grid adds come last), on one scene \
+and one image size: rows of different sizes are never mixed. Frame time: `frame ms (median)` and \
+`frame ms (mean)` over the timed frames; the dissertation's `diss ms (mean of 500)` is a mean over \
+500 frames, so compare it with our mean, and `mean ms % base` is the mean's trend. Steps: \
+`avg coarse steps` and `avg refine steps` are loop passes per ray of each search; the \
+dissertation's \"avg steps\" counts the coarse search only (Table 4.11's csm(5)+binary(5) shows \
+2.016, like Table 4.8's csm(5)), so it sits next to `avg coarse steps`; `avg iter (total)` and \
+`avg fetches (total)` are over all stages. Error: `mse_dissertation (sum)` sums the squared height \
+errors (h(hit.uv) − hit.z)² over the probe rays, as the dissertation describes its MSE; \
+`mse_dissertation_mean` is that sum divided by the rays. Both are in squared height units (heights \
+in [0, 1]). The dissertation's printed MSE behaves like the mean, not the sum (Table 4.1: MSE × N² \
+stays near 0.4–0.55 for N = 5…200, so it does not grow with the pixel count), so `diss MSE` is \
+compared with `mse_dissertation_mean`, and the conclusions use the mean. A hit that is NaN or \
+infinite counts as an error in the metrics, never as a skipped ray, and `nan_count` shows how many \
+there were. `ref_err_t_rms` is the RMS error of the hit's ray parameter t against the exact \
+reference; `missed_rate` the share of rays whose hit lies more than one texel of travel beyond the \
+true first hit, or that miss; `outside_count` hits outside the volume before any clamp; \
+`nonconverged_rate` the share of rays whose coarse search found no crossing. Absolute times and MSE \
+sums depend on the hardware and the pixel count, so compare the `% base` trend columns: each row \
+relative to its base row (`base` names it by `#`). `—` = not measured / not printed, `NaN` = not \
+recorded (a results file older than the column) or not a finite number, `error` = the cell failed \
+(see Failed cells).\n\n"
         .to_string()
 }
