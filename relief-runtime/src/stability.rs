@@ -1,6 +1,6 @@
 //! `relief stability`: where each method fails. Every coarse × refine combination at
-//! default parameters is probed on the stress scenes, a tiled map viewed across its seam and
-//! the five dissertation-like scenes, at view angles from head-on to 89.9° from the normal,
+//! default parameters is probed on the stress scenes, a tiled map viewed across its seam,
+//! the five dissertation-like procedural scenes and the seven real maps, at view angles from head-on to 89.9° from the normal,
 //! and compared with the exact reference.
 //!
 //! Rays: `size²` entry points on a regular grid over the map, all with the same view
@@ -22,9 +22,14 @@ use crate::scene::{ProbeRay, Scene};
 /// View angles from the surface normal, in degrees.
 pub const ANGLES: [f32; 7] = [0.0, 30.0, 60.0, 75.0, 85.0, 89.0, 89.9];
 
-/// The scenes of the stability grid: the stress scenes, a seam, and the five main scenes.
-pub const SCENES: [&str; 12] =
-    ["spikes", "walls", "flat0", "flat1", "step", "checker", "seam", "lion", "self_shadow", "collage", "shapes", "rock_bump"];
+/// The scenes of the stability grid: the stress scenes, a seam, the five main procedural
+/// scenes (stand-ins) and the seven real maps. Every scene is probed at 64² texels: the
+/// procedural ones are generated at that size, the real ones box-filtered down from their
+/// native 256² or 128² by a whole factor (4 or 2; see [`crate::scene::builtin`]).
+pub const SCENES: [&str; 19] = [
+    "spikes", "walls", "flat0", "flat1", "step", "checker", "seam", "lion", "self_shadow", "collage", "shapes", "rock_bump",
+    "rocks", "stones", "wall", "four", "saint", "bump", "dent",
+];
 
 /// One method on one condition.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
