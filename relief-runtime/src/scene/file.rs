@@ -8,6 +8,7 @@
 //! light = [-0.4, -0.5, 0.75]     # towards the light (normalised)
 //! albedo = "rocks_diffuse.png"   # optional, relative to this file
 //! normal_map = "rocks_NM_height.tga"  # optional, RGB = tangent-space normal (2·rgb/255 − 1)
+//! normal_green = "up"            # up: green points to the image's top, −v (default); down: +v
 //! lod = "zero"                   # sampling level: only `zero` (mip 0) for now
 //!
 //! [height_map]
@@ -59,6 +60,7 @@ pub const KEYS: &[(&str, &str)] = &[
     ("light", "array of 3 numbers"),
     ("albedo", "string"),
     ("normal_map", "string"),
+    ("normal_green", "string"),
     ("lod", "string"),
 ];
 
@@ -84,6 +86,7 @@ struct FileSpec {
     light: Option<[f32; 3]>,
     albedo: Option<String>,
     normal_map: Option<String>,
+    normal_green: Option<String>,
     lod: Option<String>,
 }
 
@@ -247,8 +250,13 @@ fn build(path: &Path, f: FileSpec) -> Result<Scene, KeyError> {
     if let Some(a) = &f.albedo {
         s.albedo = Some(load_albedo(&dir.join(a)).map_err(|m| ("albedo", m))?);
     }
+    let green_up = match f.normal_green.as_deref() {
+        None | Some("up") => true,
+        Some("down") => false,
+        Some(o) => return Err(("normal_green", format!("`{o}`: expected `up` (green towards the image's top, −v) or `down` (+v)"))),
+    };
     if let Some(n) = &f.normal_map {
-        s.normal = Some(load_normal_map(&dir.join(n)).map_err(|m| ("normal_map", m))?);
+        s.normal = Some(load_normal_map(&dir.join(n), green_up).map_err(|m| ("normal_map", m))?);
     }
     Ok(s)
 }
@@ -282,20 +290,24 @@ fn load_albedo(path: &Path) -> Result<Rgba8Image, String> {
     Ok(Rgba8Image { width: img.width() as usize, height: img.height() as usize, rgba: img.into_raw() })
 }
 
-/// A tangent-space normal map from an image's RGB: n = normalise(2·rgb/255 − 1), x along +u,
-/// y along +v (image rows downward), z up.
-pub fn load_normal_map(path: &Path) -> Result<NormalMap, String> {
-    let img = open_rgba(path)?;
-    let (width, height) = (img.width() as usize, img.height() as usize);
-    let data = img
-        .as_raw()
-        .chunks_exact(4)
+/// Tangent-space normals from RGBA8 texels: c = 2·rgb/255 − 1, red along +u, blue up, green
+/// towards the top of the image (−v, `green_up`, the POM sample's maps and most tools') or
+/// towards the bottom (+v); renormalised (a zero vector becomes +z).
+pub fn rgb_to_normals(rgba: &[u8], green_up: bool) -> Vec<[f32; 3]> {
+    let gy = if green_up { -1.0 } else { 1.0 };
+    rgba.chunks_exact(4)
         .map(|p| {
             let c = |v: u8| 2.0 * v as f32 / 255.0 - 1.0;
-            Vec3::new(c(p[0]), c(p[1]), c(p[2])).normalize_or(Vec3::Z).to_array()
+            Vec3::new(c(p[0]), gy * c(p[1]), c(p[2])).normalize_or(Vec3::Z).to_array()
         })
-        .collect();
-    Ok(NormalMap { width, height, data })
+        .collect()
+}
+
+/// A tangent-space normal map from an image's RGB, see [`rgb_to_normals`].
+pub fn load_normal_map(path: &Path, green_up: bool) -> Result<NormalMap, String> {
+    let img = open_rgba(path)?;
+    let (width, height) = (img.width() as usize, img.height() as usize);
+    Ok(NormalMap { width, height, data: rgb_to_normals(img.as_raw(), green_up) })
 }
 
 /// Command-line overrides of a scene (`--depth-scale`, `--tiling`, `--angle`, `--azimuth`).
