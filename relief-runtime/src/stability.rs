@@ -51,8 +51,10 @@ pub struct Cell {
     pub ref_err_t_rms: f64,
 }
 
-/// A scene for the stability grid by name; `seam` is a ramp that does not tile, with edge
-/// mode repeat, so rays that cross its edge meet a cliff.
+/// A scene for the stability grid by name (`NAME` or `scene:NAME`, at `size²` texels; see
+/// [`Scene::by_name`]); `seam` is a ramp that does not tile, with edge mode repeat, so rays
+/// that cross its edge meet a cliff. A TOML scene file or an image file (see
+/// [`crate::scene::scene_from_arg`]) is used at its own size.
 pub fn scene(name: &str, size: usize) -> anyhow::Result<Scene> {
     if name == "seam" {
         let hm = HeightMap::from_fn(size, size, |x, _| 0.1 + 0.8 * x as f32 / (size - 1) as f32);
@@ -60,7 +62,11 @@ pub fn scene(name: &str, size: usize) -> anyhow::Result<Scene> {
         s.edge = EdgeMode::Repeat;
         return Ok(s);
     }
-    Ok(Scene::by_name(name, Some(size))?)
+    let spec = crate::scene::scene_spec(name);
+    match spec.strip_prefix("scene:") {
+        Some(n) => Ok(Scene::by_name(n, Some(size))?),
+        None => Ok(crate::scene::scene_from_arg(&spec)?),
+    }
 }
 
 /// Rays over the map at `angle` degrees from the normal.

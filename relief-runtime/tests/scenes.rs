@@ -457,3 +457,21 @@ fn real_rocks_measure_against_the_exact_reference_on_the_device() {
     let r = gpu::render(&g, &program, &scene, &tex, 32, 1, 2).unwrap_or_else(|e| panic!("{e}"));
     assert!(r.frame_ms.iter().all(|t| *t > 0.0));
 }
+
+#[test]
+fn the_stability_matrix_holds_the_real_scenes_box_filtered_to_64() {
+    use relief_runtime::stability;
+    for r in REAL_SCENES {
+        assert!(stability::SCENES.contains(&r.name), "{} is not in the stability matrix", r.name);
+        let s = stability::scene(r.name, 64).unwrap();
+        assert_eq!((s.height.width, s.height.height), (64, 64));
+        assert_eq!(s.height, Scene::by_name(r.name, Some(64)).unwrap().height);
+    }
+    // Every method stays finite and inside the volume on two real maps at every angle.
+    let gpu = relief_runtime::gpu::Gpu::new().unwrap();
+    let methods = stability::methods();
+    let cells = stability::run(&gpu, 8, &methods, &["rocks", "scene:four"], &stability::ANGLES, |_, _| {}).unwrap();
+    assert_eq!(cells.len(), methods.len() * 2 * stability::ANGLES.len());
+    let bad: Vec<_> = cells.iter().filter(|c| c.nan_count > 0 || c.outside_count > 0).collect();
+    assert!(bad.is_empty(), "{} bad cells, e.g. {:?}", bad.len(), &bad[..bad.len().min(3)]);
+}
