@@ -354,7 +354,7 @@ pub fn scene_names() -> Vec<&'static str> {
 }
 
 /// A scene from a command-line argument: `scene:NAME` (built-in, default size), a TOML scene
-/// file (`.toml`, see [`file`]) or a path to an image file (edge mode repeat, loaded with
+/// file (`.toml`, see [`mod@file`]) or a path to an image file (edge mode repeat, loaded with
 /// default [`LoadOptions`]).
 pub fn scene_from_arg(arg: &str) -> Result<Scene, SceneError> {
     scene_from_arg_with(arg, None, &LoadOptions::default())
