@@ -30,6 +30,7 @@ pub fn run(out: &Path) -> Result<(usize, usize), Error> {
         warmup: 2,
         out: out.to_path_buf(),
         progress: false,
+        overrides: Default::default(),
     };
     let summary = sweep::run(&options).map_err(|e| e.to_string())?;
     let report = relief::runtime::report::write(out).map_err(|e| e.to_string())?;

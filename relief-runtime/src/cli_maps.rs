@@ -18,10 +18,13 @@ use std::path::PathBuf;
 /// Arguments of `relief maps`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct MapsArgs {
-    /// Height map: .png (8/16 bit), .tga, .bmp, .exr or .npy (float32 [h, w]), or
-    /// `scene:NAME` for a procedural scene.
-    #[arg(required_unless_present = "list")]
+    /// Height map: .png (8/16 bit), .tga, .bmp, .exr or .npy (float32 [h, w]), a TOML scene
+    /// file (.toml), or `scene:NAME` for a built-in scene (real or procedural).
+    #[arg(required_unless_present_any = ["list", "scene"])]
     pub input: Option<PathBuf>,
+    /// The same as INPUT, for a scene: `scene:NAME`, a bare NAME or a TOML scene file.
+    #[arg(long, conflicts_with = "input")]
+    pub scene: Option<String>,
     /// Map kind (see --list).
     #[arg(long, required_unless_present = "list")]
     pub kind: Option<String>,
@@ -87,8 +90,14 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
         print!("{}", list_text());
         return Ok(());
     }
-    let (Some(input), Some(kind), Some(out)) = (&args.input, &args.kind, &args.out) else {
-        bail!("relief maps needs INPUT, --kind and --out (or --list)");
+    let input = match (&args.input, &args.scene) {
+        (Some(i), _) => i.clone(),
+        (None, Some(s)) => PathBuf::from(crate::scene::scene_spec(s)),
+        (None, None) => bail!("relief maps needs INPUT (or --scene), --kind and --out (or --list)"),
+    };
+    let input = &input;
+    let (Some(kind), Some(out)) = (&args.kind, &args.out) else {
+        bail!("relief maps needs INPUT (or --scene), --kind and --out (or --list)");
     };
     let kind: MapKind = kind.parse()?;
     let default_encoding = match out.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).as_deref() {
@@ -105,8 +114,10 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
     if !(args.max_value.is_finite() && args.max_value > 0.0) {
         bail!("--max-value must be a positive number");
     }
+    let is_scene_file = input.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml"));
     let hm = match input.to_str().and_then(|s| s.strip_prefix("scene:")) {
         Some(name) => crate::scene::Scene::by_name(name, None)?.height,
+        None if is_scene_file => crate::scene::load_scene_file(input)?.height,
         None => HeightMap::load(input, &LoadOptions { channel, depth: args.depth })?,
     };
     let params = MapParams { cones: args.cones, z_resolution: args.z_resolution };

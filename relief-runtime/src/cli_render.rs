@@ -9,22 +9,33 @@ use anyhow::Context;
 use crate::cli_gen::write_atomic;
 use crate::gpu::Gpu;
 use crate::measure::{measure, write_images, Prepared};
-use crate::scene::scene_from_arg;
+use crate::scene::file::camera_json;
+use crate::scene::{scene_from_arg, scene_spec, Overrides};
 
 /// Arguments of `relief render`.
 #[derive(clap::Args, Debug)]
 pub struct RenderArgs {
     /// The pipeline in the text form, e.g. `linear(10)+binary(5)`.
     pub pipeline: String,
-    /// `scene:NAME` (a procedural scene; a bare NAME works too) or a height-map file.
+    /// `scene:NAME` (a built-in scene, real or procedural; a bare NAME works too), a TOML
+    /// scene file (`.toml`) or a height-map file.
     #[arg(long)]
     pub scene: String,
     /// Frame size in pixels (square).
     #[arg(long, default_value_t = 512)]
     pub size: u32,
-    /// View angle from the surface normal, in degrees.
+    /// View angle from the surface normal, in degrees (overrides the scene's camera).
     #[arg(long)]
     pub angle: Option<f32>,
+    /// The eye's azimuth around the normal, degrees from +u towards +v (overrides the scene's camera).
+    #[arg(long)]
+    pub azimuth: Option<f32>,
+    /// Relief depth in texture units (overrides the scene's depth scale).
+    #[arg(long)]
+    pub depth_scale: Option<f32>,
+    /// Repeats of the texture across the quad (overrides the scene's tiling).
+    #[arg(long)]
+    pub tiling: Option<f32>,
     /// Number of timed frames (after 5 warm-up frames).
     #[arg(long, default_value_t = 50)]
     pub frames: u32,
@@ -42,21 +53,23 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     if a.size == 0 || a.size > 8192 {
         anyhow::bail!("--size {} is out of range: allowed 1..=8192", a.size);
     }
-    let arg = if a.scene.contains(':') || std::path::Path::new(&a.scene).exists() { a.scene.clone() } else { format!("scene:{}", a.scene) };
-    let mut scene = scene_from_arg(&arg)?;
-    if let Some(angle) = a.angle {
-        if !(0.0..90.0).contains(&angle) {
-            anyhow::bail!("--angle {angle} is out of range: allowed 0 <= angle < 90 degrees from the normal");
-        }
-        scene.camera.angle_deg = angle;
-    }
+    let overrides = Overrides { depth_scale: a.depth_scale, tiling: a.tiling, angle: a.angle, azimuth: a.azimuth };
+    overrides.check().map_err(anyhow::Error::msg)?;
+    let scene = overrides.apply(scene_from_arg(&scene_spec(&a.scene))?);
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create output folder {}", a.out.display()))?;
     let g = Gpu::new()?;
     let mut prep = Prepared::new(&g, scene, a.size)?;
     let measured = measure(&g, &mut prep, &pipeline, 5, a.frames)?;
     write_images(&a.out, &prep, &measured)?;
     let (m, rays, hits, refs) = (&measured.metrics, &prep.rays, &measured.hits, &prep.refs);
-    write_atomic(&a.out.join("metrics.json"), serde_json::to_string_pretty(m)?.as_bytes())?;
+    // The metrics, then the scene's parameters as measured (with the overrides applied).
+    let mut json = serde_json::to_value(m)?;
+    let s = &prep.scene;
+    json["depth_scale"] = s.depth_scale.into();
+    json["tiling"] = s.tiling.into();
+    json["edge"] = format!("{:?}", s.edge).to_lowercase().into();
+    json["camera"] = camera_json(&s.camera);
+    write_atomic(&a.out.join("metrics.json"), serde_json::to_string_pretty(&json)?.as_bytes())?;
     if a.dump_hits {
         let mut csv = Vec::new();
         writeln!(csv, "x,y,origin_u,origin_v,dir_x,dir_y,dir_z,t,u,v,z,t_ref,u_ref,v_ref,coarse_steps,refine_steps,fetches,converged")?;

@@ -14,6 +14,10 @@ pub struct StabilityArgs {
     /// Output folder.
     #[arg(long, default_value = "out/stability")]
     pub out: PathBuf,
+    /// Scenes to probe (a built-in NAME, `scene:NAME`, `seam`, a TOML scene file or a
+    /// height-map file); repeatable. Default: the whole stability matrix.
+    #[arg(long)]
+    pub scene: Vec<String>,
 }
 
 /// Runs `relief stability`.
@@ -24,13 +28,14 @@ pub fn run(a: &StabilityArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&a.out).map_err(|e| anyhow::anyhow!("cannot create output folder {}: {e}", a.out.display()))?;
     let gpu = Gpu::new()?;
     let methods = stability::methods();
-    let total = (stability::SCENES.len() * stability::ANGLES.len()) as u64;
+    let scenes: Vec<&str> = if a.scene.is_empty() { stability::SCENES.to_vec() } else { a.scene.iter().map(String::as_str).collect() };
+    let total = (scenes.len() * stability::ANGLES.len()) as u64;
     let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
         indicatif::ProgressBar::new(total)
     } else {
         indicatif::ProgressBar::hidden()
     };
-    let cells = stability::run(&gpu, a.size, &methods, &stability::SCENES, &stability::ANGLES, |scene, angle| {
+    let cells = stability::run(&gpu, a.size, &methods, &scenes, &stability::ANGLES, |scene, angle| {
         bar.set_message(format!("{scene} at {angle}°"));
         bar.inc(1);
     })?;

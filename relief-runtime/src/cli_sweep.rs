@@ -2,6 +2,7 @@
 
 use std::path::PathBuf;
 
+use crate::scene::Overrides;
 use crate::sweep::{self, grids};
 
 /// Arguments of `relief sweep`.
@@ -10,10 +11,22 @@ pub struct SweepArgs {
     /// A built-in grid (`t4.1` … `t4.15`, `f4.5`, `f4.7` … `f4.11`, `dissertation`) or a grid file.
     #[arg(long, required_unless_present = "list")]
     pub grid: Option<String>,
-    /// Scenes to measure on (`scene:NAME`, a bare NAME, or a height-map file); repeatable.
-    /// Default: the scenes the grid names (Lion for most).
+    /// Scenes to measure on (`scene:NAME`, a bare NAME, a TOML scene file or a height-map
+    /// file); repeatable. Default: the scenes the grid names (Lion for most).
     #[arg(long)]
     pub scene: Vec<String>,
+    /// View angle from the surface normal, in degrees (overrides every scene's camera).
+    #[arg(long)]
+    pub angle: Option<f32>,
+    /// The eye's azimuth around the normal, degrees from +u towards +v (overrides every scene's camera).
+    #[arg(long)]
+    pub azimuth: Option<f32>,
+    /// Relief depth in texture units (overrides every scene's depth scale).
+    #[arg(long)]
+    pub depth_scale: Option<f32>,
+    /// Repeats of the texture across the quad (overrides every scene's tiling).
+    #[arg(long)]
+    pub tiling: Option<f32>,
     /// Frame size in pixels (square).
     #[arg(long, default_value_t = 256)]
     pub size: u32,
@@ -43,6 +56,8 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
     if a.frames == 0 {
         anyhow::bail!("--frames 0: at least one timed frame is needed");
     }
+    let overrides = Overrides { depth_scale: a.depth_scale, tiling: a.tiling, angle: a.angle, azimuth: a.azimuth };
+    overrides.check().map_err(anyhow::Error::msg)?;
     let grid = grids::load(a.grid.as_deref().unwrap_or_default(), scenes)?;
     let start = std::time::Instant::now();
     let total = grid.cells.len();
@@ -53,6 +68,7 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
         warmup: 3,
         out: a.out.clone(),
         progress: std::io::IsTerminal::is_terminal(&std::io::stderr()),
+        overrides,
     })?;
     println!(
         "{total} cells: {} measured, {} failed, {} already done, in {:.1} s → {}",

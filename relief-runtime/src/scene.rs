@@ -36,6 +36,12 @@ use glam::{Mat4, Vec3};
 
 use crate::heightmap::{EdgeMode, HeightMap, HeightMapError, LoadOptions};
 
+pub mod builtin;
+pub mod file;
+
+pub use builtin::{scene_kind, SceneKind, REAL_SCENES};
+pub use file::{load_scene_file, Overrides, SceneFileError};
+
 /// Side of the procedural height maps when no size is asked for.
 pub const DEFAULT_SIZE: usize = 256;
 
@@ -177,9 +183,14 @@ impl Scene {
         self
     }
 
-    /// The procedural scene `name` (see [`SCENES`]) with `size × size` texels
-    /// (default [`DEFAULT_SIZE`]).
+    /// The built-in scene `name` (see [`SCENES`]) with `size × size` texels: a procedural
+    /// scene is generated at that size (default [`DEFAULT_SIZE`]); a real one
+    /// ([`REAL_SCENES`]) is decoded at its native size and, for a smaller size that divides
+    /// it, box-filtered down (see [`builtin`]).
     pub fn by_name(name: &str, size: Option<usize>) -> Result<Scene, SceneError> {
+        if let Some(r) = builtin::find(name) {
+            return builtin::real_scene(r, size);
+        }
         let size = size.unwrap_or(DEFAULT_SIZE);
         if size == 0 {
             return Err(SceneError::ZeroSize);
@@ -269,8 +280,17 @@ impl Scene {
     }
 }
 
-/// The procedural scenes, with what each stresses. `scene:NAME` on the command line.
+/// The built-in scenes, with what each stresses: the real maps (see [`REAL_SCENES`]), the
+/// procedural stand-ins for the dissertation's scenes, the stress scenes. `scene:NAME` on the
+/// command line. The kind of each is [`scene_kind`].
 pub const SCENES: &[(&str, &str)] = &[
+    ("rocks", "real: rounded rocks (POM sample, 256², depth 0.1); the dissertation's Rock Bump"),
+    ("stones", "real: flat paving stones (POM sample, 256², depth 0.02); a vertical seam"),
+    ("wall", "real: brick wall (POM sample, 256², depth 0.06)"),
+    ("four", "real: four simple shapes (POM sample, 256², depth 0.2); close to the dissertation's Shapes"),
+    ("saint", "real: a carved saint (POM sample, 256², depth 0.08); does not tile"),
+    ("bump", "real: bumps (POM sample, 128², depth 0.2); normals derived from the height"),
+    ("dent", "real: dents (POM sample, 128², depth 0.2); normals derived from the height"),
     ("lion", "stand-in for Lion: a carved medallion, sharp one-texel edges and grooves at several depths"),
     ("self_shadow", "stand-in for Self-shadow: tall thin pillars on a low floor, long shadows, deep occlusion"),
     ("collage", "stand-in for Collage: sharp terraces, smooth waves, domes and rough noise in four quadrants"),
@@ -289,10 +309,22 @@ pub fn scene_names() -> Vec<&'static str> {
     SCENES.iter().map(|(n, _)| *n).collect()
 }
 
-/// A scene from a command-line argument: `scene:NAME` (procedural, default size) or a path
-/// to an image file (edge mode repeat, loaded with default [`LoadOptions`]).
+/// A scene from a command-line argument: `scene:NAME` (built-in, default size), a TOML scene
+/// file (`.toml`, see [`mod@file`]) or a path to an image file (edge mode repeat, loaded with
+/// default [`LoadOptions`]).
 pub fn scene_from_arg(arg: &str) -> Result<Scene, SceneError> {
     scene_from_arg_with(arg, None, &LoadOptions::default())
+}
+
+/// The canonical form of a scene argument: `scene:NAME` for a built-in name (a bare NAME is
+/// one), the argument itself for anything with a `:`, a `.toml` ending or an existing path.
+pub fn scene_spec(arg: &str) -> String {
+    let is_file = Path::new(arg).extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) || Path::new(arg).exists();
+    if arg.contains(':') || is_file {
+        arg.to_string()
+    } else {
+        format!("scene:{arg}")
+    }
 }
 
 /// [`scene_from_arg`] with a texel size for procedural scenes and load options for files.
@@ -301,6 +333,9 @@ pub fn scene_from_arg_with(arg: &str, size: Option<usize>, options: &LoadOptions
         return Scene::by_name(name, size);
     }
     let path = Path::new(arg);
+    if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) {
+        return Ok(load_scene_file(path)?);
+    }
     let map = HeightMap::load(path, options)?;
     let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| arg.to_string());
     Ok(Scene::from_height_map(name, map))
@@ -314,6 +349,12 @@ pub enum SceneError {
     Unknown { name: String, suggestion: Option<&'static str> },
     #[error("a scene needs at least one texel (size 0 asked for)")]
     ZeroSize,
+    /// A real scene asked for at a size it cannot be box-filtered down to.
+    #[error("scene `{name}` is a real {native}x{native} map: size {size} must divide {native} (it is box-filtered down by a whole factor, never up)")]
+    BadRealSize { name: &'static str, native: usize, size: usize },
+    /// A scene file could not be read.
+    #[error(transparent)]
+    File(#[from] SceneFileError),
     /// The height-map file could not be loaded.
     #[error(transparent)]
     Load(#[from] HeightMapError),

@@ -1,6 +1,6 @@
 //! `relief stability`: where each method fails. Every coarse × refine combination at
-//! default parameters is probed on the stress scenes, a tiled map viewed across its seam and
-//! the five dissertation-like scenes, at view angles from head-on to 89.9° from the normal,
+//! default parameters is probed on the stress scenes, a tiled map viewed across its seam,
+//! the five dissertation-like procedural scenes and the seven real maps, at view angles from head-on to 89.9° from the normal,
 //! and compared with the exact reference.
 //!
 //! Rays: `size²` entry points on a regular grid over the map, all with the same view
@@ -22,9 +22,14 @@ use crate::scene::{ProbeRay, Scene};
 /// View angles from the surface normal, in degrees.
 pub const ANGLES: [f32; 7] = [0.0, 30.0, 60.0, 75.0, 85.0, 89.0, 89.9];
 
-/// The scenes of the stability grid: the stress scenes, a seam, and the five main scenes.
-pub const SCENES: [&str; 12] =
-    ["spikes", "walls", "flat0", "flat1", "step", "checker", "seam", "lion", "self_shadow", "collage", "shapes", "rock_bump"];
+/// The scenes of the stability grid: the stress scenes, a seam, the five main procedural
+/// scenes (stand-ins) and the seven real maps. Every scene is probed at 64² texels: the
+/// procedural ones are generated at that size, the real ones box-filtered down from their
+/// native 256² or 128² by a whole factor (4 or 2; see [`crate::scene::builtin`]).
+pub const SCENES: [&str; 19] = [
+    "spikes", "walls", "flat0", "flat1", "step", "checker", "seam", "lion", "self_shadow", "collage", "shapes", "rock_bump",
+    "rocks", "stones", "wall", "four", "saint", "bump", "dent",
+];
 
 /// One method on one condition.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -49,8 +54,10 @@ pub struct Cell {
     pub ref_err_t_rms: f64,
 }
 
-/// A scene for the stability grid by name; `seam` is a ramp that does not tile, with edge
-/// mode repeat, so rays that cross its edge meet a cliff.
+/// A scene for the stability grid by name (`NAME` or `scene:NAME`, at `size²` texels; see
+/// [`Scene::by_name`]); `seam` is a ramp that does not tile, with edge mode repeat, so rays
+/// that cross its edge meet a cliff. A TOML scene file or an image file (see
+/// [`crate::scene::scene_from_arg`]) is used at its own size.
 pub fn scene(name: &str, size: usize) -> anyhow::Result<Scene> {
     if name == "seam" {
         let hm = HeightMap::from_fn(size, size, |x, _| 0.1 + 0.8 * x as f32 / (size - 1) as f32);
@@ -58,7 +65,11 @@ pub fn scene(name: &str, size: usize) -> anyhow::Result<Scene> {
         s.edge = EdgeMode::Repeat;
         return Ok(s);
     }
-    Ok(Scene::by_name(name, Some(size))?)
+    let spec = crate::scene::scene_spec(name);
+    match spec.strip_prefix("scene:") {
+        Some(n) => Ok(Scene::by_name(n, Some(size))?),
+        None => Ok(crate::scene::scene_from_arg(&spec)?),
+    }
 }
 
 /// Rays over the map at `angle` degrees from the normal.

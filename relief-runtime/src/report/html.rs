@@ -133,7 +133,7 @@ pub(crate) fn page(p: &Parts) -> String {
     let _ = writeln!(h, "<h2 id=\"overview\">Overview</h2><ul>");
     let _ = writeln!(h, "<li>Sweep folder: <code>{}</code></li>", esc(&p.data.dir.display().to_string()));
     let _ = writeln!(h, "<li>Rows: {} ({} ok, {} failed{})</li>", s.rows, s.ok, s.failed.len(), if s.bad_lines.is_empty() { String::new() } else { format!(", {} unreadable lines skipped", s.bad_lines.len()) });
-    let _ = writeln!(h, "<li>Scenes: {}</li>", esc(&p.data.scenes().iter().map(|x| short_scene(x)).collect::<Vec<_>>().join(", ")));
+    let _ = writeln!(h, "<li>Scenes: {}</li>", esc(&p.data.scenes().iter().map(|x| format!("{} ({})", short_scene(x), crate::scene::scene_kind(x).label())).collect::<Vec<_>>().join(", ")));
     let _ = writeln!(h, "<li>Sizes: {}</li>", esc(&p.data.distinct(|r| r.metrics.size.to_string()).join(", ")));
     let _ = writeln!(h, "<li>Adapters: {}</li>", esc(&p.data.distinct(|r| r.metrics.adapter.clone()).join("; ")));
     let _ = writeln!(h, "</ul>");

@@ -45,15 +45,23 @@ const FILES: &[(&str, &str)] = &[
     ("f4.11", include_str!("../../grids/f4.11.grid")),
 ];
 
-/// The dissertation's five scenes (relief's procedural stand-ins).
-pub const FIVE_SCENES: [&str; 5] = ["lion", "self_shadow", "collage", "shapes", "rock_bump"];
+/// The dissertation's five scenes: Lion, Self-shadow and Collage as relief's procedural
+/// stand-ins, Shapes and Rock Bump as the real maps `four` and `rocks` (see
+/// [`crate::scene::builtin`]).
+pub const FIVE_SCENES: [&str; 5] = ["lion", "self_shadow", "collage", "four", "rocks"];
+
+/// The procedural stand-ins that real maps replaced in [`FIVE_SCENES`] (Shapes, Rock Bump),
+/// measured next to them in the figures that name those scenes.
+pub const REPLACED_STAND_INS: [&str; 2] = ["shapes", "rock_bump"];
 
 /// The scenes a named grid is measured on unless `--scene` says otherwise: Lion, the main
-/// test scene, except where the dissertation names others.
+/// test scene, except where the dissertation names others (then the real map where relief
+/// has one, and the replaced stand-in next to it).
 pub fn default_scenes(name: &str) -> Vec<String> {
+    let f47: Vec<&str> = FIVE_SCENES.iter().chain(&REPLACED_STAND_INS).copied().collect();
     let v: &[&str] = match name {
-        "f4.5" => &["rock_bump", "self_shadow"],
-        "f4.7" => &FIVE_SCENES,
+        "f4.5" => &["rocks", "self_shadow", "rock_bump"],
+        "f4.7" => &f47,
         _ => &["lion"],
     };
     v.iter().map(|s| s.to_string()).collect()

@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 use crate::gpu::Gpu;
 use crate::measure::{measure, write_images, Prepared};
 use crate::metrics::Metrics;
-use crate::scene::scene_from_arg;
+use crate::scene::{scene_from_arg, Overrides};
 pub use grids::NamedGrid;
 
 /// One results row: the metrics and where they came from.
@@ -76,6 +76,9 @@ pub struct Options {
     pub out: PathBuf,
     /// Show a progress bar.
     pub progress: bool,
+    /// Overrides applied to every scene (`--depth-scale`, `--tiling`, `--angle`,
+    /// `--azimuth`); an overridden scene's results carry [`Overrides::suffix`] in their name.
+    pub overrides: Overrides,
 }
 
 /// What a sweep did.
@@ -156,14 +159,16 @@ fn append_row(out: &Path, row: &Row) -> anyhow::Result<()> {
 pub fn run(opts: &Options) -> anyhow::Result<Summary> {
     std::fs::create_dir_all(&opts.out).with_context(|| format!("cannot create output folder {}", opts.out.display()))?;
     let mut rows = read_rows(&opts.out)?;
+    let label = |arg: &str| scene_label(arg) + &opts.overrides.suffix();
     let done: HashSet<_> = rows.iter().map(|r| key(&r.metrics.pipeline, &r.metrics.scene, r.metrics.size)).collect();
     let todo: Vec<_> = opts
         .grid
         .cells
         .iter()
-        .filter(|(p, s)| !done.contains(&key(&p.to_string(), &scene_label(s), opts.size)))
+        .filter(|(p, s)| !done.contains(&key(&p.to_string(), &label(s), opts.size)))
         .cloned()
         .collect();
+    opts.overrides.check().map_err(anyhow::Error::msg)?;
     let mut summary = Summary { skipped: opts.grid.cells.len() - todo.len(), ..Default::default() };
     if todo.is_empty() {
         write_csv(&opts.out, &rows)?;
@@ -187,10 +192,10 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
         let prep = prepared.entry(scene_arg.clone()).or_insert_with(|| {
             scene_from_arg(&scene_spec(&scene_arg))
                 .map_err(anyhow::Error::from)
-                .and_then(|s| Prepared::new(&gpu, s, opts.size))
+                .and_then(|s| Prepared::new(&gpu, opts.overrides.apply(s), opts.size))
                 .map_err(|e| format!("{e:#}"))
         });
-        let cell_dir = format!("cells/{}/{}", folder_name(&scene_arg), pipeline.file_stem());
+        let cell_dir = format!("cells/{}/{}", folder_name(&label(&scene_arg)), pipeline.file_stem());
         let mut row = Row {
             grid: opts.grid.name.clone(),
             status: "ok".into(),
@@ -216,12 +221,14 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
             }
         };
         match result {
-            Ok(m) => {
+            Ok(mut m) => {
+                // Rows are named (and resumed) by the scene argument, not the file's stem.
+                m.scene = label(&scene_arg);
                 row.metrics = m;
                 summary.measured += 1;
             }
             Err(e) => {
-                row.metrics = Metrics { pipeline: text.clone(), scene: scene_label(&scene_arg), size: opts.size, adapter: format!("{} ({})", gpu.adapter, gpu.driver), ..Default::default() };
+                row.metrics = Metrics { pipeline: text.clone(), scene: label(&scene_arg), size: opts.size, adapter: format!("{} ({})", gpu.adapter, gpu.driver), ..Default::default() };
                 row.status = "error".into();
                 row.error = e.chain().map(|c| c.to_string()).collect::<Vec<_>>().join(": ");
                 summary.failed += 1;
@@ -243,16 +250,11 @@ pub fn scene_label(arg: &str) -> String {
 }
 
 fn scene_spec(arg: &str) -> String {
-    if arg.contains(':') || Path::new(arg).exists() {
-        arg.to_string()
-    } else {
-        format!("scene:{arg}")
-    }
+    crate::scene::scene_spec(arg)
 }
 
-/// A scene's folder under `cells/`: its name without `scene:`, file-safe.
-fn folder_name(scene_arg: &str) -> String {
-    let label = scene_label(scene_arg);
-    let name = label.strip_prefix("scene:").unwrap_or(&label);
+/// A scene's folder under `cells/`: its label without `scene:`, file-safe.
+fn folder_name(label: &str) -> String {
+    let name = label.strip_prefix("scene:").unwrap_or(label);
     name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.' { c } else { '_' }).collect()
 }

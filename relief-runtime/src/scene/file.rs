@@ -1,0 +1,391 @@
+//! Scene files: a scene as TOML, and the command-line overrides of a scene.
+//!
+//! ```toml
+//! name = "my_rocks"              # optional; default: the file's stem
+//! depth_scale = 0.1              # relief depth in texture units (fraction of the width)
+//! tiling = 1.0                   # repeats across the quad
+//! edge = "repeat"                # repeat | clamp
+//! light = [-0.4, -0.5, 0.75]     # towards the light (normalised)
+//! albedo = "rocks_diffuse.png"   # optional, relative to this file
+//! normal_map = "rocks_NM_height.tga"  # optional, RGB = tangent-space normal (2·rgb/255 − 1)
+//! normal_green = "up"            # up: green points to the image's top, −v (default); down: +v
+//! lod = "zero"                   # sampling level: only `zero` (mip 0) for now
+//!
+//! [height_map]
+//! path = "tatarchuk/rocks_NM_height.tga"   # relative to this file
+//! channel = "a"                  # r | g | b | a | luma (default: gray, or luma of colour)
+//! white = "height"               # height: white is the top (default); depth: white is deep
+//!
+//! [camera]
+//! angle = 45.0                   # degrees from the surface normal, 0 <= angle < 90
+//! azimuth = -90.0                # degrees, the eye's direction around +z from +x to +y
+//! distance = 1.3                 # eye to the quad's centre, texture units (default 1.3 × tiling)
+//! fov = 40.0                     # vertical field of view, degrees
+//! ```
+//!
+//! Every key but `height_map.path` is optional; left out, a key takes the value of
+//! [`Scene::from_height_map`] and [`Camera::default_for`]. The camera keys map one to one onto
+//! [`Camera`]'s fields (`angle_deg`, `azimuth_deg`, `distance`, `fov_deg`); `tiling` is applied
+//! first ([`Scene::with_tiling`] re-centres the camera and scales the default distance), then
+//! the camera keys.
+//!
+//! Errors are one line naming the file and the key: an unknown key (with the nearest known
+//! one), a value of the wrong type, a bad value, a missing file. Unknown keys and types are
+//! checked against [`KEYS`] before serde (with `deny_unknown_fields`) reads the file.
+
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+use serde::Deserialize;
+
+use crate::heightmap::{Channel, EdgeMode, HeightMap, LoadOptions};
+use crate::scene::{Camera, NormalMap, Rgba8Image, Scene};
+
+/// The keys of a scene file with the type each holds: `number`, `string`, `table` or
+/// `array of 3 numbers`.
+pub const KEYS: &[(&str, &str)] = &[
+    ("name", "string"),
+    ("height_map", "table"),
+    ("height_map.path", "string"),
+    ("height_map.channel", "string"),
+    ("height_map.white", "string"),
+    ("depth_scale", "number"),
+    ("tiling", "number"),
+    ("edge", "string"),
+    ("camera", "table"),
+    ("camera.angle", "number"),
+    ("camera.azimuth", "number"),
+    ("camera.distance", "number"),
+    ("camera.fov", "number"),
+    ("light", "array of 3 numbers"),
+    ("albedo", "string"),
+    ("normal_map", "string"),
+    ("normal_green", "string"),
+    ("lod", "string"),
+];
+
+/// Why a scene file could not be read. Displays as one line: `FILE: key `KEY`: MESSAGE`.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{}: {}{message}", path.display(), key.as_ref().map(|k| format!("key `{k}`: ")).unwrap_or_default())]
+pub struct SceneFileError {
+    pub path: PathBuf,
+    /// The dotted key at fault (`camera.angle`), if the error is about one.
+    pub key: Option<String>,
+    pub message: String,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileSpec {
+    name: Option<String>,
+    height_map: HeightSpec,
+    depth_scale: Option<f32>,
+    tiling: Option<f32>,
+    edge: Option<String>,
+    camera: Option<CameraSpec>,
+    light: Option<[f32; 3]>,
+    albedo: Option<String>,
+    normal_map: Option<String>,
+    normal_green: Option<String>,
+    lod: Option<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct HeightSpec {
+    path: String,
+    channel: Option<String>,
+    white: Option<String>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct CameraSpec {
+    angle: Option<f32>,
+    azimuth: Option<f32>,
+    distance: Option<f32>,
+    fov: Option<f32>,
+}
+
+/// Reads a scene file (see the module docs).
+pub fn load_scene_file(path: &Path) -> Result<Scene, SceneFileError> {
+    let err = |key: Option<&str>, message: String| SceneFileError { path: path.to_path_buf(), key: key.map(str::to_string), message };
+    if !path.exists() {
+        return Err(err(None, "file not found".into()));
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| err(None, format!("cannot read: {e}")))?;
+    let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+        let line = e.span().map(|s| text[..s.start.min(text.len())].lines().count().max(1));
+        let at = line.map(|l| format!(" at line {l}")).unwrap_or_default();
+        err(None, format!("not valid TOML{at}: {}", e.message().trim().replace('\n', " ")))
+    })?;
+    check_keys(&table, "").map_err(|(k, m)| err(Some(&k), m))?;
+    let spec: FileSpec = FileSpec::deserialize(toml::Value::Table(table)).map_err(|e| err(None, e.message().trim().replace('\n', " ")))?;
+    build(path, spec).map_err(|(k, m)| err(Some(k), m))
+}
+
+/// Checks every key of `t` (under `prefix`) against [`KEYS`]: unknown keys and wrong types.
+fn check_keys(t: &toml::Table, prefix: &str) -> Result<(), (String, String)> {
+    if prefix.is_empty() && !t.contains_key("height_map") {
+        return Err(("height_map".into(), "missing (a scene file needs `[height_map]` with `path = \"...\"`)".into()));
+    }
+    if prefix == "height_map" && !t.contains_key("path") {
+        return Err(("height_map.path".into(), "missing (the height map's file, relative to the scene file)".into()));
+    }
+    for (k, v) in t {
+        let full = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
+        let Some((_, ty)) = KEYS.iter().find(|(n, _)| *n == full) else {
+            let siblings: Vec<&str> = KEYS
+                .iter()
+                .map(|(n, _)| *n)
+                .filter(|n| n.rsplit_once('.').map(|(p, _)| p).unwrap_or("") == prefix)
+                .collect();
+            let near = relief_dsl::spec::suggest::nearest(&full, siblings.iter().copied())
+                .map(|n| format!(" (did you mean `{n}`?)"))
+                .unwrap_or_default();
+            return Err((full, format!("unknown key{near}; known keys here: {}", siblings.join(", "))));
+        };
+        let ok = match *ty {
+            "number" => v.is_integer() || v.is_float(),
+            "string" => v.is_str(),
+            "table" => v.is_table(),
+            _ => v.as_array().is_some_and(|a| a.len() == 3 && a.iter().all(|x| x.is_integer() || x.is_float())),
+        };
+        if !ok {
+            return Err((full, format!("expected {ty}, found {}", describe(v))));
+        }
+        if let Some(sub) = v.as_table() {
+            check_keys(sub, &full)?;
+        }
+    }
+    Ok(())
+}
+
+fn describe(v: &toml::Value) -> String {
+    match v {
+        toml::Value::String(s) => format!("the string \"{s}\""),
+        toml::Value::Integer(i) => format!("the integer {i}"),
+        toml::Value::Float(f) => format!("the number {f}"),
+        toml::Value::Boolean(b) => format!("the boolean {b}"),
+        toml::Value::Datetime(d) => format!("the date {d}"),
+        toml::Value::Array(a) => format!("an array of {} values", a.len()),
+        toml::Value::Table(_) => "a table".into(),
+    }
+}
+
+type KeyError = (&'static str, String);
+
+fn build(path: &Path, f: FileSpec) -> Result<Scene, KeyError> {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let channel = match f.height_map.channel.as_deref() {
+        None | Some("luma") => None,
+        Some(c) => Some(c.parse::<Channel>().map_err(|_| ("height_map.channel", format!("`{c}` is not a channel (expected r, g, b, a or luma)")))?),
+    };
+    let depth = match f.height_map.white.as_deref() {
+        None | Some("height") => false,
+        Some("depth") => true,
+        Some(o) => return Err(("height_map.white", format!("`{o}`: expected `height` (white is the top) or `depth` (white is deep)"))),
+    };
+    if let Some(l) = f.lod.as_deref() {
+        match l {
+            "zero" => {}
+            "auto" => return Err(("lod", "`auto` is not implemented yet (only `zero`: every sample at mip 0)".into())),
+            o if o.starts_with("level") => return Err(("lod", format!("`{o}` is not implemented yet (only `zero`: every sample at mip 0)"))),
+            o => return Err(("lod", format!("`{o}`: expected `zero` (`auto` and `level(k)` are not implemented yet)"))),
+        }
+    }
+    let hpath = dir.join(&f.height_map.path);
+    let hm = HeightMap::load(&hpath, &LoadOptions { channel, depth }).map_err(|e| ("height_map.path", e.to_string()))?;
+    let name = f.name.clone().unwrap_or_else(|| path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default());
+    let mut s = Scene::from_height_map(name, hm);
+    if let Some(d) = f.depth_scale {
+        if !(d.is_finite() && d > 0.0) {
+            return Err(("depth_scale", format!("{d}: must be a positive number")));
+        }
+        s.depth_scale = d;
+    }
+    if let Some(t) = f.tiling {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(("tiling", format!("{t}: must be a positive number")));
+        }
+        s = s.with_tiling(t);
+    }
+    s.edge = match f.edge.as_deref() {
+        None | Some("repeat") => EdgeMode::Repeat,
+        Some("clamp") => EdgeMode::Clamp,
+        Some(o) => return Err(("edge", format!("`{o}`: expected `repeat` or `clamp`"))),
+    };
+    let c = f.camera.unwrap_or_default();
+    if let Some(a) = c.angle {
+        check_angle(a).map_err(|m| ("camera.angle", m))?;
+        s.camera.angle_deg = a;
+    }
+    if let Some(a) = c.azimuth {
+        check_azimuth(a).map_err(|m| ("camera.azimuth", m))?;
+        s.camera.azimuth_deg = a;
+    }
+    if let Some(d) = c.distance {
+        if !(d.is_finite() && d > 0.0) {
+            return Err(("camera.distance", format!("{d}: must be a positive number")));
+        }
+        s.camera.distance = d;
+    }
+    if let Some(v) = c.fov {
+        if !(v.is_finite() && v > 0.0 && v < 180.0) {
+            return Err(("camera.fov", format!("{v}: must lie in (0, 180) degrees")));
+        }
+        s.camera.fov_deg = v;
+    }
+    if let Some(l) = f.light {
+        let v = Vec3::from(l);
+        if !(v.is_finite() && v.length() > 1e-6) {
+            return Err(("light", format!("{l:?}: must be a finite, non-zero direction")));
+        }
+        s.light_dir = v.normalize();
+    }
+    if let Some(a) = &f.albedo {
+        s.albedo = Some(load_albedo(&dir.join(a)).map_err(|m| ("albedo", m))?);
+    }
+    let green_up = match f.normal_green.as_deref() {
+        None | Some("up") => true,
+        Some("down") => false,
+        Some(o) => return Err(("normal_green", format!("`{o}`: expected `up` (green towards the image's top, −v) or `down` (+v)"))),
+    };
+    if let Some(n) = &f.normal_map {
+        s.normal = Some(load_normal_map(&dir.join(n), green_up).map_err(|m| ("normal_map", m))?);
+    }
+    Ok(s)
+}
+
+fn check_angle(a: f32) -> Result<(), String> {
+    if (0.0..90.0).contains(&a) {
+        Ok(())
+    } else {
+        Err(format!("{a} is out of range: allowed 0 <= angle < 90 degrees from the normal"))
+    }
+}
+
+fn check_azimuth(a: f32) -> Result<(), String> {
+    if a.is_finite() {
+        Ok(())
+    } else {
+        Err(format!("{a}: must be a finite number of degrees"))
+    }
+}
+
+fn open_rgba(path: &Path) -> Result<image::RgbaImage, String> {
+    if !path.exists() {
+        return Err(format!("{}: file not found", path.display()));
+    }
+    let img = image::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(img.to_rgba8())
+}
+
+fn load_albedo(path: &Path) -> Result<Rgba8Image, String> {
+    let img = open_rgba(path)?;
+    Ok(Rgba8Image { width: img.width() as usize, height: img.height() as usize, rgba: img.into_raw() })
+}
+
+/// Tangent-space normals from RGBA8 texels: c = 2·rgb/255 − 1, red along +u, blue up, green
+/// towards the top of the image (−v, `green_up`, the POM sample's maps and most tools') or
+/// towards the bottom (+v); renormalised (a zero vector becomes +z).
+pub fn rgb_to_normals(rgba: &[u8], green_up: bool) -> Vec<[f32; 3]> {
+    let gy = if green_up { -1.0 } else { 1.0 };
+    rgba.chunks_exact(4)
+        .map(|p| {
+            let c = |v: u8| 2.0 * v as f32 / 255.0 - 1.0;
+            Vec3::new(c(p[0]), gy * c(p[1]), c(p[2])).normalize_or(Vec3::Z).to_array()
+        })
+        .collect()
+}
+
+/// A tangent-space normal map from an image's RGB, see [`rgb_to_normals`].
+pub fn load_normal_map(path: &Path, green_up: bool) -> Result<NormalMap, String> {
+    let img = open_rgba(path)?;
+    let (width, height) = (img.width() as usize, img.height() as usize);
+    Ok(NormalMap { width, height, data: rgb_to_normals(img.as_raw(), green_up) })
+}
+
+/// Command-line overrides of a scene (`--depth-scale`, `--tiling`, `--angle`, `--azimuth`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Overrides {
+    pub depth_scale: Option<f32>,
+    pub tiling: Option<f32>,
+    pub angle: Option<f32>,
+    pub azimuth: Option<f32>,
+}
+
+impl Overrides {
+    /// Whether no override is set.
+    pub fn is_empty(&self) -> bool {
+        *self == Overrides::default()
+    }
+
+    /// Checks the values: depth scale and tiling positive, 0 <= angle < 90, azimuth finite.
+    /// Errors name the flag.
+    pub fn check(&self) -> Result<(), String> {
+        for (flag, v) in [("--depth-scale", self.depth_scale), ("--tiling", self.tiling)] {
+            if let Some(v) = v {
+                if !(v.is_finite() && v > 0.0) {
+                    return Err(format!("{flag} {v}: must be a positive number"));
+                }
+            }
+        }
+        if let Some(a) = self.angle {
+            check_angle(a).map_err(|m| format!("--angle {m}"))?;
+        }
+        if let Some(a) = self.azimuth {
+            check_azimuth(a).map_err(|m| format!("--azimuth {m}"))?;
+        }
+        Ok(())
+    }
+
+    /// The suffix a scene's name gets when overridden, e.g. `@depth_scale=0.05,angle=60`
+    /// (empty without overrides), so that results on an overridden scene keep their own name.
+    pub fn suffix(&self) -> String {
+        let parts: Vec<String> = [
+            ("depth_scale", self.depth_scale),
+            ("tiling", self.tiling),
+            ("angle", self.angle),
+            ("azimuth", self.azimuth),
+        ]
+        .iter()
+        .filter_map(|(k, v)| v.map(|v| format!("{k}={v}")))
+        .collect();
+        if parts.is_empty() {
+            String::new()
+        } else {
+            format!("@{}", parts.join(","))
+        }
+    }
+
+    /// Applies the overrides: tiling first (with [`Scene::with_tiling`]), then depth scale,
+    /// angle and azimuth; appends [`Overrides::suffix`] to the name. Call [`Overrides::check`]
+    /// first.
+    pub fn apply(&self, mut s: Scene) -> Scene {
+        if let Some(t) = self.tiling {
+            s = s.with_tiling(t);
+        }
+        if let Some(d) = self.depth_scale {
+            s.depth_scale = d;
+        }
+        if let Some(a) = self.angle {
+            s.camera.angle_deg = a;
+        }
+        if let Some(a) = self.azimuth {
+            s.camera.azimuth_deg = a;
+        }
+        s.name += &self.suffix();
+        s
+    }
+}
+
+/// The camera's fields as written into `metrics.json` by `relief render`.
+pub fn camera_json(c: &Camera) -> serde_json::Value {
+    serde_json::json!({
+        "angle_deg": c.angle_deg,
+        "azimuth_deg": c.azimuth_deg,
+        "distance": c.distance,
+        "fov_deg": c.fov_deg,
+    })
+}
