@@ -40,7 +40,8 @@ fn render_writes_frame_error_metrics_and_hits() {
     let m: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("metrics.json")).unwrap()).unwrap();
     for key in [
         "pipeline", "scene", "size", "adapter", "frame_ms_median", "frame_ms_p10", "frame_ms_p90", "mse_dissertation",
-        "ref_err_t_rms", "ref_err_uv_texels_rms", "missed_rate", "nan_count", "avg_iterations", "avg_fetches",
+        "ref_err_t_rms", "ref_err_uv_texels_rms", "missed_rate", "nan_count", "avg_iterations", "avg_fetches", "frame_ms_mean",
+        "mse_dissertation_mean", "outside_count", "nonconverged_rate", "avg_coarse_steps", "avg_refine_steps",
     ] {
         assert!(m.get(key).is_some(), "metrics.json lacks {key}");
     }
@@ -48,15 +49,20 @@ fn render_writes_frame_error_metrics_and_hits() {
     assert!(m["frame_ms_median"].as_f64().unwrap() > 0.0);
     let csv = std::fs::read_to_string(out.join("hits.csv")).unwrap();
     let mut lines = csv.lines();
-    assert_eq!(lines.next().unwrap(), "x,y,origin_u,origin_v,dir_x,dir_y,dir_z,t,u,v,z,t_ref,u_ref,v_ref,iterations,fetches");
+    assert_eq!(
+        lines.next().unwrap(),
+        "x,y,origin_u,origin_v,dir_x,dir_y,dir_z,t,u,v,z,t_ref,u_ref,v_ref,coarse_steps,refine_steps,fetches,converged"
+    );
     let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
     assert!(rows.len() > 32 * 32 / 2);
     // The documented ray: the point at t is (origin + t·dir.xy, 1 + t·dir.z), the hit's z.
     for r in &rows {
         let (t, z, dz) = (r[7], r[10], r[6]);
         assert!((1.0 + t * dz - z).abs() < 1e-5);
-        // At most 8 linear passes, then exactly 3 binary passes.
-        assert!((4.0..=11.0).contains(&r[14]), "iterations {}", r[14]);
+        // At most 8 linear passes, then exactly 3 binary passes; linear always converges
+        // (the floor is surface).
+        assert!((1.0..=8.0).contains(&r[14]), "coarse steps {}", r[14]);
+        assert_eq!((r[15], r[17]), (3.0, 1.0));
     }
     for f in ["frame.png", "error.png"] {
         let img = image::open(out.join(f)).unwrap();

@@ -429,7 +429,7 @@ fn real_rocks_measure_against_the_exact_reference_on_the_device() {
     let hits = gpu::probe(&g, &program, &scene, &tex, &rays).unwrap_or_else(|e| panic!("{e}"));
     let mut on_device = scene.clone();
     on_device.height.data = tex.heights_on_device.clone();
-    let refs = reference_hits(&on_device, &rays, Sampling::Bilinear);
+    let refs = reference_hits(&on_device, &rays, Sampling::Bilinear).unwrap();
     let mut m = Metrics { pipeline: pipeline.clone(), scene: scene.name.clone(), size, ..Default::default() };
     metrics::set_accuracy(&mut m, &rays, &hits, &refs, &on_device.height, scene.edge);
     eprintln!("{pipeline} on rocks: {m:?}");
