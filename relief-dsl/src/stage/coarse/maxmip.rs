@@ -84,40 +84,10 @@ pub fn maxmip<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
 }
 
 /// The first t in `[from, to]` where the ray meets the bilinear patch of the cell it is in at
-/// `from`, or -1. Along the ray the patch height is quadratic in t: with the cell's corner
-/// heights h00, h10, h01, h11 and fractions (fx, fy) moving at (ax, ay) per unit t,
-/// `h - z = A s² + B s + C`, `s = t - from`.
+/// `from`, or -1 (see [`super::cell::patch_root`]).
 fn patch_root<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, size: Val<'a, Vec2>, from: Val<'a, f32>, to: Val<'a, f32>) -> Val<'a, f32> {
-    let p = ray.at(from);
-    let x = p.xy() * size - 0.5;
-    let cell = x.floor();
-    let f = x - cell;
+    let cell = (ray.at(from).xy() * size - 0.5).floor();
     // The four corners in one gather at the cell's centre: (i, j+1), (i+1, j+1), (i+1, j), (i, j).
     let corners = s.height_gather((cell + 1.0) / size);
-    let (h01, h11, h10, h00) = (corners.x(), corners.y(), corners.z(), corners.w());
-    let a = ray.dir.xy() * size;
-    let k = h00 - h10 - h01 + h11;
-    let big_a = k * a.x() * a.y();
-    let big_b = (h10 - h00) * a.x() + (h01 - h00) * a.y() + k * (f.x() * a.y() + f.y() * a.x()) - ray.dir.z();
-    let h = h00 + (h10 - h00) * f.x() + (h01 - h00) * f.y() + k * f.x() * f.y();
-    let big_c = h - p.z();
-    let span = to - from;
-    // (The textbook (-B ± √disc)/2A lost the root of near-vertical rays, where A is tiny:
-    // relief's cone tests caught rays passing 12 texels through the surface.)
-    // Both roots in the cancellation-free form q = -(B + sign(B)·√disc)/2, roots q/A and
-    // C/q (C/q is the linear root -C/B as A → 0); keep the smallest in [0, span].
-    let disc = big_b * big_b - 4.0 * big_a * big_c;
-    let sign_b = s.select(big_b.ge(0.0), 1.0, -1.0);
-    let q = -0.5 * (big_b + sign_b * disc.max(0.0).sqrt());
-    let safe_q = s.select(q.ge(0.0), q.max(1e-20), q.min(-1e-20));
-    let safe_a = s.select(big_a.ge(0.0), big_a.max(1e-20), big_a.min(-1e-20));
-    let r1 = q / safe_a;
-    let r2 = big_c / safe_q;
-    let lo = r1.min(r2);
-    let hi = r1.max(r2);
-    let in_span = |r: Val<'a, f32>| r.ge(0.0) & r.le(span);
-    let root = s.select(disc.lt(0.0), -1.0, s.select(in_span(lo), lo, s.select(in_span(hi), hi, -1.0)));
-    // Already under the patch at `from`: the hit is there.
-    let root = s.select(big_c.ge(0.0), s.lit(0.0), root);
-    s.select(in_span(root), from + root, -1.0)
+    super::cell::patch_root(s, ray, cell, corners, from, to)
 }
