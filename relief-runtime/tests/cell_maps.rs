@@ -210,6 +210,7 @@ struct Pair<'a> {
 }
 
 /// `min over every copy of every cell D of f(pair)`, starting from `init`.
+#[allow(clippy::too_many_arguments)]
 fn brute_min(m: &HeightMap, edge: EdgeMode, i: usize, j: usize, ax: Dir, ay: Dir, init: f64, f: &dyn Fn(&Pair) -> Option<f64>) -> f64 {
     let mut best = init;
     let xs = copies(i, m.width, edge, ax);
@@ -413,6 +414,7 @@ fn sample_around(m: &HeightMap, edge: EdgeMode, i: usize, j: usize, ax: Dir, ay:
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn check_cone(what: &str, m: &HeightMap, edge: EdgeMode, i: usize, j: usize, ax: Dir, ay: Dir, apex: f64, r: f64) {
     sample_around(m, edge, i, j, ax, ay, &mut |d, s| {
         let lim = if d == 0.0 { apex } else { apex + d / r };

@@ -64,7 +64,7 @@
 //!
 //! # Search
 //!
-//! [`search`]: a maximum-height quadtree over the cells (each cell's value the largest of
+//! [`CellTree::search`]: a maximum-height quadtree over the cells (each cell's value the largest of
 //! its four corners), visited nearest-bound first, dropping a node whose lower bound
 //! `d_min / (h_max − apex)` is not below the best ratio found (with a relative margin of
 //! `1e-9` so that rounding in the per-cell formula can never make a pruned cell smaller than
@@ -274,7 +274,7 @@ pub fn piece_ratio(lo: f64, hi: f64, rho: f64, c: &[Corner; 4]) -> f64 {
 /// Which cells a search may use along one axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Dir {
-    /// All cells (with repeat: plane offsets `-(n-1)..=n-1`, see [`search`]).
+    /// All cells (with repeat: plane offsets `-(n-1)..=n-1`, see [`CellTree::search`]).
     Both,
     /// Cells at or after `C` (repeat: plane offsets `0..=n-1`).
     Forward,
@@ -308,6 +308,9 @@ pub trait CellScorer: Sync {
     fn leaf(&self, d: usize, corners: &[Corner; 4], dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2], sx: Side, sy: Side) -> Option<f64>;
 }
 
+/// A per-cell flag byte computed from the cell's corners `[h00, h10, h01, h11]`.
+pub type CellFlags = dyn Fn(&[f32; 4]) -> u8;
+
 /// Maximum-corner quadtree over cells, with an optional AND of per-cell flags.
 pub struct CellTree {
     pub grid: CellGrid,
@@ -322,7 +325,7 @@ impl CellTree {
     }
 
     /// With one flag byte per cell (node value: the AND of its cells' flags).
-    pub fn with_flags(map: &HeightMap, edge: EdgeMode, flags: Option<&dyn Fn(&[f32; 4]) -> u8>) -> CellTree {
+    pub fn with_flags(map: &HeightMap, edge: EdgeMode, flags: Option<&CellFlags>) -> CellTree {
         let grid = CellGrid::new(map.width, map.height, edge);
         let corners = grid.all_corners(map);
         let base: Vec<f32> = corners.iter().map(apex).collect();
@@ -363,7 +366,7 @@ impl CellTree {
     pub fn search<S: CellScorer>(&self, ci: usize, cj: usize, ax: Dir, ay: Dir, s: &S, start: (f64, Option<(i64, i64)>)) -> (f64, Option<(i64, i64)>) {
         let mut best = start;
         let top = self.levels.len() - 1;
-        let shifts: &[i64] = if self.grid.edge == EdgeMode::Repeat { &[-1, 0, 1] } else { &[0] };
+        let shifts: &[i64] = if self.grid.edge == EdgeMode::Repeat { &[0, -1, 1] } else { &[0] };
         for &my in shifts {
             for &mx in shifts {
                 self.visit(top, 0, 0, mx, my, ci, cj, ax, ay, s, &mut best);
@@ -469,7 +472,9 @@ impl CellTree {
     #[allow(clippy::too_many_arguments)]
     fn visit<S: CellScorer>(&self, k: usize, i: usize, j: usize, mx: i64, my: i64, ci: usize, cj: usize, ax: Dir, ay: Dir, s: &S, best: &mut (f64, Option<(i64, i64)>)) {
         let (cw, ch) = (self.grid.cw, self.grid.ch);
+
         if k == 0 {
+
             let px = i as i64 + mx * cw as i64;
             let py = j as i64 + my * ch as i64;
             if let Some(v) = self.leaf_at(px, py, ci, cj, ax, ay, s) {
