@@ -53,7 +53,7 @@ pub fn cell_cone(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
     super::per_cell_row(cw, tree.grid.ch, 2, |j, row| {
         let mut prev = None;
         for i in 0..cw {
-            let a = super::apex(&tree.corners[j * cw + i]);
+            let a = super::apex(&tree.corners_of(j * cw + i));
             let s = PieceScorer { lo: a as f64, hi: f64::INFINITY, rho: 0.0 };
             let r = tree.seeded(i, j, Dir::Both, Dir::Both, &s, f64::INFINITY, &mut prev);
             row[2 * i] = f32_down(r);
@@ -73,7 +73,7 @@ pub fn cell_quad_cone(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
     super::per_cell_row(cw, tree.grid.ch, 5, |j, row| {
         let mut prev = [None; 4];
         for i in 0..cw {
-            let a = super::apex(&tree.corners[j * cw + i]);
+            let a = super::apex(&tree.corners_of(j * cw + i));
             let s = PieceScorer { lo: a as f64, hi: f64::INFINITY, rho: 0.0 };
             for (q, &(ax, ay)) in QUADRANTS.iter().enumerate() {
                 row[5 * i + q] = f32_down(tree.seeded(i, j, ax, ay, &s, f64::INFINITY, &mut prev[q]));

@@ -314,7 +314,9 @@ pub type CellFlags = dyn Fn(&[f32; 4]) -> u8;
 /// Maximum-corner quadtree over cells, with an optional AND of per-cell flags.
 pub struct CellTree {
     pub grid: CellGrid,
-    pub corners: Vec<[f32; 4]>,
+    /// The height map's texels (corners are looked up, not stored: a 16-byte-per-cell array
+    /// made 1024² searches cache-bound).
+    heights: Vec<f32>,
     levels: Vec<(usize, usize, Vec<f32>)>,
     flags: Vec<Vec<u8>>,
 }
@@ -329,6 +331,7 @@ impl CellTree {
         let grid = CellGrid::new(map.width, map.height, edge);
         let corners = grid.all_corners(map);
         let base: Vec<f32> = corners.iter().map(apex).collect();
+        let heights = map.data.clone();
         let mut levels = vec![(grid.cw, grid.ch, base)];
         let mut fl = Vec::new();
         if let Some(f) = flags {
@@ -356,7 +359,18 @@ impl CellTree {
                 fl.push(nf);
             }
         }
-        CellTree { grid, corners, levels, flags: fl }
+        CellTree { grid, heights, levels, flags: fl }
+    }
+
+    /// The corners `[h00, h10, h01, h11]` of cell `d` (storage index).
+    #[inline]
+    pub fn corners_of(&self, d: usize) -> [f32; 4] {
+        let (i, j) = (d % self.grid.cw, d / self.grid.cw);
+        let (x0, x1, _, _) = self.grid.col(i);
+        let (y0, y1, _, _) = self.grid.row(j);
+        let w = self.grid.w;
+        let t = |x: usize, y: usize| self.heights[y * w + x];
+        [t(x0, y0), t(x1, y0), t(x0, y1), t(x1, y1)]
     }
 
     /// Minimum score over the cells reachable from cell `(ci, cj)` with directions
@@ -382,7 +396,7 @@ impl CellTree {
         let x = self.axis_leaf(px, ci, self.grid.cw, self.grid.w, ax, true)?;
         let y = self.axis_leaf(py, cj, self.grid.ch, self.grid.h, ay, false)?;
         let d = y.0 * self.grid.cw + x.0;
-        let c = corners_seen_from(x.1, y.1, x.2, y.2, &self.corners[d], self.grid.w, self.grid.h);
+        let c = corners_seen_from(x.1, y.1, x.2, y.2, &self.corners_of(d), self.grid.w, self.grid.h);
         s.leaf(d, &c, x.1, y.1, x.2, y.2, x.3, y.3)
     }
 

@@ -53,7 +53,7 @@ pub fn cell_multi_cone(map: &HeightMap, edge: EdgeMode, k_cones: usize) -> Vec<f
     super::per_cell_row(cw, tree.grid.ch, nc, |j, row| {
         let mut prev = vec![None; k_cones];
         for i in 0..cw {
-            let a = super::apex(&tree.corners[j * cw + i]);
+            let a = super::apex(&tree.corners_of(j * cw + i));
             let b = heights(a, k_cones);
             for k in 0..k_cones {
                 let s = PieceScorer { lo: b[k], hi: f64::INFINITY, rho: 0.0 };
@@ -67,7 +67,7 @@ pub fn cell_multi_cone(map: &HeightMap, edge: EdgeMode, k_cones: usize) -> Vec<f
 
 /// The piecewise slopes of cell `(i, j)` (f64, before rounding), searched with `tree`.
 pub fn piecewise_slopes(tree: &CellTree, i: usize, j: usize, k_cones: usize, prev: &mut [Option<(i64, i64)>]) -> Vec<f64> {
-    let a = super::apex(&tree.corners[j * tree.grid.cw + i]);
+    let a = super::apex(&tree.corners_of(j * tree.grid.cw + i));
     let b = heights(a, k_cones);
     let mut rho = 0.0f64;
     let mut out = Vec::with_capacity(k_cones);
@@ -96,7 +96,7 @@ pub fn cell_piecewise_cone(map: &HeightMap, edge: EdgeMode, k_cones: usize) -> V
             for k in 0..k_cones {
                 row[nc * i + k] = normal_z(f32_down(r[k]));
             }
-            row[nc * i + k_cones] = super::apex(&tree.corners[j * cw + i]);
+            row[nc * i + k_cones] = super::apex(&tree.corners_of(j * cw + i));
         }
     })
 }

@@ -148,7 +148,7 @@ impl CellScorer for RelaxedScorer<'_> {
     #[inline]
     fn leaf(&self, d: usize, c: &[Corner; 4], dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2], _sx: Side, _sy: Side) -> Option<f64> {
         let r = super::piece_ratio(self.apex, f64::INFINITY, 0.0, c);
-        if r == f64::INFINITY || rising(&self.tree.corners[d], dx, dy, cx, cy) {
+        if r == f64::INFINITY || rising(&self.tree.corners_of(d), dx, dy, cx, cy) {
             return None;
         }
         Some(r)
@@ -171,7 +171,7 @@ pub fn cell_relaxed_cone(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
     super::per_cell_row(cw, tree.grid.ch, 2, |j, row| {
         let (mut prev, mut prev_cons) = (None, None);
         for i in 0..cw {
-            let a = super::apex(&tree.corners[j * cw + i]);
+            let a = super::apex(&tree.corners_of(j * cw + i));
             let cap = cap(map.width, map.height, edge, a);
             let s = RelaxedScorer { tree: &tree, apex: a as f64 };
             let mut r = tree.seeded(i, j, Dir::Both, Dir::Both, &s, cap, &mut prev);
