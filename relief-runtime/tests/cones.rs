@@ -21,38 +21,7 @@ fn lcg(seed: u64) -> impl FnMut() -> f32 {
     }
 }
 
-/// Boxes of random heights on a floor at 0.05, with one-texel walls (full height) and
-/// single-texel pillars between them: the hard case of issue #13.
-fn boxes(n: usize, seed: u64) -> HeightMap {
-    let mut next = lcg(seed);
-    let mut h = vec![0.05f32; n * n];
-    for _ in 0..n / 4 {
-        let (x0, y0) = ((next() * n as f32) as usize, (next() * n as f32) as usize);
-        let (w, d) = (1 + (next() * 12.0) as usize, 1 + (next() * 12.0) as usize);
-        let top = 0.2 + 0.8 * next();
-        for y in y0..(y0 + d).min(n) {
-            for x in x0..(x0 + w).min(n) {
-                h[y * n + x] = top;
-            }
-        }
-    }
-    for _ in 0..n / 8 {
-        // One-texel walls, horizontal or vertical.
-        let (x0, y0) = ((next() * n as f32) as usize, (next() * n as f32) as usize);
-        let len = 4 + (next() * 20.0) as usize;
-        let vertical = next() < 0.5;
-        for i in 0..len {
-            let (x, y) = if vertical { (x0, (y0 + i) % n) } else { ((x0 + i) % n, y0) };
-            h[y * n + x] = 1.0;
-        }
-    }
-    for _ in 0..n / 2 {
-        // Single-texel pillars.
-        let (x, y) = ((next() * n as f32) as usize, (next() * n as f32) as usize);
-        h[y * n + x] = 0.5 + 0.5 * next();
-    }
-    HeightMap::new(n, n, h)
-}
+use relief_runtime::stability::boxes;
 
 fn white_noise(n: usize, seed: u64) -> HeightMap {
     let mut next = lcg(seed);
@@ -207,3 +176,4 @@ fn safe_cone_stepping_converges_with_more_steps() {
     let converged = h32.iter().filter(|h| h.converged == 1).count();
     assert!(converged * 10 > h32.len() * 9, "cns(32): {converged} of {} converged", h32.len());
 }
+

@@ -171,7 +171,10 @@ impl MapKind {
 
     /// Whether the values are cone ratios (where the sqrt encoding is meant to be used).
     pub fn is_ratio(self) -> bool {
-        matches!(self, MapKind::Cone | MapKind::QuadCone | MapKind::RelaxedCone)
+        matches!(
+            self,
+            MapKind::Cone | MapKind::QuadCone | MapKind::RelaxedCone | MapKind::CellCone | MapKind::CellQuadCone | MapKind::CellRelaxedCone
+        )
     }
 }
 

@@ -44,7 +44,7 @@ pub(super) struct Cell<'a> {
 pub(super) fn cell_at<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> Cell<'a> {
     let size = s.height_map_size();
     let speed = ray.dir.xy() * size;
-    let x = ray.at(t).xy() * size - 0.5;
+    let x = ray.origin * size - 0.5 + speed * t;
     let ahead = s.vec2(sign(s, speed.x()), sign(s, speed.y())) * AHEAD_CELLS;
     let cell = (x + ahead).floor().named("cell");
     // The four corners in one gather at the cell's centre.
@@ -86,9 +86,8 @@ impl<'a> Cell<'a> {
     }
 
     /// The bilinear surface at `p` (within the cell), from the corners.
-    pub fn height(&self, s: &'a Stage<'a>, p: Val<'a, Vec3>) -> Val<'a, f32> {
-        let size = s.height_map_size();
-        let f = p.xy() * size - 0.5 - self.cell;
+    pub fn height(&self, s: &'a Stage<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> Val<'a, f32> {
+        let f = fraction(ray, s.height_map_size(), self.cell, t);
         let c = self.corners;
         let (h01, h11, h10, h00) = (c.x(), c.y(), c.z(), c.w());
         let bottom = h00 + (h10 - h00) * f.x();
@@ -100,6 +99,15 @@ impl<'a> Cell<'a> {
     pub fn patch_root(&self, s: &'a Stage<'a>, ray: &Ray<'a>, from: Val<'a, f32>) -> Val<'a, f32> {
         patch_root(s, ray, self.cell, self.corners, from, self.exit)
     }
+}
+
+/// The ray's position at `t` within `cell`, in cells: `(origin·N − ½ − cell) + (d.xy·N)·t`.
+/// Summed in this order the entry term is exact in f32 (N a power of two), where
+/// `(origin + d.xy·t)·N − ½ − cell` rounds the position at the map's scale first: on a ray
+/// nearly parallel to a one-texel ramp that rounding moved the patch's root by 1.4e-5 in t
+/// (relief's cone tests).
+fn fraction<'a>(ray: &Ray<'a>, size: Val<'a, Vec2>, cell: Val<'a, Vec2>, t: Val<'a, f32>) -> Val<'a, Vec2> {
+    (ray.origin * size - 0.5 - cell) + ray.dir.xy() * size * t
 }
 
 /// The first t in `[from, to]` where the ray meets the bilinear patch of `cell` (corner
@@ -115,15 +123,15 @@ pub(super) fn patch_root<'a>(
     to: Val<'a, f32>,
 ) -> Val<'a, f32> {
     let size = s.height_map_size();
-    let p = ray.at(from);
-    let f = p.xy() * size - 0.5 - cell;
+    let f = fraction(ray, size, cell, from);
+    let z = 1.0 + ray.dir.z() * from;
     let (h01, h11, h10, h00) = (corners.x(), corners.y(), corners.z(), corners.w());
     let a = ray.dir.xy() * size;
     let k = h00 - h10 - h01 + h11;
     let big_a = k * a.x() * a.y();
     let big_b = (h10 - h00) * a.x() + (h01 - h00) * a.y() + k * (f.x() * a.y() + f.y() * a.x()) - ray.dir.z();
     let h = h00 + (h10 - h00) * f.x() + (h01 - h00) * f.y() + k * f.x() * f.y();
-    let big_c = h - p.z();
+    let big_c = h - z;
     let span = to - from;
     // (The textbook (-B ± √disc)/2A loses the root of near-vertical rays, where A is tiny:
     // relief's cone tests caught rays passing 12 texels through the surface.)
@@ -192,7 +200,7 @@ pub(super) fn relaxed_march<'a>(
         s.break_if(found.get());
         let c = cell_at(s, ray, t.get());
         let p = ray.at(t.get());
-        found.set(c.height(s, p).ge(p.z()) | t.get().ge(ray.t_max()));
+        found.set(c.height(s, ray, t.get()).ge(p.z()) | t.get().ge(ray.t_max()));
         s.break_if(found.get());
         let cone = t.get() + step(s, p, &c);
         t_prev.set(t.get());
