@@ -66,8 +66,9 @@ pub mod binding {
 /// Workgroup size of the probe entry.
 pub const PROBE_WORKGROUP: u32 = 64;
 
-/// The z resolution of the distance field `sphere` reads: the stage folds the voxel size
-/// into its steps, and the runtime builds the field with it.
+/// The z resolution of the distance field `sphere` reads, as the runtime builds it (the
+/// field is a lower bound of the distance to the surface at any resolution; this one is the
+/// default of `relief maps` and of every pipeline).
 pub const DISTANCE_FIELD_Z: u32 = 64;
 
 /// The scalar type of a record member, for building the shader's struct type.

@@ -45,8 +45,7 @@ pub(super) fn cell_at<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> C
     let size = s.height_map_size();
     let speed = ray.dir.xy() * size;
     let x = ray.origin * size - 0.5 + speed * t;
-    let ahead = s.vec2(sign(s, speed.x()), sign(s, speed.y())) * AHEAD_CELLS;
-    let cell = (x + ahead).floor().named("cell");
+    let cell = (x + ahead(s, speed)).floor().named("cell");
     // The four corners in one gather at the cell's centre.
     let corners = s.height_gather((cell + 1.0) / size).named("corners");
     let apex = corners.x().max(corners.y()).max(corners.z().max(corners.w())).named("apex");
@@ -70,6 +69,31 @@ pub(super) fn cell_at<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> C
 
 fn sign<'a>(s: &'a Stage<'a>, v: Val<'a, f32>) -> Val<'a, f32> {
     s.select(v.gt(0.0), 1.0, s.select(v.lt(0.0), -1.0, 0.0))
+}
+
+/// A nudge of [`AHEAD_CELLS`] along a ray moving `speed` cells per unit t: added to a point
+/// before flooring it to a cell (or node), it picks the cell the ray is entering when the
+/// point lies on a boundary. The ray's t itself is never nudged (a nudge of 1e-3 cells in t
+/// ended rays up to 1.3e-4 in t past the first hit in relief's cone tests).
+pub(super) fn ahead<'a>(s: &'a Stage<'a>, speed: Val<'a, Vec2>) -> Val<'a, Vec2> {
+    s.vec2(sign(s, speed.x()), sign(s, speed.y())) * AHEAD_CELLS
+}
+
+/// One pass of a safe march at `t` in cell `c`: the cone step to `cone` when it leaves the
+/// cell (never past the floor); otherwise the cell's patch decides: its first hit, or the
+/// cell's exit. Returns whether the patch was hit (`t` is then the hit).
+fn step_or_meet<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, c: &Cell<'a>, t: crate::ir::Var<'a, f32>, cone: Val<'a, f32>) -> Val<'a, bool> {
+    let hit = s.var("patch_hit", false);
+    s.if_else(
+        cone.ge(c.exit),
+        |_| t.set(cone.min(ray.t_max())),
+        |s| {
+            let root = c.patch_root(s, ray, t.get());
+            hit.set(root.ge(0.0));
+            t.set(s.select(hit.get(), root, c.exit));
+        },
+    );
+    hit.get()
 }
 
 impl<'a> Cell<'a> {
@@ -169,15 +193,8 @@ pub(super) fn safe_march<'a>(
         s.break_if(found.get());
         let c = cell_at(s, ray, t.get());
         let cone = t.get() + step(s, ray.at(t.get()), &c);
-        s.if_else(
-            cone.ge(c.exit),
-            |_| t.set(cone.min(ray.t_max())),
-            |s| {
-                let root = c.patch_root(s, ray, t.get());
-                found.set(root.ge(0.0) | c.exit.ge(ray.t_max()));
-                t.set(s.select(root.ge(0.0), root, c.exit));
-            },
-        );
+        // Reaching the floor is a hit too (no height is below 0).
+        found.set(step_or_meet(s, ray, &c, t, cone) | t.get().ge(ray.t_max()));
     });
     Bracket::searched(t.get(), t.get(), found.get())
 }
@@ -204,19 +221,11 @@ pub(super) fn relaxed_march<'a>(
         s.break_if(found.get());
         let cone = t.get() + step(s, p, &c);
         t_prev.set(t.get());
-        s.if_else(
-            cone.ge(c.exit),
-            |_| t.set(cone.min(ray.t_max())),
-            |s| {
-                let root = c.patch_root(s, ray, t.get());
-                let hit = root.ge(0.0);
-                s.if_(hit, |_| {
-                    t_prev.set(root);
-                    found.set(true);
-                });
-                t.set(s.select(hit, root, c.exit));
-            },
-        );
+        let hit = step_or_meet(s, ray, &c, t, cone);
+        s.if_(hit, |_| {
+            t_prev.set(t.get());
+            found.set(true);
+        });
     });
     Bracket::searched(t_prev.get(), t.get(), found.get())
 }

@@ -12,10 +12,6 @@ use crate::ir::{Stage, Val, Vec2};
 use crate::spec::MapReq;
 use crate::stage::{Bracket, Ray};
 
-/// How far ahead along the ray (in cells) the node of a point on a node boundary is picked:
-/// the node the ray is entering. The ray's t itself is never nudged past a boundary (a nudge
-/// of 1e-3 cells ended rays up to 1.3e-4 in t past the first hit in relief's cone tests).
-const AHEAD_CELLS: f32 = 1e-4;
 
 /// Maximum-mipmap traversal with the exact bilinear-patch intersection in the finest cells.
 pub fn maxmip<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
@@ -27,10 +23,8 @@ pub fn maxmip<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     let to_cells = |uv: Val<'a, Vec2>| uv * size - 0.5;
     let speed = ray.dir.xy() * size;
     let fall = ray.dir.z();
-    let ahead = s.vec2(
-        s.select(speed.x().gt(0.0), 1.0, s.select(speed.x().lt(0.0), -1.0, 0.0)),
-        s.select(speed.y().gt(0.0), 1.0, s.select(speed.y().lt(0.0), -1.0, 0.0)),
-    ) * AHEAD_CELLS;
+    // The node a point on a node boundary is in: the one the ray is entering.
+    let ahead = super::cell::ahead(s, speed);
     let t = s.var("t", 0.0);
     let level = s.var("level", top);
     let hit = s.var("hit", false);
