@@ -200,7 +200,7 @@ impl ProbeHit {
     /// [`OUTSIDE_TOLERANCE`]. A NaN t is not outside (it is counted as NaN).
     pub fn outside(&self, ray: &ProbeRay) -> bool {
         let z = 1.0 + self.t as f64 * ray.dir[2] as f64;
-        z > 1.0 + OUTSIDE_TOLERANCE || z < -OUTSIDE_TOLERANCE
+        !(-OUTSIDE_TOLERANCE..=1.0 + OUTSIDE_TOLERANCE).contains(&z)
     }
 }
 

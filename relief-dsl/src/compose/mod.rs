@@ -203,7 +203,7 @@ fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
     // Four vertices as a triangle strip: (0,0) (1,0) (0,1) (1,1), scaled to the quad's size.
     let i = s.arg::<u32>(0);
     let size = s.param::<Vec4>(Param::Quad).x();
-    let corner = s.vec2(i.and(1).to_f32(), i.shr(1).to_f32()) * size;
+    let corner = s.vec2(i.and(1).to_f32(), i.shift_right(1).to_f32()) * size;
     let clip = s.param::<crate::ir::Mat4>(Param::ViewProj) * s.vec4(s.vec3(corner, 0.0), 1.0);
     let out = s.make_struct(out_ty, &[clip.handle(), corner.handle()]);
     let f = s.finish(Some((out_ty, None, out)));

@@ -266,7 +266,7 @@ impl<'a> Val<'a, u32> {
         bin(BinaryOperator::And, self, r)
     }
     /// Logical shift right.
-    pub fn shr(self, rhs: u32) -> Val<'a, u32> {
+    pub fn shift_right(self, rhs: u32) -> Val<'a, u32> {
         let r: Val<'a, u32> = rhs.into_val(self.stage());
         bin(BinaryOperator::ShiftRight, self, r)
     }

@@ -281,8 +281,8 @@ pub fn pcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: Form)
         let b = |j: usize| base + piece * j as f32;
         let meet = |j: usize| (radius[j] + slopes[j] * (p.z() - b(j))) / (speed + slopes[j] * fall).max(TINY);
         let mut step = meet(0);
-        for j in 1..k as usize {
-            let outside = p.z().gt(b(j)) & (speed * (p.z() - b(j))).gt(radius[j] * fall);
+        for (j, r_j) in radius.iter().enumerate().take(k as usize).skip(1) {
+            let outside = p.z().gt(b(j)) & (speed * (p.z() - b(j))).gt(*r_j * fall);
             step = s.select(outside, meet(j), step);
         }
         step.max(0.0)
