@@ -153,7 +153,7 @@ pub fn write(out: &Path, cells: &[Cell]) -> anyhow::Result<()> {
     for c in cells {
         w.serialize(c)?;
     }
-    crate::cli_gen::write_atomic(&out.join("stability.csv"), &w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))?)?;
+    crate::io::write_atomic(&out.join("stability.csv"), &w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))?)?;
     let metrics: [(&str, fn(&Cell) -> f64); 7] = [
         ("nan_count", |c| c.nan_count as f64),
         ("outside_count", |c| c.outside_count as f64),
@@ -164,9 +164,9 @@ pub fn write(out: &Path, cells: &[Cell]) -> anyhow::Result<()> {
         ("ref_err_t_rms", |c| c.ref_err_t_rms),
     ];
     for (name, f) in metrics {
-        crate::cli_gen::write_atomic(&out.join(format!("stability_{name}.svg")), heat_map(name, cells, f).as_bytes())?;
+        crate::io::write_atomic(&out.join(format!("stability_{name}.svg")), heat_map(name, cells, f).as_bytes())?;
     }
-    crate::cli_gen::write_atomic(&out.join("worst.md"), worst_table(cells).as_bytes())?;
+    crate::io::write_atomic(&out.join("worst.md"), worst_table(cells).as_bytes())?;
     Ok(())
 }
 

@@ -7,11 +7,13 @@
 //! clamped (a cone with nothing above it is `+inf`); only an [`encode::Encoding`] clamps.
 //!
 //! Entry points: [`build`] one map kind from a height map, [`MapCache`] to build each
-//! (height map, kind, parameters, edge mode, encoding) once, [`encode::write_map`] to save.
+//! (height map, kind, parameters, edge mode, encoding) once, [`file::write_map`] to save.
 pub mod cone;
 pub mod cone_normal;
 pub mod distance_field;
 pub mod encode;
+pub mod file;
+pub mod filter;
 pub mod max_mip;
 pub mod multi_cone;
 pub mod quad_cone;
@@ -370,7 +372,7 @@ impl MapCache {
         }
         let path = self.dir.as_ref()?.join(format!("{}.npy", key.file_stem()));
         let bytes = std::fs::read(path).ok()?;
-        let hdr = encode::parse_npy_header(&bytes).ok()?;
+        let hdr = crate::io::npy::parse_npy_header(&bytes).ok()?;
         if hdr.item_size != 4 {
             return None;
         }
@@ -403,7 +405,7 @@ impl MapCache {
         if map.channels > 1 || matches!(key.kind, MapKind::MultiCone | MapKind::PiecewiseCone) {
             shape.push(map.channels);
         }
-        if std::fs::write(&tmp, encode::npy_bytes(&shape, &map.data)).is_ok() {
+        if std::fs::write(&tmp, crate::io::npy::npy_bytes(&shape, &map.data)).is_ok() {
             let _ = std::fs::rename(&tmp, &path);
         } else {
             let _ = std::fs::remove_file(&tmp);

@@ -97,7 +97,7 @@ impl<'a> Ours<'a> {
         Ours { data, scene: scene.to_string(), metric, used: RefCell::new(BTreeMap::new()) }
     }
 
-    fn note(&self, r: &crate::sweep::Row) {
+    fn note(&self, r: &crate::results::Row) {
         let mut u = self.used.borrow_mut();
         let v = u.entry(r.metrics.size).or_default();
         if !v.contains(&r.metrics.pipeline) {
@@ -106,7 +106,7 @@ impl<'a> Ours<'a> {
     }
 
     /// The ok rows of `p` on the scene; every size it has is noted.
-    fn row(&self, p: &str) -> Option<&'a crate::sweep::Row> {
+    fn row(&self, p: &str) -> Option<&'a crate::results::Row> {
         let rows = self.data.ok_any_size(&super::canonical(p), &self.scene);
         for r in &rows {
             self.note(r);
@@ -931,12 +931,12 @@ fn capitalize(s: &str) -> String {
 /// order most differently.
 pub(crate) fn metric_agreement(data: &Data, tables: &[ReportTable]) -> TextTable {
     let mut rows = Vec::new();
-    let mut groups: Vec<(String, Vec<&crate::sweep::Row>)> = Vec::new();
+    let mut groups: Vec<(String, Vec<&crate::results::Row>)> = Vec::new();
     for t in tables {
         let mut v = Vec::new();
         for i in 0..t.entries.len() {
             if let Some(r) = t.row(data, i).filter(|r| r.status == "ok") {
-                if !v.iter().any(|x: &&crate::sweep::Row| std::ptr::eq(*x, r)) {
+                if !v.iter().any(|x: &&crate::results::Row| std::ptr::eq(*x, r)) {
                     v.push(r);
                 }
             }

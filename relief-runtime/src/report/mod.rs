@@ -29,8 +29,7 @@ use anyhow::Context;
 use relief_dsl::spec::{StageSpec, Value};
 use relief_dsl::Pipeline;
 
-use crate::metrics::Metrics;
-use crate::sweep::Row;
+use crate::results::{self, Row};
 
 pub use conclusions::{Conclusion, Verdict};
 
@@ -225,27 +224,11 @@ pub(crate) struct Data {
 }
 
 impl Data {
-    /// Reads `dir/results.jsonl` without changing it; unreadable lines are skipped and kept
-    /// in `bad_lines`. A missing file gives no rows.
+    /// Reads `dir/results.jsonl` without changing it ([`results::read`]): unreadable lines
+    /// are skipped and kept in `bad_lines`. A missing file gives no rows.
     pub fn load(dir: &Path) -> anyhow::Result<Data> {
-        let path = dir.join("results.jsonl");
-        let text = match std::fs::read(&path) {
-            Ok(b) => String::from_utf8_lossy(&b).into_owned(),
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => String::new(),
-            Err(e) => return Err(anyhow::anyhow!("cannot read {}: {e}", path.display())),
-        };
-        let mut rows = Vec::new();
-        let mut bad_lines = Vec::new();
-        for (i, line) in text.lines().enumerate() {
-            if line.trim().is_empty() {
-                continue;
-            }
-            match parse_row(line) {
-                Ok(r) => rows.push(r),
-                Err(e) => bad_lines.push(format!("line {}: {e}", i + 1)),
-            }
-        }
-        Ok(Data::from_rows(dir, rows, bad_lines))
+        let read = results::read(dir)?;
+        Ok(Data::from_rows(dir, read.rows, read.bad_lines))
     }
 
     pub fn from_rows(dir: &Path, mut rows: Vec<Row>, bad_lines: Vec<String>) -> Data {
@@ -342,62 +325,6 @@ impl Data {
 /// A scene and size as a short label: `lion, 64²`.
 pub(crate) fn group_label(scene: &str, size: u32) -> String {
     format!("{}, {size}²", short_scene(scene))
-}
-
-/// Parses one results line; numbers written as `null` (NaN or infinite when measured) come
-/// back as NaN.
-fn parse_row(line: &str) -> anyhow::Result<Row> {
-    let v: serde_json::Value = serde_json::from_str(line).map_err(|e| anyhow::anyhow!("not JSON: {e}"))?;
-    let serde_json::Value::Object(obj) = v else {
-        anyhow::bail!("not a JSON object");
-    };
-    let mut base = serde_json::to_value(Row::default())?;
-    let mut nulls = Vec::new();
-    // Fields that rows written before issue #11 lack: not recorded, so NaN (shown as such),
-    // never a silent 0.
-    for k in LATER_FIELDS {
-        if !obj.contains_key(*k) {
-            nulls.push(k.to_string());
-        }
-    }
-    if let serde_json::Value::Object(b) = &mut base {
-        for (k, val) in obj {
-            if val.is_null() {
-                nulls.push(k);
-            } else {
-                b.insert(k, val);
-            }
-        }
-    }
-    let mut row: Row = serde_json::from_value(base).map_err(|e| anyhow::anyhow!("not a results row: {e}"))?;
-    for k in nulls {
-        set_nan(&mut row.metrics, &k);
-    }
-    Ok(row)
-}
-
-/// Metrics fields added with issue #11 (absent from older results files).
-const LATER_FIELDS: &[&str] = &["frame_ms_mean", "avg_coarse_steps", "avg_refine_steps", "nonconverged_rate"];
-
-fn set_nan(m: &mut Metrics, field: &str) {
-    let f = match field {
-        "frame_ms_median" => &mut m.frame_ms_median,
-        "frame_ms_mean" => &mut m.frame_ms_mean,
-        "avg_coarse_steps" => &mut m.avg_coarse_steps,
-        "avg_refine_steps" => &mut m.avg_refine_steps,
-        "nonconverged_rate" => &mut m.nonconverged_rate,
-        "frame_ms_p10" => &mut m.frame_ms_p10,
-        "frame_ms_p90" => &mut m.frame_ms_p90,
-        "mse_dissertation" => &mut m.mse_dissertation,
-        "mse_dissertation_mean" => &mut m.mse_dissertation_mean,
-        "ref_err_t_rms" => &mut m.ref_err_t_rms,
-        "ref_err_uv_texels_rms" => &mut m.ref_err_uv_texels_rms,
-        "missed_rate" => &mut m.missed_rate,
-        "avg_iterations" => &mut m.avg_iterations,
-        "avg_fetches" => &mut m.avg_fetches,
-        _ => return,
-    };
-    *f = f64::NAN;
 }
 
 /// The canonical text of a pipeline (the text itself when it does not parse).

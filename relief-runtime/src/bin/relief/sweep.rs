@@ -2,8 +2,8 @@
 
 use std::path::PathBuf;
 
-use crate::scene::Overrides;
-use crate::sweep::{self, grids};
+use relief_runtime::scene::Overrides;
+use relief_runtime::sweep::{self, grids};
 
 /// Arguments of `relief sweep`.
 #[derive(clap::Args, Debug)]
