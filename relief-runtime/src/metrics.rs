@@ -3,7 +3,7 @@
 //! Accuracy is measured on the probe's hits against the exact reference for the *same* rays;
 //! speed on the render entry's frame times.
 
-use crate::gpu::GpuHit;
+use relief_dsl::abi::ProbeHit;
 use crate::heightmap::{EdgeMode, HeightMap};
 use crate::reference::RefHit;
 use crate::scene::ProbeRay;
@@ -72,7 +72,7 @@ pub struct Accuracy {
 impl Accuracy {
     /// Scores `hits` against `refs` for the same `rays`, on the surface the shader samples
     /// (`heights`, bilinear, with `edge`).
-    pub fn of(rays: &[ProbeRay], hits: &[GpuHit], refs: &[Option<RefHit>], heights: &HeightMap, edge: EdgeMode) -> Accuracy {
+    pub fn of(rays: &[ProbeRay], hits: &[ProbeHit], refs: &[Option<RefHit>], heights: &HeightMap, edge: EdgeMode) -> Accuracy {
         let n = hits.len().min(rays.len()).min(refs.len());
         let texels = heights.width.max(heights.height) as f64;
         let mut a = Accuracy { rays: n, ..Default::default() };
@@ -139,7 +139,7 @@ impl Accuracy {
 
 /// The accuracy fields, from the probe's hits and the reference hits of the same rays, on
 /// the surface the shader samples (`heights`, bilinear, with `edge`).
-pub fn set_accuracy(m: &mut Metrics, rays: &[ProbeRay], hits: &[GpuHit], refs: &[Option<RefHit>], heights: &HeightMap, edge: EdgeMode) {
+pub fn set_accuracy(m: &mut Metrics, rays: &[ProbeRay], hits: &[ProbeHit], refs: &[Option<RefHit>], heights: &HeightMap, edge: EdgeMode) {
     let a = Accuracy::of(rays, hits, refs, heights, edge);
     m.mse_dissertation = a.mse_sum;
     m.mse_dissertation_mean = a.per_ray(a.mse_sum);

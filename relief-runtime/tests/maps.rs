@@ -636,3 +636,33 @@ fn cone_stepping_makes_progress() {
     let t = ray_never_pierces(&m, EdgeMode::Repeat, &c, 0.1, 0.7, (0.3, 0.1)).unwrap();
     assert!(t > 0.05, "t = {t}");
 }
+
+#[test]
+fn map_kinds_and_requests_name_each_other() {
+    use relief_dsl::spec::MapReq;
+    // Every request but the normal map has exactly one kind, of the same name; the cone
+    // count travels with the multi-cone requests.
+    let reqs = [
+        MapReq::Cone,
+        MapReq::QuadCone,
+        MapReq::RelaxedCone,
+        MapReq::ConeNormal,
+        MapReq::RelaxedConeNormal,
+        MapReq::MultiCone(7),
+        MapReq::PiecewiseCone(3),
+        MapReq::MaxMip,
+        MapReq::DistanceField,
+    ];
+    assert!(MapKind::of(MapReq::Normal).is_none());
+    let mut seen = Vec::new();
+    for r in reqs {
+        let (k, p) = MapKind::of(r).unwrap_or_else(|| panic!("{r:?} has no kind"));
+        assert_eq!(k.name(), r.name());
+        assert_eq!(k.name().parse::<MapKind>().unwrap(), k);
+        if let MapReq::MultiCone(n) | MapReq::PiecewiseCone(n) = r {
+            assert_eq!(p.cones, n);
+        }
+        seen.push(k);
+    }
+    assert_eq!(seen, MapKind::ALL.to_vec(), "one request per kind, in the listing order");
+}

@@ -15,6 +15,7 @@ pub mod encode;
 pub mod file;
 pub mod filter;
 pub mod max_mip;
+pub mod normal;
 pub mod multi_cone;
 pub mod quad_cone;
 pub mod relaxed_cone;
@@ -22,6 +23,7 @@ pub mod search;
 
 use crate::heightmap::{EdgeMode, HeightMap};
 use encode::{EncodedMap, Encoding, Rounding};
+use relief_dsl::spec::MapReq;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
@@ -65,19 +67,40 @@ impl MapKind {
         MapKind::DistanceField,
     ];
 
-    /// The name used on the command line and in specs.
-    pub fn name(self) -> &'static str {
+    /// The map request this kind answers (with the default parameters): the one table
+    /// between the two enums, [`MapKind::of`] reads it backwards.
+    pub fn request(self) -> MapReq {
+        let k = MapParams::default().cones;
         match self {
-            MapKind::Cone => "cone",
-            MapKind::QuadCone => "quad_cone",
-            MapKind::RelaxedCone => "relaxed_cone",
-            MapKind::ConeNormal => "cone_normal",
-            MapKind::RelaxedConeNormal => "relaxed_cone_normal",
-            MapKind::MultiCone => "multi_cone",
-            MapKind::PiecewiseCone => "piecewise_cone",
-            MapKind::MaxMip => "max_mip",
-            MapKind::DistanceField => "distance_field",
+            MapKind::Cone => MapReq::Cone,
+            MapKind::QuadCone => MapReq::QuadCone,
+            MapKind::RelaxedCone => MapReq::RelaxedCone,
+            MapKind::ConeNormal => MapReq::ConeNormal,
+            MapKind::RelaxedConeNormal => MapReq::RelaxedConeNormal,
+            MapKind::MultiCone => MapReq::MultiCone(k),
+            MapKind::PiecewiseCone => MapReq::PiecewiseCone(k),
+            MapKind::MaxMip => MapReq::MaxMip,
+            MapKind::DistanceField => MapReq::DistanceField,
         }
+    }
+
+    /// The kind and parameters behind a map request; `None` for [`MapReq::Normal`], which is
+    /// not built here but uploaded with the scene ([`normal`]).
+    pub fn of(req: MapReq) -> Option<(MapKind, MapParams)> {
+        let same = |k: &MapKind| std::mem::discriminant(&k.request()) == std::mem::discriminant(&req);
+        let kind = MapKind::ALL.into_iter().find(same)?;
+        let d = MapParams::default();
+        let params = match req {
+            MapReq::MultiCone(k) | MapReq::PiecewiseCone(k) => MapParams { cones: k, ..d },
+            _ => d,
+        };
+        Some((kind, params))
+    }
+
+    /// The name used on the command line and in specs: the request's name
+    /// ([`MapReq::name`]).
+    pub fn name(self) -> &'static str {
+        self.request().name()
     }
 
     /// One line: what the map holds, its channels and the parameters it reads.
@@ -159,6 +182,22 @@ impl MapParams {
             MapKind::DistanceField => MapParams { z_resolution: self.z_resolution, ..d },
             _ => d,
         }
+    }
+}
+
+/// Which map a request takes: its kind and the parameters that matter to that kind. Two
+/// requests of one kind with different parameters are two maps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct MapKey {
+    pub kind: MapKind,
+    pub params: MapParams,
+}
+
+impl MapKey {
+    /// The key of a map request; `None` for [`MapReq::Normal`] (see [`MapKind::of`]).
+    pub fn of(req: MapReq) -> Option<MapKey> {
+        let (kind, params) = MapKind::of(req)?;
+        Some(MapKey { kind, params: params.relevant(kind) })
     }
 }
 
