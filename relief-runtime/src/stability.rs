@@ -145,6 +145,9 @@ pub fn run(gpu: &Gpu, size: u32, methods: &[Pipeline], scenes: &[&str], angles: 
     Ok(cells)
 }
 
+/// A named column of a [`Cell`], as a number.
+type CellMetric = fn(&Cell) -> f64;
+
 /// Writes `stability.csv`, one heat map per metric (`stability_METRIC.svg`) and
 /// `worst.md` (the worst condition of each method).
 pub fn write(out: &Path, cells: &[Cell]) -> anyhow::Result<()> {
@@ -154,7 +157,7 @@ pub fn write(out: &Path, cells: &[Cell]) -> anyhow::Result<()> {
         w.serialize(c)?;
     }
     crate::io::write_atomic(&out.join("stability.csv"), &w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))?)?;
-    let metrics: [(&str, fn(&Cell) -> f64); 7] = [
+    let metrics: [(&str, CellMetric); 7] = [
         ("nan_count", |c| c.nan_count as f64),
         ("outside_count", |c| c.outside_count as f64),
         ("missed_rate", |c| c.missed_rate),

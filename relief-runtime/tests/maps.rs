@@ -604,7 +604,7 @@ fn prop_map(kind: u8, seed: u64) -> HeightMap {
         0 => noise(16, 16, seed),
         1 => bumps(20, 16, seed),
         2 => coarse_noise(16, 20, seed),
-        _ => HeightMap::from_fn(16, 16, |x, y| if (x + 3 * y + seed as usize) % 7 == 0 { 0.9 } else { 0.2 }),
+        _ => HeightMap::from_fn(16, 16, |x, y| if (x + 3 * y + seed as usize).is_multiple_of(7) { 0.9 } else { 0.2 }),
     }
 }
 

@@ -169,7 +169,7 @@ impl SceneTextures {
                 binding::NORMAL => wgpu::BindingResource::TextureView(&self.normal),
                 binding::ALBEDO => wgpu::BindingResource::TextureView(&self.albedo),
                 binding::LINEAR_SAMPLER => wgpu::BindingResource::Sampler(&self.linear),
-                b if b >= binding::NEAREST_OFFSET && b < binding::RAYS => {
+                b if (binding::NEAREST_OFFSET..binding::RAYS).contains(&b) => {
                     let base = b - binding::NEAREST_OFFSET;
                     match base {
                         binding::HEIGHT => wgpu::BindingResource::TextureView(&self.height),
