@@ -1,6 +1,7 @@
 //! The `relief` command line.
 
 use clap::{Parser, Subcommand};
+use relief_runtime::scene::Overrides;
 mod gen;
 mod maps;
 mod render;
@@ -31,6 +32,33 @@ enum Command {
     Stability(stability::StabilityArgs),
     /// Tables, conclusions, charts, picture strips and Pareto fronts from a sweep folder.
     Report(report::ReportArgs),
+}
+
+/// The scene overrides `relief render` and `relief sweep` take (a sweep applies them to
+/// every scene).
+#[derive(clap::Args, Debug)]
+pub struct OverrideArgs {
+    /// View angle from the surface normal, in degrees (overrides the scene's camera).
+    #[arg(long)]
+    pub angle: Option<f32>,
+    /// The eye's azimuth around the normal, degrees from +u towards +v (overrides the scene's camera).
+    #[arg(long)]
+    pub azimuth: Option<f32>,
+    /// Relief depth in texture units (overrides the scene's depth scale).
+    #[arg(long)]
+    pub depth_scale: Option<f32>,
+    /// Repeats of the texture across the quad (overrides the scene's tiling).
+    #[arg(long)]
+    pub tiling: Option<f32>,
+}
+
+impl OverrideArgs {
+    /// The overrides, checked ([`Overrides::check`]).
+    pub fn checked(&self) -> anyhow::Result<Overrides> {
+        let o = Overrides { depth_scale: self.depth_scale, tiling: self.tiling, angle: self.angle, azimuth: self.azimuth };
+        o.check().map_err(anyhow::Error::msg)?;
+        Ok(o)
+    }
 }
 
 fn main() {

@@ -10,7 +10,7 @@ use relief_runtime::io::write_atomic;
 use relief_runtime::gpu::Gpu;
 use relief_runtime::measure::{measure, write_images, Prepared};
 use relief_runtime::scene::file::camera_json;
-use relief_runtime::scene::{scene_from_arg, scene_spec, Overrides};
+use relief_runtime::scene::{scene_from_arg, scene_spec};
 
 /// Arguments of `relief render`.
 #[derive(clap::Args, Debug)]
@@ -24,18 +24,8 @@ pub struct RenderArgs {
     /// Frame size in pixels (square).
     #[arg(long, default_value_t = 512)]
     pub size: u32,
-    /// View angle from the surface normal, in degrees (overrides the scene's camera).
-    #[arg(long)]
-    pub angle: Option<f32>,
-    /// The eye's azimuth around the normal, degrees from +u towards +v (overrides the scene's camera).
-    #[arg(long)]
-    pub azimuth: Option<f32>,
-    /// Relief depth in texture units (overrides the scene's depth scale).
-    #[arg(long)]
-    pub depth_scale: Option<f32>,
-    /// Repeats of the texture across the quad (overrides the scene's tiling).
-    #[arg(long)]
-    pub tiling: Option<f32>,
+    #[command(flatten)]
+    pub overrides: crate::OverrideArgs,
     /// Number of timed frames (after 5 warm-up frames).
     #[arg(long, default_value_t = 50)]
     pub frames: u32,
@@ -53,8 +43,7 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     if a.size == 0 || a.size > 8192 {
         anyhow::bail!("--size {} is out of range: allowed 1..=8192", a.size);
     }
-    let overrides = Overrides { depth_scale: a.depth_scale, tiling: a.tiling, angle: a.angle, azimuth: a.azimuth };
-    overrides.check().map_err(anyhow::Error::msg)?;
+    let overrides = a.overrides.checked()?;
     let scene = overrides.apply(scene_from_arg(&scene_spec(&a.scene))?);
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create output folder {}", a.out.display()))?;
     let g = Gpu::new()?;
