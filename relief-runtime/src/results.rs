@@ -39,7 +39,7 @@ pub struct Metrics {
     /// RMS distance between hit and reference hit in texels.
     pub ref_err_uv_texels_rms: f64,
     /// Share of rays whose hit lies beyond the true first hit by more than one texel of
-    /// travel ([`one_texel_t`]), or that report no (finite) hit.
+    /// travel ([`crate::metrics::one_texel_t`]), or that report no (finite) hit.
     pub missed_rate: f64,
     /// Hits with NaN or Inf anywhere.
     pub nan_count: u64,
