@@ -11,15 +11,20 @@ use anyhow::Context;
 use relief_dsl::Pipeline;
 
 /// Writes `bytes` to `path` through a temporary file and a rename, so that an interrupted
-/// run never leaves a half-written file.
+/// run never leaves a half-written file (`NAME.EXT.tmp` beside it, removed when the write
+/// fails).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
     let tmp = path.with_extension(format!(
         "{}.tmp",
         path.extension().and_then(|e| e.to_str()).unwrap_or("")
     ));
-    std::fs::write(&tmp, bytes).with_context(|| format!("cannot write {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))?;
-    Ok(())
+    let result = std::fs::write(&tmp, bytes)
+        .with_context(|| format!("cannot write {}", tmp.display()))
+        .and_then(|()| std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display())));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
 }
 
 /// Writes the five shader files of `p` into `out` (`STEM.wgsl`, `STEM.spv` and one

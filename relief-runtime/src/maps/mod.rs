@@ -435,7 +435,6 @@ impl MapCache {
             return;
         }
         let path = dir.join(format!("{}.npy", key.file_stem()));
-        let tmp = dir.join(format!("{}.npy.tmp", key.file_stem()));
         let mut shape = Vec::new();
         if map.depth > 1 || key.kind == MapKind::DistanceField {
             shape.push(map.depth);
@@ -444,10 +443,7 @@ impl MapCache {
         if map.channels > 1 || matches!(key.kind, MapKind::MultiCone | MapKind::PiecewiseCone) {
             shape.push(map.channels);
         }
-        if std::fs::write(&tmp, crate::io::npy::npy_bytes(&shape, &map.data)).is_ok() {
-            let _ = std::fs::rename(&tmp, &path);
-        } else {
-            let _ = std::fs::remove_file(&tmp);
-        }
+        // A cache: a map that cannot be stored is built again next time.
+        let _ = crate::io::write_atomic(&path, &crate::io::npy::npy_bytes(&shape, &map.data));
     }
 }

@@ -6,7 +6,8 @@
 //! A row is appended with one write as soon as its cell finishes, so a run killed at any
 //! moment loses at most the cell in flight; a line cut short by the kill is dropped when the
 //! next run starts, and cells already recorded (same pipeline, scene and size) are skipped.
-//! A cell that fails is recorded with its error, and the sweep goes on.
+//! A cell that fails is recorded with its error, and the sweep goes on. Rows are read,
+//! appended and written by [`crate::results`].
 
 pub mod grids;
 
