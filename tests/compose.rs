@@ -63,14 +63,24 @@ fn nothing_unread_is_declared() {
         let samples_height = !(pipe.coarse.is_none() && pipe.refine.is_none() && pipe.shadow.is_none());
         assert_eq!(bindings.contains(&binding::HEIGHT), samples_height, "{pipe}");
         // Each map the pipeline needs is declared, and no other.
-        for m in [MapReq::Cone, MapReq::QuadCone, MapReq::RelaxedCone, MapReq::ConeNormal, MapReq::DistanceField] {
+        for m in [
+            MapReq::Cone,
+            MapReq::QuadCone,
+            MapReq::RelaxedCone,
+            MapReq::ConeNormal,
+            MapReq::DistanceField,
+            MapReq::CellCone,
+            MapReq::CellQuadCone,
+            MapReq::CellRelaxedCone,
+            MapReq::CellConeNormal,
+        ] {
             let declared_map = declared.iter().any(|d| d.starts_with(&m.texture_name()));
             assert_eq!(declared_map, pipe.required_maps().contains(&m), "{pipe}: {}", m.name());
         }
     }
     let plain = relief::compile(&p("linear(10)+binary(5)")).unwrap();
     assert!(!compose::declared_resources(&plain.module).contains(&"nearest_sampler".to_string()));
-    let cone = relief::compile(&p("csm(10, sample=nearest)")).unwrap();
+    let cone = relief::compile(&p("csm(10, form=textbook, sample=nearest)")).unwrap();
     let declared = compose::declared_resources(&cone.module);
     assert!(declared.contains(&"cone_map_nearest".to_string()) && declared.contains(&"nearest_sampler".to_string()));
 }
@@ -88,12 +98,28 @@ fn required_maps_match_what_the_probe_and_shading_read() {
         for m in pipe.required_maps() {
             assert!(reads(m), "{pipe}: requires {} but reads {read:?}", m.name());
         }
-        for m in [MapReq::Cone, MapReq::QuadCone, MapReq::RelaxedCone, MapReq::ConeNormal, MapReq::RelaxedConeNormal, MapReq::DistanceField] {
+        for m in [
+            MapReq::Cone,
+            MapReq::QuadCone,
+            MapReq::RelaxedCone,
+            MapReq::ConeNormal,
+            MapReq::RelaxedConeNormal,
+            MapReq::DistanceField,
+            MapReq::CellCone,
+            MapReq::CellQuadCone,
+            MapReq::CellRelaxedCone,
+            MapReq::CellConeNormal,
+        ] {
             assert_eq!(reads(m), pipe.required_maps().contains(&m), "{pipe}: {}", m.name());
         }
     }
-    // The example: relaxed stepping with cone-normal AO needs both maps.
-    assert_eq!(p("rcs(15)+binary(5)+ao=cone_normal").required_maps(), [MapReq::RelaxedCone, MapReq::ConeNormal]);
+    // The example: relaxed stepping with cone-normal AO needs both maps (the safe
+    // form's cell map, and the texel map the AO reads).
+    assert_eq!(p("rcs(15)+binary(5)+ao=cone_normal").required_maps(), [MapReq::ConeNormal, MapReq::CellRelaxedCone]);
+    assert_eq!(p("rcs(15, form=textbook)+binary(5)+ao=cone_normal").required_maps(), [MapReq::RelaxedCone, MapReq::ConeNormal]);
+    // A sampling choice of the textbook form is an error on the safe one, not ignored.
+    let e = relief::compile(&p("csm(10, sample=min4)")).err().expect("sample=min4 with form=safe");
+    assert!(e.to_string().contains("form=textbook"), "{e}");
 }
 
 #[test]

@@ -41,6 +41,18 @@ pub mod binding {
     pub const MAX_MIP: u32 = 13;
     /// Distance field, `texture_3d<f32>` (r), z slices from the bottom (0) to the top (1).
     pub const DISTANCE_FIELD: u32 = 14;
+    /// Cell cone ratio map (r), one texel per bilinear cell, read with `textureLoad`.
+    pub const CELL_CONE: u32 = 15;
+    /// Cell quad cone ratios (rgba).
+    pub const CELL_QUAD_CONE: u32 = 16;
+    /// Cell relaxed cone ratio (r).
+    pub const CELL_RELAXED_CONE: u32 = 17;
+    /// Cell cone normal, `n_z` (r).
+    pub const CELL_CONE_NORMAL: u32 = 18;
+    /// Cell stacked cones, `n_z` per cone (rgba, K ≤ 4 channels used).
+    pub const CELL_MULTI_CONE: u32 = 19;
+    /// Cell piecewise cone slopes as `n_z` (rgba, K ≤ 4 channels used).
+    pub const CELL_PIECEWISE_CONE: u32 = 20;
     /// A 2D map read with nearest filtering is bound a second time at its binding plus this
     /// offset (`cone_map_nearest` at 38 for `cone_map` at 6): GLSL combines a texture with one
     /// sampler.

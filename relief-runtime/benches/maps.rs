@@ -1,9 +1,16 @@
 //! Map generator timings at 1024² (the issue's goals: exact conservative cone map ≤ 2 s,
 //! relaxed ≤ 10 s on 2 cores). `cargo bench -p relief-runtime --bench maps`.
 //! White noise and 6-octave value noise (fBm) as inputs.
+//!
+//! The cell kinds (issue #13; goals on 2 cores: `cell_cone` 1024² ≤ 1 s and
+//! `cell_relaxed_cone` 1024² ≤ 5 s, on fBm and on a hard-edged map of boxes, one-texel walls
+//! and single-texel pillars): group `cells_1024`, e.g.
+//! `cargo bench -p relief-runtime --bench maps -- cells`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use relief_runtime::heightmap::{EdgeMode, HeightMap};
+use relief_runtime::maps::cell::cone::cell_cone;
+use relief_runtime::maps::cell::relaxed_cone::cell_relaxed_cone;
 use relief_runtime::maps::cone::cone_ratios;
 use relief_runtime::maps::relaxed_cone::relaxed_cone_ratios;
 use std::time::Duration;
@@ -50,6 +57,56 @@ fn fbm(n: usize) -> HeightMap {
     HeightMap::new(n, n, data)
 }
 
+/// Hard edges: 40 flat-topped boxes (4–64 texels a side), 20 one-texel walls (up to 256 long)
+/// and 200 single-texel pillars on a floor at 0.1.
+fn hard_edged(n: usize) -> HeightMap {
+    let mut r = Lcg(3);
+    let mut m = HeightMap::from_fn(n, n, |_, _| 0.1);
+    let mut set = |x: usize, y: usize, z: f32| m.data[(y % n) * n + x % n] = z;
+    for _ in 0..40 {
+        let (x0, y0) = ((r.next() * n as f32) as usize, (r.next() * n as f32) as usize);
+        let (bw, bh) = (4 + (r.next() * 60.0) as usize, 4 + (r.next() * 60.0) as usize);
+        let z = 0.3 + 0.7 * r.next();
+        for y in y0..y0 + bh {
+            for x in x0..x0 + bw {
+                set(x, y, z);
+            }
+        }
+    }
+    for k in 0..20 {
+        let (x0, y0) = ((r.next() * n as f32) as usize, (r.next() * n as f32) as usize);
+        let len = (r.next() * 256.0) as usize;
+        let z = 0.5 + 0.5 * r.next();
+        for t in 0..len {
+            if k % 2 == 0 {
+                set(x0 + t, y0, z);
+            } else {
+                set(x0, y0 + t, z);
+            }
+        }
+    }
+    for _ in 0..200 {
+        let (x, y) = ((r.next() * n as f32) as usize, (r.next() * n as f32) as usize);
+        set(x, y, 0.4 + 0.6 * r.next());
+    }
+    m
+}
+
+fn bench_cells(c: &mut Criterion) {
+    let mut g = c.benchmark_group("cells_1024");
+    g.sample_size(10).warm_up_time(Duration::from_millis(1)).measurement_time(Duration::from_secs(1));
+    let hills = fbm(1024);
+    let hard = hard_edged(1024);
+    for edge in [EdgeMode::Repeat, EdgeMode::Clamp] {
+        let e = if edge == EdgeMode::Repeat { "repeat" } else { "clamp" };
+        g.bench_function(format!("cell_cone_fbm_{e}"), |b| b.iter(|| cell_cone(&hills, edge)));
+        g.bench_function(format!("cell_cone_hard_{e}"), |b| b.iter(|| cell_cone(&hard, edge)));
+        g.bench_function(format!("cell_relaxed_cone_fbm_{e}"), |b| b.iter(|| cell_relaxed_cone(&hills, edge)));
+        g.bench_function(format!("cell_relaxed_cone_hard_{e}"), |b| b.iter(|| cell_relaxed_cone(&hard, edge)));
+    }
+    g.finish();
+}
+
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("maps_1024");
     g.sample_size(10).warm_up_time(Duration::from_millis(1)).measurement_time(Duration::from_secs(1));
@@ -68,5 +125,5 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+criterion_group!(benches, bench_cells, bench);
 criterion_main!(benches);

@@ -42,6 +42,11 @@ pub fn set_timing(m: &mut Metrics, frame_ms: &[f64]) {
 /// A hit's z above the surface by more than this counts as ending above it.
 pub const ABOVE_SURFACE: f64 = 1e-3;
 
+/// A hit further than this in t past the exact first hit counts as past it: the f32
+/// rounding of a t near 1 is ~1e-7, and of the ray's position on a ray nearly parallel to a
+/// steep bilinear ramp up to ~1e-6 (issue #13's goal for the safe cone methods: 1e-5).
+pub const PAST_SLACK: f64 = 1e-5;
+
 /// Accuracy of a set of probe hits against the reference hits of the same rays, from the
 /// raw hits: nothing is clamped, filtered or skipped before it is counted.
 ///
@@ -59,6 +64,8 @@ pub struct Accuracy {
     pub t_abs_max: f64,
     pub uv_texels_sq_sum: f64,
     pub missed: usize,
+    /// Finite hits past the exact first hit by more than [`PAST_SLACK`] in t.
+    pub past: usize,
     pub nan: usize,
     pub outside: usize,
     pub nonconverged: usize,
@@ -111,6 +118,7 @@ impl Accuracy {
                 if dt > one_texel_t(r, texels) {
                     a.missed += 1;
                 }
+                a.past += (dt > PAST_SLACK) as usize;
             }
         }
         a

@@ -26,8 +26,8 @@ pub const ANGLES: [f32; 7] = [0.0, 30.0, 60.0, 75.0, 85.0, 89.0, 89.9];
 /// scenes (stand-ins) and the seven real maps. Every scene is probed at 64² texels: the
 /// procedural ones are generated at that size, the real ones box-filtered down from their
 /// native 256² or 128² by a whole factor (4 or 2; see [`crate::scene::builtin`]).
-pub const SCENES: [&str; 19] = [
-    "spikes", "walls", "flat0", "flat1", "step", "checker", "seam", "lion", "self_shadow", "collage", "shapes", "rock_bump",
+pub const SCENES: [&str; 20] = [
+    "spikes", "walls", "boxes", "flat0", "flat1", "step", "checker", "seam", "lion", "self_shadow", "collage", "shapes", "rock_bump",
     "rocks", "stones", "wall", "four", "saint", "bump", "dent",
 ];
 
@@ -50,8 +50,50 @@ pub struct Cell {
     /// Share of rays whose hit ends above the surface (z above the height there by more than
     /// [`crate::metrics::ABOVE_SURFACE`]): what a one-shot method's non-convergence looks like.
     pub above_surface_rate: f64,
+    /// Hits past the exact first hit by more than [`crate::metrics::PAST_SLACK`] in t (the
+    /// `form=safe` conservative cone methods, sphere and maxmip must have none).
+    pub past_count: usize,
     pub ref_err_t_max: f64,
     pub ref_err_t_rms: f64,
+}
+
+/// Boxes of random heights on a floor at 0.05, with one-texel walls (full height) and
+/// single-texel pillars between them: the hard case for cone methods (issue #13). `seed`
+/// makes other layouts of the same kind.
+pub fn boxes(n: usize, seed: u64) -> HeightMap {
+    let mut state = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    let mut next = move || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        ((state >> 33) as f64 / (1u64 << 31) as f64) as f32
+    };
+    let mut h = vec![0.05f32; n * n];
+    let at = |x: usize, y: usize| (y % n) * n + x % n;
+    for _ in 0..n / 4 {
+        let (x0, y0) = ((next() * n as f32) as usize, (next() * n as f32) as usize);
+        let (w, d) = (1 + (next() * 12.0) as usize, 1 + (next() * 12.0) as usize);
+        let top = 0.2 + 0.8 * next();
+        for y in y0..(y0 + d).min(n) {
+            for x in x0..(x0 + w).min(n) {
+                h[at(x, y)] = top;
+            }
+        }
+    }
+    for _ in 0..n / 8 {
+        // One-texel walls, horizontal or vertical.
+        let (x0, y0) = ((next() * n as f32) as usize, (next() * n as f32) as usize);
+        let len = 4 + (next() * 20.0) as usize;
+        let vertical = next() < 0.5;
+        for i in 0..len {
+            let (x, y) = if vertical { (x0, y0 + i) } else { (x0 + i, y0) };
+            h[at(x, y)] = 1.0;
+        }
+    }
+    for _ in 0..n / 2 {
+        // Single-texel pillars.
+        let (x, y) = ((next() * n as f32) as usize, (next() * n as f32) as usize);
+        h[at(x, y)] = 0.5 + 0.5 * next();
+    }
+    HeightMap::new(n, n, h)
 }
 
 /// A scene for the stability grid by name (`NAME` or `scene:NAME`, at `size²` texels; see
@@ -59,6 +101,11 @@ pub struct Cell {
 /// that cross its edge meet a cliff. A TOML scene file or an image file (see
 /// [`crate::scene::scene_from_arg`]) is used at its own size.
 pub fn scene(name: &str, size: usize) -> anyhow::Result<Scene> {
+    if name == "boxes" {
+        let mut s = Scene::from_height_map("boxes", boxes(size, 1));
+        s.depth_scale = 0.1;
+        return Ok(s);
+    }
     if name == "seam" {
         let hm = HeightMap::from_fn(size, size, |x, _| 0.1 + 0.8 * x as f32 / (size - 1) as f32);
         let mut s = Scene::from_height_map("seam", hm);
@@ -102,16 +149,27 @@ pub fn score(method: &str, scene: &Scene, angle: f32, rays: &[ProbeRay], hits: &
         missed_rate: a.missed_rate(),
         nonconverged_rate: a.nonconverged_rate(),
         above_surface_rate: a.above_surface_rate(),
+        past_count: a.past,
         ref_err_t_max: a.t_abs_max,
         ref_err_t_rms: a.t_rms(),
     }
 }
 
-/// Every implemented coarse × refine combination at default parameters.
+/// Every implemented coarse × refine combination at default parameters, and the cone
+/// methods again in `form=textbook`.
 pub fn methods() -> Vec<Pipeline> {
     let of = |slot| catalog().iter().filter(move |m| m.slot == slot && m.implemented).map(|m| m.default_spec());
+    let textbook = of(Slot::Coarse).filter(|c| c.get("form").is_some()).map(|mut c| {
+        for (n, v) in c.params.iter_mut() {
+            if n == "form" {
+                *v = relief_dsl::spec::Value::Word("textbook".into());
+            }
+        }
+        c
+    });
+    let coarse: Vec<_> = of(Slot::Coarse).chain(textbook).collect();
     let mut out = vec![];
-    for c in of(Slot::Coarse) {
+    for c in coarse {
         for r in of(Slot::Refine) {
             out.push(Pipeline::new(c.clone(), r, relief_dsl::StageSpec::none(), relief_dsl::StageSpec::none()));
         }

@@ -240,21 +240,47 @@ fn brute_piecewise(m: &HeightMap, edge: EdgeMode, k: usize) -> Vec<f32> {
     out
 }
 
+/// The distance field's definition (`maps::distance_field` docs): distance from each voxel to
+/// the union of the boxes `cell × [0, largest corner]` of the bilinear cells, minus the voxel
+/// diagonal, at least 0. Computed directly from the boxes (not by the 3×3 regrouping).
 fn brute_distance(m: &HeightMap, edge: EdgeMode, depth: usize) -> Vec<f64> {
+    let (w, h) = (m.width, m.height);
+    let (cw, ch) = if edge == EdgeMode::Repeat { (w, h) } else { (w + 1, h + 1) };
+    // Cell extent along an axis in texel-centre units, and its corner texels.
+    let ext = |i: usize, n: usize| -> (f64, f64, usize, usize) {
+        match edge {
+            EdgeMode::Repeat => (i as f64, i as f64 + 1.0, i, (i + 1) % n),
+            EdgeMode::Clamp => ((i as f64 - 1.0).max(-0.5), (i as f64).min(n as f64 - 0.5), i.saturating_sub(1).min(n - 1), i.min(n - 1)),
+        }
+    };
+    // Gap from integer coordinate p to [a, b] (with repeat: the shorter way round).
+    let gap = |p: f64, a: f64, b: f64, n: f64| -> f64 {
+        let g = |p: f64| (a - p).max(p - b).max(0.0);
+        if edge == EdgeMode::Repeat {
+            g(p).min(g(p + n)).min(g(p - n))
+        } else {
+            g(p)
+        }
+    };
+    let diag = ((1.0 / w as f64).powi(2) + (1.0 / h as f64).powi(2) + (1.0 / depth as f64).powi(2)).sqrt();
     let mut out = Vec::new();
     for k in 0..depth {
         let z = (k as f64 + 0.5) / depth as f64;
-        for py in 0..m.height {
-            for px in 0..m.width {
+        for py in 0..h {
+            for px in 0..w {
                 let mut best = f64::INFINITY;
-                for qy in 0..m.height {
-                    for qx in 0..m.width {
-                        let d = texel_distance(offset(px, qx, m.width, edge), offset(py, qy, m.height, edge), m.width, m.height);
-                        let dz = (z - h_at(m, qx, qy) as f64).max(0.0);
-                        best = best.min((d * d + dz * dz).sqrt());
+                for j in 0..ch {
+                    let (y0, y1, ta, tb) = ext(j, h);
+                    for i in 0..cw {
+                        let (x0, x1, sa, sb) = ext(i, w);
+                        let top = [h_at(m, sa, ta), h_at(m, sb, ta), h_at(m, sa, tb), h_at(m, sb, tb)].into_iter().fold(0.0f32, f32::max);
+                        let gx = gap(px as f64, x0, x1, w as f64) / w as f64;
+                        let gy = gap(py as f64, y0, y1, h as f64) / h as f64;
+                        let dz = (z - top as f64).max(0.0);
+                        best = best.min((gx * gx + gy * gy + dz * dz).sqrt());
                     }
                 }
-                out.push(best);
+                out.push((best - diag).max(0.0));
             }
         }
     }
@@ -406,7 +432,8 @@ fn build_dispatches_every_kind() {
     for kind in MapKind::ALL {
         let map = maps::build(&m, kind, &p, EdgeMode::Clamp).unwrap();
         assert_eq!(map.channels, kind.channels(&p), "{kind}");
-        assert_eq!(map.data.len(), 16 * 16 * map.depth * map.channels, "{kind}");
+        let cells = if kind.is_cell() { 17 * 17 } else { 16 * 16 };
+        assert_eq!((map.data.len(), map.width * map.height), (cells * map.depth * map.channels, cells), "{kind}");
         assert_eq!(kind.name().parse::<MapKind>().unwrap(), kind);
     }
     let mm = maps::build(&m, MapKind::MaxMip, &p, EdgeMode::Clamp).unwrap();
@@ -652,6 +679,12 @@ fn map_kinds_and_requests_name_each_other() {
         MapReq::PiecewiseCone(3),
         MapReq::MaxMip,
         MapReq::DistanceField,
+        MapReq::CellCone,
+        MapReq::CellQuadCone,
+        MapReq::CellRelaxedCone,
+        MapReq::CellConeNormal,
+        MapReq::CellMultiCone(5),
+        MapReq::CellPiecewiseCone(2),
     ];
     assert!(MapKind::of(MapReq::Normal).is_none());
     let mut seen = Vec::new();
@@ -659,7 +692,7 @@ fn map_kinds_and_requests_name_each_other() {
         let (k, p) = MapKind::of(r).unwrap_or_else(|| panic!("{r:?} has no kind"));
         assert_eq!(k.name(), r.name());
         assert_eq!(k.name().parse::<MapKind>().unwrap(), k);
-        if let MapReq::MultiCone(n) | MapReq::PiecewiseCone(n) = r {
+        if let MapReq::MultiCone(n) | MapReq::PiecewiseCone(n) | MapReq::CellMultiCone(n) | MapReq::CellPiecewiseCone(n) = r {
             assert_eq!(p.cones, n);
         }
         seen.push(k);

@@ -268,6 +268,14 @@ fn conclusion<'a>(s: &'a report::ReportSummary, table: &str, claim_part: &str) -
         .unwrap_or_else(|| panic!("no conclusion {table} '{claim_part}'"))
 }
 
+/// The conclusion checked on the cone methods' `form` rows.
+fn conclusion_in_form<'a>(s: &'a report::ReportSummary, table: &str, claim_part: &str, form: &str) -> &'a report::Conclusion {
+    s.conclusions
+        .iter()
+        .find(|c| c.table == table && c.claim.contains(claim_part) && c.form == form)
+        .unwrap_or_else(|| panic!("no conclusion {table} '{claim_part}' in form={form}"))
+}
+
 /// The cells of the Markdown table row for `pipeline` in the section titled `section`, with
 /// the header's cells.
 fn md_row(md: &str, section: &str, pipeline: &str) -> (Vec<String>, Vec<String>) {
@@ -441,27 +449,30 @@ fn cone_comparisons_read_csm_with_nearest_filtering_like_the_others() {
     let mut rows = Vec::new();
     for n in steps {
         let e = 1e-3 / f64::from(n);
-        rows.push(rowm(&format!("cns({n})+binary(5)"), |m| {
+        rows.push(rowm(&format!("cns({n}, form=textbook)+binary(5)"), |m| {
             with_err(m, e);
             with_ms(m, 0.60);
         }));
         // CSM read nearest: about the same error as CNS, and faster.
-        rows.push(rowm(&format!("csm({n}, sample=nearest)+binary(5)"), |m| {
+        rows.push(rowm(&format!("csm({n}, form=textbook, sample=nearest)+binary(5)"), |m| {
             with_err(m, e * 1.02);
             with_ms(m, 0.55);
         }));
         // CSM read linearly: three times the error, and slower.
-        rows.push(rowm(&format!("csm({n})+binary(5)"), |m| {
+        rows.push(rowm(&format!("csm({n}, form=textbook)+binary(5)"), |m| {
             with_err(m, e * 3.0);
             with_ms(m, 0.65);
         }));
     }
     let (dir, s) = report_of("sampling", &rows);
-    let err = conclusion(&s, "4.11", "same error as CSM");
+    // The textbook form's rows decide the textbook verdict; the safe form has none here.
+    let safe = conclusion(&s, "4.11", "same error as CSM");
+    assert_eq!((safe.form.as_str(), safe.ours_mse), ("safe", Verdict::NotMeasured), "{}", safe.evidence_mse);
+    let err = conclusion_in_form(&s, "4.11", "same error as CSM", "textbook");
     assert_eq!(err.ours_mse, Verdict::Holds, "{}", err.evidence_mse);
     assert_eq!(err.ours_ref, Some(Verdict::Holds), "{}", err.evidence_ref);
     assert!(err.criterion.contains("sample=nearest"));
-    let time = conclusion(&s, "4.11", "slower than CSM");
+    let time = conclusion_in_form(&s, "4.11", "slower than CSM", "textbook");
     assert_eq!(time.ours_mse, Verdict::Holds, "{}", time.evidence_mse);
     assert!(time.criterion.contains("sample=nearest"));
     assert!(conclusion(&s, "4.9", "relaxed cone stepping beats").criterion.contains("sample=nearest"));
@@ -473,13 +484,13 @@ fn cone_comparisons_read_csm_with_nearest_filtering_like_the_others() {
         grids.iter().find(|g| g.name == name).unwrap().cells.iter().map(|(p, _)| p.to_string()).collect()
     };
     for n in steps {
-        assert!(cells("t4.11").contains(&format!("csm({n}, sample=nearest)+binary(5)")), "t4.11 csm({n}) nearest");
+        assert!(cells("t4.11").contains(&format!("csm({n}, form=textbook, sample=nearest)+binary(5)")), "t4.11 csm({n}) nearest");
     }
     for n in [5u32, 10, 15, 20, 25] {
-        assert!(cells("t4.9").contains(&format!("csm({n}, sample=nearest)+binary(5)")), "t4.9 csm({n}) nearest");
+        assert!(cells("t4.9").contains(&format!("csm({n}, form=textbook, sample=nearest)+binary(5)")), "t4.9 csm({n}) nearest");
     }
     for n in [5u32, 10, 15, 20, 25, 30, 40, 50] {
-        assert!(cells("t4.6").contains(&format!("csm({n}, sample=min4)")), "t4.6 csm({n}) min4");
+        assert!(cells("t4.6").contains(&format!("csm({n}, form=textbook, sample=min4)")), "t4.6 csm({n}) min4");
     }
 }
 
@@ -642,19 +653,21 @@ fn the_dissertations_headline_claims_are_checked() {
     let min4 = |slower: bool| -> Vec<Row> {
         let mut rows = Vec::new();
         for n in [5u32, 10, 15, 20, 25, 30, 40, 50] {
-            rows.push(rowm(&format!("csm({n})"), |m| with_ms(m, 0.5)));
-            rows.push(rowm(&format!("csm({n}, sample=min4)"), |m| with_ms(m, if slower { 0.6 } else { 0.4 })));
+            rows.push(rowm(&format!("csm({n}, form=textbook)"), |m| with_ms(m, 0.5)));
+            rows.push(rowm(&format!("csm({n}, form=textbook, sample=min4)"), |m| with_ms(m, if slower { 0.6 } else { 0.4 })));
         }
         rows
     };
     let (dir, s) = report_of("claim-c", &min4(true));
-    let c = conclusion(&s, "§4.3.1", "minimum of four texels");
+    // Min-of-4 is a sampling of the textbook form's texel map: the safe form has none.
+    assert_eq!(conclusion(&s, "§4.3.1", "minimum of four texels").ours_mse, Verdict::NotMeasured);
+    let c = conclusion_in_form(&s, "§4.3.1", "minimum of four texels", "textbook");
     assert_eq!(c.ours_mse, Verdict::Holds, "{}", c.evidence_mse);
     assert_eq!(c.ours_ref, None, "a frame-time claim");
     assert_eq!(c.diss, Verdict::NotMeasured, "the dissertation prints no min-of-4 timing: {}", c.evidence_diss);
     let _ = std::fs::remove_dir_all(&dir);
     let (dir, s) = report_of("claim-c2", &min4(false));
-    assert_eq!(conclusion(&s, "§4.3.1", "minimum of four texels").ours_mse, Verdict::DoesNotHold);
+    assert_eq!(conclusion_in_form(&s, "§4.3.1", "minimum of four texels", "textbook").ours_mse, Verdict::DoesNotHold);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

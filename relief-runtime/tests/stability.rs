@@ -9,9 +9,22 @@ use relief_runtime::stability;
 fn every_method_stays_finite_and_inside_the_volume_at_every_angle() {
     let gpu = Gpu::new().unwrap();
     let methods = stability::methods();
-    assert_eq!(methods.len(), 16 * 4, "every implemented coarse × refine at default parameters");
-    let cells = stability::run(&gpu, 16, &methods, &["spikes", "flat1", "seam", "walls"], &stability::ANGLES, |_, _| {}).unwrap();
-    assert_eq!(cells.len(), methods.len() * 4 * stability::ANGLES.len());
+    assert_eq!(methods.len(), (16 + 7) * 4, "every implemented coarse × refine at default parameters, cone methods in both forms");
+    let scenes = ["spikes", "flat1", "seam", "walls", "boxes", "rock_bump"];
+    let cells = stability::run(&gpu, 16, &methods, &scenes, &stability::ANGLES, |_, _| {}).unwrap();
+    assert_eq!(cells.len(), methods.len() * scenes.len() * stability::ANGLES.len());
+    // The safe cone methods, sphere tracing and maxmip never end past the first hit, with any
+    // refinement after them.
+    let safe = |m: &str| {
+        let coarse = m.split('+').next().unwrap();
+        ["csm", "qcsm", "cns", "mcns", "pcns", "sphere", "maxmip"].iter().any(|n| coarse.starts_with(&format!("{n}("))) && !coarse.contains("textbook")
+    };
+    let past: Vec<String> = cells
+        .iter()
+        .filter(|c| safe(&c.method) && c.past_count > 0)
+        .map(|c| format!("{} on {} at {}°: {} rays past the first hit (max t error {:.2e})", c.method, c.scene, c.angle, c.past_count, c.ref_err_t_max))
+        .collect();
+    assert!(past.is_empty(), "{} cells:\n{}", past.len(), past.join("\n"));
     let bad: Vec<_> = cells.iter().filter(|c| c.nan_count > 0 || c.outside_count > 0).collect();
     let list: Vec<String> =
         bad.iter().map(|c| format!("{} on {} at {}°: {} NaN, {} outside (max t error {:.3})", c.method, c.scene, c.angle, c.nan_count, c.outside_count, c.ref_err_t_max)).collect();

@@ -83,23 +83,41 @@ fn normal_map(_: &StageSpec) -> Vec<MapReq> {
 fn cone(_: &StageSpec) -> Vec<MapReq> {
     vec![MapReq::Cone]
 }
-fn quad_cone(_: &StageSpec) -> Vec<MapReq> {
-    vec![MapReq::QuadCone]
-}
-fn relaxed_cone(_: &StageSpec) -> Vec<MapReq> {
-    vec![MapReq::RelaxedCone]
-}
 fn cone_normal(_: &StageSpec) -> Vec<MapReq> {
     vec![MapReq::ConeNormal]
 }
-fn relaxed_cone_normal(_: &StageSpec) -> Vec<MapReq> {
-    vec![MapReq::RelaxedConeNormal]
+/// The map a cone method reads: the texel-sample map for `form=textbook`, the cell map for
+/// `form=safe`.
+fn by_form(s: &StageSpec, textbook: MapReq, safe: MapReq) -> Vec<MapReq> {
+    vec![if s.word("form") == "textbook" { textbook } else { safe }]
+}
+fn csm_maps(s: &StageSpec) -> Vec<MapReq> {
+    by_form(s, MapReq::Cone, MapReq::CellCone)
+}
+fn quad_cone(s: &StageSpec) -> Vec<MapReq> {
+    by_form(s, MapReq::QuadCone, MapReq::CellQuadCone)
+}
+fn relaxed_cone(s: &StageSpec) -> Vec<MapReq> {
+    by_form(s, MapReq::RelaxedCone, MapReq::CellRelaxedCone)
+}
+fn cns_maps(s: &StageSpec) -> Vec<MapReq> {
+    by_form(s, MapReq::ConeNormal, MapReq::CellConeNormal)
+}
+fn relaxed_cone_normal(s: &StageSpec) -> Vec<MapReq> {
+    by_form(s, MapReq::RelaxedConeNormal, MapReq::CellRelaxedCone)
 }
 fn multi_cone(s: &StageSpec) -> Vec<MapReq> {
-    vec![MapReq::MultiCone(s.int("k"))]
+    by_form(s, MapReq::MultiCone(s.int("k")), MapReq::CellMultiCone(s.int("k")))
 }
 fn piecewise_cone(s: &StageSpec) -> Vec<MapReq> {
-    vec![MapReq::PiecewiseCone(s.int("k"))]
+    by_form(s, MapReq::PiecewiseCone(s.int("k")), MapReq::CellPiecewiseCone(s.int("k")))
+}
+
+/// `form=safe|textbook` of the cone methods: `safe` (the default) steps on cones of the
+/// bilinear cells and never passes the first hit; `textbook` steps on the texel-sample maps
+/// as the papers print it.
+fn form() -> ParamDef {
+    choice("form", &["safe", "textbook"])
 }
 fn distance_field(_: &StageSpec) -> Vec<MapReq> {
     vec![MapReq::DistanceField]
@@ -152,22 +170,34 @@ pub fn catalog() -> &'static [MethodDef] {
             def(
                 Coarse,
                 "csm",
-                "cone step mapping (Dummer 2006; Burger Algorithm 4); sample=linear|nearest|min4 (Burger 4.3.1)|corners (best of the 4 corner cones, conservative on the bilinear surface)",
-                vec![steps("steps", 15), choice("sample", &["linear", "nearest", "min4", "corners"])],
-                cone,
+                "cone step mapping (Dummer 2006; Burger Algorithm 4); form=safe|textbook; sample=linear|nearest|min4 for form=textbook (Burger 4.3.1), auto: the cell's cone (safe) or linear (textbook)",
+                vec![steps("steps", 15), form(), choice("sample", &["auto", "linear", "nearest", "min4"])],
+                csm_maps,
             ),
-            def(Coarse, "qcsm", "quad-directional cone stepping (Policarpo & Oliveira, GPU Gems 3 18.4.1)", vec![steps("steps", 15)], quad_cone),
+            def(Coarse, "qcsm", "quad-directional cone stepping (Policarpo & Oliveira, GPU Gems 3 18.4.1); form=safe|textbook", vec![steps("steps", 15), form()], quad_cone),
             def(
                 Coarse,
                 "rcs",
-                "relaxed cone stepping (GPU Gems 3 Listing 18-3); start=hk|bracket (Fig. 18-10)",
-                vec![steps("steps", 15), choice("start", &["hk", "bracket"])],
+                "relaxed cone stepping (GPU Gems 3 Listing 18-3); form=safe|textbook; start=hk|bracket (Fig. 18-10), auto: bracket (safe) or hk (textbook)",
+                vec![steps("steps", 15), form(), choice("start", &["auto", "hk", "bracket"])],
                 relaxed_cone,
             ),
-            def(Coarse, "cns", "cone normal stepping (Burger 3.3, eq. 3.2)", vec![steps("steps", 15)], cone_normal),
-            def(Coarse, "rcns", "relaxed cone normal stepping (Burger 4.3.4)", vec![steps("steps", 15)], relaxed_cone_normal),
-            def(Coarse, "mcns", "multiple cone normal stepping, K stacked cones (Burger 3.4, method 1)", vec![steps("steps", 15), cones(4)], multi_cone),
-            def(Coarse, "pcns", "piecewise cone normal stepping, K cone pieces (Burger 3.4, method 2)", vec![steps("steps", 15), cones(4)], piecewise_cone),
+            def(Coarse, "cns", "cone normal stepping (Burger 3.3, eq. 3.2); form=safe|textbook", vec![steps("steps", 15), form()], cns_maps),
+            def(Coarse, "rcns", "relaxed cone normal stepping (Burger 4.3.4); form=safe|textbook", vec![steps("steps", 15), form()], relaxed_cone_normal),
+            def(
+                Coarse,
+                "mcns",
+                "multiple cone normal stepping, K stacked cones (Burger 3.4, method 1); form=safe|textbook",
+                vec![steps("steps", 15), cones(4), form()],
+                multi_cone,
+            ),
+            def(
+                Coarse,
+                "pcns",
+                "piecewise cone normal stepping, K cone pieces (Burger 3.4, method 2); form=safe|textbook",
+                vec![steps("steps", 15), cones(4), form()],
+                piecewise_cone,
+            ),
             def(Coarse, "sphere", "sphere tracing a 3D distance field (Donnelly 2005)", vec![steps("steps", 15)], distance_field),
             def(Coarse, "maxmip", "maximum-mipmap traversal with the exact bilinear patch in the finest cells (Tevs et al. 2008)", vec![steps("steps", 64)], max_mip),
             def(Refine, "none", "no refinement: the hit is the bracket's far end", vec![], no_maps),

@@ -293,6 +293,19 @@ pub enum MapReq {
     MaxMip,
     /// 3D Euclidean distance to the surface.
     DistanceField,
+    /// Per bilinear cell: the conservative cone ratio (the apex, the cell's highest corner,
+    /// is read from the height map).
+    CellCone,
+    /// Per bilinear cell: four quadrant cone ratios, channels `+u+v, -u+v, -u-v, +u-v`.
+    CellQuadCone,
+    /// Per bilinear cell: the relaxed cone ratio.
+    CellRelaxedCone,
+    /// Per bilinear cell: `n_z` of the conservative cone.
+    CellConeNormal,
+    /// Per bilinear cell: `n_z` of K stacked cones, K channels.
+    CellMultiCone(u32),
+    /// Per bilinear cell: `n_z` of K piecewise cone slopes, K channels.
+    CellPiecewiseCone(u32),
 }
 
 impl MapReq {
@@ -309,6 +322,12 @@ impl MapReq {
             MapReq::PiecewiseCone(_) => "piecewise_cone",
             MapReq::MaxMip => "max_mip",
             MapReq::DistanceField => "distance_field",
+            MapReq::CellCone => "cell_cone",
+            MapReq::CellQuadCone => "cell_quad_cone",
+            MapReq::CellRelaxedCone => "cell_relaxed_cone",
+            MapReq::CellConeNormal => "cell_cone_normal",
+            MapReq::CellMultiCone(_) => "cell_multi_cone",
+            MapReq::CellPiecewiseCone(_) => "cell_piecewise_cone",
         }
     }
 
@@ -326,6 +345,12 @@ impl MapReq {
             MapReq::PiecewiseCone(_) => b::PIECEWISE_CONE,
             MapReq::MaxMip => b::MAX_MIP,
             MapReq::DistanceField => b::DISTANCE_FIELD,
+            MapReq::CellCone => b::CELL_CONE,
+            MapReq::CellQuadCone => b::CELL_QUAD_CONE,
+            MapReq::CellRelaxedCone => b::CELL_RELAXED_CONE,
+            MapReq::CellConeNormal => b::CELL_CONE_NORMAL,
+            MapReq::CellMultiCone(_) => b::CELL_MULTI_CONE,
+            MapReq::CellPiecewiseCone(_) => b::CELL_PIECEWISE_CONE,
         }
     }
 

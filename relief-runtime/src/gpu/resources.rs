@@ -118,7 +118,8 @@ impl SceneTextures {
                 continue;
             }
             let map = crate::maps::build(&scene.height, kind, &params, scene.edge)?;
-            let view = upload_map(gpu, &map, kind.is_ratio());
+            let used = if kind.is_cell() { map.channels - 1 } else { map.channels };
+            let view = upload_map(gpu, &map, used, kind.is_ratio());
             self.maps.insert(key, view);
         }
         Ok(())
@@ -202,24 +203,23 @@ fn missing_map(b: u32) -> super::GpuError {
 /// The largest cone ratio uploaded (a cone 89.99° wide).
 pub const MAX_RATIO: f32 = 1.0e4;
 
-/// Uploads a map as R32Float (one channel) or Rgba32Float (2 to 4 channels, padded), 2D or
-/// 3D, with its pyramid levels (max-mip) as mip levels.
-fn upload_map(gpu: &Gpu, map: &crate::maps::Map, ratio: bool) -> wgpu::TextureView {
+/// Uploads the first `used` channels of a map as R32Float (one channel) or Rgba32Float (2 to
+/// 4 channels, padded), 2D or 3D, with its pyramid levels (max-mip) as mip levels.
+fn upload_map(gpu: &Gpu, map: &crate::maps::Map, used: usize, ratio: bool) -> wgpu::TextureView {
+    assert!((1..=4).contains(&used) && used <= map.channels, "a map uploads 1 to 4 of its channels");
     let fix = |x: f32| if ratio { x.min(MAX_RATIO) } else { x };
     let texels = |m: &crate::maps::Map| -> Vec<f32> {
-        if m.channels == 1 {
-            m.data.iter().map(|&x| fix(x)).collect()
-        } else {
-            let mut out = Vec::with_capacity(m.data.len() / m.channels * 4);
-            for texel in m.data.chunks(m.channels) {
-                for c in 0..4 {
-                    out.push(texel.get(c).map_or(0.0, |&x| fix(x)));
-                }
+        let mut out = Vec::with_capacity(m.data.len() / m.channels * if used == 1 { 1 } else { 4 });
+        for texel in m.data.chunks(m.channels) {
+            if used == 1 {
+                out.push(fix(texel[0]));
+            } else {
+                out.extend((0..4).map(|c| if c < used { fix(texel[c]) } else { 0.0 }));
             }
-            out
         }
+        out
     };
-    let format = if map.channels == 1 { wgpu::TextureFormat::R32Float } else { wgpu::TextureFormat::Rgba32Float };
+    let format = if used == 1 { wgpu::TextureFormat::R32Float } else { wgpu::TextureFormat::Rgba32Float };
     let mut data = texels(map);
     for level in &map.mips {
         data.extend(texels(level));

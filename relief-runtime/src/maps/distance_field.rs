@@ -4,26 +4,52 @@
 //!
 //! # Definition
 //!
-//! The solid under the surface is taken as the union of the texel columns
-//! `{q} x [0, h_q]` (the point samples, extended down to the floor). Voxel `(x, y, k)` of a
+//! The solid is everything under the **bilinear surface** `S` the shaders sample
+//! (`{(y, z) : z ≤ S(y)}`, with the edge mode). Voxel `(x, y, k)` of a
 //! `width x height x depth` grid sits at texture coordinates `((x + .5)/width, (y + .5)/height)`
-//! and height `z_k = (k + .5) / depth`; `depth` (the z resolution) is a parameter. It stores the
-//! exact Euclidean distance, in the unscaled (u, v, height) unit cube, to the nearest column:
+//! (a texel centre) and height `z_k = (k + .5) / depth`; `depth` (the z resolution) is a
+//! parameter. Distances are Euclidean in the unscaled (u, v, height) unit cube.
+//!
+//! **Box bound.** A bilinear cell `D` ([`super::cell`]) never rises above its largest corner
+//! `M_D`, so the solid lies inside the union of the boxes `D × [0, M_D]`, and the distance to
+//! that union is a lower bound of the distance to the solid. From a texel centre `p` the gap
+//! to a cell along each axis is the gap to the nearer of its two corner columns (cells and
+//! texel centres share the integer grid), so the horizontal distance from `p` to `D` is the
+//! distance to `D`'s nearest corner texel. Regrouping the minimum by corner texel `q`, with
+//! `H_q` the largest `M_D` over the (up to four) cells with corner `q` — the maximum of the
+//! 3×3 texels around `q` —
 //!
 //! ```text
-//! D(p, z) = min over texels q of sqrt(dist(p, q)² + max(0, z - h_q)²)
+//! B(p, z) = min over texels q of sqrt(dist(p, q)² + max(0, z − H_q)²)
 //! ```
 //!
-//! so `D = 0` inside the solid (unsigned; a sphere of radius `D` around the voxel centre is
-//! free of the texel columns). `dist` wraps the shorter way round with [`EdgeMode::Repeat`];
-//! with [`EdgeMode::Clamp`] the extended border columns are never nearer than the border itself,
-//! so no wrapping. Stored as f32 rounded down. Layout: slice-major, `data[(k * height + y) * width + x]`,
-//! slice 0 at the bottom.
+//! is exactly the distance from voxel `p` to the union of boxes (with [`EdgeMode::Clamp`] the
+//! half-texel border cells have the border texels as corners, so the same holds).
+//!
+//! **Trilinear filtering.** A stage reads the field trilinearly at any point `x`: the result
+//! is `Σ w_i F(v_i)` over the 8 voxel centres `v_i` around `x` (weights `w_i ≥ 0`, sum 1; at the
+//! volume's faces clamp-to-edge keeps `v_i` among the nearest centres). The true distance `d`
+//! to the solid is 1-Lipschitz, so `d(v_i) ≤ d(x) + |v_i − x| ≤ d(x) + δ`, with `δ` the voxel
+//! diagonal `sqrt(1/width² + 1/height² + 1/depth²)` (every `v_i` is within one diagonal of `x`).
+//! Storing
+//!
+//! ```text
+//! D(p, z) = max(0, B(p, z) − δ)
+//! ```
+//!
+//! gives `F(v_i) ≤ max(0, d(x) + δ − δ) = d(x)` for every `i`, hence `Σ w_i F(v_i) ≤ d(x)`: the
+//! interpolated value is a lower bound of the distance at `x` itself, so a sphere of that
+//! radius around any ray point is free of the surface. (Subtracting only the mean
+//! interpolation error `δ/2` would need negative stored values, which unorm encodings clamp.)
+//! The price: within `δ` of the surface the field reads 0, so a sphere-tracing stage needs
+//! another way to close the last voxel (e.g. a bilinear-patch intersection). Unsigned; `dist`
+//! wraps the shorter way round with [`EdgeMode::Repeat`]. Stored as f32 rounded down. Layout:
+//! slice-major, `data[(k * height + y) * width + x]`, slice 0 at the bottom.
 //!
 //! # Algorithm and complexity
 //!
 //! For each slice the squared distance is a 2D generalised distance transform of the sampled
-//! function `f(q) = max(0, z_k - h_q)²`: `min_q |p - q|² + f(q)`, separable into a pass along
+//! function `f(q) = max(0, z_k - H_q)²`: `min_q |p - q|² + f(q)`, separable into a pass along
 //! x then along y, each the lower envelope of parabolas (Felzenszwalb & Huttenlocher 2012,
 //! *Distance Transforms of Sampled Functions*). Wrapping lines are unrolled three times so the
 //! envelope sees every copy within half a period. Exact (up to rounding) in Θ(width · height ·
@@ -100,16 +126,41 @@ struct Scratch {
     z: Vec<f64>,
 }
 
+/// `H_q`: the largest texel of the 3×3 neighbourhood of each texel (module docs).
+pub fn cell_box_heights(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
+    let (w, h) = (map.width, map.height);
+    let mut out = Vec::with_capacity(w * h);
+    for y in 0..h as i64 {
+        for x in 0..w as i64 {
+            let mut m = f32::NEG_INFINITY;
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    m = m.max(map.texel(x + dx, y + dy, edge));
+                }
+            }
+            out.push(m);
+        }
+    }
+    out
+}
+
+/// The voxel diagonal `δ` subtracted for trilinear filtering (module docs), rounded up.
+pub fn voxel_diagonal(w: usize, h: usize, depth: usize) -> f64 {
+    let (a, b, c) = (1.0 / w as f64, 1.0 / h as f64, 1.0 / depth as f64);
+    (a * a + b * b + c * c).sqrt() * (1.0 + 1e-12)
+}
+
 /// The distance field, `width * height * depth` values (see the module docs).
 pub fn distance_field(map: &HeightMap, edge: EdgeMode, depth: usize) -> Vec<f32> {
     use rayon::prelude::*;
     let (w, h) = (map.width, map.height);
     let wrap = edge == EdgeMode::Repeat;
     let mut out = vec![0.0f32; w * h * depth];
+    let hmax = cell_box_heights(map, edge);
+    let diag = voxel_diagonal(w, h, depth);
     out.par_chunks_mut(w * h).enumerate().for_each(|(k, slice)| {
         let zk = (k as f64 + 0.5) / depth as f64;
-        let mut g: Vec<f64> = map
-            .data
+        let mut g: Vec<f64> = hmax
             .iter()
             .map(|&hq| {
                 let d = (zk - hq as f64).max(0.0);
@@ -130,7 +181,7 @@ pub fn distance_field(map: &HeightMap, edge: EdgeMode, depth: usize) -> Vec<f32>
             }
             line(&col, 1.0 / h as f64, wrap, &mut col_out, &mut scratch);
             for y in 0..h {
-                slice[y * w + x] = super::encode::f32_down(col_out[y].max(0.0).sqrt());
+                slice[y * w + x] = super::encode::f32_down((col_out[y].max(0.0).sqrt() - diag).max(0.0));
             }
         }
     });

@@ -295,22 +295,22 @@ impl EncodedMap {
 
 /// Encodes every value of `map` with `enc`, rounding toward `rounding`.
 pub fn encode(map: &Map, enc: &Encoding, rounding: Rounding) -> EncodedMap {
+    encode_channels(map, enc, &vec![rounding; map.channels])
+}
+
+/// Encodes every value of `map` with `enc`, channel `c` rounding toward `rounding[c]` (the
+/// cell kinds round their ratios down and their apex up).
+pub fn encode_channels(map: &Map, enc: &Encoding, rounding: &[Rounding]) -> EncodedMap {
+    assert_eq!(rounding.len(), map.channels, "one rounding per channel");
     let n = enc.format.bytes();
     let mut bytes = Vec::with_capacity(map.data.len() * n);
-    for &v in &map.data {
-        let c = enc.encode_value(v, rounding);
+    for (i, &v) in map.data.iter().enumerate() {
+        let c = enc.encode_value(v, rounding[i % map.channels]);
         match n {
             1 => bytes.push(c as u8),
             2 => bytes.extend_from_slice(&(c as u16).to_le_bytes()),
             _ => bytes.extend_from_slice(&c.to_le_bytes()),
         }
     }
-    EncodedMap {
-        width: map.width,
-        height: map.height,
-        depth: map.depth,
-        channels: map.channels,
-        encoding: *enc,
-        bytes,
-    }
+    EncodedMap { width: map.width, height: map.height, depth: map.depth, channels: map.channels, encoding: *enc, bytes }
 }

@@ -8,6 +8,7 @@
 //!
 //! Entry points: [`build`] one map kind from a height map, [`MapCache`] to build each
 //! (height map, kind, parameters, edge mode, encoding) once, [`file::write_map`] to save.
+pub mod cell;
 pub mod cone;
 pub mod cone_normal;
 pub mod distance_field;
@@ -51,11 +52,24 @@ pub enum MapKind {
     /// `distance_field`: 3D distance to the surface (1 channel, `depth` = z resolution),
     /// [`distance_field`].
     DistanceField,
+    /// `cell_cone`: per bilinear cell `[ratio, apex]` (2 channels, cell grid), [`cell::cone`].
+    CellCone,
+    /// `cell_quad_cone`: per cell 4 quadrant ratios + apex (5 channels), [`cell::cone`].
+    CellQuadCone,
+    /// `cell_relaxed_cone`: per cell `[relaxed ratio, apex]` (2 channels), [`cell::relaxed_cone`].
+    CellRelaxedCone,
+    /// `cell_cone_normal`: per cell `[n_z, apex]` (2 channels), [`cell::cone`].
+    CellConeNormal,
+    /// `cell_multi_cone`: per cell K stacked-cone `n_z` + apex (K + 1 channels), [`cell::multi_cone`].
+    CellMultiCone,
+    /// `cell_piecewise_cone`: per cell K piecewise slopes as `n_z` + apex (K + 1 channels),
+    /// [`cell::multi_cone`].
+    CellPiecewiseCone,
 }
 
 impl MapKind {
     /// Every kind, in the order `relief maps --list` prints them.
-    pub const ALL: [MapKind; 9] = [
+    pub const ALL: [MapKind; 15] = [
         MapKind::Cone,
         MapKind::QuadCone,
         MapKind::RelaxedCone,
@@ -65,6 +79,12 @@ impl MapKind {
         MapKind::PiecewiseCone,
         MapKind::MaxMip,
         MapKind::DistanceField,
+        MapKind::CellCone,
+        MapKind::CellQuadCone,
+        MapKind::CellRelaxedCone,
+        MapKind::CellConeNormal,
+        MapKind::CellMultiCone,
+        MapKind::CellPiecewiseCone,
     ];
 
     /// The map request this kind answers (with the default parameters): the one table
@@ -81,6 +101,12 @@ impl MapKind {
             MapKind::PiecewiseCone => MapReq::PiecewiseCone(k),
             MapKind::MaxMip => MapReq::MaxMip,
             MapKind::DistanceField => MapReq::DistanceField,
+            MapKind::CellCone => MapReq::CellCone,
+            MapKind::CellQuadCone => MapReq::CellQuadCone,
+            MapKind::CellRelaxedCone => MapReq::CellRelaxedCone,
+            MapKind::CellConeNormal => MapReq::CellConeNormal,
+            MapKind::CellMultiCone => MapReq::CellMultiCone(k),
+            MapKind::CellPiecewiseCone => MapReq::CellPiecewiseCone(k),
         }
     }
 
@@ -91,7 +117,9 @@ impl MapKind {
         let kind = MapKind::ALL.into_iter().find(same)?;
         let d = MapParams::default();
         let params = match req {
-            MapReq::MultiCone(k) | MapReq::PiecewiseCone(k) => MapParams { cones: k, ..d },
+            MapReq::MultiCone(k) | MapReq::PiecewiseCone(k) | MapReq::CellMultiCone(k) | MapReq::CellPiecewiseCone(k) => {
+                MapParams { cones: k, ..d }
+            }
             _ => d,
         };
         Some((kind, params))
@@ -114,7 +142,13 @@ impl MapKind {
             MapKind::MultiCone => "n_z of K stacked cones, apexes at h + (1-h) k/K (Burger 3.4 method 1); K channels; param cones=K",
             MapKind::PiecewiseCone => "n_z of K piecewise cone slopes over [h + (1-h) k/K, h + (1-h)(k+1)/K] (Burger 3.4 method 2); K channels; param cones=K",
             MapKind::MaxMip => "maximum-height pyramid over bilinear cells (Tevs et al. 2008); 1 channel + mip levels",
-            MapKind::DistanceField => "3D Euclidean distance to the texel columns (Donnelly); width x height x z_resolution; param z_resolution",
+            MapKind::DistanceField => "3D distance lower bound to the bilinear surface, safe under trilinear filtering (Donnelly); width x height x z_resolution; param z_resolution",
+            MapKind::CellCone => "cone per bilinear cell, conservative for the bilinear surface; cell grid (w x h repeat, (w+1) x (h+1) clamp); 2 channels: ratio, apex",
+            MapKind::CellQuadCone => "quad-directional cone per bilinear cell; 5 channels: ratios +u+v, -u+v, -u-v, +u-v, apex",
+            MapKind::CellRelaxedCone => "relaxed cone per bilinear cell (at most one crossing inside the cone, proven rule); 2 channels: ratio, apex",
+            MapKind::CellConeNormal => "n_z of the cell cone (Burger 3.1) per bilinear cell; 2 channels: n_z, apex",
+            MapKind::CellMultiCone => "K stacked cell cones at apex + (1-apex) k/K as n_z (Burger 3.4 method 1); K+1 channels: n_z x K, apex; param cones=K",
+            MapKind::CellPiecewiseCone => "K piecewise cell-cone slopes as n_z (Burger 3.4 method 2); K+1 channels: n_z x K, apex; param cones=K",
         }
     }
 
@@ -123,8 +157,35 @@ impl MapKind {
         match self {
             MapKind::QuadCone => 4,
             MapKind::MultiCone | MapKind::PiecewiseCone => params.cones as usize,
+            MapKind::CellCone | MapKind::CellRelaxedCone | MapKind::CellConeNormal => 2,
+            MapKind::CellQuadCone => 5,
+            MapKind::CellMultiCone | MapKind::CellPiecewiseCone => params.cones as usize + 1,
             _ => 1,
         }
+    }
+
+    /// Whether this is a cell kind (map over the cell grid of [`cell`], last channel the apex).
+    pub fn is_cell(self) -> bool {
+        matches!(
+            self,
+            MapKind::CellCone
+                | MapKind::CellQuadCone
+                | MapKind::CellRelaxedCone
+                | MapKind::CellConeNormal
+                | MapKind::CellMultiCone
+                | MapKind::CellPiecewiseCone
+        )
+    }
+
+    /// The safe quantisation direction of each channel: [`MapKind::rounding`] for every
+    /// channel, except the apex channel (the last) of the cell kinds, which rounds up.
+    pub fn channel_rounding(self, params: &MapParams) -> Vec<Rounding> {
+        let n = self.channels(params);
+        let mut r = vec![self.rounding(); n];
+        if self.is_cell() {
+            r[n - 1] = Rounding::Up;
+        }
+        r
     }
 
     /// The safe quantisation direction of this kind's values.
@@ -137,7 +198,10 @@ impl MapKind {
 
     /// Whether the values are cone ratios (where the sqrt encoding is meant to be used).
     pub fn is_ratio(self) -> bool {
-        matches!(self, MapKind::Cone | MapKind::QuadCone | MapKind::RelaxedCone)
+        matches!(
+            self,
+            MapKind::Cone | MapKind::QuadCone | MapKind::RelaxedCone | MapKind::CellCone | MapKind::CellQuadCone | MapKind::CellRelaxedCone
+        )
     }
 }
 
@@ -178,7 +242,9 @@ impl MapParams {
     pub fn relevant(&self, kind: MapKind) -> MapParams {
         let d = MapParams::default();
         match kind {
-            MapKind::MultiCone | MapKind::PiecewiseCone => MapParams { cones: self.cones, ..d },
+            MapKind::MultiCone | MapKind::PiecewiseCone | MapKind::CellMultiCone | MapKind::CellPiecewiseCone => {
+                MapParams { cones: self.cones, ..d }
+            }
             MapKind::DistanceField => MapParams { z_resolution: self.z_resolution, ..d },
             _ => d,
         }
@@ -282,7 +348,9 @@ pub fn build(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode) 
         return Err(MapError::Params { kind, message: format!("height map {w} x {h} is empty or inconsistent") });
     }
     let k = params.cones as usize;
-    if matches!(kind, MapKind::MultiCone | MapKind::PiecewiseCone) && !(1..=16).contains(&k) {
+    if matches!(kind, MapKind::MultiCone | MapKind::PiecewiseCone | MapKind::CellMultiCone | MapKind::CellPiecewiseCone)
+        && !(1..=16).contains(&k)
+    {
         return Err(MapError::Params { kind, message: format!("cones = {k}, expected 1..=16") });
     }
     let map = match kind {
@@ -307,6 +375,23 @@ pub fn build(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode) 
             }
             Map { width: w, height: h, depth: d, channels: 1, data: distance_field::distance_field(hm, edge, d), mips: Vec::new() }
         }
+        MapKind::CellCone
+        | MapKind::CellQuadCone
+        | MapKind::CellRelaxedCone
+        | MapKind::CellConeNormal
+        | MapKind::CellMultiCone
+        | MapKind::CellPiecewiseCone => {
+            let g = cell::CellGrid::new(w, h, edge);
+            let data = match kind {
+                MapKind::CellCone => cell::cone::cell_cone(hm, edge),
+                MapKind::CellQuadCone => cell::cone::cell_quad_cone(hm, edge),
+                MapKind::CellRelaxedCone => cell::relaxed_cone::cell_relaxed_cone(hm, edge),
+                MapKind::CellConeNormal => cell::cone::cell_cone_normal(hm, edge),
+                MapKind::CellMultiCone => cell::multi_cone::cell_multi_cone(hm, edge, k),
+                _ => cell::multi_cone::cell_piecewise_cone(hm, edge, k),
+            };
+            Map::new_2d(g.cw, g.ch, kind.channels(params), data)
+        }
     };
     Ok(map)
 }
@@ -327,11 +412,21 @@ pub struct EncodedBundle {
 
 impl EncodedBundle {
     pub fn from_map(map: &Map, kind: MapKind, enc: &Encoding) -> EncodedBundle {
+        let r = kind_rounding(map, kind);
         EncodedBundle {
-            base: encode::encode(map, enc, kind.rounding()),
-            mips: map.mips.iter().map(|m| encode::encode(m, enc, kind.rounding())).collect(),
+            base: encode::encode_channels(map, enc, &r),
+            mips: map.mips.iter().map(|m| encode::encode_channels(m, enc, &kind_rounding(m, kind))).collect(),
         }
     }
+}
+
+/// Per-channel rounding of a built map of `kind` (its channel count decides K).
+pub fn kind_rounding(map: &Map, kind: MapKind) -> Vec<Rounding> {
+    let mut r = vec![kind.rounding(); map.channels];
+    if kind.is_cell() && map.channels > 0 {
+        r[map.channels - 1] = Rounding::Up;
+    }
+    r
 }
 
 /// What identifies a built map.
@@ -440,7 +535,7 @@ impl MapCache {
             shape.push(map.depth);
         }
         shape.extend([map.height, map.width]);
-        if map.channels > 1 || matches!(key.kind, MapKind::MultiCone | MapKind::PiecewiseCone) {
+        if map.channels > 1 || matches!(key.kind, MapKind::MultiCone | MapKind::PiecewiseCone) || key.kind.is_cell() {
             shape.push(map.channels);
         }
         // A cache: a map that cannot be stored is built again next time.

@@ -31,7 +31,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 
 pub use conclusions::{Conclusion, Verdict};
-pub(crate) use data::{canonical, group_label, short_scene, stage_steps, Data, Metric};
+pub(crate) use data::{group_label, short_scene, stage_steps, Data, Metric};
 pub(crate) use text::{anchor, file_safe, fmt_ms, fmt_num, fmt_pct, fmt_sci, ours, TextTable, DASH};
 
 /// What `write` produced.

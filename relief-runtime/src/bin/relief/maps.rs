@@ -66,7 +66,7 @@ pub struct MapsArgs {
 }
 
 /// The `--list` text.
-pub fn list_text() -> String {
+fn list_text() -> String {
     let mut s = String::from("map kinds (relief maps INPUT --kind KIND ...):\n");
     for k in MapKind::ALL {
         s.push_str(&format!("  {:<20} {}\n", k.name(), k.describe()));
@@ -121,6 +121,12 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
         None => HeightMap::load(input, &LoadOptions { channel, depth: args.depth })?,
     };
     let params = MapParams { cones: args.cones, z_resolution: args.z_resolution };
+    if kind.is_cell() && args.min3x3 {
+        bail!("--min3x3 does not apply to {kind}: a cell map is read at one cell, unfiltered, so no blend is formed (see the docs of relief_runtime::maps::cell)");
+    }
+    if kind.is_cell() && matches!(format, encode::Format::Unorm8 | encode::Format::Unorm16) && args.max_value < 1.0 {
+        bail!("{kind} stores the apex height (up to 1) in its last channel: a unorm encoding needs --max-value >= 1");
+    }
     let start = std::time::Instant::now();
     let mut map = maps::build(&hm, kind, &params, edge)?;
     if args.min3x3 {
@@ -132,7 +138,7 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
         map.mips = mips;
     }
     let enc = encode::Encoding { format, sqrt: args.sqrt, max_value: args.max_value };
-    let encoded = encode::encode(&map, &enc, kind.rounding());
+    let encoded = encode::encode_channels(&map, &enc, &maps::kind_rounding(&map, kind));
     maps::file::write_map(out, &encoded).with_context(|| format!("writing {}", out.display()))?;
     eprintln!(
         "{}: {} {}x{}x{} ({} ch) from {} in {:.2} s",

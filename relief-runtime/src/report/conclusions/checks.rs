@@ -419,7 +419,7 @@ pub(super) fn checks() -> Vec<Check> {
             run: |s| {
                 let pts = figure_points(s, &["f4.8"]);
                 let front = pareto_front(pts.clone());
-                let is_csm = |p: &Pipeline| p.coarse.name == "csm" && matches!(p.coarse.word("sample"), "" | "linear");
+                let is_csm = |p: &Pipeline| p.coarse.name == "csm" && matches!(p.coarse.word("sample"), "" | "auto" | "linear");
                 let csm: Vec<&(Pipeline, f64, f64)> = pts.iter().filter(|(p, _, _)| is_csm(p)).collect();
                 if csm.is_empty() || pts.len() == csm.len() {
                     return Err(format!("{} csm(N) points and {} others without refinement measured (need both)", csm.len(), pts.len() - csm.len()));

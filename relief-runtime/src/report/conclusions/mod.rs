@@ -68,6 +68,42 @@ pub struct Conclusion {
     pub evidence_diss: String,
     /// The scene our rows were taken from.
     pub scene: String,
+    /// Which form of the cone methods our rows used (`safe` or `textbook`), or empty when the
+    /// criterion reads no cone method. The dissertation's numbers are the same for both.
+    pub form: String,
+}
+
+/// `p` with its cone method (if any) in the form a reading checks, and whether it has one:
+/// `form=textbook` keeps the sampling the text names; `form=safe` reads the cell under the ray
+/// point unfiltered, like every safe method, so a textbook sampling choice (`sample=nearest`,
+/// chosen to match the others' nearest filtering) becomes the safe default, and one that has
+/// no safe counterpart (`sample=linear|min4`, `start=hk`) reads nothing (`None`).
+pub(crate) fn for_form(p: &Pipeline, textbook: bool) -> (Option<Pipeline>, bool) {
+    use relief_dsl::spec::Value;
+    let mut p = p.clone();
+    let c = &mut p.coarse;
+    if c.get("form").is_none() {
+        return (Some(p), false);
+    }
+    let set = |c: &mut relief_dsl::StageSpec, name: &str, word: &str| {
+        if let Some((_, v)) = c.params.iter_mut().find(|(n, _)| n == name) {
+            *v = Value::Word(word.into());
+        }
+    };
+    set(c, "form", if textbook { "textbook" } else { "safe" });
+    if !textbook {
+        match c.get("sample").map(|v| v.to_string()).as_deref() {
+            Some("nearest") => set(c, "sample", "auto"),
+            Some("linear" | "min4") => return (None, true),
+            _ => {}
+        }
+        match c.get("start").map(|v| v.to_string()).as_deref() {
+            Some("bracket") => set(c, "start", "auto"),
+            Some("hk") => return (None, true),
+            _ => {}
+        }
+    }
+    (Some(p), true)
 }
 
 /// Where the numbers come from.
@@ -86,19 +122,26 @@ trait Src {
     fn point(&self, p: &str) -> Option<(f64, f64)>;
     /// What `err` is, for evidence.
     fn unit(&self) -> &'static str;
+    /// The pipeline this source reads for grid cell `p` (ours: its cone method in the form
+    /// being checked), or None when it has none.
+    fn select(&self, p: &Pipeline) -> Option<Pipeline>;
 }
 
 struct Ours<'a> {
     data: &'a Data,
     scene: String,
     metric: Metric,
+    /// Read the cone methods' `form=textbook` rows instead of the (default) safe ones.
+    textbook: bool,
+    /// Whether a pipeline read had a cone method whose form the reading chose.
+    read_cone: std::cell::Cell<bool>,
     /// The sizes of the rows a criterion read, with the pipelines read at each.
     used: RefCell<BTreeMap<u32, Vec<String>>>,
 }
 
 impl<'a> Ours<'a> {
-    fn new(data: &'a Data, scene: &str, metric: Metric) -> Self {
-        Ours { data, scene: scene.to_string(), metric, used: RefCell::new(BTreeMap::new()) }
+    fn new(data: &'a Data, scene: &str, metric: Metric, textbook: bool) -> Self {
+        Ours { data, scene: scene.to_string(), metric, textbook, read_cone: Default::default(), used: RefCell::new(BTreeMap::new()) }
     }
 
     fn note(&self, r: &crate::results::Row) {
@@ -111,7 +154,11 @@ impl<'a> Ours<'a> {
 
     /// The ok rows of `p` on the scene; every size it has is noted.
     fn row(&self, p: &str) -> Option<&'a crate::results::Row> {
-        let rows = self.data.ok_any_size(&super::canonical(p), &self.scene);
+        let p = match p.parse::<Pipeline>() {
+            Ok(p) => self.select(&p)?.to_string(),
+            Err(_) => p.to_string(),
+        };
+        let rows = self.data.ok_any_size(&p, &self.scene);
         for r in &rows {
             self.note(r);
         }
@@ -156,6 +203,13 @@ impl Src for Ours<'_> {
             Metric::RefT => "ref_err_t_rms²",
             _ => "mse_dissertation_mean",
         }
+    }
+    fn select(&self, p: &Pipeline) -> Option<Pipeline> {
+        let (q, cone) = for_form(p, self.textbook);
+        if cone {
+            self.read_cone.set(true);
+        }
+        q
     }
 }
 
@@ -214,6 +268,11 @@ impl Src for Theirs<'_> {
     fn unit(&self) -> &'static str {
         "MSE as printed"
     }
+    /// The dissertation's rows stand for both forms: every cell reads as its safe form, so
+    /// that the two forms of one cell are one point.
+    fn select(&self, p: &Pipeline) -> Option<Pipeline> {
+        for_form(p, false).0.or_else(|| Some(p.clone()))
+    }
 }
 
 /// A criterion's outcome: Ok((holds, evidence)) or Err(why it could not be checked).
@@ -242,31 +301,43 @@ fn verdict(o: &Outcome) -> (Verdict, String) {
 /// Runs a check on our rows with `metric`; a criterion that read rows of more than one size
 /// is refused (not measured, the evidence naming the sizes) rather than an error, so that
 /// the rest of the report stays readable.
-fn run_ours(c: &Check, data: &Data, scene: &str, metric: Metric) -> (Verdict, String) {
-    let src = Ours::new(data, scene, metric);
+/// Also says whether the criterion read a cone method (whose form `textbook` chose).
+fn run_ours(c: &Check, data: &Data, scene: &str, metric: Metric, textbook: bool) -> (Verdict, String, bool) {
+    let src = Ours::new(data, scene, metric, textbook);
     let out = (c.run)(&src);
+    let cone = src.read_cone.get();
     if let Some(why) = src.mixed_sizes() {
-        return (Verdict::NotMeasured, why);
+        return (Verdict::NotMeasured, why, cone);
     }
-    verdict(&out)
+    let (v, e) = verdict(&out);
+    (v, e, cone)
 }
 
-/// Checks every conclusion on the main scene's rows.
+/// Checks every conclusion on the main scene's rows; a criterion that reads a cone method
+/// is checked twice, on the `form=safe` rows and on the `form=textbook` ones.
 pub(crate) fn check(data: &Data, diss: &Diss) -> Vec<Conclusion> {
     let scene = data.main_scene().unwrap_or_else(|| "scene:lion".into());
     let theirs = Theirs { diss };
-    checks::checks()
-        .iter()
-        .map(|c| {
-            let (ours_mse, evidence_mse) = run_ours(c, data, &scene, Metric::Mse);
+    let mut out = Vec::new();
+    for c in &checks::checks() {
+        let (dv, de) = verdict(&(c.run)(&theirs));
+        for textbook in [false, true] {
+            let (ours_mse, evidence_mse, cone) = run_ours(c, data, &scene, Metric::Mse, textbook);
+            if textbook && !cone {
+                break;
+            }
             let (ours_ref, evidence_ref) = if c.uses_error {
-                let (v, e) = run_ours(c, data, &scene, Metric::RefT);
+                let (v, e, _) = run_ours(c, data, &scene, Metric::RefT, textbook);
                 (Some(v), e)
             } else {
                 (None, String::new())
             };
-            let (dv, de) = verdict(&(c.run)(&theirs));
-            Conclusion {
+            let form = match (cone, textbook) {
+                (false, _) => "",
+                (true, false) => "safe",
+                (true, true) => "textbook",
+            };
+            out.push(Conclusion {
                 table: c.table.into(),
                 claim: c.claim.into(),
                 criterion: c.criterion.into(),
@@ -276,11 +347,13 @@ pub(crate) fn check(data: &Data, diss: &Diss) -> Vec<Conclusion> {
                 ours_ref,
                 evidence_ref,
                 diss: dv,
-                evidence_diss: de,
+                evidence_diss: de.clone(),
                 scene: scene.clone(),
-            }
-        })
-        .collect()
+                form: form.into(),
+            });
+        }
+    }
+    out
 }
 
 // ---------------------------------------------------------------------------------------
@@ -301,11 +374,12 @@ fn figure_points(s: &dyn Src, figures: &[&str]) -> Vec<(Pipeline, f64, f64)> {
     let mut out: Vec<(Pipeline, f64, f64)> = Vec::new();
     for g in crate::sweep::grids::builtin(None).iter().filter(|g| figures.contains(&g.name.as_str())) {
         for (p, _) in &g.cells {
-            if out.iter().any(|(q, _, _)| q == p) {
+            let Some(p) = s.select(p) else { continue };
+            if out.iter().any(|(q, _, _)| *q == p) {
                 continue;
             }
             if let Some((ms, e)) = s.point(&p.to_string()) {
-                out.push((p.clone(), ms, e));
+                out.push((p, ms, e));
             }
         }
     }
@@ -329,7 +403,7 @@ fn pareto_front(mut pts: Vec<(Pipeline, f64, f64)>) -> Vec<(Pipeline, f64, f64)>
 /// grouping front points by method.
 fn method_variant(p: &Pipeline) -> String {
     match p.coarse.word("sample") {
-        "" => String::new(),
+        "" | "auto" => String::new(),
         w => format!(" sample={w}"),
     }
 }
@@ -361,7 +435,11 @@ pub(crate) fn table(cs: &[Conclusion]) -> TextTable {
              A NaN error counts as the worst error, never as an unmeasured cell. Frame times are means, as the \
              dissertation's. A criterion reads rows of one image size only and refuses otherwise. Unless its criterion \
              says why, a criterion over several cells holds when at least 75% of the measured cells agree (one odd cell \
-             in four does not decide it); the same thresholds apply to our rows and the dissertation's numbers. Criteria \
+             in four does not decide it); the same thresholds apply to our rows and the dissertation's numbers. A criterion \
+             that reads a cone method is checked twice: on the `form=textbook` rows (the papers' algorithm on texel \
+             maps, with the sampling the criterion names) and on the `form=safe` rows (cones of bilinear cells, read \
+             unfiltered by every safe method, so a criterion's `sample=nearest` reads the safe default, and a sampling \
+             with no safe counterpart, `sample=linear|min4` or `start=hk`, is not measured). Criteria \
              about frame time only have no separate `ref_err_t_rms` verdict. Frame times from a software rasterizer or \
              a busy machine are noisy: read timing verdicts with the adapter in mind."
         )],
@@ -374,7 +452,7 @@ pub(crate) fn table(cs: &[Conclusion]) -> TextTable {
             .map(|c| {
                 vec![
                     c.table.clone(),
-                    c.claim.clone(),
+                    if c.form.is_empty() { c.claim.clone() } else { format!("{} (cone methods in `form={}`)", c.claim, c.form) },
                     if c.why.is_empty() { c.criterion.clone() } else { format!("{} Thresholds: {}", c.criterion, c.why) },
                     cell(c.ours_mse, &c.evidence_mse),
                     match c.ours_ref {
@@ -394,7 +472,10 @@ pub(crate) fn summary_lines(cs: &[Conclusion]) -> Vec<String> {
     let by = |v: Verdict, r: bool| -> Vec<String> {
         cs.iter()
             .filter(|c| if r { c.ours_ref.unwrap_or(c.ours_mse) == v } else { c.ours_mse == v })
-            .map(|c| format!("{} {}", c.table, c.claim.trim_end_matches('.')))
+            .map(|c| {
+                let form = if c.form.is_empty() { String::new() } else { format!(" [form={}]", c.form) };
+                format!("{} {}{form}", c.table, c.claim.trim_end_matches('.'))
+            })
             .collect()
     };
     for (label, r) in [("by mse_dissertation_mean", false), ("by ref_err_t_rms", true)] {

@@ -1,0 +1,222 @@
+//! The bilinear cell under a ray point, and the march that the `form=safe` cone methods share.
+//!
+//! The surface the shader samples is one bilinear patch per *cell*, the square between four
+//! texel centres. In texel-centre coordinates `X = u·N − ½` the cell of a point is
+//! `floor(X)`; its four corners come in one gather. A cell map (relief-runtime's
+//! `maps::cell`) stores, per cell C, a cone that keeps the whole bilinear surface below
+//! `A_C + dist(y, C)/R_C`, with A_C the highest corner of C and dist the horizontal distance
+//! to the square C. From a point p at height z over C, the ray is then above the surface for
+//! the whole textbook cone step `R·(z − A_C − dist(p, C)/R) / (|d.xy| + R·(−d.z))` (dist(p, C)
+//! is 0 inside the map; it pads only a point over the clamp-mode border strips).
+//!
+//! Where that step would end inside C (the point is below A_C, or C's cone is narrow), the
+//! march meets C's patch exactly (a quadratic in t) and either stops at the hit or moves to
+//! where the ray leaves C. So every pass leaves a cell or ends the search, none stalls, and
+//! the search never ends past the first intersection.
+
+use crate::ir::{Stage, UVec2, Val, Vec2, Vec3, Vec4};
+use crate::spec::MapReq;
+use crate::stage::{Bracket, Ray};
+
+/// How far ahead along the ray (in cells) the cell of a point on a cell boundary is picked:
+/// the cell the ray is entering, not the one it leaves.
+const AHEAD_CELLS: f32 = 1e-4;
+
+/// The bilinear cell a ray point is in (or entering), with what the safe cone steps need.
+#[derive(Clone, Copy)]
+pub(super) struct Cell<'a> {
+    /// The cell's lower-left texel-centre coordinates (`floor(X)`).
+    pub cell: Val<'a, Vec2>,
+    /// Corner heights in gather order: `(i, j+1), (i+1, j+1), (i+1, j), (i, j)`.
+    pub corners: Val<'a, Vec4>,
+    /// `A_C`, the highest corner: the apex of the cell's cones.
+    pub apex: Val<'a, f32>,
+    /// Where the cell's cones are stored in a cell map.
+    pub index: Val<'a, UVec2>,
+    /// Horizontal distance (texture units) from the point to the square the stored cone
+    /// belongs to.
+    pub dist: Val<'a, f32>,
+    /// The t at which the ray leaves the cell (at most the floor's t).
+    pub exit: Val<'a, f32>,
+}
+
+/// The cell of the ray point at `t`.
+pub(super) fn cell_at<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> Cell<'a> {
+    let size = s.height_map_size();
+    let speed = ray.dir.xy() * size;
+    let x = ray.origin * size - 0.5 + speed * t;
+    let ahead = s.vec2(sign(s, speed.x()), sign(s, speed.y())) * AHEAD_CELLS;
+    let cell = (x + ahead).floor().named("cell");
+    // The four corners in one gather at the cell's centre.
+    let corners = s.height_gather((cell + 1.0) / size).named("corners");
+    let apex = corners.x().max(corners.y()).max(corners.z().max(corners.w())).named("apex");
+    // Storage: repeat wraps the N cells; clamp stores N + 1 (two half-texel border strips),
+    // cell i + 1 covering X in [max(i, -1/2), min(i + 1, N - 1/2)].
+    let clamp = s.edge_is_clamp();
+    let wrapped = cell - size * (cell / size).floor();
+    let clamped = (cell + 1.0).clamp(0.0, size);
+    let index = s.vec2(s.select(clamp, clamped.x(), wrapped.x()), s.select(clamp, clamped.y(), wrapped.y()));
+    let lo = (clamped - 1.0).max(-0.5);
+    let hi = clamped.min(size - 0.5);
+    let outside = (lo - x).max(x - hi).max(0.0) / size;
+    let dist = s.select(clamp, outside.length(), s.lit(0.0));
+    let exit_along = |c: Val<'a, f32>, x: Val<'a, f32>, v: Val<'a, f32>| {
+        let to = s.select(v.ge(0.0), c + 1.0 - x, c - x);
+        s.select(v.abs().lt(1e-12), s.lit(f32::MAX), to / v)
+    };
+    let exit = (t + exit_along(cell.x(), x.x(), speed.x()).min(exit_along(cell.y(), x.y(), speed.y()))).min(ray.t_max());
+    Cell { cell, corners, apex, index: index.to_u32(), dist: dist.named("dist"), exit: exit.named("exit") }
+}
+
+fn sign<'a>(s: &'a Stage<'a>, v: Val<'a, f32>) -> Val<'a, f32> {
+    s.select(v.gt(0.0), 1.0, s.select(v.lt(0.0), -1.0, 0.0))
+}
+
+impl<'a> Cell<'a> {
+    /// Channel values of the cell's entry in the cell map `map` (one load, no filtering: a
+    /// blend of two cells' cones is neither cell's cone).
+    pub fn cones(&self, s: &'a Stage<'a>, map: MapReq) -> Val<'a, Vec4> {
+        s.map_texel(map, self.index, s.lit_u32(0))
+    }
+
+    /// The height above the cone's apex that a step may descend through: the point's height
+    /// over `apex`, less the cone's rise over the point's distance to the cone's square.
+    pub fn clearance(&self, p_z: Val<'a, f32>, apex: Val<'a, f32>, ratio: Val<'a, f32>) -> Val<'a, f32> {
+        (p_z - apex - self.dist / ratio.max(1e-7)).max(0.0)
+    }
+
+    /// The bilinear surface at `p` (within the cell), from the corners.
+    pub fn height(&self, s: &'a Stage<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> Val<'a, f32> {
+        let f = fraction(ray, s.height_map_size(), self.cell, t);
+        let c = self.corners;
+        let (h01, h11, h10, h00) = (c.x(), c.y(), c.z(), c.w());
+        let bottom = h00 + (h10 - h00) * f.x();
+        let top = h01 + (h11 - h01) * f.x();
+        bottom + (top - bottom) * f.y()
+    }
+
+    /// The first t in `[from, exit]` where the ray meets the cell's patch, or -1.
+    pub fn patch_root(&self, s: &'a Stage<'a>, ray: &Ray<'a>, from: Val<'a, f32>) -> Val<'a, f32> {
+        patch_root(s, ray, self.cell, self.corners, from, self.exit)
+    }
+}
+
+/// The ray's position at `t` within `cell`, in cells: `(origin·N − ½ − cell) + (d.xy·N)·t`.
+/// Summed in this order the entry term is exact in f32 (N a power of two), where
+/// `(origin + d.xy·t)·N − ½ − cell` rounds the position at the map's scale first: on a ray
+/// nearly parallel to a one-texel ramp that rounding moved the patch's root by 1.4e-5 in t
+/// (relief's cone tests).
+fn fraction<'a>(ray: &Ray<'a>, size: Val<'a, Vec2>, cell: Val<'a, Vec2>, t: Val<'a, f32>) -> Val<'a, Vec2> {
+    (ray.origin * size - 0.5 - cell) + ray.dir.xy() * size * t
+}
+
+/// The first t in `[from, to]` where the ray meets the bilinear patch of `cell` (corner
+/// heights `corners` in gather order), or -1. Along the ray the patch height is quadratic in
+/// t: with the corner heights h00, h10, h01, h11 and fractions (fx, fy) moving at (ax, ay) per
+/// unit t, `h - z = A s² + B s + C`, `s = t - from`.
+pub(super) fn patch_root<'a>(
+    s: &'a Stage<'a>,
+    ray: &Ray<'a>,
+    cell: Val<'a, Vec2>,
+    corners: Val<'a, Vec4>,
+    from: Val<'a, f32>,
+    to: Val<'a, f32>,
+) -> Val<'a, f32> {
+    let size = s.height_map_size();
+    let f = fraction(ray, size, cell, from);
+    let z = 1.0 + ray.dir.z() * from;
+    let (h01, h11, h10, h00) = (corners.x(), corners.y(), corners.z(), corners.w());
+    let a = ray.dir.xy() * size;
+    let k = h00 - h10 - h01 + h11;
+    let big_a = k * a.x() * a.y();
+    let big_b = (h10 - h00) * a.x() + (h01 - h00) * a.y() + k * (f.x() * a.y() + f.y() * a.x()) - ray.dir.z();
+    let h = h00 + (h10 - h00) * f.x() + (h01 - h00) * f.y() + k * f.x() * f.y();
+    let big_c = h - z;
+    let span = to - from;
+    // (The textbook (-B ± √disc)/2A loses the root of near-vertical rays, where A is tiny:
+    // relief's cone tests caught rays passing 12 texels through the surface.)
+    // Both roots in the cancellation-free form q = -(B + sign(B)·√disc)/2, roots q/A and
+    // C/q (C/q is the linear root -C/B as A → 0); keep the smallest in [0, span].
+    let disc = big_b * big_b - 4.0 * big_a * big_c;
+    let sign_b = s.select(big_b.ge(0.0), 1.0, -1.0);
+    let q = -0.5 * (big_b + sign_b * disc.max(0.0).sqrt());
+    let safe_q = s.select(q.ge(0.0), q.max(1e-20), q.min(-1e-20));
+    let safe_a = s.select(big_a.ge(0.0), big_a.max(1e-20), big_a.min(-1e-20));
+    let r1 = q / safe_a;
+    let r2 = big_c / safe_q;
+    let lo = r1.min(r2);
+    let hi = r1.max(r2);
+    let in_span = |r: Val<'a, f32>| r.ge(0.0) & r.le(span);
+    let root = s.select(disc.lt(0.0), -1.0, s.select(in_span(lo), lo, s.select(in_span(hi), hi, -1.0)));
+    // Already under the patch at `from`: the hit is there.
+    let root = s.select(big_c.ge(0.0), s.lit(0.0), root);
+    s.select(in_span(root), from + root, -1.0)
+}
+
+/// The march of the `form=safe` conservative cone methods: from the entry, `step(p, cell)`
+/// (a cone step from the cell's apex, never past the surface) while it leaves the cell;
+/// otherwise the cell's patch decides: the hit, or the cell's exit. Returns the bracket
+/// `[hit, hit]`, or, out of steps, the point reached (above the surface everywhere before it).
+pub(super) fn safe_march<'a>(
+    s: &'a Stage<'a>,
+    ray: &Ray<'a>,
+    steps: u32,
+    step: impl Fn(&'a Stage<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32>,
+) -> Bracket<'a> {
+    let t = s.var("t", 0.0);
+    let found = s.var("found", false);
+    s.repeat(steps, |s| {
+        s.break_if(found.get());
+        let c = cell_at(s, ray, t.get());
+        let cone = t.get() + step(s, ray.at(t.get()), &c);
+        s.if_else(
+            cone.ge(c.exit),
+            |_| t.set(cone.min(ray.t_max())),
+            |s| {
+                let root = c.patch_root(s, ray, t.get());
+                found.set(root.ge(0.0) | c.exit.ge(ray.t_max()));
+                t.set(s.select(root.ge(0.0), root, c.exit));
+            },
+        );
+    });
+    Bracket::searched(t.get(), t.get(), found.get())
+}
+
+/// The march of the `form=safe` relaxed cone methods: `step(p, cell)` is a relaxed cone step,
+/// after which the ray may be under the surface (it crossed it once, inside the cone: the
+/// cell relaxed cone's guarantee), and the bracket `[previous point, point]` holds the first
+/// crossing. A step that stays in the cell is replaced by the patch's exact answer, as in
+/// [`safe_march`].
+pub(super) fn relaxed_march<'a>(
+    s: &'a Stage<'a>,
+    ray: &Ray<'a>,
+    steps: u32,
+    step: impl Fn(&'a Stage<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32>,
+) -> Bracket<'a> {
+    let t = s.var("t", 0.0);
+    let t_prev = s.var("t_prev", 0.0);
+    let found = s.var("found", false);
+    s.repeat(steps, |s| {
+        s.break_if(found.get());
+        let c = cell_at(s, ray, t.get());
+        let p = ray.at(t.get());
+        found.set(c.height(s, ray, t.get()).ge(p.z()) | t.get().ge(ray.t_max()));
+        s.break_if(found.get());
+        let cone = t.get() + step(s, p, &c);
+        t_prev.set(t.get());
+        s.if_else(
+            cone.ge(c.exit),
+            |_| t.set(cone.min(ray.t_max())),
+            |s| {
+                let root = c.patch_root(s, ray, t.get());
+                let hit = root.ge(0.0);
+                s.if_(hit, |_| {
+                    t_prev.set(root);
+                    found.set(true);
+                });
+                t.set(s.select(hit, root, c.exit));
+            },
+        );
+    });
+    Bracket::searched(t_prev.get(), t.get(), found.get())
+}

@@ -1,0 +1,93 @@
+//! `cell_cone`, `cell_quad_cone` and `cell_cone_normal`: conservative cones of bilinear cells
+//! (the cell-grid version of Dummer's cone step mapping, paper 003, and of QCSM and CNS,
+//! Policarpo & Oliveira GPU Gems 3 ch. 18.4.1, paper 001; Burger 2018 §2.4 and §3.1, paper
+//! 000). Grid, distances and the per-cell bound: [`super`].
+//!
+//! # `cell_cone` (2 channels)
+//!
+//! Per cell `C` (storage index, [`super::CellGrid`]): channel 0 the ratio `R_C`, channel 1
+//! the apex `A_C` = the largest of `C`'s four corners. The cone is the solid
+//! `{(y, z) : z ≥ A_C + dist(y, C) / R_C}` around the square `C`, and
+//!
+//! ```text
+//! S(y) ≤ A_C + dist(y, C) / R_C        for every point y of the (unrolled) surface.
+//! ```
+//!
+//! `R_C = min over cells D ≠ C of piece_ratio(A_C, +inf, 0, corners of D seen from C)`
+//! ([`super::piece_ratio`]); `+inf` if no cell rises above `A_C`. Inside `C` the bound holds
+//! because `S ≤ A_C` there. With repeat, every copy of `D` with plane offset
+//! `|k| ≤ n − 1` cells along each axis is taken (up to 4 per cell): a copy farther away has
+//! the same corners and larger gaps, so it is dominated, and the point of the torus nearest
+//! to `C` always has a copy within that range. A stage at a point above `A_C` in `C` may step
+//! along the ray to where it meets the cone's side: the textbook cone step with apex height
+//! `A_C` and horizontal distance measured to the square `C` (0 inside it).
+//! Ratio rounded down to f32, apex stored exactly (it is a height of the map).
+//!
+//! # `cell_quad_cone` (5 channels)
+//!
+//! Channels 0–3: the ratio for each quadrant of the horizontal ray direction, in the order of
+//! [`crate::maps::quad_cone`]: `+u+v`, `−u+v`, `−u−v`, `+u−v`; channel 4 the apex `A_C`. A ray
+//! that starts in `C` heading `+u` never reaches `X < C.x0`, so the `+u` channels take only
+//! the cells in `C`'s column or after it (repeat: plane offsets `0..=n−1`; a copy one period
+//! farther is dominated as above), and the same for the other signs. A ray exactly along an
+//! axis may use either neighbouring channel. Every channel is ≥ the `cell_cone` ratio.
+//!
+//! # `cell_cone_normal` (2 channels)
+//!
+//! Channel 0: `n_z = R / sqrt(1 + R²)` of the `cell_cone` ratio, rounded down
+//! ([`crate::maps::cone_normal::normal_z`], Burger §3.1); channel 1: the apex `A_C`.
+
+use super::{CellGrid, CellTree, Dir, PieceScorer};
+use crate::heightmap::{EdgeMode, HeightMap};
+use crate::maps::encode::f32_down;
+
+/// The cell grid of `map` (sizes of every cell map).
+pub fn grid(map: &HeightMap, edge: EdgeMode) -> CellGrid {
+    CellGrid::new(map.width, map.height, edge)
+}
+
+/// `cell_cone`: `[R_C, A_C]` per cell, row-major over the cell grid.
+pub fn cell_cone(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
+    let tree = CellTree::new(map, edge);
+    let cw = tree.grid.cw;
+    super::per_cell_row(cw, tree.grid.ch, 2, |j, row| {
+        let mut prev = None;
+        for i in 0..cw {
+            let a = super::apex(&tree.corners_of(j * cw + i));
+            let s = PieceScorer { lo: a as f64, hi: f64::INFINITY, rho: 0.0 };
+            let r = tree.seeded(i, j, Dir::Both, Dir::Both, &s, f64::INFINITY, &mut prev);
+            row[2 * i] = f32_down(r);
+            row[2 * i + 1] = a;
+        }
+    })
+}
+
+/// The `(x, y)` directions of the four quadrants, in channel order.
+pub const QUADRANTS: [(Dir, Dir); 4] =
+    [(Dir::Forward, Dir::Forward), (Dir::Backward, Dir::Forward), (Dir::Backward, Dir::Backward), (Dir::Forward, Dir::Backward)];
+
+/// `cell_quad_cone`: `[R_{+u+v}, R_{-u+v}, R_{-u-v}, R_{+u-v}, A_C]` per cell.
+pub fn cell_quad_cone(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
+    let tree = CellTree::new(map, edge);
+    let cw = tree.grid.cw;
+    super::per_cell_row(cw, tree.grid.ch, 5, |j, row| {
+        let mut prev = [None; 4];
+        for i in 0..cw {
+            let a = super::apex(&tree.corners_of(j * cw + i));
+            let s = PieceScorer { lo: a as f64, hi: f64::INFINITY, rho: 0.0 };
+            for (q, &(ax, ay)) in QUADRANTS.iter().enumerate() {
+                row[5 * i + q] = f32_down(tree.seeded(i, j, ax, ay, &s, f64::INFINITY, &mut prev[q]));
+            }
+            row[5 * i + 4] = a;
+        }
+    })
+}
+
+/// `cell_cone_normal`: `[n_z(R_C), A_C]` per cell.
+pub fn cell_cone_normal(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
+    let mut v = cell_cone(map, edge);
+    for c in v.chunks_exact_mut(2) {
+        c[0] = crate::maps::cone_normal::normal_z(c[0]);
+    }
+    v
+}

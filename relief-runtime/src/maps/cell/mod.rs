@@ -1,0 +1,603 @@
+//! Cone maps on the **bilinear cells** of a height map, conservative for the surface the
+//! shaders actually intersect (issue #13).
+//!
+//! The texel-sample cone maps ([`super::cone`] and friends; Dummer 2006, *Cone Step Mapping*,
+//! paper 003; Policarpo & Oliveira, GPU Gems 3 ch. 18, paper 001; Burger 2018, paper 000)
+//! keep their cones clear of the texel *samples* only. Between texel centres the shaders
+//! sample the bilinear surface, which can rise above a texel-sample cone. The kinds here are
+//! defined on the continuous surface instead.
+//!
+//! # The cell grid
+//!
+//! Work in texel-centre coordinates `X = u · width − 0.5`, `Y = v · height − 0.5`: texel
+//! `(x, y)` sits at `(X, Y) = (x, y)`. The bilinear surface `S` is one bilinear patch per
+//! *cell*, the square between four neighbouring texel centres.
+//!
+//! - [`EdgeMode::Repeat`]: `width × height` cells. Cell `(i, j)` covers
+//!   `X ∈ [i, i + 1], Y ∈ [j, j + 1]` (modulo the period); its corners are texels
+//!   `(i, j), (i+1, j), (i, j+1), (i+1, j+1)` with indices wrapped. The cell of `(u, v)` is
+//!   `i = floor(u · width − 0.5) mod width`, `j = floor(v · height − 0.5) mod height`.
+//! - [`EdgeMode::Clamp`]: `(width + 1) × (height + 1)` cells. Storage column `i` in
+//!   `0..=width` covers `X ∈ [max(i − 1, −0.5), min(i, width − 0.5)]` (the map's domain is
+//!   `X ∈ [−0.5, width − 0.5]`, i.e. `u ∈ [0, 1]`), corners texel columns `clamp(i − 1)` and
+//!   `clamp(i)`: the first and last columns are half-texel border strips where the surface is
+//!   the constant extension of the border texels (both corner columns are the same texel).
+//!   The cell of `(u, v)` is `i = clamp(floor(u · width + 0.5), 0, width)`, same for `j`.
+//!   Outside `[0, 1]` the clamped surface keeps extending the border; every bound below also
+//!   holds there, because a point beyond the border has the height of its projection onto the
+//!   border and is no nearer to any cell than that projection.
+//!
+//! Cell maps are `cells_x × cells_y` (the sizes above), row-major, channels interleaved, and
+//! must be read with `textureLoad` / nearest sampling at the cell index (a blend of two cells'
+//! cones is neither cell's cone).
+//!
+//! # Distances
+//!
+//! `dist(y, C)` is the horizontal Euclidean distance in texture units (the map spans [0, 1]
+//! in u and v, as in [`super::cone`]) from point `y` to the closed square `C`; a cone ratio is
+//! horizontal distance per unit of height. With `Repeat` the plane is unrolled: the surface is
+//! periodic and `C` is the copy the ray starts in.
+//!
+//! # The per-cell bound (exactly decidable from corners)
+//!
+//! Fix the cone's cell `C` and another cell `D`. Along each axis `D` lies on one side of `C`
+//! (or in the same column/row), so the gap `g_x(y) = max(0, C.x0 − X, X − C.x1) / width` is
+//! affine on `D`, and so is `g_y`; `dist(y, C) = |(g_x(y), g_y(y))|`. For any unit vector
+//! `e ≥ 0`, Cauchy–Schwarz gives the affine lower bound
+//!
+//! ```text
+//! ℓ_e(y) = e_x g_x(y) + e_y g_y(y) ≤ dist(y, C)     on D,
+//! ```
+//!
+//! with equality where `(g_x, g_y)` is parallel to `e`. `S` is bilinear on `D`, so for
+//! constants `ρ`, `r`, `lo` the function `r (S(y) − lo) + ρ − ℓ_e(y)` is bilinear on `D` and
+//! its maximum over `D` is at a corner: "it is ≤ 0 on all of `D`" holds iff it holds at the
+//! four corners. That is the check every kind uses ([`piece_ratio`]); the candidate `e` are
+//! the directions of `D`'s four corner gap vectors, and the best one is kept.
+//!
+//! Tightness: for `D` in the same row or column as `C` the gap along one axis is 0, `ℓ_e` is
+//! the distance itself and the check is exact (the bound is the largest ratio). For diagonal
+//! `D` the bound is exact at the corner whose direction is used and below the distance
+//! elsewhere on `D` (by a factor `cos` of the angle between the gap vectors, at most
+//! `cos 45°` next to `C`, tending to 1 far away), so the ratio can be smaller than the
+//! largest one when the binding point of `D` is not a corner.
+//!
+//! # Search
+//!
+//! [`CellTree::search`]: a maximum-height quadtree over the cells (each cell's value the largest of
+//! its four corners), visited nearest-bound first, dropping a node whose lower bound
+//! `d_min / (h_max − apex)` is not below the best ratio found (with a relative margin of
+//! `1e-9` so that rounding in the per-cell formula can never make a pruned cell smaller than
+//! the bound); seeded with the 8 neighbouring cells and the cell that bound the previous
+//! cell of the row. Rows of cells run in parallel with rayon. The result is bit-identical to
+//! the brute-force minimum over all cells (tested in `tests/cell_maps.rs`).
+//!
+//! # Quantisation and the 3×3 pass
+//!
+//! Ratios and `n_z` round down, the apex channel rounds up ([`MapKind::channel_rounding`]):
+//! a lower apex or a wider cone could reach the surface, a higher apex or narrower cone is
+//! contained in the stored one. An unorm encoding must have `max_value ≥ 1` so the apex
+//! (≤ 1) is representable (the CLI refuses otherwise). The 3×3 minimum pass is **not needed**
+//! for cell maps: it exists because linear filtering of a texel cone map blends four cones
+//! (Burger §4.3.1); a cell map is read at the one cell that contains the ray point, with no
+//! filtering, so no blend is ever formed. Filtering a cell map would be wrong even after a
+//! 3×3 pass (the apex would have to be blended upward), so the CLI refuses `--min3x3` here.
+//!
+//! [`MapKind::channel_rounding`]: super::MapKind::channel_rounding
+
+pub mod cone;
+pub mod multi_cone;
+pub mod relaxed_cone;
+
+use crate::heightmap::{EdgeMode, HeightMap};
+
+/// The cell grid of a height map (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CellGrid {
+    /// Texels.
+    pub w: usize,
+    pub h: usize,
+    pub edge: EdgeMode,
+    /// Cells: `w x h` (repeat) or `(w + 1) x (h + 1)` (clamp).
+    pub cw: usize,
+    pub ch: usize,
+}
+
+impl CellGrid {
+    pub fn new(w: usize, h: usize, edge: EdgeMode) -> CellGrid {
+        let extra = usize::from(edge == EdgeMode::Clamp);
+        CellGrid { w, h, edge, cw: w + extra, ch: h + extra }
+    }
+
+    /// The storage index of the cell that contains `(u, v)` (see the module docs).
+    pub fn cell_of_uv(&self, u: f64, v: f64) -> (usize, usize) {
+        (axis_cell(u, self.w, self.edge), axis_cell(v, self.h, self.edge))
+    }
+
+    /// Texel indices (resolved) of the two corner columns of cell column `i`, and the cell's
+    /// extent in texel-centre coordinates `X` (one period for repeat: `[i, i + 1]`).
+    pub fn col(&self, i: usize) -> (usize, usize, f64, f64) {
+        axis_extent(i, self.w, self.edge)
+    }
+
+    /// Same for cell row `j`.
+    pub fn row(&self, j: usize) -> (usize, usize, f64, f64) {
+        axis_extent(j, self.h, self.edge)
+    }
+
+    /// The four corner heights of cell `(i, j)`: `[h00, h10, h01, h11]` (x fastest).
+    pub fn corners(&self, map: &HeightMap, i: usize, j: usize) -> [f32; 4] {
+        let (x0, x1, _, _) = self.col(i);
+        let (y0, y1, _, _) = self.row(j);
+        let t = |x: usize, y: usize| map.data[y * map.width + x];
+        [t(x0, y0), t(x1, y0), t(x0, y1), t(x1, y1)]
+    }
+
+    /// Corner heights of every cell, row-major.
+    pub fn all_corners(&self, map: &HeightMap) -> Vec<[f32; 4]> {
+        let mut out = Vec::with_capacity(self.cw * self.ch);
+        for j in 0..self.ch {
+            for i in 0..self.cw {
+                out.push(self.corners(map, i, j));
+            }
+        }
+        out
+    }
+}
+
+fn axis_cell(u: f64, n: usize, edge: EdgeMode) -> usize {
+    match edge {
+        EdgeMode::Repeat => ((u * n as f64 - 0.5).floor() as i64).rem_euclid(n as i64) as usize,
+        EdgeMode::Clamp => ((u * n as f64 + 0.5).floor() as i64).clamp(0, n as i64) as usize,
+    }
+}
+
+fn axis_extent(i: usize, n: usize, edge: EdgeMode) -> (usize, usize, f64, f64) {
+    match edge {
+        EdgeMode::Repeat => (i, (i + 1) % n, i as f64, i as f64 + 1.0),
+        EdgeMode::Clamp => {
+            let a = i.saturating_sub(1).min(n - 1);
+            let b = i.min(n - 1);
+            ((a), b, (i as f64 - 1.0).max(-0.5), (i as f64).min(n as f64 - 0.5))
+        }
+    }
+}
+
+/// The largest of four corner heights: the apex `A_C` of a cell cone (a bilinear patch never
+/// exceeds its largest corner).
+#[inline]
+pub fn apex(c: &[f32; 4]) -> f32 {
+    c[0].max(c[1]).max(c[2]).max(c[3])
+}
+
+/// Gap (in cell units, ≥ 0) from coordinate `x` to the interval `[c0, c1]`.
+#[inline]
+pub fn gap(x: f64, c0: f64, c1: f64) -> f64 {
+    (c0 - x).max(x - c1).max(0.0)
+}
+
+/// One corner of a cell `D` seen from the cone's cell `C`: physical gap vector (texture
+/// units, both ≥ 0) and height.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Corner {
+    pub gx: f64,
+    pub gy: f64,
+    pub s: f64,
+}
+
+/// The four corners of `D` seen from `C`, from the two cells' extents in texel-centre
+/// coordinates (`dx = [D.x0, D.x1]`, `cx = [C.x0, C.x1]`, same for y) and `D`'s corner
+/// heights `[h00, h10, h01, h11]`. `w`, `h`: the map's texel counts (cell units → texture units).
+#[inline]
+pub fn corners_seen_from(dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2], hd: &[f32; 4], w: usize, h: usize) -> [Corner; 4] {
+    let gx = [gap(dx[0], cx[0], cx[1]) / w as f64, gap(dx[1], cx[0], cx[1]) / w as f64];
+    let gy = [gap(dy[0], cy[0], cy[1]) / h as f64, gap(dy[1], cy[0], cy[1]) / h as f64];
+    [
+        Corner { gx: gx[0], gy: gy[0], s: hd[0] as f64 },
+        Corner { gx: gx[1], gy: gy[0], s: hd[1] as f64 },
+        Corner { gx: gx[0], gy: gy[1], s: hd[2] as f64 },
+        Corner { gx: gx[1], gy: gy[1], s: hd[3] as f64 },
+    ]
+}
+
+/// Horizontal distance for a physical gap vector (the one formula used for corners and for
+/// the search's node bounds).
+#[inline]
+pub fn norm(gx: f64, gy: f64) -> f64 {
+    (gx * gx + gy * gy).sqrt()
+}
+
+/// The largest slope `r ≥ 0` that this module certifies for one cell `D` (corners `c`, seen
+/// from `C`), for a cone piece starting at height `lo` with radius `rho` (texture units) and
+/// ending at height `hi`:
+///
+/// ```text
+/// ρ + r (min(S(y), hi) − lo) ≤ dist(y, C)   for every y in D with S(y) > lo.
+/// ```
+///
+/// The plain cell cone is `lo = A_C, hi = +inf, rho = 0`: then the condition reads
+/// `S(y) ≤ A_C + dist(y, C) / r`. Returns `+inf` when no corner is above `lo` (the bilinear
+/// patch is then nowhere above `lo`). The result is the largest of these certified values:
+///
+/// 1. for each candidate direction `e` (the unit gap vector of each corner with a non-zero
+///    gap), the largest `r` with `r (S_c − lo) ≤ ℓ_e(c) − ρ` at all four corners `c`; since
+///    `r (S − lo) + ρ − ℓ_e` is bilinear on `D` (module docs), that makes it hold on all of
+///    `D`, and `min(S, hi) ≤ S`, `ℓ_e ≤ dist` give the condition. Corners with `S_c ≤ lo`
+///    bound `r` from below when `ℓ_e(c) < ρ`; an empty range gives no value;
+/// 2. `(d_min − ρ) / (min(M, hi) − lo)` with `M` the largest corner and `d_min` the smallest
+///    corner distance (the exact minimum of `dist` over `D`), when `d_min ≥ ρ`: then
+///    `ρ + r (min(S, hi) − lo) ≤ ρ + r (min(M, hi) − lo) ≤ d_min ≤ dist`;
+/// 3. `0` (callers guarantee `ρ ≤ dist(y, C)` wherever `S(y) > lo`: for `ρ = 0` trivially,
+///    for the pieces of [`multi_cone`] by the piece below).
+///
+/// The condition is monotone in `r` (smaller `r` keeps it true), so the minimum over cells
+/// of these values is certified for every cell at once.
+pub fn piece_ratio(lo: f64, hi: f64, rho: f64, c: &[Corner; 4]) -> f64 {
+    let m = c[0].s.max(c[1].s).max(c[2].s).max(c[3].s);
+    if m <= lo {
+        return f64::INFINITY;
+    }
+    let dmin = norm(c[0].gx.min(c[1].gx), c[0].gy.min(c[2].gy));
+    let top = m.min(hi) - lo;
+    let mut best = 0.0f64;
+    if dmin >= rho {
+        best = best.max((dmin - rho) / top);
+    }
+    for e in c {
+        let n = norm(e.gx, e.gy);
+        if n <= 0.0 {
+            continue;
+        }
+        let (ex, ey) = (e.gx / n, e.gy / n);
+        let (mut lower, mut upper) = (0.0f64, f64::INFINITY);
+        let mut feasible = true;
+        for q in c {
+            let l = ex * q.gx + ey * q.gy - rho;
+            let ds = q.s - lo;
+            if ds > 0.0 {
+                upper = upper.min(l / ds);
+            } else if l < 0.0 {
+                if ds == 0.0 {
+                    feasible = false;
+                } else {
+                    lower = lower.max(l / ds);
+                }
+            }
+        }
+        if feasible && upper >= lower && upper > best {
+            best = upper;
+        }
+    }
+    best
+}
+
+/// Which cells a search may use along one axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dir {
+    /// All cells (with repeat: plane offsets `-(n-1)..=n-1`, see [`CellTree::search`]).
+    Both,
+    /// Cells at or after `C` (repeat: plane offsets `0..=n-1`).
+    Forward,
+    /// Cells at or before `C` (repeat: plane offsets `-(n-1)..=0`).
+    Backward,
+}
+
+/// Where a node lies relative to `C` along one axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    /// Every cell after `C` (gap grows with the coordinate).
+    Pos,
+    /// Every cell before `C`.
+    Neg,
+    /// `C`'s own column (or row) only.
+    Zero,
+    /// Several of the above.
+    Mixed,
+}
+
+/// What a search minimises.
+pub trait CellScorer: Sync {
+    /// A lower bound of [`CellScorer::leaf`] over every cell of a node whose cells are at
+    /// least `dmin` away (texture units), no corner above `hmax`, and whose per-cell flags
+    /// AND to `flags`; `None`: no cell of the node can score.
+    fn bound(&self, dmin: f64, hmax: f32, flags: u8, sx: Side, sy: Side) -> Option<f64>;
+    /// The score of cell `D` (storage index `d`): its corners seen from `C`; `None`: no
+    /// constraint. `dx`, `dy`: `D`'s extent (texel-centre units, relative for repeat),
+    /// `cx`, `cy`: `C`'s.
+    #[allow(clippy::too_many_arguments)]
+    fn leaf(&self, d: usize, corners: &[Corner; 4], dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2], sx: Side, sy: Side) -> Option<f64>;
+}
+
+/// A per-cell flag byte computed from the cell's corners `[h00, h10, h01, h11]`.
+pub type CellFlags = dyn Fn(&[f32; 4]) -> u8;
+
+/// Maximum-corner quadtree over cells, with an optional AND of per-cell flags.
+pub struct CellTree {
+    pub grid: CellGrid,
+    /// The height map's texels (corners are looked up, not stored: a 16-byte-per-cell array
+    /// made 1024² searches cache-bound).
+    heights: Vec<f32>,
+    levels: Vec<(usize, usize, Vec<f32>)>,
+    flags: Vec<Vec<u8>>,
+}
+
+impl CellTree {
+    pub fn new(map: &HeightMap, edge: EdgeMode) -> CellTree {
+        Self::with_flags(map, edge, None)
+    }
+
+    /// With one flag byte per cell (node value: the AND of its cells' flags).
+    pub fn with_flags(map: &HeightMap, edge: EdgeMode, flags: Option<&CellFlags>) -> CellTree {
+        let grid = CellGrid::new(map.width, map.height, edge);
+        let corners = grid.all_corners(map);
+        let base: Vec<f32> = corners.iter().map(apex).collect();
+        let heights = map.data.clone();
+        let mut levels = vec![(grid.cw, grid.ch, base)];
+        let mut fl = Vec::new();
+        if let Some(f) = flags {
+            fl.push(corners.iter().map(f).collect::<Vec<u8>>());
+        }
+        loop {
+            let (w, h, ref d) = *levels.last().unwrap();
+            if w == 1 && h == 1 {
+                break;
+            }
+            let (nw, nh) = (w.div_ceil(2), h.div_ceil(2));
+            let mut nd = vec![f32::NEG_INFINITY; nw * nh];
+            let mut nf = vec![0xffu8; nw * nh];
+            for y in 0..h {
+                for x in 0..w {
+                    let o = (y / 2) * nw + x / 2;
+                    nd[o] = nd[o].max(d[y * w + x]);
+                    if let Some(last) = fl.last() {
+                        nf[o] &= last[y * w + x];
+                    }
+                }
+            }
+            levels.push((nw, nh, nd));
+            if !fl.is_empty() {
+                fl.push(nf);
+            }
+        }
+        CellTree { grid, heights, levels, flags: fl }
+    }
+
+    /// The corners `[h00, h10, h01, h11]` of cell `d` (storage index).
+    #[inline]
+    pub fn corners_of(&self, d: usize) -> [f32; 4] {
+        let (i, j) = (d % self.grid.cw, d / self.grid.cw);
+        let (x0, x1, _, _) = self.grid.col(i);
+        let (y0, y1, _, _) = self.grid.row(j);
+        let w = self.grid.w;
+        let t = |x: usize, y: usize| self.heights[y * w + x];
+        [t(x0, y0), t(x1, y0), t(x0, y1), t(x1, y1)]
+    }
+
+    /// Minimum score over the cells reachable from cell `(ci, cj)` with directions
+    /// `(ax, ay)`, starting from `best` (and its binding cell, a plane position, see
+    /// [`CellTree::leaf_at`]). Returns the minimum and the plane position of the cell that
+    /// gave it.
+    pub fn search<S: CellScorer>(&self, ci: usize, cj: usize, ax: Dir, ay: Dir, s: &S, start: (f64, Option<(i64, i64)>)) -> (f64, Option<(i64, i64)>) {
+        let mut best = start;
+        let top = self.levels.len() - 1;
+        let shifts: &[i64] = if self.grid.edge == EdgeMode::Repeat { &[0, -1, 1] } else { &[0] };
+        for &my in shifts {
+            for &mx in shifts {
+                self.visit(top, 0, 0, mx, my, ci, cj, ax, ay, s, &mut best);
+            }
+        }
+        best
+    }
+
+    /// The score of the cell at plane position `(px, py)` (repeat: any integers, the cell is
+    /// `px mod w`; clamp: the storage index), if it is reachable.
+    #[allow(clippy::too_many_arguments)]
+    pub fn leaf_at<S: CellScorer>(&self, px: i64, py: i64, ci: usize, cj: usize, ax: Dir, ay: Dir, s: &S) -> Option<f64> {
+        let x = self.axis_leaf(px, ci, self.grid.cw, self.grid.w, ax, true)?;
+        let y = self.axis_leaf(py, cj, self.grid.ch, self.grid.h, ay, false)?;
+        let d = y.0 * self.grid.cw + x.0;
+        let c = corners_seen_from(x.1, y.1, x.2, y.2, &self.corners_of(d), self.grid.w, self.grid.h);
+        s.leaf(d, &c, x.1, y.1, x.2, y.2, x.3, y.3)
+    }
+
+    /// One axis of a leaf: storage index, D extent, C extent, side.
+    #[allow(clippy::type_complexity)]
+    fn axis_leaf(&self, p: i64, c: usize, cn: usize, n: usize, dir: Dir, is_x: bool) -> Option<(usize, [f64; 2], [f64; 2], Side)> {
+        match self.grid.edge {
+            EdgeMode::Repeat => {
+                let k = p - c as i64;
+                let n = n as i64;
+                let ok = match dir {
+                    Dir::Both => -(n - 1) <= k && k < n,
+                    Dir::Forward => (0..n).contains(&k),
+                    Dir::Backward => -(n - 1) <= k && k <= 0,
+                };
+                if !ok {
+                    return None;
+                }
+                let side = side_of(k, k);
+                Some((p.rem_euclid(n) as usize, [k as f64, k as f64 + 1.0], [0.0, 1.0], side))
+            }
+            EdgeMode::Clamp => {
+                if p < 0 || p >= cn as i64 {
+                    return None;
+                }
+                let k = p - c as i64;
+                let ok = match dir {
+                    Dir::Both => true,
+                    Dir::Forward => k >= 0,
+                    Dir::Backward => k <= 0,
+                };
+                if !ok {
+                    return None;
+                }
+                let (_, _, d0, d1) = if is_x { self.grid.col(p as usize) } else { self.grid.row(p as usize) };
+                let (_, _, c0, c1) = if is_x { self.grid.col(c) } else { self.grid.row(c) };
+                Some((p as usize, [d0, d1], [c0, c1], side_of(k, k)))
+            }
+        }
+    }
+
+    /// A node's range along one axis (storage `a..=b`, shift `m` periods): min gap in cell
+    /// units and side, or `None` if no cell of it is reachable.
+    #[allow(clippy::too_many_arguments)]
+    fn axis_node(&self, a: usize, b: usize, m: i64, c: usize, n: usize, dir: Dir, is_x: bool) -> Option<(f64, Side)> {
+        let (a, b, c) = (a as i64, b as i64, c as i64);
+        match self.grid.edge {
+            EdgeMode::Repeat => {
+                let n = n as i64;
+                let (lo, hi) = match dir {
+                    Dir::Both => (-(n - 1), n - 1),
+                    Dir::Forward => (0, n - 1),
+                    Dir::Backward => (-(n - 1), 0),
+                };
+                let ka = (a - c + m * n).max(lo);
+                let kb = (b - c + m * n).min(hi);
+                if ka > kb {
+                    return None;
+                }
+                let g = if ka >= 1 {
+                    (ka - 1) as f64
+                } else if kb <= -1 {
+                    (-kb - 1) as f64
+                } else {
+                    0.0
+                };
+                Some((g, side_of(ka, kb)))
+            }
+            EdgeMode::Clamp => {
+                let (lo, hi) = match dir {
+                    Dir::Both => (a, b),
+                    Dir::Forward => (a.max(c), b),
+                    Dir::Backward => (a, b.min(c)),
+                };
+                if lo > hi {
+                    return None;
+                }
+                let ext = |i: i64| if is_x { self.grid.col(i as usize) } else { self.grid.row(i as usize) };
+                let (_, _, x0, _) = ext(lo);
+                let (_, _, _, x1) = ext(hi);
+                let (_, _, c0, c1) = ext(c);
+                Some(((c0 - x1).max(x0 - c1).max(0.0), side_of(lo - c, hi - c)))
+            }
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn visit<S: CellScorer>(&self, k: usize, i: usize, j: usize, mx: i64, my: i64, ci: usize, cj: usize, ax: Dir, ay: Dir, s: &S, best: &mut (f64, Option<(i64, i64)>)) {
+        let (cw, ch) = (self.grid.cw, self.grid.ch);
+
+        if k == 0 {
+
+            let px = i as i64 + mx * cw as i64;
+            let py = j as i64 + my * ch as i64;
+            if let Some(v) = self.leaf_at(px, py, ci, cj, ax, ay, s) {
+                if v < best.0 {
+                    *best = (v, Some((px, py)));
+                }
+            }
+            return;
+        }
+        let (lw, lh, ref ld) = self.levels[k - 1];
+        let mut kids: [(f64, usize, usize); 4] = [(0.0, 0, 0); 4];
+        let mut n = 0;
+        let shift = k - 1;
+        for cj2 in 2 * j..(2 * j + 2).min(lh) {
+            for ci2 in 2 * i..(2 * i + 2).min(lw) {
+                let hmax = ld[cj2 * lw + ci2];
+                let (x0, x1) = (ci2 << shift, ((ci2 + 1) << shift).min(cw) - 1);
+                let (y0, y1) = (cj2 << shift, ((cj2 + 1) << shift).min(ch) - 1);
+                let Some((gx, sx)) = self.axis_node(x0, x1, mx, ci, self.grid.w, ax, true) else { continue };
+                let Some((gy, sy)) = self.axis_node(y0, y1, my, cj, self.grid.h, ay, false) else { continue };
+                let fl = if self.flags.is_empty() { 0 } else { self.flags[k - 1][cj2 * lw + ci2] };
+                let dmin = norm(gx / self.grid.w as f64, gy / self.grid.h as f64);
+                let Some(b) = s.bound(dmin, hmax, fl, sx, sy) else { continue };
+                if b * (1.0 - 1e-9) >= best.0 {
+                    continue;
+                }
+                kids[n] = (b, ci2, cj2);
+                n += 1;
+            }
+        }
+        let kids = &mut kids[..n];
+        kids.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        for &(b, ci2, cj2) in kids.iter() {
+            if b * (1.0 - 1e-9) < best.0 {
+                self.visit(k - 1, ci2, cj2, mx, my, ci, cj, ax, ay, s, best);
+            }
+        }
+    }
+
+    /// The search seeded with the 8 neighbours of `C` and `prev` (updated to the binding
+    /// cell's plane position).
+    #[allow(clippy::too_many_arguments)]
+    pub fn seeded<S: CellScorer>(&self, ci: usize, cj: usize, ax: Dir, ay: Dir, s: &S, init: f64, prev: &mut Option<(i64, i64)>) -> f64 {
+        let mut best: (f64, Option<(i64, i64)>) = (init, None);
+        let try_at = |px: i64, py: i64, best: &mut (f64, Option<(i64, i64)>)| {
+            if let Some(v) = self.leaf_at(px, py, ci, cj, ax, ay, s) {
+                if v < best.0 {
+                    *best = (v, Some((px, py)));
+                }
+            }
+        };
+        if let Some((px, py)) = *prev {
+            try_at(px, py, &mut best);
+        }
+        for dy in -1i64..=1 {
+            for dx in -1i64..=1 {
+                if dx != 0 || dy != 0 {
+                    try_at(ci as i64 + dx, cj as i64 + dy, &mut best);
+                }
+            }
+        }
+        let r = self.search(ci, cj, ax, ay, s, best);
+        if r.1.is_some() {
+            *prev = r.1;
+        }
+        r.0
+    }
+}
+
+fn side_of(ka: i64, kb: i64) -> Side {
+    if ka >= 1 {
+        Side::Pos
+    } else if kb <= -1 {
+        Side::Neg
+    } else if ka == 0 && kb == 0 {
+        Side::Zero
+    } else {
+        Side::Mixed
+    }
+}
+
+/// Runs `f(j, row)` for every row of cells in parallel; `row` holds `cw * c` values.
+pub(crate) fn per_cell_row(cw: usize, ch: usize, c: usize, f: impl Fn(usize, &mut [f32]) + Sync) -> Vec<f32> {
+    use rayon::prelude::*;
+    let mut out = vec![0.0f32; cw * ch * c];
+    out.par_chunks_mut(cw * c).enumerate().for_each(|(j, row)| f(j, row));
+    out
+}
+
+/// Scorer of a cone piece: [`piece_ratio`] with fixed `lo`, `hi`, `rho`.
+pub(crate) struct PieceScorer {
+    pub lo: f64,
+    pub hi: f64,
+    pub rho: f64,
+}
+
+impl CellScorer for PieceScorer {
+    #[inline]
+    fn bound(&self, dmin: f64, hmax: f32, _flags: u8, _sx: Side, _sy: Side) -> Option<f64> {
+        let hmax = hmax as f64;
+        if hmax <= self.lo {
+            return None;
+        }
+        // Option 2 of `piece_ratio` with the node's smallest distance and largest height.
+        Some(((dmin - self.rho) / (hmax.min(self.hi) - self.lo)).max(0.0))
+    }
+    #[inline]
+    fn leaf(&self, _d: usize, c: &[Corner; 4], _dx: [f64; 2], _dy: [f64; 2], _cx: [f64; 2], _cy: [f64; 2], _sx: Side, _sy: Side) -> Option<f64> {
+        let r = piece_ratio(self.lo, self.hi, self.rho, c);
+        (r < f64::INFINITY).then_some(r)
+    }
+}
