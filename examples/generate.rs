@@ -21,7 +21,7 @@ pub fn run(out: &Path) -> Result<Vec<String>, Error> {
     std::fs::create_dir_all(out)?;
     let mut stems = Vec::new();
     for p in &grid {
-        stems.push(relief::runtime::cli_gen::write_pipeline(p, out)?);
+        stems.push(relief::runtime::io::write_pipeline(p, out)?);
     }
     Ok(stems)
 }

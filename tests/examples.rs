@@ -44,7 +44,7 @@ fn sweep_measures_the_grid_and_writes_the_report() {
     let (cells, files) = sweep::run(&dir).unwrap();
     assert_eq!(cells, 4 * 2 * 2, "4 coarse × 2 refine × 2 scenes");
     assert!(files > 0);
-    let rows = relief::runtime::sweep::read_rows(&dir).unwrap();
+    let rows = relief::runtime::results::read_for_append(&dir).unwrap();
     assert_eq!(rows.len(), cells);
     assert!(rows.iter().all(|r| r.status == "ok" && r.metrics.frame_ms_median > 0.0));
     assert!(dir.join("index.html").exists());

@@ -214,7 +214,7 @@ impl HeightMap {
         path: &Path,
     ) -> Result<HeightMap, HeightMapError> {
         let corrupt = |m: &str| HeightMapError::Corrupt { path: path.to_path_buf(), message: m.to_string() };
-        let header = crate::maps::encode::parse_npy_header(bytes).map_err(|m| corrupt(&m))?;
+        let header = crate::io::npy::parse_npy_header(bytes).map_err(|m| corrupt(&m))?;
         let (h, w, c) = match header.shape.as_slice() {
             [h, w] => (*h, *w, 1),
             [h, w, c] => (*h, *w, *c),

@@ -1,18 +1,20 @@
 //! relief-runtime: maps, scenes, the GPU runtime, the exact reference, metrics and sweeps.
+//!
+//! Modules in import order (a module imports only modules listed before it): the leaves
+//! [`io`], [`picture`] and [`results`]; then [`heightmap`], [`scene`], [`maps`],
+//! [`reference`](mod@reference); [`gpu`]; [`metrics`]; [`measure`]; [`sweep`], [`stability`]; [`report`].
+//! The `relief` command line lives in `src/bin/relief/` and the library never calls it.
 
-pub mod gpu;
+pub mod io;
+pub mod picture;
+pub mod results;
 pub mod heightmap;
-pub mod cli_gen;
-pub mod cli_maps;
-pub mod cli_render;
-pub mod cli_stability;
-pub mod cli_sweep;
 pub mod maps;
 pub mod scene;
 pub mod reference;
-pub mod measure;
+pub mod gpu;
 pub mod metrics;
+pub mod measure;
 pub mod stability;
 pub mod sweep;
 pub mod report;
-pub mod cli_report;

@@ -6,6 +6,7 @@ use std::path::Path;
 
 use anyhow::Context;
 
+use crate::io;
 use crate::gpu::{self, Gpu, GpuHit, Program, RenderResult, SceneTextures};
 use crate::metrics::{self, Metrics};
 use crate::reference::{reference_hits, RefHit, Sampling};
@@ -65,7 +66,7 @@ pub fn measure(gpu: &Gpu, prep: &mut Prepared, pipeline: &relief_dsl::Pipeline, 
 pub fn write_images(dir: &Path, prep: &Prepared, m: &Measured) -> anyhow::Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let size = prep.size;
-    png(&dir.join("frame.png"), size, size, m.frame.rgba.clone())?;
+    io::png::write_rgba8(&dir.join("frame.png"), size, size, m.frame.rgba.clone())?;
     let errors: Vec<(u32, u32, f64)> = prep
         .rays
         .iter()
@@ -79,14 +80,6 @@ pub fn write_images(dir: &Path, prep: &Prepared, m: &Measured) -> anyhow::Result
             (r.x, r.y, e)
         })
         .collect();
-    let (w, h, rgba) = crate::cli_render::error_map(size, &errors);
-    png(&dir.join("error.png"), w, h, rgba)
-}
-
-/// Writes an RGBA8 image as PNG, atomically.
-pub fn png(path: &Path, w: u32, h: u32, rgba: Vec<u8>) -> anyhow::Result<()> {
-    let img = image::RgbaImage::from_raw(w, h, rgba).context("image size")?;
-    let mut bytes = Vec::new();
-    img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)?;
-    crate::cli_gen::write_atomic(path, &bytes)
+    let (w, h, rgba) = crate::picture::error_map(size, &errors);
+    io::png::write_rgba8(&dir.join("error.png"), w, h, rgba)
 }

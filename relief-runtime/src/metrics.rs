@@ -3,59 +3,12 @@
 //! Accuracy is measured on the probe's hits against the exact reference for the *same* rays;
 //! speed on the render entry's frame times.
 
-use serde::{Deserialize, Serialize};
-
-use crate::gpu::GpuHit;
+use relief_dsl::abi::ProbeHit;
 use crate::heightmap::{EdgeMode, HeightMap};
 use crate::reference::RefHit;
 use crate::scene::ProbeRay;
 
-/// One run's metrics (the names are the column names of results files).
-#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
-pub struct Metrics {
-    pub pipeline: String,
-    pub scene: String,
-    pub size: u32,
-    pub adapter: String,
-    pub frame_ms_median: f64,
-    /// Mean frame time over the timed frames (the dissertation reports the mean of 500).
-    #[serde(default)]
-    pub frame_ms_mean: f64,
-    pub frame_ms_p10: f64,
-    pub frame_ms_p90: f64,
-    /// Burger 2018 §4.1: Σ over pixels of (h(hit.uv) − hit.z)², the sum (a NaN hit adds 1,
-    /// the largest error a hit in the volume can have).
-    pub mse_dissertation: f64,
-    /// The same, divided by the number of rays: the per-pixel mean, which is how the
-    /// dissertation's numbers behave (Table 4.1's MSE × N² stays near 0.4–0.55 for N = 5…200).
-    pub mse_dissertation_mean: f64,
-    /// RMS of (t − t_ref) over rays both hit.
-    pub ref_err_t_rms: f64,
-    /// RMS distance between hit and reference hit in texels.
-    pub ref_err_uv_texels_rms: f64,
-    /// Share of rays whose hit lies beyond the true first hit by more than one texel of
-    /// travel ([`one_texel_t`]), or that report no (finite) hit.
-    pub missed_rate: f64,
-    /// Hits with NaN or Inf anywhere.
-    pub nan_count: u64,
-    /// Hits whose raw t lies outside the volume (`t < 0` or `t > t_max`), counted before any
-    /// clamp.
-    #[serde(default)]
-    pub outside_count: u64,
-    /// Share of rays whose coarse search ran out of steps without finding the surface.
-    #[serde(default)]
-    pub nonconverged_rate: f64,
-    /// Loop passes of the coarse search per ray (the dissertation's "avg steps").
-    #[serde(default)]
-    pub avg_coarse_steps: f64,
-    /// Loop passes of the refine search per ray.
-    #[serde(default)]
-    pub avg_refine_steps: f64,
-    /// Loop passes over all stages per ray (coarse + refine).
-    pub avg_iterations: f64,
-    /// Texture fetches per ray over all stages.
-    pub avg_fetches: f64,
-}
+pub use crate::results::Metrics;
 
 /// Percentile `q` in [0, 1] of `xs` (nearest rank on the sorted values).
 pub fn percentile(xs: &[f64], q: f64) -> f64 {
@@ -126,7 +79,7 @@ pub struct Accuracy {
 impl Accuracy {
     /// Scores `hits` against `refs` for the same `rays`, on the surface the shader samples
     /// (`heights`, bilinear, with `edge`).
-    pub fn of(rays: &[ProbeRay], hits: &[GpuHit], refs: &[Option<RefHit>], heights: &HeightMap, edge: EdgeMode) -> Accuracy {
+    pub fn of(rays: &[ProbeRay], hits: &[ProbeHit], refs: &[Option<RefHit>], heights: &HeightMap, edge: EdgeMode) -> Accuracy {
         let n = hits.len().min(rays.len()).min(refs.len());
         let texels = heights.width.max(heights.height) as f64;
         let mut a = Accuracy { rays: n, ..Default::default() };
@@ -194,7 +147,7 @@ impl Accuracy {
 
 /// The accuracy fields, from the probe's hits and the reference hits of the same rays, on
 /// the surface the shader samples (`heights`, bilinear, with `edge`).
-pub fn set_accuracy(m: &mut Metrics, rays: &[ProbeRay], hits: &[GpuHit], refs: &[Option<RefHit>], heights: &HeightMap, edge: EdgeMode) {
+pub fn set_accuracy(m: &mut Metrics, rays: &[ProbeRay], hits: &[ProbeHit], refs: &[Option<RefHit>], heights: &HeightMap, edge: EdgeMode) {
     let a = Accuracy::of(rays, hits, refs, heights, edge);
     m.mse_dissertation = a.mse_sum;
     m.mse_dissertation_mean = a.per_ray(a.mse_sum);

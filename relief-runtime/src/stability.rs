@@ -203,6 +203,9 @@ pub fn run(gpu: &Gpu, size: u32, methods: &[Pipeline], scenes: &[&str], angles: 
     Ok(cells)
 }
 
+/// A named column of a [`Cell`], as a number.
+type CellMetric = fn(&Cell) -> f64;
+
 /// Writes `stability.csv`, one heat map per metric (`stability_METRIC.svg`) and
 /// `worst.md` (the worst condition of each method).
 pub fn write(out: &Path, cells: &[Cell]) -> anyhow::Result<()> {
@@ -211,8 +214,8 @@ pub fn write(out: &Path, cells: &[Cell]) -> anyhow::Result<()> {
     for c in cells {
         w.serialize(c)?;
     }
-    crate::cli_gen::write_atomic(&out.join("stability.csv"), &w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))?)?;
-    let metrics: [(&str, fn(&Cell) -> f64); 7] = [
+    crate::io::write_atomic(&out.join("stability.csv"), &w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))?)?;
+    let metrics: [(&str, CellMetric); 7] = [
         ("nan_count", |c| c.nan_count as f64),
         ("outside_count", |c| c.outside_count as f64),
         ("missed_rate", |c| c.missed_rate),
@@ -222,9 +225,9 @@ pub fn write(out: &Path, cells: &[Cell]) -> anyhow::Result<()> {
         ("ref_err_t_rms", |c| c.ref_err_t_rms),
     ];
     for (name, f) in metrics {
-        crate::cli_gen::write_atomic(&out.join(format!("stability_{name}.svg")), heat_map(name, cells, f).as_bytes())?;
+        crate::io::write_atomic(&out.join(format!("stability_{name}.svg")), heat_map(name, cells, f).as_bytes())?;
     }
-    crate::cli_gen::write_atomic(&out.join("worst.md"), worst_table(cells).as_bytes())?;
+    crate::io::write_atomic(&out.join("worst.md"), worst_table(cells).as_bytes())?;
     Ok(())
 }
 

@@ -580,7 +580,9 @@ fn relaxed_cell_cone_rays_cross_at_most_once_inside_the_cone() {
 fn cell_kinds_build_list_and_round_safely() {
     let m = boxes(16, 12, 4);
     let p = MapParams { cones: 3, z_resolution: 4 };
-    let list = relief_runtime::cli_maps::list_text();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_relief")).args(["maps", "--list"]).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let list = String::from_utf8(out.stdout).unwrap();
     for kind in MapKind::ALL.into_iter().filter(|k| k.is_cell()) {
         assert!(list.contains(kind.name()), "{kind} missing from --list");
         for edge in EDGES {

@@ -6,7 +6,9 @@ use relief_runtime::heightmap::{EdgeMode, HeightMap};
 use relief_runtime::maps::cone::cone_ratios;
 use relief_runtime::maps::cone_normal::{normal_z, cone_normals, relaxed_cone_normals};
 use relief_runtime::maps::distance_field::distance_field;
+use relief_runtime::io::npy;
 use relief_runtime::maps::encode::{self, f32_down, Encoding, Format, Rounding};
+use relief_runtime::maps::{file, filter};
 use relief_runtime::maps::multi_cone::{cone_heights, piecewise_cone_normals, stacked_cone_normals};
 use relief_runtime::maps::quad_cone::quad_cone_ratios;
 use relief_runtime::maps::relaxed_cone::{exits, relaxed_cone_ratios};
@@ -482,7 +484,7 @@ fn encodings_round_toward_conservative() {
 fn min3x3_bounds_bilinear_filtering() {
     let m = noise(16, 16, 3);
     let cones = Map::new_2d(16, 16, 1, cone_ratios(&m, EdgeMode::Repeat).into_iter().map(|v| v.min(4.0)).collect());
-    let f = encode::min3x3(&cones, EdgeMode::Repeat);
+    let f = filter::min3x3(&cones, EdgeMode::Repeat);
     let mut r = Lcg(5);
     for _ in 0..2000 {
         let (u, v) = (r.next() as f64, r.next() as f64);
@@ -513,9 +515,9 @@ fn files_round_trip() {
     // .npy float32 [h, w, c], read back by the height-map loader channel by channel.
     let e = encode::encode(&q, &Encoding::F32, Rounding::Down);
     let p = dir.join("q.npy");
-    encode::write_map(&p, &e).unwrap();
+    file::write_map(&p, &e).unwrap();
     let bytes = std::fs::read(&p).unwrap();
-    let hdr = encode::parse_npy_header(&bytes).unwrap();
+    let hdr = npy::parse_npy_header(&bytes).unwrap();
     assert_eq!(hdr.shape, vec![12, 20, 4]);
     assert_eq!(hdr.data_offset % 64, 0);
     let back: Vec<f32> = bytes[hdr.data_offset..].chunks_exact(4).map(|b| f32::from_le_bytes(b.try_into().unwrap())).collect();
@@ -526,7 +528,7 @@ fn files_round_trip() {
         let c = maps::build(&m, MapKind::Cone, &MapParams::default(), EdgeMode::Repeat).unwrap();
         let e = encode::encode(&c, &enc, Rounding::Down);
         let p = dir.join(format!("c{format:?}.png"));
-        encode::write_map(&p, &e).unwrap();
+        file::write_map(&p, &e).unwrap();
         let img = image::open(&p).unwrap();
         assert_eq!((img.width(), img.height()), (20, 12));
         match format {
@@ -541,12 +543,12 @@ fn files_round_trip() {
     // .exr (float) through image.
     let c = maps::build(&m, MapKind::ConeNormal, &MapParams::default(), EdgeMode::Repeat).unwrap();
     let p = dir.join("n.exr");
-    encode::write_map(&p, &encode::encode(&c, &Encoding::F32, Rounding::Down)).unwrap();
+    file::write_map(&p, &encode::encode(&c, &Encoding::F32, Rounding::Down)).unwrap();
     let img = image::open(&p).unwrap().to_rgb32f();
     assert!(img.pixels().zip(&c.data).all(|(px, v)| px.0[0] == *v));
     // Errors, not panics.
-    assert!(encode::write_map(&dir.join("x.png"), &encode::encode(&c, &Encoding::F32, Rounding::Down)).is_err());
-    assert!(encode::write_map(&dir.join("x.txt"), &e).is_err());
+    assert!(file::write_map(&dir.join("x.png"), &encode::encode(&c, &Encoding::F32, Rounding::Down)).is_err());
+    assert!(file::write_map(&dir.join("x.txt"), &e).is_err());
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -629,7 +631,7 @@ fn prop_map(kind: u8, seed: u64) -> HeightMap {
         0 => noise(16, 16, seed),
         1 => bumps(20, 16, seed),
         2 => coarse_noise(16, 20, seed),
-        _ => HeightMap::from_fn(16, 16, |x, y| if (x + 3 * y + seed as usize) % 7 == 0 { 0.9 } else { 0.2 }),
+        _ => HeightMap::from_fn(16, 16, |x, y| if (x + 3 * y + seed as usize).is_multiple_of(7) { 0.9 } else { 0.2 }),
     }
 }
 
@@ -660,4 +662,40 @@ fn cone_stepping_makes_progress() {
     let c = cone_ratios(&m, EdgeMode::Repeat);
     let t = ray_never_pierces(&m, EdgeMode::Repeat, &c, 0.1, 0.7, (0.3, 0.1)).unwrap();
     assert!(t > 0.05, "t = {t}");
+}
+
+#[test]
+fn map_kinds_and_requests_name_each_other() {
+    use relief_dsl::spec::MapReq;
+    // Every request but the normal map has exactly one kind, of the same name; the cone
+    // count travels with the multi-cone requests.
+    let reqs = [
+        MapReq::Cone,
+        MapReq::QuadCone,
+        MapReq::RelaxedCone,
+        MapReq::ConeNormal,
+        MapReq::RelaxedConeNormal,
+        MapReq::MultiCone(7),
+        MapReq::PiecewiseCone(3),
+        MapReq::MaxMip,
+        MapReq::DistanceField,
+        MapReq::CellCone,
+        MapReq::CellQuadCone,
+        MapReq::CellRelaxedCone,
+        MapReq::CellConeNormal,
+        MapReq::CellMultiCone(5),
+        MapReq::CellPiecewiseCone(2),
+    ];
+    assert!(MapKind::of(MapReq::Normal).is_none());
+    let mut seen = Vec::new();
+    for r in reqs {
+        let (k, p) = MapKind::of(r).unwrap_or_else(|| panic!("{r:?} has no kind"));
+        assert_eq!(k.name(), r.name());
+        assert_eq!(k.name().parse::<MapKind>().unwrap(), k);
+        if let MapReq::MultiCone(n) | MapReq::PiecewiseCone(n) | MapReq::CellMultiCone(n) | MapReq::CellPiecewiseCone(n) = r {
+            assert_eq!(p.cones, n);
+        }
+        seen.push(k);
+    }
+    assert_eq!(seen, MapKind::ALL.to_vec(), "one request per kind, in the listing order");
 }

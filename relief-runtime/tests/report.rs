@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use relief_runtime::metrics::Metrics;
 use relief_runtime::report::{self, Verdict};
-use relief_runtime::sweep::Row;
+use relief_runtime::results::Row;
 
 fn fresh_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("relief-report-{}-{name}", std::process::id()));

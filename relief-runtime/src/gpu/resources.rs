@@ -7,7 +7,7 @@ use relief_dsl::abi::{binding, Params};
 use relief_dsl::spec::MapReq;
 use wgpu::util::DeviceExt;
 
-use crate::maps::{MapKind, MapParams};
+use crate::maps::{normal, MapKey, MapKind};
 
 use super::Gpu;
 use crate::heightmap::EdgeMode;
@@ -48,23 +48,6 @@ fn texture(gpu: &Gpu, label: &str, w: usize, h: usize, format: wgpu::TextureForm
     t.create_view(&Default::default())
 }
 
-/// Normals of the height map by central differences, with the scene's depth scale: the
-/// surface z = depth · h(u, v) in texture units.
-pub fn derived_normals(scene: &Scene) -> Vec<[f32; 3]> {
-    let m = &scene.height;
-    let (w, h) = (m.width as i64, m.height as i64);
-    let mut out = Vec::with_capacity(m.data.len());
-    for y in 0..h {
-        for x in 0..w {
-            let dx = (m.texel(x + 1, y, scene.edge) - m.texel(x - 1, y, scene.edge)) * scene.depth_scale * w as f32 / 2.0;
-            let dy = (m.texel(x, y + 1, scene.edge) - m.texel(x, y - 1, scene.edge)) * scene.depth_scale * h as f32 / 2.0;
-            let n = glam::Vec3::new(-dx, -dy, 1.0).normalize();
-            out.push(n.to_array());
-        }
-    }
-    out
-}
-
 impl SceneTextures {
     /// Uploads the scene's height map, normal map (derived when the scene has none) and
     /// albedo (neutral grey when it has none).
@@ -84,7 +67,7 @@ impl SceneTextures {
         };
         let normals: Vec<[f32; 3]> = match &scene.normal {
             Some(n) => n.data.clone(),
-            None => derived_normals(scene),
+            None => normal::derived_normals(&scene.height, scene.depth_scale, scene.edge),
         };
         let (nw, nh) = match &scene.normal {
             Some(n) => (n.width, n.height),
@@ -128,14 +111,16 @@ impl SceneTextures {
     /// than the exact one, which stays conservative and keeps `+inf` out of the shaders.
     pub fn add_maps(&mut self, gpu: &Gpu, scene: &Scene, reqs: &[MapReq]) -> Result<(), crate::maps::MapError> {
         for &req in reqs {
-            if req == MapReq::Normal || self.maps.contains_key(&MapKey::of(req)) {
+            // The normal map (no key) is uploaded with the scene.
+            let Some((kind, params)) = MapKind::of(req) else { continue };
+            let key = MapKey { kind, params: params.relevant(kind) };
+            if self.maps.contains_key(&key) {
                 continue;
             }
-            let (kind, params) = map_kind(req);
             let map = crate::maps::build(&scene.height, kind, &params, scene.edge)?;
             let used = if kind.is_cell() { map.channels - 1 } else { map.channels };
             let view = upload_map(gpu, &map, used, kind.is_ratio());
-            self.maps.insert(MapKey::of(req), view);
+            self.maps.insert(key, view);
         }
         Ok(())
     }
@@ -145,7 +130,7 @@ impl SceneTextures {
         let req = reqs.iter().find(|r| **r != MapReq::Normal && r.binding() == b).ok_or_else(|| {
             super::GpuError::Pipeline(format!("the shader reads a map at binding {b}, which the pipeline's required maps do not name"))
         })?;
-        self.maps.get(&MapKey::of(*req)).ok_or_else(|| missing_map(b))
+        MapKey::of(*req).and_then(|k| self.maps.get(&k)).ok_or_else(|| missing_map(b))
     }
 
     /// The params uniform buffer for a scene seen at `aspect`.
@@ -185,7 +170,7 @@ impl SceneTextures {
                 binding::NORMAL => wgpu::BindingResource::TextureView(&self.normal),
                 binding::ALBEDO => wgpu::BindingResource::TextureView(&self.albedo),
                 binding::LINEAR_SAMPLER => wgpu::BindingResource::Sampler(&self.linear),
-                b if b >= binding::NEAREST_OFFSET && b < binding::RAYS => {
+                b if (binding::NEAREST_OFFSET..binding::RAYS).contains(&b) => {
                     let base = b - binding::NEAREST_OFFSET;
                     match base {
                         binding::HEIGHT => wgpu::BindingResource::TextureView(&self.height),
@@ -215,46 +200,8 @@ fn missing_map(b: u32) -> super::GpuError {
     super::GpuError::Pipeline(format!("the shader reads the map at binding {b}, which was not built (call add_maps with the pipeline's required_maps)"))
 }
 
-/// Which uploaded map a request takes: its kind and the parameters that matter to that kind.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct MapKey {
-    pub kind: MapKind,
-    pub params: MapParams,
-}
-
-impl MapKey {
-    /// The key of a map request.
-    pub fn of(req: MapReq) -> MapKey {
-        let (kind, params) = map_kind(req);
-        MapKey { kind, params: params.relevant(kind) }
-    }
-}
-
 /// The largest cone ratio uploaded (a cone 89.99° wide).
 pub const MAX_RATIO: f32 = 1.0e4;
-
-/// The map kind and parameters behind a map requirement.
-pub fn map_kind(req: MapReq) -> (MapKind, MapParams) {
-    let d = MapParams::default();
-    match req {
-        MapReq::Normal => unreachable!("the normal map is uploaded with the scene"),
-        MapReq::Cone => (MapKind::Cone, d),
-        MapReq::QuadCone => (MapKind::QuadCone, d),
-        MapReq::RelaxedCone => (MapKind::RelaxedCone, d),
-        MapReq::ConeNormal => (MapKind::ConeNormal, d),
-        MapReq::RelaxedConeNormal => (MapKind::RelaxedConeNormal, d),
-        MapReq::MultiCone(k) => (MapKind::MultiCone, MapParams { cones: k, ..d }),
-        MapReq::PiecewiseCone(k) => (MapKind::PiecewiseCone, MapParams { cones: k, ..d }),
-        MapReq::MaxMip => (MapKind::MaxMip, d),
-        MapReq::DistanceField => (MapKind::DistanceField, d),
-        MapReq::CellCone => (MapKind::CellCone, d),
-        MapReq::CellQuadCone => (MapKind::CellQuadCone, d),
-        MapReq::CellRelaxedCone => (MapKind::CellRelaxedCone, d),
-        MapReq::CellConeNormal => (MapKind::CellConeNormal, d),
-        MapReq::CellMultiCone(k) => (MapKind::CellMultiCone, MapParams { cones: k, ..d }),
-        MapReq::CellPiecewiseCone(k) => (MapKind::CellPiecewiseCone, MapParams { cones: k, ..d }),
-    }
-}
 
 /// Uploads the first `used` channels of a map as R32Float (one channel) or Rgba32Float (2 to
 /// 4 channels, padded), 2D or 3D, with its pyramid levels (max-mip) as mip levels.

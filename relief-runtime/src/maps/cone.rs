@@ -29,7 +29,7 @@
 //! **Bilinear surface:** the definition is over the texel samples. A bilinear patch between
 //! higher texels can poke through such a cone by up to a fraction of a texel; a tracer that
 //! needs a hard guarantee on the bilinear surface pads the step (see the property test in
-//! `tests/maps.rs`) or uses [`super::encode::min3x3`].
+//! `tests/maps.rs`) or uses [`super::filter::min3x3`].
 //!
 //! # Algorithm and complexity
 //!

@@ -7,13 +7,16 @@
 //! clamped (a cone with nothing above it is `+inf`); only an [`encode::Encoding`] clamps.
 //!
 //! Entry points: [`build`] one map kind from a height map, [`MapCache`] to build each
-//! (height map, kind, parameters, edge mode, encoding) once, [`encode::write_map`] to save.
+//! (height map, kind, parameters, edge mode, encoding) once, [`file::write_map`] to save.
 pub mod cell;
 pub mod cone;
 pub mod cone_normal;
 pub mod distance_field;
 pub mod encode;
+pub mod file;
+pub mod filter;
 pub mod max_mip;
+pub mod normal;
 pub mod multi_cone;
 pub mod quad_cone;
 pub mod relaxed_cone;
@@ -21,6 +24,7 @@ pub mod search;
 
 use crate::heightmap::{EdgeMode, HeightMap};
 use encode::{EncodedMap, Encoding, Rounding};
+use relief_dsl::spec::MapReq;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
@@ -83,25 +87,48 @@ impl MapKind {
         MapKind::CellPiecewiseCone,
     ];
 
-    /// The name used on the command line and in specs.
-    pub fn name(self) -> &'static str {
+    /// The map request this kind answers (with the default parameters): the one table
+    /// between the two enums, [`MapKind::of`] reads it backwards.
+    pub fn request(self) -> MapReq {
+        let k = MapParams::default().cones;
         match self {
-            MapKind::Cone => "cone",
-            MapKind::QuadCone => "quad_cone",
-            MapKind::RelaxedCone => "relaxed_cone",
-            MapKind::ConeNormal => "cone_normal",
-            MapKind::RelaxedConeNormal => "relaxed_cone_normal",
-            MapKind::MultiCone => "multi_cone",
-            MapKind::PiecewiseCone => "piecewise_cone",
-            MapKind::MaxMip => "max_mip",
-            MapKind::DistanceField => "distance_field",
-            MapKind::CellCone => "cell_cone",
-            MapKind::CellQuadCone => "cell_quad_cone",
-            MapKind::CellRelaxedCone => "cell_relaxed_cone",
-            MapKind::CellConeNormal => "cell_cone_normal",
-            MapKind::CellMultiCone => "cell_multi_cone",
-            MapKind::CellPiecewiseCone => "cell_piecewise_cone",
+            MapKind::Cone => MapReq::Cone,
+            MapKind::QuadCone => MapReq::QuadCone,
+            MapKind::RelaxedCone => MapReq::RelaxedCone,
+            MapKind::ConeNormal => MapReq::ConeNormal,
+            MapKind::RelaxedConeNormal => MapReq::RelaxedConeNormal,
+            MapKind::MultiCone => MapReq::MultiCone(k),
+            MapKind::PiecewiseCone => MapReq::PiecewiseCone(k),
+            MapKind::MaxMip => MapReq::MaxMip,
+            MapKind::DistanceField => MapReq::DistanceField,
+            MapKind::CellCone => MapReq::CellCone,
+            MapKind::CellQuadCone => MapReq::CellQuadCone,
+            MapKind::CellRelaxedCone => MapReq::CellRelaxedCone,
+            MapKind::CellConeNormal => MapReq::CellConeNormal,
+            MapKind::CellMultiCone => MapReq::CellMultiCone(k),
+            MapKind::CellPiecewiseCone => MapReq::CellPiecewiseCone(k),
         }
+    }
+
+    /// The kind and parameters behind a map request; `None` for [`MapReq::Normal`], which is
+    /// not built here but uploaded with the scene ([`normal`]).
+    pub fn of(req: MapReq) -> Option<(MapKind, MapParams)> {
+        let same = |k: &MapKind| std::mem::discriminant(&k.request()) == std::mem::discriminant(&req);
+        let kind = MapKind::ALL.into_iter().find(same)?;
+        let d = MapParams::default();
+        let params = match req {
+            MapReq::MultiCone(k) | MapReq::PiecewiseCone(k) | MapReq::CellMultiCone(k) | MapReq::CellPiecewiseCone(k) => {
+                MapParams { cones: k, ..d }
+            }
+            _ => d,
+        };
+        Some((kind, params))
+    }
+
+    /// The name used on the command line and in specs: the request's name
+    /// ([`MapReq::name`]).
+    pub fn name(self) -> &'static str {
+        self.request().name()
     }
 
     /// One line: what the map holds, its channels and the parameters it reads.
@@ -221,6 +248,22 @@ impl MapParams {
             MapKind::DistanceField => MapParams { z_resolution: self.z_resolution, ..d },
             _ => d,
         }
+    }
+}
+
+/// Which map a request takes: its kind and the parameters that matter to that kind. Two
+/// requests of one kind with different parameters are two maps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct MapKey {
+    pub kind: MapKind,
+    pub params: MapParams,
+}
+
+impl MapKey {
+    /// The key of a map request; `None` for [`MapReq::Normal`] (see [`MapKind::of`]).
+    pub fn of(req: MapReq) -> Option<MapKey> {
+        let (kind, params) = MapKind::of(req)?;
+        Some(MapKey { kind, params: params.relevant(kind) })
     }
 }
 
@@ -463,7 +506,7 @@ impl MapCache {
         }
         let path = self.dir.as_ref()?.join(format!("{}.npy", key.file_stem()));
         let bytes = std::fs::read(path).ok()?;
-        let hdr = encode::parse_npy_header(&bytes).ok()?;
+        let hdr = crate::io::npy::parse_npy_header(&bytes).ok()?;
         if hdr.item_size != 4 {
             return None;
         }
@@ -487,7 +530,6 @@ impl MapCache {
             return;
         }
         let path = dir.join(format!("{}.npy", key.file_stem()));
-        let tmp = dir.join(format!("{}.npy.tmp", key.file_stem()));
         let mut shape = Vec::new();
         if map.depth > 1 || key.kind == MapKind::DistanceField {
             shape.push(map.depth);
@@ -496,10 +538,7 @@ impl MapCache {
         if map.channels > 1 || matches!(key.kind, MapKind::MultiCone | MapKind::PiecewiseCone) || key.kind.is_cell() {
             shape.push(map.channels);
         }
-        if std::fs::write(&tmp, encode::npy_bytes(&shape, &map.data)).is_ok() {
-            let _ = std::fs::rename(&tmp, &path);
-        } else {
-            let _ = std::fs::remove_file(&tmp);
-        }
+        // A cache: a map that cannot be stored is built again next time.
+        let _ = crate::io::write_atomic(&path, &crate::io::npy::npy_bytes(&shape, &map.data));
     }
 }

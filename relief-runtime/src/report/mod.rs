@@ -13,26 +13,26 @@
 //! The dissertation's numbers are embedded (`data/dissertation_tables.csv`), so a report
 //! works on a fresh clone. The report never fails on a failed cell: failed rows are listed.
 
+mod agreement;
 mod charts;
 mod conclusions;
+mod data;
 mod diss;
 mod html;
 mod pareto;
+mod stats;
 mod strips;
 mod tables;
+mod text;
 
-use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
-use relief_dsl::spec::{StageSpec, Value};
-use relief_dsl::Pipeline;
-
-use crate::metrics::Metrics;
-use crate::sweep::Row;
 
 pub use conclusions::{Conclusion, Verdict};
+pub(crate) use data::{group_label, short_scene, stage_steps, Data, Metric};
+pub(crate) use text::{anchor, file_safe, fmt_ms, fmt_num, fmt_pct, fmt_sci, ours, TextTable, DASH};
 
 /// What `write` produced.
 #[derive(Clone, Debug, Default)]
@@ -109,7 +109,7 @@ pub fn write(dir: &Path) -> anyhow::Result<ReportSummary> {
     let diss = diss::Diss::load();
     let tables = tables::build(&data, &diss);
     let conclusions = conclusions::check(&data, &diss);
-    let agreement = conclusions::metric_agreement(&data, &tables);
+    let agreement = agreement::metric_agreement(&data, &tables);
     let charts = charts::write_all(&data, &sub, &mut summary.warnings);
     let strips = strips::write_all(&data, &tables, &sub, &mut summary.warnings);
     let fronts = pareto::build(&data);
@@ -181,7 +181,7 @@ fn remove_stale(sub: &Path) {
 }
 
 fn write_file(path: &Path, bytes: &[u8], files: &mut Vec<PathBuf>) -> anyhow::Result<()> {
-    std::fs::write(path, bytes).with_context(|| format!("cannot write {}", path.display()))?;
+    crate::io::write_atomic(path, bytes)?;
     files.push(path.to_path_buf());
     Ok(())
 }
@@ -210,383 +210,4 @@ fn failed_md(s: &ReportSummary) -> String {
         let _ = writeln!(md, "- unreadable results line: {l}");
     }
     md
-}
-
-// ---------------------------------------------------------------------------------------
-// Data
-
-/// The sweep's rows, indexed by (canonical pipeline, scene label, size): rows of one
-/// pipeline and scene at two sizes are two rows, never one replacing the other (issue #11).
-pub(crate) struct Data {
-    pub dir: PathBuf,
-    pub rows: Vec<Row>,
-    pub bad_lines: Vec<String>,
-    index: HashMap<(String, String, u32), usize>,
-}
-
-impl Data {
-    /// Reads `dir/results.jsonl` without changing it; unreadable lines are skipped and kept
-    /// in `bad_lines`. A missing file gives no rows.
-    pub fn load(dir: &Path) -> anyhow::Result<Data> {
-        let path = dir.join("results.jsonl");
-        let text = match std::fs::read(&path) {
-            Ok(b) => String::from_utf8_lossy(&b).into_owned(),
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => String::new(),
-            Err(e) => return Err(anyhow::anyhow!("cannot read {}: {e}", path.display())),
-        };
-        let mut rows = Vec::new();
-        let mut bad_lines = Vec::new();
-        for (i, line) in text.lines().enumerate() {
-            if line.trim().is_empty() {
-                continue;
-            }
-            match parse_row(line) {
-                Ok(r) => rows.push(r),
-                Err(e) => bad_lines.push(format!("line {}: {e}", i + 1)),
-            }
-        }
-        Ok(Data::from_rows(dir, rows, bad_lines))
-    }
-
-    pub fn from_rows(dir: &Path, mut rows: Vec<Row>, bad_lines: Vec<String>) -> Data {
-        for r in rows.iter_mut() {
-            r.metrics.pipeline = canonical(&r.metrics.pipeline);
-        }
-        // A later row replaces an earlier one, except that an ok row is never replaced by a
-        // failed one.
-        let mut index: HashMap<(String, String, u32), usize> = HashMap::new();
-        for (i, r) in rows.iter().enumerate() {
-            let k = (r.metrics.pipeline.clone(), r.metrics.scene.clone(), r.metrics.size);
-            match index.get(&k) {
-                Some(&j) if rows[j].status == "ok" && r.status != "ok" => {}
-                _ => {
-                    index.insert(k, i);
-                }
-            }
-        }
-        Data { dir: dir.to_path_buf(), rows, bad_lines, index }
-    }
-
-    /// The row of `pipeline` (canonical text) on `scene` (label, `scene:NAME`) at `size`,
-    /// any status.
-    pub fn get(&self, pipeline: &str, scene: &str, size: u32) -> Option<&Row> {
-        self.index.get(&(pipeline.to_string(), scene.to_string(), size)).and_then(|&i| self.rows.get(i))
-    }
-
-    /// The same, only if it succeeded.
-    pub fn ok(&self, pipeline: &str, scene: &str, size: u32) -> Option<&Row> {
-        self.get(pipeline, scene, size).filter(|r| r.status == "ok")
-    }
-
-    /// The ok rows of `pipeline` on `scene` at every size, smallest size first.
-    pub fn ok_any_size(&self, pipeline: &str, scene: &str) -> Vec<&Row> {
-        let mut v: Vec<&Row> = self.sizes().into_iter().filter_map(|z| self.ok(pipeline, scene, z)).collect();
-        v.sort_by_key(|r| r.metrics.size);
-        v
-    }
-
-    /// Whether `r` is the row the index keeps for its (pipeline, scene, size).
-    pub fn is_indexed(&self, r: &Row) -> bool {
-        self.get(&r.metrics.pipeline, &r.metrics.scene, r.metrics.size).is_some_and(|x| std::ptr::eq(x, r))
-    }
-
-    /// Scene labels in first-seen order.
-    pub fn scenes(&self) -> Vec<String> {
-        self.distinct(|r| r.metrics.scene.clone())
-    }
-
-    /// Sizes in first-seen order.
-    pub fn sizes(&self) -> Vec<u32> {
-        let mut out: Vec<u32> = Vec::new();
-        for r in &self.rows {
-            if !out.contains(&r.metrics.size) {
-                out.push(r.metrics.size);
-            }
-        }
-        out
-    }
-
-    /// The sizes with rows on `scene`, first-seen order.
-    pub fn sizes_of(&self, scene: &str) -> Vec<u32> {
-        let mut out: Vec<u32> = Vec::new();
-        for r in self.rows.iter().filter(|r| r.metrics.scene == scene) {
-            if !out.contains(&r.metrics.size) {
-                out.push(r.metrics.size);
-            }
-        }
-        out
-    }
-
-    pub fn distinct(&self, f: impl Fn(&Row) -> String) -> Vec<String> {
-        let mut out: Vec<String> = Vec::new();
-        for r in &self.rows {
-            let v = f(r);
-            if !out.contains(&v) {
-                out.push(v);
-            }
-        }
-        out
-    }
-
-    /// The scene the conclusions are checked on: Lion when measured, else the scene with the
-    /// most ok rows.
-    pub fn main_scene(&self) -> Option<String> {
-        let scenes = self.scenes();
-        if scenes.iter().any(|s| s == "scene:lion") {
-            return Some("scene:lion".into());
-        }
-        scenes.into_iter().max_by_key(|s| self.rows.iter().filter(|r| &r.metrics.scene == s && r.status == "ok").count())
-    }
-}
-
-/// A scene and size as a short label: `lion, 64²`.
-pub(crate) fn group_label(scene: &str, size: u32) -> String {
-    format!("{}, {size}²", short_scene(scene))
-}
-
-/// Parses one results line; numbers written as `null` (NaN or infinite when measured) come
-/// back as NaN.
-fn parse_row(line: &str) -> anyhow::Result<Row> {
-    let v: serde_json::Value = serde_json::from_str(line).map_err(|e| anyhow::anyhow!("not JSON: {e}"))?;
-    let serde_json::Value::Object(obj) = v else {
-        anyhow::bail!("not a JSON object");
-    };
-    let mut base = serde_json::to_value(Row::default())?;
-    let mut nulls = Vec::new();
-    // Fields that rows written before issue #11 lack: not recorded, so NaN (shown as such),
-    // never a silent 0.
-    for k in LATER_FIELDS {
-        if !obj.contains_key(*k) {
-            nulls.push(k.to_string());
-        }
-    }
-    if let serde_json::Value::Object(b) = &mut base {
-        for (k, val) in obj {
-            if val.is_null() {
-                nulls.push(k);
-            } else {
-                b.insert(k, val);
-            }
-        }
-    }
-    let mut row: Row = serde_json::from_value(base).map_err(|e| anyhow::anyhow!("not a results row: {e}"))?;
-    for k in nulls {
-        set_nan(&mut row.metrics, &k);
-    }
-    Ok(row)
-}
-
-/// Metrics fields added with issue #11 (absent from older results files).
-const LATER_FIELDS: &[&str] = &["frame_ms_mean", "avg_coarse_steps", "avg_refine_steps", "nonconverged_rate"];
-
-fn set_nan(m: &mut Metrics, field: &str) {
-    let f = match field {
-        "frame_ms_median" => &mut m.frame_ms_median,
-        "frame_ms_mean" => &mut m.frame_ms_mean,
-        "avg_coarse_steps" => &mut m.avg_coarse_steps,
-        "avg_refine_steps" => &mut m.avg_refine_steps,
-        "nonconverged_rate" => &mut m.nonconverged_rate,
-        "frame_ms_p10" => &mut m.frame_ms_p10,
-        "frame_ms_p90" => &mut m.frame_ms_p90,
-        "mse_dissertation" => &mut m.mse_dissertation,
-        "mse_dissertation_mean" => &mut m.mse_dissertation_mean,
-        "ref_err_t_rms" => &mut m.ref_err_t_rms,
-        "ref_err_uv_texels_rms" => &mut m.ref_err_uv_texels_rms,
-        "missed_rate" => &mut m.missed_rate,
-        "avg_iterations" => &mut m.avg_iterations,
-        "avg_fetches" => &mut m.avg_fetches,
-        _ => return,
-    };
-    *f = f64::NAN;
-}
-
-/// The canonical text of a pipeline (the text itself when it does not parse).
-pub(crate) fn canonical(text: &str) -> String {
-    text.parse::<Pipeline>().map(|p| p.to_string()).unwrap_or_else(|_| text.to_string())
-}
-
-/// `scene:lion` → `lion`.
-pub(crate) fn short_scene(label: &str) -> &str {
-    label.strip_prefix("scene:").unwrap_or(label)
-}
-
-/// A stage's step count: its `steps` parameter, or the first whole-number parameter, or the
-/// steps of a nested stage (`hard(linear(20))`); 0 for `none`.
-pub(crate) fn stage_steps(s: &StageSpec) -> u32 {
-    if s.is_none() {
-        return 0;
-    }
-    if let Some(Value::Int(n)) = s.get("steps") {
-        return *n;
-    }
-    for (_, v) in &s.params {
-        match v {
-            Value::Int(n) => return *n,
-            Value::Stage(inner) => return stage_steps(inner),
-            Value::Word(_) => {}
-        }
-    }
-    0
-}
-
-// ---------------------------------------------------------------------------------------
-// Error metrics and formatting
-
-/// An error metric of our rows. `Mse` is `mse_dissertation_mean`, the per-ray mean: the
-/// dissertation's printed MSE behaves like a per-pixel mean (Burger 2018 Table 4.1: MSE × N²
-/// stays near 0.4–0.55 for N = 5…200 linear steps), so the mean is what compares with it
-/// and what does not change with the number of probe rays.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Metric {
-    Mse,
-    RefT,
-    Missed,
-}
-
-impl Metric {
-    pub const ALL: [Metric; 3] = [Metric::Mse, Metric::RefT, Metric::Missed];
-    pub fn name(self) -> &'static str {
-        match self {
-            Metric::Mse => "mse_dissertation_mean",
-            Metric::RefT => "ref_err_t_rms",
-            Metric::Missed => "missed_rate",
-        }
-    }
-    pub fn of(self, r: &Row) -> f64 {
-        match self {
-            Metric::Mse => r.metrics.mse_dissertation_mean,
-            Metric::RefT => r.metrics.ref_err_t_rms,
-            Metric::Missed => r.metrics.missed_rate,
-        }
-    }
-}
-
-/// A cell of our columns: the value, "error" for a failed cell, "—" for a missing one.
-pub(crate) fn ours(row: Option<&Row>, f: impl Fn(&Row) -> String) -> String {
-    match row {
-        None => DASH.into(),
-        Some(r) if r.status != "ok" => "error".into(),
-        Some(r) => f(r),
-    }
-}
-
-pub(crate) const DASH: &str = "—";
-
-pub(crate) fn fmt_ms(v: f64) -> String {
-    if v.is_finite() {
-        format!("{v:.3}")
-    } else {
-        "NaN".into()
-    }
-}
-
-pub(crate) fn fmt_sci(v: f64) -> String {
-    if !v.is_finite() {
-        "NaN".into()
-    } else if v == 0.0 {
-        "0".into()
-    } else {
-        format!("{v:.3e}")
-    }
-}
-
-pub(crate) fn fmt_num(v: f64, decimals: usize) -> String {
-    if v.is_finite() {
-        format!("{v:.decimals$}")
-    } else {
-        "NaN".into()
-    }
-}
-
-pub(crate) fn fmt_pct(v: Option<f64>) -> String {
-    match v {
-        Some(x) if x.is_finite() => format!("{x:.1}%"),
-        _ => DASH.into(),
-    }
-}
-
-/// A table of text cells, printable as Markdown or HTML.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct TextTable {
-    pub title: String,
-    /// Paragraphs under the title.
-    pub notes: Vec<String>,
-    pub header: Vec<String>,
-    pub rows: Vec<Vec<String>>,
-}
-
-impl TextTable {
-    pub fn to_markdown(&self, level: usize) -> String {
-        let mut md = String::new();
-        if !self.title.is_empty() {
-            let _ = writeln!(md, "{} {}\n", "#".repeat(level.max(1)), self.title);
-        }
-        for n in &self.notes {
-            let _ = writeln!(md, "{n}\n");
-        }
-        if self.header.is_empty() {
-            return md;
-        }
-        let esc = |s: &str| s.replace('|', "\\|").replace('\n', " ");
-        let _ = writeln!(md, "| {} |", self.header.iter().map(|h| esc(h)).collect::<Vec<_>>().join(" | "));
-        let _ = writeln!(md, "|{}", self.header.iter().map(|_| "---|").collect::<String>());
-        for r in &self.rows {
-            let mut cells: Vec<String> = r.iter().map(|c| esc(c)).collect();
-            cells.resize(self.header.len(), String::new());
-            let _ = writeln!(md, "| {} |", cells.join(" | "));
-        }
-        md.push('\n');
-        md
-    }
-
-    pub fn to_html(&self, level: usize) -> String {
-        let mut h = String::new();
-        let lv = level.clamp(1, 6);
-        if !self.title.is_empty() {
-            let _ = writeln!(h, "<h{lv} id=\"{}\">{}</h{lv}>", anchor(&self.title), html::esc(&self.title));
-        }
-        for n in &self.notes {
-            let _ = writeln!(h, "<p>{}</p>", html::md_inline(n));
-        }
-        if self.header.is_empty() {
-            return h;
-        }
-        h.push_str("<table>\n<thead><tr>");
-        for c in &self.header {
-            let _ = write!(h, "<th>{}</th>", html::esc(c));
-        }
-        h.push_str("</tr></thead>\n<tbody>\n");
-        for r in &self.rows {
-            h.push_str("<tr>");
-            for c in r {
-                let class = if c.starts_with("holds") {
-                    " class=\"holds\""
-                } else if c.starts_with("does not hold") {
-                    " class=\"fails\""
-                } else if c == "error" {
-                    " class=\"err\""
-                } else {
-                    ""
-                };
-                let _ = write!(h, "<td{class}>{}</td>", html::md_inline(c));
-            }
-            h.push_str("</tr>\n");
-        }
-        h.push_str("</tbody></table>\n");
-        h
-    }
-}
-
-/// An HTML id from a title.
-pub(crate) fn anchor(title: &str) -> String {
-    let mut s: String = title.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '-' }).collect();
-    while s.contains("--") {
-        s = s.replace("--", "-");
-    }
-    s.trim_matches('-').to_string()
-}
-
-/// A file-safe name.
-pub(crate) fn file_safe(s: &str) -> String {
-    s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' || c == '.' { c } else { '_' }).collect()
 }

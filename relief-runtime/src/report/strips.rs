@@ -39,7 +39,7 @@ pub(crate) struct Frame {
 }
 
 /// The caption values of a row.
-pub(crate) fn caption_values(r: Option<&crate::sweep::Row>) -> String {
+pub(crate) fn caption_values(r: Option<&crate::results::Row>) -> String {
     match r {
         None => "not measured".into(),
         Some(r) if r.status != "ok" => format!("failed: {}", r.error.replace('\n', " ")),

@@ -7,7 +7,8 @@ use relief_dsl::Pipeline;
 use super::diss::{Diss, DissRow};
 use super::{fmt_ms, fmt_num, fmt_pct, fmt_sci, ours, short_scene, Data, TextTable, DASH};
 use crate::sweep::grids;
-use crate::sweep::{scene_label, Row};
+use crate::results::Row;
+use crate::sweep::scene_label;
 
 /// One table of the report: a dissertation table on one scene.
 pub(crate) struct ReportTable {

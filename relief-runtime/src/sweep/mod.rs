@@ -6,66 +6,20 @@
 //! A row is appended with one write as soon as its cell finishes, so a run killed at any
 //! moment loses at most the cell in flight; a line cut short by the kill is dropped when the
 //! next run starts, and cells already recorded (same pipeline, scene and size) are skipped.
-//! A cell that fails is recorded with its error, and the sweep goes on.
+//! A cell that fails is recorded with its error, and the sweep goes on. Rows are read,
+//! appended and written by [`crate::results`].
 
 pub mod grids;
 
 use std::collections::{HashMap, HashSet};
-use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::Context;
-use serde::{Deserialize, Serialize};
-
 use crate::gpu::Gpu;
 use crate::measure::{measure, write_images, Prepared};
-use crate::metrics::Metrics;
+use crate::results::{self, Metrics, Row};
 use crate::scene::{scene_from_arg, Overrides};
 pub use grids::NamedGrid;
-
-/// One results row: the metrics and where they came from.
-#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
-pub struct Row {
-    pub grid: String,
-    #[serde(flatten)]
-    pub metrics: Metrics,
-    /// `ok` or `error`.
-    pub status: String,
-    /// The error of a failed cell (empty otherwise).
-    pub error: String,
-    pub relief_version: String,
-    /// The cell's folder, relative to the sweep's folder (holds frame.png and error.png).
-    pub cell_dir: String,
-}
-
-/// The columns of `results.csv`, in order.
-pub const COLUMNS: &[&str] = &[
-    "grid",
-    "pipeline",
-    "scene",
-    "size",
-    "adapter",
-    "status",
-    "error",
-    "relief_version",
-    "frame_ms_median",
-    "frame_ms_mean",
-    "frame_ms_p10",
-    "frame_ms_p90",
-    "mse_dissertation",
-    "mse_dissertation_mean",
-    "ref_err_t_rms",
-    "ref_err_uv_texels_rms",
-    "missed_rate",
-    "nan_count",
-    "outside_count",
-    "nonconverged_rate",
-    "avg_coarse_steps",
-    "avg_refine_steps",
-    "avg_iterations",
-    "avg_fetches",
-    "cell_dir",
-];
 
 /// What `relief sweep` measures.
 pub struct Options {
@@ -89,76 +43,15 @@ pub struct Summary {
     pub failed: usize,
 }
 
-/// Reads the rows of `results.jsonl`, dropping a last line that a kill cut short (the file
-/// is truncated to its last complete line).
-pub fn read_rows(out: &Path) -> anyhow::Result<Vec<Row>> {
-    let path = out.join("results.jsonl");
-    let Ok(text) = std::fs::read_to_string(&path) else {
-        return Ok(vec![]);
-    };
-    let complete = match text.rfind('\n') {
-        Some(i) => &text[..=i],
-        None => "",
-    };
-    if complete.len() != text.len() {
-        let f = std::fs::OpenOptions::new().write(true).open(&path)?;
-        f.set_len(complete.len() as u64)?;
-    }
-    let mut rows = Vec::new();
-    for (i, line) in complete.lines().enumerate() {
-        if line.trim().is_empty() {
-            continue;
-        }
-        let row: Row = serde_json::from_str(line).with_context(|| format!("{}: line {} is not a results row", path.display(), i + 1))?;
-        rows.push(row);
-    }
-    Ok(rows)
-}
-
 /// The key that says a cell is done.
 fn key(pipeline: &str, scene: &str, size: u32) -> (String, String, u32) {
     (pipeline.to_string(), scene.to_string(), size)
 }
 
-/// Rewrites `results.csv` from `rows`, atomically.
-pub fn write_csv(out: &Path, rows: &[Row]) -> anyhow::Result<()> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(COLUMNS)?;
-    for r in rows {
-        let v = serde_json::to_value(r)?;
-        let record: Vec<String> = COLUMNS
-            .iter()
-            .map(|c| match &v[*c] {
-                serde_json::Value::String(s) => s.clone(),
-                serde_json::Value::Null => String::new(),
-                other => other.to_string(),
-            })
-            .collect();
-        w.write_record(&record)?;
-    }
-    let bytes = w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))?;
-    crate::cli_gen::write_atomic(&out.join("results.csv"), &bytes)
-}
-
-fn append_row(out: &Path, row: &Row) -> anyhow::Result<()> {
-    let mut line = serde_json::to_string(row)?;
-    line.push('\n');
-    let mut f = std::fs::OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(out.join("results.jsonl"))
-        .with_context(|| format!("cannot write {}", out.join("results.jsonl").display()))?;
-    // One write of the whole line: a kill leaves either the whole row or a cut line, which
-    // the next run drops.
-    f.write_all(line.as_bytes())?;
-    f.sync_data()?;
-    Ok(())
-}
-
 /// Runs the sweep.
 pub fn run(opts: &Options) -> anyhow::Result<Summary> {
     std::fs::create_dir_all(&opts.out).with_context(|| format!("cannot create output folder {}", opts.out.display()))?;
-    let mut rows = read_rows(&opts.out)?;
+    let mut rows = results::read_for_append(&opts.out)?;
     let label = |arg: &str| scene_label(arg) + &opts.overrides.suffix();
     let done: HashSet<_> = rows.iter().map(|r| key(&r.metrics.pipeline, &r.metrics.scene, r.metrics.size)).collect();
     let todo: Vec<_> = opts
@@ -171,7 +64,7 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
     opts.overrides.check().map_err(anyhow::Error::msg)?;
     let mut summary = Summary { skipped: opts.grid.cells.len() - todo.len(), ..Default::default() };
     if todo.is_empty() {
-        write_csv(&opts.out, &rows)?;
+        results::write_csv(&opts.out, &rows)?;
         return Ok(summary);
     }
     let gpu = Gpu::new()?;
@@ -234,9 +127,9 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
                 summary.failed += 1;
             }
         }
-        append_row(&opts.out, &row)?;
+        results::append(&opts.out, &row)?;
         rows.push(row);
-        write_csv(&opts.out, &rows)?;
+        results::write_csv(&opts.out, &rows)?;
         bar.inc(1);
     }
     bar.finish_and_clear();

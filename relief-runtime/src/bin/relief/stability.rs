@@ -2,8 +2,8 @@
 
 use std::path::PathBuf;
 
-use crate::gpu::Gpu;
-use crate::stability;
+use relief_runtime::gpu::Gpu;
+use relief_runtime::stability;
 
 /// Arguments of `relief stability`.
 #[derive(clap::Args, Debug)]

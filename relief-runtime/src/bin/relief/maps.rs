@@ -8,10 +8,10 @@
 //! ```
 //!
 //! The output format follows the extension of `FILE`: `.png` (unorm8 → 8 bit, unorm16 → 16
-//! bit), `.exr` (f32/f16), `.npy` (float32, the decoded values). See [`crate::maps::encode`].
+//! bit), `.exr` (f32/f16), `.npy` (float32, the decoded values). See [`relief_runtime::maps::encode`] and [`relief_runtime::maps::file`].
 
-use crate::heightmap::{Channel, EdgeMode, HeightMap, LoadOptions};
-use crate::maps::{self, encode, MapKind, MapParams};
+use relief_runtime::heightmap::{Channel, EdgeMode, HeightMap, LoadOptions};
+use relief_runtime::maps::{self, encode, MapKind, MapParams};
 use anyhow::{bail, Context};
 use std::path::PathBuf;
 
@@ -66,7 +66,7 @@ pub struct MapsArgs {
 }
 
 /// The `--list` text.
-pub fn list_text() -> String {
+fn list_text() -> String {
     let mut s = String::from("map kinds (relief maps INPUT --kind KIND ...):\n");
     for k in MapKind::ALL {
         s.push_str(&format!("  {:<20} {}\n", k.name(), k.describe()));
@@ -92,7 +92,7 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
     }
     let input = match (&args.input, &args.scene) {
         (Some(i), _) => i.clone(),
-        (None, Some(s)) => PathBuf::from(crate::scene::scene_spec(s)),
+        (None, Some(s)) => PathBuf::from(relief_runtime::scene::scene_spec(s)),
         (None, None) => bail!("relief maps needs INPUT (or --scene), --kind and --out (or --list)"),
     };
     let input = &input;
@@ -116,8 +116,8 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
     }
     let is_scene_file = input.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml"));
     let hm = match input.to_str().and_then(|s| s.strip_prefix("scene:")) {
-        Some(name) => crate::scene::Scene::by_name(name, None)?.height,
-        None if is_scene_file => crate::scene::load_scene_file(input)?.height,
+        Some(name) => relief_runtime::scene::Scene::by_name(name, None)?.height,
+        None if is_scene_file => relief_runtime::scene::load_scene_file(input)?.height,
         None => HeightMap::load(input, &LoadOptions { channel, depth: args.depth })?,
     };
     let params = MapParams { cones: args.cones, z_resolution: args.z_resolution };
@@ -132,14 +132,14 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
     if args.min3x3 {
         let mips = std::mem::take(&mut map.mips);
         map = match kind.rounding() {
-            encode::Rounding::Down => encode::min3x3(&map, edge),
-            encode::Rounding::Up => encode::max3x3(&map, edge),
+            encode::Rounding::Down => maps::filter::min3x3(&map, edge),
+            encode::Rounding::Up => maps::filter::max3x3(&map, edge),
         };
         map.mips = mips;
     }
     let enc = encode::Encoding { format, sqrt: args.sqrt, max_value: args.max_value };
     let encoded = encode::encode_channels(&map, &enc, &maps::kind_rounding(&map, kind));
-    encode::write_map(out, &encoded).with_context(|| format!("writing {}", out.display()))?;
+    maps::file::write_map(out, &encoded).with_context(|| format!("writing {}", out.display()))?;
     eprintln!(
         "{}: {} {}x{}x{} ({} ch) from {} in {:.2} s",
         out.display(),

@@ -1,6 +1,6 @@
 //! `relief gen`: shader files for pipelines.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{bail, Context};
 use relief_dsl::spec::{catalog, Pipeline, Slot};
@@ -46,31 +46,6 @@ pub fn listing() -> String {
     s
 }
 
-/// Writes `bytes` to `path` through a temporary file and a rename, so that an interrupted
-/// run never leaves a half-written file.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    let tmp = path.with_extension(format!(
-        "{}.tmp",
-        path.extension().and_then(|e| e.to_str()).unwrap_or("")
-    ));
-    std::fs::write(&tmp, bytes).with_context(|| format!("cannot write {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))?;
-    Ok(())
-}
-
-/// Writes the five shader files of `p` into `out`; returns the file stem.
-pub fn write_pipeline(p: &Pipeline, out: &Path) -> anyhow::Result<String> {
-    let shaders = relief_dsl::emit::emit(p).with_context(|| format!("pipeline {p}"))?;
-    let stem = p.file_stem();
-    write_atomic(&out.join(format!("{stem}.wgsl")), shaders.wgsl.as_bytes())?;
-    let spv: Vec<u8> = shaders.spirv.iter().flat_map(|w| w.to_le_bytes()).collect();
-    write_atomic(&out.join(format!("{stem}.spv")), &spv)?;
-    for (stage, src) in &shaders.glsl {
-        write_atomic(&out.join(format!("{stem}.{stage}.glsl")), src.as_bytes())?;
-    }
-    Ok(stem)
-}
-
 /// Runs `relief gen`.
 pub fn run(args: &GenArgs) -> anyhow::Result<()> {
     if args.list {
@@ -92,7 +67,7 @@ pub fn run(args: &GenArgs) -> anyhow::Result<()> {
     };
     std::fs::create_dir_all(out).with_context(|| format!("cannot create output folder {}", out.display()))?;
     for p in &pipelines {
-        write_pipeline(p, out)?;
+        relief_runtime::io::write_pipeline(p, out)?;
     }
     println!(
         "wrote {} pipeline(s) × 5 files (.wgsl .spv .vert.glsl .frag.glsl .comp.glsl) to {}",

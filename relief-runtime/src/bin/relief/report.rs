@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use crate::report;
+use relief_runtime::report;
 
 /// Arguments of `relief report`.
 #[derive(clap::Args, Debug)]

@@ -2,8 +2,7 @@
 
 use std::path::PathBuf;
 
-use crate::scene::Overrides;
-use crate::sweep::{self, grids};
+use relief_runtime::sweep::{self, grids};
 
 /// Arguments of `relief sweep`.
 #[derive(clap::Args, Debug)]
@@ -15,18 +14,8 @@ pub struct SweepArgs {
     /// file); repeatable. Default: the scenes the grid names (Lion for most).
     #[arg(long)]
     pub scene: Vec<String>,
-    /// View angle from the surface normal, in degrees (overrides every scene's camera).
-    #[arg(long)]
-    pub angle: Option<f32>,
-    /// The eye's azimuth around the normal, degrees from +u towards +v (overrides every scene's camera).
-    #[arg(long)]
-    pub azimuth: Option<f32>,
-    /// Relief depth in texture units (overrides every scene's depth scale).
-    #[arg(long)]
-    pub depth_scale: Option<f32>,
-    /// Repeats of the texture across the quad (overrides every scene's tiling).
-    #[arg(long)]
-    pub tiling: Option<f32>,
+    #[command(flatten)]
+    pub overrides: crate::OverrideArgs,
     /// Frame size in pixels (square).
     #[arg(long, default_value_t = 256)]
     pub size: u32,
@@ -56,8 +45,7 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
     if a.frames == 0 {
         anyhow::bail!("--frames 0: at least one timed frame is needed");
     }
-    let overrides = Overrides { depth_scale: a.depth_scale, tiling: a.tiling, angle: a.angle, azimuth: a.azimuth };
-    overrides.check().map_err(anyhow::Error::msg)?;
+    let overrides = a.overrides.checked()?;
     let grid = grids::load(a.grid.as_deref().unwrap_or_default(), scenes)?;
     let start = std::time::Instant::now();
     let total = grid.cells.len();

@@ -6,11 +6,11 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 
-use crate::cli_gen::write_atomic;
-use crate::gpu::Gpu;
-use crate::measure::{measure, write_images, Prepared};
-use crate::scene::file::camera_json;
-use crate::scene::{scene_from_arg, scene_spec, Overrides};
+use relief_runtime::io::write_atomic;
+use relief_runtime::gpu::Gpu;
+use relief_runtime::measure::{measure, write_images, Prepared};
+use relief_runtime::scene::file::camera_json;
+use relief_runtime::scene::{scene_from_arg, scene_spec};
 
 /// Arguments of `relief render`.
 #[derive(clap::Args, Debug)]
@@ -24,18 +24,8 @@ pub struct RenderArgs {
     /// Frame size in pixels (square).
     #[arg(long, default_value_t = 512)]
     pub size: u32,
-    /// View angle from the surface normal, in degrees (overrides the scene's camera).
-    #[arg(long)]
-    pub angle: Option<f32>,
-    /// The eye's azimuth around the normal, degrees from +u towards +v (overrides the scene's camera).
-    #[arg(long)]
-    pub azimuth: Option<f32>,
-    /// Relief depth in texture units (overrides the scene's depth scale).
-    #[arg(long)]
-    pub depth_scale: Option<f32>,
-    /// Repeats of the texture across the quad (overrides the scene's tiling).
-    #[arg(long)]
-    pub tiling: Option<f32>,
+    #[command(flatten)]
+    pub overrides: crate::OverrideArgs,
     /// Number of timed frames (after 5 warm-up frames).
     #[arg(long, default_value_t = 50)]
     pub frames: u32,
@@ -53,8 +43,7 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     if a.size == 0 || a.size > 8192 {
         anyhow::bail!("--size {} is out of range: allowed 1..=8192", a.size);
     }
-    let overrides = Overrides { depth_scale: a.depth_scale, tiling: a.tiling, angle: a.angle, azimuth: a.azimuth };
-    overrides.check().map_err(anyhow::Error::msg)?;
+    let overrides = a.overrides.checked()?;
     let scene = overrides.apply(scene_from_arg(&scene_spec(&a.scene))?);
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create output folder {}", a.out.display()))?;
     let g = Gpu::new()?;
@@ -114,78 +103,4 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
         a.out.display()
     );
     Ok(())
-}
-
-/// Per-pixel |t − t_ref| as a heat map (log scale, black = exact, yellow = the largest
-/// error, magenta = no finite hit), with a legend bar and its range below the image.
-pub fn error_map(size: u32, errors: &[(u32, u32, f64)]) -> (u32, u32, Vec<u8>) {
-    let legend_h = 24u32;
-    let (w, h) = (size.max(96), size + legend_h);
-    let mut img = vec![0u8; (w * h * 4) as usize];
-    for px in img.chunks_mut(4) {
-        px.copy_from_slice(&[40, 40, 48, 255]);
-    }
-    let max = errors.iter().map(|e| e.2).filter(|e| e.is_finite()).fold(1e-9, f64::max);
-    let lo = (max * 1e-4).max(1e-9);
-    let scale = |e: f64| ((e.max(lo) / lo).ln() / (max / lo).ln()).clamp(0.0, 1.0);
-    let mut put = |x: u32, y: u32, c: [u8; 3]| {
-        if x < w && y < h {
-            let i = ((y * w + x) * 4) as usize;
-            img[i..i + 3].copy_from_slice(&c);
-        }
-    };
-    for &(x, y, e) in errors {
-        let c = if e.is_finite() { heat(if e <= lo { 0.0 } else { scale(e) }) } else { [255, 0, 255] };
-        put(x, y, c);
-    }
-    // Legend: the colour bar from `lo` (left) to `max` (right), labelled with both.
-    for x in 0..w {
-        for y in size + 2..size + 8 {
-            put(x, y, heat(x as f64 / (w - 1).max(1) as f64));
-        }
-    }
-    draw_text(&mut put, 2, size + 11, &format!("{lo:.0e}"));
-    let label = format!("{max:.1e}");
-    draw_text(&mut put, w.saturating_sub(4 * label.len() as u32 + 2), size + 11, &label);
-    (w, h, img)
-}
-
-fn heat(f: f64) -> [u8; 3] {
-    // black → red → yellow
-    let r = (f * 2.0).min(1.0);
-    let g = (f * 2.0 - 1.0).clamp(0.0, 1.0);
-    [(r * 255.0) as u8, (g * 255.0) as u8, (g * 80.0) as u8]
-}
-
-/// 3×5 pixel glyphs for the legend's numbers.
-fn glyph(c: char) -> [u8; 5] {
-    match c {
-        '0' => [7, 5, 5, 5, 7],
-        '1' => [2, 6, 2, 2, 7],
-        '2' => [7, 1, 7, 4, 7],
-        '3' => [7, 1, 7, 1, 7],
-        '4' => [5, 5, 7, 1, 1],
-        '5' => [7, 4, 7, 1, 7],
-        '6' => [7, 4, 7, 5, 7],
-        '7' => [7, 1, 1, 1, 1],
-        '8' => [7, 5, 7, 5, 7],
-        '9' => [7, 5, 7, 1, 7],
-        '.' => [0, 0, 0, 0, 2],
-        'e' => [0, 7, 7, 4, 7],
-        '-' => [0, 0, 7, 0, 0],
-        '+' => [0, 2, 7, 2, 0],
-        _ => [0; 5],
-    }
-}
-
-fn draw_text(put: &mut impl FnMut(u32, u32, [u8; 3]), x0: u32, y0: u32, s: &str) {
-    for (i, c) in s.chars().enumerate() {
-        for (row, bits) in glyph(c).iter().enumerate() {
-            for col in 0..3 {
-                if bits & (4 >> col) != 0 {
-                    put(x0 + 4 * i as u32 + col, y0 + row as u32, [230, 230, 230]);
-                }
-            }
-        }
-    }
 }

@@ -1,7 +1,13 @@
 //! The `relief` command line.
 
 use clap::{Parser, Subcommand};
-use relief_runtime::{cli_gen, cli_maps, cli_render, cli_report, cli_stability, cli_sweep};
+use relief_runtime::scene::Overrides;
+mod gen;
+mod maps;
+mod render;
+mod report;
+mod stability;
+mod sweep;
 
 /// relief: relief-mapping search methods composed into shaders, measured and swept.
 #[derive(Parser)]
@@ -14,18 +20,45 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Write WGSL, SPIR-V and GLSL for pipelines (`relief gen 'linear(10)+binary(5)' --out DIR`).
-    Gen(cli_gen::GenArgs),
+    Gen(gen::GenArgs),
     /// Build an acceleration map from a height map.
-    Maps(cli_maps::MapsArgs),
+    Maps(maps::MapsArgs),
     /// Render and probe one pipeline on one scene: frame time, accuracy against the exact
     /// reference, frame.png, error.png, metrics.json (and hits.csv).
-    Render(cli_render::RenderArgs),
+    Render(render::RenderArgs),
     /// Measure a whole grid (the dissertation's tables and figures, or a grid file), resumable.
-    Sweep(cli_sweep::SweepArgs),
+    Sweep(sweep::SweepArgs),
     /// Every coarse × refine method on stress scenes and grazing angles: where each fails.
-    Stability(cli_stability::StabilityArgs),
+    Stability(stability::StabilityArgs),
     /// Tables, conclusions, charts, picture strips and Pareto fronts from a sweep folder.
-    Report(cli_report::ReportArgs),
+    Report(report::ReportArgs),
+}
+
+/// The scene overrides `relief render` and `relief sweep` take (a sweep applies them to
+/// every scene).
+#[derive(clap::Args, Debug)]
+pub struct OverrideArgs {
+    /// View angle from the surface normal, in degrees (overrides the scene's camera).
+    #[arg(long)]
+    pub angle: Option<f32>,
+    /// The eye's azimuth around the normal, degrees from +u towards +v (overrides the scene's camera).
+    #[arg(long)]
+    pub azimuth: Option<f32>,
+    /// Relief depth in texture units (overrides the scene's depth scale).
+    #[arg(long)]
+    pub depth_scale: Option<f32>,
+    /// Repeats of the texture across the quad (overrides the scene's tiling).
+    #[arg(long)]
+    pub tiling: Option<f32>,
+}
+
+impl OverrideArgs {
+    /// The overrides, checked ([`Overrides::check`]).
+    pub fn checked(&self) -> anyhow::Result<Overrides> {
+        let o = Overrides { depth_scale: self.depth_scale, tiling: self.tiling, angle: self.angle, azimuth: self.azimuth };
+        o.check().map_err(anyhow::Error::msg)?;
+        Ok(o)
+    }
 }
 
 fn main() {
@@ -49,12 +82,12 @@ fn main() {
         }
     };
     let result = match &cli.command {
-        Command::Gen(a) => cli_gen::run(a),
-        Command::Maps(a) => cli_maps::run(a),
-        Command::Render(a) => cli_render::run(a),
-        Command::Sweep(a) => cli_sweep::run(a),
-        Command::Stability(a) => cli_stability::run(a),
-        Command::Report(a) => cli_report::run(a),
+        Command::Gen(a) => gen::run(a),
+        Command::Maps(a) => maps::run(a),
+        Command::Render(a) => render::run(a),
+        Command::Sweep(a) => sweep::run(a),
+        Command::Stability(a) => stability::run(a),
+        Command::Report(a) => report::run(a),
     };
     if let Err(e) = result {
         // One line: the error and its causes.

@@ -1,0 +1,75 @@
+//! Pictures drawn from measurements (a leaf): the error map written as `error.png`.
+
+/// Per-pixel |t − t_ref| as a heat map (log scale, black = exact, yellow = the largest
+/// error, magenta = no finite hit), with a legend bar and its range below the image.
+pub fn error_map(size: u32, errors: &[(u32, u32, f64)]) -> (u32, u32, Vec<u8>) {
+    let legend_h = 24u32;
+    let (w, h) = (size.max(96), size + legend_h);
+    let mut img = vec![0u8; (w * h * 4) as usize];
+    for px in img.chunks_mut(4) {
+        px.copy_from_slice(&[40, 40, 48, 255]);
+    }
+    let max = errors.iter().map(|e| e.2).filter(|e| e.is_finite()).fold(1e-9, f64::max);
+    let lo = (max * 1e-4).max(1e-9);
+    let scale = |e: f64| ((e.max(lo) / lo).ln() / (max / lo).ln()).clamp(0.0, 1.0);
+    let mut put = |x: u32, y: u32, c: [u8; 3]| {
+        if x < w && y < h {
+            let i = ((y * w + x) * 4) as usize;
+            img[i..i + 3].copy_from_slice(&c);
+        }
+    };
+    for &(x, y, e) in errors {
+        let c = if e.is_finite() { heat(if e <= lo { 0.0 } else { scale(e) }) } else { [255, 0, 255] };
+        put(x, y, c);
+    }
+    // Legend: the colour bar from `lo` (left) to `max` (right), labelled with both.
+    for x in 0..w {
+        for y in size + 2..size + 8 {
+            put(x, y, heat(x as f64 / (w - 1).max(1) as f64));
+        }
+    }
+    draw_text(&mut put, 2, size + 11, &format!("{lo:.0e}"));
+    let label = format!("{max:.1e}");
+    draw_text(&mut put, w.saturating_sub(4 * label.len() as u32 + 2), size + 11, &label);
+    (w, h, img)
+}
+
+fn heat(f: f64) -> [u8; 3] {
+    // black → red → yellow
+    let r = (f * 2.0).min(1.0);
+    let g = (f * 2.0 - 1.0).clamp(0.0, 1.0);
+    [(r * 255.0) as u8, (g * 255.0) as u8, (g * 80.0) as u8]
+}
+
+/// 3×5 pixel glyphs for the legend's numbers.
+fn glyph(c: char) -> [u8; 5] {
+    match c {
+        '0' => [7, 5, 5, 5, 7],
+        '1' => [2, 6, 2, 2, 7],
+        '2' => [7, 1, 7, 4, 7],
+        '3' => [7, 1, 7, 1, 7],
+        '4' => [5, 5, 7, 1, 1],
+        '5' => [7, 4, 7, 1, 7],
+        '6' => [7, 4, 7, 5, 7],
+        '7' => [7, 1, 1, 1, 1],
+        '8' => [7, 5, 7, 5, 7],
+        '9' => [7, 5, 7, 1, 7],
+        '.' => [0, 0, 0, 0, 2],
+        'e' => [0, 7, 7, 4, 7],
+        '-' => [0, 0, 7, 0, 0],
+        '+' => [0, 2, 7, 2, 0],
+        _ => [0; 5],
+    }
+}
+
+fn draw_text(put: &mut impl FnMut(u32, u32, [u8; 3]), x0: u32, y0: u32, s: &str) {
+    for (i, c) in s.chars().enumerate() {
+        for (row, bits) in glyph(c).iter().enumerate() {
+            for col in 0..3 {
+                if bits & (4 >> col) != 0 {
+                    put(x0 + 4 * i as u32 + col, y0 + row as u32, [230, 230, 230]);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,184 @@
+//! The sweep's rows as the report reads them: indexed by pipeline, scene and size, with
+//! the metrics the report compares.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use relief_dsl::spec::{StageSpec, Value};
+use relief_dsl::Pipeline;
+
+use crate::results::{self, Row};
+
+/// The sweep's rows, indexed by (canonical pipeline, scene label, size): rows of one
+/// pipeline and scene at two sizes are two rows, never one replacing the other (issue #11).
+pub(crate) struct Data {
+    pub dir: PathBuf,
+    pub rows: Vec<Row>,
+    pub bad_lines: Vec<String>,
+    index: HashMap<(String, String, u32), usize>,
+}
+
+impl Data {
+    /// Reads `dir/results.jsonl` without changing it ([`results::read`]): unreadable lines
+    /// are skipped and kept in `bad_lines`. A missing file gives no rows.
+    pub fn load(dir: &Path) -> anyhow::Result<Data> {
+        let read = results::read(dir)?;
+        Ok(Data::from_rows(dir, read.rows, read.bad_lines))
+    }
+
+    pub fn from_rows(dir: &Path, mut rows: Vec<Row>, bad_lines: Vec<String>) -> Data {
+        for r in rows.iter_mut() {
+            r.metrics.pipeline = canonical(&r.metrics.pipeline);
+        }
+        // A later row replaces an earlier one, except that an ok row is never replaced by a
+        // failed one.
+        let mut index: HashMap<(String, String, u32), usize> = HashMap::new();
+        for (i, r) in rows.iter().enumerate() {
+            let k = (r.metrics.pipeline.clone(), r.metrics.scene.clone(), r.metrics.size);
+            match index.get(&k) {
+                Some(&j) if rows[j].status == "ok" && r.status != "ok" => {}
+                _ => {
+                    index.insert(k, i);
+                }
+            }
+        }
+        Data { dir: dir.to_path_buf(), rows, bad_lines, index }
+    }
+
+    /// The row of `pipeline` (canonical text) on `scene` (label, `scene:NAME`) at `size`,
+    /// any status.
+    pub fn get(&self, pipeline: &str, scene: &str, size: u32) -> Option<&Row> {
+        self.index.get(&(pipeline.to_string(), scene.to_string(), size)).and_then(|&i| self.rows.get(i))
+    }
+
+    /// The same, only if it succeeded.
+    pub fn ok(&self, pipeline: &str, scene: &str, size: u32) -> Option<&Row> {
+        self.get(pipeline, scene, size).filter(|r| r.status == "ok")
+    }
+
+    /// The ok rows of `pipeline` on `scene` at every size, smallest size first.
+    pub fn ok_any_size(&self, pipeline: &str, scene: &str) -> Vec<&Row> {
+        let mut v: Vec<&Row> = self.sizes().into_iter().filter_map(|z| self.ok(pipeline, scene, z)).collect();
+        v.sort_by_key(|r| r.metrics.size);
+        v
+    }
+
+    /// Whether `r` is the row the index keeps for its (pipeline, scene, size).
+    pub fn is_indexed(&self, r: &Row) -> bool {
+        self.get(&r.metrics.pipeline, &r.metrics.scene, r.metrics.size).is_some_and(|x| std::ptr::eq(x, r))
+    }
+
+    /// Scene labels in first-seen order.
+    pub fn scenes(&self) -> Vec<String> {
+        self.distinct(|r| r.metrics.scene.clone())
+    }
+
+    /// Sizes in first-seen order.
+    pub fn sizes(&self) -> Vec<u32> {
+        let mut out: Vec<u32> = Vec::new();
+        for r in &self.rows {
+            if !out.contains(&r.metrics.size) {
+                out.push(r.metrics.size);
+            }
+        }
+        out
+    }
+
+    /// The sizes with rows on `scene`, first-seen order.
+    pub fn sizes_of(&self, scene: &str) -> Vec<u32> {
+        let mut out: Vec<u32> = Vec::new();
+        for r in self.rows.iter().filter(|r| r.metrics.scene == scene) {
+            if !out.contains(&r.metrics.size) {
+                out.push(r.metrics.size);
+            }
+        }
+        out
+    }
+
+    pub fn distinct(&self, f: impl Fn(&Row) -> String) -> Vec<String> {
+        let mut out: Vec<String> = Vec::new();
+        for r in &self.rows {
+            let v = f(r);
+            if !out.contains(&v) {
+                out.push(v);
+            }
+        }
+        out
+    }
+
+    /// The scene the conclusions are checked on: Lion when measured, else the scene with the
+    /// most ok rows.
+    pub fn main_scene(&self) -> Option<String> {
+        let scenes = self.scenes();
+        if scenes.iter().any(|s| s == "scene:lion") {
+            return Some("scene:lion".into());
+        }
+        scenes.into_iter().max_by_key(|s| self.rows.iter().filter(|r| &r.metrics.scene == s && r.status == "ok").count())
+    }
+}
+
+/// A scene and size as a short label: `lion, 64²`.
+pub(crate) fn group_label(scene: &str, size: u32) -> String {
+    format!("{}, {size}²", short_scene(scene))
+}
+
+/// The canonical text of a pipeline (the text itself when it does not parse).
+pub(crate) fn canonical(text: &str) -> String {
+    text.parse::<Pipeline>().map(|p| p.to_string()).unwrap_or_else(|_| text.to_string())
+}
+
+/// `scene:lion` → `lion`.
+pub(crate) fn short_scene(label: &str) -> &str {
+    label.strip_prefix("scene:").unwrap_or(label)
+}
+
+/// A stage's step count: its `steps` parameter, or the first whole-number parameter, or the
+/// steps of a nested stage (`hard(linear(20))`); 0 for `none`.
+pub(crate) fn stage_steps(s: &StageSpec) -> u32 {
+    if s.is_none() {
+        return 0;
+    }
+    if let Some(Value::Int(n)) = s.get("steps") {
+        return *n;
+    }
+    for (_, v) in &s.params {
+        match v {
+            Value::Int(n) => return *n,
+            Value::Stage(inner) => return stage_steps(inner),
+            Value::Word(_) => {}
+        }
+    }
+    0
+}
+
+// ---------------------------------------------------------------------------------------
+// Error metrics and formatting
+
+/// An error metric of our rows. `Mse` is `mse_dissertation_mean`, the per-ray mean: the
+/// dissertation's printed MSE behaves like a per-pixel mean (Burger 2018 Table 4.1: MSE × N²
+/// stays near 0.4–0.55 for N = 5…200 linear steps), so the mean is what compares with it
+/// and what does not change with the number of probe rays.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Metric {
+    Mse,
+    RefT,
+    Missed,
+}
+
+impl Metric {
+    pub const ALL: [Metric; 3] = [Metric::Mse, Metric::RefT, Metric::Missed];
+    pub fn name(self) -> &'static str {
+        match self {
+            Metric::Mse => "mse_dissertation_mean",
+            Metric::RefT => "ref_err_t_rms",
+            Metric::Missed => "missed_rate",
+        }
+    }
+    pub fn of(self, r: &Row) -> f64 {
+        match self {
+            Metric::Mse => r.metrics.mse_dissertation_mean,
+            Metric::RefT => r.metrics.ref_err_t_rms,
+            Metric::Missed => r.metrics.missed_rate,
+        }
+    }
+}

@@ -1,0 +1,269 @@
+//! Results rows (a leaf): the row type, its columns, and how rows are read, appended and
+//! written as CSV. `relief sweep` appends rows; `relief report` reads them with the same
+//! rules.
+//!
+//! `DIR/results.jsonl` holds one JSON object per line and is the source of truth; a row is
+//! appended with one write, so a run killed at any moment leaves at most a last line cut
+//! short, which every reader drops ([`read`]; [`read_for_append`] also truncates it away).
+//! A metric written as `null` (NaN or infinite when measured) reads back as NaN, and so
+//! does a metric that rows written before issue #11 lack, never a silent 0.
+//! `DIR/results.csv` holds the same rows in the [`COLUMNS`] order.
+
+use std::io::Write;
+use std::path::Path;
+
+use anyhow::Context;
+use serde::{Deserialize, Serialize};
+
+/// One run's metrics (the names are the column names of results files).
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct Metrics {
+    pub pipeline: String,
+    pub scene: String,
+    pub size: u32,
+    pub adapter: String,
+    pub frame_ms_median: f64,
+    /// Mean frame time over the timed frames (the dissertation reports the mean of 500).
+    #[serde(default)]
+    pub frame_ms_mean: f64,
+    pub frame_ms_p10: f64,
+    pub frame_ms_p90: f64,
+    /// Burger 2018 §4.1: Σ over pixels of (h(hit.uv) − hit.z)², the sum (a NaN hit adds 1,
+    /// the largest error a hit in the volume can have).
+    pub mse_dissertation: f64,
+    /// The same, divided by the number of rays: the per-pixel mean, which is how the
+    /// dissertation's numbers behave (Table 4.1's MSE × N² stays near 0.4–0.55 for N = 5…200).
+    pub mse_dissertation_mean: f64,
+    /// RMS of (t − t_ref) over rays both hit.
+    pub ref_err_t_rms: f64,
+    /// RMS distance between hit and reference hit in texels.
+    pub ref_err_uv_texels_rms: f64,
+    /// Share of rays whose hit lies beyond the true first hit by more than one texel of
+    /// travel ([`crate::metrics::one_texel_t`]), or that report no (finite) hit.
+    pub missed_rate: f64,
+    /// Hits with NaN or Inf anywhere.
+    pub nan_count: u64,
+    /// Hits whose raw t lies outside the volume (`t < 0` or `t > t_max`), counted before any
+    /// clamp.
+    #[serde(default)]
+    pub outside_count: u64,
+    /// Share of rays whose coarse search ran out of steps without finding the surface.
+    #[serde(default)]
+    pub nonconverged_rate: f64,
+    /// Loop passes of the coarse search per ray (the dissertation's "avg steps").
+    #[serde(default)]
+    pub avg_coarse_steps: f64,
+    /// Loop passes of the refine search per ray.
+    #[serde(default)]
+    pub avg_refine_steps: f64,
+    /// Loop passes over all stages per ray (coarse + refine).
+    pub avg_iterations: f64,
+    /// Texture fetches per ray over all stages.
+    pub avg_fetches: f64,
+}
+
+/// One results row: the metrics and where they came from.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct Row {
+    pub grid: String,
+    #[serde(flatten)]
+    pub metrics: Metrics,
+    /// `ok` or `error`.
+    pub status: String,
+    /// The error of a failed cell (empty otherwise).
+    pub error: String,
+    pub relief_version: String,
+    /// The cell's folder, relative to the sweep's folder (holds frame.png and error.png).
+    pub cell_dir: String,
+}
+
+/// The columns of `results.csv`, in order.
+pub const COLUMNS: &[&str] = &[
+    "grid",
+    "pipeline",
+    "scene",
+    "size",
+    "adapter",
+    "status",
+    "error",
+    "relief_version",
+    "frame_ms_median",
+    "frame_ms_mean",
+    "frame_ms_p10",
+    "frame_ms_p90",
+    "mse_dissertation",
+    "mse_dissertation_mean",
+    "ref_err_t_rms",
+    "ref_err_uv_texels_rms",
+    "missed_rate",
+    "nan_count",
+    "outside_count",
+    "nonconverged_rate",
+    "avg_coarse_steps",
+    "avg_refine_steps",
+    "avg_iterations",
+    "avg_fetches",
+    "cell_dir",
+];
+
+
+/// The file rows are appended to, in a sweep folder.
+pub const JSONL: &str = "results.jsonl";
+
+/// What [`read`] found.
+#[derive(Clone, Debug, Default)]
+pub struct ReadRows {
+    /// The readable rows, in file order.
+    pub rows: Vec<Row>,
+    /// The lines that could not be read (`line N: reason`), a cut last line included.
+    pub bad_lines: Vec<String>,
+    /// The length in bytes of the file up to its last complete line.
+    complete_len: usize,
+    /// Whether the last line was cut short (no newline after it).
+    cut: bool,
+}
+
+/// Reads `dir/results.jsonl` without changing it. A last line without its newline (a kill
+/// cut it short) is dropped and named in `bad_lines`; so is every complete line that is not
+/// a results row ([`parse_row`]). A missing file gives no rows.
+pub fn read(dir: &Path) -> anyhow::Result<ReadRows> {
+    let path = dir.join(JSONL);
+    let text = match std::fs::read(&path) {
+        Ok(b) => String::from_utf8_lossy(&b).into_owned(),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => String::new(),
+        Err(e) => return Err(anyhow::anyhow!("cannot read {}: {e}", path.display())),
+    };
+    let complete = match text.rfind('\n') {
+        Some(i) => &text[..=i],
+        None => "",
+    };
+    let mut out = ReadRows { complete_len: complete.len(), cut: complete.len() != text.len(), ..Default::default() };
+    let lines = complete.lines().count();
+    for (i, line) in complete.lines().enumerate() {
+        if line.trim().is_empty() {
+            continue;
+        }
+        match parse_row(line) {
+            Ok(r) => out.rows.push(r),
+            Err(e) => out.bad_lines.push(format!("line {}: {e}", i + 1)),
+        }
+    }
+    if out.cut {
+        out.bad_lines.push(format!("line {}: cut short (no newline at the end), ignored", lines + 1));
+    }
+    Ok(out)
+}
+
+/// Reads `dir/results.jsonl` to append to it: the rows of [`read`], the file truncated to
+/// its last complete line first. An unreadable complete line is an error (appending after
+/// it would hide the cells it recorded).
+pub fn read_for_append(dir: &Path) -> anyhow::Result<Vec<Row>> {
+    let path = dir.join(JSONL);
+    let read = read(dir)?;
+    if read.cut {
+        let f = std::fs::OpenOptions::new().write(true).open(&path)?;
+        f.set_len(read.complete_len as u64)?;
+    }
+    let bad = if read.cut { &read.bad_lines[..read.bad_lines.len() - 1] } else { &read.bad_lines[..] };
+    if let Some(first) = bad.first() {
+        anyhow::bail!("{}: {first} (not a results row)", path.display());
+    }
+    Ok(read.rows)
+}
+
+/// Appends `row` to `dir/results.jsonl` with one write of the whole line, synced: a kill
+/// leaves either the whole row or a cut line, which the next read drops.
+pub fn append(dir: &Path, row: &Row) -> anyhow::Result<()> {
+    let path = dir.join(JSONL);
+    let mut line = serde_json::to_string(row)?;
+    line.push('\n');
+    let mut f = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(&path)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    f.write_all(line.as_bytes())?;
+    f.sync_data()?;
+    Ok(())
+}
+
+/// `rows` as `results.csv` text, [`COLUMNS`] in order (NaN and infinite metrics empty).
+pub fn csv_bytes(rows: &[Row]) -> anyhow::Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(COLUMNS)?;
+    for r in rows {
+        let v = serde_json::to_value(r)?;
+        let record: Vec<String> = COLUMNS
+            .iter()
+            .map(|c| match &v[*c] {
+                serde_json::Value::String(s) => s.clone(),
+                serde_json::Value::Null => String::new(),
+                other => other.to_string(),
+            })
+            .collect();
+        w.write_record(&record)?;
+    }
+    w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+/// Rewrites `dir/results.csv` from `rows`, atomically ([`crate::io::write_atomic`]).
+pub fn write_csv(dir: &Path, rows: &[Row]) -> anyhow::Result<()> {
+    crate::io::write_atomic(&dir.join("results.csv"), &csv_bytes(rows)?)
+}
+
+/// Parses one results line; numbers written as `null` (NaN or infinite when measured) come
+/// back as NaN.
+pub fn parse_row(line: &str) -> anyhow::Result<Row> {
+    let v: serde_json::Value = serde_json::from_str(line).map_err(|e| anyhow::anyhow!("not JSON: {e}"))?;
+    let serde_json::Value::Object(obj) = v else {
+        anyhow::bail!("not a JSON object");
+    };
+    let mut base = serde_json::to_value(Row::default())?;
+    let mut nulls = Vec::new();
+    // Fields that rows written before issue #11 lack: not recorded, so NaN (shown as such),
+    // never a silent 0.
+    for k in LATER_FIELDS {
+        if !obj.contains_key(*k) {
+            nulls.push(k.to_string());
+        }
+    }
+    if let serde_json::Value::Object(b) = &mut base {
+        for (k, val) in obj {
+            if val.is_null() {
+                nulls.push(k);
+            } else {
+                b.insert(k, val);
+            }
+        }
+    }
+    let mut row: Row = serde_json::from_value(base).map_err(|e| anyhow::anyhow!("not a results row: {e}"))?;
+    for k in nulls {
+        set_nan(&mut row.metrics, &k);
+    }
+    Ok(row)
+}
+
+/// Metrics fields added with issue #11 (absent from older results files).
+const LATER_FIELDS: &[&str] = &["frame_ms_mean", "avg_coarse_steps", "avg_refine_steps", "nonconverged_rate"];
+
+fn set_nan(m: &mut Metrics, field: &str) {
+    let f = match field {
+        "frame_ms_median" => &mut m.frame_ms_median,
+        "frame_ms_mean" => &mut m.frame_ms_mean,
+        "avg_coarse_steps" => &mut m.avg_coarse_steps,
+        "avg_refine_steps" => &mut m.avg_refine_steps,
+        "nonconverged_rate" => &mut m.nonconverged_rate,
+        "frame_ms_p10" => &mut m.frame_ms_p10,
+        "frame_ms_p90" => &mut m.frame_ms_p90,
+        "mse_dissertation" => &mut m.mse_dissertation,
+        "mse_dissertation_mean" => &mut m.mse_dissertation_mean,
+        "ref_err_t_rms" => &mut m.ref_err_t_rms,
+        "ref_err_uv_texels_rms" => &mut m.ref_err_uv_texels_rms,
+        "missed_rate" => &mut m.missed_rate,
+        "avg_iterations" => &mut m.avg_iterations,
+        "avg_fetches" => &mut m.avg_fetches,
+        _ => return,
+    };
+    *f = f64::NAN;
+}
+

@@ -1,0 +1,82 @@
+//! The camera.
+//!
+//! [`Camera`] orbits the centre of the quad: `angle_deg` is measured from the surface normal
+//! (0 = straight down, 90 = grazing), `azimuth_deg` is the direction, around +z and from +x
+//! towards +y, in which the eye sits as seen from the target. Projection follows wgpu: a
+//! right-handed view, depth in [0, 1] ([`glam::Mat4::perspective_rh`]), NDC x to the right
+//! and y up, pixel row 0 at the top of the image. The screen's up vector is the direction in
+//! the vertical plane through the eye and the target that is perpendicular to the view, so it
+//! stays defined at angle 0 (where it points away from the eye's azimuth).
+
+use glam::{Mat4, Vec3};
+
+/// A perspective camera that looks at a target point (the centre of the quad).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// Angle between the view axis and the surface normal, degrees (0 = looking straight down).
+    pub angle_deg: f32,
+    /// Direction of the eye around the target, degrees from +x towards +y.
+    pub azimuth_deg: f32,
+    /// Distance from the eye to the target, world (= texture) units.
+    pub distance: f32,
+    /// Vertical field of view, degrees.
+    pub fov_deg: f32,
+    /// The point looked at (the centre of the quad, on z = 0).
+    pub target: Vec3,
+}
+
+impl Camera {
+    /// The default camera for a quad of side `tiling`: 45° from the normal, azimuth -90° (the
+    /// eye on the -v side, so +u runs right and +v runs up the screen), 40° vertical field of
+    /// view, at a distance where the quad fills most of a square frame.
+    pub fn default_for(tiling: f32) -> Camera {
+        Camera {
+            angle_deg: 45.0,
+            azimuth_deg: -90.0,
+            distance: 1.3 * tiling,
+            fov_deg: 40.0,
+            target: Vec3::new(0.5 * tiling, 0.5 * tiling, 0.0),
+        }
+    }
+
+    /// The eye's world position.
+    pub fn camera_position(&self) -> Vec3 {
+        let (a, az) = (self.angle_deg.to_radians(), self.azimuth_deg.to_radians());
+        self.target + self.distance * Vec3::new(a.sin() * az.cos(), a.sin() * az.sin(), a.cos())
+    }
+
+    /// Unit vectors (forward, right, up) of the view.
+    pub fn basis(&self) -> (Vec3, Vec3, Vec3) {
+        let (a, az) = (self.angle_deg.to_radians(), self.azimuth_deg.to_radians());
+        let forward = -Vec3::new(a.sin() * az.cos(), a.sin() * az.sin(), a.cos());
+        let up = Vec3::new(-a.cos() * az.cos(), -a.cos() * az.sin(), a.sin());
+        let right = forward.cross(up);
+        (forward, right, up)
+    }
+
+    /// Near and far clip distances: `distance / 100` and `distance * 100`.
+    pub fn near_far(&self) -> (f32, f32) {
+        (self.distance * 0.01, self.distance * 100.0)
+    }
+
+    /// The view matrix (world → view, right-handed, looking down -z).
+    pub fn view(&self) -> Mat4 {
+        let (_, _, up) = self.basis();
+        Mat4::look_at_rh(self.camera_position(), self.target, up)
+    }
+
+    /// Projection × view, wgpu clip conventions (depth 0..1). `aspect` = width / height.
+    pub fn view_proj(&self, aspect: f32) -> Mat4 {
+        let (near, far) = self.near_far();
+        Mat4::perspective_rh(self.fov_deg.to_radians(), aspect, near, far) * self.view()
+    }
+
+    /// The world direction (unit) of the ray through NDC point `(ndc_x, ndc_y)`. Built from
+    /// the camera basis directly (equal, up to rounding, to unprojecting with
+    /// [`Camera::view_proj`], without its loss of precision).
+    pub fn ray_dir(&self, ndc_x: f32, ndc_y: f32, aspect: f32) -> Vec3 {
+        let (f, r, u) = self.basis();
+        let ty = (0.5 * self.fov_deg.to_radians()).tan();
+        (f + ndc_x * ty * aspect * r + ndc_y * ty * u).normalize()
+    }
+}
