@@ -82,3 +82,6 @@ pub fn all(c: &Compiled) -> Result<Outputs, CompileError> {
 pub fn emit(p: &crate::spec::Pipeline) -> Result<Outputs, CompileError> {
     all(&crate::compose::compile(p)?)
 }
+
+pub mod library;
+pub use library::{library, LibraryBinding, LibraryFiles, LibraryOptions, ResourceKind};
