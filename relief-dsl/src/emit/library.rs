@@ -276,10 +276,43 @@ fn hlsl_text(lib: &Library) -> Result<String, CompileError> {
         if t.contains("nagaSamplerHeap") || t.contains("SamplerIndexArray") {
             return Err(err("hlsl", format!("sampler heap access left in `{line}`")));
         }
-        text.push_str(line);
+        text.push_str(&sample_level_zero(line));
         text.push('\n');
     }
     Ok(text)
+}
+
+/// naga 30's HLSL backend writes a level-0 sample as `t.SampleLevelZero(s, uv)`, which is no
+/// HLSL intrinsic (glslang and DXC reject it): the library writes `t.SampleLevel(s, uv, 0.0)`.
+fn sample_level_zero(line: &str) -> String {
+    const BAD: &str = ".SampleLevelZero(";
+    let mut out = String::new();
+    let mut rest = line;
+    while let Some(i) = rest.find(BAD) {
+        out.push_str(&rest[..i]);
+        out.push_str(".SampleLevel(");
+        rest = &rest[i + BAD.len()..];
+        let mut depth = 1;
+        let mut end = rest.len();
+        for (j, c) in rest.char_indices() {
+            match c {
+                '(' => depth += 1,
+                ')' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        end = j;
+                        break;
+                    }
+                }
+                _ => {}
+            }
+        }
+        out.push_str(&sample_level_zero(&rest[..end]));
+        out.push_str(", 0.0");
+        rest = &rest[end..];
+    }
+    out.push_str(rest);
+    out
 }
 
 fn msl_text(lib: &Library) -> Result<String, CompileError> {
