@@ -13,7 +13,7 @@ pub use device::{Gpu, GpuError};
 pub use probe::{probe, GpuHit};
 pub use relief_dsl::abi::OUTSIDE_TOLERANCE;
 pub use render::{render, RenderResult};
-pub use resources::SceneTextures;
+pub use resources::{MapKey, SceneTextures, AMBIENT};
 
 use relief_dsl::compose::Compiled;
 
