@@ -36,10 +36,10 @@ const DEPTH: &str = "0.08";
 /// The body of a user's fragment shader: trace, then shadow and ao when present, and use
 /// every field of the hit.
 fn wgsl_user(lib: &LibraryFiles, prefix: &str, entry: &str) -> String {
+    let hit = format!("{}Hit", camel(prefix));
     let mut s = format!(
         "@fragment fn {entry}(@location(0) uv: vec2<f32>, @location(1) view: vec3<f32>) -> @location(0) vec4<f32> {{\n\
-         let hit: {hit} = {prefix}_trace(uv, normalize(view), {DEPTH});\n    var shade = 1.0;\n",
-        hit = format!("{}Hit", camel(prefix))
+         let hit: {hit} = {prefix}_trace(uv, normalize(view), {DEPTH});\n    var shade = 1.0;\n"
     );
     if lib.has_shadow {
         s += &format!("    shade *= {prefix}_shadow(hit, normalize(vec3(0.3, 0.2, 0.9)), {DEPTH});\n");
