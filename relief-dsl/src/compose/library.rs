@@ -1,7 +1,7 @@
 //! Pipeline → a validated *library* module: the stages as functions for a user's own
 //! material shader, with no entry points, no `Params` block and no probe buffers.
 //!
-//! The interface (the same in every language [`crate::emit::library`] writes), for the
+//! The interface (the same in every language [`crate::emit::library()`] writes), for the
 //! default prefix `relief`:
 //! - `struct ReliefHit { uv: vec2<f32>, height: f32, t: f32, depth_offset: f32 }`;
 //! - `fn relief_trace(uv: vec2<f32>, view_ts: vec3<f32>, depth_scale: f32) -> ReliefHit`;

@@ -1,4 +1,5 @@
-//! Emitters: WGSL, SPIR-V and GLSL 450 from a compiled pipeline.
+//! Emitters: WGSL, SPIR-V and GLSL 450 from a compiled pipeline; [`library()`]: the stages
+//! as functions for a user's own shader, in WGSL, GLSL 450, HLSL and MSL.
 
 use naga::back::{glsl, spv, wgsl};
 use naga::ShaderStage;
