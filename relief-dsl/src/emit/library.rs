@@ -282,8 +282,9 @@ fn hlsl_text(lib: &Library) -> Result<String, CompileError> {
     Ok(text)
 }
 
-/// naga 30's HLSL backend writes a level-0 sample as `t.SampleLevelZero(s, uv)`, which is no
-/// HLSL intrinsic (glslang and DXC reject it): the library writes `t.SampleLevel(s, uv, 0.0)`.
+/// naga 30's HLSL backend writes a level-0 sample as `t.SampleLevelZero(s, uv)`, which
+/// glslang's HLSL front end rejects (no matching overloaded function): the library writes
+/// the classic `t.SampleLevel(s, uv, 0.0)`, which every HLSL compiler takes.
 fn sample_level_zero(line: &str) -> String {
     const BAD: &str = ".SampleLevelZero(";
     let mut out = String::new();
