@@ -6,7 +6,7 @@
 //! - [`ir`]: a typed builder over naga IR in which stages are written;
 //! - [`stage`]: the stages, one file per method family;
 //! - [`compose`]: pipeline → validated module with render and probe entry points;
-//! - [`emit`]: WGSL, SPIR-V and GLSL 450.
+//! - [`emit`]: WGSL, SPIR-V and GLSL 450; the library output (WGSL, GLSL, HLSL, MSL).
 //!
 //! ```
 //! use relief_dsl::{compose, emit, spec::Pipeline};

@@ -13,6 +13,8 @@
 //! Resources are declared when a stage first reads them (see [`binding`]), so the module
 //! declares only what its stages read.
 
+pub mod library;
+
 use naga::{Binding, BuiltIn, Handle, Module, ShaderStage, TypeInner};
 
 use crate::abi::{binding, Param, ProbeHit, ProbeRay, PROBE_WORKGROUP};
@@ -28,10 +30,10 @@ pub struct Compiled {
 }
 
 /// Struct types shared by the stage functions.
-struct Types {
-    ray: Handle<naga::Type>,
-    bracket: Handle<naga::Type>,
-    hit: Handle<naga::Type>,
+pub(crate) struct Types {
+    pub(crate) ray: Handle<naga::Type>,
+    pub(crate) bracket: Handle<naga::Type>,
+    pub(crate) hit: Handle<naga::Type>,
 }
 
 fn f32_ty() -> TypeInner {
@@ -39,7 +41,7 @@ fn f32_ty() -> TypeInner {
 }
 
 impl Types {
-    fn new(m: &ModuleCtx) -> Self {
+    pub(crate) fn new(m: &ModuleCtx) -> Self {
         Types {
             ray: m.struct_ty("Ray", &[("origin", Vec2::inner()), ("dir", Vec3::inner()), ("cos_view", f32_ty())]),
             bracket: m.struct_ty("Bracket", &[("above", f32_ty()), ("below", f32_ty()), ("found", bool::inner())]),
@@ -51,10 +53,10 @@ impl Types {
 fn ray_from<'a>(s: &'a Stage<'a>, h: Handle<naga::Expression>) -> Ray<'a> {
     Ray { origin: s.field(h, 0), dir: s.field(h, 1), cos_view: s.field(h, 2) }
 }
-fn ray_value<'a>(s: &'a Stage<'a>, ty: &Types, r: &Ray<'a>) -> Handle<naga::Expression> {
+pub(crate) fn ray_value<'a>(s: &'a Stage<'a>, ty: &Types, r: &Ray<'a>) -> Handle<naga::Expression> {
     s.make_struct(ty.ray, &[r.origin.handle(), r.dir.handle(), r.cos_view.handle()])
 }
-fn hit_from<'a>(s: &'a Stage<'a>, h: Handle<naga::Expression>) -> Hit<'a> {
+pub(crate) fn hit_from<'a>(s: &'a Stage<'a>, h: Handle<naga::Expression>) -> Hit<'a> {
     Hit { t: s.field(h, 0), uv: s.field(h, 1), z: s.field(h, 2), found: s.field(h, 3) }
 }
 fn hit_value<'a>(s: &'a Stage<'a>, ty: &Types, h: &Hit<'a>) -> Handle<naga::Expression> {
@@ -62,10 +64,10 @@ fn hit_value<'a>(s: &'a Stage<'a>, ty: &Types, h: &Hit<'a>) -> Handle<naga::Expr
 }
 
 /// The stage functions of one variant (plain or counted).
-struct StageFns {
-    trace: Handle<naga::Function>,
-    shadow: Option<Handle<naga::Function>>,
-    ao: Option<Handle<naga::Function>>,
+pub(crate) struct StageFns {
+    pub(crate) trace: Handle<naga::Function>,
+    pub(crate) shadow: Option<Handle<naga::Function>>,
+    pub(crate) ao: Option<Handle<naga::Function>>,
 }
 
 fn fn_name(slot: Slot, spec: &StageSpec, counted: bool) -> String {
@@ -86,7 +88,7 @@ fn wrap_err(slot: Slot, spec: &StageSpec) -> impl Fn(CompileError) -> CompileErr
     }
 }
 
-fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: bool) -> Result<StageFns, CompileError> {
+pub(crate) fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: bool) -> Result<StageFns, CompileError> {
     m.counting.set(counted);
     // coarse(ray) -> Bracket
     m.step_counter.set(crate::ir::counter::COARSE_STEPS);

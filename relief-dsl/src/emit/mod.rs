@@ -1,4 +1,5 @@
-//! Emitters: WGSL, SPIR-V and GLSL 450 from a compiled pipeline.
+//! Emitters: WGSL, SPIR-V and GLSL 450 from a compiled pipeline; [`library()`]: the stages
+//! as functions for a user's own shader, in WGSL, GLSL 450, HLSL and MSL.
 
 use naga::back::{glsl, spv, wgsl};
 use naga::ShaderStage;
@@ -82,3 +83,6 @@ pub fn all(c: &Compiled) -> Result<Outputs, CompileError> {
 pub fn emit(p: &crate::spec::Pipeline) -> Result<Outputs, CompileError> {
     all(&crate::compose::compile(p)?)
 }
+
+pub mod library;
+pub use library::{library, LibraryBinding, LibraryFiles, LibraryOptions, ResourceKind};

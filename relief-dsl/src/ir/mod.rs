@@ -37,6 +37,9 @@ pub struct ModuleCtx {
     /// The private counter a loop pass adds one to while counting: the coarse stage's and
     /// the refine stage's passes are counted apart ([`counter`]).
     pub(crate) step_counter: std::cell::Cell<&'static str>,
+    /// When set, stages read the edge mode from this module constant (a `bool`) instead of
+    /// the `Params` block: the library output ([`crate::compose::library`]) has no `Params`.
+    pub(crate) edge_clamp_constant: std::cell::Cell<Option<Handle<naga::Constant>>>,
 }
 
 /// Names of the probe's private counters.
@@ -63,6 +66,7 @@ impl ModuleCtx {
             globals: RefCell::new(Vec::new()),
             counting: std::cell::Cell::new(false),
             step_counter: std::cell::Cell::new(counter::COARSE_STEPS),
+            edge_clamp_constant: std::cell::Cell::new(None),
         }
     }
 

@@ -276,6 +276,9 @@ impl<'a> Stage<'a> {
     /// Whether the scene's edge mode is clamp (`params.quad.y` is 1), for stages that address
     /// texels themselves.
     pub fn edge_is_clamp(&'a self) -> Val<'a, bool> {
+        if let Some(c) = self.module().edge_clamp_constant.get() {
+            return self.wrap(self.expr(Expression::Constant(c)));
+        }
         self.param::<Vec4>(Param::Quad).y().gt(0.5)
     }
 

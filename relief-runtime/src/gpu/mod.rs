@@ -13,7 +13,8 @@ pub use device::{Gpu, GpuError};
 pub use probe::{probe, GpuHit};
 pub use relief_dsl::abi::OUTSIDE_TOLERANCE;
 pub use render::{render, RenderResult};
-pub use resources::{SceneTextures, MAX_RATIO};
+pub use resources::{SceneTextures, AMBIENT, MAX_RATIO};
+pub use crate::maps::MapKey;
 
 use relief_dsl::compose::Compiled;
 

@@ -1,6 +1,6 @@
 //! `relief gen`: shader files for pipelines.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context};
 use relief_dsl::spec::{catalog, Pipeline, Slot};
@@ -19,6 +19,27 @@ pub struct GenArgs {
     /// Output folder (created when missing).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Write the stages as functions for your own shader instead of whole modules:
+    /// `NAME.lib.wgsl`, `NAME.lib.glsl`, `NAME.lib.hlsl`, `NAME.lib.metal`.
+    #[arg(long)]
+    pub library: bool,
+    /// With --library: the bind group (descriptor set, register space) of the resources.
+    #[arg(long, default_value_t = 0, requires = "library")]
+    pub group: u32,
+    /// With --library: the first binding; the resources take consecutive bindings from it.
+    #[arg(long, default_value_t = 0, requires = "library")]
+    pub binding: u32,
+    /// With --library: the name every global, function and type starts with.
+    #[arg(long, default_value = "relief", requires = "library")]
+    pub prefix: String,
+    /// With --library: start the WGSL file with `#define_import_path PATH` (naga_oil / WESL);
+    /// `NAME` in PATH becomes the pipeline's file name (`-` → `_`), e.g. `relief::NAME`.
+    #[arg(long, requires = "library")]
+    pub import_path: Option<String>,
+    /// With --library: the edge mode the stages that address texels themselves assume
+    /// (maxmip); it must match your samplers' address mode.
+    #[arg(long, value_parser = ["repeat", "clamp"], default_value = "repeat", requires = "library")]
+    pub edge: String,
 }
 
 /// The stage listing of `relief gen --list`.
@@ -46,6 +67,23 @@ pub fn listing() -> String {
     s
 }
 
+/// Writes the four library files of `p` into `out`; returns the file stem.
+pub fn write_library(p: &Pipeline, args: &GenArgs, out: &Path) -> anyhow::Result<String> {
+    let stem = p.file_stem();
+    let opts = relief_dsl::emit::LibraryOptions {
+        prefix: args.prefix.clone(),
+        group: args.group,
+        binding: args.binding,
+        edge_clamp: args.edge == "clamp",
+        import_path: args.import_path.as_ref().map(|t| t.replace("NAME", &stem.replace('-', "_"))),
+    };
+    let lib = relief_dsl::emit::library(p, &opts).with_context(|| format!("pipeline {p}"))?;
+    for (ext, text) in [("wgsl", &lib.wgsl), ("glsl", &lib.glsl), ("hlsl", &lib.hlsl), ("metal", &lib.msl)] {
+        relief_runtime::io::write_atomic(&out.join(format!("{stem}.lib.{ext}")), text.as_bytes())?;
+    }
+    Ok(stem)
+}
+
 /// Runs `relief gen`.
 pub fn run(args: &GenArgs) -> anyhow::Result<()> {
     if args.list {
@@ -66,6 +104,17 @@ pub fn run(args: &GenArgs) -> anyhow::Result<()> {
         bail!("--out DIR is required to write shader files");
     };
     std::fs::create_dir_all(out).with_context(|| format!("cannot create output folder {}", out.display()))?;
+    if args.library {
+        for p in &pipelines {
+            write_library(p, args, out)?;
+        }
+        println!(
+            "wrote {} pipeline(s) × 4 library files (.lib.wgsl .lib.glsl .lib.hlsl .lib.metal) to {}",
+            pipelines.len(),
+            out.display()
+        );
+        return Ok(());
+    }
     for p in &pipelines {
         relief_runtime::io::write_pipeline(p, out)?;
     }

@@ -1,0 +1,310 @@
+//! Pipeline → a validated *library* module: the stages as functions for a user's own
+//! material shader, with no entry points, no `Params` block and no probe buffers.
+//!
+//! The interface (the same in every language [`crate::emit::library()`] writes), for the
+//! default prefix `relief`:
+//! - `struct ReliefHit { uv: vec2<f32>, height: f32, t: f32, depth_offset: f32 }`;
+//! - `fn relief_trace(uv: vec2<f32>, view_ts: vec3<f32>, depth_scale: f32) -> ReliefHit`;
+//! - `fn relief_shadow(hit: ReliefHit, light_ts: vec3<f32>, depth_scale: f32) -> f32` when the
+//!   pipeline has a shadow stage, `fn relief_ao(hit: ReliefHit) -> f32` when it has an ao stage;
+//! - the textures and samplers the stages read, as globals `relief_height`, `relief_sampler`,
+//!   `relief_cone`, … at the user's group, at consecutive bindings from the user's first
+//!   binding ([`LibraryBinding`]);
+//! - `const relief_edge_clamp: bool`, the edge mode the stages that address texels
+//!   themselves assume (maxmip's texel walk): fixed when the library is generated.
+//!
+//! `relief_trace` turns the view ray into the normalized ray the stages search (the
+//! conversion of the render entry, DESIGN.md "Conventions"): with `v` the normalized view
+//! direction (`v.z < 0`) and `d` the depth scale, the ray enters at `(uv, 1)` with direction
+//! `(v.xy · d / −v.z, −1)`, so that t = 1 reaches the floor. The hit's t is clamped into
+//! `[0, 1]` as the render entry clamps it.
+//!
+//! `depth_offset` is the distance from the polygon to the hit along the unit view ray, in
+//! texture units (the units of the depth scale): the hit lies `t · d` below the polygon, and
+//! the unit view ray descends `−v.z` per unit length, so `depth_offset = t · d / −v.z`.
+//!
+//! Everything the stages build is renamed under the prefix `P` so that several libraries
+//! compose in one shader: the public functions `P_trace`, `P_shadow`, `P_ao`, the globals
+//! `P_height`, …, the stage functions `P_impl_coarse_linear`, …, and the struct types
+//! `PHit` (the public hit, `P` in CamelCase), `PRay`, `PBracket`, `PStageHit`.
+
+use naga::{Handle, Module, TypeInner};
+
+use crate::compose::{build_stage_fns, hit_from, ray_value, Types};
+use crate::ir::{ModuleCtx, Ty, Vec2, Vec3, Vec4};
+use crate::spec::Pipeline;
+use crate::stage::{Hit, Ray};
+use crate::CompileError;
+
+/// How a library is named and bound.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LibraryOptions {
+    /// The name every global and function starts with (`relief` → `relief_trace`); an
+    /// identifier of ASCII letters, digits and `_`, starting with a letter, not ending in `_`.
+    pub prefix: String,
+    /// The bind group (descriptor set, register space) of every resource.
+    pub group: u32,
+    /// The first binding; the resources take consecutive bindings from it.
+    pub binding: u32,
+    /// The edge mode the stages that address texels themselves assume (`true`: clamp to the
+    /// edge, `false`: repeat). It must match the user's samplers.
+    pub edge_clamp: bool,
+    /// When set, the WGSL file starts with `#define_import_path PATH` (for `naga_oil` / WESL).
+    pub import_path: Option<String>,
+}
+
+impl Default for LibraryOptions {
+    fn default() -> Self {
+        LibraryOptions { prefix: "relief".into(), group: 0, binding: 0, edge_clamp: false, import_path: None }
+    }
+}
+
+/// What a library resource is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ResourceKind {
+    /// `texture_2d<f32>`.
+    Texture2d,
+    /// `texture_3d<f32>`.
+    Texture3d,
+    /// `sampler` (non-comparison).
+    Sampler,
+}
+
+/// One resource of a library, at its binding.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LibraryBinding {
+    /// The global's name (`relief_height`).
+    pub name: String,
+    pub group: u32,
+    pub binding: u32,
+    pub kind: ResourceKind,
+    /// What to bind there (`the height map, linear filtering`).
+    pub what: String,
+}
+
+/// A built library module and its resources, in binding order.
+pub struct Library {
+    pub module: Module,
+    pub info: naga::valid::ModuleInfo,
+    pub bindings: Vec<LibraryBinding>,
+    /// Whether the pipeline has a shadow stage (`P_shadow` exists).
+    pub has_shadow: bool,
+    /// Whether the pipeline has an ao stage (`P_ao` exists).
+    pub has_ao: bool,
+}
+
+fn check_prefix(prefix: &str) -> Result<(), CompileError> {
+    let ok = prefix.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
+        && prefix.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        && !prefix.ends_with('_')
+        && !prefix.contains("__");
+    if ok {
+        Ok(())
+    } else {
+        Err(CompileError {
+            stage: "library".into(),
+            message: format!(
+                "prefix `{prefix}` is not an identifier of ASCII letters, digits and single `_`s that starts with a letter and does not end in `_`"
+            ),
+        })
+    }
+}
+
+/// `rock_a` → `RockA`.
+pub(crate) fn camel(prefix: &str) -> String {
+    prefix
+        .split('_')
+        .map(|w| {
+            let mut c = w.chars();
+            match c.next() {
+                Some(f) => f.to_ascii_uppercase().to_string() + c.as_str(),
+                None => String::new(),
+            }
+        })
+        .collect()
+}
+
+/// The library name of a global the stages declare (`height_map` → `height`,
+/// `cone_map_nearest` → `cone_nearest`, `linear_sampler` → `sampler`), and what it holds.
+fn resource_base(name: &str) -> Option<(String, String)> {
+    match name {
+        "linear_sampler" => return Some(("sampler".into(), "a sampler with linear filtering".into())),
+        "nearest_sampler" => return Some(("sampler_nearest".into(), "a sampler with nearest filtering".into())),
+        _ => {}
+    }
+    let (map, nearest) = match name.strip_suffix("_nearest") {
+        Some(m) => (m, true),
+        None => (name, false),
+    };
+    let base = map.strip_suffix("_map")?;
+    let what = format!(
+        "the {} map, read with {} filtering",
+        base.replace('_', " "),
+        if nearest { "nearest" } else { "linear" }
+    );
+    Some((if nearest { format!("{base}_nearest") } else { base.to_string() }, what))
+}
+
+/// Builds and validates the library module of `p`.
+pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileError> {
+    check_prefix(&opts.prefix)?;
+    let prefix = opts.prefix.as_str();
+    let m = ModuleCtx::new();
+    let edge = {
+        let ty = m.ty(bool::inner());
+        let mut module = m.module.borrow_mut();
+        let init = module
+            .global_expressions
+            .append(naga::Expression::Literal(naga::Literal::Bool(opts.edge_clamp)), naga::Span::UNDEFINED);
+        module.constants.append(
+            naga::Constant { name: Some(format!("{prefix}_edge_clamp")), ty, init },
+            naga::Span::UNDEFINED,
+        )
+    };
+    m.edge_clamp_constant.set(Some(edge));
+    let ty = Types::new(&m);
+    let fns = build_stage_fns(&m, &ty, p, false)?;
+    let f32_ty = m.ty(f32::inner());
+    let vec2_ty = m.ty(Vec2::inner());
+    let vec3_ty = m.ty(Vec3::inner());
+    let camel = camel(prefix);
+    let public_hit = m.struct_ty(
+        &format!("{camel}Hit"),
+        &[("uv", Vec2::inner()), ("height", f32::inner()), ("t", f32::inner()), ("depth_offset", f32::inner())],
+    );
+    let mut public = Vec::new();
+
+    // relief_trace(uv, view_ts, depth_scale) -> ReliefHit
+    {
+        let s = m.function("trace", &[("uv", vec2_ty, None), ("view_ts", vec3_ty, None), ("depth_scale", f32_ty, None)]);
+        let uv = s.arg::<Vec2>(0);
+        let view = s.arg::<Vec3>(1).normalize();
+        let depth_scale = s.arg::<f32>(2);
+        let cos_view = s.name("cos_view", -view.z());
+        let dir = s.vec3(view.xy() * (depth_scale / cos_view), -1.0);
+        let ray = Ray { origin: uv, dir, cos_view };
+        let rv = ray_value(&s, &ty, &ray);
+        let traced = hit_from(&s, s.call(fns.trace, &[rv], true).unwrap());
+        let t = traced.t.clamp(0.0, ray.t_max());
+        let hit = Hit::at_found(&ray, t, traced.found);
+        let depth_offset = t * depth_scale / cos_view;
+        let out = s.make_struct(public_hit, &[hit.uv.handle(), hit.z.handle(), t.handle(), depth_offset.handle()]);
+        let f = s.finish(Some((public_hit, None, out)));
+        public.push(m.add_function(f));
+    }
+    // The stages' hit from the public one (`found`: the public hit is always drawn).
+    let stage_hit = |s: &crate::ir::Stage<'_>, h: Handle<naga::Expression>| {
+        let uv = s.field::<Vec2>(h, 0).handle();
+        let height = s.field::<f32>(h, 1).handle();
+        let t = s.field::<f32>(h, 2).handle();
+        let found = s.lit_bool(true).handle();
+        s.make_struct(ty.hit, &[t, uv, height, found])
+    };
+    // relief_shadow(hit, light_ts, depth_scale) -> f32: the light ray in the stages'
+    // normalized space, as the render entry builds it.
+    if let Some(shadow) = fns.shadow {
+        let s = m.function("shadow", &[("hit", public_hit, None), ("light_ts", vec3_ty, None), ("depth_scale", f32_ty, None)]);
+        let hv = stage_hit(&s, s.arg::<Vec4>(0).handle());
+        let light = s.arg::<Vec3>(1).normalize();
+        let depth_scale = s.arg::<f32>(2);
+        let light_n = s.vec3(light.xy() * (depth_scale / light.z().max(1e-3)), 1.0);
+        let v = s.call(shadow, &[hv, light_n.handle(), light.z().handle()], true).unwrap();
+        let f = s.finish(Some((f32_ty, None, v)));
+        public.push(m.add_function(f));
+    }
+    // relief_ao(hit) -> f32
+    if let Some(ao) = fns.ao {
+        let s = m.function("ao", &[("hit", public_hit, None)]);
+        let hv = stage_hit(&s, s.arg::<Vec4>(0).handle());
+        let v = s.call(ao, &[hv], true).unwrap();
+        let f = s.finish(Some((f32_ty, None, v)));
+        public.push(m.add_function(f));
+    }
+    let mut module = m.finish();
+
+    // Functions: the public ones `P_NAME`, the stages' `P_impl_NAME`.
+    for (h, f) in module.functions.iter_mut() {
+        let name = f.name.take().unwrap_or_default();
+        f.name = Some(if public.contains(&h) { format!("{prefix}_{name}") } else { format!("{prefix}_impl_{name}") });
+    }
+    // Struct types: the public hit `PHit`, the stages' `PNAME`.
+    let renamed: Vec<(Handle<naga::Type>, naga::Type)> = module
+        .types
+        .iter()
+        .filter(|(h, t)| matches!(t.inner, TypeInner::Struct { .. }) && t.name.is_some() && *h != public_hit)
+        .map(|(h, t)| {
+            let old = t.name.as_deref().unwrap();
+            let new = if old == "Hit" {
+                format!("{camel}StageHit")
+            } else {
+                format!("{camel}{old}")
+            };
+            (h, naga::Type { name: Some(new), inner: t.inner.clone() })
+        })
+        .collect();
+    for (h, t) in renamed {
+        module.types.replace(h, t);
+    }
+    // Globals: every one is a texture or sampler the stages read; renamed, and rebound in the
+    // order of their fixed bindings.
+    let mut order: Vec<(u32, Handle<naga::GlobalVariable>)> = Vec::new();
+    for (h, g) in module.global_variables.iter() {
+        let name = g.name.as_deref().unwrap_or("");
+        let Some(rb) = g.binding else {
+            return Err(CompileError {
+                stage: "library".into(),
+                message: format!("the stages declare `{name}`, which is no resource: a library has no place for it"),
+            });
+        };
+        if !matches!(g.space, naga::AddressSpace::Handle) {
+            return Err(CompileError {
+                stage: "library".into(),
+                message: format!("the stages read `{name}` (not a texture or sampler), which a library has no value for"),
+            });
+        }
+        order.push((rb.binding, h));
+    }
+    order.sort();
+    // Textures read only texel by texel (no sampler): their description says so.
+    let mut loaded = std::collections::HashSet::new();
+    let mut sampled = std::collections::HashSet::new();
+    for (_, f) in module.functions.iter() {
+        for (_, e) in f.expressions.iter() {
+            let gv = |h: Handle<naga::Expression>| match f.expressions[h] {
+                naga::Expression::GlobalVariable(g) => Some(g),
+                _ => None,
+            };
+            match *e {
+                naga::Expression::ImageLoad { image, .. } => loaded.extend(gv(image)),
+                naga::Expression::ImageSample { image, .. } => sampled.extend(gv(image)),
+                _ => {}
+            }
+        }
+    }
+    let mut bindings = Vec::new();
+    for (i, (_, h)) in order.into_iter().enumerate() {
+        let g = &mut module.global_variables[h];
+        let old = g.name.clone().unwrap_or_default();
+        let Some((base, mut what)) = resource_base(&old) else {
+            return Err(CompileError { stage: "library".into(), message: format!("no library name for the resource `{old}`") });
+        };
+        if loaded.contains(&h) && !sampled.contains(&h) {
+            what = format!("{}, read texel by texel (textureLoad) over its mip chain", what.split(", read").next().unwrap_or(""));
+        }
+        let name = format!("{prefix}_{base}");
+        let binding = opts.binding + i as u32;
+        g.name = Some(name.clone());
+        g.binding = Some(naga::ResourceBinding { group: opts.group, binding });
+        let kind = match &module.types[g.ty].inner {
+            TypeInner::Image { dim: naga::ImageDimension::D2, .. } => ResourceKind::Texture2d,
+            TypeInner::Image { dim: naga::ImageDimension::D3, .. } => ResourceKind::Texture3d,
+            TypeInner::Sampler { comparison: false } => ResourceKind::Sampler,
+            other => {
+                return Err(CompileError { stage: "library".into(), message: format!("resource `{old}` of unexpected type {other:?}") })
+            }
+        };
+        bindings.push(LibraryBinding { name, group: opts.group, binding, kind, what });
+    }
+    let info = crate::compose::validate(&module)?;
+    Ok(Library { module, info, bindings, has_shadow: fns.shadow.is_some(), has_ao: fns.ao.is_some() })
+}

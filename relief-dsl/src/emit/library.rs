@@ -1,0 +1,346 @@
+//! The library output: a pipeline's stages as functions for a user's own shader, in WGSL,
+//! GLSL 450, HLSL and MSL (the interface: [`crate::compose::library`]).
+//!
+//! Every file starts with a header comment that lists the interface and the resources with
+//! their bindings. What differs between languages:
+//! - WGSL: the module as naga writes it; with [`LibraryOptions::import_path`] its first line
+//!   is `#define_import_path PATH` (a `naga_oil` / WESL import).
+//! - GLSL 450: an include file (no `#version`): GLSL combines a texture with its sampler, so
+//!   each texture is a `sampler2D` (`sampler3D`) at the texture's binding, to be bound with
+//!   the filtering the header names, and the samplers' bindings stay unused. Each declaration
+//!   carries `set = G` when compiled for Vulkan (`#ifdef VULKAN`) and `binding = B` only
+//!   otherwise.
+//! - HLSL (shader model 5.1): textures at `register(tB, spaceG)`, samplers at
+//!   `register(sB, spaceG)`. naga writes samplers through a sampler heap and an index
+//!   buffer (its D3D12 binding model); the library declares them as plain `SamplerState`s at
+//!   their registers instead.
+//! - MSL: Metal has no global resources, so every function that reads one takes it as an
+//!   extra argument (naga's convention): `relief_trace(uv, view_ts, depth_scale,
+//!   relief_height, relief_sampler, …)`, in the order the header lists for each function.
+//!   The module is validated by naga before it is written.
+
+use std::fmt::Write as _;
+
+use naga::back::{glsl, hlsl, msl, wgsl};
+use naga::{Expression, Handle, Module, ShaderStage, Span, Statement};
+
+pub use crate::compose::library::{Library, LibraryBinding, LibraryOptions, ResourceKind};
+use crate::spec::Pipeline;
+use crate::CompileError;
+
+/// The four library files of one pipeline.
+#[derive(Clone, Debug)]
+pub struct LibraryFiles {
+    /// `NAME.lib.wgsl`.
+    pub wgsl: String,
+    /// `NAME.lib.glsl` (an include file, GLSL 450).
+    pub glsl: String,
+    /// `NAME.lib.hlsl`.
+    pub hlsl: String,
+    /// `NAME.lib.metal`.
+    pub msl: String,
+    /// The resources, in binding order.
+    pub bindings: Vec<LibraryBinding>,
+    /// Whether `P_shadow` and `P_ao` exist.
+    pub has_shadow: bool,
+    pub has_ao: bool,
+}
+
+fn err(target: &str, e: impl std::fmt::Debug) -> CompileError {
+    CompileError { stage: format!("emit library {target}"), message: format!("{e:?}") }
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Lang {
+    Wgsl,
+    Glsl,
+    Hlsl,
+    Msl,
+}
+
+fn header(p: &Pipeline, lib: &Library, opts: &LibraryOptions, lang: Lang) -> String {
+    let pre = &opts.prefix;
+    let hit = format!("{}Hit", crate::compose::library::camel(pre));
+    let mut h = String::new();
+    let _ = writeln!(h, "// relief library for the pipeline `{p}`, written by `relief gen --library`.");
+    let _ = writeln!(h, "//");
+    let _ = writeln!(h, "// struct {hit} {{ uv: vec2<f32>, height: f32, t: f32, depth_offset: f32 }}");
+    // Metal takes each resource a function reads as an extra argument, in the order of the
+    // module's globals (naga's MSL convention).
+    let extra = |name: &str| -> String {
+        if lang != Lang::Msl {
+            return String::new();
+        }
+        let Some((fh, _)) = lib.module.functions.iter().find(|(_, f)| f.name.as_deref() == Some(name)) else {
+            return String::new();
+        };
+        let args: Vec<String> = lib
+            .module
+            .global_variables
+            .iter()
+            .filter(|(g, _)| !lib.info[fh][*g].is_empty())
+            .filter_map(|(_, g)| g.name.clone())
+            .collect();
+        format!("\n//     + resource arguments: {}", args.join(", "))
+    };
+    let _ = writeln!(h, "// fn {pre}_trace(uv: vec2<f32>, view_ts: vec3<f32>, depth_scale: f32) -> {hit}{}", extra(&format!("{pre}_trace")));
+    if lib.has_shadow {
+        let _ = writeln!(h, "// fn {pre}_shadow(hit: {hit}, light_ts: vec3<f32>, depth_scale: f32) -> f32{}", extra(&format!("{pre}_shadow")));
+    }
+    if lib.has_ao {
+        let _ = writeln!(h, "// fn {pre}_ao(hit: {hit}) -> f32{}", extra(&format!("{pre}_ao")));
+    }
+    let _ = writeln!(h, "//   uv: the fragment's texture coordinate; view_ts: the normalized tangent-space direction");
+    let _ = writeln!(h, "//   from the eye to the fragment (z < 0); light_ts: the normalized tangent-space direction");
+    let _ = writeln!(h, "//   toward the light; depth_scale: the relief's depth in texture units.");
+    let _ = writeln!(h, "//   hit.uv: where to shade; hit.height in [0, 1] (1 at the polygon); hit.t in [0, 1] along");
+    let _ = writeln!(h, "//   the ray from the polygon (0) to the floor (1); hit.depth_offset = t * depth_scale / -view_ts.z:");
+    let _ = writeln!(h, "//   the distance behind the polygon along the view ray, in texture units (pixel depth offset).");
+    let _ = writeln!(
+        h,
+        "// Edge mode assumed by stages that address texels themselves: {} ({pre}_edge_clamp = {}).",
+        if opts.edge_clamp { "clamp to edge" } else { "repeat" },
+        opts.edge_clamp
+    );
+    let _ = writeln!(h, "//");
+    match lang {
+        Lang::Glsl => {
+            let _ = writeln!(h, "// Include after `#version 450`. Resources (combined image samplers; a texture takes the");
+            let _ = writeln!(h, "// sampler's filtering from the application; the sampler bindings below are unused in GLSL):");
+        }
+        Lang::Msl => {
+            let _ = writeln!(h, "// Resources (Metal has none global: each function above takes those it reads as extra");
+            let _ = writeln!(h, "// arguments after its own, in the order listed; the bindings are for the other languages):");
+        }
+        _ => {
+            let _ = writeln!(h, "// Resources:");
+        }
+    }
+    for b in &lib.bindings {
+        let ty = match (lang, b.kind) {
+            (Lang::Glsl, ResourceKind::Sampler) => "(none in GLSL)",
+            (Lang::Glsl, ResourceKind::Texture2d) => "sampler2D",
+            (Lang::Glsl, ResourceKind::Texture3d) => "sampler3D",
+            (Lang::Hlsl, ResourceKind::Sampler) => "SamplerState",
+            (Lang::Hlsl, ResourceKind::Texture2d) => "Texture2D<float4>",
+            (Lang::Hlsl, ResourceKind::Texture3d) => "Texture3D<float4>",
+            (Lang::Msl, ResourceKind::Sampler) => "metal::sampler",
+            (Lang::Msl, ResourceKind::Texture2d) => "metal::texture2d<float, metal::access::sample>",
+            (Lang::Msl, ResourceKind::Texture3d) => "metal::texture3d<float, metal::access::sample>",
+            (_, ResourceKind::Sampler) => "sampler",
+            (_, ResourceKind::Texture2d) => "texture_2d<f32>",
+            (_, ResourceKind::Texture3d) => "texture_3d<f32>",
+        };
+        let _ = writeln!(h, "//   group {} binding {}: {} {ty} — {}", b.group, b.binding, b.name, b.what);
+    }
+    h.push('\n');
+    h
+}
+
+/// A copy of `module` with a fragment entry `main` that calls every public function, for
+/// the backends that write only what an entry point reaches (GLSL).
+fn with_caller(lib: &Library, prefix: &str) -> Result<(Module, naga::valid::ModuleInfo), CompileError> {
+    let mut module = lib.module.clone();
+    let find = |name: &str| -> Option<Handle<naga::Function>> {
+        module.functions.iter().find(|(_, f)| f.name.as_deref() == Some(name)).map(|(h, _)| h)
+    };
+    let trace = find(&format!("{prefix}_trace")).ok_or_else(|| err("glsl", "no trace function"))?;
+    let shadow = find(&format!("{prefix}_shadow"));
+    let ao = find(&format!("{prefix}_ao"));
+    let vec2 = module.types.insert(
+        naga::Type { name: None, inner: naga::TypeInner::Vector { size: naga::VectorSize::Bi, scalar: naga::Scalar::F32 } },
+        Span::UNDEFINED,
+    );
+    let vec3 = module.types.insert(
+        naga::Type { name: None, inner: naga::TypeInner::Vector { size: naga::VectorSize::Tri, scalar: naga::Scalar::F32 } },
+        Span::UNDEFINED,
+    );
+    let loc = |location| naga::Binding::Location {
+        location,
+        interpolation: Some(naga::Interpolation::Perspective),
+        sampling: Some(naga::Sampling::Center),
+        blend_src: None,
+        per_primitive: false,
+    };
+    let mut f = naga::Function {
+        name: Some("main".into()),
+        arguments: vec![
+            naga::FunctionArgument { name: Some("uv".into()), ty: vec2, binding: Some(loc(0)) },
+            naga::FunctionArgument { name: Some("view".into()), ty: vec3, binding: Some(loc(1)) },
+        ],
+        ..Default::default()
+    };
+    let uv = f.expressions.append(Expression::FunctionArgument(0), Span::UNDEFINED);
+    let view = f.expressions.append(Expression::FunctionArgument(1), Span::UNDEFINED);
+    let scale = f.expressions.append(Expression::Literal(naga::Literal::F32(0.1)), Span::UNDEFINED);
+    let hit = f.expressions.append(Expression::CallResult(trace), Span::UNDEFINED);
+    f.body.push(Statement::Call { function: trace, arguments: vec![uv, view, scale], result: Some(hit) }, Span::UNDEFINED);
+    if let Some(s) = shadow {
+        let r = f.expressions.append(Expression::CallResult(s), Span::UNDEFINED);
+        f.body.push(Statement::Call { function: s, arguments: vec![hit, view, scale], result: Some(r) }, Span::UNDEFINED);
+    }
+    if let Some(a) = ao {
+        let r = f.expressions.append(Expression::CallResult(a), Span::UNDEFINED);
+        f.body.push(Statement::Call { function: a, arguments: vec![hit], result: Some(r) }, Span::UNDEFINED);
+    }
+    f.body.push(Statement::Return { value: None }, Span::UNDEFINED);
+    module.entry_points.push(naga::EntryPoint {
+        name: "main".into(),
+        stage: ShaderStage::Fragment,
+        early_depth_test: None,
+        workgroup_size: [0; 3],
+        workgroup_size_overrides: None,
+        function: f,
+        mesh_info: None,
+        task_payload: None,
+        incoming_ray_payload: None,
+    });
+    let info = crate::compose::validate(&module)?;
+    Ok((module, info))
+}
+
+fn wgsl_text(lib: &Library) -> Result<String, CompileError> {
+    wgsl::write_string(&lib.module, &lib.info, wgsl::WriterFlags::empty()).map_err(|e| err("wgsl", e))
+}
+
+fn glsl_text(lib: &Library, opts: &LibraryOptions) -> Result<String, CompileError> {
+    let (module, info) = with_caller(lib, &opts.prefix)?;
+    let mut binding_map = glsl::BindingMap::default();
+    for b in &lib.bindings {
+        let n = u8::try_from(b.binding)
+            .map_err(|_| err("glsl", format!("binding {} of `{}` does not fit GLSL's binding map (< 256)", b.binding, b.name)))?;
+        binding_map.insert(naga::ResourceBinding { group: b.group, binding: b.binding }, n);
+    }
+    let options = glsl::Options { version: glsl::Version::Desktop(450), binding_map, ..glsl::Options::default() };
+    let pipeline = glsl::PipelineOptions { shader_stage: ShaderStage::Fragment, entry_point: "main".into(), multiview: None };
+    let mut out = String::new();
+    glsl::Writer::new(&mut out, &module, &info, &options, &pipeline, Default::default())
+        .map_err(|e| err("glsl", e))?
+        .write()
+        .map_err(|e| err("glsl", e))?;
+    // Keep everything but the version line, the caller's inputs and the caller itself.
+    let body = out.split("\nvoid main()").next().unwrap_or(&out);
+    let mut text = String::new();
+    for line in body.lines() {
+        if line.starts_with("#version") || line.contains("_vs2fs_location") {
+            continue;
+        }
+        let mut line = line.to_string();
+        for b in &lib.bindings {
+            let naga_name = format!("_group_{}_binding_{}_fs", b.group, b.binding);
+            if line.contains(&naga_name) && line.trim_start().starts_with("layout(") && line.contains(" uniform ") {
+                let decl = line.split_once(" uniform ").map(|(_, d)| d.replace(&naga_name, &b.name)).unwrap_or_default();
+                line = format!(
+                    "#ifdef VULKAN\nlayout(set = {g}, binding = {n}) uniform {decl}\n#else\nlayout(binding = {n}) uniform {decl}\n#endif",
+                    g = b.group,
+                    n = b.binding
+                );
+            } else {
+                line = line.replace(&naga_name, &b.name);
+            }
+        }
+        if line.contains("_group_") {
+            return Err(err("glsl", format!("unexpected resource name left in `{line}`")));
+        }
+        text.push_str(&line);
+        text.push('\n');
+    }
+    Ok(text)
+}
+
+fn hlsl_text(lib: &Library) -> Result<String, CompileError> {
+    let options = hlsl::Options { force_loop_bounding: false, ..hlsl::Options::default() };
+    let pipeline = hlsl::PipelineOptions { entry_point: None };
+    let mut out = String::new();
+    hlsl::Writer::new(&mut out, &options, &pipeline).write(&lib.module, &lib.info, None).map_err(|e| err("hlsl", e))?;
+    // Samplers as plain registers instead of naga's sampler heap.
+    let mut text = String::new();
+    for line in out.lines() {
+        let t = line.trim_start();
+        if t.starts_with("SamplerState nagaSamplerHeap")
+            || t.starts_with("SamplerComparisonState nagaComparisonSamplerHeap")
+            || (t.starts_with("StructuredBuffer<uint> nagaGroup") && t.contains("SamplerIndexArray"))
+        {
+            continue;
+        }
+        if let Some(rest) = t.strip_prefix("static const SamplerState ") {
+            let name = rest.split_whitespace().next().unwrap_or("");
+            let b = lib
+                .bindings
+                .iter()
+                .find(|b| b.name == name)
+                .ok_or_else(|| err("hlsl", format!("sampler `{name}` is not a library resource")))?;
+            let _ = writeln!(text, "SamplerState {name} : register(s{}, space{});", b.binding, b.group);
+            continue;
+        }
+        if t.contains("nagaSamplerHeap") || t.contains("SamplerIndexArray") {
+            return Err(err("hlsl", format!("sampler heap access left in `{line}`")));
+        }
+        text.push_str(&sample_level_zero(line));
+        text.push('\n');
+    }
+    Ok(text)
+}
+
+/// naga 30's HLSL backend writes a level-0 sample as `t.SampleLevelZero(s, uv)`, which
+/// glslang's HLSL front end rejects (no matching overloaded function): the library writes
+/// the classic `t.SampleLevel(s, uv, 0.0)`, which every HLSL compiler takes.
+fn sample_level_zero(line: &str) -> String {
+    const BAD: &str = ".SampleLevelZero(";
+    let mut out = String::new();
+    let mut rest = line;
+    while let Some(i) = rest.find(BAD) {
+        out.push_str(&rest[..i]);
+        out.push_str(".SampleLevel(");
+        rest = &rest[i + BAD.len()..];
+        let mut depth = 1;
+        let mut end = rest.len();
+        for (j, c) in rest.char_indices() {
+            match c {
+                '(' => depth += 1,
+                ')' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        end = j;
+                        break;
+                    }
+                }
+                _ => {}
+            }
+        }
+        out.push_str(&sample_level_zero(&rest[..end]));
+        out.push_str(", 0.0");
+        rest = &rest[end..];
+    }
+    out.push_str(rest);
+    out
+}
+
+fn msl_text(lib: &Library) -> Result<String, CompileError> {
+    let options = msl::Options { lang_version: (2, 0), force_loop_bounding: false, ..msl::Options::default() };
+    let (text, _) = msl::write_string(&lib.module, &lib.info, &options, &msl::PipelineOptions::default())
+        .map_err(|e| err("msl", e))?;
+    Ok(text)
+}
+
+/// Builds the library of `p` and writes it in the four languages.
+pub fn library(p: &Pipeline, opts: &LibraryOptions) -> Result<LibraryFiles, CompileError> {
+    let lib = crate::compose::library::build(p, opts)?;
+    let mut wgsl = String::new();
+    if let Some(path) = &opts.import_path {
+        let ok = path.split("::").all(|seg| {
+            seg.chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+                && seg.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        });
+        if !ok {
+            return Err(err("wgsl", format!("import path `{path}` is not `::`-separated identifiers")));
+        }
+        let _ = writeln!(wgsl, "#define_import_path {path}\n");
+    }
+    wgsl.push_str(&header(p, &lib, opts, Lang::Wgsl));
+    wgsl.push_str(&wgsl_text(&lib)?);
+    let glsl = header(p, &lib, opts, Lang::Glsl) + &glsl_text(&lib, opts)?;
+    let hlsl = header(p, &lib, opts, Lang::Hlsl) + &hlsl_text(&lib)?;
+    let msl = header(p, &lib, opts, Lang::Msl) + &msl_text(&lib)?;
+    Ok(LibraryFiles { wgsl, glsl, hlsl, msl, bindings: lib.bindings, has_shadow: lib.has_shadow, has_ao: lib.has_ao })
+}

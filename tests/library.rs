@@ -1,0 +1,266 @@
+//! The library output (`relief gen --library`): each file, wrapped in a small user shader
+//! whose own entry point calls `relief_trace` (and shadow, ao), passes the real validators:
+//! GLSL through `glslangValidator` (Vulkan and OpenGL SPIR-V), HLSL through glslang's HLSL
+//! front end (`glslangValidator -D`), the SPIR-V of both through `spirv-val`; the WGSL is
+//! included textually into a user module that naga parses and validates. MSL has no
+//! validator on this machine: the module is validated by naga before it is written.
+
+use std::path::Path;
+use std::process::Command;
+
+use relief::dsl::emit::{self, LibraryFiles, LibraryOptions, ResourceKind};
+use relief::Pipeline;
+
+fn tool(name: &str) -> &str {
+    let found = Command::new(name).arg("--version").output().is_ok();
+    assert!(found, "`{name}` is not installed: install the Debian packages spirv-tools and glslang-tools");
+    name
+}
+
+fn run(cmd: &mut Command, what: &str) {
+    let out = cmd.output().unwrap_or_else(|e| panic!("{what}: {e}"));
+    assert!(
+        out.status.success(),
+        "{what} failed:\n{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn camel(prefix: &str) -> String {
+    prefix.split('_').map(|w| w[..1].to_uppercase() + &w[1..]).collect()
+}
+
+const DEPTH: &str = "0.08";
+
+/// The body of a user's fragment shader: trace, then shadow and ao when present, and use
+/// every field of the hit.
+fn wgsl_user(lib: &LibraryFiles, prefix: &str, entry: &str) -> String {
+    let hit = format!("{}Hit", camel(prefix));
+    let mut s = format!(
+        "@fragment fn {entry}(@location(0) uv: vec2<f32>, @location(1) view: vec3<f32>) -> @location(0) vec4<f32> {{\n\
+         let hit: {hit} = {prefix}_trace(uv, normalize(view), {DEPTH});\n    var shade = 1.0;\n"
+    );
+    if lib.has_shadow {
+        s += &format!("    shade *= {prefix}_shadow(hit, normalize(vec3(0.3, 0.2, 0.9)), {DEPTH});\n");
+    }
+    if lib.has_ao {
+        s += &format!("    shade *= {prefix}_ao(hit);\n");
+    }
+    s += "    return vec4(hit.uv, hit.height + hit.t + hit.depth_offset, shade);\n}\n";
+    s
+}
+
+fn glsl_user(lib: &LibraryFiles) -> String {
+    let mut s = String::from("#version 450\n");
+    s += &lib.glsl;
+    s += "layout(location = 0) in vec2 v_uv;\nlayout(location = 1) in vec3 v_view;\nlayout(location = 0) out vec4 o_color;\n";
+    s += &format!("void main() {{\n    ReliefHit hit = relief_trace(v_uv, normalize(v_view), {DEPTH});\n    float shade = 1.0;\n");
+    if lib.has_shadow {
+        s += &format!("    shade *= relief_shadow(hit, normalize(vec3(0.3, 0.2, 0.9)), {DEPTH});\n");
+    }
+    if lib.has_ao {
+        s += "    shade *= relief_ao(hit);\n";
+    }
+    s += "    o_color = vec4(hit.uv, hit.height + hit.t + hit.depth_offset, shade);\n}\n";
+    s
+}
+
+fn hlsl_user(lib: &LibraryFiles) -> String {
+    let mut s = lib.hlsl.clone();
+    s += "struct UserIn { float4 pos : SV_Position; float2 uv : TEXCOORD0; float3 view : TEXCOORD1; };\n";
+    s += &format!(
+        "float4 user_main(UserIn i) : SV_Target {{\n    ReliefHit hit = relief_trace(i.uv, normalize(i.view), {DEPTH});\n    float shade = 1.0;\n"
+    );
+    if lib.has_shadow {
+        s += &format!("    shade *= relief_shadow(hit, normalize(float3(0.3, 0.2, 0.9)), {DEPTH});\n");
+    }
+    if lib.has_ao {
+        s += "    shade *= relief_ao(hit);\n";
+    }
+    s += "    return float4(hit.uv, hit.height + hit.t + hit.depth_offset, shade);\n}\n";
+    s
+}
+
+/// Parses and validates a WGSL user module with naga.
+fn naga_wgsl(src: &str, what: &str) -> naga::Module {
+    let module = naga::front::wgsl::parse_str(src).unwrap_or_else(|e| panic!("{what}: {}\n{src}", e.emit_to_string(src)));
+    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default())
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{what}: {e:?}"));
+    module
+}
+
+fn pipelines() -> Vec<Pipeline> {
+    // Every fifth default combination (every coarse stage at least once) and the stages the
+    // defaults leave out: each ao stage, nested shadow searches, the 3D distance field,
+    // nearest and gathered cone reads.
+    let mut all: Vec<Pipeline> = Pipeline::all_defaults().into_iter().step_by(5).collect();
+    for extra in [
+        "rcs(15)+binary(5)+ao=cone_normal",
+        "csm(15)+binary(4)+ao=cone_ratio",
+        "linear(16)+shadow=hard(csm(15, sample=min4))",
+        "cns(10)+shadow=hard(rcs(8, start=bracket))+ao=cone_ratio",
+        "mcns(10, 2)+interval(2)+shadow=hard(pcns(6, 3))",
+        "sphere(20)+secant(3)+shadow=hard(sphere(10))",
+        "qcsm(12)+shadow=hard(qcsm(12))",
+        "maxmip(32)+binary(4)+shadow=soft_cone(10)",
+    ] {
+        all.push(extra.parse().unwrap_or_else(|e| panic!("{extra}: {e}")));
+    }
+    all
+}
+
+#[test]
+fn every_library_validates_in_wgsl_glsl_hlsl_and_spirv_val() {
+    let glslang = tool("glslangValidator");
+    let spirv_val = tool("spirv-val");
+    let dir = std::env::temp_dir().join(format!("relief-library-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let all = pipelines();
+    let chunks: Vec<&[Pipeline]> = all.chunks(all.len().div_ceil(2)).collect();
+    std::thread::scope(|scope| {
+        for chunk in chunks {
+            let dir = &dir;
+            scope.spawn(move || {
+                for p in chunk {
+                    check_one(p, dir, glslang, spirv_val);
+                }
+            });
+        }
+    });
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+fn check_one(p: &Pipeline, dir: &Path, glslang: &str, spirv_val: &str) {
+    let opts = LibraryOptions { group: 2, binding: 5, ..LibraryOptions::default() };
+    let lib = emit::library(p, &opts).unwrap_or_else(|e| panic!("{p}: {e}"));
+    let stem = p.file_stem();
+
+    // WGSL: included into a user module, parsed and validated by naga.
+    let src = format!("{}\n{}", lib.wgsl, wgsl_user(&lib, "relief", "user_main"));
+    let module = naga_wgsl(&src, &format!("WGSL library of {p}"));
+    // The resources are the header's list: group 2, consecutive bindings from 5, each once.
+    let mut found: Vec<(u32, String)> = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, g)| g.binding.map(|rb| {
+            assert_eq!(rb.group, 2, "{p}: {:?} in group {}", g.name, rb.group);
+            (rb.binding, g.name.clone().unwrap())
+        }))
+        .collect();
+    found.sort();
+    let expect: Vec<(u32, String)> = (5..).zip(lib.bindings.iter().map(|b| b.name.clone())).collect();
+    assert_eq!(found, expect, "{p}: bindings consecutive from 5 in the header's order");
+    for b in &lib.bindings {
+        assert!(lib.wgsl.contains(&format!("//   group 2 binding {}: {} ", b.binding, b.name)), "{p}: header lists {}", b.name);
+    }
+    // Nothing of relief's own module is left: no entry points, Params, probe buffers.
+    for gone in ["params", "rays", "hits", "@vertex", "@compute", "fs_main", "_counted"] {
+        assert!(!lib.wgsl.contains(gone), "{p}: the library still holds `{gone}`");
+    }
+
+    // GLSL: after a #version, compiled for Vulkan (set + binding) and for OpenGL.
+    let file = dir.join(format!("{stem}.frag"));
+    std::fs::write(&file, glsl_user(&lib)).unwrap();
+    let spv = dir.join(format!("{stem}.glsl.spv"));
+    run(Command::new(glslang).args(["-V", "-S", "frag", "-o"]).arg(&spv).arg(&file), &format!("glslangValidator -V on the GLSL library of {p}"));
+    run(Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv), &format!("spirv-val on the GLSL library of {p}"));
+    let gl = dir.join(format!("{stem}.gl.spv"));
+    run(Command::new(glslang).args(["-G", "-S", "frag", "-o"]).arg(&gl).arg(&file), &format!("glslangValidator -G on the GLSL library of {p}"));
+
+    // HLSL: glslang's HLSL front end, then spirv-val.
+    let file = dir.join(format!("{stem}.hlsl"));
+    std::fs::write(&file, hlsl_user(&lib)).unwrap();
+    let spv = dir.join(format!("{stem}.hlsl.spv"));
+    run(
+        Command::new(glslang).args(["-D", "-V", "-S", "frag", "-e", "user_main", "-o"]).arg(&spv).arg(&file),
+        &format!("glslangValidator -D on the HLSL library of {p}"),
+    );
+    run(Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv), &format!("spirv-val on the HLSL library of {p}"));
+
+    // MSL: written (naga validated the module first) with the public functions.
+    assert!(lib.msl.contains("#include <metal_stdlib>"), "{p}");
+    assert!(lib.msl.contains("ReliefHit relief_trace("), "{p}");
+    assert_eq!(lib.msl.contains("float relief_shadow("), lib.has_shadow, "{p}");
+    assert_eq!(lib.msl.contains("float relief_ao("), lib.has_ao, "{p}");
+}
+
+#[test]
+fn the_resources_are_what_the_stages_read() {
+    // linear and binary read the height map through the linear sampler, nothing else.
+    let p: Pipeline = "linear(10)+binary(5)".parse().unwrap();
+    let lib = emit::library(&p, &LibraryOptions::default()).unwrap();
+    let got: Vec<(&str, u32, ResourceKind)> = lib.bindings.iter().map(|b| (b.name.as_str(), b.binding, b.kind)).collect();
+    assert_eq!(got, [("relief_height", 0, ResourceKind::Texture2d), ("relief_sampler", 1, ResourceKind::Sampler)]);
+    assert!(!lib.has_shadow && !lib.has_ao);
+    // sphere tracing reads the 3D distance field.
+    let p: Pipeline = "sphere(20)".parse().unwrap();
+    let lib = emit::library(&p, &LibraryOptions::default()).unwrap();
+    assert!(lib.bindings.iter().any(|b| b.name == "relief_distance_field" && b.kind == ResourceKind::Texture3d), "{:?}", lib.bindings);
+    // an ao stage adds its map and relief_ao.
+    let p: Pipeline = "linear(10)+ao=cone_normal".parse().unwrap();
+    let lib = emit::library(&p, &LibraryOptions::default()).unwrap();
+    assert!(lib.has_ao && lib.bindings.iter().any(|b| b.name.starts_with("relief_cone_normal")), "{:?}", lib.bindings);
+}
+
+#[test]
+fn two_prefixed_libraries_compose_in_one_module() {
+    let a: Pipeline = "linear(16)+binary(4)+shadow=soft(10)".parse().unwrap();
+    let b: Pipeline = "rcs(15)+binary(5)+ao=cone_normal".parse().unwrap();
+    let la = emit::library(&a, &LibraryOptions { prefix: "rock".into(), binding: 0, ..LibraryOptions::default() }).unwrap();
+    let next = la.bindings.len() as u32;
+    let lb = emit::library(&b, &LibraryOptions { prefix: "brick_wall".into(), binding: next, ..LibraryOptions::default() }).unwrap();
+    let src = format!(
+        "{}\n{}\n{}\n{}",
+        la.wgsl,
+        lb.wgsl,
+        wgsl_user(&la, "rock", "rock_main"),
+        wgsl_user(&lb, "brick_wall", "brick_main")
+    );
+    let module = naga_wgsl(&src, "two libraries in one module");
+    let owned = |n: &str| n.starts_with("rock") || n.starts_with("brick_wall");
+    for (_, g) in module.global_variables.iter() {
+        assert!(owned(g.name.as_deref().unwrap()), "global {:?} not under a prefix", g.name);
+    }
+    for (_, f) in module.functions.iter() {
+        assert!(owned(f.name.as_deref().unwrap()), "function {:?} not under a prefix", f.name);
+    }
+    for (_, t) in module.types.iter() {
+        if let Some(n) = &t.name {
+            assert!(n.starts_with("Rock") || n.starts_with("BrickWall"), "type {n} not under a prefix");
+        }
+    }
+    for (_, c) in module.constants.iter() {
+        assert!(owned(c.name.as_deref().unwrap()), "constant {:?} not under a prefix", c.name);
+    }
+    let mut bindings: Vec<u32> = module.global_variables.iter().filter_map(|(_, g)| g.binding.map(|b| b.binding)).collect();
+    bindings.sort();
+    assert_eq!(bindings, (0..bindings.len() as u32).collect::<Vec<_>>(), "one binding range, no overlap");
+}
+
+#[test]
+fn options_are_checked_and_written() {
+    let p: Pipeline = "maxmip(32)+binary(4)".parse().unwrap();
+    for bad in ["", "1abc", "relief_", "a__b", "a-b"] {
+        let e = emit::library(&p, &LibraryOptions { prefix: bad.into(), ..LibraryOptions::default() });
+        assert!(e.is_err(), "prefix `{bad}` accepted");
+    }
+    let e = emit::library(&p, &LibraryOptions { import_path: Some("relief::a-b".into()), ..LibraryOptions::default() });
+    assert!(e.is_err(), "an import path with `-` accepted");
+    let lib = emit::library(
+        &p,
+        &LibraryOptions { import_path: Some("relief::maxmip".into()), edge_clamp: true, ..LibraryOptions::default() },
+    )
+    .unwrap();
+    assert!(lib.wgsl.starts_with("#define_import_path relief::maxmip\n"));
+    // The edge mode is the constant the stages read: maxmip's texel walk uses it.
+    let src = lib.wgsl.replacen("#define_import_path relief::maxmip", "", 1);
+    let module = naga_wgsl(&src, "maxmip library");
+    let (_, c) = module.constants.iter().find(|(_, c)| c.name.as_deref() == Some("relief_edge_clamp")).expect("edge constant");
+    assert!(matches!(module.global_expressions[c.init], naga::Expression::Literal(naga::Literal::Bool(true))));
+    let uses = module.functions.iter().any(|(_, f)| {
+        f.expressions.iter().any(|(_, e)| matches!(e, naga::Expression::Constant(h) if module.constants[*h].name.as_deref() == Some("relief_edge_clamp")))
+    });
+    assert!(uses, "maxmip reads relief_edge_clamp");
+}
