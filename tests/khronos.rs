@@ -41,7 +41,16 @@ fn every_default_combination_passes_spirv_val_and_glslang() {
     for extra in [
         "rcs(15)+binary(5)+ao=cone_normal",
         "csm(15)+binary(4)+ao=cone_ratio",
-        "linear(16)+shadow=hard(csm(15, sample=min4))",
+        "linear(16)+shadow=hard(csm(15, form=textbook, sample=min4))",
+        // The textbook form of every cone method (the defaults above are the safe forms).
+        "csm(15, form=textbook)+binary(5)",
+        "csm(15, form=textbook, sample=nearest)",
+        "qcsm(15, form=textbook)+interval(3)",
+        "rcs(15, form=textbook)+binary(5)",
+        "cns(15, form=textbook)+secant(3)",
+        "rcns(15, form=textbook)+binary(5)",
+        "mcns(15, 3, form=textbook)",
+        "pcns(15, 2, form=textbook)+binary(4)",
         "cns(10)+shadow=hard(rcs(8, start=bracket))+ao=cone_ratio",
         "mcns(10, 2)+interval(2)+shadow=hard(pcns(6, 3))",
         "sphere(20)+secant(3)+shadow=hard(sphere(10))",

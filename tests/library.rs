@@ -99,7 +99,7 @@ fn pipelines() -> Vec<Pipeline> {
     for extra in [
         "rcs(15)+binary(5)+ao=cone_normal",
         "csm(15)+binary(4)+ao=cone_ratio",
-        "linear(16)+shadow=hard(csm(15, sample=min4))",
+        "linear(16)+shadow=hard(csm(15, form=textbook, sample=min4))",
         "cns(10)+shadow=hard(rcs(8, start=bracket))+ao=cone_ratio",
         "mcns(10, 2)+interval(2)+shadow=hard(pcns(6, 3))",
         "sphere(20)+secant(3)+shadow=hard(sphere(10))",

@@ -5,7 +5,7 @@
 //!
 //! `COARSE[+REFINE][+shadow=SHADOW][+ao=AO]`, for example `linear(10)+binary(5)` or
 //! `linear(10)+interval(3)+shadow=soft(30)`. Names are lower_snake. Parameters are positional
-//! or named (`linear(steps=10)`, `csm(15, sample=min4)`), and a parameter may itself be a
+//! or named (`linear(steps=10)`, `csm(15, form=textbook, sample=min4)`), and a parameter may itself be a
 //! stage (`shadow=hard(linear(20))`). Slots may also be named explicitly
 //! (`coarse=linear(10)+refine=binary(5)`). Left-out slots are `none`, left-out parameters take
 //! their defaults. [`Pipeline`]'s `Display` prints the canonical form: positional numbers,
