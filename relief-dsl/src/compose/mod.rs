@@ -222,7 +222,35 @@ fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
     }
 }
 
-fn fragment_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint {
+/// What a module is built with besides its pipeline.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Options {
+    /// The fragment entry also writes the depth of the hit (a pixel depth offset): the NDC
+    /// depth of the hit point `(uv, (z - 1)·depth_scale)` under `params.view_proj`, so that
+    /// a depth buffer holds the relief's surface, not the quad's.
+    pub frag_depth: bool,
+}
+
+/// The fragment output with a depth: `color @location(0)`, `depth @builtin(frag_depth)`.
+fn fragment_output_with_depth(m: &ModuleCtx) -> Handle<naga::Type> {
+    let v4 = m.ty(Vec4::inner());
+    let f = m.ty(f32::inner());
+    m.module.borrow_mut().types.insert(
+        naga::Type {
+            name: Some("FragmentOutput".into()),
+            inner: TypeInner::Struct {
+                members: vec![
+                    naga::StructMember { name: Some("color".into()), ty: v4, binding: Some(location(0)), offset: 0 },
+                    naga::StructMember { name: Some("depth".into()), ty: f, binding: Some(Binding::BuiltIn(BuiltIn::FragDepth)), offset: 16 },
+                ],
+                span: 32,
+            },
+        },
+        naga::Span::UNDEFINED,
+    )
+}
+
+fn fragment_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns, options: &Options) -> naga::EntryPoint {
     let loc = location(0);
     let s = m.function("fs_main", &[("world", m.ty(Vec2::inner()), Some(loc))]);
     let world = s.arg::<Vec2>(0);
@@ -258,7 +286,16 @@ fn fragment_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint
     let diffuse = normal.dot(to_light).max(0.0);
     let color = albedo * (ambient * occlusion + (1.0 - ambient) * diffuse * visibility);
     let out = s.vec4(color, 1.0);
-    let f = s.finish(Some((m.ty(Vec4::inner()), Some(location(0)), out.handle())));
+    let f = if options.frag_depth {
+        let world_hit = s.vec3(hit.uv, (hit.z - 1.0) * depth_scale);
+        let clip = s.param::<crate::ir::Mat4>(Param::ViewProj) * s.vec4(world_hit, 1.0);
+        let depth = clip.z() / clip.w();
+        let out_ty = fragment_output_with_depth(m);
+        let v = s.make_struct(out_ty, &[out.handle(), depth.handle()]);
+        s.finish(Some((out_ty, None, v)))
+    } else {
+        s.finish(Some((m.ty(Vec4::inner()), Some(location(0)), out.handle())))
+    };
     naga::EntryPoint {
         name: "fs_main".into(),
         stage: ShaderStage::Fragment,
@@ -367,12 +404,17 @@ fn probe_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint {
 
 /// Builds the module for `p` (not yet validated).
 pub fn build_module(p: &Pipeline) -> Result<Module, CompileError> {
+    build_module_with(p, &Options::default())
+}
+
+/// Builds the module for `p` with `options` (not yet validated).
+pub fn build_module_with(p: &Pipeline, options: &Options) -> Result<Module, CompileError> {
     let m = ModuleCtx::new();
     let ty = Types::new(&m);
     let plain = build_stage_fns(&m, &ty, p, false)?;
     let counted = build_stage_fns(&m, &ty, p, true)?;
     let vs = vertex_entry(&m);
-    let fs = fragment_entry(&m, &ty, &plain);
+    let fs = fragment_entry(&m, &ty, &plain, options);
     let cs = probe_entry(&m, &ty, &counted);
     let mut module = m.finish();
     module.entry_points.extend([vs, fs, cs]);
@@ -381,7 +423,12 @@ pub fn build_module(p: &Pipeline) -> Result<Module, CompileError> {
 
 /// Builds and validates the module for `p`.
 pub fn compile(p: &Pipeline) -> Result<Compiled, CompileError> {
-    let module = build_module(p)?;
+    compile_with(p, &Options::default())
+}
+
+/// Builds and validates the module for `p` with `options`.
+pub fn compile_with(p: &Pipeline, options: &Options) -> Result<Compiled, CompileError> {
+    let module = build_module_with(p, options)?;
     let info = validate(&module)?;
     Ok(Compiled { module, info })
 }
