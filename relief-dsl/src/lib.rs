@@ -42,5 +42,11 @@ impl CompileError {
             message: format!("the {slot} method `{name}` has no stage code yet"),
         }
     }
+    pub(crate) fn wrong_slot(slot: spec::Slot, name: &str, built: spec::Slot) -> Self {
+        CompileError {
+            stage: format!("{slot} {name}"),
+            message: format!("the catalogue's `{name}` of the {slot} slot builds a {built} stage"),
+        }
+    }
 }
 pub use spec::{Pipeline, Slot, StageSpec};

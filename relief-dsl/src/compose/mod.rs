@@ -144,9 +144,8 @@ fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: bool) -> Re
             &[("hit", ty.hit, None), ("light", m.ty(Vec3::inner()), None), ("light_cos", m.ty(f32::inner()), None)],
         );
         let hit = hit_from(&s, s.arg::<Vec4>(0).handle());
-        let light = s.arg::<Vec3>(1);
-        let light_cos = s.arg::<f32>(2);
-        let v = stage::shadow::build(&s, &hit, light, light_cos, &p.shadow).map_err(wrap_err(Slot::Shadow, &p.shadow))?;
+        let light = stage::Light { dir: s.arg::<Vec3>(1), cos: s.arg::<f32>(2) };
+        let v = stage::shadow::build(&s, &hit, &light, &p.shadow).map_err(wrap_err(Slot::Shadow, &p.shadow))?;
         let f = s.finish(Some((m.ty(f32::inner()), None, v.handle())));
         Some(m.add_function(f))
     };

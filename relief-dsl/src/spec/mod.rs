@@ -39,7 +39,8 @@ pub mod suggest;
 use std::fmt;
 use std::str::FromStr;
 
-pub use catalog::{catalog, method, MethodDef, ParamDef, ParamKind, MAX_STEPS};
+pub use catalog::{catalog, method, Catalog, no_maps, register, Args, Choice, MethodDef, ParamDef, ParamKind, RegisterError, StageOr, MAX_STEPS};
+pub(crate) use catalog::choices;
 pub use grid::Grid;
 pub use parse::{parse_pattern, slot_named, Form, ParseError, MAX_DEPTH};
 pub use resolve::{resolve_stage, RawArg, RawStage, RawValue};
