@@ -16,6 +16,8 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+#![warn(missing_docs)]
+
 pub mod abi;
 pub mod compose;
 pub mod emit;
@@ -49,4 +51,12 @@ impl CompileError {
         }
     }
 }
-pub use spec::{Pipeline, Slot, StageSpec};
+pub use spec::{register, Pipeline, Slot, StageSpec};
+
+/// What relief-macros calls: the pattern types and parser pieces the macros build from Rust
+/// tokens. Not part of the API.
+#[doc(hidden)]
+pub mod __private {
+    pub use crate::spec::grid::{ArgPattern, GridPattern, SlotPattern, StagePattern, ValuePattern};
+    pub use crate::spec::{slot_named, Form, ParseError, MAX_DEPTH};
+}

@@ -23,7 +23,9 @@ use crate::stage::{self, Bracket, Filter, Hit, Ray};
 
 /// A compiled pipeline: the module and its validation info.
 pub struct Compiled {
+    /// The module.
     pub module: Module,
+    /// What naga's validator found out about it (the backends need it).
     pub info: naga::valid::ModuleInfo,
 }
 

@@ -173,9 +173,13 @@ impl fmt::Display for StageSpec {
 /// A whole pipeline: one method per slot.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Pipeline {
+    /// Finds a bracket around the first intersection.
     pub coarse: StageSpec,
+    /// Narrows the bracket down to a hit (`none`: the bracket's far end).
     pub refine: StageSpec,
+    /// Visibility of the light from the hit (`none`: 1).
     pub shadow: StageSpec,
+    /// Ambient occlusion at the hit (`none`: 1).
     pub ao: StageSpec,
 }
 

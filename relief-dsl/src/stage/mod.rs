@@ -250,7 +250,7 @@ impl<'a> Stage<'a> {
     /// binding [`binding::NEAREST_OFFSET`] + its binding (the runtime binds the same texture
     /// to both): GLSL combines textures with samplers, and one texture read through two
     /// samplers has no GLSL form.
-    pub fn sample(&'a self, map: &str, map_binding: u32, uv: Val<'a, Vec2>, filter: Filter) -> Val<'a, Vec4> {
+    pub(crate) fn sample(&'a self, map: &str, map_binding: u32, uv: Val<'a, Vec2>, filter: Filter) -> Val<'a, Vec4> {
         let (name, b) = match filter {
             Filter::Linear => (map.to_string(), map_binding),
             Filter::Nearest => (format!("{map}_nearest"), map_binding + binding::NEAREST_OFFSET),
@@ -326,7 +326,7 @@ impl<'a> Stage<'a> {
     }
 
     /// The member `p` of the `Params` uniform block ([`crate::abi::Params`]).
-    pub fn param<T: crate::ir::Ty>(&'a self, p: Param) -> Val<'a, T> {
+    pub(crate) fn param<T: crate::ir::Ty>(&'a self, p: Param) -> Val<'a, T> {
         let g = self.module().global("params", |m| naga::GlobalVariable {
             name: Some("params".into()),
             space: naga::AddressSpace::Uniform,
