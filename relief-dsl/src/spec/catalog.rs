@@ -288,6 +288,14 @@ pub fn register(def: MethodDef) -> Result<(), RegisterError> {
     if all.iter().any(|m| m.slot == def.slot && m.name == def.name) {
         return Err(refuse(format!("the {} slot already has a method called `{}`", def.slot, def.name)));
     }
+    // The text form prints a stage from its name alone, so a name has the same parameters
+    // in every slot that has it.
+    let same_params = |m: &MethodDef| {
+        m.params.len() == def.params.len() && m.params.iter().zip(&def.params).all(|(a, b)| a.name == b.name && a.kind == b.kind)
+    };
+    if let Some(other) = all.iter().find(|m| m.name == def.name && !same_params(m)) {
+        return Err(refuse(format!("the {} method `{}` has other parameters; a name has the same parameters in every slot", other.slot, def.name)));
+    }
     all.push(Box::leak(Box::new(def)));
     *current = Some(Box::leak(all.into_boxed_slice()));
     Ok(())
@@ -357,7 +365,13 @@ fn cone_normal(_: &StageSpec) -> Vec<MapReq> {
 /// The map a cone method reads: the texel-sample map for `form=textbook`, the cell map for
 /// `form=safe`.
 fn by_form(s: &StageSpec, textbook: MapReq, safe: MapReq) -> Vec<MapReq> {
-    vec![if s.word("form") == "textbook" { textbook } else { safe }]
+    use stage::coarse::cone::Form;
+    // A word outside the choice (only a hand-edited spec has one) fails to compile; the safe
+    // form's map is as good a guess as any for it.
+    match Form::from_word(s.word("form")) {
+        Some(Form::Textbook) => vec![textbook],
+        Some(Form::Safe) | None => vec![safe],
+    }
 }
 fn csm_maps(s: &StageSpec) -> Vec<MapReq> {
     by_form(s, MapReq::Cone, MapReq::CellCone)
@@ -510,4 +524,85 @@ fn builtins() -> &'static [MethodDef] {
                 .reads(cone_normal),
         ]
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spec::Pipeline;
+
+    fn coarse_linear() -> Build {
+        method(Slot::Coarse, "linear").unwrap().build
+    }
+
+    #[test]
+    fn register_refuses_what_the_text_form_could_not_read() {
+        let refused = |def: MethodDef, why: &str| {
+            let e = register(def).unwrap_err();
+            assert!(e.message.contains(why), "{e}");
+        };
+        refused(MethodDef::new("Linear2", "", coarse_linear()), "lower_snake");
+        refused(MethodDef::new("2linear", "", coarse_linear()), "lower_snake");
+        refused(MethodDef::new("linear", "", coarse_linear()), "already has a method called `linear`");
+        let mut wrong_slot = MethodDef::new("test_wrong_slot", "", coarse_linear());
+        wrong_slot.slot = Slot::Refine;
+        refused(wrong_slot, "builder is a coarse stage");
+        refused(
+            MethodDef::new("test_twice", "", coarse_linear()).param(ParamDef::steps("n", 4)).param(ParamDef::steps("n", 8)),
+            "two parameters called `n`",
+        );
+        refused(MethodDef::new("test_range", "", coarse_linear()).param(ParamDef::count("k", 1, 4, 5)), "default of `k`");
+        refused(MethodDef::new("test_steps", "", coarse_linear()).param(ParamDef::steps("n", 0)), "default of `n`");
+        // `none` exists in every slot without parameters; a coarse `binary` would print with
+        // the refine `binary`'s parameters.
+        refused(MethodDef::new("binary", "", coarse_linear()), "has other parameters");
+        for name in ["Linear2", "2linear", "test_wrong_slot", "test_twice", "test_range", "test_steps"] {
+            assert!(catalog().iter().all(|m| m.name != name), "{name} was added");
+        }
+    }
+
+    #[test]
+    fn a_registered_stage_parses_prints_and_compiles() {
+        register(MethodDef::new("test_search", "a test", coarse_linear()).param(ParamDef::steps("steps", 7))).unwrap();
+        let p: Pipeline = "test_search+binary(2)".parse().unwrap();
+        assert_eq!(p.to_string(), "test_search(7)+binary(2)");
+        let e = "test_search(0)".parse::<Pipeline>().unwrap_err();
+        assert!(e.message.contains("out of range"), "{e}");
+        // The builder is linear's: the module has the registered name and linear's loop.
+        let wgsl = crate::emit::emit(&p).unwrap().wgsl;
+        assert!(wgsl.contains("fn coarse_test_search("), "{wgsl}");
+        assert!(catalog().iter().any(|m| m.name == "test_search"));
+    }
+
+    #[test]
+    fn a_hand_edited_choice_is_an_error_not_a_default() {
+        for (text, param) in [("csm(8)", "form"), ("csm(8)", "sample"), ("rcs(8)", "start"), ("qcsm(8)", "form")] {
+            let mut p: Pipeline = text.parse().unwrap();
+            let v = p.coarse.params.iter_mut().find(|(n, _)| n == param).unwrap();
+            v.1 = Value::Word("sideways".into());
+            let e = crate::compile(&p).err().unwrap_or_else(|| panic!("{text} with {param}=sideways compiled"));
+            assert!(e.stage.starts_with("coarse "), "{e}");
+            assert!(e.message.contains(&format!("`{param}=sideways` is not a choice")), "{e}");
+        }
+    }
+
+    #[test]
+    fn every_choice_word_has_a_value() {
+        use crate::stage::coarse::{cone::Form, SampleChoice, StartChoice};
+        fn all<C: Choice>() -> bool {
+            C::WORDS.iter().all(|w| C::from_word(w).is_some()) && C::from_word("sideways").is_none()
+        }
+        assert!(all::<Form>() && all::<SampleChoice>() && all::<StartChoice>());
+        // The catalogue's choices are these words, in this order (the first is the default).
+        let words = |name: &str, param: &str| {
+            let def = method(Slot::Coarse, name).unwrap();
+            match &def.params.iter().find(|p| p.name == param).unwrap().kind {
+                ParamKind::Choice(w) => w.to_vec(),
+                other => panic!("{other:?}"),
+            }
+        };
+        assert_eq!(words("csm", "sample"), ["auto", "linear", "nearest", "min4"]);
+        assert_eq!(words("rcs", "start"), ["auto", "hk", "bracket"]);
+        assert_eq!(words("cns", "form"), ["safe", "textbook"]);
+    }
 }
