@@ -42,7 +42,12 @@ use std::str::FromStr;
 pub use catalog::{catalog, method, Catalog, no_maps, register, Args, Choice, MethodDef, ParamDef, ParamKind, RegisterError, StageOr, MAX_STEPS};
 pub(crate) use catalog::choices;
 pub use grid::Grid;
-pub use parse::{parse_pattern, slot_named, Form, ParseError, MAX_DEPTH};
+pub use parse::ParseError;
+// The parser's pieces for the macros (relief-macros): not part of the documented surface,
+// reached through `crate::__private`.
+#[doc(hidden)]
+pub use parse::{parse_pattern, slot_named, Form, MAX_DEPTH};
+#[doc(hidden)]
 pub use resolve::{resolve_stage, RawArg, RawStage, RawValue};
 
 /// The four slots of a pipeline.
