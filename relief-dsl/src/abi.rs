@@ -74,11 +74,17 @@ pub const DISTANCE_FIELD_Z: u32 = 64;
 /// The scalar type of a record member, for building the shader's struct type.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Member {
+    /// `f32`.
     F32,
+    /// `u32`.
     U32,
+    /// `vec2<f32>`.
     Vec2,
+    /// `vec3<f32>`.
     Vec3,
+    /// `vec4<f32>`.
     Vec4,
+    /// `mat4x4<f32>`.
     Mat4,
 }
 
@@ -101,9 +107,13 @@ pub struct Params {
 /// A member of [`Params`], in order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Param {
+    /// [`Params::view_proj`].
     ViewProj,
+    /// [`Params::camera`].
     Camera,
+    /// [`Params::light`].
     Light,
+    /// [`Params::quad`].
     Quad,
 }
 
@@ -128,10 +138,15 @@ impl Param {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct ProbeRay {
+    /// Where the ray enters the volume, in texture coordinates.
     pub origin: [f32; 2],
+    /// The direction, `dir[2] = -1`.
     pub dir: [f32; 3],
+    /// The pixel's column.
     pub x: u32,
+    /// The pixel's row (0 at the top).
     pub y: u32,
+    /// Padding to 32 bytes (0).
     pub pad: u32,
 }
 
@@ -157,9 +172,13 @@ impl ProbeRay {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct ProbeHit {
+    /// The ray parameter of the hit.
     pub t: f32,
+    /// The hit's u in texture coordinates.
     pub u: f32,
+    /// The hit's v in texture coordinates.
     pub v: f32,
+    /// The hit's height.
     pub z: f32,
     /// Loop passes of the coarse stage.
     pub coarse_steps: u32,

@@ -16,6 +16,8 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+#![warn(missing_docs)]
+
 pub mod abi;
 pub mod compose;
 pub mod emit;
@@ -42,5 +44,19 @@ impl CompileError {
             message: format!("the {slot} method `{name}` has no stage code yet"),
         }
     }
+    pub(crate) fn wrong_slot(slot: spec::Slot, name: &str, built: spec::Slot) -> Self {
+        CompileError {
+            stage: format!("{slot} {name}"),
+            message: format!("the catalogue's `{name}` of the {slot} slot builds a {built} stage"),
+        }
+    }
 }
-pub use spec::{Pipeline, Slot, StageSpec};
+pub use spec::{register, Pipeline, Slot, StageSpec};
+
+/// What relief-macros calls: the pattern types and parser pieces the macros build from Rust
+/// tokens. Not part of the API.
+#[doc(hidden)]
+pub mod __private {
+    pub use crate::spec::grid::{ArgPattern, GridPattern, SlotPattern, StagePattern, ValuePattern};
+    pub use crate::spec::{slot_named, Form, ParseError, MAX_DEPTH};
+}

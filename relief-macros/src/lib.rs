@@ -95,7 +95,7 @@ use syn::parse::{ParseStream, Parser};
 
 mod syntax;
 
-use relief_dsl::spec::Form;
+use relief_dsl::__private::Form;
 use syntax::Spans;
 
 /// The path of relief-dsl as the generated code sees it: through the facade.

@@ -3,8 +3,8 @@
 //! error relief-dsl reports (it carries the position unchanged) maps back to its token.
 
 use proc_macro2::{Span, TokenStream};
-use relief_dsl::spec::grid::{ArgPattern, GridPattern, SlotPattern, StagePattern, ValuePattern};
-use relief_dsl::spec::{slot_named, Form, ParseError, MAX_DEPTH};
+use relief_dsl::__private::{ArgPattern, GridPattern, SlotPattern, StagePattern, ValuePattern};
+use relief_dsl::__private::{slot_named, Form, ParseError, MAX_DEPTH};
 use syn::ext::IdentExt;
 use syn::parse::ParseStream;
 use syn::spanned::Spanned;

@@ -25,7 +25,9 @@ use crate::stage::{self, Bracket, Filter, Hit, Ray};
 
 /// A compiled pipeline: the module and its validation info.
 pub struct Compiled {
+    /// The module.
     pub module: Module,
+    /// What naga's validator found out about it (the backends need it).
     pub info: naga::valid::ModuleInfo,
 }
 
@@ -146,9 +148,8 @@ pub(crate) fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: 
             &[("hit", ty.hit, None), ("light", m.ty(Vec3::inner()), None), ("light_cos", m.ty(f32::inner()), None)],
         );
         let hit = hit_from(&s, s.arg::<Vec4>(0).handle());
-        let light = s.arg::<Vec3>(1);
-        let light_cos = s.arg::<f32>(2);
-        let v = stage::shadow::build(&s, &hit, light, light_cos, &p.shadow).map_err(wrap_err(Slot::Shadow, &p.shadow))?;
+        let light = stage::Light { dir: s.arg::<Vec3>(1), cos: s.arg::<f32>(2) };
+        let v = stage::shadow::build(&s, &hit, &light, &p.shadow).map_err(wrap_err(Slot::Shadow, &p.shadow))?;
         let f = s.finish(Some((m.ty(f32::inner()), None, v.handle())));
         Some(m.add_function(f))
     };

@@ -29,7 +29,7 @@ pub use values::{IntoVal, Val, Var};
 
 /// Module-wide state shared by every function being built: the module itself and the
 /// resources already declared in it.
-pub struct ModuleCtx {
+pub(crate) struct ModuleCtx {
     pub(crate) module: RefCell<Module>,
     globals: RefCell<Vec<(String, Handle<naga::GlobalVariable>)>>,
     /// Whether functions built now count iterations and fetches (the probe variant).
@@ -43,7 +43,7 @@ pub struct ModuleCtx {
 }
 
 /// Names of the probe's private counters.
-pub mod counter {
+pub(crate) mod counter {
     /// Loop passes of the coarse stage.
     pub const COARSE_STEPS: &str = "relief_coarse_steps";
     /// Loop passes of the refine stage.
@@ -71,7 +71,7 @@ impl ModuleCtx {
     }
 
     /// Takes the finished module out.
-    pub fn finish(self) -> Module {
+    pub(crate) fn finish(self) -> Module {
         self.module.into_inner()
     }
 
@@ -128,11 +128,6 @@ impl ModuleCtx {
         let h = self.module.borrow_mut().global_variables.append(var, Span::UNDEFINED);
         self.globals.borrow_mut().push((name.to_string(), h));
         h
-    }
-
-    /// Whether a global of this name has been declared.
-    pub fn has_global(&self, name: &str) -> bool {
-        self.globals.borrow().iter().any(|(n, _)| n == name)
     }
 
     /// Starts a function with named, typed arguments (and optional bindings, for entry points).
@@ -192,12 +187,12 @@ fn is_pre_emitted(e: &Expression) -> bool {
 
 impl<'a> Stage<'a> {
     /// The module this function belongs to.
-    pub fn module(&self) -> &'a ModuleCtx {
+    pub(crate) fn module(&self) -> &'a ModuleCtx {
         self.ctx
     }
 
     /// Whether this function counts iterations and fetches.
-    pub fn counting(&self) -> bool {
+    pub(crate) fn counting(&self) -> bool {
         self.ctx.counting.get()
     }
 
@@ -247,12 +242,12 @@ impl<'a> Stage<'a> {
     }
 
     /// A typed view of an expression handle.
-    pub fn wrap<T: Ty>(&'a self, h: Handle<Expression>) -> Val<'a, T> {
+    pub(crate) fn wrap<T: Ty>(&'a self, h: Handle<Expression>) -> Val<'a, T> {
         Val::from_handle(self, h)
     }
 
     /// The `i`-th argument of the function.
-    pub fn arg<T: Ty>(&'a self, i: u32) -> Val<'a, T> {
+    pub(crate) fn arg<T: Ty>(&'a self, i: u32) -> Val<'a, T> {
         self.wrap(self.expr(Expression::FunctionArgument(i)))
     }
 
@@ -353,7 +348,7 @@ impl<'a> Stage<'a> {
     }
 
     /// Returns from the function (from anywhere in it).
-    pub fn ret_handle(&self, value: Option<Handle<Expression>>) {
+    pub(crate) fn ret_handle(&self, value: Option<Handle<Expression>>) {
         self.stmt(Statement::Return { value });
     }
 
@@ -374,7 +369,7 @@ impl<'a> Stage<'a> {
     }
 
     /// Calls `function` with `args`; returns the result's handle when it has one.
-    pub fn call(
+    pub(crate) fn call(
         &self,
         function: Handle<Function>,
         args: &[Handle<Expression>],
@@ -391,7 +386,7 @@ impl<'a> Stage<'a> {
 
     /// Finishes the function: the body gets a final `return value`, and the function its
     /// result type.
-    pub fn finish(&self, result: Option<(Handle<naga::Type>, Option<naga::Binding>, Handle<Expression>)>) -> Function {
+    pub(crate) fn finish(&self, result: Option<(Handle<naga::Type>, Option<naga::Binding>, Handle<Expression>)>) -> Function {
         match result {
             Some((ty, binding, value)) => {
                 self.stmt(Statement::Return { value: Some(value) });
@@ -417,50 +412,45 @@ impl<'a> Stage<'a> {
             loop_depth: 0,
         })
     }
-
-    /// The expression arena (read only), for inspection in tests.
-    pub fn expression_count(&self) -> usize {
-        self.f.borrow().func.expressions.len()
-    }
 }
 
 /// Struct and pointer plumbing, for the composer (stages use the typed structs of
 /// [`crate::stage`] instead).
 impl<'a> Stage<'a> {
     /// Member `index` of the struct value `base`.
-    pub fn field<T: Ty>(&'a self, base: Handle<Expression>, index: u32) -> Val<'a, T> {
+    pub(crate) fn field<T: Ty>(&'a self, base: Handle<Expression>, index: u32) -> Val<'a, T> {
         self.wrap(self.expr(Expression::AccessIndex { base, index }))
     }
     /// A struct value of type `ty` from its members.
-    pub fn make_struct(&self, ty: Handle<naga::Type>, members: &[Handle<Expression>]) -> Handle<Expression> {
+    pub(crate) fn make_struct(&self, ty: Handle<naga::Type>, members: &[Handle<Expression>]) -> Handle<Expression> {
         self.expr(Expression::Compose { ty, components: members.to_vec() })
     }
     /// A pointer to the global `g`.
-    pub fn global_ptr(&self, g: Handle<naga::GlobalVariable>) -> Handle<Expression> {
+    pub(crate) fn global_ptr(&self, g: Handle<naga::GlobalVariable>) -> Handle<Expression> {
         self.expr(Expression::GlobalVariable(g))
     }
     /// Pointer to member `index` of the struct behind `ptr`.
-    pub fn member_ptr(&self, ptr: Handle<Expression>, index: u32) -> Handle<Expression> {
+    pub(crate) fn member_ptr(&self, ptr: Handle<Expression>, index: u32) -> Handle<Expression> {
         self.expr(Expression::AccessIndex { base: ptr, index })
     }
     /// Pointer to element `index` of the array behind `ptr`.
-    pub fn element_ptr(&self, ptr: Handle<Expression>, index: Handle<Expression>) -> Handle<Expression> {
+    pub(crate) fn element_ptr(&self, ptr: Handle<Expression>, index: Handle<Expression>) -> Handle<Expression> {
         self.expr(Expression::Access { base: ptr, index })
     }
     /// Loads through a pointer.
-    pub fn load<T: Ty>(&'a self, ptr: Handle<Expression>) -> Val<'a, T> {
+    pub(crate) fn load<T: Ty>(&'a self, ptr: Handle<Expression>) -> Val<'a, T> {
         self.wrap(self.expr(Expression::Load { pointer: ptr }))
     }
     /// Stores through a pointer.
-    pub fn store(&self, ptr: Handle<Expression>, value: Handle<Expression>) {
+    pub(crate) fn store(&self, ptr: Handle<Expression>, value: Handle<Expression>) {
         self.stmt(Statement::Store { pointer: ptr, value });
     }
     /// Number of elements of the runtime-sized array behind `ptr`.
-    pub fn array_length(&'a self, ptr: Handle<Expression>) -> Val<'a, u32> {
+    pub(crate) fn array_length(&'a self, ptr: Handle<Expression>) -> Val<'a, u32> {
         self.wrap(self.expr(Expression::ArrayLength(ptr)))
     }
     /// Returns from a function without a result.
-    pub fn ret(&self) {
+    pub(crate) fn ret(&self) {
         self.stmt(Statement::Return { value: None });
     }
 }

@@ -25,7 +25,7 @@ impl<'a, T: Ty> Val<'a, T> {
         Val { s, h, _t: PhantomData }
     }
     /// The naga expression behind the value.
-    pub fn handle(self) -> Handle<Expression> {
+    pub(crate) fn handle(self) -> Handle<Expression> {
         self.h
     }
     /// The function this value belongs to.

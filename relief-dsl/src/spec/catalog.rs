@@ -1,9 +1,15 @@
-//! The catalogue of methods: names, slots, parameters, defaults and maps. The text form, the
-//! macros and `relief gen --list` all read it, so they cannot disagree.
+//! The catalogue of methods: names, slots, parameters, defaults, the maps each reads and the
+//! function that builds it. Every method is registered here once; the text form, the macros,
+//! `relief gen --list` and the composer all read it, so they cannot disagree.
+//!
+//! The built-in methods are listed in [`catalog`]; a program adds its own with
+//! [`register`] (see its docs for when that must happen).
 
-use std::sync::OnceLock;
+use std::sync::{OnceLock, RwLock};
 
 use super::{MapReq, Slot, StageSpec, Value};
+use crate::stage::{self, Build};
+use crate::CompileError;
 
 /// The largest step count any parameter accepts.
 pub const MAX_STEPS: u32 = 4096;
@@ -14,8 +20,13 @@ pub enum ParamKind {
     /// A step count in `1..=MAX_STEPS`.
     Steps,
     /// A whole number in `min..=max`.
-    Count { min: u32, max: u32 },
-    /// One word of a fixed set.
+    Count {
+        /// The smallest value accepted.
+        min: u32,
+        /// The largest value accepted.
+        max: u32,
+    },
+    /// One word of a fixed set (the words of a [`Choice`]).
     Choice(&'static [&'static str]),
     /// A step count (short for `linear(n)`) or a stage of the given slot.
     StageOr(Slot),
@@ -35,30 +46,172 @@ impl ParamKind {
     }
 }
 
+/// A typed choice parameter: the words of the text form and the value each stands for. The
+/// parameter ([`ParamDef::choice`]) accepts exactly [`Choice::WORDS`], so a word that
+/// resolution let through always converts ([`Args::choice`]), and a stage's `match` on the
+/// value is exhaustive.
+pub trait Choice: Copy + Sized + 'static {
+    /// The words, the default first.
+    const WORDS: &'static [&'static str];
+    /// The value of `word`, `None` for a word not in [`Choice::WORDS`].
+    fn from_word(word: &str) -> Option<Self>;
+}
+
+/// Implements [`Choice`] from one table of `word => value`.
+macro_rules! choices {
+    ($ty:ty { $($word:literal => $val:expr),+ $(,)? }) => {
+        impl $crate::spec::Choice for $ty {
+            const WORDS: &'static [&'static str] = &[$($word),+];
+            fn from_word(word: &str) -> Option<Self> {
+                match word {
+                    $($word => Some($val),)+
+                    _ => None,
+                }
+            }
+        }
+    };
+}
+pub(crate) use choices;
+
 /// One parameter of a method.
 #[derive(Clone, Debug)]
 pub struct ParamDef {
+    /// The parameter's name (`steps`), as written in `name = value`.
     pub name: &'static str,
+    /// What it accepts.
     pub kind: ParamKind,
     /// `None`: the parameter must be given.
     pub default: Option<Value>,
 }
 
-/// One method: its slot, parameters and the maps it reads.
+impl ParamDef {
+    /// A step count in `1..=MAX_STEPS` with a default.
+    pub fn steps(name: &'static str, default: u32) -> Self {
+        ParamDef { name, kind: ParamKind::Steps, default: Some(Value::Int(default)) }
+    }
+    /// A whole number in `min..=max` with a default.
+    pub fn count(name: &'static str, min: u32, max: u32, default: u32) -> Self {
+        ParamDef { name, kind: ParamKind::Count { min, max }, default: Some(Value::Int(default)) }
+    }
+    /// One word of the choice `C`, its first word the default.
+    pub fn choice<C: Choice>(name: &'static str) -> Self {
+        ParamDef { name, kind: ParamKind::Choice(C::WORDS), default: Some(Value::Word(C::WORDS[0].to_string())) }
+    }
+    /// A step count or a stage of `slot`, `default` steps when left out.
+    pub fn stage_or(name: &'static str, slot: Slot, default: u32) -> Self {
+        ParamDef { name, kind: ParamKind::StageOr(slot), default: Some(Value::Int(default)) }
+    }
+}
+
+/// A stage's resolved parameters as its builder reads them: typed getters over the
+/// [`StageSpec`], with errors that name the stage.
+///
+/// Resolution ([`super::resolve_stage`], the text forms, [`StageSpec::new`]) has already
+/// checked every value against its [`ParamDef`], so these getters fail only for a
+/// [`StageSpec`] edited by hand into something the catalogue does not allow.
+pub struct Args<'s> {
+    slot: Slot,
+    spec: &'s StageSpec,
+}
+
+impl<'s> Args<'s> {
+    /// The parameters of `spec`, a stage of `slot`.
+    pub fn new(slot: Slot, spec: &'s StageSpec) -> Self {
+        Args { slot, spec }
+    }
+    /// The stage as resolved.
+    pub fn spec(&self) -> &'s StageSpec {
+        self.spec
+    }
+    fn error(&self, message: String) -> CompileError {
+        CompileError { stage: format!("{} {}", self.slot, self.spec.name), message }
+    }
+    /// The whole-number parameter `name` (a step count or a count).
+    pub fn int(&self, name: &str) -> Result<u32, CompileError> {
+        match self.spec.get(name) {
+            Some(Value::Int(n)) => Ok(*n),
+            Some(other) => Err(self.error(format!("`{name}={other}` is not a whole number"))),
+            None => Err(self.error(format!("no parameter `{name}`"))),
+        }
+    }
+    /// The choice parameter `name` as its typed value.
+    pub fn choice<C: Choice>(&self, name: &str) -> Result<C, CompileError> {
+        match self.spec.get(name) {
+            Some(Value::Word(w)) => C::from_word(w)
+                .ok_or_else(|| self.error(format!("`{name}={w}` is not a choice this stage knows ({})", C::WORDS.join("|")))),
+            Some(other) => Err(self.error(format!("`{name}={other}` is not a word"))),
+            None => Err(self.error(format!("no parameter `{name}`"))),
+        }
+    }
+    /// The step-count-or-stage parameter `name`.
+    pub fn stage_or(&self, name: &str) -> Result<StageOr<'s>, CompileError> {
+        match self.spec.get(name) {
+            Some(Value::Int(n)) => Ok(StageOr::Steps(*n)),
+            Some(Value::Stage(s)) => Ok(StageOr::Stage(s)),
+            Some(other) => Err(self.error(format!("`{name}={other}` is neither a step count nor a stage"))),
+            None => Err(self.error(format!("no parameter `{name}`"))),
+        }
+    }
+}
+
+/// The value of a [`ParamKind::StageOr`] parameter.
+pub enum StageOr<'s> {
+    /// A step count: `linear(n)`.
+    Steps(u32),
+    /// Another stage.
+    Stage(&'s StageSpec),
+}
+
+/// One method: its slot, parameters, the maps it reads and its builder.
+///
+/// Make one with [`MethodDef::new`], then [`MethodDef::param`], [`MethodDef::reads`] and
+/// [`MethodDef::check`]; add it with [`register`].
 #[derive(Clone)]
 pub struct MethodDef {
+    /// The name in the text form (lower_snake).
     pub name: &'static str,
+    /// The slot it fills (always the slot of [`MethodDef::build`]).
     pub slot: Slot,
     /// One line for `relief gen --list`, with the source.
     pub summary: &'static str,
+    /// The parameters, in positional order.
     pub params: Vec<ParamDef>,
     /// The maps a stage with these parameters reads, besides the height map.
     pub maps: fn(&StageSpec) -> Vec<MapReq>,
     /// Whether stage code exists for it (the catalogue may name methods still to come).
     pub implemented: bool,
+    /// Parameter combinations that cannot work, refused at resolution (`Err(message)`).
+    pub check: fn(&StageSpec) -> Result<(), String>,
+    /// The function that writes the stage into a module.
+    pub build: Build,
+}
+
+fn no_check(_: &StageSpec) -> Result<(), String> {
+    Ok(())
 }
 
 impl MethodDef {
+    /// A method called `name` in the slot of `build`, with no parameters and no maps besides
+    /// the height map.
+    pub fn new(name: &'static str, summary: &'static str, build: Build) -> Self {
+        MethodDef { name, slot: build.slot(), summary, params: vec![], maps: no_maps, implemented: true, check: no_check, build }
+    }
+    /// Adds a parameter (after those already added).
+    pub fn param(mut self, p: ParamDef) -> Self {
+        self.params.push(p);
+        self
+    }
+    /// Sets the maps the method reads.
+    pub fn reads(mut self, maps: fn(&StageSpec) -> Vec<MapReq>) -> Self {
+        self.maps = maps;
+        self
+    }
+    /// Sets the combination check run at resolution.
+    pub fn check(mut self, check: fn(&StageSpec) -> Result<(), String>) -> Self {
+        self.check = check;
+        self
+    }
+
     /// The method at its default parameters, or with the catalogue's example values for
     /// parameters that have no default.
     pub fn default_spec(&self) -> StageSpec {
@@ -73,13 +226,136 @@ impl MethodDef {
     }
 }
 
-fn no_maps(_: &StageSpec) -> Vec<MapReq> {
+/// Why [`register`] refused a method.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("cannot register `{name}`: {message}")]
+pub struct RegisterError {
+    /// The method's name.
+    pub name: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+/// The catalogue as of the last [`register`]: the built-in methods, then the registered
+/// ones. Each registration leaks one new list (a few pointers), so that [`catalog`] can
+/// hand out a `'static` slice without holding the lock.
+static CATALOG: RwLock<Option<&'static [&'static MethodDef]>> = RwLock::new(None);
+
+/// Adds a method to the catalogue, for the text form, grids, [`crate::compile`] and
+/// everything in relief-runtime that reads pipelines (render, sweep, report), as if it were
+/// built in.
+///
+/// Registration is global to the process and permanent (the definition is leaked to live
+/// as long as the catalogue). It is thread-safe (a lock), but a pipeline that names the
+/// method parses only after the call returns: register before parsing any text or grid that
+/// uses it, and before starting threads that parse. The macros (`relief_pipeline!`,
+/// `relief_grid!`) run in the compiler and see only the built-in methods.
+///
+/// Refused: a name that is not lower_snake, a name already taken in the method's slot, a
+/// slot that is not the builder's, two parameters with one name, a default outside its
+/// parameter's range.
+pub fn register(def: MethodDef) -> Result<(), RegisterError> {
+    let refuse = |message: String| RegisterError { name: def.name.to_string(), message };
+    let snake = def.name.chars().next().is_some_and(|c| c.is_ascii_lowercase())
+        && def.name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
+    if !snake {
+        return Err(refuse("a method name is lower_snake: a-z, 0-9 and `_`, starting with a letter".into()));
+    }
+    if def.slot != def.build.slot() {
+        return Err(refuse(format!("declared a {} stage but its builder is a {} stage", def.slot, def.build.slot())));
+    }
+    for (i, p) in def.params.iter().enumerate() {
+        if def.params[..i].iter().any(|q| q.name == p.name) {
+            return Err(refuse(format!("two parameters called `{}`", p.name)));
+        }
+        let ok = match (&p.kind, &p.default) {
+            (_, None) => true,
+            (ParamKind::Steps | ParamKind::StageOr(_), Some(Value::Int(n))) => (1..=MAX_STEPS).contains(n),
+            (ParamKind::Count { min, max }, Some(Value::Int(n))) => (*min..=*max).contains(n),
+            (ParamKind::Choice(words), Some(Value::Word(w))) => words.contains(&w.as_str()),
+            (ParamKind::StageOr(_), Some(Value::Stage(_))) => true,
+            _ => false,
+        };
+        if !ok {
+            return Err(refuse(format!("the default of `{}` is not {}", p.name, p.kind.describe())));
+        }
+    }
+    let mut current = CATALOG.write().unwrap_or_else(|e| e.into_inner());
+    let mut all: Vec<&'static MethodDef> = match *current {
+        Some(c) => c.to_vec(),
+        None => builtins().iter().collect(),
+    };
+    if all.iter().any(|m| m.slot == def.slot && m.name == def.name) {
+        return Err(refuse(format!("the {} slot already has a method called `{}`", def.slot, def.name)));
+    }
+    // The text form prints a stage from its name alone, so a name has the same parameters
+    // in every slot that has it.
+    let same_params = |m: &MethodDef| {
+        m.params.len() == def.params.len() && m.params.iter().zip(&def.params).all(|(a, b)| a.name == b.name && a.kind == b.kind)
+    };
+    if let Some(other) = all.iter().find(|m| m.name == def.name && !same_params(m)) {
+        return Err(refuse(format!("the {} method `{}` has other parameters; a name has the same parameters in every slot", other.slot, def.name)));
+    }
+    all.push(Box::leak(Box::new(def)));
+    *current = Some(Box::leak(all.into_boxed_slice()));
+    Ok(())
+}
+
+/// Every method relief knows, in listing order: the built-in ones, then those added with
+/// [`register`] in the order they were added.
+pub fn catalog() -> Catalog {
+    if let Some(c) = *CATALOG.read().unwrap_or_else(|e| e.into_inner()) {
+        return Catalog(c);
+    }
+    let mut current = CATALOG.write().unwrap_or_else(|e| e.into_inner());
+    Catalog(current.get_or_insert_with(|| Box::leak(builtins().iter().collect::<Vec<_>>().into_boxed_slice())))
+}
+
+/// The catalogue at one moment (see [`catalog`]): a method registered later is not in it.
+#[derive(Clone, Copy)]
+pub struct Catalog(&'static [&'static MethodDef]);
+
+impl Catalog {
+    /// The methods in listing order.
+    pub fn iter(&self) -> std::iter::Copied<std::slice::Iter<'static, &'static MethodDef>> {
+        self.0.iter().copied()
+    }
+    /// How many methods there are.
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+    /// Whether there are none (never: the built-in methods are always there).
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+}
+
+impl IntoIterator for Catalog {
+    type Item = &'static MethodDef;
+    type IntoIter = std::iter::Copied<std::slice::Iter<'static, &'static MethodDef>>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.iter()
+    }
+}
+
+/// The method `name` of `slot`.
+pub fn method(slot: Slot, name: &str) -> Option<&'static MethodDef> {
+    catalog().iter().find(|m| m.slot == slot && m.name == name)
+}
+
+/// The first method called `name` in any slot (for printing: a name's parameters are the
+/// same in every slot that has it).
+pub(crate) fn method_any(name: &str) -> Option<&'static MethodDef> {
+    catalog().iter().find(|m| m.name == name)
+}
+
+/// No maps besides the height map.
+pub fn no_maps(_: &StageSpec) -> Vec<MapReq> {
     vec![]
 }
 fn normal_map(_: &StageSpec) -> Vec<MapReq> {
     vec![MapReq::Normal]
 }
-
 fn cone(_: &StageSpec) -> Vec<MapReq> {
     vec![MapReq::Cone]
 }
@@ -89,7 +365,13 @@ fn cone_normal(_: &StageSpec) -> Vec<MapReq> {
 /// The map a cone method reads: the texel-sample map for `form=textbook`, the cell map for
 /// `form=safe`.
 fn by_form(s: &StageSpec, textbook: MapReq, safe: MapReq) -> Vec<MapReq> {
-    vec![if s.word("form") == "textbook" { textbook } else { safe }]
+    use stage::coarse::cone::Form;
+    // A word outside the choice (only a hand-edited spec has one) fails to compile; the safe
+    // form's map is as good a guess as any for it.
+    match Form::from_word(s.word("form")) {
+        Some(Form::Textbook) => vec![textbook],
+        Some(Form::Safe) | None => vec![safe],
+    }
 }
 fn csm_maps(s: &StageSpec) -> Vec<MapReq> {
     by_form(s, MapReq::Cone, MapReq::CellCone)
@@ -112,13 +394,6 @@ fn multi_cone(s: &StageSpec) -> Vec<MapReq> {
 fn piecewise_cone(s: &StageSpec) -> Vec<MapReq> {
     by_form(s, MapReq::PiecewiseCone(s.int("k")), MapReq::CellPiecewiseCone(s.int("k")))
 }
-
-/// `form=safe|textbook` of the cone methods: `safe` (the default) steps on cones of the
-/// bilinear cells and never passes the first hit; `textbook` steps on the texel-sample maps
-/// as the papers print it.
-fn form() -> ParamDef {
-    choice("form", &["safe", "textbook"])
-}
 fn distance_field(_: &StageSpec) -> Vec<MapReq> {
     vec![MapReq::DistanceField]
 }
@@ -126,121 +401,208 @@ fn max_mip(_: &StageSpec) -> Vec<MapReq> {
     vec![MapReq::MaxMip]
 }
 
+/// `form=safe|textbook` of the cone methods: `safe` (the default) steps on cones of the
+/// bilinear cells and never passes the first hit; `textbook` steps on the texel-sample maps
+/// as the papers print it.
+fn form() -> ParamDef {
+    ParamDef::choice::<stage::coarse::cone::Form>("form")
+}
 fn cones(default: u32) -> ParamDef {
-    ParamDef { name: "k", kind: ParamKind::Count { min: 1, max: 4 }, default: Some(Value::Int(default)) }
+    ParamDef::count("k", 1, 4, default)
 }
 
-fn choice(name: &'static str, words: &'static [&'static str]) -> ParamDef {
-    ParamDef { name, kind: ParamKind::Choice(words), default: Some(Value::Word(words[0].to_string())) }
+fn min_le_max(s: &StageSpec) -> Result<(), String> {
+    if s.int("min") > s.int("max") {
+        return Err(format!("`linear_dynamic` needs min <= max, got min {} and max {}", s.int("min"), s.int("max")));
+    }
+    Ok(())
 }
 
-fn steps(name: &'static str, default: u32) -> ParamDef {
-    ParamDef { name, kind: ParamKind::Steps, default: Some(Value::Int(default)) }
-}
-
-fn def(
-    slot: Slot,
-    name: &'static str,
-    summary: &'static str,
-    params: Vec<ParamDef>,
-    maps: fn(&StageSpec) -> Vec<MapReq>,
-) -> MethodDef {
-    MethodDef { name, slot, summary, params, maps, implemented: true }
-}
-
-/// Every method relief knows, in listing order.
-pub fn catalog() -> &'static [MethodDef] {
-    static CATALOG: OnceLock<Vec<MethodDef>> = OnceLock::new();
-    CATALOG.get_or_init(|| {
-        use Slot::*;
+/// The built-in methods, in listing order.
+fn builtins() -> &'static [MethodDef] {
+    static BUILTINS: OnceLock<Vec<MethodDef>> = OnceLock::new();
+    BUILTINS.get_or_init(|| {
+        use stage::{ao, coarse as c, refine as r, shadow as sh};
+        use Build::{Ao, Coarse, Refine, Shadow};
+        let steps = ParamDef::steps;
+        let def = MethodDef::new;
         vec![
-            def(Coarse, "none", "plain texture mapping: the hit is the entry point", vec![], no_maps),
-            def(Coarse, "parallax", "parallax mapping (Kaneko et al. 2001; Burger eq. 2.3-2.5)", vec![], no_maps),
-            def(Coarse, "offset_limited", "parallax with offset limiting (Welsh 2004; survey 4.1.3)", vec![], no_maps),
-            def(Coarse, "slope_parallax", "parallax along the normal map's slope (survey 4.1.4)", vec![], normal_map),
-            def(Coarse, "iterative_parallax", "iterative parallax with slope (Premecz 2006; survey 4.2.1)", vec![steps("steps", 4)], normal_map),
-            def(Coarse, "linear", "linear search (Burger Algorithm 1)", vec![steps("steps", 32)], no_maps),
+            def("none", "plain texture mapping: the hit is the entry point", Coarse(c::build_none)),
+            def("parallax", "parallax mapping (Kaneko et al. 2001; Burger eq. 2.3-2.5)", Coarse(c::build_parallax)),
+            def("offset_limited", "parallax with offset limiting (Welsh 2004; survey 4.1.3)", Coarse(c::build_offset_limited)),
+            def("slope_parallax", "parallax along the normal map's slope (survey 4.1.4)", Coarse(c::build_slope_parallax)).reads(normal_map),
+            def("iterative_parallax", "iterative parallax with slope (Premecz 2006; survey 4.2.1)", Coarse(c::build_iterative_parallax))
+                .param(steps("steps", 4))
+                .reads(normal_map),
+            def("linear", "linear search (Burger Algorithm 1)", Coarse(c::build_linear)).param(steps("steps", 32)),
             def(
-                Coarse,
                 "linear_dynamic",
                 "linear search, step count from the view angle (Tatarchuk 2006; Amaro & Gustafsson 2.1.3)",
-                vec![steps("min", 8), steps("max", 32)],
-                no_maps,
-            ),
+                Coarse(c::build_linear_dynamic),
+            )
+            .param(steps("min", 8))
+            .param(steps("max", 32))
+            .check(min_le_max),
             def(
-                Coarse,
                 "csm",
                 "cone step mapping (Dummer 2006; Burger Algorithm 4); form=safe|textbook; sample=linear|nearest|min4 for form=textbook (Burger 4.3.1), auto: the cell's cone (safe) or linear (textbook)",
-                vec![steps("steps", 15), form(), choice("sample", &["auto", "linear", "nearest", "min4"])],
-                csm_maps,
-            ),
-            def(Coarse, "qcsm", "quad-directional cone stepping (Policarpo & Oliveira, GPU Gems 3 18.4.1); form=safe|textbook", vec![steps("steps", 15), form()], quad_cone),
+                Coarse(c::build_csm),
+            )
+            .param(steps("steps", 15))
+            .param(form())
+            .param(ParamDef::choice::<c::SampleChoice>("sample"))
+            .reads(csm_maps),
+            def("qcsm", "quad-directional cone stepping (Policarpo & Oliveira, GPU Gems 3 18.4.1); form=safe|textbook", Coarse(c::build_qcsm))
+                .param(steps("steps", 15))
+                .param(form())
+                .reads(quad_cone),
             def(
-                Coarse,
                 "rcs",
                 "relaxed cone stepping (GPU Gems 3 Listing 18-3); form=safe|textbook; start=hk|bracket (Fig. 18-10), auto: bracket (safe) or hk (textbook)",
-                vec![steps("steps", 15), form(), choice("start", &["auto", "hk", "bracket"])],
-                relaxed_cone,
-            ),
-            def(Coarse, "cns", "cone normal stepping (Burger 3.3, eq. 3.2); form=safe|textbook", vec![steps("steps", 15), form()], cns_maps),
-            def(Coarse, "rcns", "relaxed cone normal stepping (Burger 4.3.4); form=safe|textbook", vec![steps("steps", 15), form()], relaxed_cone_normal),
+                Coarse(c::build_rcs),
+            )
+            .param(steps("steps", 15))
+            .param(form())
+            .param(ParamDef::choice::<c::StartChoice>("start"))
+            .reads(relaxed_cone),
+            def("cns", "cone normal stepping (Burger 3.3, eq. 3.2); form=safe|textbook", Coarse(c::build_cns))
+                .param(steps("steps", 15))
+                .param(form())
+                .reads(cns_maps),
+            def("rcns", "relaxed cone normal stepping (Burger 4.3.4); form=safe|textbook", Coarse(c::build_rcns))
+                .param(steps("steps", 15))
+                .param(form())
+                .reads(relaxed_cone_normal),
+            def("mcns", "multiple cone normal stepping, K stacked cones (Burger 3.4, method 1); form=safe|textbook", Coarse(c::build_mcns))
+                .param(steps("steps", 15))
+                .param(cones(4))
+                .param(form())
+                .reads(multi_cone),
+            def("pcns", "piecewise cone normal stepping, K cone pieces (Burger 3.4, method 2); form=safe|textbook", Coarse(c::build_pcns))
+                .param(steps("steps", 15))
+                .param(cones(4))
+                .param(form())
+                .reads(piecewise_cone),
+            def("sphere", "sphere tracing a 3D distance field (Donnelly 2005)", Coarse(c::build_sphere))
+                .param(steps("steps", 15))
+                .reads(distance_field),
             def(
-                Coarse,
-                "mcns",
-                "multiple cone normal stepping, K stacked cones (Burger 3.4, method 1); form=safe|textbook",
-                vec![steps("steps", 15), cones(4), form()],
-                multi_cone,
-            ),
+                "maxmip",
+                "maximum-mipmap traversal with the exact bilinear patch in the finest cells (Tevs et al. 2008)",
+                Coarse(c::build_maxmip),
+            )
+            .param(steps("steps", 64))
+            .reads(max_mip),
+            def("none", "no refinement: the hit is the bracket's far end", Refine(r::build_none)),
+            def("binary", "binary search (Burger Algorithm 2)", Refine(r::build_binary)).param(steps("steps", 5)),
+            def("interval", "interval mapping, false position (Burger Algorithm 3; Risser et al. 2005)", Refine(r::build_interval))
+                .param(steps("steps", 5)),
+            def("secant", "the true secant method on the last two guesses (survey 4.2.3), guarded", Refine(r::build_secant))
+                .param(steps("steps", 5)),
+            def("none", "no self-shadowing: visibility 1", Shadow(sh::build_none)),
+            def("hard", "hard shadow: a coarse search toward the light (Amaro & Gustafsson 2.1.1)", Shadow(sh::build_hard))
+                .param(ParamDef::stage_or("search", Slot::Coarse, 16)),
             def(
-                Coarse,
-                "pcns",
-                "piecewise cone normal stepping, K cone pieces (Burger 3.4, method 2); form=safe|textbook",
-                vec![steps("steps", 15), cones(4), form()],
-                piecewise_cone,
-            ),
-            def(Coarse, "sphere", "sphere tracing a 3D distance field (Donnelly 2005)", vec![steps("steps", 15)], distance_field),
-            def(Coarse, "maxmip", "maximum-mipmap traversal with the exact bilinear patch in the finest cells (Tevs et al. 2008)", vec![steps("steps", 64)], max_mip),
-            def(Refine, "none", "no refinement: the hit is the bracket's far end", vec![], no_maps),
-            def(Refine, "binary", "binary search (Burger Algorithm 2)", vec![steps("steps", 5)], no_maps),
-            def(Refine, "interval", "interval mapping, false position (Burger Algorithm 3; Risser et al. 2005)", vec![steps("steps", 5)], no_maps),
-            def(Refine, "secant", "the true secant method on the last two guesses (survey 4.2.3), guarded", vec![steps("steps", 5)], no_maps),
-            def(Shadow, "none", "no self-shadowing: visibility 1", vec![], no_maps),
-            def(
-                Shadow,
-                "hard",
-                "hard shadow: a coarse search toward the light (Amaro & Gustafsson 2.1.1)",
-                vec![ParamDef { name: "search", kind: ParamKind::StageOr(Coarse), default: Some(Value::Int(16)) }],
-                no_maps,
-            ),
-            def(
-                Shadow,
                 "soft",
                 "soft shadow from the deepest blocker, 1 - w/(0.24 + w) (Tatarchuk 2006; Amaro & Gustafsson 2.1.2)",
-                vec![steps("steps", 16)],
-                no_maps,
-            ),
+                Shadow(sh::build_soft),
+            )
+            .param(steps("steps", 16)),
             def(
-                Shadow,
                 "soft_cone",
                 "soft shadow from the cone-normal distance d = h n_z (Burger 3.2) with penumbra k d / t",
-                vec![steps("steps", 16)],
-                cone_normal,
-            ),
-            def(Shadow, "soft_ratio", "the same soft shadow from CSM's cone ratio", vec![steps("steps", 16)], cone),
-            def(Ao, "none", "no ambient occlusion: factor 1", vec![], no_maps),
-            def(Ao, "cone_ratio", "ambient occlusion from the cone ratio at the hit (Burger 4.5)", vec![], cone),
-            def(Ao, "cone_normal", "ambient occlusion from the cone normal at the hit (Burger 4.5)", vec![], cone_normal),
+                Shadow(sh::build_soft_cone),
+            )
+            .param(steps("steps", 16))
+            .reads(cone_normal),
+            def("soft_ratio", "the same soft shadow from CSM's cone ratio", Shadow(sh::build_soft_ratio))
+                .param(steps("steps", 16))
+                .reads(cone),
+            def("none", "no ambient occlusion: factor 1", Ao(ao::build_none)),
+            def("cone_ratio", "ambient occlusion from the cone ratio at the hit (Burger 4.5)", Ao(ao::build_cone_ratio)).reads(cone),
+            def("cone_normal", "ambient occlusion from the cone normal at the hit (Burger 4.5)", Ao(ao::build_cone_normal))
+                .reads(cone_normal),
         ]
     })
 }
 
-/// The method `name` of `slot`.
-pub fn method(slot: Slot, name: &str) -> Option<&'static MethodDef> {
-    catalog().iter().find(|m| m.slot == slot && m.name == name)
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spec::Pipeline;
 
-/// The first method called `name` in any slot (for printing: a name's parameters are the
-/// same in every slot that has it).
-pub(crate) fn method_any(name: &str) -> Option<&'static MethodDef> {
-    catalog().iter().find(|m| m.name == name)
+    fn coarse_linear() -> Build {
+        method(Slot::Coarse, "linear").unwrap().build
+    }
+
+    #[test]
+    fn register_refuses_what_the_text_form_could_not_read() {
+        let refused = |def: MethodDef, why: &str| {
+            let e = register(def).unwrap_err();
+            assert!(e.message.contains(why), "{e}");
+        };
+        refused(MethodDef::new("Linear2", "", coarse_linear()), "lower_snake");
+        refused(MethodDef::new("2linear", "", coarse_linear()), "lower_snake");
+        refused(MethodDef::new("linear", "", coarse_linear()), "already has a method called `linear`");
+        let mut wrong_slot = MethodDef::new("test_wrong_slot", "", coarse_linear());
+        wrong_slot.slot = Slot::Refine;
+        refused(wrong_slot, "builder is a coarse stage");
+        refused(
+            MethodDef::new("test_twice", "", coarse_linear()).param(ParamDef::steps("n", 4)).param(ParamDef::steps("n", 8)),
+            "two parameters called `n`",
+        );
+        refused(MethodDef::new("test_range", "", coarse_linear()).param(ParamDef::count("k", 1, 4, 5)), "default of `k`");
+        refused(MethodDef::new("test_steps", "", coarse_linear()).param(ParamDef::steps("n", 0)), "default of `n`");
+        // `none` exists in every slot without parameters; a coarse `binary` would print with
+        // the refine `binary`'s parameters.
+        refused(MethodDef::new("binary", "", coarse_linear()), "has other parameters");
+        for name in ["Linear2", "2linear", "test_wrong_slot", "test_twice", "test_range", "test_steps"] {
+            assert!(catalog().iter().all(|m| m.name != name), "{name} was added");
+        }
+    }
+
+    #[test]
+    fn a_registered_stage_parses_prints_and_compiles() {
+        register(MethodDef::new("test_search", "a test", coarse_linear()).param(ParamDef::steps("steps", 7))).unwrap();
+        let p: Pipeline = "test_search+binary(2)".parse().unwrap();
+        assert_eq!(p.to_string(), "test_search(7)+binary(2)");
+        let e = "test_search(0)".parse::<Pipeline>().unwrap_err();
+        assert!(e.message.contains("out of range"), "{e}");
+        // The builder is linear's: the module has the registered name and linear's loop.
+        let wgsl = crate::emit::emit(&p).unwrap().wgsl;
+        assert!(wgsl.contains("fn coarse_test_search("), "{wgsl}");
+        assert!(catalog().iter().any(|m| m.name == "test_search"));
+    }
+
+    #[test]
+    fn a_hand_edited_choice_is_an_error_not_a_default() {
+        for (text, param) in [("csm(8)", "form"), ("csm(8)", "sample"), ("rcs(8)", "start"), ("qcsm(8)", "form")] {
+            let mut p: Pipeline = text.parse().unwrap();
+            let v = p.coarse.params.iter_mut().find(|(n, _)| n == param).unwrap();
+            v.1 = Value::Word("sideways".into());
+            let e = crate::compile(&p).err().unwrap_or_else(|| panic!("{text} with {param}=sideways compiled"));
+            assert!(e.stage.starts_with("coarse "), "{e}");
+            assert!(e.message.contains(&format!("`{param}=sideways` is not a choice")), "{e}");
+        }
+    }
+
+    #[test]
+    fn every_choice_word_has_a_value() {
+        use crate::stage::coarse::{cone::Form, SampleChoice, StartChoice};
+        fn all<C: Choice>() -> bool {
+            C::WORDS.iter().all(|w| C::from_word(w).is_some()) && C::from_word("sideways").is_none()
+        }
+        assert!(all::<Form>() && all::<SampleChoice>() && all::<StartChoice>());
+        // The catalogue's choices are these words, in this order (the first is the default).
+        let words = |name: &str, param: &str| {
+            let def = method(Slot::Coarse, name).unwrap();
+            match &def.params.iter().find(|p| p.name == param).unwrap().kind {
+                ParamKind::Choice(w) => w.to_vec(),
+                other => panic!("{other:?}"),
+            }
+        };
+        assert_eq!(words("csm", "sample"), ["auto", "linear", "nearest", "min4"]);
+        assert_eq!(words("rcs", "start"), ["auto", "hk", "bracket"]);
+        assert_eq!(words("cns", "form"), ["safe", "textbook"]);
+    }
 }

@@ -180,11 +180,34 @@ pub struct ArgPattern {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum ValuePattern {
     /// One whole number.
-    Int { value: u64, pos: usize, text: String },
+    Int {
+        /// The number.
+        value: u64,
+        /// Where it is.
+        pos: usize,
+        /// As written.
+        text: String,
+    },
     /// `start..=end step step`, inclusive (`step` 1 when not written).
-    Range { start: u64, end: u64, step: u64, pos: usize, text: String },
+    Range {
+        /// The first value.
+        start: u64,
+        /// The upper bound, inclusive: the values are `start`, `start + step`, … up to it.
+        end: u64,
+        /// The distance between values.
+        step: u64,
+        /// Where the range is.
+        pos: usize,
+        /// As written.
+        text: String,
+    },
     /// `[v1, v2, …]`.
-    List { items: Vec<ValuePattern>, pos: usize },
+    List {
+        /// The values.
+        items: Vec<ValuePattern>,
+        /// Where the list is.
+        pos: usize,
+    },
     /// A name or a nested stage (which may itself hold ranges and lists).
     Stage(StagePattern),
 }

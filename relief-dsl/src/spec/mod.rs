@@ -39,9 +39,15 @@ pub mod suggest;
 use std::fmt;
 use std::str::FromStr;
 
-pub use catalog::{catalog, method, MethodDef, ParamDef, ParamKind, MAX_STEPS};
+pub use catalog::{catalog, method, Catalog, no_maps, register, Args, Choice, MethodDef, ParamDef, ParamKind, RegisterError, StageOr, MAX_STEPS};
+pub(crate) use catalog::choices;
 pub use grid::Grid;
-pub use parse::{parse_pattern, slot_named, Form, ParseError, MAX_DEPTH};
+pub use parse::ParseError;
+// The parser's pieces for the macros (relief-macros): not part of the documented surface,
+// reached through `crate::__private`.
+#[doc(hidden)]
+pub use parse::{parse_pattern, slot_named, Form, MAX_DEPTH};
+#[doc(hidden)]
 pub use resolve::{resolve_stage, RawArg, RawStage, RawValue};
 
 /// The four slots of a pipeline.
@@ -172,9 +178,13 @@ impl fmt::Display for StageSpec {
 /// A whole pipeline: one method per slot.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Pipeline {
+    /// Finds a bracket around the first intersection.
     pub coarse: StageSpec,
+    /// Narrows the bracket down to a hit (`none`: the bracket's far end).
     pub refine: StageSpec,
+    /// Visibility of the light from the hit (`none`: 1).
     pub shadow: StageSpec,
+    /// Ambient occlusion at the hit (`none`: 1).
     pub ao: StageSpec,
 }
 

@@ -250,7 +250,7 @@ pub(crate) fn resolve(slot: Slot, name: &str, pos: usize, args: Vec<Arg>) -> Res
         params.push((pdef.name.to_string(), v));
     }
     let spec = StageSpec { name: name.to_string(), params };
-    check_combination(&spec, pos)?;
+    (def.check)(&spec).map_err(|message| err(pos, name, message))?;
     Ok(spec)
 }
 
@@ -262,20 +262,3 @@ fn normalize_nested(spec: StageSpec) -> Value {
         Value::Stage(Box::new(spec))
     }
 }
-
-/// Parameter combinations that cannot work.
-fn check_combination(spec: &StageSpec, pos: usize) -> Result<(), ParseError> {
-    if spec.name == "linear_dynamic" && spec.int("min") > spec.int("max") {
-        return Err(err(
-            pos,
-            &spec.name,
-            format!(
-                "`linear_dynamic` needs min <= max, got min {} and max {}",
-                spec.int("min"),
-                spec.int("max")
-            ),
-        ));
-    }
-    Ok(())
-}
-

@@ -14,17 +14,77 @@
 //! [`Bracket::point`]: the bracket from the ray's entry (t = 0) to that point, so that any
 //! refine after it searches between the two. A search that runs out of steps before it
 //! finds the surface returns [`Bracket::searched`] with `found` false.
+//!
+//! Each method is a function of one of the four [`Build`] shapes, registered in the
+//! catalogue ([`crate::spec::catalog`]) with its parameters; [`crate::spec::register`] adds
+//! one written outside relief.
 
-pub mod ao;
-pub mod coarse;
-pub mod refine;
-pub mod shadow;
+pub(crate) mod ao;
+pub(crate) mod coarse;
+pub(crate) mod refine;
+pub(crate) mod shadow;
 
 use naga::{Expression, ImageClass, ImageDimension, SampleLevel, ScalarKind, TypeInner};
 
 use crate::abi::{binding, Param, Params};
 use crate::ir::{Stage, Val, Vec2, Vec3, Vec4};
-use crate::spec::MapReq;
+use crate::spec::{Args, MapReq, Slot};
+use crate::CompileError;
+
+/// A coarse stage: writes the search for `ray` into the stage function and returns its
+/// bracket.
+pub type CoarseFn = for<'a> fn(&'a Stage<'a>, &Ray<'a>, &Args) -> Result<Bracket<'a>, CompileError>;
+/// A refine stage: narrows the bracket found for `ray` down to a hit.
+pub type RefineFn = for<'a> fn(&'a Stage<'a>, &Ray<'a>, Bracket<'a>, &Args) -> Result<Hit<'a>, CompileError>;
+/// A shadow stage: the visibility of the light from the hit, in [0, 1].
+pub type ShadowFn = for<'a> fn(&'a Stage<'a>, &Hit<'a>, &Light<'a>, &Args) -> Result<Val<'a, f32>, CompileError>;
+/// An ambient-occlusion stage: the ambient factor at the hit, in [0, 1].
+pub type AoFn = for<'a> fn(&'a Stage<'a>, &Hit<'a>, &Args) -> Result<Val<'a, f32>, CompileError>;
+
+/// The function that builds a method, by slot: what a [`crate::spec::MethodDef`] runs when
+/// a pipeline names it. The [`Args`] are the method's parameters, already checked against
+/// its parameter definitions.
+#[derive(Clone, Copy, Debug)]
+pub enum Build {
+    /// A coarse search.
+    Coarse(CoarseFn),
+    /// A refinement.
+    Refine(RefineFn),
+    /// A shadow.
+    Shadow(ShadowFn),
+    /// Ambient occlusion.
+    Ao(AoFn),
+}
+
+impl Build {
+    /// The slot the builder fills.
+    pub fn slot(&self) -> Slot {
+        match self {
+            Build::Coarse(_) => Slot::Coarse,
+            Build::Refine(_) => Slot::Refine,
+            Build::Shadow(_) => Slot::Shadow,
+            Build::Ao(_) => Slot::Ao,
+        }
+    }
+}
+
+/// The light as a shadow stage sees it.
+#[derive(Clone, Copy)]
+pub struct Light<'a> {
+    /// Toward the light in normalized tangent space, scaled so that `dir.z = 1`: the light
+    /// ray from the hit leaves the volume after `1 - hit.z`.
+    pub dir: Val<'a, Vec3>,
+    /// Cosine of the angle between the light direction and the surface normal.
+    pub cos: Val<'a, f32>,
+}
+
+/// The method of `slot` a pipeline names, from the catalogue.
+fn lookup(slot: Slot, spec: &crate::spec::StageSpec) -> Result<&'static crate::spec::MethodDef, CompileError> {
+    match crate::spec::method(slot, &spec.name) {
+        Some(def) if def.implemented => Ok(def),
+        _ => Err(CompileError::not_implemented(slot.name(), &spec.name)),
+    }
+}
 
 /// A ray in normalized tangent space.
 #[derive(Clone, Copy)]
@@ -89,8 +149,11 @@ impl<'a> Bracket<'a> {
 /// belongs to the fragment entry only).
 #[derive(Clone, Copy)]
 pub struct Hit<'a> {
+    /// The ray parameter.
     pub t: Val<'a, f32>,
+    /// Where the hit lands in texture coordinates.
     pub uv: Val<'a, Vec2>,
+    /// The height at the hit (the ray's z at `t`).
     pub z: Val<'a, f32>,
     /// Whether the coarse search found the surface (false: the hit is the last point known
     /// to be above it).
@@ -112,7 +175,9 @@ impl<'a> Hit<'a> {
 /// How a stage samples a map: bilinear between texel centres, or the nearest texel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Filter {
+    /// Bilinear between texel centres.
     Linear,
+    /// The nearest texel.
     Nearest,
 }
 
@@ -185,7 +250,7 @@ impl<'a> Stage<'a> {
     /// binding [`binding::NEAREST_OFFSET`] + its binding (the runtime binds the same texture
     /// to both): GLSL combines textures with samplers, and one texture read through two
     /// samplers has no GLSL form.
-    pub fn sample(&'a self, map: &str, map_binding: u32, uv: Val<'a, Vec2>, filter: Filter) -> Val<'a, Vec4> {
+    pub(crate) fn sample(&'a self, map: &str, map_binding: u32, uv: Val<'a, Vec2>, filter: Filter) -> Val<'a, Vec4> {
         let (name, b) = match filter {
             Filter::Linear => (map.to_string(), map_binding),
             Filter::Nearest => (format!("{map}_nearest"), map_binding + binding::NEAREST_OFFSET),
@@ -261,7 +326,7 @@ impl<'a> Stage<'a> {
     }
 
     /// The member `p` of the `Params` uniform block ([`crate::abi::Params`]).
-    pub fn param<T: crate::ir::Ty>(&'a self, p: Param) -> Val<'a, T> {
+    pub(crate) fn param<T: crate::ir::Ty>(&'a self, p: Param) -> Val<'a, T> {
         let g = self.module().global("params", |m| naga::GlobalVariable {
             name: Some("params".into()),
             space: naga::AddressSpace::Uniform,

@@ -1,68 +1,118 @@
-//! Coarse searches: ray → bracket. One file per method family.
+//! Coarse searches: ray → bracket. One file per method family; the builders below are the
+//! ones the catalogue ([`crate::spec::catalog`]) registers.
 
-pub mod cell;
-pub mod cone;
-pub mod linear;
-pub mod maxmip;
-pub mod parallax;
-pub mod sphere;
+pub(crate) mod cell;
+pub(crate) mod cone;
+pub(crate) mod linear;
+pub(crate) mod maxmip;
+pub(crate) mod parallax;
+pub(crate) mod sphere;
 
-use crate::CompileError;
 use crate::ir::Stage;
-use crate::spec::StageSpec;
-use crate::stage::{Bracket, Ray};
+use crate::spec::{choices, Args, Slot, StageSpec};
+use crate::stage::{Bracket, Build, Ray};
+use crate::CompileError;
+use cone::{ConeSample, Form, RelaxedStart};
 
-/// Builds the coarse stage `spec` into the current function.
-pub fn build<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, spec: &StageSpec) -> Result<Bracket<'a>, CompileError> {
-    Ok(match spec.name.as_str() {
-        "none" => parallax::none(s, ray),
-        "parallax" => parallax::parallax(s, ray),
-        "offset_limited" => parallax::offset_limited(s, ray),
-        "slope_parallax" => parallax::slope_parallax(s, ray),
-        "iterative_parallax" => parallax::iterative_parallax(s, ray, spec.int("steps")),
-        "linear" => linear::linear(s, ray, spec.int("steps")),
-        "linear_dynamic" => linear::linear_dynamic(s, ray, spec.int("min"), spec.int("max")),
-        "csm" => {
-            let form = form(spec)?;
-            let sample = match (form, spec.word("sample")) {
-                (cone::Form::Safe, "auto") => cone::ConeSample::Linear,
-                (cone::Form::Textbook, "auto" | "linear") => cone::ConeSample::Linear,
-                (cone::Form::Textbook, "nearest") => cone::ConeSample::Nearest,
-                (cone::Form::Textbook, "min4") => cone::ConeSample::Min4,
-                (cone::Form::Safe, other) => return Err(only_textbook("csm", &format!("sample={other}"))),
-                (_, other) => return Err(bad_choice("csm", "sample", other)),
-            };
-            cone::csm(s, ray, spec.int("steps"), form, sample)
-        }
-        "qcsm" => cone::qcsm(s, ray, spec.int("steps"), form(spec)?),
-        "rcs" => {
-            let form = form(spec)?;
-            let start = match (form, spec.word("start")) {
-                (cone::Form::Safe, "auto" | "bracket") => cone::RelaxedStart::Bracket,
-                (cone::Form::Textbook, "auto" | "hk") => cone::RelaxedStart::Hk,
-                (cone::Form::Textbook, "bracket") => cone::RelaxedStart::Bracket,
-                (cone::Form::Safe, "hk") => return Err(only_textbook("rcs", "start=hk")),
-                (_, other) => return Err(bad_choice("rcs", "start", other)),
-            };
-            cone::rcs(s, ray, spec.int("steps"), form, start)
-        }
-        "cns" => cone::cns(s, ray, spec.int("steps"), form(spec)?),
-        "rcns" => cone::rcns(s, ray, spec.int("steps"), form(spec)?),
-        "mcns" => cone::mcns(s, ray, spec.int("steps"), spec.int("k"), form(spec)?),
-        "pcns" => cone::pcns(s, ray, spec.int("steps"), spec.int("k"), form(spec)?),
-        "maxmip" => maxmip::maxmip(s, ray, spec.int("steps")),
-        "sphere" => sphere::sphere(s, ray, spec.int("steps")),
-        other => return Err(CompileError::not_implemented("coarse", other)),
-    })
+/// Builds the coarse stage `spec` into the current function, with the builder the
+/// catalogue registers for it.
+pub(crate) fn build<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, spec: &StageSpec) -> Result<Bracket<'a>, CompileError> {
+    match super::lookup(Slot::Coarse, spec)?.build {
+        Build::Coarse(f) => f(s, ray, &Args::new(Slot::Coarse, spec)),
+        other => Err(CompileError::wrong_slot(Slot::Coarse, &spec.name, other.slot())),
+    }
 }
 
-/// The `form` of a cone method.
-fn form(spec: &StageSpec) -> Result<cone::Form, CompileError> {
-    match spec.word("form") {
-        "safe" => Ok(cone::Form::Safe),
-        "textbook" => Ok(cone::Form::Textbook),
-        other => Err(bad_choice(&spec.name, "form", other)),
-    }
+choices!(Form { "safe" => Form::Safe, "textbook" => Form::Textbook });
+
+/// `sample=` of `csm` as written: `auto` is the form's own sampling.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum SampleChoice {
+    Auto,
+    Linear,
+    Nearest,
+    Min4,
+}
+choices!(SampleChoice {
+    "auto" => SampleChoice::Auto,
+    "linear" => SampleChoice::Linear,
+    "nearest" => SampleChoice::Nearest,
+    "min4" => SampleChoice::Min4,
+});
+
+/// `start=` of `rcs` as written: `auto` is the form's own start.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum StartChoice {
+    Auto,
+    Hk,
+    Bracket,
+}
+choices!(StartChoice { "auto" => StartChoice::Auto, "hk" => StartChoice::Hk, "bracket" => StartChoice::Bracket });
+
+pub(crate) fn build_none<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, _: &Args) -> Result<Bracket<'a>, CompileError> {
+    Ok(parallax::none(s, ray))
+}
+pub(crate) fn build_parallax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, _: &Args) -> Result<Bracket<'a>, CompileError> {
+    Ok(parallax::parallax(s, ray))
+}
+pub(crate) fn build_offset_limited<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, _: &Args) -> Result<Bracket<'a>, CompileError> {
+    Ok(parallax::offset_limited(s, ray))
+}
+pub(crate) fn build_slope_parallax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, _: &Args) -> Result<Bracket<'a>, CompileError> {
+    Ok(parallax::slope_parallax(s, ray))
+}
+pub(crate) fn build_iterative_parallax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+    Ok(parallax::iterative_parallax(s, ray, a.int("steps")?))
+}
+pub(crate) fn build_linear<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+    Ok(linear::linear(s, ray, a.int("steps")?))
+}
+pub(crate) fn build_linear_dynamic<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+    Ok(linear::linear_dynamic(s, ray, a.int("min")?, a.int("max")?))
+}
+pub(crate) fn build_csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+    let form = a.choice::<Form>("form")?;
+    let sample = match (form, a.choice::<SampleChoice>("sample")?) {
+        (Form::Safe, SampleChoice::Auto) => ConeSample::Linear,
+        (Form::Textbook, SampleChoice::Auto | SampleChoice::Linear) => ConeSample::Linear,
+        (Form::Textbook, SampleChoice::Nearest) => ConeSample::Nearest,
+        (Form::Textbook, SampleChoice::Min4) => ConeSample::Min4,
+        (Form::Safe, SampleChoice::Linear) => return Err(only_textbook("csm", "sample=linear")),
+        (Form::Safe, SampleChoice::Nearest) => return Err(only_textbook("csm", "sample=nearest")),
+        (Form::Safe, SampleChoice::Min4) => return Err(only_textbook("csm", "sample=min4")),
+    };
+    Ok(cone::csm(s, ray, a.int("steps")?, form, sample))
+}
+pub(crate) fn build_qcsm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+    Ok(cone::qcsm(s, ray, a.int("steps")?, a.choice("form")?))
+}
+pub(crate) fn build_rcs<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+    let form = a.choice::<Form>("form")?;
+    let start = match (form, a.choice::<StartChoice>("start")?) {
+        (Form::Safe, StartChoice::Auto | StartChoice::Bracket) => RelaxedStart::Bracket,
+        (Form::Textbook, StartChoice::Auto | StartChoice::Hk) => RelaxedStart::Hk,
+        (Form::Textbook, StartChoice::Bracket) => RelaxedStart::Bracket,
+        (Form::Safe, StartChoice::Hk) => return Err(only_textbook("rcs", "start=hk")),
+    };
+    Ok(cone::rcs(s, ray, a.int("steps")?, form, start))
+}
+pub(crate) fn build_cns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+    Ok(cone::cns(s, ray, a.int("steps")?, a.choice("form")?))
+}
+pub(crate) fn build_rcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+    Ok(cone::rcns(s, ray, a.int("steps")?, a.choice("form")?))
+}
+pub(crate) fn build_mcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+    Ok(cone::mcns(s, ray, a.int("steps")?, a.int("k")?, a.choice("form")?))
+}
+pub(crate) fn build_pcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+    Ok(cone::pcns(s, ray, a.int("steps")?, a.int("k")?, a.choice("form")?))
+}
+pub(crate) fn build_maxmip<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+    Ok(maxmip::maxmip(s, ray, a.int("steps")?))
+}
+pub(crate) fn build_sphere<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+    Ok(sphere::sphere(s, ray, a.int("steps")?))
 }
 
 fn only_textbook(stage: &str, what: &str) -> CompileError {
@@ -70,8 +120,4 @@ fn only_textbook(stage: &str, what: &str) -> CompileError {
         stage: format!("coarse {stage}"),
         message: format!("`{what}` applies to `form=textbook` only: the safe form reads the cone of the cell under the ray point"),
     }
-}
-
-fn bad_choice(stage: &str, param: &str, word: &str) -> CompileError {
-    CompileError { stage: format!("coarse {stage}"), message: format!("`{param}={word}` is not a choice this stage knows") }
 }
