@@ -20,7 +20,8 @@ use relief::dsl::ir::{Stage, Var};
 use relief::dsl::spec::{register, Args, MethodDef, ParamDef};
 use relief::dsl::stage::{Bracket, Build, Ray};
 use relief::dsl::CompileError;
-use relief::runtime::sweep::{self, NamedGrid, Row};
+use relief::runtime::results::{self, Row};
+use relief::runtime::sweep::{self, NamedGrid};
 use relief::Pipeline;
 
 type Error = Box<dyn std::error::Error + Send + Sync>;
@@ -87,7 +88,7 @@ pub fn run(out: &Path) -> Result<Vec<Row>, Error> {
         overrides: Default::default(),
     };
     sweep::run(&options).map_err(|e| e.to_string())?;
-    Ok(sweep::read_rows(out).map_err(|e| e.to_string())?)
+    Ok(results::read(out).map_err(|e| e.to_string())?.rows)
 }
 
 #[allow(dead_code)]

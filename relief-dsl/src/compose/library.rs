@@ -75,8 +75,11 @@ pub enum ResourceKind {
 pub struct LibraryBinding {
     /// The global's name (`relief_height`).
     pub name: String,
+    /// The bind group (descriptor set, register space) it is declared in.
     pub group: u32,
+    /// Its binding in that group.
     pub binding: u32,
+    /// Texture or sampler.
     pub kind: ResourceKind,
     /// What to bind there (`the height map, linear filtering`).
     pub what: String,
@@ -84,8 +87,11 @@ pub struct LibraryBinding {
 
 /// A built library module and its resources, in binding order.
 pub struct Library {
+    /// The validated module: the stage functions and the public `P_trace` (…), no entry points.
     pub module: Module,
+    /// naga's validation info of `module`.
     pub info: naga::valid::ModuleInfo,
+    /// The resources, in binding order.
     pub bindings: Vec<LibraryBinding>,
     /// Whether the pipeline has a shadow stage (`P_shadow` exists).
     pub has_shadow: bool,

@@ -41,8 +41,9 @@ pub struct LibraryFiles {
     pub msl: String,
     /// The resources, in binding order.
     pub bindings: Vec<LibraryBinding>,
-    /// Whether `P_shadow` and `P_ao` exist.
+    /// Whether `P_shadow` exists.
     pub has_shadow: bool,
+    /// Whether `P_ao` exists.
     pub has_ao: bool,
 }
 
