@@ -153,6 +153,11 @@ impl CellScorer for RelaxedScorer<'_> {
         }
         Some(r)
     }
+    #[inline]
+    fn leaf_below(&self, d: usize, c: &[Corner; 4], dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2], _sx: Side, _sy: Side, best: f64) -> Option<f64> {
+        let r = super::piece_ratio_below(self.apex, f64::INFINITY, 0.0, c, best)?;
+        (!rising(&self.tree.corners_of(d), dx, dy, cx, cy)).then_some(r)
+    }
 }
 
 /// The repeat-mode cap `G / (1 - A)` (module docs); `+inf` for clamp or `A >= 1`.
