@@ -336,6 +336,20 @@ pub fn piece_ratio_below(lo: f64, hi: f64, rho: f64, c: &[Corner; 4], best: f64)
     Some(v)
 }
 
+/// The node test for a bound `sqrt(d2) / dh` (`dh > 0`): `None` when it reaches `best` with
+/// the search's margin, decided first without a square root or division: `d2 ≥ (best dh)²
+/// (1 + 4e-9)` implies `sqrt(d2) / dh ≥ best (1 + 2e-9)` up to a few ulp, so such a node is
+/// also dropped by the margin test `b (1 − 1e-9) ≥ best` on the bound itself.
+#[inline]
+pub fn prune_ratio(d2: f64, dh: f64, best: f64) -> Option<f64> {
+    let t = best * dh;
+    if d2 >= t * t * (1.0 + 4e-9) {
+        return None;
+    }
+    let b = d2.sqrt() / dh;
+    (b * (1.0 - 1e-9) < best).then_some(b)
+}
+
 /// Which cells a search may use along one axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Dir {
@@ -366,6 +380,15 @@ pub trait CellScorer: Sync {
     /// least `dmin` away (texture units), no corner above `hmax`, and whose per-cell flags
     /// AND to `flags`; `None`: no cell of the node can score.
     fn bound(&self, dmin: f64, hmax: f32, flags: u8, sx: Side, sy: Side) -> Option<f64>;
+    /// The search's test of a node: `None` if [`CellScorer::bound`] (with `dmin = sqrt(d2)`)
+    /// is `None` or reaches `best` with the search's relative margin `1e-9`, else the bound.
+    /// A scorer may decide the first case without the square root and the division (the
+    /// search is latency-bound on them), as long as it drops only nodes that the bound
+    /// itself, with that margin, would drop.
+    #[inline]
+    fn prune(&self, d2: f64, hmax: f32, flags: u8, sx: Side, sy: Side, best: f64) -> Option<f64> {
+        self.bound(d2.sqrt(), hmax, flags, sx, sy).filter(|b| b * (1.0 - 1e-9) < best)
+    }
     /// The score of cell `D` (storage index `d`): its corners seen from `C`; `None`: no
     /// constraint. `dx`, `dy`: `D`'s extent (texel-centre units, relative for repeat),
     /// `cx`, `cy`: `C`'s.
@@ -573,10 +596,7 @@ impl CellTree {
             for &(ci2, gx, sx) in &xs[..nx] {
                 let o = cj2 * lw + ci2;
                 let fl = if lf.is_empty() { 0 } else { lf[o] };
-                let Some(b) = s.bound(norm(gx, gy), ld[o], fl, sx, sy) else { continue };
-                if b * (1.0 - 1e-9) >= best.0 {
-                    continue;
-                }
+                let Some(b) = s.prune(gx * gx + gy * gy, ld[o], fl, sx, sy, best.0) else { continue };
                 // Insertion into the sorted list of children (nearest bound first).
                 let mut p = n;
                 while p > 0 && kids[p - 1].0 > b {
@@ -737,6 +757,19 @@ impl CellScorer for PieceScorer {
         }
         // Option 2 of `piece_ratio` with the node's smallest distance and largest height.
         Some(((dmin - self.rho) / (hmax.min(self.hi) - self.lo)).max(0.0))
+    }
+    #[inline]
+    fn prune(&self, d2: f64, hmax: f32, _flags: u8, _sx: Side, _sy: Side, best: f64) -> Option<f64> {
+        let hmax = hmax as f64;
+        if hmax <= self.lo {
+            return None;
+        }
+        let dh = hmax.min(self.hi) - self.lo;
+        if self.rho == 0.0 {
+            return prune_ratio(d2, dh, best);
+        }
+        let b = ((d2.sqrt() - self.rho) / dh).max(0.0);
+        (b * (1.0 - 1e-9) < best).then_some(b)
     }
     #[inline]
     fn leaf(&self, _d: usize, c: &[Corner; 4], _dx: [f64; 2], _dy: [f64; 2], _cx: [f64; 2], _cy: [f64; 2], _sx: Side, _sy: Side) -> Option<f64> {
