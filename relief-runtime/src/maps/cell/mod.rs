@@ -174,7 +174,9 @@ fn axis_cell(u: f64, n: usize, edge: EdgeMode) -> usize {
 
 fn axis_extent(i: usize, n: usize, edge: EdgeMode) -> (usize, usize, f64, f64) {
     match edge {
-        EdgeMode::Repeat => (i, (i + 1) % n, i as f64, i as f64 + 1.0),
+        // `i < n`: the wrap is one comparison (an integer division here cost more than the
+        // rest of a cell's corner lookup).
+        EdgeMode::Repeat => (i, if i + 1 == n { 0 } else { i + 1 }, i as f64, i as f64 + 1.0),
         EdgeMode::Clamp => {
             let a = i.saturating_sub(1).min(n - 1);
             let b = i.min(n - 1);
@@ -557,7 +559,17 @@ impl CellTree {
                     return None;
                 }
                 let side = side_of(k, k);
-                Some((p.rem_euclid(n) as usize, [k as f64, k as f64 + 1.0], [0.0, 1.0], side))
+                // Plane positions are within one period of the storage range (shifts of
+                // -1, 0, 1 periods): wrap without an integer division.
+                let r = if p < 0 {
+                    p + n
+                } else if p >= n {
+                    p - n
+                } else {
+                    p
+                };
+                let r = if (0..n).contains(&r) { r } else { p.rem_euclid(n) };
+                Some((r as usize, [k as f64, k as f64 + 1.0], [0.0, 1.0], side))
             }
             EdgeMode::Clamp => {
                 if p < 0 || p >= cn as i64 {
