@@ -72,6 +72,26 @@
 //! cell of the row. Rows of cells run in parallel with rayon. The result is bit-identical to
 //! the brute-force minimum over all cells (tested in `tests/cell_maps.rs`).
 //!
+//! Where the time goes (measured, 256² fBm: about 40 nodes opened and 20 cells scored per
+//! cell, and the seeds already give the final minimum for about 3 cells in 4, so the search
+//! is mostly a proof that nothing is smaller), and what is done about it:
+//!
+//! - a cell is scored with [`piece_ratio_below`], which stops as soon as one certified term
+//!   reaches the current best (the cell then cannot lower the minimum) and returns exactly
+//!   [`piece_ratio`] otherwise;
+//! - a node's two child columns and two child rows are placed relative to `C` once, not once
+//!   per child, and cells are scored straight from their level-1 parent;
+//! - a node is dropped, when it can be, by [`prune_ratio`]'s comparison of squares, without
+//!   the square root and division the plain bound needs (profiling showed the node loop
+//!   waiting on their latency).
+//!
+//! Tried and not kept (slower at 256² and 512² on fBm): per-node slope envelopes
+//! `max (M_D − λ u)` over a table of slopes `λ`, which give the bound
+//! `min(d / (F(λ) − apex), cos / λ)` for nodes wholly on one side of `C`; building and
+//! reading them cost more than the nodes they closed. Dropping the `1e-9` margin by computing
+//! the node bound with the same monotone operations as option 2 of [`piece_ratio`] (valid,
+//! and bit-identical in the tests) closed too few tied nodes to measure.
+//!
 //! # Quantisation and the 3×3 pass
 //!
 //! Ratios and `n_z` round down, the apex channel rounds up ([`MapKind::channel_rounding`]):
@@ -154,7 +174,9 @@ fn axis_cell(u: f64, n: usize, edge: EdgeMode) -> usize {
 
 fn axis_extent(i: usize, n: usize, edge: EdgeMode) -> (usize, usize, f64, f64) {
     match edge {
-        EdgeMode::Repeat => (i, (i + 1) % n, i as f64, i as f64 + 1.0),
+        // `i < n`: the wrap is one comparison (an integer division here cost more than the
+        // rest of a cell's corner lookup).
+        EdgeMode::Repeat => (i, if i + 1 == n { 0 } else { i + 1 }, i as f64, i as f64 + 1.0),
         EdgeMode::Clamp => {
             let a = i.saturating_sub(1).min(n - 1);
             let b = i.min(n - 1);
@@ -271,6 +293,85 @@ pub fn piece_ratio(lo: f64, hi: f64, rho: f64, c: &[Corner; 4]) -> f64 {
     best
 }
 
+/// [`piece_ratio`] when it is below `best`, else `None`: the search only needs a cell whose
+/// value can lower the minimum. Bit-identical to [`piece_ratio`] where it returns a value
+/// (the same operations on the same operands; a maximum does not depend on the order of its
+/// terms), and faster: it stops as soon as one certified term reaches `best` (the maximum is
+/// then `≥ best`), drops a candidate direction once its running minimum falls to the largest
+/// term so far (it can no longer be the maximum), and tries the direction of the highest
+/// corner first (the usual binding point, so the usual early stop).
+#[inline]
+pub fn piece_ratio_below(lo: f64, hi: f64, rho: f64, c: &[Corner; 4], best: f64) -> Option<f64> {
+    let mut top_k = 0;
+    for k in 1..4 {
+        if c[k].s > c[top_k].s {
+            top_k = k;
+        }
+    }
+    let m = c[top_k].s;
+    if m <= lo {
+        return None;
+    }
+    let dmin = norm(c[0].gx.min(c[1].gx), c[0].gy.min(c[2].gy));
+    let top = m.min(hi) - lo;
+    let mut v = 0.0f64;
+    if dmin >= rho {
+        v = v.max((dmin - rho) / top);
+    }
+    if v >= best {
+        return None;
+    }
+    for o in 0..4 {
+        let e = &c[(top_k + o) & 3];
+        let n = norm(e.gx, e.gy);
+        if n <= 0.0 {
+            continue;
+        }
+        let (ex, ey) = (e.gx / n, e.gy / n);
+        let (mut lower, mut upper) = (0.0f64, f64::INFINITY);
+        let mut feasible = true;
+        for q in c {
+            let l = ex * q.gx + ey * q.gy - rho;
+            let ds = q.s - lo;
+            if ds > 0.0 {
+                upper = upper.min(l / ds);
+                if upper <= v {
+                    feasible = false;
+                    break;
+                }
+            } else if l < 0.0 {
+                if ds == 0.0 {
+                    feasible = false;
+                    break;
+                } else {
+                    lower = lower.max(l / ds);
+                }
+            }
+        }
+        if feasible && upper >= lower && upper > v {
+            if upper >= best {
+                return None;
+            }
+            v = upper;
+        }
+    }
+    Some(v)
+}
+
+/// The node test for a bound `sqrt(d2) / dh` (`dh > 0`): `None` when it reaches `best` with
+/// the search's margin, decided first without a square root or division: `d2 ≥ (best dh)²
+/// (1 + 4e-9)` implies `sqrt(d2) / dh ≥ best (1 + 2e-9)` up to a few ulp, so such a node is
+/// also dropped by the margin test `b (1 − 1e-9) ≥ best` on the bound itself.
+#[inline]
+pub fn prune_ratio(d2: f64, dh: f64, best: f64) -> Option<f64> {
+    let t = best * dh;
+    if d2 >= t * t * (1.0 + 4e-9) {
+        return None;
+    }
+    let b = d2.sqrt() / dh;
+    (b * (1.0 - 1e-9) < best).then_some(b)
+}
+
 /// Which cells a search may use along one axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Dir {
@@ -301,11 +402,27 @@ pub trait CellScorer: Sync {
     /// least `dmin` away (texture units), no corner above `hmax`, and whose per-cell flags
     /// AND to `flags`; `None`: no cell of the node can score.
     fn bound(&self, dmin: f64, hmax: f32, flags: u8, sx: Side, sy: Side) -> Option<f64>;
+    /// The search's test of a node: `None` if [`CellScorer::bound`] (with `dmin = sqrt(d2)`)
+    /// is `None` or reaches `best` with the search's relative margin `1e-9`, else the bound.
+    /// A scorer may decide the first case without the square root and the division (the
+    /// search is latency-bound on them), as long as it drops only nodes that the bound
+    /// itself, with that margin, would drop.
+    #[inline]
+    fn prune(&self, d2: f64, hmax: f32, flags: u8, sx: Side, sy: Side, best: f64) -> Option<f64> {
+        self.bound(d2.sqrt(), hmax, flags, sx, sy).filter(|b| b * (1.0 - 1e-9) < best)
+    }
     /// The score of cell `D` (storage index `d`): its corners seen from `C`; `None`: no
     /// constraint. `dx`, `dy`: `D`'s extent (texel-centre units, relative for repeat),
     /// `cx`, `cy`: `C`'s.
     #[allow(clippy::too_many_arguments)]
     fn leaf(&self, d: usize, corners: &[Corner; 4], dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2], sx: Side, sy: Side) -> Option<f64>;
+    /// [`CellScorer::leaf`] when it is below `best`, else `None` (what the search uses; a
+    /// scorer may override it with a faster equivalent).
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn leaf_below(&self, d: usize, corners: &[Corner; 4], dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2], sx: Side, sy: Side, best: f64) -> Option<f64> {
+        self.leaf(d, corners, dx, dy, cx, cy, sx, sy).filter(|&v| v < best)
+    }
 }
 
 /// A per-cell flag byte computed from the cell's corners `[h00, h10, h01, h11]`.
@@ -365,7 +482,12 @@ impl CellTree {
     /// The corners `[h00, h10, h01, h11]` of cell `d` (storage index).
     #[inline]
     pub fn corners_of(&self, d: usize) -> [f32; 4] {
-        let (i, j) = (d % self.grid.cw, d / self.grid.cw);
+        self.corners_at(d % self.grid.cw, d / self.grid.cw)
+    }
+
+    /// The corners of cell `(i, j)` (storage column and row).
+    #[inline]
+    pub fn corners_at(&self, i: usize, j: usize) -> [f32; 4] {
         let (x0, x1, _, _) = self.grid.col(i);
         let (y0, y1, _, _) = self.grid.row(j);
         let w = self.grid.w;
@@ -380,24 +502,45 @@ impl CellTree {
     pub fn search<S: CellScorer>(&self, ci: usize, cj: usize, ax: Dir, ay: Dir, s: &S, start: (f64, Option<(i64, i64)>)) -> (f64, Option<(i64, i64)>) {
         let mut best = start;
         let top = self.levels.len() - 1;
+        let q = Query { xa: self.axis_query(ci, ax, true), ya: self.axis_query(cj, ay, false), ci, cj, ax, ay };
         let shifts: &[i64] = if self.grid.edge == EdgeMode::Repeat { &[0, -1, 1] } else { &[0] };
         for &my in shifts {
             for &mx in shifts {
-                self.visit(top, 0, 0, mx, my, ci, cj, ax, ay, s, &mut best);
+                if top == 0 {
+                    let (px, py) = (mx * self.grid.cw as i64, my * self.grid.ch as i64);
+                    if let Some(v) = self.leaf_below_at(px, py, ci, cj, ax, ay, s, best.0) {
+                        best = (v, Some((px, py)));
+                    }
+                } else {
+                    self.visit(top, 0, 0, mx, my, &q, s, &mut best);
+                }
             }
         }
         best
+    }
+
+    fn axis_query(&self, c: usize, dir: Dir, is_x: bool) -> AxisQuery {
+        let (n, cn) = if is_x { (self.grid.w, self.grid.cw) } else { (self.grid.h, self.grid.ch) };
+        let (_, _, c0, c1) = axis_extent(c, n, self.grid.edge);
+        AxisQuery { repeat: self.grid.edge == EdgeMode::Repeat, n: n as i64, cn: cn as i64, c: c as i64, dir, c0, c1, scale: 1.0 / n as f64 }
     }
 
     /// The score of the cell at plane position `(px, py)` (repeat: any integers, the cell is
     /// `px mod w`; clamp: the storage index), if it is reachable.
     #[allow(clippy::too_many_arguments)]
     pub fn leaf_at<S: CellScorer>(&self, px: i64, py: i64, ci: usize, cj: usize, ax: Dir, ay: Dir, s: &S) -> Option<f64> {
+        self.leaf_below_at(px, py, ci, cj, ax, ay, s, f64::INFINITY)
+    }
+
+    /// [`CellTree::leaf_at`] when below `best`, else `None`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    pub fn leaf_below_at<S: CellScorer>(&self, px: i64, py: i64, ci: usize, cj: usize, ax: Dir, ay: Dir, s: &S, best: f64) -> Option<f64> {
         let x = self.axis_leaf(px, ci, self.grid.cw, self.grid.w, ax, true)?;
         let y = self.axis_leaf(py, cj, self.grid.ch, self.grid.h, ay, false)?;
         let d = y.0 * self.grid.cw + x.0;
-        let c = corners_seen_from(x.1, y.1, x.2, y.2, &self.corners_of(d), self.grid.w, self.grid.h);
-        s.leaf(d, &c, x.1, y.1, x.2, y.2, x.3, y.3)
+        let c = corners_seen_from(x.1, y.1, x.2, y.2, &self.corners_at(x.0, y.0), self.grid.w, self.grid.h);
+        s.leaf_below(d, &c, x.1, y.1, x.2, y.2, x.3, y.3, best)
     }
 
     /// One axis of a leaf: storage index, D extent, C extent, side.
@@ -416,7 +559,17 @@ impl CellTree {
                     return None;
                 }
                 let side = side_of(k, k);
-                Some((p.rem_euclid(n) as usize, [k as f64, k as f64 + 1.0], [0.0, 1.0], side))
+                // Plane positions are within one period of the storage range (shifts of
+                // -1, 0, 1 periods): wrap without an integer division.
+                let r = if p < 0 {
+                    p + n
+                } else if p >= n {
+                    p - n
+                } else {
+                    p
+                };
+                let r = if (0..n).contains(&r) { r } else { p.rem_euclid(n) };
+                Some((r as usize, [k as f64, k as f64 + 1.0], [0.0, 1.0], side))
             }
             EdgeMode::Clamp => {
                 if p < 0 || p >= cn as i64 {
@@ -438,92 +591,67 @@ impl CellTree {
         }
     }
 
-    /// A node's range along one axis (storage `a..=b`, shift `m` periods): min gap in cell
-    /// units and side, or `None` if no cell of it is reachable.
+    /// Visits the children of node `(i, j)` of level `k ≥ 1` (plane shift `mx`, `my`):
+    /// children whose bound reaches `best` are dropped, the others visited nearest bound
+    /// first (at level 1 the children are cells and are scored).
     #[allow(clippy::too_many_arguments)]
-    fn axis_node(&self, a: usize, b: usize, m: i64, c: usize, n: usize, dir: Dir, is_x: bool) -> Option<(f64, Side)> {
-        let (a, b, c) = (a as i64, b as i64, c as i64);
-        match self.grid.edge {
-            EdgeMode::Repeat => {
-                let n = n as i64;
-                let (lo, hi) = match dir {
-                    Dir::Both => (-(n - 1), n - 1),
-                    Dir::Forward => (0, n - 1),
-                    Dir::Backward => (-(n - 1), 0),
-                };
-                let ka = (a - c + m * n).max(lo);
-                let kb = (b - c + m * n).min(hi);
-                if ka > kb {
-                    return None;
-                }
-                let g = if ka >= 1 {
-                    (ka - 1) as f64
-                } else if kb <= -1 {
-                    (-kb - 1) as f64
-                } else {
-                    0.0
-                };
-                Some((g, side_of(ka, kb)))
-            }
-            EdgeMode::Clamp => {
-                let (lo, hi) = match dir {
-                    Dir::Both => (a, b),
-                    Dir::Forward => (a.max(c), b),
-                    Dir::Backward => (a, b.min(c)),
-                };
-                if lo > hi {
-                    return None;
-                }
-                let ext = |i: i64| if is_x { self.grid.col(i as usize) } else { self.grid.row(i as usize) };
-                let (_, _, x0, _) = ext(lo);
-                let (_, _, _, x1) = ext(hi);
-                let (_, _, c0, c1) = ext(c);
-                Some(((c0 - x1).max(x0 - c1).max(0.0), side_of(lo - c, hi - c)))
+    fn visit<S: CellScorer>(&self, k: usize, i: usize, j: usize, mx: i64, my: i64, q: &Query, s: &S, best: &mut (f64, Option<(i64, i64)>)) {
+        let (cw, ch) = (self.grid.cw, self.grid.ch);
+        let (lw, lh, ref ld) = self.levels[k - 1];
+        let lf: &[u8] = if self.flags.is_empty() { &[] } else { &self.flags[k - 1] };
+        let shift = k - 1;
+        // The (at most) two child columns and rows, each decided once.
+        let mut xs = [(0usize, 0.0f64, Side::Zero); 2];
+        let mut nx = 0;
+        for ci2 in 2 * i..(2 * i + 2).min(lw) {
+            let (x0, x1) = (ci2 << shift, ((ci2 + 1) << shift).min(cw) - 1);
+            if let Some((g, sd)) = q.xa.node(x0, x1, mx) {
+                xs[nx] = (ci2, g, sd);
+                nx += 1;
             }
         }
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn visit<S: CellScorer>(&self, k: usize, i: usize, j: usize, mx: i64, my: i64, ci: usize, cj: usize, ax: Dir, ay: Dir, s: &S, best: &mut (f64, Option<(i64, i64)>)) {
-        let (cw, ch) = (self.grid.cw, self.grid.ch);
-
-        if k == 0 {
-
-            let px = i as i64 + mx * cw as i64;
-            let py = j as i64 + my * ch as i64;
-            if let Some(v) = self.leaf_at(px, py, ci, cj, ax, ay, s) {
-                if v < best.0 {
-                    *best = (v, Some((px, py)));
-                }
-            }
+        if nx == 0 {
             return;
         }
-        let (lw, lh, ref ld) = self.levels[k - 1];
+        let mut ys = [(0usize, 0.0f64, Side::Zero); 2];
+        let mut ny = 0;
+        for cj2 in 2 * j..(2 * j + 2).min(lh) {
+            let (y0, y1) = (cj2 << shift, ((cj2 + 1) << shift).min(ch) - 1);
+            if let Some((g, sd)) = q.ya.node(y0, y1, my) {
+                ys[ny] = (cj2, g, sd);
+                ny += 1;
+            }
+        }
         let mut kids: [(f64, usize, usize); 4] = [(0.0, 0, 0); 4];
         let mut n = 0;
-        let shift = k - 1;
-        for cj2 in 2 * j..(2 * j + 2).min(lh) {
-            for ci2 in 2 * i..(2 * i + 2).min(lw) {
-                let hmax = ld[cj2 * lw + ci2];
-                let (x0, x1) = (ci2 << shift, ((ci2 + 1) << shift).min(cw) - 1);
-                let (y0, y1) = (cj2 << shift, ((cj2 + 1) << shift).min(ch) - 1);
-                let Some((gx, sx)) = self.axis_node(x0, x1, mx, ci, self.grid.w, ax, true) else { continue };
-                let Some((gy, sy)) = self.axis_node(y0, y1, my, cj, self.grid.h, ay, false) else { continue };
-                let fl = if self.flags.is_empty() { 0 } else { self.flags[k - 1][cj2 * lw + ci2] };
-                let dmin = norm(gx / self.grid.w as f64, gy / self.grid.h as f64);
-                let Some(b) = s.bound(dmin, hmax, fl, sx, sy) else { continue };
-                if b * (1.0 - 1e-9) >= best.0 {
-                    continue;
+        for &(cj2, gy, sy) in &ys[..ny] {
+            for &(ci2, gx, sx) in &xs[..nx] {
+                let o = cj2 * lw + ci2;
+                let fl = if lf.is_empty() { 0 } else { lf[o] };
+                let Some(b) = s.prune(gx * gx + gy * gy, ld[o], fl, sx, sy, best.0) else { continue };
+                // Insertion into the sorted list of children (nearest bound first).
+                let mut p = n;
+                while p > 0 && kids[p - 1].0 > b {
+                    kids[p] = kids[p - 1];
+                    p -= 1;
                 }
-                kids[n] = (b, ci2, cj2);
+                kids[p] = (b, ci2, cj2);
                 n += 1;
             }
         }
-        let kids = &mut kids[..n];
-        kids.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-        for &(b, ci2, cj2) in kids.iter() {
-            if b * (1.0 - 1e-9) < best.0 {
-                self.visit(k - 1, ci2, cj2, mx, my, ci, cj, ax, ay, s, best);
+        for &(b, ci2, cj2) in &kids[..n] {
+            if b * (1.0 - 1e-9) >= best.0 {
+                // Sorted: every later child is dropped too.
+                break;
+            }
+            if k == 1 {
+                let px = ci2 as i64 + mx * cw as i64;
+                let py = cj2 as i64 + my * ch as i64;
+                if let Some(v) = self.leaf_below_at(px, py, q.ci, q.cj, q.ax, q.ay, s, best.0) {
+                    *best = (v, Some((px, py)));
+                }
+            } else {
+                self.visit(k - 1, ci2, cj2, mx, my, q, s, best);
             }
         }
     }
@@ -534,10 +662,8 @@ impl CellTree {
     pub fn seeded<S: CellScorer>(&self, ci: usize, cj: usize, ax: Dir, ay: Dir, s: &S, init: f64, prev: &mut Option<(i64, i64)>) -> f64 {
         let mut best: (f64, Option<(i64, i64)>) = (init, None);
         let try_at = |px: i64, py: i64, best: &mut (f64, Option<(i64, i64)>)| {
-            if let Some(v) = self.leaf_at(px, py, ci, cj, ax, ay, s) {
-                if v < best.0 {
-                    *best = (v, Some((px, py)));
-                }
+            if let Some(v) = self.leaf_below_at(px, py, ci, cj, ax, ay, s, best.0) {
+                *best = (v, Some((px, py)));
             }
         };
         if let Some((px, py)) = *prev {
@@ -556,6 +682,75 @@ impl CellTree {
         }
         r.0
     }
+}
+
+/// One axis of a search: the cone's cell `c`, the reachable direction, `C`'s extent.
+struct AxisQuery {
+    repeat: bool,
+    /// Texels and cells along the axis.
+    n: i64,
+    cn: i64,
+    c: i64,
+    dir: Dir,
+    /// `C`'s extent (texel-centre units; clamp only).
+    c0: f64,
+    c1: f64,
+    /// Cell units to texture units.
+    scale: f64,
+}
+
+impl AxisQuery {
+    /// A node's range along the axis (storage `a..=b`, shift `m` periods): min gap in
+    /// texture units and side, or `None` if no cell of it is reachable.
+    #[inline]
+    fn node(&self, a: usize, b: usize, m: i64) -> Option<(f64, Side)> {
+        let (a, b, c) = (a as i64, b as i64, self.c);
+        if self.repeat {
+            let n = self.n;
+            let (lo, hi) = match self.dir {
+                Dir::Both => (-(n - 1), n - 1),
+                Dir::Forward => (0, n - 1),
+                Dir::Backward => (-(n - 1), 0),
+            };
+            let ka = (a - c + m * n).max(lo);
+            let kb = (b - c + m * n).min(hi);
+            if ka > kb {
+                return None;
+            }
+            let g = if ka >= 1 {
+                (ka - 1) as f64
+            } else if kb <= -1 {
+                (-kb - 1) as f64
+            } else {
+                0.0
+            };
+            Some((g * self.scale, side_of(ka, kb)))
+        } else {
+            let (lo, hi) = match self.dir {
+                Dir::Both => (a, b),
+                Dir::Forward => (a.max(c), b),
+                Dir::Backward => (a, b.min(c)),
+            };
+            if lo > hi {
+                return None;
+            }
+            debug_assert!(hi < self.cn);
+            // Clamp extents (module docs): column `i` covers `[max(i - 1, -0.5), min(i, n - 0.5)]`.
+            let x0 = ((lo - 1) as f64).max(-0.5);
+            let x1 = (hi as f64).min(self.n as f64 - 0.5);
+            Some(((self.c0 - x1).max(x0 - self.c1).max(0.0) * self.scale, side_of(lo - c, hi - c)))
+        }
+    }
+}
+
+/// A search's fixed parameters.
+struct Query {
+    xa: AxisQuery,
+    ya: AxisQuery,
+    ci: usize,
+    cj: usize,
+    ax: Dir,
+    ay: Dir,
 }
 
 fn side_of(ka: i64, kb: i64) -> Side {
@@ -596,8 +791,25 @@ impl CellScorer for PieceScorer {
         Some(((dmin - self.rho) / (hmax.min(self.hi) - self.lo)).max(0.0))
     }
     #[inline]
+    fn prune(&self, d2: f64, hmax: f32, _flags: u8, _sx: Side, _sy: Side, best: f64) -> Option<f64> {
+        let hmax = hmax as f64;
+        if hmax <= self.lo {
+            return None;
+        }
+        let dh = hmax.min(self.hi) - self.lo;
+        if self.rho == 0.0 {
+            return prune_ratio(d2, dh, best);
+        }
+        let b = ((d2.sqrt() - self.rho) / dh).max(0.0);
+        (b * (1.0 - 1e-9) < best).then_some(b)
+    }
+    #[inline]
     fn leaf(&self, _d: usize, c: &[Corner; 4], _dx: [f64; 2], _dy: [f64; 2], _cx: [f64; 2], _cy: [f64; 2], _sx: Side, _sy: Side) -> Option<f64> {
         let r = piece_ratio(self.lo, self.hi, self.rho, c);
         (r < f64::INFINITY).then_some(r)
+    }
+    #[inline]
+    fn leaf_below(&self, _d: usize, c: &[Corner; 4], _dx: [f64; 2], _dy: [f64; 2], _cx: [f64; 2], _cy: [f64; 2], _sx: Side, _sy: Side, best: f64) -> Option<f64> {
+        piece_ratio_below(self.lo, self.hi, self.rho, c, best)
     }
 }

@@ -146,12 +146,32 @@ impl CellScorer for RelaxedScorer<'_> {
         Some(dmin / dh)
     }
     #[inline]
+    fn prune(&self, d2: f64, hmax: f32, flags: u8, sx: Side, sy: Side, best: f64) -> Option<f64> {
+        let dh = hmax as f64 - self.apex;
+        if dh <= 0.0 {
+            return None;
+        }
+        let need = needed(sx, X_UP, X_DOWN) | needed(sy, Y_UP, Y_DOWN);
+        if flags & need == need {
+            return None;
+        }
+        super::prune_ratio(d2, dh, best)
+    }
+    #[inline]
     fn leaf(&self, d: usize, c: &[Corner; 4], dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2], _sx: Side, _sy: Side) -> Option<f64> {
         let r = super::piece_ratio(self.apex, f64::INFINITY, 0.0, c);
         if r == f64::INFINITY || rising(&self.tree.corners_of(d), dx, dy, cx, cy) {
             return None;
         }
         Some(r)
+    }
+    #[inline]
+    fn leaf_below(&self, d: usize, c: &[Corner; 4], dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2], _sx: Side, _sy: Side, best: f64) -> Option<f64> {
+        let r = super::piece_ratio_below(self.apex, f64::INFINITY, 0.0, c, best)?;
+        // The corner heights are f32 values widened to f64: narrowing them back is exact
+        // (and saves the lookup of `d`'s corners).
+        let _ = d;
+        (!rising(&c.map(|q| q.s as f32), dx, dy, cx, cy)).then_some(r)
     }
 }
 
