@@ -22,6 +22,7 @@ fn main() {
         render_bindings: vec![0, 1, 2, 4, 5],
         probe_bindings: vec![],
         maps: vec![],
+        writes_depth: false,
     };
     let size = 512;
     let rounds = 8;

@@ -46,7 +46,20 @@ pub struct Measured {
 /// Builds the maps `pipeline` needs (once per scene), renders `frames` timed frames after
 /// `warmup`, probes every ray, and compares with the reference.
 pub fn measure(gpu: &Gpu, prep: &mut Prepared, pipeline: &relief_dsl::Pipeline, warmup: u32, frames: u32) -> anyhow::Result<Measured> {
-    let program = Program::new(pipeline)?;
+    measure_with(gpu, prep, pipeline, &relief_dsl::compose::Options::default(), warmup, frames)
+}
+
+/// [`measure`] with compose `options`; with `frag_depth`, the frame's depth buffer is kept
+/// and compared with the reference hits' depth ([`depth_errors`]).
+pub fn measure_with(
+    gpu: &Gpu,
+    prep: &mut Prepared,
+    pipeline: &relief_dsl::Pipeline,
+    options: &relief_dsl::compose::Options,
+    warmup: u32,
+    frames: u32,
+) -> anyhow::Result<Measured> {
+    let program = Program::new_with(pipeline, options)?;
     prep.textures.add_maps(gpu, &prep.scene, &pipeline.required_maps())?;
     let frame = gpu::render(gpu, &program, &prep.scene, &prep.textures, prep.size, warmup, frames)?;
     let hits = gpu::probe(gpu, &program, &prep.scene, &prep.textures, &prep.rays)?;
@@ -59,7 +72,30 @@ pub fn measure(gpu: &Gpu, prep: &mut Prepared, pipeline: &relief_dsl::Pipeline, 
     };
     metrics::set_timing(&mut m, &frame.frame_ms);
     metrics::set_accuracy(&mut m, &prep.rays, &hits, &prep.refs, &prep.on_device.height, prep.scene.edge);
+    if let Some(depth) = &frame.depth {
+        m.depth_err_max = Some(depth_errors(prep, depth).into_iter().fold(0.0, f64::max));
+    }
     Ok(Measured { metrics: m, frame, hits })
+}
+
+/// The NDC depth of the reference hit of every probe ray (one per covered pixel) against the
+/// depth buffer at that pixel: |depth − depth_ref|. The reference hit `(u, v, z)` lies at
+/// `(u, v, (z − 1)·depth_scale)` in the quad's space, and its depth is that point under the
+/// camera's view-projection, in f64. A ray the reference does not hit counts as infinitely
+/// wrong.
+pub fn depth_errors(prep: &Prepared, depth: &[f32]) -> Vec<f64> {
+    let vp = prep.scene.camera.view_proj(1.0).as_dmat4();
+    let d = prep.scene.depth_scale as f64;
+    prep.rays
+        .iter()
+        .zip(&prep.refs)
+        .map(|(r, rf)| {
+            let Some(h) = rf else { return f64::INFINITY };
+            let clip = vp * glam::DVec4::new(h.u, h.v, (h.z - 1.0) * d, 1.0);
+            let at = depth[(r.y * prep.size + r.x) as usize] as f64;
+            (at - clip.z / clip.w).abs()
+        })
+        .collect()
 }
 
 /// Writes `frame.png` and `error.png` of a measurement into `dir`.

@@ -60,6 +60,10 @@ pub struct Metrics {
     pub avg_iterations: f64,
     /// Texture fetches per ray over all stages.
     pub avg_fetches: f64,
+    /// With `relief render --write-depth`: the largest |NDC depth − the reference hit's NDC
+    /// depth| over the covered pixels.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_err_max: Option<f64>,
 }
 
 /// One results row: the metrics and where they came from.

@@ -26,11 +26,18 @@ pub struct Program {
     pub probe_bindings: Vec<u32>,
     /// The maps the pipeline reads, each with its parameters: which map a map binding takes.
     pub maps: Vec<relief_dsl::spec::MapReq>,
+    /// Whether the fragment entry writes the hit's depth (renders then get a depth buffer).
+    pub writes_depth: bool,
 }
 
 impl Program {
     /// Compiles `p` and records which bindings each entry point reads.
     pub fn new(p: &relief_dsl::Pipeline) -> Result<Program, relief_dsl::CompileError> {
+        Self::new_with(p, &relief_dsl::compose::Options::default())
+    }
+
+    /// Compiles `p` with `options` (e.g. a fragment entry that writes depth).
+    pub fn new_with(p: &relief_dsl::Pipeline, options: &relief_dsl::compose::Options) -> Result<Program, relief_dsl::CompileError> {
         let maps = p.required_maps();
         for (i, a) in maps.iter().enumerate() {
             if let Some(b) = maps[..i].iter().find(|b| b.binding() == a.binding()) {
@@ -43,8 +50,8 @@ impl Program {
                 });
             }
         }
-        let c = relief_dsl::compile(p)?;
-        Ok(Program { maps, ..Self::from_compiled(&c)? })
+        let c = relief_dsl::compose::compile_with(p, options)?;
+        Ok(Program { maps, writes_depth: options.frag_depth, ..Self::from_compiled(&c)? })
     }
 
     /// The WGSL loaded on `gpu`; a shader the device rejects is an error, not a panic.
@@ -79,6 +86,6 @@ impl Program {
             out.sort();
             out
         };
-        Ok(Program { wgsl, render_bindings: used(&["vs_main", "fs_main"]), probe_bindings: used(&["probe"]), maps: vec![] })
+        Ok(Program { wgsl, render_bindings: used(&["vs_main", "fs_main"]), probe_bindings: used(&["probe"]), maps: vec![], writes_depth: false })
     }
 }

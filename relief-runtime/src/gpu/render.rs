@@ -10,7 +10,12 @@ pub struct RenderResult {
     /// The last frame, RGBA8 (sRGB), row-major, `size × size`.
     pub rgba: Vec<u8>,
     pub size: u32,
+    /// The last frame's depth buffer (NDC depth, row-major, cleared to 1), when the program
+    /// writes depth.
+    pub depth: Option<Vec<f32>>,
 }
+
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 
@@ -44,7 +49,13 @@ pub fn render(
                 buffers: &[],
             },
             primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleStrip, ..Default::default() },
-            depth_stencil: None,
+            depth_stencil: program.writes_depth.then(|| wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
                 module: &module,
@@ -67,6 +78,19 @@ pub fn render(
         view_formats: &[],
     });
     let view = target.create_view(&Default::default());
+    let depth_target = program.writes_depth.then(|| {
+        gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("depth"),
+            size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        })
+    });
+    let depth_view = depth_target.as_ref().map(|t| t.create_view(&Default::default()));
     let params = SceneTextures::params(gpu, scene, 1.0);
     let bg = tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), &program.render_bindings, &program.maps, &params, &[])?;
     let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
@@ -100,7 +124,11 @@ pub fn render(
                 resolve_target: None,
                 ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color { r: 0.02, g: 0.02, b: 0.03, a: 1.0 }), store: wgpu::StoreOp::Store },
             })],
-            depth_stencil_attachment: None,
+            depth_stencil_attachment: depth_view.as_ref().map(|view| wgpu::RenderPassDepthStencilAttachment {
+                view,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                stencil_ops: None,
+            }),
             timestamp_writes: ts,
             occlusion_query_set: None,
             multiview_mask: None,
@@ -140,6 +168,23 @@ pub fn render(
         },
         wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
     );
+    let depth_pixels = depth_target.as_ref().map(|t| {
+        let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size: (row * size) as u64,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        enc.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo { texture: t, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::DepthOnly },
+            wgpu::TexelCopyBufferInfo {
+                buffer: &buf,
+                layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(size) },
+            },
+            wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
+        );
+        buf
+    });
     gpu.queue.submit([enc.finish()]);
     let stamps: Vec<u64> = bytemuck::cast_slice(&gpu.read_buffer(&ts_read)?).to_vec();
     let period = gpu.queue.get_timestamp_period() as f64;
@@ -149,5 +194,16 @@ pub fn render(
     for y in 0..size as usize {
         rgba.extend_from_slice(&padded[y * row as usize..y * row as usize + size as usize * 4]);
     }
-    Ok(RenderResult { frame_ms, rgba, size })
+    let depth = match depth_pixels {
+        Some(buf) => {
+            let padded = gpu.read_buffer(&buf)?;
+            let mut d = Vec::with_capacity((size * size) as usize);
+            for y in 0..size as usize {
+                d.extend_from_slice(bytemuck::cast_slice::<u8, f32>(&padded[y * row as usize..y * row as usize + size as usize * 4]));
+            }
+            Some(d)
+        }
+        None => None,
+    };
+    Ok(RenderResult { frame_ms, rgba, size, depth })
 }

@@ -8,7 +8,7 @@ use anyhow::Context;
 
 use relief_runtime::io::write_atomic;
 use relief_runtime::gpu::Gpu;
-use relief_runtime::measure::{measure, write_images, Prepared};
+use relief_runtime::measure::{measure_with, write_images, Prepared};
 use relief_runtime::scene::file::camera_json;
 use relief_runtime::scene::{scene_from_arg, scene_spec};
 
@@ -32,9 +32,32 @@ pub struct RenderArgs {
     /// Also write hits.csv, one row per ray.
     #[arg(long)]
     pub dump_hits: bool,
+    /// Render with a depth buffer holding the hit's depth (pixel depth offset): writes
+    /// depth.png and depth.npy, and `depth_err_max` (against the reference hits' depth) in
+    /// metrics.json.
+    #[arg(long)]
+    pub write_depth: bool,
     /// Output folder.
     #[arg(long)]
     pub out: PathBuf,
+}
+
+/// Writes `depth.npy` (the depth buffer, f32, rows from the top) and `depth.png` (near =
+/// white, far = black, stretched over the depths the relief covers).
+fn write_depth(out: &std::path::Path, size: u32, depth: &[f32]) -> anyhow::Result<()> {
+    let n = size as usize;
+    write_atomic(&out.join("depth.npy"), &relief_runtime::io::npy::npy_bytes(&[n, n], depth))?;
+    let covered: Vec<f32> = depth.iter().copied().filter(|d| *d < 1.0).collect();
+    let (lo, hi) = covered.iter().fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &d| (a.min(d), b.max(d)));
+    let span = (hi - lo).max(1e-12);
+    let rgba: Vec<u8> = depth
+        .iter()
+        .flat_map(|&d| {
+            let g = if d < 1.0 { (255.0 * (1.0 - (d - lo) / span)).round() as u8 } else { 0 };
+            [g, g, g, 255]
+        })
+        .collect();
+    relief_runtime::io::png::write_rgba8(&out.join("depth.png"), size, size, rgba)
 }
 
 /// Runs `relief render`.
@@ -48,8 +71,12 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create output folder {}", a.out.display()))?;
     let g = Gpu::new()?;
     let mut prep = Prepared::new(&g, scene, a.size)?;
-    let measured = measure(&g, &mut prep, &pipeline, 5, a.frames)?;
+    let options = relief_dsl::compose::Options { frag_depth: a.write_depth };
+    let measured = measure_with(&g, &mut prep, &pipeline, &options, 5, a.frames)?;
     write_images(&a.out, &prep, &measured)?;
+    if let Some(depth) = &measured.frame.depth {
+        write_depth(&a.out, a.size, depth)?;
+    }
     let (m, rays, hits, refs) = (&measured.metrics, &prep.rays, &measured.hits, &prep.refs);
     // The metrics, then the scene's parameters as measured (with the overrides applied).
     let mut json = serde_json::to_value(m)?;
