@@ -106,3 +106,17 @@ fn a_broken_stage_is_caught_by_the_scores_and_the_metrics() {
     let (cell, m) = run(&relief_runtime::gpu::Program::new(&"linear(4)".parse().unwrap()).unwrap());
     assert_eq!((cell.nan_count, cell.outside_count, m.nonconverged_rate), (0, 0, 0.0));
 }
+
+/// One texel of travel, the one definition the metrics, the stability scores and the cone
+/// tests share: a ray crosses a texel horizontally after 1/(N·|d.xy|), or 1/N of the depth
+/// after 1/(N·|d.z|), whichever comes first. A straight-down ray therefore crosses a texel
+/// after 1/N (the old `max(1e-9)` form made that 1e9/N: nothing could count as missed).
+#[test]
+fn one_texel_of_travel_is_horizontal_or_vertical_whichever_comes_first() {
+    use relief_runtime::metrics::one_texel_t;
+    use relief_runtime::scene::ProbeRay;
+    let ray = |dir: [f32; 3]| ProbeRay { origin: [0.5, 0.5], dir, x: 0, y: 0, pad: 0 };
+    assert!((one_texel_t(&ray([0.0, 0.0, -1.0]), 64.0) - 1.0 / 64.0).abs() < 1e-12);
+    assert!((one_texel_t(&ray([0.5, 0.0, -1.0]), 64.0) - 1.0 / 64.0).abs() < 1e-12, "steeper than 45°: the depth decides");
+    assert!((one_texel_t(&ray([3.0, 4.0, -1.0]), 64.0) - 1.0 / (64.0 * 5.0)).abs() < 1e-12, "grazing: the horizontal texel decides");
+}
