@@ -4,28 +4,12 @@
 use std::path::Path;
 use std::process::Command;
 
+mod common;
+use common::{run, tool};
+
 use relief::dsl::emit;
 use relief::dsl::spec::catalog;
 use relief::{Pipeline, Slot};
-
-fn tool(name: &str) -> &str {
-    let found = Command::new(name).arg("--version").output().is_ok();
-    assert!(
-        found,
-        "`{name}` is not installed: install the Debian packages spirv-tools and glslang-tools (.ci/run does)"
-    );
-    name
-}
-
-fn run(cmd: &mut Command, what: &str) {
-    let out = cmd.output().unwrap_or_else(|e| panic!("{what}: {e}"));
-    assert!(
-        out.status.success(),
-        "{what} failed:\n{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
 
 #[test]
 fn every_default_combination_passes_spirv_val_and_glslang() {

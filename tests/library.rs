@@ -8,24 +8,11 @@
 use std::path::Path;
 use std::process::Command;
 
+mod common;
+use common::{run, tool};
+
 use relief::dsl::emit::{self, LibraryFiles, LibraryOptions, ResourceKind};
 use relief::Pipeline;
-
-fn tool(name: &str) -> &str {
-    let found = Command::new(name).arg("--version").output().is_ok();
-    assert!(found, "`{name}` is not installed: install the Debian packages spirv-tools and glslang-tools");
-    name
-}
-
-fn run(cmd: &mut Command, what: &str) {
-    let out = cmd.output().unwrap_or_else(|e| panic!("{what}: {e}"));
-    assert!(
-        out.status.success(),
-        "{what} failed:\n{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
 
 fn camel(prefix: &str) -> String {
     prefix.split('_').map(|w| w[..1].to_uppercase() + &w[1..]).collect()

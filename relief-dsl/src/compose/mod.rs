@@ -175,6 +175,21 @@ fn location(n: u32) -> Binding {
     }
 }
 
+/// An entry point of `stage` running `function` (`workgroup` is `[0; 3]` for render stages).
+pub(crate) fn entry_point(name: &str, stage: ShaderStage, function: naga::Function, workgroup: [u32; 3]) -> naga::EntryPoint {
+    naga::EntryPoint {
+        name: name.into(),
+        stage,
+        early_depth_test: None,
+        workgroup_size: workgroup,
+        workgroup_size_overrides: None,
+        function,
+        mesh_info: None,
+        task_payload: None,
+        incoming_ray_payload: None,
+    }
+}
+
 fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
     let out_ty = {
         let v4 = m.ty(Vec4::inner());
@@ -210,17 +225,7 @@ fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
     let clip = s.param::<crate::ir::Mat4>(Param::ViewProj) * s.vec4(s.vec3(corner, 0.0), 1.0);
     let out = s.make_struct(out_ty, &[clip.handle(), corner.handle()]);
     let f = s.finish(Some((out_ty, None, out)));
-    naga::EntryPoint {
-        name: "vs_main".into(),
-        stage: ShaderStage::Vertex,
-        early_depth_test: None,
-        workgroup_size: [0; 3],
-        workgroup_size_overrides: None,
-        function: f,
-        mesh_info: None,
-        task_payload: None,
-        incoming_ray_payload: None,
-    }
+    entry_point("vs_main", ShaderStage::Vertex, f, [0; 3])
 }
 
 /// What a module is built with besides its pipeline.
@@ -297,17 +302,7 @@ fn fragment_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns, options: &Options) 
     } else {
         s.finish(Some((m.ty(Vec4::inner()), Some(location(0)), out.handle())))
     };
-    naga::EntryPoint {
-        name: "fs_main".into(),
-        stage: ShaderStage::Fragment,
-        early_depth_test: None,
-        workgroup_size: [0; 3],
-        workgroup_size_overrides: None,
-        function: f,
-        mesh_info: None,
-        task_payload: None,
-        incoming_ray_payload: None,
-    }
+    entry_point("fs_main", ShaderStage::Fragment, f, [0; 3])
 }
 
 fn storage_array(m: &ModuleCtx, name: &str, item: Handle<naga::Type>, binding: u32, write: bool) -> Handle<naga::GlobalVariable> {
@@ -390,17 +385,7 @@ fn probe_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint {
         s.store(s.member_ptr(out, i as u32), v);
     }
     let f = s.finish(None);
-    naga::EntryPoint {
-        name: "probe".into(),
-        stage: ShaderStage::Compute,
-        early_depth_test: None,
-        workgroup_size: [PROBE_WORKGROUP, 1, 1],
-        workgroup_size_overrides: None,
-        function: f,
-        mesh_info: None,
-        task_payload: None,
-        incoming_ray_payload: None,
-    }
+    entry_point("probe", ShaderStage::Compute, f, [PROBE_WORKGROUP, 1, 1])
 }
 
 /// Builds the module for `p` (not yet validated).

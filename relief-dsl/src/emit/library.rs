@@ -185,17 +185,7 @@ fn with_caller(lib: &Library, prefix: &str) -> Result<(Module, naga::valid::Modu
         f.body.push(Statement::Call { function: a, arguments: vec![hit], result: Some(r) }, Span::UNDEFINED);
     }
     f.body.push(Statement::Return { value: None }, Span::UNDEFINED);
-    module.entry_points.push(naga::EntryPoint {
-        name: "main".into(),
-        stage: ShaderStage::Fragment,
-        early_depth_test: None,
-        workgroup_size: [0; 3],
-        workgroup_size_overrides: None,
-        function: f,
-        mesh_info: None,
-        task_payload: None,
-        incoming_ray_payload: None,
-    });
+    module.entry_points.push(crate::compose::entry_point("main", ShaderStage::Fragment, f, [0; 3]));
     let info = crate::compose::validate(&module)?;
     Ok((module, info))
 }

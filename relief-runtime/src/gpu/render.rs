@@ -17,6 +17,20 @@ pub struct RenderResult {
 
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
+/// A `size²` render attachment that can be copied out.
+fn attachment(gpu: &Gpu, label: &str, size: u32, format: wgpu::TextureFormat) -> wgpu::Texture {
+    gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
+}
+
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 
 /// Renders `frames` timed frames (after `warmup` untimed ones) of `program` on `scene` at
@@ -67,29 +81,9 @@ pub fn render(
             cache: None,
         })
     })?;
-    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("frame"),
-        size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+    let target = attachment(gpu, "frame", size, FORMAT);
     let view = target.create_view(&Default::default());
-    let depth_target = program.writes_depth.then(|| {
-        gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("depth"),
-            size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: DEPTH_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        })
-    });
+    let depth_target = program.writes_depth.then(|| attachment(gpu, "depth", size, DEPTH_FORMAT));
     let depth_view = depth_target.as_ref().map(|t| t.create_view(&Default::default()));
     let params = SceneTextures::params(gpu, scene, 1.0);
     let bg = tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), &program.render_bindings, &program.maps, &params, &[])?;
@@ -150,60 +144,55 @@ pub fn render(
         gpu.queue.submit([enc.finish()]);
         gpu.wait()?;
     }
-    let row = (size * 4).div_ceil(256) * 256;
-    let pixels = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size: (row * size) as u64,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
     let mut enc = gpu.device.create_command_encoder(&Default::default());
     enc.resolve_query_set(&queries, 0..2 * frames, &resolve, 0);
     enc.copy_buffer_to_buffer(&resolve, 0, &ts_read, 0, 16 * frames as u64);
-    enc.copy_texture_to_buffer(
-        target.as_image_copy(),
-        wgpu::TexelCopyBufferInfo {
-            buffer: &pixels,
-            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(size) },
-        },
-        wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
-    );
-    let depth_pixels = depth_target.as_ref().map(|t| {
-        let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+    let pixels = Readback::new(gpu, &mut enc, &target, wgpu::TextureAspect::All, size);
+    let depth_pixels = depth_target.as_ref().map(|t| Readback::new(gpu, &mut enc, t, wgpu::TextureAspect::DepthOnly, size));
+    gpu.queue.submit([enc.finish()]);
+    let stamps: Vec<u64> = bytemuck::cast_slice(&gpu.read_buffer(&ts_read)?).to_vec();
+    let period = gpu.queue.get_timestamp_period() as f64;
+    let frame_ms = stamps.chunks(2).map(|p| p[1].saturating_sub(p[0]) as f64 * period / 1e6).collect();
+    let rgba = pixels.read(gpu)?;
+    let depth = match depth_pixels {
+        Some(d) => Some(bytemuck::pod_collect_to_vec::<u8, f32>(&d.read(gpu)?)),
+        None => None,
+    };
+    Ok(RenderResult { frame_ms, rgba, size, depth })
+}
+
+/// A copy of a `size²` attachment of 4-byte texels into a mappable buffer, rows padded to
+/// wgpu's 256-byte alignment.
+struct Readback {
+    buffer: wgpu::Buffer,
+    row: u32,
+    size: u32,
+}
+
+impl Readback {
+    fn new(gpu: &Gpu, enc: &mut wgpu::CommandEncoder, texture: &wgpu::Texture, aspect: wgpu::TextureAspect, size: u32) -> Readback {
+        let row = (size * 4).div_ceil(256) * 256;
+        let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: None,
             size: (row * size) as u64,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         enc.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo { texture: t, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::DepthOnly },
+            wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect },
             wgpu::TexelCopyBufferInfo {
-                buffer: &buf,
+                buffer: &buffer,
                 layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(size) },
             },
             wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
         );
-        buf
-    });
-    gpu.queue.submit([enc.finish()]);
-    let stamps: Vec<u64> = bytemuck::cast_slice(&gpu.read_buffer(&ts_read)?).to_vec();
-    let period = gpu.queue.get_timestamp_period() as f64;
-    let frame_ms = stamps.chunks(2).map(|p| p[1].saturating_sub(p[0]) as f64 * period / 1e6).collect();
-    let padded = gpu.read_buffer(&pixels)?;
-    let mut rgba = Vec::with_capacity((size * size * 4) as usize);
-    for y in 0..size as usize {
-        rgba.extend_from_slice(&padded[y * row as usize..y * row as usize + size as usize * 4]);
+        Readback { buffer, row, size }
     }
-    let depth = match depth_pixels {
-        Some(buf) => {
-            let padded = gpu.read_buffer(&buf)?;
-            let mut d = Vec::with_capacity((size * size) as usize);
-            for y in 0..size as usize {
-                d.extend_from_slice(bytemuck::cast_slice::<u8, f32>(&padded[y * row as usize..y * row as usize + size as usize * 4]));
-            }
-            Some(d)
-        }
-        None => None,
-    };
-    Ok(RenderResult { frame_ms, rgba, size, depth })
+
+    /// The texels' bytes, rows unpadded.
+    fn read(&self, gpu: &Gpu) -> Result<Vec<u8>, GpuError> {
+        let padded = gpu.read_buffer(&self.buffer)?;
+        let (row, width) = (self.row as usize, self.size as usize * 4);
+        Ok((0..self.size as usize).flat_map(|y| padded[y * row..y * row + width].iter().copied()).collect())
+    }
 }

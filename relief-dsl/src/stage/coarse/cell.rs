@@ -25,6 +25,8 @@ const AHEAD_CELLS: f32 = 1e-4;
 /// The bilinear cell a ray point is in (or entering), with what the safe cone steps need.
 #[derive(Clone, Copy)]
 pub(super) struct Cell<'a> {
+    /// The height map's size in texels (queried once per cell).
+    pub size: Val<'a, Vec2>,
     /// The cell's lower-left texel-centre coordinates (`floor(X)`).
     pub cell: Val<'a, Vec2>,
     /// Corner heights in gather order: `(i, j+1), (i+1, j+1), (i+1, j), (i, j)`.
@@ -64,7 +66,7 @@ pub(super) fn cell_at<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> C
         s.select(v.abs().lt(1e-12), s.lit(f32::MAX), to / v)
     };
     let exit = (t + exit_along(cell.x(), x.x(), speed.x()).min(exit_along(cell.y(), x.y(), speed.y()))).min(ray.t_max());
-    Cell { cell, corners, apex, index: index.to_u32(), dist: dist.named("dist"), exit: exit.named("exit") }
+    Cell { size, cell, corners, apex, index: index.to_u32(), dist: dist.named("dist"), exit: exit.named("exit") }
 }
 
 fn sign<'a>(s: &'a Stage<'a>, v: Val<'a, f32>) -> Val<'a, f32> {
@@ -110,8 +112,8 @@ impl<'a> Cell<'a> {
     }
 
     /// The bilinear surface at `p` (within the cell), from the corners.
-    pub fn height(&self, s: &'a Stage<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> Val<'a, f32> {
-        let f = fraction(ray, s.height_map_size(), self.cell, t);
+    pub fn height(&self, ray: &Ray<'a>, t: Val<'a, f32>) -> Val<'a, f32> {
+        let f = fraction(ray, self.size, self.cell, t);
         let c = self.corners;
         let (h01, h11, h10, h00) = (c.x(), c.y(), c.z(), c.w());
         let bottom = h00 + (h10 - h00) * f.x();
@@ -121,7 +123,7 @@ impl<'a> Cell<'a> {
 
     /// The first t in `[from, exit]` where the ray meets the cell's patch, or -1.
     pub fn patch_root(&self, s: &'a Stage<'a>, ray: &Ray<'a>, from: Val<'a, f32>) -> Val<'a, f32> {
-        patch_root(s, ray, self.cell, self.corners, from, self.exit)
+        patch_root(s, ray, self.size, self.cell, self.corners, from, self.exit)
     }
 }
 
@@ -135,18 +137,18 @@ fn fraction<'a>(ray: &Ray<'a>, size: Val<'a, Vec2>, cell: Val<'a, Vec2>, t: Val<
 }
 
 /// The first t in `[from, to]` where the ray meets the bilinear patch of `cell` (corner
-/// heights `corners` in gather order), or -1. Along the ray the patch height is quadratic in
+/// heights `corners` in gather order, on a map of `size` texels), or -1. Along the ray the patch height is quadratic in
 /// t: with the corner heights h00, h10, h01, h11 and fractions (fx, fy) moving at (ax, ay) per
 /// unit t, `h - z = A s² + B s + C`, `s = t - from`.
 pub(super) fn patch_root<'a>(
     s: &'a Stage<'a>,
     ray: &Ray<'a>,
+    size: Val<'a, Vec2>,
     cell: Val<'a, Vec2>,
     corners: Val<'a, Vec4>,
     from: Val<'a, f32>,
     to: Val<'a, f32>,
 ) -> Val<'a, f32> {
-    let size = s.height_map_size();
     let f = fraction(ray, size, cell, from);
     let z = 1.0 + ray.dir.z() * from;
     let (h01, h11, h10, h00) = (corners.x(), corners.y(), corners.z(), corners.w());
@@ -217,7 +219,7 @@ pub(super) fn relaxed_march<'a>(
         s.break_if(found.get());
         let c = cell_at(s, ray, t.get());
         let p = ray.at(t.get());
-        found.set(c.height(s, ray, t.get()).ge(p.z()) | t.get().ge(ray.t_max()));
+        found.set(c.height(ray, t.get()).ge(p.z()) | t.get().ge(ray.t_max()));
         s.break_if(found.get());
         let cone = t.get() + step(s, p, &c);
         t_prev.set(t.get());

@@ -93,5 +93,5 @@ fn patch_root<'a>(
     let cell = (ray.at(from).xy() * size - 0.5 + ahead).floor();
     // The four corners in one gather at the cell's centre: (i, j+1), (i+1, j+1), (i+1, j), (i, j).
     let corners = s.height_gather((cell + 1.0) / size);
-    super::cell::patch_root(s, ray, cell, corners, from, to)
+    super::cell::patch_root(s, ray, size, cell, corners, from, to)
 }
