@@ -168,7 +168,7 @@ impl ProbeRay {
     }
 }
 
-/// One probe hit, 32 bytes: the search's raw result, never clamped into the volume.
+/// One probe hit, 36 bytes: the search's raw result, never clamped into the volume.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct ProbeHit {
@@ -189,11 +189,15 @@ pub struct ProbeHit {
     /// 1 when the coarse search found the surface; 0 when it ran out of steps (the hit is
     /// then the last point it knew to be above the surface, and nothing refined it).
     pub converged: u32,
+    /// 1 when the pipeline clips the silhouette (`silhouette=clip`) and the hit's (u, v)
+    /// lies outside the quad's square `[0, tiling]²`: the render discards that pixel and
+    /// the ray counts as "no hit". The raw hit above is still reported. 0 otherwise.
+    pub clipped: u32,
 }
 
 impl ProbeHit {
     /// The members as the shader declares them, in order.
-    pub const MEMBERS: [(&'static str, Member); 8] = [
+    pub const MEMBERS: [(&'static str, Member); 9] = [
         ("t", Member::F32),
         ("u", Member::F32),
         ("v", Member::F32),
@@ -202,6 +206,7 @@ impl ProbeHit {
         ("refine_steps", Member::U32),
         ("fetches", Member::U32),
         ("converged", Member::U32),
+        ("clipped", Member::U32),
     ];
 
     /// Loop passes over both stages.

@@ -9,7 +9,8 @@ use anyhow::Context;
 use crate::io;
 use crate::gpu::{self, Gpu, GpuHit, Program, RenderResult, SceneTextures};
 use crate::metrics::{self, Metrics};
-use crate::reference::{reference_hits, RefHit, Sampling};
+use crate::heightmap::EdgeMode;
+use crate::reference::{clip_to_square, reference_hits, RefHit, Sampling};
 use crate::scene::{ProbeRay, Scene};
 
 /// A scene on the device, with its probe rays and their exact first hits (computed once,
@@ -41,6 +42,9 @@ pub struct Measured {
     pub metrics: Metrics,
     pub frame: RenderResult,
     pub hits: Vec<GpuHit>,
+    /// The reference hits the metrics compared with: the prepared scene's, clipped to the
+    /// quad's square for `silhouette=clip`.
+    pub refs: Vec<Option<RefHit>>,
 }
 
 /// Builds the maps `pipeline` needs (once per scene), renders `frames` timed frames after
@@ -59,6 +63,12 @@ pub fn measure_with(
     warmup: u32,
     frames: u32,
 ) -> anyhow::Result<Measured> {
+    if options.silhouette_clip && prep.scene.edge != EdgeMode::Clamp {
+        anyhow::bail!(
+            "silhouette=clip needs a scene with clamp edges; scene `{}` repeats its height map (set `edge = \"clamp\"` in a scene file)",
+            prep.scene.name
+        );
+    }
     let program = Program::new_with(pipeline, options)?;
     prep.textures.add_maps(gpu, &prep.scene, &pipeline.required_maps())?;
     let frame = gpu::render(gpu, &program, &prep.scene, &prep.textures, prep.size, warmup, frames)?;
@@ -71,28 +81,29 @@ pub fn measure_with(
         ..Default::default()
     };
     metrics::set_timing(&mut m, &frame.frame_ms);
-    metrics::set_accuracy(&mut m, &prep.rays, &hits, &prep.refs, &prep.on_device.height, prep.scene.edge);
+    let refs = if options.silhouette_clip { clip_to_square(&prep.refs, prep.scene.tiling as f64) } else { prep.refs.clone() };
+    metrics::set_accuracy(&mut m, &prep.rays, &hits, &refs, &prep.on_device.height, prep.scene.edge);
     if let Some(depth) = &frame.depth {
-        m.depth_err_max = Some(depth_errors(prep, depth).into_iter().fold(0.0, f64::max));
+        m.depth_err_max = Some(depth_errors(prep, &refs, depth).into_iter().fold(0.0, f64::max));
     }
-    Ok(Measured { metrics: m, frame, hits })
+    Ok(Measured { metrics: m, frame, hits, refs })
 }
 
 /// The NDC depth of the reference hit of every probe ray (one per covered pixel) against the
 /// depth buffer at that pixel: |depth − depth_ref|. The reference hit `(u, v, z)` lies at
 /// `(u, v, (z − 1)·depth_scale)` in the quad's space, and its depth is that point under the
-/// camera's view-projection, in f64. A ray the reference does not hit counts as infinitely
-/// wrong.
-pub fn depth_errors(prep: &Prepared, depth: &[f32]) -> Vec<f64> {
+/// camera's view-projection, in f64. Where the reference has no hit (`silhouette=clip`) the
+/// pixel must keep the cleared depth 1: error 0 if it does, infinite if anything was drawn.
+pub fn depth_errors(prep: &Prepared, refs: &[Option<RefHit>], depth: &[f32]) -> Vec<f64> {
     let vp = prep.scene.camera.view_proj(1.0).as_dmat4();
     let d = prep.scene.depth_scale as f64;
     prep.rays
         .iter()
-        .zip(&prep.refs)
+        .zip(refs)
         .map(|(r, rf)| {
-            let Some(h) = rf else { return f64::INFINITY };
-            let clip = vp * glam::DVec4::new(h.u, h.v, (h.z - 1.0) * d, 1.0);
             let at = depth[(r.y * prep.size + r.x) as usize] as f64;
+            let Some(h) = rf else { return if at == 1.0 { 0.0 } else { f64::INFINITY } };
+            let clip = vp * glam::DVec4::new(h.u, h.v, (h.z - 1.0) * d, 1.0);
             (at - clip.z / clip.w).abs()
         })
         .collect()
@@ -107,7 +118,7 @@ pub fn write_images(dir: &Path, prep: &Prepared, m: &Measured) -> anyhow::Result
         .rays
         .iter()
         .zip(&m.hits)
-        .zip(&prep.refs)
+        .zip(&m.refs)
         .map(|((r, h), rf)| {
             let e = match rf {
                 Some(rf) if h.t.is_finite() => (h.t as f64 - rf.t).abs(),

@@ -53,6 +53,11 @@ pub const PAST_SLACK: f64 = 1e-5;
 /// A hit with a NaN or infinite coordinate is an error of the largest size a hit inside the
 /// volume can have: height error 1 in the MSE, t error `t_max` (the ray's whole length in
 /// the volume), uv error the ray's whole horizontal travel, and it counts as missed.
+///
+/// A hit the probe marks `clipped` (`silhouette=clip`: its (u, v) left the quad's square)
+/// is a "no hit": missed where the reference has a hit (its raw t still enters the t error),
+/// correct where the reference has none. A hit that is not clipped where the reference has
+/// none is a false hit.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Accuracy {
     pub rays: usize,
@@ -64,6 +69,8 @@ pub struct Accuracy {
     pub t_abs_max: f64,
     pub uv_texels_sq_sum: f64,
     pub missed: usize,
+    /// Rays with a hit (not clipped) where the reference has none.
+    pub false_hits: usize,
     /// Finite hits past the exact first hit by more than [`PAST_SLACK`] in t.
     pub past: usize,
     pub nan: usize,
@@ -108,17 +115,21 @@ impl Accuracy {
             let e = surface - h.z as f64;
             a.mse_sum += e * e;
             a.above_surface += (h.z as f64 > surface + ABOVE_SURFACE) as usize;
-            if let Some(rh) = refs[i] {
-                a.both += 1;
-                let dt = h.t as f64 - rh.t;
-                a.t_sq_sum += dt * dt;
-                a.t_abs_max = a.t_abs_max.max(dt.abs());
-                let (du, dv) = (h.u as f64 - rh.u, h.v as f64 - rh.v);
-                a.uv_texels_sq_sum += (du * du + dv * dv) * texels * texels;
-                if dt > one_texel_t(r, texels) {
-                    a.missed += 1;
+            let no_hit = h.clipped != 0;
+            match refs[i] {
+                Some(rh) => {
+                    a.both += 1;
+                    let dt = h.t as f64 - rh.t;
+                    a.t_sq_sum += dt * dt;
+                    a.t_abs_max = a.t_abs_max.max(dt.abs());
+                    let (du, dv) = (h.u as f64 - rh.u, h.v as f64 - rh.v);
+                    a.uv_texels_sq_sum += (du * du + dv * dv) * texels * texels;
+                    if no_hit || dt > one_texel_t(r, texels) {
+                        a.missed += 1;
+                    }
+                    a.past += (dt > PAST_SLACK) as usize;
                 }
-                a.past += (dt > PAST_SLACK) as usize;
+                None => a.false_hits += !no_hit as usize,
             }
         }
         a
@@ -137,6 +148,9 @@ impl Accuracy {
     pub fn missed_rate(&self) -> f64 {
         self.share(self.missed)
     }
+    pub fn false_hit_rate(&self) -> f64 {
+        self.share(self.false_hits)
+    }
     pub fn nonconverged_rate(&self) -> f64 {
         self.share(self.nonconverged)
     }
@@ -154,6 +168,7 @@ pub fn set_accuracy(m: &mut Metrics, rays: &[ProbeRay], hits: &[ProbeHit], refs:
     m.ref_err_t_rms = a.t_rms();
     m.ref_err_uv_texels_rms = if a.both > 0 { (a.uv_texels_sq_sum / a.both as f64).sqrt() } else { 0.0 };
     m.missed_rate = a.missed_rate();
+    m.false_hit_rate = a.false_hit_rate();
     m.nan_count = a.nan as u64;
     m.outside_count = a.outside as u64;
     m.nonconverged_rate = a.nonconverged_rate();

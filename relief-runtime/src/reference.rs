@@ -326,6 +326,15 @@ fn hit(o: [f64; 2], d: [f64; 3], t: f64) -> RefHit {
     RefHit { t, u: o[0] + t * d[0], v: o[1] + t * d[1], z: 1.0 + t * d[2] }
 }
 
+/// The reference under `silhouette=clip`: a first hit whose (u, v) lies outside the quad's
+/// square `[0, tiling]²` becomes no hit. This is the first hit inside the square's prism:
+/// a ray enters the volume inside the square and, being straight, leaves the prism once, so
+/// the part of it inside comes first; a first hit outside means nothing inside was hit.
+pub fn clip_to_square(refs: &[Option<RefHit>], tiling: f64) -> Vec<Option<RefHit>> {
+    let inside = |x: f64| (0.0..=tiling).contains(&x);
+    refs.iter().map(|r| r.filter(|h| inside(h.u) && inside(h.v))).collect()
+}
+
 /// Exact first hits of `rays` on `scene`'s height map (its edge mode, the given sampling),
 /// in parallel and in input order.
 pub fn reference_hits(scene: &Scene, rays: &[ProbeRay], sampling: Sampling) -> Result<Vec<Option<RefHit>>, ReferenceError> {

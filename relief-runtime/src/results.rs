@@ -41,6 +41,11 @@ pub struct Metrics {
     /// Share of rays whose hit lies beyond the true first hit by more than one texel of
     /// travel ([`crate::metrics::one_texel_t`]), or that report no (finite) hit.
     pub missed_rate: f64,
+    /// Share of rays the pipeline reports a hit for where the reference has none (with
+    /// `silhouette=clip`: a hit kept inside the square where the true first hit lies
+    /// outside it, or the ray leaves the square first).
+    #[serde(default)]
+    pub false_hit_rate: f64,
     /// Hits with NaN or Inf anywhere.
     pub nan_count: u64,
     /// Hits whose raw t lies outside the volume (`t < 0` or `t > t_max`), counted before any
@@ -100,6 +105,7 @@ pub const COLUMNS: &[&str] = &[
     "ref_err_t_rms",
     "ref_err_uv_texels_rms",
     "missed_rate",
+    "false_hit_rate",
     "nan_count",
     "outside_count",
     "nonconverged_rate",
@@ -247,8 +253,8 @@ pub fn parse_row(line: &str) -> anyhow::Result<Row> {
     Ok(row)
 }
 
-/// Metrics fields added with issue #11 (absent from older results files).
-const LATER_FIELDS: &[&str] = &["frame_ms_mean", "avg_coarse_steps", "avg_refine_steps", "nonconverged_rate"];
+/// Metrics fields added with issues #11 and #15 (absent from older results files).
+const LATER_FIELDS: &[&str] = &["frame_ms_mean", "avg_coarse_steps", "avg_refine_steps", "nonconverged_rate", "false_hit_rate"];
 
 fn set_nan(m: &mut Metrics, field: &str) {
     let f = match field {
@@ -264,6 +270,7 @@ fn set_nan(m: &mut Metrics, field: &str) {
         "ref_err_t_rms" => &mut m.ref_err_t_rms,
         "ref_err_uv_texels_rms" => &mut m.ref_err_uv_texels_rms,
         "missed_rate" => &mut m.missed_rate,
+        "false_hit_rate" => &mut m.false_hit_rate,
         "avg_iterations" => &mut m.avg_iterations,
         "avg_fetches" => &mut m.avg_fetches,
         _ => return,

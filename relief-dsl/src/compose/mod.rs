@@ -235,6 +235,18 @@ pub struct Options {
     /// depth of the hit point `(uv, (z - 1)·depth_scale)` under `params.view_proj`, so that
     /// a depth buffer holds the relief's surface, not the quad's.
     pub frag_depth: bool,
+    /// `silhouette=clip`: a hit whose (u, v) leaves the quad's square `[0, tiling]²` is no
+    /// hit. The fragment entry discards the pixel, so the relief's outline shows at the edge
+    /// of the quad; the probe reports the raw hit with `clipped = 1`. Meant for scenes with
+    /// clamp edges (the runtime refuses repeat edges).
+    pub silhouette_clip: bool,
+}
+
+/// Whether the hit's (u, v) lies outside the quad's square `[0, tiling]²` (`params.quad.x`
+/// is the tiling): the test of `silhouette=clip`, the same in the fragment and the probe.
+fn outside_square<'a>(s: &'a Stage<'a>, uv: Val<'a, Vec2>) -> Val<'a, bool> {
+    let tiling = s.param::<Vec4>(Param::Quad).x();
+    uv.x().lt(0.0) | uv.y().lt(0.0) | uv.x().gt(tiling) | uv.y().gt(tiling)
 }
 
 /// The fragment output with a depth: `color @location(0)`, `depth @builtin(frag_depth)`.
@@ -268,6 +280,9 @@ fn fragment_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns, options: &Options) 
     let ray = Ray { origin: world, dir, cos_view: -view.z() };
     let rv = ray_value(&s, ty, &ray);
     let traced = hit_from(&s, s.call(fns.trace, &[rv], true).unwrap());
+    if options.silhouette_clip {
+        s.if_(outside_square(&s, traced.uv), |s| s.discard());
+    }
     // The pixel is drawn inside the volume whatever the search returned (the probe, not
     // this entry, measures the raw result).
     let hit = Hit::at_found(&ray, traced.t.clamp(0.0, ray.t_max()), traced.found);
@@ -328,7 +343,7 @@ fn storage_array(m: &ModuleCtx, name: &str, item: Handle<naga::Type>, binding: u
     })
 }
 
-fn probe_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint {
+fn probe_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns, options: &Options) -> naga::EntryPoint {
     let ray_rec = m.record_ty("ProbeRay", &ProbeRay::MEMBERS);
     let hit_rec = m.record_ty("ProbeHit", &ProbeHit::MEMBERS);
     let rays = storage_array(m, "rays", ray_rec, binding::RAYS, false);
@@ -371,6 +386,7 @@ fn probe_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint {
     let out = s.element_ptr(s.global_ptr(hits), index.handle());
     let [coarse_steps, refine_steps, fetches] = counters.map(|c| s.load::<u32>(s.global_ptr(c)));
     let converged = s.select(hit.found, 1u32, 0u32);
+    let clipped = if options.silhouette_clip { s.select(outside_square(&s, hit.uv), 1u32, 0u32) } else { s.lit_u32(0) };
     let values = [
         hit.t.handle(),
         hit.uv.x().handle(),
@@ -380,6 +396,7 @@ fn probe_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint {
         refine_steps.handle(),
         fetches.handle(),
         converged.handle(),
+        clipped.handle(),
     ];
     for (i, v) in values.into_iter().enumerate() {
         s.store(s.member_ptr(out, i as u32), v);
@@ -401,7 +418,7 @@ pub fn build_module_with(p: &Pipeline, options: &Options) -> Result<Module, Comp
     let counted = build_stage_fns(&m, &ty, p, true)?;
     let vs = vertex_entry(&m);
     let fs = fragment_entry(&m, &ty, &plain, options);
-    let cs = probe_entry(&m, &ty, &counted);
+    let cs = probe_entry(&m, &ty, &counted, options);
     let mut module = m.finish();
     module.entry_points.extend([vs, fs, cs]);
     Ok(module)

@@ -453,4 +453,8 @@ impl<'a> Stage<'a> {
     pub(crate) fn ret(&self) {
         self.stmt(Statement::Return { value: None });
     }
+    /// Discards the fragment (`discard` in WGSL and GLSL): valid in a fragment entry only.
+    pub(crate) fn discard(&self) {
+        self.stmt(Statement::Kill);
+    }
 }

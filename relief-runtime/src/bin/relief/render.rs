@@ -71,13 +71,13 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create output folder {}", a.out.display()))?;
     let g = Gpu::new()?;
     let mut prep = Prepared::new(&g, scene, a.size)?;
-    let options = relief_dsl::compose::Options { frag_depth: a.write_depth };
+    let options = relief_dsl::compose::Options { frag_depth: a.write_depth, ..Default::default() };
     let measured = measure_with(&g, &mut prep, &pipeline, &options, 5, a.frames)?;
     write_images(&a.out, &prep, &measured)?;
     if let Some(depth) = &measured.frame.depth {
         write_depth(&a.out, a.size, depth)?;
     }
-    let (m, rays, hits, refs) = (&measured.metrics, &prep.rays, &measured.hits, &prep.refs);
+    let (m, rays, hits, refs) = (&measured.metrics, &prep.rays, &measured.hits, &measured.refs);
     // The metrics, then the scene's parameters as measured (with the overrides applied).
     let mut json = serde_json::to_value(m)?;
     let s = &prep.scene;
@@ -88,12 +88,12 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     write_atomic(&a.out.join("metrics.json"), serde_json::to_string_pretty(&json)?.as_bytes())?;
     if a.dump_hits {
         let mut csv = Vec::new();
-        writeln!(csv, "x,y,origin_u,origin_v,dir_x,dir_y,dir_z,t,u,v,z,t_ref,u_ref,v_ref,coarse_steps,refine_steps,fetches,converged")?;
+        writeln!(csv, "x,y,origin_u,origin_v,dir_x,dir_y,dir_z,t,u,v,z,t_ref,u_ref,v_ref,coarse_steps,refine_steps,fetches,converged,clipped")?;
         for ((r, h), rf) in rays.iter().zip(hits).zip(refs) {
             let (tr, ur, vr) = rf.map(|x| (x.t.to_string(), x.u.to_string(), x.v.to_string())).unwrap_or_default();
             writeln!(
                 csv,
-                "{},{},{},{},{},{},{},{},{},{},{},{tr},{ur},{vr},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{},{tr},{ur},{vr},{},{},{},{},{}",
                 r.x,
                 r.y,
                 r.origin[0],
@@ -108,7 +108,8 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
                 h.coarse_steps,
                 h.refine_steps,
                 h.fetches,
-                h.converged
+                h.converged,
+                h.clipped
             )?;
         }
         write_atomic(&a.out.join("hits.csv"), &csv)?;
