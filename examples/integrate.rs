@@ -7,12 +7,16 @@
 //! library's header lists them. The quad lies in tangent space (tangent = +x, bitangent = +y,
 //! normal = +z), so the view direction in tangent space is the world one.
 //!
+//! Pixel depth offset: the fragment moves its depth to the hit with the library's
+//! `depth_offset` (the distance behind the polygon along the unit view ray), so the depth
+//! attachment holds the relief's surface and other geometry intersects it correctly.
+//!
 //! `cargo run --release --example integrate -- 'linear(32)+binary(5)+shadow=soft(16)' scene:lion 256 out.png`
 
 use std::path::Path;
 
 use relief::dsl::emit::{self, LibraryFiles, LibraryOptions};
-use relief::runtime::gpu::{Gpu, SceneTextures};
+use relief::runtime::gpu::{attachment, Gpu, Readback, SceneTextures};
 use relief::runtime::heightmap::EdgeMode;
 use relief::runtime::scene::Scene;
 use relief::Pipeline;
@@ -44,9 +48,17 @@ struct VertexOut {
     return VertexOut(camera.view_proj * vec4(v.position, 1.0), v.position, v.uv);
 }
 
-@fragment fn fs(in: VertexOut) -> @location(0) vec4<f32> {
+struct FragmentOut {
+    @location(0) color: vec4<f32>,
+    @builtin(frag_depth) depth: f32,
+};
+
+@fragment fn fs(in: VertexOut) -> FragmentOut {
     let depth = camera.eye.w;
-    let hit = relief_trace(in.uv, normalize(in.world - camera.eye.xyz), depth);
+    let view = normalize(in.world - camera.eye.xyz);
+    let hit = relief_trace(in.uv, view, depth);
+    // Pixel depth offset: the hit lies `depth_offset` behind the polygon along the view ray.
+    let at = camera.view_proj * vec4(in.world + view * hit.depth_offset, 1.0);
     let to_light = camera.light.xyz;
     let visibility = SHADOW;
     let occlusion = AO;
@@ -54,7 +66,7 @@ struct VertexOut {
     let albedo = textureSampleLevel(albedo_tex, material_sampler, hit.uv, 0.0).rgb;
     let ambient = camera.light.w;
     let color = albedo * (ambient * occlusion + (1.0 - ambient) * max(dot(n, to_light), 0.0) * visibility);
-    return vec4(color, 1.0);
+    return FragmentOut(vec4(color, 1.0), at.z / at.w);
 }
 "#;
 
@@ -84,9 +96,17 @@ pub fn shader_source(lib: &LibraryFiles) -> String {
     format!("{}\n{material}", lib.wgsl)
 }
 
-/// Renders `pipeline` on `scene` at `size²` pixels through the material shader; returns
-/// RGBA8 (sRGB) rows, top row first.
-pub fn run(pipeline: &Pipeline, scene: &Scene, size: u32) -> anyhow::Result<Vec<u8>> {
+/// A rendered frame.
+pub struct Frame {
+    /// RGBA8 (sRGB) rows, top row first.
+    pub rgba: Vec<u8>,
+    /// The depth attachment (NDC depth, cleared to 1), row-major, top row first.
+    pub depth: Vec<f32>,
+}
+
+/// Renders `pipeline` on `scene` at `size²` pixels through the material shader, with a
+/// depth attachment the fragment writes the hit's depth to.
+pub fn run(pipeline: &Pipeline, scene: &Scene, size: u32) -> anyhow::Result<Frame> {
     let gpu = Gpu::new()?;
     let lib = emit::library(pipeline, &LibraryOptions { group: 1, binding: 0, edge_clamp: scene.edge == EdgeMode::Clamp, ..Default::default() })?;
     let mut tex = SceneTextures::new(&gpu, scene);
@@ -98,6 +118,7 @@ pub fn run(pipeline: &Pipeline, scene: &Scene, size: u32) -> anyhow::Result<Vec<
         })
     })?;
     const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+    const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
     let pipe = gpu.checked(|| {
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("material"),
@@ -113,7 +134,13 @@ pub fn run(pipeline: &Pipeline, scene: &Scene, size: u32) -> anyhow::Result<Vec<
                 })],
             },
             primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleList, ..Default::default() },
-            depth_stencil: None,
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
                 module: &module,
@@ -185,24 +212,10 @@ pub fn run(pipeline: &Pipeline, scene: &Scene, size: u32) -> anyhow::Result<Vec<
         gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("relief"), layout: &pipe.get_bind_group_layout(1), entries: &entries })
     })?;
 
-    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("frame"),
-        size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+    let target = attachment(&gpu, "frame", size, FORMAT);
     let view = target.create_view(&Default::default());
-    let row = (size * 4).div_ceil(256) * 256;
-    let pixels = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size: (row * size) as u64,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
+    let depth_target = attachment(&gpu, "depth", size, DEPTH_FORMAT);
+    let depth_view = depth_target.create_view(&Default::default());
     let mut enc = gpu.device.create_command_encoder(&Default::default());
     {
         let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -213,7 +226,11 @@ pub fn run(pipeline: &Pipeline, scene: &Scene, size: u32) -> anyhow::Result<Vec<
                 resolve_target: None,
                 ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color { r: 0.02, g: 0.02, b: 0.03, a: 1.0 }), store: wgpu::StoreOp::Store },
             })],
-            depth_stencil_attachment: None,
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth_view,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                stencil_ops: None,
+            }),
             timestamp_writes: None,
             occlusion_query_set: None,
             multiview_mask: None,
@@ -224,21 +241,10 @@ pub fn run(pipeline: &Pipeline, scene: &Scene, size: u32) -> anyhow::Result<Vec<
         pass.set_vertex_buffer(0, vbuf.slice(..));
         pass.draw(0..6, 0..1);
     }
-    enc.copy_texture_to_buffer(
-        target.as_image_copy(),
-        wgpu::TexelCopyBufferInfo {
-            buffer: &pixels,
-            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(size) },
-        },
-        wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
-    );
+    let color = Readback::new(&gpu, &mut enc, &target, wgpu::TextureAspect::All, size);
+    let depth = Readback::new(&gpu, &mut enc, &depth_target, wgpu::TextureAspect::DepthOnly, size);
     gpu.queue.submit([enc.finish()]);
-    let padded = gpu.read_buffer(&pixels)?;
-    let mut rgba = Vec::with_capacity((size * size * 4) as usize);
-    for y in 0..size as usize {
-        rgba.extend_from_slice(&padded[y * row as usize..y * row as usize + size as usize * 4]);
-    }
-    Ok(rgba)
+    Ok(Frame { rgba: color.read(&gpu)?, depth: bytemuck::pod_collect_to_vec(&depth.read(&gpu)?) })
 }
 
 #[allow(dead_code)]
@@ -248,8 +254,8 @@ fn main() -> anyhow::Result<()> {
     let scene = relief::runtime::scene::scene_from_arg(args.get(1).map(String::as_str).unwrap_or("scene:lion"))?;
     let size: u32 = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(256);
     let out = args.get(3).map(String::as_str).unwrap_or("integrate.png");
-    let rgba = run(&pipeline, &scene, size)?;
-    relief::runtime::io::png::write_rgba8(Path::new(out), size, size, rgba)?;
+    let frame = run(&pipeline, &scene, size)?;
+    relief::runtime::io::png::write_rgba8(Path::new(out), size, size, frame.rgba)?;
     println!("wrote {out}: {pipeline} on {} at {size}² through a material shader that imports the library", scene.name);
     Ok(())
 }

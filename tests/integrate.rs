@@ -33,7 +33,8 @@ fn the_integration_example_matches_relief_render() {
     ] {
         let p: Pipeline = pipe.parse().unwrap();
         let scene = Scene::by_name(scene, Some(64)).unwrap();
-        let ours = integrate::run(&p, &scene, size).unwrap();
+        let frame = integrate::run(&p, &scene, size).unwrap();
+        let ours = frame.rgba;
         let theirs = relief_render(&p, &scene, size);
         assert_eq!(ours.len(), theirs.len());
         let (mut sum, mut n, mut big) = (0u64, 0u64, 0u64);
@@ -184,5 +185,25 @@ struct Query { uv: vec2<f32>, depth_scale: f32, pad: f32, view: vec4<f32> };
         assert!((r[2] - 0.5).abs() <= step + 1e-5, "height: {what}");
         assert!((r[4] - s).abs() <= s_tol, "depth_offset, expected {s}: {what}");
         assert!((r[0] - expect_uv[0]).abs() <= uv_tol && (r[1] - expect_uv[1]).abs() <= uv_tol, "uv, expected {expect_uv:?}: {what}");
+    }
+}
+
+/// The example's pixel depth offset (the library's `depth_offset`, written as the fragment's
+/// depth) puts an exact method's depth buffer on the exact reference's hits: NDC depth within
+/// 1e-4 (the goal `relief render --write-depth` has for exact methods), on every pixel.
+#[test]
+fn the_integration_examples_depth_offset_matches_the_reference_hits() {
+    let size = 96;
+    let p: Pipeline = "maxmip(96)".parse().unwrap();
+    for name in ["shapes", "rock_bump"] {
+        let scene = Scene::by_name(name, Some(64)).unwrap();
+        let frame = integrate::run(&p, &scene, size).unwrap();
+        let g = Gpu::new().unwrap();
+        let prep = relief::runtime::measure::Prepared::new(&g, scene, size).unwrap();
+        let errors = relief::runtime::measure::depth_errors(&prep, &prep.refs, &frame.depth);
+        let worst = errors.iter().copied().fold(0.0, f64::max);
+        println!("{name}: depth_offset depth against the reference: max |error| {worst:.2e} over {} pixels", errors.len());
+        assert!(errors.len() > (size * size / 3) as usize, "{name}: the quad covers the frame");
+        assert!(worst <= 1e-4, "{name}: NDC depth off the reference hit by {worst}");
     }
 }

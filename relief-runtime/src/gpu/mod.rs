@@ -12,7 +12,7 @@ mod resources;
 pub use device::{Gpu, GpuError};
 pub use probe::{probe, GpuHit};
 pub use relief_dsl::abi::OUTSIDE_TOLERANCE;
-pub use render::{render, RenderResult};
+pub use render::{attachment, render, Readback, RenderResult};
 pub use resources::{SceneTextures, AMBIENT, MAX_RATIO};
 pub use crate::maps::MapKey;
 

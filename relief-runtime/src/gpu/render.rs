@@ -17,8 +17,9 @@ pub struct RenderResult {
 
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
-/// A `size²` render attachment that can be copied out.
-fn attachment(gpu: &Gpu, label: &str, size: u32, format: wgpu::TextureFormat) -> wgpu::Texture {
+/// A `size²` render attachment that can be copied out (with [`Readback`]): for headless
+/// programs that draw with their own pipelines, as `examples/integrate.rs` does.
+pub fn attachment(gpu: &Gpu, label: &str, size: u32, format: wgpu::TextureFormat) -> wgpu::Texture {
     gpu.device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
@@ -161,16 +162,17 @@ pub fn render(
     Ok(RenderResult { frame_ms, rgba, size, depth })
 }
 
-/// A copy of a `size²` attachment of 4-byte texels into a mappable buffer, rows padded to
-/// wgpu's 256-byte alignment.
-struct Readback {
+/// A copy of a `size²` attachment of 4-byte texels (RGBA8, or one aspect such as a
+/// `Depth32Float` depth) into a mappable buffer, rows padded to wgpu's 256-byte alignment.
+pub struct Readback {
     buffer: wgpu::Buffer,
     row: u32,
     size: u32,
 }
 
 impl Readback {
-    fn new(gpu: &Gpu, enc: &mut wgpu::CommandEncoder, texture: &wgpu::Texture, aspect: wgpu::TextureAspect, size: u32) -> Readback {
+    /// Records the copy of `texture`'s `aspect` into `enc`; submit `enc` before [`Readback::read`].
+    pub fn new(gpu: &Gpu, enc: &mut wgpu::CommandEncoder, texture: &wgpu::Texture, aspect: wgpu::TextureAspect, size: u32) -> Readback {
         let row = (size * 4).div_ceil(256) * 256;
         let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: None,
@@ -189,8 +191,8 @@ impl Readback {
         Readback { buffer, row, size }
     }
 
-    /// The texels' bytes, rows unpadded.
-    fn read(&self, gpu: &Gpu) -> Result<Vec<u8>, GpuError> {
+    /// The texels' bytes, rows unpadded, top row first.
+    pub fn read(&self, gpu: &Gpu) -> Result<Vec<u8>, GpuError> {
         let padded = gpu.read_buffer(&self.buffer)?;
         let (row, width) = (self.row as usize, self.size as usize * 4);
         Ok((0..self.size as usize).flat_map(|y| padded[y * row..y * row + width].iter().copied()).collect())
