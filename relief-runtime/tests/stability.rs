@@ -41,7 +41,7 @@ fn the_scores_see_what_they_measure() {
     let refs = relief_runtime::reference::reference_hits(&flat1, &rays, relief_runtime::reference::Sampling::Bilinear).unwrap();
     let at_entry: Vec<GpuHit> = rays
         .iter()
-        .map(|r| GpuHit { t: 0.0, u: r.origin[0], v: r.origin[1], z: 1.0, coarse_steps: 1, refine_steps: 0, fetches: 1, converged: 1 })
+        .map(|r| GpuHit { t: 0.0, u: r.origin[0], v: r.origin[1], z: 1.0, coarse_steps: 1, refine_steps: 0, fetches: 1, converged: 1, clipped: 0 })
         .collect();
     let c = stability::score("entry", &flat1, 60.0, &rays, &at_entry, &refs);
     assert_eq!((c.nan_count, c.outside_count, c.missed_rate, c.nonconverged_rate, c.above_surface_rate), (0, 0, 0.0, 0.0, 0.0));
