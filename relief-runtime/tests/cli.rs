@@ -41,7 +41,7 @@ fn render_writes_frame_error_metrics_and_hits() {
     for key in [
         "pipeline", "scene", "size", "adapter", "frame_ms_median", "frame_ms_p10", "frame_ms_p90", "mse_dissertation",
         "ref_err_t_rms", "ref_err_uv_texels_rms", "missed_rate", "nan_count", "avg_iterations", "avg_fetches", "frame_ms_mean",
-        "mse_dissertation_mean", "outside_count", "nonconverged_rate", "avg_coarse_steps", "avg_refine_steps",
+        "mse_dissertation_mean", "outside_count", "nonconverged_rate", "avg_coarse_steps", "avg_refine_steps", "false_hit_rate",
     ] {
         assert!(m.get(key).is_some(), "metrics.json lacks {key}");
     }
@@ -51,7 +51,7 @@ fn render_writes_frame_error_metrics_and_hits() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next().unwrap(),
-        "x,y,origin_u,origin_v,dir_x,dir_y,dir_z,t,u,v,z,t_ref,u_ref,v_ref,coarse_steps,refine_steps,fetches,converged"
+        "x,y,origin_u,origin_v,dir_x,dir_y,dir_z,t,u,v,z,t_ref,u_ref,v_ref,coarse_steps,refine_steps,fetches,converged,clipped"
     );
     let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
     assert!(rows.len() > 32 * 32 / 2);
