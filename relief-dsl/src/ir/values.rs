@@ -141,6 +141,21 @@ impl<'a, T: super::ops::Ordered> Var<'a, T> {
     }
 }
 
+/// `host ∘ Var` is `host ∘ Var.get()` for host constants of the listed types.
+macro_rules! host_lhs {
+    ($tr:ident $f:ident: $($lit:ty),*) => {$(
+        impl<'a, T: Ty> std::ops::$tr<Var<'a, T>> for $lit
+        where
+            $lit: std::ops::$tr<Val<'a, T>>,
+        {
+            type Output = <$lit as std::ops::$tr<Val<'a, T>>>::Output;
+            fn $f(self, rhs: Var<'a, T>) -> Self::Output {
+                std::ops::$tr::$f(self, rhs.get())
+            }
+        }
+    )*};
+}
+
 /// `Var ∘ x` is `Var.get() ∘ x`, `x ∘ Var` is `x ∘ Var.get()` for every operator `Val` has, and
 /// `var ∘= x` stores `var ∘ x` (a load, the operation, a store).
 macro_rules! var_ops {
@@ -163,24 +178,7 @@ macro_rules! var_ops {
                 std::ops::$tr::$f(self, rhs.get())
             }
         }
-        impl<'a, T: Ty> std::ops::$tr<Var<'a, T>> for f32
-        where
-            f32: std::ops::$tr<Val<'a, T>>,
-        {
-            type Output = <f32 as std::ops::$tr<Val<'a, T>>>::Output;
-            fn $f(self, rhs: Var<'a, T>) -> Self::Output {
-                std::ops::$tr::$f(self, rhs.get())
-            }
-        }
-        impl<'a, T: Ty> std::ops::$tr<Var<'a, T>> for u32
-        where
-            u32: std::ops::$tr<Val<'a, T>>,
-        {
-            type Output = <u32 as std::ops::$tr<Val<'a, T>>>::Output;
-            fn $f(self, rhs: Var<'a, T>) -> Self::Output {
-                std::ops::$tr::$f(self, rhs.get())
-            }
-        }
+        host_lhs!($tr $f: f32, u32);
         impl<'a, T: Ty, R> std::ops::$tr_assign<R> for Var<'a, T>
         where
             Val<'a, T>: std::ops::$tr<R, Output = Val<'a, T>>,
