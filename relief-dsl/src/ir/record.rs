@@ -1,11 +1,11 @@
-//! Structs that cross function boundaries: a Rust struct of [`Val`]s in stage code, a naga
+//! Structs that cross function boundaries: a Rust struct of [`Val`](super::Val)s in stage code, a naga
 //! struct in the module.
 
 use naga::{Expression, Handle, TypeInner};
 
 use super::{ModuleCtx, Stage};
 
-/// A Rust struct of [`Val`]s that is one struct value in the shader (the stages' ray, bracket
+/// A Rust struct of [`Val`](super::Val)s that is one struct value in the shader (the stages' ray, bracket
 /// and hit): how it is declared, packed into one value and unpacked again, so that a record
 /// passes into and out of a function whole. Implemented with the crate's `record!` macro.
 pub trait Record<'a>: Sized {
