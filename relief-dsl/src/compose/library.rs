@@ -26,11 +26,11 @@
 //! Everything the stages build is renamed under the prefix `P` so that several libraries
 //! compose in one shader: the public functions `P_trace`, `P_shadow`, `P_ao`, the globals
 //! `P_height`, …, the stage functions `P_impl_coarse_linear`, …, and the struct types
-//! `PHit` (the public hit, `P` in CamelCase), `PRay`, `PBracket`, `PStageHit`.
+//! `PHit` (the public hit, `P` in CamelCase), `PRay`, `PBracket`, `PHit`.
 
 use naga::{Handle, Module, TypeInner};
 
-use crate::compose::{build_stage_fns, hit_from, ray_value, Types};
+use crate::compose::build_stage_fns;
 use crate::ir::{ModuleCtx, Ty, Vec2, Vec3, Vec4};
 use crate::spec::Pipeline;
 use crate::stage::{Hit, Ray};
@@ -168,8 +168,7 @@ pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileErro
         )
     };
     m.edge_clamp_constant.set(Some(edge));
-    let ty = Types::new(&m);
-    let fns = build_stage_fns(&m, &ty, p, false)?;
+    let fns = build_stage_fns(&m, p, false)?;
     let f32_ty = m.ty(f32::inner());
     let vec2_ty = m.ty(Vec2::inner());
     let vec3_ty = m.ty(Vec3::inner());
@@ -189,8 +188,7 @@ pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileErro
         let cos_view = s.name("cos_view", -view.z());
         let dir = s.vec3(view.xy() * (depth_scale / cos_view), -1.0);
         let ray = Ray { origin: uv, dir, cos_view };
-        let rv = ray_value(&s, &ty, &ray);
-        let traced = hit_from(&s, s.call(fns.trace, &[rv], true).unwrap());
+        let traced: Hit = s.unpack(s.call(fns.trace, &[s.pack(&ray)], true).unwrap());
         let t = traced.t.clamp(0.0, ray.t_max());
         let hit = Hit::at_found(&ray, t, traced.found);
         let depth_offset = t * depth_scale / cos_view;
@@ -200,11 +198,10 @@ pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileErro
     }
     // The stages' hit from the public one (`found`: the public hit is always drawn).
     let stage_hit = |s: &crate::ir::Stage<'_>, h: Handle<naga::Expression>| {
-        let uv = s.field::<Vec2>(h, 0).handle();
-        let height = s.field::<f32>(h, 1).handle();
-        let t = s.field::<f32>(h, 2).handle();
-        let found = s.lit_bool(true).handle();
-        s.make_struct(ty.hit, &[t, uv, height, found])
+        let uv = s.field::<Vec2>(h, 0);
+        let z = s.field::<f32>(h, 1);
+        let t = s.field::<f32>(h, 2);
+        s.pack(&Hit { t, uv, z, found: s.lit_bool(true) })
     };
     // relief_shadow(hit, light_ts, depth_scale) -> f32: the light ray in the stages'
     // normalized space, as the render entry builds it.

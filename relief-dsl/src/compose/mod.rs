@@ -31,40 +31,6 @@ pub struct Compiled {
     pub info: naga::valid::ModuleInfo,
 }
 
-/// Struct types shared by the stage functions.
-pub(crate) struct Types {
-    pub(crate) ray: Handle<naga::Type>,
-    pub(crate) bracket: Handle<naga::Type>,
-    pub(crate) hit: Handle<naga::Type>,
-}
-
-fn f32_ty() -> TypeInner {
-    f32::inner()
-}
-
-impl Types {
-    pub(crate) fn new(m: &ModuleCtx) -> Self {
-        Types {
-            ray: m.struct_ty("Ray", &[("origin", Vec2::inner()), ("dir", Vec3::inner()), ("cos_view", f32_ty())]),
-            bracket: m.struct_ty("Bracket", &[("above", f32_ty()), ("below", f32_ty()), ("found", bool::inner())]),
-            hit: m.struct_ty("Hit", &[("t", f32_ty()), ("uv", Vec2::inner()), ("z", f32_ty()), ("found", bool::inner())]),
-        }
-    }
-}
-
-fn ray_from<'a>(s: &'a Stage<'a>, h: Handle<naga::Expression>) -> Ray<'a> {
-    Ray { origin: s.field(h, 0), dir: s.field(h, 1), cos_view: s.field(h, 2) }
-}
-pub(crate) fn ray_value<'a>(s: &'a Stage<'a>, ty: &Types, r: &Ray<'a>) -> Handle<naga::Expression> {
-    s.make_struct(ty.ray, &[r.origin.handle(), r.dir.handle(), r.cos_view.handle()])
-}
-pub(crate) fn hit_from<'a>(s: &'a Stage<'a>, h: Handle<naga::Expression>) -> Hit<'a> {
-    Hit { t: s.field(h, 0), uv: s.field(h, 1), z: s.field(h, 2), found: s.field(h, 3) }
-}
-fn hit_value<'a>(s: &'a Stage<'a>, ty: &Types, h: &Hit<'a>) -> Handle<naga::Expression> {
-    s.make_struct(ty.hit, &[h.t.handle(), h.uv.handle(), h.z.handle(), h.found.handle()])
-}
-
 /// The stage functions of one variant (plain or counted).
 pub(crate) struct StageFns {
     pub(crate) trace: Handle<naga::Function>,
@@ -90,49 +56,45 @@ fn wrap_err(slot: Slot, spec: &StageSpec) -> impl Fn(CompileError) -> CompileErr
     }
 }
 
-pub(crate) fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: bool) -> Result<StageFns, CompileError> {
+pub(crate) fn build_stage_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Result<StageFns, CompileError> {
     m.counting.set(counted);
+    let ray_ty = m.record_type::<Ray>();
+    let hit_ty = m.record_type::<Hit>();
     // coarse(ray) -> Bracket
     m.step_counter.set(crate::ir::counter::COARSE_STEPS);
     let coarse = {
-        let s = m.function(&fn_name(Slot::Coarse, &p.coarse, counted), &[("ray", ty.ray, None)]);
-        let arg = s.arg::<Vec4>(0).handle();
-        let ray = ray_from(&s, arg);
+        let s = m.function(&fn_name(Slot::Coarse, &p.coarse, counted), &[("ray", ray_ty, None)]);
+        let ray: Ray = s.arg_record(0);
         let b = stage::coarse::build(&s, &ray, &p.coarse).map_err(wrap_err(Slot::Coarse, &p.coarse))?;
-        let v = s.make_struct(ty.bracket, &[b.above.handle(), b.below.handle(), b.found.handle()]);
-        let f = s.finish(Some((ty.bracket, None, v)));
-        m.add_function(f)
+        m.add_function(s.finish_record(&b))
     };
     // refine(ray, bracket) -> Hit
     m.step_counter.set(crate::ir::counter::REFINE_STEPS);
     let refine = {
         let s = m.function(
             &fn_name(Slot::Refine, &p.refine, counted),
-            &[("ray", ty.ray, None), ("bracket", ty.bracket, None)],
+            &[("ray", ray_ty, None), ("bracket", m.record_type::<Bracket>(), None)],
         );
-        let ray = ray_from(&s, s.arg::<Vec4>(0).handle());
-        let bh = s.arg::<Vec4>(1).handle();
-        let b = Bracket::searched(s.field(bh, 0), s.field(bh, 1), s.field(bh, 2));
+        let ray: Ray = s.arg_record(0);
+        let b: Bracket = s.arg_record(1);
         let hit = stage::refine::build(&s, &ray, b, &p.refine).map_err(wrap_err(Slot::Refine, &p.refine))?;
-        let v = hit_value(&s, ty, &hit);
-        let f = s.finish(Some((ty.hit, None, v)));
-        m.add_function(f)
+        m.add_function(s.finish_record(&hit))
     };
     // trace(ray) -> Hit: the refinement runs on a bracket that holds a crossing; a search
     // that found none ends at the last point it knew to be above the surface.
     let trace = {
         let name = if counted { "trace_counted" } else { "trace" };
-        let s = m.function(name, &[("ray", ty.ray, None)]);
+        let s = m.function(name, &[("ray", ray_ty, None)]);
         let ray_h = s.arg::<Vec4>(0).handle();
-        let b = s.call(coarse, &[ray_h], true).unwrap();
-        let found: Val<bool> = s.field(b, 2);
-        s.if_(!found, |s| {
-            let ray = ray_from(s, ray_h);
-            let above = Hit::at_found(&ray, s.field(b, 0), found);
-            s.ret_handle(Some(hit_value(s, ty, &above)));
+        let b_h = s.call(coarse, &[ray_h], true).unwrap();
+        let b: Bracket = s.unpack(b_h);
+        s.if_(!b.found, |s| {
+            let ray: Ray = s.unpack(ray_h);
+            let above = Hit::at_found(&ray, b.above, b.found);
+            s.ret_handle(Some(s.pack(&above)));
         });
-        let h = s.call(refine, &[ray_h, b], true).unwrap();
-        let f = s.finish(Some((ty.hit, None, h)));
+        let h = s.call(refine, &[ray_h, b_h], true).unwrap();
+        let f = s.finish(Some((m.record_type::<Hit>(), None, h)));
         m.add_function(f)
     };
     m.counting.set(false);
@@ -145,9 +107,9 @@ pub(crate) fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: 
     } else {
         let s = m.function(
             &fn_name(Slot::Shadow, &p.shadow, counted),
-            &[("hit", ty.hit, None), ("light", m.ty(Vec3::inner()), None), ("light_cos", m.ty(f32::inner()), None)],
+            &[("hit", hit_ty, None), ("light", m.ty(Vec3::inner()), None), ("light_cos", m.ty(f32::inner()), None)],
         );
-        let hit = hit_from(&s, s.arg::<Vec4>(0).handle());
+        let hit: Hit = s.arg_record(0);
         let light = stage::Light { dir: s.arg::<Vec3>(1), cos: s.arg::<f32>(2) };
         let v = stage::shadow::build(&s, &hit, &light, &p.shadow).map_err(wrap_err(Slot::Shadow, &p.shadow))?;
         let f = s.finish(Some((m.ty(f32::inner()), None, v.handle())));
@@ -156,8 +118,8 @@ pub(crate) fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: 
     let ao = if p.ao.is_none() {
         None
     } else {
-        let s = m.function(&fn_name(Slot::Ao, &p.ao, counted), &[("hit", ty.hit, None)]);
-        let hit = hit_from(&s, s.arg::<Vec4>(0).handle());
+        let s = m.function(&fn_name(Slot::Ao, &p.ao, counted), &[("hit", hit_ty, None)]);
+        let hit: Hit = s.arg_record(0);
         let v = stage::ao::build(&s, &hit, &p.ao).map_err(wrap_err(Slot::Ao, &p.ao))?;
         let f = s.finish(Some((m.ty(f32::inner()), None, v.handle())));
         Some(m.add_function(f))
@@ -268,7 +230,7 @@ fn fragment_output_with_depth(m: &ModuleCtx) -> Handle<naga::Type> {
     )
 }
 
-fn fragment_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns, options: &Options) -> naga::EntryPoint {
+fn fragment_entry(m: &ModuleCtx, fns: &StageFns, options: &Options) -> naga::EntryPoint {
     let loc = location(0);
     let s = m.function("fs_main", &[("world", m.ty(Vec2::inner()), Some(loc))]);
     let world = s.arg::<Vec2>(0);
@@ -278,15 +240,14 @@ fn fragment_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns, options: &Options) 
     let view = (s.vec3(world, 0.0) - camera.xyz()).normalize();
     let dir = s.vec3(view.xy() * (depth_scale / -view.z()), -1.0);
     let ray = Ray { origin: world, dir, cos_view: -view.z() };
-    let rv = ray_value(&s, ty, &ray);
-    let traced = hit_from(&s, s.call(fns.trace, &[rv], true).unwrap());
+    let traced: Hit = s.unpack(s.call(fns.trace, &[s.pack(&ray)], true).unwrap());
     if options.silhouette_clip {
         s.if_(outside_square(&s, traced.uv), |s| s.discard());
     }
     // The pixel is drawn inside the volume whatever the search returned (the probe, not
     // this entry, measures the raw result).
     let hit = Hit::at_found(&ray, traced.t.clamp(0.0, ray.t_max()), traced.found);
-    let hv = hit_value(&s, ty, &hit);
+    let hv = s.pack(&hit);
 
     let light = s.param::<Vec4>(Param::Light);
     let to_light = light.xyz();
@@ -343,7 +304,7 @@ fn storage_array(m: &ModuleCtx, name: &str, item: Handle<naga::Type>, binding: u
     })
 }
 
-fn probe_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns, options: &Options) -> naga::EntryPoint {
+fn probe_entry(m: &ModuleCtx, fns: &StageFns, options: &Options) -> naga::EntryPoint {
     let ray_rec = m.record_ty("ProbeRay", &ProbeRay::MEMBERS);
     let hit_rec = m.record_ty("ProbeHit", &ProbeHit::MEMBERS);
     let rays = storage_array(m, "rays", ray_rec, binding::RAYS, false);
@@ -381,8 +342,7 @@ fn probe_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns, options: &Options) -> 
         let zero = s.lit_u32(0);
         s.store(s.global_ptr(c), zero.handle());
     }
-    let rv = ray_value(&s, ty, &ray);
-    let hit = hit_from(&s, s.call(fns.trace, &[rv], true).unwrap());
+    let hit: Hit = s.unpack(s.call(fns.trace, &[s.pack(&ray)], true).unwrap());
     let out = s.element_ptr(s.global_ptr(hits), index.handle());
     let [coarse_steps, refine_steps, fetches] = counters.map(|c| s.load::<u32>(s.global_ptr(c)));
     let converged = s.select(hit.found, 1u32, 0u32);
@@ -413,12 +373,11 @@ pub fn build_module(p: &Pipeline) -> Result<Module, CompileError> {
 /// Builds the module for `p` with `options` (not yet validated).
 pub fn build_module_with(p: &Pipeline, options: &Options) -> Result<Module, CompileError> {
     let m = ModuleCtx::new();
-    let ty = Types::new(&m);
-    let plain = build_stage_fns(&m, &ty, p, false)?;
-    let counted = build_stage_fns(&m, &ty, p, true)?;
+    let plain = build_stage_fns(&m, p, false)?;
+    let counted = build_stage_fns(&m, p, true)?;
     let vs = vertex_entry(&m);
-    let fs = fragment_entry(&m, &ty, &plain, options);
-    let cs = probe_entry(&m, &ty, &counted, options);
+    let fs = fragment_entry(&m, &plain, options);
+    let cs = probe_entry(&m, &counted, options);
     let mut module = m.finish();
     module.entry_points.extend([vs, fs, cs]);
     Ok(module)

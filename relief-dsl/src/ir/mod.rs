@@ -14,6 +14,7 @@
 //! stages read.
 
 mod ops;
+mod record;
 mod types;
 mod values;
 
@@ -26,6 +27,9 @@ use naga::{
 
 pub use types::{Mat4, Ty, UVec2, UVec3, Vec2, Vec3, Vec4};
 pub use values::{IntoVal, Val, Var};
+pub use ops::{Float, IntoSame, Ordered};
+pub use record::Record;
+pub(crate) use record::record;
 
 /// Module-wide state shared by every function being built: the module itself and the
 /// resources already declared in it.
@@ -180,6 +184,78 @@ pub struct Stage<'a> {
     f: RefCell<FnState>,
 }
 
+/// The body of a loop ([`Stage::repeat`]): the function being built, inside the loop. Only
+/// here can stage code leave the loop or end a pass early, so that a `break_if` outside a
+/// loop does not compile:
+///
+/// ```
+/// # use relief_dsl::ir::Stage;
+/// fn inside<'a>(s: &'a Stage<'a>) {
+///     s.repeat(4, |l| l.break_if(l.lit_bool(true)));
+/// }
+/// ```
+///
+/// ```compile_fail
+/// # use relief_dsl::ir::Stage;
+/// fn outside<'a>(s: &'a Stage<'a>) {
+///     s.break_if(s.lit_bool(true)); // no `break_if` on a `Stage`: only a `Loop` has one
+/// }
+/// ```
+///
+/// `if_` and `if_else` on a `Loop` hand their branches the `Loop` too, so a branch can leave
+/// the loop. Like naga's (and WGSL's), a break or continue acts on the innermost loop.
+#[repr(transparent)]
+pub struct Loop<'a>(Stage<'a>);
+
+impl<'a> std::ops::Deref for Loop<'a> {
+    type Target = Stage<'a>;
+    fn deref(&self) -> &Stage<'a> {
+        &self.0
+    }
+}
+
+impl<'a> Loop<'a> {
+    /// The stage `s`, seen from inside a loop it is building.
+    fn of(s: &'a Stage<'a>) -> &'a Loop<'a> {
+        assert!(s.f.borrow().loop_depth > 0, "a loop token outside a loop");
+        // SAFETY: `Loop` is `repr(transparent)` over `Stage`, so the two have one layout, and
+        // the reference keeps the stage's lifetime.
+        unsafe { &*(s as *const Stage<'a> as *const Loop<'a>) }
+    }
+
+    fn jump_if(&'a self, cond: Val<'a, bool>, jump: Statement) {
+        assert!(self.f.borrow().loop_depth > 0, "a loop token used after its loop");
+        let accept = self.block(|s| s.stmt(jump));
+        self.stmt(Statement::If { condition: cond.handle(), accept, reject: Block::new() });
+    }
+
+    /// Leaves the innermost loop when `cond` holds.
+    pub fn break_if(&'a self, cond: Val<'a, bool>) {
+        self.jump_if(cond, Statement::Break)
+    }
+
+    /// Ends this pass of the innermost loop when `cond` holds (the pass counter still steps:
+    /// it lives in the loop's `continuing` block).
+    pub fn continue_if(&'a self, cond: Val<'a, bool>) {
+        self.jump_if(cond, Statement::Continue)
+    }
+
+    /// Ends this pass of the innermost loop (code after it in the pass does not run).
+    pub fn continue_(&'a self) {
+        self.stmt(Statement::Continue)
+    }
+
+    /// `if cond { then }`, the branch still inside the loop.
+    pub fn if_(&'a self, cond: Val<'a, bool>, then: impl FnOnce(&'a Loop<'a>)) {
+        self.0.if_(cond, |s| then(Loop::of(s)))
+    }
+
+    /// `if cond { then } else { otherwise }`, both branches still inside the loop.
+    pub fn if_else(&'a self, cond: Val<'a, bool>, then: impl FnOnce(&'a Loop<'a>), otherwise: impl FnOnce(&'a Loop<'a>)) {
+        self.0.if_else(cond, |s| then(Loop::of(s)), |s| otherwise(Loop::of(s)))
+    }
+}
+
 fn is_pre_emitted(e: &Expression) -> bool {
     // `CallResult` is produced by its `Call` statement and must not be emitted either.
     e.needs_pre_emit() || matches!(e, Expression::CallResult(_))
@@ -276,41 +352,40 @@ impl<'a> Stage<'a> {
     }
 
     /// `for _ in 0..n { body }`. In the probe variant every pass counts as one iteration.
-    pub fn repeat(&'a self, n: u32, body: impl FnOnce(&'a Self)) {
+    ///
+    /// The body receives the loop ([`Loop`]): a [`Stage`] (it derefs to one) that can also
+    /// leave the loop ([`Loop::break_if`]) or end the pass early ([`Loop::continue_if`]).
+    pub fn repeat(&'a self, n: u32, body: impl FnOnce(&'a Loop<'a>)) {
         self.repeat_until(n, None, body)
     }
 
     /// Like [`Stage::repeat`], but also stops once the pass count reaches `limit` (a run-time
     /// value never above `n`); `n` stays the static bound the loop is known to end by.
-    pub fn repeat_up_to(&'a self, n: u32, limit: Val<'a, u32>, body: impl FnOnce(&'a Self)) {
+    pub fn repeat_up_to(&'a self, n: u32, limit: Val<'a, u32>, body: impl FnOnce(&'a Loop<'a>)) {
         self.repeat_until(n, Some(limit), body)
     }
 
-    fn repeat_until(&'a self, n: u32, limit: Option<Val<'a, u32>>, body: impl FnOnce(&'a Self)) {
+    fn repeat_until(&'a self, n: u32, limit: Option<Val<'a, u32>>, body: impl FnOnce(&'a Loop<'a>)) {
         let i = self.var::<u32>("i", 0u32);
         self.f.borrow_mut().loop_depth += 1;
         let body_block = self.block(|s| {
+            let l = Loop::of(s);
             let i_now = i.get();
             let mut done = i_now.ge(n);
             if let Some(limit) = limit {
                 done = done | i_now.ge(limit);
             }
-            s.break_if(done);
+            l.break_if(done);
             if s.counting() {
                 s.count(s.ctx.step_counter.get());
             }
-            body(s);
+            body(l);
         });
-        let continuing = self.block(|_| i.set(i.get() + 1u32));
+        // The pass counter steps in naga's `continuing` block, which runs after every pass,
+        // a `continue` included.
+        let continuing = self.block(|_| i.set(i + 1u32));
         self.f.borrow_mut().loop_depth -= 1;
         self.stmt(Statement::Loop { body: body_block, continuing, break_if: None });
-    }
-
-    /// Leaves the innermost loop when `cond` holds.
-    pub fn break_if(&'a self, cond: Val<'a, bool>) {
-        assert!(self.f.borrow().loop_depth > 0, "break_if outside a loop");
-        let accept = self.block(|s| s.stmt(Statement::Break));
-        self.stmt(Statement::If { condition: cond.handle(), accept, reject: Block::new() });
     }
 
     /// `if cond { then }`.

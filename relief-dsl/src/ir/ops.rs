@@ -221,6 +221,11 @@ pub trait IntoSame<'a, T: Ty> {
     /// Converts.
     fn into_same(self, s: &'a Stage<'a>) -> Val<'a, T>;
 }
+impl<'a, T: Ty> IntoSame<'a, T> for super::Var<'a, T> {
+    fn into_same(self, _: &'a Stage<'a>) -> Val<'a, T> {
+        self.get()
+    }
+}
 impl<'a, T: Ty> IntoSame<'a, T> for Val<'a, T> {
     fn into_same(self, _: &'a Stage<'a>) -> Val<'a, T> {
         self

@@ -113,3 +113,126 @@ impl<'a, T: Ty> Var<'a, T> {
         self.s.stmt(Statement::Store { pointer: self.ptr, value: v.handle() });
     }
 }
+
+/// A variable reads as its current value wherever a value is expected: `t + step`,
+/// `t.ge(limit)`, `ray.at(t)`; the load is added where the expression is.
+impl<'a, T: Ty> IntoVal<'a, T> for Var<'a, T> {
+    fn into_val(self, _: &'a Stage<'a>) -> Val<'a, T> {
+        self.get()
+    }
+}
+
+impl<'a, T: super::ops::Ordered> Var<'a, T> {
+    /// `self < rhs`
+    pub fn lt(self, rhs: impl IntoVal<'a, T>) -> Val<'a, bool> {
+        self.get().lt(rhs)
+    }
+    /// `self <= rhs`
+    pub fn le(self, rhs: impl IntoVal<'a, T>) -> Val<'a, bool> {
+        self.get().le(rhs)
+    }
+    /// `self > rhs`
+    pub fn gt(self, rhs: impl IntoVal<'a, T>) -> Val<'a, bool> {
+        self.get().gt(rhs)
+    }
+    /// `self >= rhs`
+    pub fn ge(self, rhs: impl IntoVal<'a, T>) -> Val<'a, bool> {
+        self.get().ge(rhs)
+    }
+}
+
+/// `host ∘ Var` is `host ∘ Var.get()` for host constants of the listed types.
+macro_rules! host_lhs {
+    ($tr:ident $f:ident: $($lit:ty),*) => {$(
+        impl<'a, T: Ty> std::ops::$tr<Var<'a, T>> for $lit
+        where
+            $lit: std::ops::$tr<Val<'a, T>>,
+        {
+            type Output = <$lit as std::ops::$tr<Val<'a, T>>>::Output;
+            fn $f(self, rhs: Var<'a, T>) -> Self::Output {
+                std::ops::$tr::$f(self, rhs.get())
+            }
+        }
+    )*};
+}
+
+/// `Var ∘ x` is `Var.get() ∘ x`, `x ∘ Var` is `x ∘ Var.get()` for every operator `Val` has, and
+/// `var ∘= x` stores `var ∘ x` (a load, the operation, a store).
+macro_rules! var_ops {
+    ($($tr:ident $f:ident $tr_assign:ident $f_assign:ident),*) => {$(
+        impl<'a, T: Ty, R> std::ops::$tr<R> for Var<'a, T>
+        where
+            Val<'a, T>: std::ops::$tr<R>,
+        {
+            type Output = <Val<'a, T> as std::ops::$tr<R>>::Output;
+            fn $f(self, rhs: R) -> Self::Output {
+                std::ops::$tr::$f(self.get(), rhs)
+            }
+        }
+        impl<'a, T: Ty, U: Ty> std::ops::$tr<Var<'a, U>> for Val<'a, T>
+        where
+            Val<'a, T>: std::ops::$tr<Val<'a, U>>,
+        {
+            type Output = <Val<'a, T> as std::ops::$tr<Val<'a, U>>>::Output;
+            fn $f(self, rhs: Var<'a, U>) -> Self::Output {
+                std::ops::$tr::$f(self, rhs.get())
+            }
+        }
+        host_lhs!($tr $f: f32, u32);
+        impl<'a, T: Ty, R> std::ops::$tr_assign<R> for Var<'a, T>
+        where
+            Val<'a, T>: std::ops::$tr<R, Output = Val<'a, T>>,
+        {
+            fn $f_assign(&mut self, rhs: R) {
+                self.set(std::ops::$tr::$f(self.get(), rhs));
+            }
+        }
+    )*};
+}
+var_ops!(Add add AddAssign add_assign, Sub sub SubAssign sub_assign, Mul mul MulAssign mul_assign, Div div DivAssign div_assign);
+
+impl<'a, T: Ty> std::ops::Neg for Var<'a, T>
+where
+    Val<'a, T>: std::ops::Neg,
+{
+    type Output = <Val<'a, T> as std::ops::Neg>::Output;
+    fn neg(self) -> Self::Output {
+        -self.get()
+    }
+}
+impl<'a> std::ops::Not for Var<'a, bool> {
+    type Output = Val<'a, bool>;
+    fn not(self) -> Val<'a, bool> {
+        !self.get()
+    }
+}
+impl<'a, R> std::ops::BitAnd<R> for Var<'a, bool>
+where
+    Val<'a, bool>: std::ops::BitAnd<R, Output = Val<'a, bool>>,
+{
+    type Output = Val<'a, bool>;
+    fn bitand(self, rhs: R) -> Val<'a, bool> {
+        self.get() & rhs
+    }
+}
+impl<'a, R> std::ops::BitOr<R> for Var<'a, bool>
+where
+    Val<'a, bool>: std::ops::BitOr<R, Output = Val<'a, bool>>,
+{
+    type Output = Val<'a, bool>;
+    fn bitor(self, rhs: R) -> Val<'a, bool> {
+        self.get() | rhs
+    }
+}
+impl<'a> std::ops::BitAnd<Var<'a, bool>> for Val<'a, bool> {
+    type Output = Val<'a, bool>;
+    fn bitand(self, rhs: Var<'a, bool>) -> Val<'a, bool> {
+        self & rhs.get()
+    }
+}
+impl<'a> std::ops::BitOr<Var<'a, bool>> for Val<'a, bool> {
+    type Output = Val<'a, bool>;
+    fn bitor(self, rhs: Var<'a, bool>) -> Val<'a, bool> {
+        self | rhs.get()
+    }
+}

@@ -27,7 +27,7 @@ pub(crate) mod shadow;
 use naga::{Expression, ImageClass, ImageDimension, SampleLevel, ScalarKind, TypeInner};
 
 use crate::abi::{binding, Param, Params};
-use crate::ir::{Stage, Val, Vec2, Vec3, Vec4};
+use crate::ir::{IntoVal, Stage, Val, Vec2, Vec3, Vec4};
 use crate::spec::{Args, MapReq, Slot};
 use crate::CompileError;
 
@@ -97,10 +97,13 @@ pub struct Ray<'a> {
     pub cos_view: Val<'a, f32>,
 }
 
+crate::ir::record!(Ray "Ray" { origin: Vec2, dir: Vec3, cos_view: f32 });
+
 impl<'a> Ray<'a> {
     /// The point at parameter t: `(origin + t·dir.xy, 1 + t·dir.z)`.
-    pub fn at(&self, t: Val<'a, f32>) -> Val<'a, Vec3> {
-        let s = t.stage();
+    pub fn at(&self, t: impl IntoVal<'a, f32>) -> Val<'a, Vec3> {
+        let s = self.origin.stage();
+        let t = t.into_val(s);
         s.vec3(self.origin + self.dir.xy() * t, 1.0 + self.dir.z() * t)
     }
     /// The t at which the ray reaches z = 0, the bottom of the volume.
@@ -122,6 +125,8 @@ pub struct Bracket<'a> {
     /// interface").
     pub found: Val<'a, bool>,
 }
+
+crate::ir::record!(Bracket "Bracket" { above: f32, below: f32, found: bool });
 
 impl<'a> Bracket<'a> {
     /// The bracket `[above, below]`, a crossing found.
@@ -159,6 +164,8 @@ pub struct Hit<'a> {
     /// to be above it).
     pub found: Val<'a, bool>,
 }
+
+crate::ir::record!(Hit "Hit" { t: f32, uv: Vec2, z: f32, found: bool });
 
 impl<'a> Hit<'a> {
     /// The hit at parameter t along `ray`, as found.

@@ -14,7 +14,7 @@
 //! where the ray leaves C. So every pass leaves a cell or ends the search, none stalls, and
 //! the search never ends past the first intersection.
 
-use crate::ir::{Stage, UVec2, Val, Vec2, Vec3, Vec4};
+use crate::ir::{Stage, UVec2, Val, Var, Vec2, Vec3, Vec4};
 use crate::spec::MapReq;
 use crate::stage::{Bracket, Ray};
 
@@ -84,7 +84,7 @@ pub(super) fn ahead<'a>(s: &'a Stage<'a>, speed: Val<'a, Vec2>) -> Val<'a, Vec2>
 /// One pass of a safe march at `t` in cell `c`: the cone step to `cone` when it leaves the
 /// cell (never past the floor); otherwise the cell's patch decides: its first hit, or the
 /// cell's exit. Returns whether the patch was hit (`t` is then the hit).
-fn step_or_meet<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, c: &Cell<'a>, t: crate::ir::Var<'a, f32>, cone: Val<'a, f32>) -> Val<'a, bool> {
+fn step_or_meet<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, c: &Cell<'a>, t: Var<'a, f32>, cone: Val<'a, f32>) -> Val<'a, bool> {
     let hit = s.var("patch_hit", false);
     s.if_else(
         cone.ge(c.exit),
@@ -191,12 +191,12 @@ pub(super) fn safe_march<'a>(
 ) -> Bracket<'a> {
     let t = s.var("t", 0.0);
     let found = s.var("found", false);
-    s.repeat(steps, |s| {
-        s.break_if(found.get());
-        let c = cell_at(s, ray, t.get());
-        let cone = t.get() + step(s, ray.at(t.get()), &c);
+    s.repeat(steps, |l| {
+        l.break_if(found.get());
+        let c = cell_at(l, ray, t.get());
+        let cone = t.get() + step(l, ray.at(t), &c);
         // Reaching the floor is a hit too (no height is below 0).
-        found.set(step_or_meet(s, ray, &c, t, cone) | t.get().ge(ray.t_max()));
+        found.set(step_or_meet(l, ray, &c, t, cone) | t.ge(ray.t_max()));
     });
     Bracket::searched(t.get(), t.get(), found.get())
 }
@@ -215,17 +215,17 @@ pub(super) fn relaxed_march<'a>(
     let t = s.var("t", 0.0);
     let t_prev = s.var("t_prev", 0.0);
     let found = s.var("found", false);
-    s.repeat(steps, |s| {
-        s.break_if(found.get());
-        let c = cell_at(s, ray, t.get());
-        let p = ray.at(t.get());
-        found.set(c.height(ray, t.get()).ge(p.z()) | t.get().ge(ray.t_max()));
-        s.break_if(found.get());
-        let cone = t.get() + step(s, p, &c);
-        t_prev.set(t.get());
-        let hit = step_or_meet(s, ray, &c, t, cone);
-        s.if_(hit, |_| {
-            t_prev.set(t.get());
+    s.repeat(steps, |l| {
+        l.break_if(found.get());
+        let c = cell_at(l, ray, t.get());
+        let p = ray.at(t);
+        found.set(c.height(ray, t.get()).ge(p.z()) | t.ge(ray.t_max()));
+        l.break_if(found.get());
+        let cone = t.get() + step(l, p, &c);
+        t_prev.set(t);
+        let hit = step_or_meet(l, ray, &c, t, cone);
+        l.if_(hit, |_| {
+            t_prev.set(t);
             found.set(true);
         });
     });

@@ -93,24 +93,24 @@ impl<'a> Marched<'a> {
     }
 }
 
-/// Burger's Algorithm 4 loop as printed: while the point is above the bilinear surface h,
-/// advance by `step(p, h)`.
+/// Burger's Algorithm 4 loop as printed: for each of `steps` passes, h ← GETHEIGHT(p.xy); if
+/// h ≥ p.z the search is over, else advance by the cone step `step(p, h)`.
 fn textbook_march<'a>(
     s: &'a Stage<'a>,
     ray: &Ray<'a>,
     steps: u32,
     step: impl Fn(&'a Stage<'a>, Val<'a, Vec3>, Val<'a, f32>) -> Val<'a, f32>,
 ) -> Marched<'a> {
-    let t = s.var("t", 0.0);
+    let mut t = s.var("t", 0.0);
     let t_prev = s.var("t_prev", 0.0);
     let found = s.var("found", false);
-    s.repeat(steps, |s| {
-        let p = ray.at(t.get());
-        let h = s.height(p.xy()).named("h");
+    s.repeat(steps, |l| {
+        let p = ray.at(t);
+        let h = l.height(p.xy()).named("h");
         found.set(h.ge(p.z()));
-        s.break_if(found.get());
-        t_prev.set(t.get());
-        t.set(t.get() + step(s, p, h));
+        l.break_if(found.get());
+        t_prev.set(t);
+        t += step(l, p, h);
     });
     Marched { prev: t_prev.get(), end: t.get(), found: found.get() }
 }

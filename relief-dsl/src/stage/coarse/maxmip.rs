@@ -12,8 +12,16 @@ use crate::ir::{Stage, Val, Vec2};
 use crate::spec::MapReq;
 use crate::stage::{Bracket, Ray};
 
-
-/// Maximum-mipmap traversal with the exact bilinear-patch intersection in the finest cells.
+/// Maximum-mipmap traversal with the exact bilinear-patch intersection in the finest cells
+/// (Tevs, Ihrke & Seidel 2008; the survey's pyramidal displacement mapping), one node per
+/// pass:
+///
+/// 1. find the node of the current level the ray is in, its maximum, where the ray leaves
+///    it (`exit`) and where it comes down to the maximum (`down`);
+/// 2. if the ray stays above the maximum through the node, skip the node and climb a level;
+/// 3. else, above the finest level, descend into the node at `down`;
+/// 4. else (one cell) meet the cell's bilinear patch between `down` and `exit`: the hit, or
+///    on to the exit.
 pub fn maxmip<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     let size = s.height_map_size();
     let n = size.x().max(size.y());
@@ -26,12 +34,12 @@ pub fn maxmip<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     // The node a point on a node boundary is in: the one the ray is entering.
     let ahead = super::cell::ahead(s, speed);
     let t = s.var("t", 0.0);
-    let level = s.var("level", top);
+    let mut level = s.var("level", top);
     let hit = s.var("hit", false);
-    s.repeat(steps, |s| {
-        s.break_if(hit.get() | t.get().ge(ray.t_max()));
-        let p = ray.at(t.get());
-        let x = to_cells(p.xy());
+    s.repeat(steps, |l| {
+        l.break_if(hit | t.ge(ray.t_max()));
+        // 1. The node, its maximum, and where the ray leaves it and comes down to it.
+        let x = to_cells(ray.at(t).xy());
         let span = level.get().exp2();
         let node = ((x + ahead) / span).floor();
         // The node's place in the pyramid: wrapped (repeat) or clamped (clamp).
@@ -40,44 +48,31 @@ pub fn maxmip<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
         let clamped = node.clamp(0.0, nodes - 1.0);
         let at = s.vec2(s.select(clamp, clamped.x(), wrapped.x()), s.select(clamp, clamped.y(), wrapped.y()));
         let node_max = s.map_texel(MapReq::MaxMip, at.to_u32(), level.get().to_u32()).x().named("node_max");
-        // Where the ray leaves the node, and where it comes down to the node's maximum.
         let exit_x = s.select(speed.x().ge(0.0), (node.x() + 1.0) * span - x.x(), node.x() * span - x.x()) / speed.x();
         let exit_y = s.select(speed.y().ge(0.0), (node.y() + 1.0) * span - x.y(), node.y() * span - x.y()) / speed.y();
-        let exit = t.get() + exit_x.abs().min(exit_y.abs()).min(ray.t_max() - t.get());
-        let down = ((node_max - 1.0) / fall).max(t.get());
-        s.if_else(
-            down.lt(exit),
-            |s| {
-                s.if_else(
-                    level.get().le(0.0),
-                    |s| {
-                        // One cell: meet its bilinear patch exactly, from `down` to `exit`.
-                        let root = patch_root(s, ray, size, ahead, down, exit);
-                        s.if_else(
-                            root.ge(0.0),
-                            |_| {
-                                t.set(root);
-                                hit.set(true);
-                            },
-                            |_| t.set(exit),
-                        );
-                    },
-                    |_| {
-                        t.set(down);
-                        level.set(level.get() - 1.0);
-                    },
-                );
-            },
-            |_| {
-                t.set(exit);
-                level.set((level.get() + 1.0).min(top));
-            },
-        );
+        let exit = t + exit_x.abs().min(exit_y.abs()).min(ray.t_max() - t);
+        let down = ((node_max - 1.0) / fall).max(t);
+        // 2. Above the node's maximum all through it: skip the node, climb.
+        l.if_(!down.lt(exit), |l| {
+            t.set(exit);
+            level.set((level + 1.0).min(top));
+            l.continue_();
+        });
+        // 3. Below it, on a coarser level: descend.
+        l.if_(level.gt(0.0), |l| {
+            t.set(down);
+            level -= 1.0;
+            l.continue_();
+        });
+        // 4. One cell: its bilinear patch, exactly, from `down` to `exit`.
+        let root = patch_root(s, ray, size, ahead, down, exit);
+        hit.set(root.ge(0.0));
+        t.set(s.select(hit.get(), root, exit));
     });
     // Reaching the floor is a hit (every height is at least 0). Out of steps, the ray is
     // known to be above the surface up to where the traversal stopped.
     let end = t.get().min(ray.t_max());
-    Bracket::searched(end, end, hit.get() | t.get().ge(ray.t_max()))
+    Bracket::searched(end, end, hit | t.ge(ray.t_max()))
 }
 
 /// The first t in `[from, to]` where the ray meets the bilinear patch of the cell it is in (or
