@@ -55,11 +55,16 @@ fn geometric<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a
 
 /// Adds `geometric(steps, growth)` to the catalogue (once per process; a second call finds
 /// it there).
+/// The builder of `geometric`: a coarse stage.
+pub fn build() -> Build {
+    Build::Coarse(geometric)
+}
+
 pub fn register_geometric() -> Result<(), Error> {
     let def = MethodDef::new(
         "geometric",
         "linear search whose step grows by growth% each step (an example stage, examples/custom_stage.rs)",
-        Build::Coarse(geometric),
+        build(),
     )
     .param(ParamDef::steps("steps", 16))
     .param(ParamDef::count("growth", 0, 100, 10));

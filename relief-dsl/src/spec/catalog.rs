@@ -4,11 +4,17 @@
 //!
 //! The built-in methods are listed in [`catalog`]; a program adds its own with
 //! [`register`] (see its docs for when that must happen).
+//!
+//! The catalogue is data: names, parameters, maps, checks. The code that writes a stage
+//! into a module sits above the spec, in `stage`: a registered method carries its builder
+//! as a [`Builder`] (the stage layer's `Build`), and the built-in methods' builders are the
+//! stage layer's own table (`stage::builtins`), which a test keeps equal to this one.
 
-use std::sync::{OnceLock, RwLock};
+use std::any::Any;
+use std::sync::{Arc, OnceLock, RwLock};
 
-use super::{MapReq, Slot, StageSpec, Value};
-use crate::stage::{self, Build};
+use super::choice::{Form, SampleChoice, StartChoice};
+use super::{Choice, MapReq, Slot, StageSpec, Value};
 use crate::CompileError;
 
 /// The largest step count any parameter accepts.
@@ -46,32 +52,7 @@ impl ParamKind {
     }
 }
 
-/// A typed choice parameter: the words of the text form and the value each stands for. The
-/// parameter ([`ParamDef::choice`]) accepts exactly [`Choice::WORDS`], so a word that
-/// resolution let through always converts ([`Args::choice`]), and a stage's `match` on the
-/// value is exhaustive.
-pub trait Choice: Copy + Sized + 'static {
-    /// The words, the default first.
-    const WORDS: &'static [&'static str];
-    /// The value of `word`, `None` for a word not in [`Choice::WORDS`].
-    fn from_word(word: &str) -> Option<Self>;
-}
 
-/// Implements [`Choice`] from one table of `word => value`.
-macro_rules! choices {
-    ($ty:ty { $($word:literal => $val:expr),+ $(,)? }) => {
-        impl $crate::spec::Choice for $ty {
-            const WORDS: &'static [&'static str] = &[$($word),+];
-            fn from_word(word: &str) -> Option<Self> {
-                match word {
-                    $($word => Some($val),)+
-                    _ => None,
-                }
-            }
-        }
-    };
-}
-pub(crate) use choices;
 
 /// One parameter of a method.
 #[derive(Clone, Debug)]
@@ -162,6 +143,16 @@ pub enum StageOr<'s> {
     Stage(&'s StageSpec),
 }
 
+/// The code that builds a method, as the catalogue holds it: any value that knows its slot.
+/// The stage layer's `Build` is the one implementation; the composer takes it back with
+/// [`Builder::as_any`]. The catalogue itself never calls it.
+pub trait Builder: Any + Send + Sync {
+    /// The slot the builder fills.
+    fn slot(&self) -> Slot;
+    /// The builder as `Any`, to be taken back as its own type.
+    fn as_any(&self) -> &dyn Any;
+}
+
 /// One method: its slot, parameters, the maps it reads and its builder.
 ///
 /// Make one with [`MethodDef::new`], then [`MethodDef::param`], [`MethodDef::reads`] and
@@ -170,7 +161,7 @@ pub enum StageOr<'s> {
 pub struct MethodDef {
     /// The name in the text form (lower_snake).
     pub name: &'static str,
-    /// The slot it fills (always the slot of [`MethodDef::build`]).
+    /// The slot it fills (always the slot of [`MethodDef::build`], where there is one).
     pub slot: Slot,
     /// One line for `relief gen --list`, with the source.
     pub summary: &'static str,
@@ -182,8 +173,9 @@ pub struct MethodDef {
     pub implemented: bool,
     /// Parameter combinations that cannot work, refused at resolution (`Err(message)`).
     pub check: fn(&StageSpec) -> Result<(), String>,
-    /// The function that writes the stage into a module.
-    pub build: Build,
+    /// The function that writes the stage into a module, for a registered method; `None`
+    /// for a built-in one, whose builder is the stage layer's.
+    pub build: Option<Arc<dyn Builder>>,
 }
 
 fn no_check(_: &StageSpec) -> Result<(), String> {
@@ -193,8 +185,13 @@ fn no_check(_: &StageSpec) -> Result<(), String> {
 impl MethodDef {
     /// A method called `name` in the slot of `build`, with no parameters and no maps besides
     /// the height map.
-    pub fn new(name: &'static str, summary: &'static str, build: Build) -> Self {
-        MethodDef { name, slot: build.slot(), summary, params: vec![], maps: no_maps, implemented: true, check: no_check, build }
+    pub fn new(name: &'static str, summary: &'static str, build: impl Builder) -> Self {
+        let slot = build.slot();
+        MethodDef { name, slot, summary, params: vec![], maps: no_maps, implemented: true, check: no_check, build: Some(Arc::new(build)) }
+    }
+    /// A built-in method of `slot` (its builder is the stage layer's).
+    fn builtin(name: &'static str, summary: &'static str, slot: Slot) -> Self {
+        MethodDef { name, slot, summary, params: vec![], maps: no_maps, implemented: true, check: no_check, build: None }
     }
     /// Adds a parameter (after those already added).
     pub fn param(mut self, p: ParamDef) -> Self {
@@ -261,8 +258,12 @@ pub fn register(def: MethodDef) -> Result<(), RegisterError> {
     if !snake {
         return Err(refuse("a method name is lower_snake: a-z, 0-9 and `_`, starting with a letter".into()));
     }
-    if def.slot != def.build.slot() {
-        return Err(refuse(format!("declared a {} stage but its builder is a {} stage", def.slot, def.build.slot())));
+    match &def.build {
+        None => return Err(refuse("a registered method needs a builder".into())),
+        Some(b) if b.slot() != def.slot => {
+            return Err(refuse(format!("declared a {} stage but its builder is a {} stage", def.slot, b.slot())));
+        }
+        Some(_) => {}
     }
     for (i, p) in def.params.iter().enumerate() {
         if def.params[..i].iter().any(|q| q.name == p.name) {
@@ -365,7 +366,6 @@ fn cone_normal(_: &StageSpec) -> Vec<MapReq> {
 /// The map a cone method reads: the texel-sample map for `form=textbook`, the cell map for
 /// `form=safe`.
 fn by_form(s: &StageSpec, textbook: MapReq, safe: MapReq) -> Vec<MapReq> {
-    use stage::coarse::cone::Form;
     // A word outside the choice (only a hand-edited spec has one) fails to compile; the safe
     // form's map is as good a guess as any for it.
     match Form::from_word(s.word("form")) {
@@ -405,7 +405,7 @@ fn max_mip(_: &StageSpec) -> Vec<MapReq> {
 /// bilinear cells and never passes the first hit; `textbook` steps on the texel-sample maps
 /// as the papers print it.
 fn form() -> ParamDef {
-    ParamDef::choice::<stage::coarse::cone::Form>("form")
+    ParamDef::choice::<Form>("form")
 }
 fn cones(default: u32) -> ParamDef {
     ParamDef::count("k", 1, 4, default)
@@ -422,23 +422,22 @@ fn min_le_max(s: &StageSpec) -> Result<(), String> {
 fn builtins() -> &'static [MethodDef] {
     static BUILTINS: OnceLock<Vec<MethodDef>> = OnceLock::new();
     BUILTINS.get_or_init(|| {
-        use stage::{ao, coarse as c, refine as r, shadow as sh};
-        use Build::{Ao, Coarse, Refine, Shadow};
+        use Slot::{Ao, Coarse, Refine, Shadow};
         let steps = ParamDef::steps;
-        let def = MethodDef::new;
+        let def = MethodDef::builtin;
         vec![
-            def("none", "plain texture mapping: the hit is the entry point", Coarse(c::build_none)),
-            def("parallax", "parallax mapping (Kaneko et al. 2001; Burger eq. 2.3-2.5)", Coarse(c::build_parallax)),
-            def("offset_limited", "parallax with offset limiting (Welsh 2004; survey 4.1.3)", Coarse(c::build_offset_limited)),
-            def("slope_parallax", "parallax along the normal map's slope (survey 4.1.4)", Coarse(c::build_slope_parallax)).reads(normal_map),
-            def("iterative_parallax", "iterative parallax with slope (Premecz 2006; survey 4.2.1)", Coarse(c::build_iterative_parallax))
+            def("none", "plain texture mapping: the hit is the entry point", Coarse),
+            def("parallax", "parallax mapping (Kaneko et al. 2001; Burger eq. 2.3-2.5)", Coarse),
+            def("offset_limited", "parallax with offset limiting (Welsh 2004; survey 4.1.3)", Coarse),
+            def("slope_parallax", "parallax along the normal map's slope (survey 4.1.4)", Coarse).reads(normal_map),
+            def("iterative_parallax", "iterative parallax with slope (Premecz 2006; survey 4.2.1)", Coarse)
                 .param(steps("steps", 4))
                 .reads(normal_map),
-            def("linear", "linear search (Burger Algorithm 1)", Coarse(c::build_linear)).param(steps("steps", 32)),
+            def("linear", "linear search (Burger Algorithm 1)", Coarse).param(steps("steps", 32)),
             def(
                 "linear_dynamic",
                 "linear search, step count from the view angle (Tatarchuk 2006; Amaro & Gustafsson 2.1.3)",
-                Coarse(c::build_linear_dynamic),
+                Coarse,
             )
             .param(steps("min", 8))
             .param(steps("max", 32))
@@ -446,81 +445,81 @@ fn builtins() -> &'static [MethodDef] {
             def(
                 "csm",
                 "cone step mapping (Dummer 2006; Burger Algorithm 4); form=safe|textbook; sample=linear|nearest|min4 for form=textbook (Burger 4.3.1), auto: the cell's cone (safe) or linear (textbook)",
-                Coarse(c::build_csm),
+                Coarse,
             )
             .param(steps("steps", 15))
             .param(form())
-            .param(ParamDef::choice::<c::SampleChoice>("sample"))
+            .param(ParamDef::choice::<SampleChoice>("sample"))
             .reads(csm_maps),
-            def("qcsm", "quad-directional cone stepping (Policarpo & Oliveira, GPU Gems 3 18.4.1); form=safe|textbook", Coarse(c::build_qcsm))
+            def("qcsm", "quad-directional cone stepping (Policarpo & Oliveira, GPU Gems 3 18.4.1); form=safe|textbook", Coarse)
                 .param(steps("steps", 15))
                 .param(form())
                 .reads(quad_cone),
             def(
                 "rcs",
                 "relaxed cone stepping (GPU Gems 3 Listing 18-3); form=safe|textbook; start=hk|bracket (Fig. 18-10), auto: bracket (safe) or hk (textbook)",
-                Coarse(c::build_rcs),
+                Coarse,
             )
             .param(steps("steps", 15))
             .param(form())
-            .param(ParamDef::choice::<c::StartChoice>("start"))
+            .param(ParamDef::choice::<StartChoice>("start"))
             .reads(relaxed_cone),
-            def("cns", "cone normal stepping (Burger 3.3, eq. 3.2); form=safe|textbook", Coarse(c::build_cns))
+            def("cns", "cone normal stepping (Burger 3.3, eq. 3.2); form=safe|textbook", Coarse)
                 .param(steps("steps", 15))
                 .param(form())
                 .reads(cns_maps),
-            def("rcns", "relaxed cone normal stepping (Burger 4.3.4); form=safe|textbook", Coarse(c::build_rcns))
+            def("rcns", "relaxed cone normal stepping (Burger 4.3.4); form=safe|textbook", Coarse)
                 .param(steps("steps", 15))
                 .param(form())
                 .reads(relaxed_cone_normal),
-            def("mcns", "multiple cone normal stepping, K stacked cones (Burger 3.4, method 1); form=safe|textbook", Coarse(c::build_mcns))
+            def("mcns", "multiple cone normal stepping, K stacked cones (Burger 3.4, method 1); form=safe|textbook", Coarse)
                 .param(steps("steps", 15))
                 .param(cones(4))
                 .param(form())
                 .reads(multi_cone),
-            def("pcns", "piecewise cone normal stepping, K cone pieces (Burger 3.4, method 2); form=safe|textbook", Coarse(c::build_pcns))
+            def("pcns", "piecewise cone normal stepping, K cone pieces (Burger 3.4, method 2); form=safe|textbook", Coarse)
                 .param(steps("steps", 15))
                 .param(cones(4))
                 .param(form())
                 .reads(piecewise_cone),
-            def("sphere", "sphere tracing a 3D distance field (Donnelly 2005)", Coarse(c::build_sphere))
+            def("sphere", "sphere tracing a 3D distance field (Donnelly 2005)", Coarse)
                 .param(steps("steps", 15))
                 .reads(distance_field),
             def(
                 "maxmip",
                 "maximum-mipmap traversal with the exact bilinear patch in the finest cells (Tevs et al. 2008)",
-                Coarse(c::build_maxmip),
+                Coarse,
             )
             .param(steps("steps", 64))
             .reads(max_mip),
-            def("none", "no refinement: the hit is the bracket's far end", Refine(r::build_none)),
-            def("binary", "binary search (Burger Algorithm 2)", Refine(r::build_binary)).param(steps("steps", 5)),
-            def("interval", "interval mapping, false position (Burger Algorithm 3; Risser et al. 2005)", Refine(r::build_interval))
+            def("none", "no refinement: the hit is the bracket's far end", Refine),
+            def("binary", "binary search (Burger Algorithm 2)", Refine).param(steps("steps", 5)),
+            def("interval", "interval mapping, false position (Burger Algorithm 3; Risser et al. 2005)", Refine)
                 .param(steps("steps", 5)),
-            def("secant", "the true secant method on the last two guesses (survey 4.2.3), guarded", Refine(r::build_secant))
+            def("secant", "the true secant method on the last two guesses (survey 4.2.3), guarded", Refine)
                 .param(steps("steps", 5)),
-            def("none", "no self-shadowing: visibility 1", Shadow(sh::build_none)),
-            def("hard", "hard shadow: a coarse search toward the light (Amaro & Gustafsson 2.1.1)", Shadow(sh::build_hard))
+            def("none", "no self-shadowing: visibility 1", Shadow),
+            def("hard", "hard shadow: a coarse search toward the light (Amaro & Gustafsson 2.1.1)", Shadow)
                 .param(ParamDef::stage_or("search", Slot::Coarse, 16)),
             def(
                 "soft",
                 "soft shadow from the deepest blocker, 1 - w/(0.24 + w) (Tatarchuk 2006; Amaro & Gustafsson 2.1.2)",
-                Shadow(sh::build_soft),
+                Shadow,
             )
             .param(steps("steps", 16)),
             def(
                 "soft_cone",
                 "soft shadow from the cone-normal distance d = h n_z (Burger 3.2) with penumbra k d / t",
-                Shadow(sh::build_soft_cone),
+                Shadow,
             )
             .param(steps("steps", 16))
             .reads(cone_normal),
-            def("soft_ratio", "the same soft shadow from CSM's cone ratio", Shadow(sh::build_soft_ratio))
+            def("soft_ratio", "the same soft shadow from CSM's cone ratio", Shadow)
                 .param(steps("steps", 16))
                 .reads(cone),
-            def("none", "no ambient occlusion: factor 1", Ao(ao::build_none)),
-            def("cone_ratio", "ambient occlusion from the cone ratio at the hit (Burger 4.5)", Ao(ao::build_cone_ratio)).reads(cone),
-            def("cone_normal", "ambient occlusion from the cone normal at the hit (Burger 4.5)", Ao(ao::build_cone_normal))
+            def("none", "no ambient occlusion: factor 1", Ao),
+            def("cone_ratio", "ambient occlusion from the cone ratio at the hit (Burger 4.5)", Ao).reads(cone),
+            def("cone_normal", "ambient occlusion from the cone normal at the hit (Burger 4.5)", Ao)
                 .reads(cone_normal),
         ]
     })
@@ -529,70 +528,9 @@ fn builtins() -> &'static [MethodDef] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::spec::Pipeline;
-
-    fn coarse_linear() -> Build {
-        method(Slot::Coarse, "linear").unwrap().build
-    }
 
     #[test]
-    fn register_refuses_what_the_text_form_could_not_read() {
-        let refused = |def: MethodDef, why: &str| {
-            let e = register(def).unwrap_err();
-            assert!(e.message.contains(why), "{e}");
-        };
-        refused(MethodDef::new("Linear2", "", coarse_linear()), "lower_snake");
-        refused(MethodDef::new("2linear", "", coarse_linear()), "lower_snake");
-        refused(MethodDef::new("linear", "", coarse_linear()), "already has a method called `linear`");
-        let mut wrong_slot = MethodDef::new("test_wrong_slot", "", coarse_linear());
-        wrong_slot.slot = Slot::Refine;
-        refused(wrong_slot, "builder is a coarse stage");
-        refused(
-            MethodDef::new("test_twice", "", coarse_linear()).param(ParamDef::steps("n", 4)).param(ParamDef::steps("n", 8)),
-            "two parameters called `n`",
-        );
-        refused(MethodDef::new("test_range", "", coarse_linear()).param(ParamDef::count("k", 1, 4, 5)), "default of `k`");
-        refused(MethodDef::new("test_steps", "", coarse_linear()).param(ParamDef::steps("n", 0)), "default of `n`");
-        // `none` exists in every slot without parameters; a coarse `binary` would print with
-        // the refine `binary`'s parameters.
-        refused(MethodDef::new("binary", "", coarse_linear()), "has other parameters");
-        for name in ["Linear2", "2linear", "test_wrong_slot", "test_twice", "test_range", "test_steps"] {
-            assert!(catalog().iter().all(|m| m.name != name), "{name} was added");
-        }
-    }
-
-    #[test]
-    fn a_registered_stage_parses_prints_and_compiles() {
-        register(MethodDef::new("test_search", "a test", coarse_linear()).param(ParamDef::steps("steps", 7))).unwrap();
-        let p: Pipeline = "test_search+binary(2)".parse().unwrap();
-        assert_eq!(p.to_string(), "test_search(7)+binary(2)");
-        let e = "test_search(0)".parse::<Pipeline>().unwrap_err();
-        assert!(e.message.contains("out of range"), "{e}");
-        // The builder is linear's: the module has the registered name and linear's loop.
-        let wgsl = crate::emit::emit(&p).unwrap().wgsl;
-        assert!(wgsl.contains("fn coarse_test_search("), "{wgsl}");
-        assert!(catalog().iter().any(|m| m.name == "test_search"));
-    }
-
-    #[test]
-    fn a_hand_edited_choice_is_an_error_not_a_default() {
-        for (text, param) in [("csm(8)", "form"), ("csm(8)", "sample"), ("rcs(8)", "start"), ("qcsm(8)", "form")] {
-            let mut p: Pipeline = text.parse().unwrap();
-            let v = p.coarse.params.iter_mut().find(|(n, _)| n == param).unwrap();
-            v.1 = Value::Word("sideways".into());
-            let e = crate::compile(&p).err().unwrap_or_else(|| panic!("{text} with {param}=sideways compiled"));
-            assert!(e.stage.starts_with("coarse "), "{e}");
-            assert!(e.message.contains(&format!("`{param}=sideways` is not a choice")), "{e}");
-        }
-    }
-
-    #[test]
-    fn every_choice_word_has_a_value() {
-        use crate::stage::coarse::{cone::Form, SampleChoice, StartChoice};
-        fn all<C: Choice>() -> bool {
-            C::WORDS.iter().all(|w| C::from_word(w).is_some()) && C::from_word("sideways").is_none()
-        }
-        assert!(all::<Form>() && all::<SampleChoice>() && all::<StartChoice>());
+    fn the_catalogues_choices_are_the_choice_words() {
         // The catalogue's choices are these words, in this order (the first is the default).
         let words = |name: &str, param: &str| {
             let def = method(Slot::Coarse, name).unwrap();

@@ -30,6 +30,7 @@
 //! [`ParseError`]; "did you mean" comes from [`suggest::nearest`].
 
 mod catalog;
+mod choice;
 pub mod grid;
 mod lex;
 mod parse;
@@ -39,8 +40,8 @@ pub mod suggest;
 use std::fmt;
 use std::str::FromStr;
 
-pub use catalog::{catalog, method, Catalog, no_maps, register, Args, Choice, MethodDef, ParamDef, ParamKind, RegisterError, StageOr, MAX_STEPS};
-pub(crate) use catalog::choices;
+pub use catalog::{catalog, method, Builder, Catalog, no_maps, register, Args, MethodDef, ParamDef, ParamKind, RegisterError, StageOr, MAX_STEPS};
+pub use choice::{Choice, Form as ConeForm, SampleChoice, StartChoice};
 pub use grid::Grid;
 pub use parse::ParseError;
 // The parser's pieces for the macros (relief-macros): not part of the documented surface,

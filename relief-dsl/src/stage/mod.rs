@@ -19,6 +19,7 @@
 //! catalogue ([`crate::spec::catalog`]) with its parameters; [`crate::spec::register`] adds
 //! one written outside relief.
 
+mod builtins;
 pub(crate) mod ao;
 pub(crate) mod coarse;
 pub(crate) mod refine;
@@ -78,11 +79,23 @@ pub struct Light<'a> {
     pub cos: Val<'a, f32>,
 }
 
-/// The method of `slot` a pipeline names, from the catalogue.
-fn lookup(slot: Slot, spec: &crate::spec::StageSpec) -> Result<&'static crate::spec::MethodDef, CompileError> {
-    match crate::spec::method(slot, &spec.name) {
-        Some(def) if def.implemented => Ok(def),
-        _ => Err(CompileError::not_implemented(slot.name(), &spec.name)),
+impl crate::spec::Builder for Build {
+    fn slot(&self) -> Slot {
+        Build::slot(self)
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+/// The builder of the method of `slot` a pipeline names: a registered method's own, or the
+/// built-in one's from [`builtins`].
+fn lookup(slot: Slot, spec: &crate::spec::StageSpec) -> Result<Build, CompileError> {
+    let missing = || CompileError::not_implemented(slot.name(), &spec.name);
+    let def = crate::spec::method(slot, &spec.name).filter(|d| d.implemented).ok_or_else(missing)?;
+    match &def.build {
+        Some(b) => b.as_any().downcast_ref::<Build>().copied().ok_or_else(missing),
+        None => builtins::builder(slot, &spec.name).ok_or_else(missing),
     }
 }
 

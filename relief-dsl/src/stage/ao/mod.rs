@@ -23,7 +23,7 @@ fn cone_normal<'a>(s: &'a Stage<'a>, hit: &Hit<'a>) -> Val<'a, f32> {
 
 /// Builds the ao stage `spec` into the current function.
 pub(crate) fn build<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, spec: &StageSpec) -> Result<Val<'a, f32>, CompileError> {
-    match super::lookup(Slot::Ao, spec)?.build {
+    match super::lookup(Slot::Ao, spec)? {
         Build::Ao(f) => f(s, hit, &Args::new(Slot::Ao, spec)),
         other => Err(CompileError::wrong_slot(Slot::Ao, &spec.name, other.slot())),
     }

@@ -26,13 +26,7 @@ use crate::spec::MapReq;
 use crate::stage::{Bracket, Filter, Ray};
 
 /// Which cones a method steps on (see the module docs).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Form {
-    /// Cones of the bilinear cells: never past the first hit.
-    Safe,
-    /// The papers' cones of texel samples, stepping from the bilinear height as printed.
-    Textbook,
-}
+pub use crate::spec::ConeForm as Form;
 
 /// How the textbook CSM reads its cone map (Burger §4.3.1: linear filtering of ratios causes
 /// artifacts; the minimum of the four texels fixes them at a cost).

@@ -9,7 +9,7 @@ pub(crate) mod parallax;
 pub(crate) mod sphere;
 
 use crate::ir::Stage;
-use crate::spec::{choices, Args, Slot, StageSpec};
+use crate::spec::{Args, SampleChoice, Slot, StageSpec, StartChoice};
 use crate::stage::{Bracket, Build, Ray};
 use crate::CompileError;
 use cone::{ConeSample, Form, RelaxedStart};
@@ -17,37 +17,11 @@ use cone::{ConeSample, Form, RelaxedStart};
 /// Builds the coarse stage `spec` into the current function, with the builder the
 /// catalogue registers for it.
 pub(crate) fn build<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, spec: &StageSpec) -> Result<Bracket<'a>, CompileError> {
-    match super::lookup(Slot::Coarse, spec)?.build {
+    match super::lookup(Slot::Coarse, spec)? {
         Build::Coarse(f) => f(s, ray, &Args::new(Slot::Coarse, spec)),
         other => Err(CompileError::wrong_slot(Slot::Coarse, &spec.name, other.slot())),
     }
 }
-
-choices!(Form { "safe" => Form::Safe, "textbook" => Form::Textbook });
-
-/// `sample=` of `csm` as written: `auto` is the form's own sampling.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum SampleChoice {
-    Auto,
-    Linear,
-    Nearest,
-    Min4,
-}
-choices!(SampleChoice {
-    "auto" => SampleChoice::Auto,
-    "linear" => SampleChoice::Linear,
-    "nearest" => SampleChoice::Nearest,
-    "min4" => SampleChoice::Min4,
-});
-
-/// `start=` of `rcs` as written: `auto` is the form's own start.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum StartChoice {
-    Auto,
-    Hk,
-    Bracket,
-}
-choices!(StartChoice { "auto" => StartChoice::Auto, "hk" => StartChoice::Hk, "bracket" => StartChoice::Bracket });
 
 pub(crate) fn build_none<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, _: &Args) -> Result<Bracket<'a>, CompileError> {
     Ok(parallax::none(s, ray))

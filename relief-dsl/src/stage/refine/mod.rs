@@ -11,7 +11,7 @@ use crate::CompileError;
 
 /// Builds the refine stage `spec` into the current function.
 pub(crate) fn build<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, b: Bracket<'a>, spec: &StageSpec) -> Result<Hit<'a>, CompileError> {
-    match super::lookup(Slot::Refine, spec)?.build {
+    match super::lookup(Slot::Refine, spec)? {
         Build::Refine(f) => f(s, ray, b, &Args::new(Slot::Refine, spec)),
         other => Err(CompileError::wrong_slot(Slot::Refine, &spec.name, other.slot())),
     }

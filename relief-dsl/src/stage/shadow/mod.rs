@@ -11,7 +11,7 @@ use crate::CompileError;
 
 /// Builds the shadow stage `spec` into the current function.
 pub(crate) fn build<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, light: &Light<'a>, spec: &StageSpec) -> Result<Val<'a, f32>, CompileError> {
-    match super::lookup(Slot::Shadow, spec)?.build {
+    match super::lookup(Slot::Shadow, spec)? {
         Build::Shadow(f) => f(s, hit, light, &Args::new(Slot::Shadow, spec)),
         other => Err(CompileError::wrong_slot(Slot::Shadow, &spec.name, other.slot())),
     }

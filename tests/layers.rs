@@ -1,0 +1,109 @@
+//! The layers of DESIGN.md, checked on the source: no module names one above it.
+//!
+//! relief-dsl: abi → spec → ir → stage → compose → emit. relief-runtime: the leaves (io,
+//! results, picture), then heightmap, scene, maps, reference → gpu → metrics → measure →
+//! sweep, stability → report; the command line (src/bin) is above everything, and nothing in
+//! the library names it. A module may name its own layer and any below it (`crate::X` paths
+//! and `use crate::{X, ...}` groups are both read). A file's unit tests (from its
+//! `#[cfg(test)]` line on) are not part of the library and may drive the whole pipeline.
+
+use std::path::{Path, PathBuf};
+
+/// Files under `dir`, recursively.
+fn rust_files(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(rust_files(&p));
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+    out
+}
+
+/// The top-level modules a source text names through `crate::`, outside `//` comments.
+fn named_modules(text: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for line in text.lines().take_while(|l| l.trim() != "#[cfg(test)]") {
+        let code = line.split("//").next().unwrap_or("");
+        let mut rest = code;
+        while let Some(i) = rest.find("crate::") {
+            rest = &rest[i + "crate::".len()..];
+            if let Some(group) = rest.strip_prefix('{') {
+                let end = group.find('}').unwrap_or(group.len());
+                for item in group[..end].split(',') {
+                    let name: String = item.trim().chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+                    out.push(name);
+                }
+            } else {
+                out.push(rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect());
+            }
+        }
+    }
+    out
+}
+
+/// Checks every file of `src`: the layer of a file is that of its top-level module; a file
+/// may name modules of its layer or lower. `layers[i]` lists the modules of layer i.
+fn check(src: &Path, layers: &[&[&str]]) -> Vec<String> {
+    let layer_of = |m: &str| layers.iter().position(|l| l.contains(&m));
+    let mut bad = Vec::new();
+    for file in rust_files(src) {
+        let rel = file.strip_prefix(src).unwrap();
+        let top = rel.iter().next().unwrap().to_string_lossy().trim_end_matches(".rs").to_string();
+        let Some(own) = layer_of(&top) else { continue };
+        let text = std::fs::read_to_string(&file).unwrap();
+        for m in named_modules(&text) {
+            if let Some(l) = layer_of(&m) {
+                if l > own {
+                    bad.push(format!("{} ({top}, layer {own}) names crate::{m} (layer {l})", rel.display()));
+                }
+            }
+        }
+    }
+    bad
+}
+
+#[test]
+fn relief_dsl_imports_point_down() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let layers: &[&[&str]] = &[&["abi"], &["spec"], &["ir"], &["stage"], &["compose"], &["emit"]];
+    let bad = check(&root.join("relief-dsl/src"), layers);
+    assert!(bad.is_empty(), "back edges:\n{}", bad.join("\n"));
+}
+
+#[test]
+fn relief_runtime_imports_point_down() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let layers: &[&[&str]] = &[
+        &["io", "results", "picture"],
+        &["heightmap"],
+        &["scene"],
+        &["maps"],
+        &["reference"],
+        &["gpu"],
+        &["metrics"],
+        &["measure"],
+        &["sweep", "stability"],
+        &["report"],
+    ];
+    let bad = check(&root.join("relief-runtime/src"), layers);
+    assert!(bad.is_empty(), "back edges:\n{}", bad.join("\n"));
+    // The library never names the command line.
+    for file in rust_files(&root.join("relief-runtime/src")) {
+        if file.components().any(|c| c.as_os_str() == "bin") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&file).unwrap();
+        assert!(!text.contains("bin::relief") && !text.contains("cli_"), "{} names the CLI", file.display());
+    }
+}
+
+#[test]
+fn the_checker_sees_a_back_edge() {
+    assert_eq!(named_modules("use crate::stage::{self, Build};"), ["stage"]);
+    assert_eq!(named_modules("use crate::{ir::Stage, spec};  // crate::emit"), ["ir", "spec"]);
+    assert_eq!(named_modules("let a = crate::abi::X;\n#[cfg(test)]\nmod tests { use crate::emit; }"), ["abi"]);
+}
