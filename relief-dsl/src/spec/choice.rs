@@ -3,8 +3,8 @@
 //! words, resolution checks them) and the stages match on the values.
 
 /// A typed choice parameter: the words of the text form and the value each stands for. The
-/// parameter ([`ParamDef::choice`]) accepts exactly [`Choice::WORDS`], so a word that
-/// resolution let through always converts ([`Args::choice`]), and a stage's `match` on the
+/// parameter ([`ParamDef::choice`](super::ParamDef::choice)) accepts exactly [`Choice::WORDS`], so a word that
+/// resolution let through always converts ([`Args::choice`](super::Args::choice)), and a stage's `match` on the
 /// value is exhaustive.
 pub trait Choice: Copy + Sized + 'static {
     /// The words, the default first.
