@@ -138,23 +138,7 @@ impl MaxTree {
     }
 
     fn pyramid(w0: usize, h0: usize, data: Vec<f32>) -> Vec<(usize, usize, Vec<f32>)> {
-        let mut levels = vec![(w0, h0, data)];
-        loop {
-            let (w, h, ref d) = *levels.last().unwrap();
-            if w == 1 && h == 1 {
-                break;
-            }
-            let (nw, nh) = (w.div_ceil(2), h.div_ceil(2));
-            let mut nd = vec![f32::NEG_INFINITY; nw * nh];
-            for y in 0..h {
-                for x in 0..w {
-                    let o = &mut nd[(y / 2) * nw + x / 2];
-                    *o = o.max(d[y * w + x]);
-                }
-            }
-            levels.push((nw, nh, nd));
-        }
-        levels
+        reduce_pyramid(w0, h0, data, f32::NEG_INFINITY, f32::max)
     }
 
     #[inline]
@@ -249,4 +233,27 @@ pub(crate) fn per_texel<const C: usize>(w: usize, h: usize, f: impl Fn(usize, us
         }
     });
     out
+}
+
+/// A quadtree pyramid over a `w0 × h0` grid: each level halves the size (rounding up) and a
+/// node is `combine` over its (up to four) children, starting from `empty`; the last level is
+/// 1 × 1. Level 0 is `data`.
+pub(crate) fn reduce_pyramid<T: Copy>(w0: usize, h0: usize, data: Vec<T>, empty: T, combine: fn(T, T) -> T) -> Vec<(usize, usize, Vec<T>)> {
+    let mut levels = vec![(w0, h0, data)];
+    loop {
+        let (w, h, ref d) = *levels.last().unwrap();
+        if w == 1 && h == 1 {
+            break;
+        }
+        let (nw, nh) = (w.div_ceil(2), h.div_ceil(2));
+        let mut nd = vec![empty; nw * nh];
+        for y in 0..h {
+            for x in 0..w {
+                let o = &mut nd[(y / 2) * nw + x / 2];
+                *o = combine(*o, d[y * w + x]);
+            }
+        }
+        levels.push((nw, nh, nd));
+    }
+    levels
 }

@@ -110,6 +110,7 @@ pub mod multi_cone;
 pub mod relaxed_cone;
 
 use crate::heightmap::{EdgeMode, HeightMap};
+use crate::maps::search::reduce_pyramid;
 
 /// The cell grid of a height map (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -449,33 +450,14 @@ impl CellTree {
         let corners = grid.all_corners(map);
         let base: Vec<f32> = corners.iter().map(apex).collect();
         let heights = map.data.clone();
-        let mut levels = vec![(grid.cw, grid.ch, base)];
-        let mut fl = Vec::new();
-        if let Some(f) = flags {
-            fl.push(corners.iter().map(f).collect::<Vec<u8>>());
-        }
-        loop {
-            let (w, h, ref d) = *levels.last().unwrap();
-            if w == 1 && h == 1 {
-                break;
+        let levels = reduce_pyramid(grid.cw, grid.ch, base, f32::NEG_INFINITY, f32::max);
+        let fl = match flags {
+            Some(f) => {
+                let base = corners.iter().map(f).collect::<Vec<u8>>();
+                reduce_pyramid(grid.cw, grid.ch, base, 0xff, |a, b| a & b).into_iter().map(|l| l.2).collect()
             }
-            let (nw, nh) = (w.div_ceil(2), h.div_ceil(2));
-            let mut nd = vec![f32::NEG_INFINITY; nw * nh];
-            let mut nf = vec![0xffu8; nw * nh];
-            for y in 0..h {
-                for x in 0..w {
-                    let o = (y / 2) * nw + x / 2;
-                    nd[o] = nd[o].max(d[y * w + x]);
-                    if let Some(last) = fl.last() {
-                        nf[o] &= last[y * w + x];
-                    }
-                }
-            }
-            levels.push((nw, nh, nd));
-            if !fl.is_empty() {
-                fl.push(nf);
-            }
-        }
+            None => Vec::new(),
+        };
         CellTree { grid, heights, levels, flags: fl }
     }
 

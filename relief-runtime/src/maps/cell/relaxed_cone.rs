@@ -132,30 +132,26 @@ struct RelaxedScorer<'a> {
     apex: f64,
 }
 
+impl RelaxedScorer<'_> {
+    /// How far a node's highest corner rises above the apex, or `None` where the node cannot
+    /// bound the ratio: nothing in it rises above the apex, or every cell in it is monotone
+    /// in both directions the node lies in from the apex cell.
+    #[inline]
+    fn rise(&self, hmax: f32, flags: u8, sx: Side, sy: Side) -> Option<f64> {
+        let dh = hmax as f64 - self.apex;
+        let need = needed(sx, X_UP, X_DOWN) | needed(sy, Y_UP, Y_DOWN);
+        (dh > 0.0 && flags & need != need).then_some(dh)
+    }
+}
+
 impl CellScorer for RelaxedScorer<'_> {
     #[inline]
     fn bound(&self, dmin: f64, hmax: f32, flags: u8, sx: Side, sy: Side) -> Option<f64> {
-        let dh = hmax as f64 - self.apex;
-        if dh <= 0.0 {
-            return None;
-        }
-        let need = needed(sx, X_UP, X_DOWN) | needed(sy, Y_UP, Y_DOWN);
-        if flags & need == need {
-            return None;
-        }
-        Some(dmin / dh)
+        self.rise(hmax, flags, sx, sy).map(|dh| dmin / dh)
     }
     #[inline]
     fn prune(&self, d2: f64, hmax: f32, flags: u8, sx: Side, sy: Side, best: f64) -> Option<f64> {
-        let dh = hmax as f64 - self.apex;
-        if dh <= 0.0 {
-            return None;
-        }
-        let need = needed(sx, X_UP, X_DOWN) | needed(sy, Y_UP, Y_DOWN);
-        if flags & need == need {
-            return None;
-        }
-        super::prune_ratio(d2, dh, best)
+        self.rise(hmax, flags, sx, sy).and_then(|dh| super::prune_ratio(d2, dh, best))
     }
     #[inline]
     fn leaf(&self, d: usize, c: &[Corner; 4], dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2], _sx: Side, _sy: Side) -> Option<f64> {
