@@ -45,24 +45,21 @@ pub fn heights(a: f32, k_cones: usize) -> Vec<f64> {
     crate::maps::multi_cone::cone_heights(a, k_cones)
 }
 
+/// The stacked cones' ratios of cell `(i, j)` (f64, before rounding), searched with `tree`.
+pub fn stacked_ratios(tree: &CellTree, i: usize, j: usize, k_cones: usize, prev: &mut [Option<(i64, i64)>]) -> Vec<f64> {
+    let a = super::apex(&tree.corners_of(j * tree.grid.cw + i));
+    let b = heights(a, k_cones);
+    (0..k_cones)
+        .map(|k| {
+            let s = PieceScorer { lo: b[k], hi: f64::INFINITY, rho: 0.0 };
+            tree.seeded(i, j, Dir::Both, Dir::Both, &s, f64::INFINITY, &mut prev[k])
+        })
+        .collect()
+}
+
 /// `cell_multi_cone`: `[n_z(r_0) .. n_z(r_{K-1}), A_C]` per cell.
 pub fn cell_multi_cone(map: &HeightMap, edge: EdgeMode, k_cones: usize) -> Vec<f32> {
-    let tree = CellTree::new(map, edge);
-    let cw = tree.grid.cw;
-    let nc = k_cones + 1;
-    super::per_cell_row(cw, tree.grid.ch, nc, |j, row| {
-        let mut prev = vec![None; k_cones];
-        for i in 0..cw {
-            let a = super::apex(&tree.corners_of(j * cw + i));
-            let b = heights(a, k_cones);
-            for k in 0..k_cones {
-                let s = PieceScorer { lo: b[k], hi: f64::INFINITY, rho: 0.0 };
-                let r = tree.seeded(i, j, Dir::Both, Dir::Both, &s, f64::INFINITY, &mut prev[k]);
-                row[nc * i + k] = normal_z(f32_down(r));
-            }
-            row[nc * i + k_cones] = a;
-        }
-    })
+    per_cell_cones(map, edge, k_cones, stacked_ratios)
 }
 
 /// The piecewise slopes of cell `(i, j)` (f64, before rounding), searched with `tree`.
@@ -86,13 +83,24 @@ pub fn piecewise_slopes(tree: &CellTree, i: usize, j: usize, k_cones: usize, pre
 
 /// `cell_piecewise_cone`: `[n_z(r_0) .. n_z(r_{K-1}), A_C]` per cell.
 pub fn cell_piecewise_cone(map: &HeightMap, edge: EdgeMode, k_cones: usize) -> Vec<f32> {
+    per_cell_cones(map, edge, k_cones, piecewise_slopes)
+}
+
+/// `[n_z(r_0) .. n_z(r_{K-1}), A_C]` per cell, the K ratios of each cell from `ratios` (rows
+/// in parallel; `prev` carries each cone's last maximiser along a row as the search's seed).
+fn per_cell_cones(
+    map: &HeightMap,
+    edge: EdgeMode,
+    k_cones: usize,
+    ratios: impl Fn(&CellTree, usize, usize, usize, &mut [Option<(i64, i64)>]) -> Vec<f64> + Sync,
+) -> Vec<f32> {
     let tree = CellTree::new(map, edge);
     let cw = tree.grid.cw;
     let nc = k_cones + 1;
     super::per_cell_row(cw, tree.grid.ch, nc, |j, row| {
         let mut prev = vec![None; k_cones];
         for i in 0..cw {
-            let r = piecewise_slopes(&tree, i, j, k_cones, &mut prev);
+            let r = ratios(&tree, i, j, k_cones, &mut prev);
             for k in 0..k_cones {
                 row[nc * i + k] = normal_z(f32_down(r[k]));
             }
