@@ -395,6 +395,9 @@ pub fn build_module(p: &Pipeline) -> Result<Module, CompileError> {
 
 /// Builds the module for `p` with `options` (not yet validated).
 pub fn build_module_with(p: &Pipeline, options: &Options) -> Result<Module, CompileError> {
+    if p.lod != crate::spec::Lod::Zero {
+        return Err(CompileError { stage: "lod".into(), message: format!("lod={} is not implemented yet", p.lod) });
+    }
     let m = ModuleCtx::new();
     let ty = Types::new(&m);
     let plain = build_stage_fns(&m, &ty, p, false)?;
