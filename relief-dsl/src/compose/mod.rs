@@ -90,7 +90,29 @@ fn wrap_err(slot: Slot, spec: &StageSpec) -> impl Fn(CompileError) -> CompileErr
     }
 }
 
+/// The error for a stage that read something with no level under `lod` other than zero
+/// (what [`Stage`]'s sampling methods noted in `lod_unsupported` while it was built): never a
+/// silent level 0.
+fn check_lod(m: &ModuleCtx, slot: Slot, spec: &StageSpec) -> Result<(), CompileError> {
+    let mut what = std::mem::take(&mut *m.lod_unsupported.borrow_mut());
+    if what.is_empty() {
+        return Ok(());
+    }
+    what.sort();
+    what.dedup();
+    Err(CompileError {
+        stage: format!("{} {}", slot.name(), spec.name),
+        message: format!(
+            "`{}` does not support lod={} yet: it reads {}, which has no mip chain of the level's own surface (built over level 0 of the height map)",
+            spec.name,
+            m.lod.get(),
+            what.join(", ")
+        ),
+    })
+}
+
 pub(crate) fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: bool) -> Result<StageFns, CompileError> {
+    m.lod.set(p.lod);
     m.counting.set(counted);
     // coarse(ray) -> Bracket
     m.step_counter.set(crate::ir::counter::COARSE_STEPS);
@@ -99,6 +121,7 @@ pub(crate) fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: 
         let arg = s.arg::<Vec4>(0).handle();
         let ray = ray_from(&s, arg);
         let b = stage::coarse::build(&s, &ray, &p.coarse).map_err(wrap_err(Slot::Coarse, &p.coarse))?;
+        check_lod(m, Slot::Coarse, &p.coarse)?;
         let v = s.make_struct(ty.bracket, &[b.above.handle(), b.below.handle(), b.found.handle()]);
         let f = s.finish(Some((ty.bracket, None, v)));
         m.add_function(f)
@@ -114,6 +137,7 @@ pub(crate) fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: 
         let bh = s.arg::<Vec4>(1).handle();
         let b = Bracket::searched(s.field(bh, 0), s.field(bh, 1), s.field(bh, 2));
         let hit = stage::refine::build(&s, &ray, b, &p.refine).map_err(wrap_err(Slot::Refine, &p.refine))?;
+        check_lod(m, Slot::Refine, &p.refine)?;
         let v = hit_value(&s, ty, &hit);
         let f = s.finish(Some((ty.hit, None, v)));
         m.add_function(f)
@@ -150,6 +174,7 @@ pub(crate) fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: 
         let hit = hit_from(&s, s.arg::<Vec4>(0).handle());
         let light = stage::Light { dir: s.arg::<Vec3>(1), cos: s.arg::<f32>(2) };
         let v = stage::shadow::build(&s, &hit, &light, &p.shadow).map_err(wrap_err(Slot::Shadow, &p.shadow))?;
+        check_lod(m, Slot::Shadow, &p.shadow)?;
         let f = s.finish(Some((m.ty(f32::inner()), None, v.handle())));
         Some(m.add_function(f))
     };
@@ -159,6 +184,7 @@ pub(crate) fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: 
         let s = m.function(&fn_name(Slot::Ao, &p.ao, counted), &[("hit", ty.hit, None)]);
         let hit = hit_from(&s, s.arg::<Vec4>(0).handle());
         let v = stage::ao::build(&s, &hit, &p.ao).map_err(wrap_err(Slot::Ao, &p.ao))?;
+        check_lod(m, Slot::Ao, &p.ao)?;
         let f = s.finish(Some((m.ty(f32::inner()), None, v.handle())));
         Some(m.add_function(f))
     };
@@ -228,6 +254,71 @@ fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
     entry_point("vs_main", ShaderStage::Vertex, f, [0; 3])
 }
 
+/// The footprint level: `relief_lod_level(entry, pixel_size) -> f32`, the mip level every
+/// sample of a pixel is taken at, from the point `entry` where the pixel's ray enters the
+/// volume (on the polygon, z = 0 in world = tangent space) and the pixel's size δ (the
+/// render entry's from `Params::pixel_right.w`, the probe's from its ray record,
+/// `ProbeRay::pixel_size`). `None` under `lod=zero`. Both entry points
+/// call this one function and store its result in the stage-wide level
+/// ([`stage::SAMPLE_LEVEL`]) before they trace; the probe's rays are the render's pixels, so
+/// the probe finds the level of the pixel the ray belongs to.
+///
+/// `lod=level(k)` is `min(k, levels − 1)`. For `lod=auto` the level is derived from the
+/// camera (`relief-runtime`'s `scene::camera`: a pinhole at E with unit basis forward f,
+/// right r, up u in `Params::pixel_right`/`pixel_up`, square pixels of size δ =
+/// 2·tan(fov_y/2)/H on the image plane at unit distance), not from screen-space derivatives, which a
+/// compute entry lacks:
+///
+/// - the ray through image-plane point (a, b) is E + s·q with q = f + a·r + b·u, and meets
+///   the plane z = 0 at P(a, b) = E + s·q, s = −E.z / q.z;
+/// - differentiating, ∂P/∂a = s·(r − q·r.z/q.z), and with D = P − E = s·q (so s = D·f, since
+///   q·f = 1) this is ∂P/∂a = (D·f)·(r − D·r.z/D.z); likewise ∂P/∂b with u. Both lie in the
+///   plane (their z is 0);
+/// - one pixel moves a and b by δ, so the pixel's footprint in texels is spanned by
+///   δ·∂P/∂a and δ·∂P/∂b scaled by the map's size (w, h) (uv is in texture units);
+/// - as a GPU's trilinear filter does, λ = log2 of the longer of the two, and the level is
+///   `clamp(round(λ), 0, levels − 1)` (round half to even): one whole level, so the surface
+///   the stages sample is that level's bilinear surface.
+///
+/// The CPU twin is `Camera::footprint_lambda` in relief-runtime (the reference traces each
+/// ray on the level it gives).
+fn lod_level_fn(m: &ModuleCtx, lod: crate::spec::Lod) -> Option<Handle<naga::Function>> {
+    use crate::spec::Lod;
+    if lod == Lod::Zero {
+        return None;
+    }
+    let s = m.function("relief_lod_level", &[("entry", m.ty(Vec2::inner()), None), ("pixel_size", m.ty(f32::inner()), None)]);
+    let entry = s.arg::<Vec2>(0);
+    let delta = s.arg::<f32>(1);
+    let last = s.height_map_levels() - 1.0;
+    let level = match lod {
+        Lod::Zero => unreachable!("handled above"),
+        Lod::Level(k) => s.lit(f32::from(k)).min(last),
+        Lod::Auto => {
+            let eye = s.param::<Vec4>(Param::Camera).xyz();
+            let right = s.param::<Vec4>(Param::PixelRight).xyz();
+            let up = s.param::<Vec4>(Param::PixelUp).xyz();
+            let d = s.vec3(entry, 0.0) - eye;
+            let dist = d.dot(up.cross(right));
+            let size = s.height_map_size();
+            let dx = (right - d * (right.z() / d.z())) * (dist * delta);
+            let dy = (up - d * (up.z() / d.z())) * (dist * delta);
+            let extent = (dx.xy() * size).length().max((dy.xy() * size).length());
+            s.name("lod_lambda", extent.log2()).round().clamp(s.lit(0.0), last)
+        }
+    };
+    let f = s.finish(Some((m.ty(f32::inner()), None, level.handle())));
+    Some(m.add_function(f))
+}
+
+/// Stores the pixel's level ([`lod_level_fn`]) in the stage-wide level, before tracing.
+fn set_sample_level<'a>(s: &'a Stage<'a>, lod: Option<Handle<naga::Function>>, entry: Val<'a, Vec2>, pixel_size: impl FnOnce() -> Val<'a, f32>) {
+    if let Some(f) = lod {
+        let level = s.call(f, &[entry.handle(), pixel_size().handle()], true).unwrap();
+        s.store(s.global_ptr(stage::sample_level_global(s.module())), level);
+    }
+}
+
 /// What a module is built with besides its pipeline.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Options {
@@ -256,7 +347,7 @@ fn fragment_output_with_depth(m: &ModuleCtx) -> Handle<naga::Type> {
     )
 }
 
-fn fragment_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns, options: &Options) -> naga::EntryPoint {
+fn fragment_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns, options: &Options, lod: Option<Handle<naga::Function>>) -> naga::EntryPoint {
     let loc = location(0);
     let s = m.function("fs_main", &[("world", m.ty(Vec2::inner()), Some(loc))]);
     let world = s.arg::<Vec2>(0);
@@ -266,6 +357,7 @@ fn fragment_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns, options: &Options) 
     let view = (s.vec3(world, 0.0) - camera.xyz()).normalize();
     let dir = s.vec3(view.xy() * (depth_scale / -view.z()), -1.0);
     let ray = Ray { origin: world, dir, cos_view: -view.z() };
+    set_sample_level(&s, lod, world, || s.param::<Vec4>(Param::PixelRight).w());
     let rv = ray_value(&s, ty, &ray);
     let traced = hit_from(&s, s.call(fns.trace, &[rv], true).unwrap());
     // The pixel is drawn inside the volume whatever the search returned (the probe, not
@@ -328,7 +420,7 @@ fn storage_array(m: &ModuleCtx, name: &str, item: Handle<naga::Type>, binding: u
     })
 }
 
-fn probe_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint {
+fn probe_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns, lod: Option<Handle<naga::Function>>) -> naga::EntryPoint {
     let ray_rec = m.record_ty("ProbeRay", &ProbeRay::MEMBERS);
     let hit_rec = m.record_ty("ProbeHit", &ProbeHit::MEMBERS);
     let rays = storage_array(m, "rays", ray_rec, binding::RAYS, false);
@@ -362,6 +454,7 @@ fn probe_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint {
     let vz = dir_z * depth_scale;
     let cos_view = -vz / (dir_xy.dot(dir_xy) + vz * vz).sqrt();
     let ray = Ray { origin, dir: s.vec3(dir_xy, dir_z), cos_view };
+    set_sample_level(&s, lod, origin, || s.load::<f32>(s.member_ptr(rec, 5)));
     for c in counters {
         let zero = s.lit_u32(0);
         s.store(s.global_ptr(c), zero.handle());
@@ -395,16 +488,14 @@ pub fn build_module(p: &Pipeline) -> Result<Module, CompileError> {
 
 /// Builds the module for `p` with `options` (not yet validated).
 pub fn build_module_with(p: &Pipeline, options: &Options) -> Result<Module, CompileError> {
-    if p.lod != crate::spec::Lod::Zero {
-        return Err(CompileError { stage: "lod".into(), message: format!("lod={} is not implemented yet", p.lod) });
-    }
     let m = ModuleCtx::new();
     let ty = Types::new(&m);
     let plain = build_stage_fns(&m, &ty, p, false)?;
     let counted = build_stage_fns(&m, &ty, p, true)?;
+    let lod = lod_level_fn(&m, p.lod);
     let vs = vertex_entry(&m);
-    let fs = fragment_entry(&m, &ty, &plain, options);
-    let cs = probe_entry(&m, &ty, &counted);
+    let fs = fragment_entry(&m, &ty, &plain, options, lod);
+    let cs = probe_entry(&m, &ty, &counted, lod);
     let mut module = m.finish();
     module.entry_points.extend([vs, fs, cs]);
     Ok(module)
@@ -437,4 +528,54 @@ pub fn declared_resources(module: &Module) -> Vec<String> {
         .filter(|(_, g)| g.binding.is_some())
         .filter_map(|(_, g)| g.name.clone())
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wgsl(text: &str) -> Result<String, CompileError> {
+        let p: Pipeline = text.parse().unwrap();
+        let c = compile(&p)?;
+        Ok(naga::back::wgsl::write_string(&c.module, &c.info, naga::back::wgsl::WriterFlags::empty()).unwrap())
+    }
+
+    #[test]
+    fn sampling_at_a_level_validates_for_the_methods_that_support_it() {
+        for text in [
+            "linear(32)+binary(5)+lod=auto",
+            "linear(400)+interval(8)+lod=level(2)",
+            "linear_dynamic(8, 32)+secant(4)+lod=auto",
+            "parallax+lod=auto",
+            "offset_limited+lod=level(1)",
+            "slope_parallax+lod=auto",
+            "iterative_parallax(4)+binary(3)+lod=auto",
+            "linear(16)+binary(3)+shadow=hard(16)+lod=auto",
+            "linear(16)+binary(3)+shadow=soft(16)+lod=level(3)",
+        ] {
+            let src = wgsl(text).unwrap_or_else(|e| panic!("{text}: {e}"));
+            // Every sample reads the stage-wide level; no sample is left at level 0.
+            assert!(src.contains("relief_sample_level"), "{text}");
+            assert!(src.contains("fn relief_lod_level("), "{text}");
+            assert!(!src.contains("textureSampleLevel(height_map, linear_sampler, ray.origin, 0f)"), "{text}");
+            assert!(!src.contains("textureGather("), "{text}: a gather reads level 0 only");
+        }
+        // lod=zero is today's module, with no level in it.
+        let src = wgsl("linear(32)+binary(5)").unwrap();
+        assert!(!src.contains("relief_sample_level") && !src.contains("relief_lod_level"));
+    }
+
+    #[test]
+    fn methods_without_a_level_are_refused_by_name() {
+        for (text, stage) in [
+            ("maxmip(32)+lod=auto", "maxmip"),
+            ("sphere(32)+lod=level(1)", "sphere"),
+            ("csm(15, form=textbook)+binary(5)+lod=auto", "csm"),
+            ("linear(16)+shadow=soft_cone(8)+lod=auto", "soft_cone"),
+        ] {
+            let e = wgsl(text).err().unwrap_or_else(|| panic!("{text} compiled"));
+            let msg = e.to_string();
+            assert!(msg.contains(&format!("`{stage}` does not support lod=")), "{text}: {msg}");
+        }
+    }
 }

@@ -43,7 +43,7 @@ pub fn probe(gpu: &Gpu, program: &Program, scene: &Scene, tex: &SceneTextures, r
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
-    let params = SceneTextures::params(gpu, scene, 1.0);
+    let params = SceneTextures::params(gpu, scene, 1.0, 0.0);
     let bg = tex.bind_group(
         gpu,
         &pipeline.get_bind_group_layout(0),

@@ -27,15 +27,22 @@ pub struct SceneTextures {
     /// The heights as the device stores them (f32, or rounded to f16 where 32-bit float
     /// textures cannot be filtered): the surface the shaders sample, for the reference.
     pub heights_on_device: Vec<f32>,
+    /// The height map's mip chain as the device stores it (level 0 first, the same values as
+    /// `heights_on_device`): the surfaces `lod=level(k)` and `lod=auto` sample, for the
+    /// reference.
+    pub height_levels: Vec<crate::heightmap::HeightMap>,
 }
 
-fn texture(gpu: &Gpu, label: &str, w: usize, h: usize, format: wgpu::TextureFormat, bytes: &[u8]) -> wgpu::TextureView {
+/// A 2D texture with the given mip levels (level 0 first), each `(width, height, bytes)`.
+fn texture(gpu: &Gpu, label: &str, levels: &[(usize, usize, Vec<u8>)], format: wgpu::TextureFormat) -> wgpu::TextureView {
+    let (w, h, _) = levels[0];
+    let bytes: Vec<u8> = levels.iter().flat_map(|(_, _, b)| b.iter().copied()).collect();
     let t = gpu.device.create_texture_with_data(
         &gpu.queue,
         &wgpu::TextureDescriptor {
             label: Some(label),
             size: wgpu::Extent3d { width: w as u32, height: h as u32, depth_or_array_layers: 1 },
-            mip_level_count: 1,
+            mip_level_count: levels.len() as u32,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format,
@@ -43,44 +50,68 @@ fn texture(gpu: &Gpu, label: &str, w: usize, h: usize, format: wgpu::TextureForm
             view_formats: &[],
         },
         wgpu::util::TextureDataOrder::LayerMajor,
-        bytes,
+        &bytes,
     );
     t.create_view(&Default::default())
 }
 
 impl SceneTextures {
     /// Uploads the scene's height map, normal map (derived when the scene has none) and
-    /// albedo (neutral grey when it has none).
+    /// albedo (neutral grey when it has none), each with its mip chain built by the one
+    /// filter of [`crate::maps::mips`] (level 0 is what every pipeline under `lod=zero`
+    /// samples; the other levels are what `lod=level(k)` and `lod=auto` sample).
     pub fn new(gpu: &Gpu, scene: &Scene) -> SceneTextures {
-        let m = &scene.height;
-        let (w, h) = (m.width, m.height);
-        let (height, heights_on_device) = if gpu.float32_filterable {
-            let bytes: &[u8] = bytemuck::cast_slice(&m.data);
-            (texture(gpu, "height", w, h, wgpu::TextureFormat::R32Float, bytes), m.data.clone())
+        let chain = scene.height.mip_chain();
+        let (height, height_levels) = if gpu.float32_filterable {
+            let levels: Vec<(usize, usize, Vec<u8>)> =
+                chain.iter().map(|l| (l.width, l.height, bytemuck::cast_slice(&l.data).to_vec())).collect();
+            (texture(gpu, "height", &levels, wgpu::TextureFormat::R32Float), chain)
         } else {
-            let halves: Vec<half::f16> = m.data.iter().map(|&x| half::f16::from_f32(x)).collect();
-            let bytes: Vec<u8> = halves.iter().flat_map(|x| x.to_le_bytes()).collect();
-            (
-                texture(gpu, "height", w, h, wgpu::TextureFormat::R16Float, &bytes),
-                halves.iter().map(|x| x.to_f32()).collect(),
-            )
+            let rounded: Vec<crate::heightmap::HeightMap> = chain
+                .iter()
+                .map(|l| {
+                    let data = l.data.iter().map(|&x| half::f16::from_f32(x).to_f32()).collect();
+                    crate::heightmap::HeightMap::new(l.width, l.height, data)
+                })
+                .collect();
+            let levels: Vec<(usize, usize, Vec<u8>)> = rounded
+                .iter()
+                .map(|l| (l.width, l.height, l.data.iter().flat_map(|&x| half::f16::from_f32(x).to_le_bytes()).collect()))
+                .collect();
+            (texture(gpu, "height", &levels, wgpu::TextureFormat::R16Float), rounded)
         };
+        let heights_on_device = height_levels[0].data.clone();
         let normals: Vec<[f32; 3]> = match &scene.normal {
             Some(n) => n.data.clone(),
             None => normal::derived_normals(&scene.height, scene.depth_scale, scene.edge),
         };
         let (nw, nh) = match &scene.normal {
             Some(n) => (n.width, n.height),
-            None => (w, h),
+            None => (scene.height.width, scene.height.height),
         };
-        let nbytes: Vec<u8> = normals
-            .iter()
-            .flat_map(|n| [n[0], n[1], n[2]].map(|c| ((c * 0.5 + 0.5).clamp(0.0, 1.0) * 255.0).round() as u8).into_iter().chain([255]))
+        let flat: Vec<f32> = normals.iter().flat_map(|n| *n).collect();
+        let nlevels: Vec<(usize, usize, Vec<u8>)> = crate::maps::mips::box_chain(nw, nh, 3, &flat)
+            .into_iter()
+            .map(|l| {
+                let bytes = l
+                    .data
+                    .chunks(3)
+                    .flat_map(|n| [n[0], n[1], n[2]].map(|c| ((c * 0.5 + 0.5).clamp(0.0, 1.0) * 255.0).round() as u8).into_iter().chain([255]))
+                    .collect();
+                (l.width, l.height, bytes)
+            })
             .collect();
-        let normal = texture(gpu, "normal", nw, nh, wgpu::TextureFormat::Rgba8Unorm, &nbytes);
+        let normal = texture(gpu, "normal", &nlevels, wgpu::TextureFormat::Rgba8Unorm);
         let albedo = match &scene.albedo {
-            Some(a) => texture(gpu, "albedo", a.width, a.height, wgpu::TextureFormat::Rgba8UnormSrgb, &a.rgba),
-            None => texture(gpu, "albedo", 1, 1, wgpu::TextureFormat::Rgba8UnormSrgb, &[180, 170, 160, 255]),
+            Some(a) => {
+                let f: Vec<f32> = a.rgba.iter().map(|&b| b as f32).collect();
+                let levels: Vec<(usize, usize, Vec<u8>)> = crate::maps::mips::box_chain(a.width, a.height, 4, &f)
+                    .into_iter()
+                    .map(|l| (l.width, l.height, l.data.iter().map(|&x| x.round().clamp(0.0, 255.0) as u8).collect()))
+                    .collect();
+                texture(gpu, "albedo", &levels, wgpu::TextureFormat::Rgba8UnormSrgb)
+            }
+            None => texture(gpu, "albedo", &[(1, 1, vec![180, 170, 160, 255])], wgpu::TextureFormat::Rgba8UnormSrgb),
         };
         let address = match scene.edge {
             EdgeMode::Repeat => wgpu::AddressMode::Repeat,
@@ -103,6 +134,7 @@ impl SceneTextures {
             nearest: sampler(wgpu::FilterMode::Nearest),
             maps: HashMap::new(),
             heights_on_device,
+            height_levels,
         }
     }
 
@@ -133,8 +165,13 @@ impl SceneTextures {
         MapKey::of(*req).and_then(|k| self.maps.get(&k)).ok_or_else(|| missing_map(b))
     }
 
-    /// The params uniform buffer for a scene seen at `aspect`.
-    pub fn params(gpu: &Gpu, scene: &Scene, aspect: f32) -> wgpu::Buffer {
+    /// The params uniform buffer for a scene seen at `aspect`, in a frame whose pixels have
+    /// size `pixel_size` on the image plane at unit distance ([`Camera::pixel_size`]; the
+    /// probe passes 0, its rays carry their own).
+    ///
+    /// [`Camera::pixel_size`]: crate::scene::Camera::pixel_size
+    pub fn params(gpu: &Gpu, scene: &Scene, aspect: f32, pixel_size: f32) -> wgpu::Buffer {
+        let (_, right, up) = scene.camera.basis();
         let cam = scene.camera.camera_position();
         let l = scene.light_dir.normalize();
         let clamp = if scene.edge == EdgeMode::Clamp { 1.0 } else { 0.0 };
@@ -143,6 +180,8 @@ impl SceneTextures {
             camera: [cam.x, cam.y, cam.z, scene.depth_scale],
             light: [l.x, l.y, l.z, AMBIENT],
             quad: [scene.tiling, clamp, 0.0, 0.0],
+            pixel_right: [right.x, right.y, right.z, pixel_size],
+            pixel_up: [up.x, up.y, up.z, 0.0],
         };
         gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("params"),

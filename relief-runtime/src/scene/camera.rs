@@ -79,4 +79,38 @@ impl Camera {
         let ty = (0.5 * self.fov_deg.to_radians()).tan();
         (f + ndc_x * ty * aspect * r + ndc_y * ty * u).normalize()
     }
+
+    /// The size δ of one pixel of a frame `height` pixels tall on the image plane at unit
+    /// distance: `2·tan(fov_y / 2) / height` (pixels are square: the frame's width follows
+    /// from the aspect).
+    pub fn pixel_size(&self, height: u32) -> f32 {
+        2.0 * (0.5 * self.fov_deg.to_radians()).tan() / height as f32
+    }
+
+    /// λ, the log2 of the footprint in texels of a pixel of size `pixel_size`
+    /// ([`Camera::pixel_size`]) whose ray enters the relief at `entry` on the plane z = 0,
+    /// for a map of `size` texels per texture unit: `log2 max(|δ·∂P/∂a|, |δ·∂P/∂b|)` in
+    /// texels, with `∂P/∂a = (D·f)·(r − D·r.z/D.z)` and `∂P/∂b` likewise with the up vector
+    /// (D = entry − eye; f, r, u the basis). The derivation is in relief-dsl's
+    /// `compose::lod_level_fn`, the shader twin of this function; the operations are the
+    /// same, in f32, so that both round to the same level away from ties. `-inf` for
+    /// `pixel_size` 0.
+    pub fn footprint_lambda(&self, entry: glam::Vec2, pixel_size: f32, size: [usize; 2]) -> f32 {
+        let (_, right, up) = self.basis();
+        let d = entry.extend(0.0) - self.camera_position();
+        let dist = d.dot(up.cross(right));
+        let dx = (right - d * (right.z / d.z)) * (dist * pixel_size);
+        let dy = (up - d * (up.z / d.z)) * (dist * pixel_size);
+        let n = glam::Vec2::new(size[0] as f32, size[1] as f32);
+        let extent = (dx.truncate() * n).length().max((dy.truncate() * n).length());
+        extent.log2()
+    }
+}
+
+/// The whole mip level of footprint `lambda` ([`Camera::footprint_lambda`]) in a chain of
+/// `levels` levels: `clamp(round(λ), 0, levels − 1)`, halves rounded to even as WGSL's
+/// `round` does.
+pub fn footprint_level(lambda: f32, levels: usize) -> usize {
+    let last = levels.saturating_sub(1) as f32;
+    lambda.round_ties_even().clamp(0.0, last) as usize
 }
