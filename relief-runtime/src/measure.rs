@@ -9,7 +9,8 @@ use anyhow::Context;
 use crate::io;
 use crate::gpu::{self, Gpu, GpuHit, Program, RenderResult, SceneTextures};
 use crate::metrics::{self, Metrics};
-use crate::reference::{reference_hits, RefHit, Sampling};
+use crate::reference::{ray_levels, reference_hits, reference_hits_at_levels, RefHit, Sampling};
+use relief_dsl::spec::Lod;
 use crate::scene::{ProbeRay, Scene};
 
 /// A scene on the device, with its probe rays and their exact first hits (computed once,
@@ -22,6 +23,9 @@ pub struct Prepared {
     pub rays: Vec<ProbeRay>,
     pub refs: Vec<Option<RefHit>>,
     pub size: u32,
+    /// Per `lod` other than zero: the level each ray samples and its exact hits on that
+    /// level's surface (computed on first use).
+    pub lod_refs: std::collections::HashMap<Lod, (Vec<usize>, Vec<Option<RefHit>>)>,
 }
 
 impl Prepared {
@@ -32,7 +36,35 @@ impl Prepared {
         on_device.height.data = textures.heights_on_device.clone();
         let rays = scene.rays(size);
         let refs = reference_hits(&on_device, &rays, Sampling::Bilinear).with_context(|| format!("scene {}", scene.name))?;
-        Ok(Prepared { scene, on_device, textures, rays, refs, size })
+        Ok(Prepared { scene, on_device, textures, rays, refs, size, lod_refs: Default::default() })
+    }
+
+    /// The exact hits under `lod`, once [`Prepared::refs_for`] has computed them (a panic
+    /// before: never the level-0 hits in their place).
+    pub fn refs_at(&self, lod: Lod) -> &[Option<RefHit>] {
+        if lod == Lod::Zero {
+            return &self.refs;
+        }
+        let (_, r) = self.lod_refs.get(&lod).unwrap_or_else(|| panic!("refs_at(lod={lod}) before refs_for"));
+        r
+    }
+
+    /// The level of each ray and the exact hits on those levels' surfaces under `lod`
+    /// ([`ray_levels`], [`reference_hits_at_levels`] on the chain as the device stores it).
+    pub fn refs_for(&mut self, lod: Lod) -> anyhow::Result<(&[usize], &[Option<RefHit>])> {
+        if lod == Lod::Zero {
+            return Ok((&[], &self.refs));
+        }
+        if !self.lod_refs.contains_key(&lod) {
+            let chain = &self.textures.height_levels;
+            let size = [chain[0].width, chain[0].height];
+            let levels = ray_levels(&self.scene, &self.rays, lod, size, chain.len()).map_err(anyhow::Error::msg)?;
+            let refs = reference_hits_at_levels(chain, self.scene.edge, &self.rays, &levels, Sampling::Bilinear)
+                .with_context(|| format!("scene {} at lod={lod}", self.scene.name))?;
+            self.lod_refs.insert(lod, (levels, refs));
+        }
+        let (l, r) = &self.lod_refs[&lod];
+        Ok((l, r))
     }
 }
 
@@ -41,6 +73,8 @@ pub struct Measured {
     pub metrics: Metrics,
     pub frame: RenderResult,
     pub hits: Vec<GpuHit>,
+    /// The pipeline's `lod`: which of the prepared references its hits are scored against.
+    pub lod: Lod,
 }
 
 /// Builds the maps `pipeline` needs (once per scene), renders `frames` timed frames after
@@ -60,6 +94,8 @@ pub fn measure_with(
     frames: u32,
 ) -> anyhow::Result<Measured> {
     let program = Program::new_with(pipeline, options)?;
+    // Checked before the GPU runs: a level the map does not have is an error.
+    prep.refs_for(pipeline.lod)?;
     prep.textures.add_maps(gpu, &prep.scene, &pipeline.required_maps())?;
     let frame = gpu::render(gpu, &program, &prep.scene, &prep.textures, prep.size, warmup, frames)?;
     let hits = gpu::probe(gpu, &program, &prep.scene, &prep.textures, &prep.rays)?;
@@ -71,11 +107,18 @@ pub fn measure_with(
         ..Default::default()
     };
     metrics::set_timing(&mut m, &frame.frame_ms);
-    metrics::set_accuracy(&mut m, &prep.rays, &hits, &prep.refs, &prep.on_device.height, prep.scene.edge);
-    if let Some(depth) = &frame.depth {
-        m.depth_err_max = Some(depth_errors(prep, depth).into_iter().fold(0.0, f64::max));
+    let edge = prep.scene.edge;
+    if pipeline.lod == Lod::Zero {
+        metrics::set_accuracy(&mut m, &prep.rays, &hits, &prep.refs, &prep.on_device.height, edge);
+    } else {
+        let (levels, refs) = prep.refs_for(pipeline.lod)?;
+        let (levels, refs) = (levels.to_vec(), refs.to_vec());
+        metrics::set_accuracy_levels(&mut m, &prep.rays, &hits, &refs, &prep.textures.height_levels, &levels, edge);
     }
-    Ok(Measured { metrics: m, frame, hits })
+    if let Some(depth) = &frame.depth {
+        m.depth_err_max = Some(depth_errors(prep, prep.refs_at(pipeline.lod), depth).into_iter().fold(0.0, f64::max));
+    }
+    Ok(Measured { metrics: m, frame, hits, lod: pipeline.lod })
 }
 
 /// The NDC depth of the reference hit of every probe ray (one per covered pixel) against the
@@ -83,12 +126,12 @@ pub fn measure_with(
 /// `(u, v, (z − 1)·depth_scale)` in the quad's space, and its depth is that point under the
 /// camera's view-projection, in f64. A ray the reference does not hit counts as infinitely
 /// wrong.
-pub fn depth_errors(prep: &Prepared, depth: &[f32]) -> Vec<f64> {
+pub fn depth_errors(prep: &Prepared, refs: &[Option<RefHit>], depth: &[f32]) -> Vec<f64> {
     let vp = prep.scene.camera.view_proj(1.0).as_dmat4();
     let d = prep.scene.depth_scale as f64;
     prep.rays
         .iter()
-        .zip(&prep.refs)
+        .zip(refs)
         .map(|(r, rf)| {
             let Some(h) = rf else { return f64::INFINITY };
             let clip = vp * glam::DVec4::new(h.u, h.v, (h.z - 1.0) * d, 1.0);
@@ -107,7 +150,7 @@ pub fn write_images(dir: &Path, prep: &Prepared, m: &Measured) -> anyhow::Result
         .rays
         .iter()
         .zip(&m.hits)
-        .zip(&prep.refs)
+        .zip(prep.refs_at(m.lod))
         .map(|((r, h), rf)| {
             let e = match rf {
                 Some(rf) if h.t.is_finite() => (h.t as f64 - rf.t).abs(),
