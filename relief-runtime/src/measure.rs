@@ -96,7 +96,7 @@ pub fn measure_with(
     let program = Program::new_with(pipeline, options)?;
     // Checked before the GPU runs: a level the map does not have is an error.
     prep.refs_for(pipeline.lod)?;
-    prep.textures.add_maps(gpu, &prep.scene, &pipeline.required_maps())?;
+    prep.textures.add_maps_lod(gpu, &prep.scene, &pipeline.required_maps(), pipeline.lod)?;
     let frame = gpu::render(gpu, &program, &prep.scene, &prep.textures, prep.size, warmup, frames)?;
     let hits = gpu::probe(gpu, &program, &prep.scene, &prep.textures, &prep.rays)?;
     let mut m = Metrics {

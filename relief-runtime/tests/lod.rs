@@ -78,3 +78,41 @@ fn a_level_the_map_does_not_have_is_an_error() {
     let e = prep.refs_for(Lod::Level(9)).unwrap_err().to_string();
     assert!(e.contains("has only 5 mip levels"), "{e}");
 }
+
+/// Sampling level k of a map is sampling level 0 of a map that is level k: the probe's hits
+/// under `lod=level(2)` on a scene equal its hits under `lod=zero` on the same scene with
+/// level 2 of the height map's chain as its height map (same rays, same texels, the cone map
+/// built from the same heights), for methods that read the height map, gathers and texel
+/// cone maps. On lavapipe they are bitwise equal; the bound leaves room for a device whose
+/// texel addressing at a level rounds differently, and is far below the ~1e-2 of a texel
+/// step a wrong level or a cone map of the wrong level gives.
+#[test]
+fn a_level_is_the_level_0_of_its_own_map() {
+    let g = gpu();
+    for edge in [EdgeMode::Repeat, EdgeMode::Clamp] {
+        let mut scene = Scene::by_name("rock_bump", Some(128)).unwrap();
+        scene.edge = edge;
+        let mut small = scene.clone();
+        small.height = scene.height.mip_chain()[2].clone();
+        small.normal = None;
+        for pipeline in [
+            "linear(100)+interval(8)",
+            "csm(60, form=textbook)+binary(5)",
+            "csm(60, form=textbook, sample=min4)+binary(5)",
+            "rcs(30, form=textbook)+secant(4)",
+        ] {
+            let at_level: relief_dsl::Pipeline = format!("{pipeline}+lod=level(2)").parse().unwrap();
+            let at_zero: relief_dsl::Pipeline = pipeline.parse().unwrap();
+            let mut prep = Prepared::new(&g, scene.clone(), 48).unwrap();
+            let mut prep_small = Prepared::new(&g, small.clone(), 48).unwrap();
+            prep.textures.add_maps_lod(&g, &prep.scene, &at_level.required_maps(), at_level.lod).unwrap();
+            prep_small.textures.add_maps(&g, &prep_small.scene, &at_zero.required_maps()).unwrap();
+            let hits = gpu::probe(&g, &Program::new(&at_level).unwrap(), &prep.scene, &prep.textures, &prep.rays).unwrap();
+            let hits_small = gpu::probe(&g, &Program::new(&at_zero).unwrap(), &prep_small.scene, &prep_small.textures, &prep_small.rays).unwrap();
+            assert_eq!(hits.len(), hits_small.len());
+            let worst = hits.iter().zip(&hits_small).map(|(a, b)| (a.t - b.t).abs()).fold(0.0f32, f32::max);
+            eprintln!("{pipeline} {edge:?}: worst {worst}");
+            assert!(worst < 1e-4, "{pipeline} {edge:?}: hits differ by up to {worst} in t");
+        }
+    }
+}

@@ -552,6 +552,10 @@ mod tests {
             "iterative_parallax(4)+binary(3)+lod=auto",
             "linear(16)+binary(3)+shadow=hard(16)+lod=auto",
             "linear(16)+binary(3)+shadow=soft(16)+lod=level(3)",
+            "csm(15, form=textbook)+binary(5)+lod=auto",
+            "csm(15, form=textbook, sample=min4)+lod=level(1)",
+            "rcs(15, form=textbook)+lod=auto",
+            "linear(16)+shadow=soft_cone(8)+lod=auto",
         ] {
             let src = wgsl(text).unwrap_or_else(|e| panic!("{text}: {e}"));
             // Every sample reads the stage-wide level; no sample is left at level 0.
@@ -570,8 +574,8 @@ mod tests {
         for (text, stage) in [
             ("maxmip(32)+lod=auto", "maxmip"),
             ("sphere(32)+lod=level(1)", "sphere"),
-            ("csm(15, form=textbook)+binary(5)+lod=auto", "csm"),
-            ("linear(16)+shadow=soft_cone(8)+lod=auto", "soft_cone"),
+            ("csm(15)+binary(5)+lod=auto", "csm"),
+            ("qcsm(15, form=safe)+lod=level(2)", "qcsm"),
         ] {
             let e = wgsl(text).err().unwrap_or_else(|| panic!("{text} compiled"));
             let msg = e.to_string();

@@ -389,6 +389,26 @@ impl MapReq {
         }
     }
 
+    /// Whether the runtime can give the map a mip chain of its own level's data, so that a
+    /// stage may read it at a level other than 0 (`lod=auto`, `lod=level(k)`): the normal map
+    /// (box-filtered like the height map) and the texel maps defined per texel sample of the
+    /// height map in texture units (cone ratios and cone normals), which relief-runtime
+    /// builds again from each level of the height map's mip chain. Not the per-cell maps (one
+    /// texel per bilinear cell of level 0), the max-mip pyramid or the 3D distance field.
+    pub fn has_levels(self) -> bool {
+        matches!(
+            self,
+            MapReq::Normal
+                | MapReq::Cone
+                | MapReq::QuadCone
+                | MapReq::RelaxedCone
+                | MapReq::ConeNormal
+                | MapReq::RelaxedConeNormal
+                | MapReq::MultiCone(_)
+                | MapReq::PiecewiseCone(_)
+        )
+    }
+
     /// The map's texture name in the generated shader.
     pub fn texture_name(self) -> String {
         format!("{}_map", self.name())

@@ -391,12 +391,12 @@ impl<'a> Stage<'a> {
         self.gather_2d(tex, uv)
     }
 
-    /// The maps that have a mip chain of their own level's data: the normal map (box-filtered
-    /// like the height map). Every other map is built over level 0 of the height map (cone
-    /// ratios, cells, the max-mip pyramid), so reading it at another level would mix two
-    /// surfaces: it is refused under a `lod` other than zero.
+    /// Only maps with a mip chain of their own level's data ([`MapReq::has_levels`]) may be
+    /// read at a level: every other map is built over level 0 of the height map (cells, the
+    /// max-mip pyramid), so reading it at another level would mix two surfaces; it is
+    /// refused under a `lod` other than zero.
     fn no_level_map(&'a self, map: MapReq) {
-        if map != MapReq::Normal {
+        if !map.has_levels() {
             self.no_level(map.name());
         }
     }
@@ -404,7 +404,7 @@ impl<'a> Stage<'a> {
     /// The texel `coords` of mip level `level` of a map (no filtering). Refused under a `lod`
     /// other than zero: the callers address level-0 cells or their own pyramid.
     pub fn map_texel(&'a self, map: MapReq, coords: Val<'a, crate::ir::UVec2>, level: Val<'a, u32>) -> Val<'a, Vec4> {
-        self.no_level_map(map);
+        self.no_level(map.name());
         let name = map.texture_name();
         let tex = self.module().global(&name, |m| texture_2d(m, &name, map.binding()));
         if self.counting() {

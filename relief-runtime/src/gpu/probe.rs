@@ -49,6 +49,7 @@ pub fn probe(gpu: &Gpu, program: &Program, scene: &Scene, tex: &SceneTextures, r
         &pipeline.get_bind_group_layout(0),
         &program.probe_bindings,
         &program.maps,
+        program.map_levels,
         &params,
         &[(binding::RAYS, &ray_buf), (binding::HITS, &hit_buf)],
     )?;

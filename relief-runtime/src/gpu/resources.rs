@@ -24,6 +24,9 @@ pub struct SceneTextures {
     /// (see [`SceneTextures::add_maps`]). Two maps of one kind with different parameters are
     /// two entries, though a shader binds either at the same binding.
     pub maps: HashMap<MapKey, wgpu::TextureView>,
+    /// The same maps with a mip chain of their own: level k built from level k of the height
+    /// map's chain, for stages that read them at a level ([`SceneTextures::add_maps_lod`]).
+    pub level_maps: HashMap<MapKey, wgpu::TextureView>,
     /// The heights as the device stores them (f32, or rounded to f16 where 32-bit float
     /// textures cannot be filtered): the surface the shaders sample, for the reference.
     pub heights_on_device: Vec<f32>,
@@ -133,6 +136,7 @@ impl SceneTextures {
             linear: sampler(wgpu::FilterMode::Linear),
             nearest: sampler(wgpu::FilterMode::Nearest),
             maps: HashMap::new(),
+            level_maps: HashMap::new(),
             heights_on_device,
             height_levels,
         }
@@ -142,6 +146,39 @@ impl SceneTextures {
     /// map is always there). Ratios are uploaded clamped to [`MAX_RATIO`]: a narrower cone
     /// than the exact one, which stays conservative and keeps `+inf` out of the shaders.
     pub fn add_maps(&mut self, gpu: &Gpu, scene: &Scene, reqs: &[MapReq]) -> Result<(), crate::maps::MapError> {
+        self.add_maps_lod(gpu, scene, reqs, relief_dsl::spec::Lod::Zero)
+    }
+
+    /// [`SceneTextures::add_maps`] for a pipeline whose stages sample at `lod`: under a `lod`
+    /// other than zero every map is built once per level of the height map's mip chain (the
+    /// chain of [`crate::maps::mips`], in f32 as the scene holds it), level k from level k,
+    /// and uploaded as the map's mip chain, so that a cone read at level k is the cone of
+    /// level k's surface. Only maps with levels ([`MapReq::has_levels`]) are asked for here:
+    /// the composer refuses the others under such a `lod`.
+    pub fn add_maps_lod(&mut self, gpu: &Gpu, scene: &Scene, reqs: &[MapReq], lod: relief_dsl::spec::Lod) -> Result<(), crate::maps::MapError> {
+        if lod != relief_dsl::spec::Lod::Zero {
+            let chain = scene.height.mip_chain();
+            for &req in reqs {
+                let Some((kind, params)) = MapKind::of(req) else { continue };
+                let key = MapKey { kind, params: params.relevant(kind) };
+                if self.level_maps.contains_key(&key) {
+                    continue;
+                }
+                if !req.has_levels() {
+                    return Err(crate::maps::MapError::Params {
+                        kind,
+                        message: format!("the {} map has no per-level form (lod={lod})", req.name()),
+                    });
+                }
+                let mut map = crate::maps::build(&chain[0], kind, &params, scene.edge)?;
+                for level in &chain[1..] {
+                    map.mips.push(crate::maps::build(level, kind, &params, scene.edge)?);
+                }
+                let view = upload_map(gpu, &map, map.channels, kind.is_ratio());
+                self.level_maps.insert(key, view);
+            }
+            return Ok(());
+        }
         for &req in reqs {
             // The normal map (no key) is uploaded with the scene.
             let Some((kind, params)) = MapKind::of(req) else { continue };
@@ -158,11 +195,12 @@ impl SceneTextures {
     }
 
     /// The uploaded map a shader binding `b` of a program reading `reqs` takes.
-    fn map_view(&self, b: u32, reqs: &[MapReq]) -> Result<&wgpu::TextureView, super::GpuError> {
+    fn map_view(&self, b: u32, reqs: &[MapReq], levels: bool) -> Result<&wgpu::TextureView, super::GpuError> {
         let req = reqs.iter().find(|r| **r != MapReq::Normal && r.binding() == b).ok_or_else(|| {
             super::GpuError::Pipeline(format!("the shader reads a map at binding {b}, which the pipeline's required maps do not name"))
         })?;
-        MapKey::of(*req).and_then(|k| self.maps.get(&k)).ok_or_else(|| missing_map(b))
+        let maps = if levels { &self.level_maps } else { &self.maps };
+        MapKey::of(*req).and_then(|k| maps.get(&k)).ok_or_else(|| missing_map(b))
     }
 
     /// The params uniform buffer for a scene seen at `aspect`, in a frame whose pixels have
@@ -191,13 +229,16 @@ impl SceneTextures {
     }
 
     /// A bind group with exactly `bindings`, from this scene's resources (the maps of
-    /// `program`'s requests) and the buffers given.
+    /// `program`'s requests, with their per-level chains when `map_levels`) and the buffers
+    /// given.
+    #[allow(clippy::too_many_arguments)]
     pub fn bind_group(
         &self,
         gpu: &Gpu,
         layout: &wgpu::BindGroupLayout,
         bindings: &[u32],
         reqs: &[MapReq],
+        map_levels: bool,
         params: &wgpu::Buffer,
         storage: &[(u32, &wgpu::Buffer)],
     ) -> Result<wgpu::BindGroup, super::GpuError> {
@@ -215,11 +256,11 @@ impl SceneTextures {
                         binding::HEIGHT => wgpu::BindingResource::TextureView(&self.height),
                         binding::NORMAL => wgpu::BindingResource::TextureView(&self.normal),
                         binding::ALBEDO => wgpu::BindingResource::TextureView(&self.albedo),
-                        _ => wgpu::BindingResource::TextureView(self.map_view(base, reqs)?),
+                        _ => wgpu::BindingResource::TextureView(self.map_view(base, reqs, map_levels)?),
                     }
                 }
                 binding::NEAREST_SAMPLER => wgpu::BindingResource::Sampler(&self.nearest),
-                b if b > binding::ALBEDO && b < binding::NEAREST_OFFSET => wgpu::BindingResource::TextureView(self.map_view(b, reqs)?),
+                b if b > binding::ALBEDO && b < binding::NEAREST_OFFSET => wgpu::BindingResource::TextureView(self.map_view(b, reqs, map_levels)?),
                 other => match storage.iter().find(|(n, _)| *n == other) {
                     Some((_, buf)) => buf.as_entire_binding(),
                     None => {
@@ -236,7 +277,7 @@ impl SceneTextures {
 }
 
 fn missing_map(b: u32) -> super::GpuError {
-    super::GpuError::Pipeline(format!("the shader reads the map at binding {b}, which was not built (call add_maps with the pipeline's required_maps)"))
+    super::GpuError::Pipeline(format!("the shader reads the map at binding {b}, which was not built (call add_maps_lod with the pipeline's required_maps and lod)"))
 }
 
 /// The largest cone ratio uploaded (a cone 89.99° wide).
