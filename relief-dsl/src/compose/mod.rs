@@ -564,6 +564,11 @@ mod tests {
             assert!(!src.contains("textureSampleLevel(height_map, linear_sampler, ray.origin, 0f)"), "{text}");
             assert!(!src.contains("textureGather("), "{text}: a gather reads level 0 only");
         }
+        // Every backend takes the level: SPIR-V and GLSL of the whole module.
+        for text in ["linear(32)+binary(5)+lod=auto", "csm(15, form=textbook, sample=min4)+lod=level(1)"] {
+            let out = crate::emit::emit(&text.parse().unwrap()).unwrap_or_else(|e| panic!("{text}: {e}"));
+            assert!(!out.spirv.is_empty() && out.glsl.len() == 3, "{text}");
+        }
         // lod=zero is today's module, with no level in it.
         let src = wgsl("linear(32)+binary(5)").unwrap();
         assert!(!src.contains("relief_sample_level") && !src.contains("relief_lod_level"));

@@ -125,7 +125,7 @@ fn named(name: &str, text: &str, scenes: Option<&[String]>) -> NamedGrid {
 }
 
 /// Every built-in grid of the dissertation, then `dissertation`: all of them, each
-/// (pipeline, scene) once; then relief's own grids ([`EXTRA_FILES`]).
+/// (pipeline, scene) once; then relief's own grids (`lod`).
 pub fn builtin(scenes: Option<&[String]>) -> Vec<NamedGrid> {
     let mut all: Vec<NamedGrid> = FILES.iter().map(|(n, t)| named(n, t, scenes)).collect();
     let mut union: Vec<(Pipeline, String)> = Vec::new();
