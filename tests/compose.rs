@@ -201,7 +201,7 @@ fn abi_records_match_their_rust_structs() {
             other => panic!("{name} is {other:?}"),
         }
     };
-    assert_eq!(span_of("Params"), (std::mem::size_of::<Params>() as u32, vec![0, 64, 80, 96]));
+    assert_eq!(span_of("Params"), (std::mem::size_of::<Params>() as u32, vec![0, 64, 80, 96, 112, 128]));
     assert_eq!(span_of("ProbeRay"), (std::mem::size_of::<ProbeRay>() as u32, vec![0, 8, 16, 20, 24, 28]));
     assert_eq!(span_of("ProbeHit"), (std::mem::size_of::<ProbeHit>() as u32, (0..9).map(|i| 4 * i).collect()));
     assert_eq!(std::mem::offset_of!(Params, quad), 96);

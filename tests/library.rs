@@ -251,3 +251,16 @@ fn options_are_checked_and_written() {
     });
     assert!(uses, "maxmip reads relief_edge_clamp");
 }
+
+/// Render options a library cannot honour are errors that say so, never dropped.
+#[test]
+fn a_library_refuses_the_render_options_it_cannot_honour() {
+    for (text, says) in [
+        ("linear(8)+binary(3)+silhouette=clip", "silhouette=clip is an option of relief's own render entry"),
+        ("linear(8)+binary(3)+lod=auto", "does not support lod=auto"),
+    ] {
+        let p: Pipeline = text.parse().unwrap();
+        let e = emit::library(&p, &LibraryOptions::default()).err().unwrap_or_else(|| panic!("{text} made a library"));
+        assert!(e.to_string().contains(says), "{text}: {e}");
+    }
+}

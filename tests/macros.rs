@@ -29,6 +29,9 @@ fn relief_equals_the_text_form() {
         (relief! { coarse: offset_limited, shadow: hard }, "offset_limited+shadow=hard"),
         (relief! { coarse: none, refine: none, shadow: none, ao: none }, "none"),
         (relief!("linear(10)+binary(5)"), "linear(10)+binary(5)"),
+        (relief! { coarse: linear(32), refine: binary(5), lod: auto }, "linear(32)+binary(5)+lod=auto"),
+        (relief! { coarse: linear(32), lod: level(3), silhouette: clip }, "linear(32)+lod=level(3)+silhouette=clip"),
+        (relief!("linear(32)+lod=level(2)"), "linear(32)+lod=level(2)"),
     ];
     for (p, text) in cases {
         assert_eq!(p, parse(text), "{text}");
@@ -67,6 +70,13 @@ fn relief_grid_equals_the_text_grid() {
     assert_eq!(g.len(), 4 * 2 * 3);
     let texts: Vec<String> = g.into_iter().map(|p| p.to_string()).take(3).collect();
     assert_eq!(texts, ["linear_dynamic(4, 16)+binary(1)", "linear_dynamic(4, 16)+binary(1)+shadow=hard(4)", "linear_dynamic(4, 16)+binary(1)+shadow=hard(8)"]);
+
+    // Pipeline options as grid axes, innermost.
+    let g = relief_grid! { coarse: linear([8, 16]), refine: binary(5), lod: [zero, auto, level(1..=2)] };
+    let text = "coarse: linear([8, 16])\nrefine: binary(5)\nlod: [zero, auto, level(1..=2)]";
+    assert_eq!(g, text.parse::<Grid>().unwrap());
+    assert_eq!(g.len(), 2 * 4);
+    assert_eq!(g.iter().nth(1).unwrap(), &parse("linear(8)+binary(5)+lod=auto"));
 }
 
 relief_shader! {

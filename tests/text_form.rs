@@ -95,7 +95,7 @@ fn bad_inputs_give_errors_that_name_the_problem() {
         ("parallax(3)", &["`parallax` takes no parameters"]),
         ("linear(steps=1, steps=2)", &["given twice"]),
         ("linear(10)+binary(5)+soft(3)", &["third stage needs its slot named"]),
-        ("linear(10)+shadw=soft(3)", &["unknown slot `shadw`", "did you mean `shadow`"]),
+        ("linear(10)+shadw=soft(3)", &["unknown slot or option `shadw`", "did you mean `shadow`"]),
         ("linear(10)+shadow=soft(3)+shadow=hard(2)", &["shadow slot is given twice"]),
         ("shadow=soft(3)", &["no coarse stage"]),
         ("linear(-3)", &["negative numbers"]),

@@ -88,7 +88,7 @@ pub enum Member {
     Mat4,
 }
 
-/// The `Params` uniform block (112 bytes).
+/// The `Params` uniform block (144 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Params {
@@ -102,6 +102,13 @@ pub struct Params {
     /// x: the quad's size in texture units (the tiling); y: 1 when the scene's edge mode is
     /// clamp, 0 for repeat; z, w: 0.
     pub quad: [f32; 4],
+    /// xyz: the camera's unit right vector (world = tangent space); w: one pixel's size on
+    /// the image plane at unit distance, `2·tan(fov_y / 2) / frame height` (square pixels).
+    /// With [`Params::pixel_up`], what `lod=auto` needs to project a pixel onto the plane
+    /// (see `relief_dsl::compose`, "The footprint level").
+    pub pixel_right: [f32; 4],
+    /// xyz: the camera's unit up vector; w: 0.
+    pub pixel_up: [f32; 4],
 }
 
 /// A member of [`Params`], in order.
@@ -115,12 +122,22 @@ pub enum Param {
     Light,
     /// [`Params::quad`].
     Quad,
+    /// [`Params::pixel_right`].
+    PixelRight,
+    /// [`Params::pixel_up`].
+    PixelUp,
 }
 
 impl Params {
     /// The members as the shader declares them, in order.
-    pub const MEMBERS: [(&'static str, Member); 4] =
-        [("view_proj", Member::Mat4), ("camera", Member::Vec4), ("light", Member::Vec4), ("quad", Member::Vec4)];
+    pub const MEMBERS: [(&'static str, Member); 6] = [
+        ("view_proj", Member::Mat4),
+        ("camera", Member::Vec4),
+        ("light", Member::Vec4),
+        ("quad", Member::Vec4),
+        ("pixel_right", Member::Vec4),
+        ("pixel_up", Member::Vec4),
+    ];
 }
 
 impl Param {
@@ -131,6 +148,11 @@ impl Param {
 }
 
 /// One probe ray, 32 bytes, as the probe's storage buffer holds it.
+///
+/// `pixel_size` is the size δ of the ray's pixel on the image plane at unit distance,
+/// `2·tan(fov_y / 2) / frame height`, for rays that are a frame's pixels (what `lod=auto`
+/// needs to find the pixel's footprint, as the render entry finds it from
+/// [`Params::pixel_right`]); 0 for rays that are not (they sample level 0 under `lod=auto`).
 ///
 /// The ray's point at t is `(origin.x + t·dir.x, origin.y + t·dir.y, 1 + t·dir.z)`: it enters
 /// the relief volume at height 1, and `dir` is normalized so that t = 1 reaches height 0
@@ -146,8 +168,8 @@ pub struct ProbeRay {
     pub x: u32,
     /// The pixel's row (0 at the top).
     pub y: u32,
-    /// Padding to 32 bytes (0).
-    pub pad: u32,
+    /// The pixel's size on the image plane at unit distance (0: not a frame's pixel).
+    pub pixel_size: f32,
 }
 
 impl ProbeRay {
@@ -159,7 +181,7 @@ impl ProbeRay {
         ("dir_z", Member::F32),
         ("pixel_x", Member::U32),
         ("pixel_y", Member::U32),
-        ("pad", Member::U32),
+        ("pixel_size", Member::F32),
     ];
 
     /// The ray's point (u, v, height) at parameter t.

@@ -57,6 +57,7 @@ pub use spec::{register, Pipeline, Slot, StageSpec};
 /// tokens. Not part of the API.
 #[doc(hidden)]
 pub mod __private {
-    pub use crate::spec::grid::{ArgPattern, GridPattern, SlotPattern, StagePattern, ValuePattern};
+    pub use crate::spec::grid::{ArgPattern, GridPattern, OptionPattern, SlotPattern, StagePattern, ValuePattern};
+    pub use crate::spec::options::{key_named, Key};
     pub use crate::spec::{slot_named, Form, ParseError, MAX_DEPTH};
 }

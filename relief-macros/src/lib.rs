@@ -14,7 +14,9 @@
 //! A pipeline is a comma-separated list of `SLOT: STAGE` for the slots `coarse` (required),
 //! `refine`, `shadow` and `ao`, in any order; a left-out slot is `none`. A stage is written
 //! as in the text form: `linear(10)`, `linear(steps = 10)`, `linear` (defaults),
-//! `hard(linear(20))`. Trailing commas are fine.
+//! `hard(linear(20))`. The pipeline options follow the slots as `OPTION: VALUE`
+//! (`lod: auto`, `lod: level(2)`, `silhouette: clip`; see `relief_dsl::spec::options`), in a
+//! grid also as lists (`lod: [zero, auto]`). Trailing commas are fine.
 //!
 //! ## `relief!` — a [`Pipeline`] value
 //!
@@ -25,6 +27,8 @@
 //! assert_eq!(p.to_string(), "linear(15)+binary(6)+shadow=soft(30)");
 //! // The text form in a string literal is accepted (and checked) too.
 //! assert_eq!(relief!("linear(15)+binary(6)+shadow=soft(30)"), p);
+//! let p: Pipeline = relief! { coarse: linear(32), refine: binary(5), lod: auto };
+//! assert_eq!(p.to_string(), "linear(32)+binary(5)+lod=auto");
 //! ```
 //!
 //! ## `relief_shader!` — shaders built while compiling
@@ -86,11 +90,14 @@
 //! ```compile_fail
 //! let p = relief::relief! { coarse: linear(0) }; // step count 0 … is out of range: allowed 1..=4096
 //! ```
+//! ```compile_fail
+//! let p = relief::relief! { coarse: linear(32), lod: autp }; // unknown lod value `autp`; did you mean `auto`?
+//! ```
 
 use proc_macro::TokenStream;
 use proc_macro2::TokenStream as TokenStream2;
 use quote::quote;
-use relief_dsl::spec::{Pipeline, StageSpec, Value};
+use relief_dsl::spec::{Lod, Pipeline, Silhouette, StageSpec, Value};
 use syn::parse::{ParseStream, Parser};
 
 mod syntax;
@@ -136,7 +143,25 @@ fn stage_tokens(s: &StageSpec) -> TokenStream2 {
 fn pipeline_tokens(p: &Pipeline) -> TokenStream2 {
     let k = dsl();
     let [c, r, s, a] = [&p.coarse, &p.refine, &p.shadow, &p.ao].map(stage_tokens);
-    quote!(#k::spec::Pipeline::new(#c, #r, #s, #a))
+    let (lod, sil) = (lod_tokens(p.lod), silhouette_tokens(p.silhouette));
+    quote!(#k::spec::Pipeline::new(#c, #r, #s, #a).with_lod(#lod).with_silhouette(#sil))
+}
+
+fn lod_tokens(lod: Lod) -> TokenStream2 {
+    let k = dsl();
+    match lod {
+        Lod::Zero => quote!(#k::spec::Lod::Zero),
+        Lod::Auto => quote!(#k::spec::Lod::Auto),
+        Lod::Level(n) => quote!(#k::spec::Lod::Level(#n)),
+    }
+}
+
+fn silhouette_tokens(s: Silhouette) -> TokenStream2 {
+    let k = dsl();
+    match s {
+        Silhouette::None => quote!(#k::spec::Silhouette::None),
+        Silhouette::Clip => quote!(#k::spec::Silhouette::Clip),
+    }
 }
 
 /// Parses and checks a pipeline body (`SLOT: STAGE, …`, or the text form in a string
@@ -179,14 +204,15 @@ pub fn relief_grid(input: TokenStream) -> TokenStream {
         Ok(p) => p,
         Err(e) => return e.to_compile_error().into(),
     };
-    let lists = match pattern.resolve() {
+    let checked = pattern.resolve().and_then(|l| Ok((l, pattern.resolve_options()?)));
+    let (lists, (lods, sils)) = match checked {
         Ok(l) => l,
         Err(e) => return spans.error(&e).to_compile_error().into(),
     };
-    grid_tokens(pattern.name.as_deref(), &lists).into()
+    grid_tokens(pattern.name.as_deref(), &lists, &lods, &sils).into()
 }
 
-fn grid_tokens(name: Option<&str>, lists: &[Vec<StageSpec>; 4]) -> TokenStream2 {
+fn grid_tokens(name: Option<&str>, lists: &[Vec<StageSpec>; 4], lods: &[Lod], sils: &[Silhouette]) -> TokenStream2 {
     let k = dsl();
     let name = match name {
         Some(n) => {
@@ -199,7 +225,9 @@ fn grid_tokens(name: Option<&str>, lists: &[Vec<StageSpec>; 4]) -> TokenStream2 
         let stages = l.iter().map(stage_tokens);
         quote!(::std::vec![#(#stages),*])
     });
-    quote!(#k::spec::Grid::product(#name, [#c, #r, #s, #a]))
+    let lods = lods.iter().copied().map(lod_tokens);
+    let sils = sils.iter().copied().map(silhouette_tokens);
+    quote!(#k::spec::Grid::product_with_options(#name, [#c, #r, #s, #a], &[#(#lods),*], &[#(#sils),*]))
 }
 
 /// Shaders built, validated and emitted at compile time, embedded as constants:

@@ -3,8 +3,8 @@
 //! error relief-dsl reports (it carries the position unchanged) maps back to its token.
 
 use proc_macro2::{Span, TokenStream};
-use relief_dsl::__private::{ArgPattern, GridPattern, SlotPattern, StagePattern, ValuePattern};
-use relief_dsl::__private::{slot_named, Form, ParseError, MAX_DEPTH};
+use relief_dsl::__private::{ArgPattern, GridPattern, OptionPattern, SlotPattern, StagePattern, ValuePattern};
+use relief_dsl::__private::{key_named, Form, Key, ParseError, MAX_DEPTH};
 use syn::ext::IdentExt;
 use syn::parse::ParseStream;
 use syn::spanned::Spanned;
@@ -52,9 +52,10 @@ pub fn spanned_error(first: Span, last: Span, msg: impl std::fmt::Display) -> sy
     syn::Error::new_spanned(ts, msg)
 }
 
-/// Parses a whole body: `SLOT: STAGE, …` (and, for grids, `SLOT: [STAGE, …]`, `name: "…"`).
+/// Parses a whole body: `SLOT: STAGE, …` and `OPTION: VALUE, …` (and, for grids,
+/// `SLOT: [STAGE, …]`, `OPTION: [VALUE, …]`, `name: "…"`).
 pub fn body(input: ParseStream, form: Form, spans: &mut Spans) -> syn::Result<GridPattern> {
-    let mut g = GridPattern { name: None, slots: vec![], end: 0 };
+    let mut g = GridPattern::default();
     let mut name_seen = false;
     while !input.is_empty() {
         let key = input.call(Ident::parse_any).map_err(|e| {
@@ -74,7 +75,7 @@ pub fn body(input: ParseStream, form: Form, spans: &mut Spans) -> syn::Result<Gr
             });
         } else {
             let pos = spans.one(key.span());
-            let slot = slot_named(&key_str, pos).map_err(|e| spans.error(&e))?;
+            let key = key_named(&key_str, pos).map_err(|e| spans.error(&e))?;
             let stages = if input.peek(syn::token::Bracket) {
                 let content;
                 let bracket = syn::bracketed!(content in input);
@@ -96,7 +97,10 @@ pub fn body(input: ParseStream, form: Form, spans: &mut Spans) -> syn::Result<Gr
             } else {
                 vec![stage(input, form, spans, 0)?]
             };
-            g.slots.push(SlotPattern { slot, pos, stages });
+            match key {
+                Key::Slot(slot) => g.slots.push(SlotPattern { slot, pos, stages }),
+                Key::Option(key) => g.options.push(OptionPattern { key, pos, values: stages }),
+            }
         }
         if input.is_empty() {
             break;

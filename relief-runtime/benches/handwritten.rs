@@ -23,6 +23,7 @@ fn main() {
         probe_bindings: vec![],
         maps: vec![],
         writes_depth: false,
+        map_levels: false,
     };
     let size = 512;
     let rounds = 8;

@@ -10,7 +10,8 @@ use crate::io;
 use crate::gpu::{self, Gpu, GpuHit, Program, RenderResult, SceneTextures};
 use crate::metrics::{self, Metrics};
 use crate::heightmap::EdgeMode;
-use crate::reference::{clip_to_square, reference_hits, RefHit, Sampling};
+use crate::reference::{clip_to_square, ray_levels, reference_hits, reference_hits_at_levels, RefHit, Sampling};
+use relief_dsl::spec::{Lod, Silhouette};
 use crate::scene::{ProbeRay, Scene};
 
 /// A scene on the device, with its probe rays and their exact first hits (computed once,
@@ -23,6 +24,9 @@ pub struct Prepared {
     pub rays: Vec<ProbeRay>,
     pub refs: Vec<Option<RefHit>>,
     pub size: u32,
+    /// Per `lod` other than zero: the level each ray samples and its exact hits on that
+    /// level's surface (computed on first use).
+    pub lod_refs: std::collections::HashMap<Lod, (Vec<usize>, Vec<Option<RefHit>>)>,
 }
 
 impl Prepared {
@@ -33,7 +37,35 @@ impl Prepared {
         on_device.height.data = textures.heights_on_device.clone();
         let rays = scene.rays(size);
         let refs = reference_hits(&on_device, &rays, Sampling::Bilinear).with_context(|| format!("scene {}", scene.name))?;
-        Ok(Prepared { scene, on_device, textures, rays, refs, size })
+        Ok(Prepared { scene, on_device, textures, rays, refs, size, lod_refs: Default::default() })
+    }
+
+    /// The exact hits under `lod`, once [`Prepared::refs_for`] has computed them (a panic
+    /// before: never the level-0 hits in their place).
+    pub fn refs_at(&self, lod: Lod) -> &[Option<RefHit>] {
+        if lod == Lod::Zero {
+            return &self.refs;
+        }
+        let (_, r) = self.lod_refs.get(&lod).unwrap_or_else(|| panic!("refs_at(lod={lod}) before refs_for"));
+        r
+    }
+
+    /// The level of each ray and the exact hits on those levels' surfaces under `lod`
+    /// ([`ray_levels`], [`reference_hits_at_levels`] on the chain as the device stores it).
+    pub fn refs_for(&mut self, lod: Lod) -> anyhow::Result<(&[usize], &[Option<RefHit>])> {
+        if lod == Lod::Zero {
+            return Ok((&[], &self.refs));
+        }
+        if !self.lod_refs.contains_key(&lod) {
+            let chain = &self.textures.height_levels;
+            let size = [chain[0].width, chain[0].height];
+            let levels = ray_levels(&self.scene, &self.rays, lod, size, chain.len()).map_err(anyhow::Error::msg)?;
+            let refs = reference_hits_at_levels(chain, self.scene.edge, &self.rays, &levels, Sampling::Bilinear)
+                .with_context(|| format!("scene {} at lod={lod}", self.scene.name))?;
+            self.lod_refs.insert(lod, (levels, refs));
+        }
+        let (l, r) = &self.lod_refs[&lod];
+        Ok((l, r))
     }
 }
 
@@ -42,9 +74,11 @@ pub struct Measured {
     pub metrics: Metrics,
     pub frame: RenderResult,
     pub hits: Vec<GpuHit>,
-    /// The reference hits the metrics compared with: the prepared scene's, clipped to the
-    /// quad's square for `silhouette=clip`.
+    /// The reference hits the metrics compared with: the prepared scene's on the level the
+    /// pipeline's `lod` samples, clipped to the quad's square for `silhouette=clip`.
     pub refs: Vec<Option<RefHit>>,
+    /// The pipeline's `lod`.
+    pub lod: Lod,
 }
 
 /// Builds the maps `pipeline` needs (once per scene), renders `frames` timed frames after
@@ -63,14 +97,17 @@ pub fn measure_with(
     warmup: u32,
     frames: u32,
 ) -> anyhow::Result<Measured> {
-    if options.silhouette_clip && prep.scene.edge != EdgeMode::Clamp {
+    let clip = pipeline.silhouette == Silhouette::Clip;
+    if clip && prep.scene.edge != EdgeMode::Clamp {
         anyhow::bail!(
             "silhouette=clip needs a scene with clamp edges; scene `{}` repeats its height map (set `edge = \"clamp\"` in a scene file)",
             prep.scene.name
         );
     }
     let program = Program::new_with(pipeline, options)?;
-    prep.textures.add_maps(gpu, &prep.scene, &pipeline.required_maps())?;
+    // Checked before the GPU runs: a level the map does not have is an error.
+    prep.refs_for(pipeline.lod)?;
+    prep.textures.add_maps_lod(gpu, &prep.scene, &pipeline.required_maps(), pipeline.lod)?;
     let frame = gpu::render(gpu, &program, &prep.scene, &prep.textures, prep.size, warmup, frames)?;
     let hits = gpu::probe(gpu, &program, &prep.scene, &prep.textures, &prep.rays)?;
     let mut m = Metrics {
@@ -81,12 +118,24 @@ pub fn measure_with(
         ..Default::default()
     };
     metrics::set_timing(&mut m, &frame.frame_ms);
-    let refs = if options.silhouette_clip { clip_to_square(&prep.refs, prep.scene.tiling as f64) } else { prep.refs.clone() };
-    metrics::set_accuracy(&mut m, &prep.rays, &hits, &refs, &prep.on_device.height, prep.scene.edge);
+    let edge = prep.scene.edge;
+    let (levels, refs) = match pipeline.lod {
+        Lod::Zero => (Vec::new(), prep.refs.clone()),
+        lod => {
+            let (l, r) = prep.refs_for(lod)?;
+            (l.to_vec(), r.to_vec())
+        }
+    };
+    let refs = if clip { clip_to_square(&refs, prep.scene.tiling as f64) } else { refs };
+    if pipeline.lod == Lod::Zero {
+        metrics::set_accuracy(&mut m, &prep.rays, &hits, &refs, &prep.on_device.height, edge);
+    } else {
+        metrics::set_accuracy_levels(&mut m, &prep.rays, &hits, &refs, &prep.textures.height_levels, &levels, edge);
+    }
     if let Some(depth) = &frame.depth {
         m.depth_err_max = Some(depth_errors(prep, &refs, depth).into_iter().fold(0.0, f64::max));
     }
-    Ok(Measured { metrics: m, frame, hits, refs })
+    Ok(Measured { metrics: m, frame, hits, refs, lod: pipeline.lod })
 }
 
 /// The NDC depth of the reference hit of every probe ray (one per covered pixel) against the

@@ -87,6 +87,15 @@ impl Accuracy {
     /// Scores `hits` against `refs` for the same `rays`, on the surface the shader samples
     /// (`heights`, bilinear, with `edge`).
     pub fn of(rays: &[ProbeRay], hits: &[ProbeHit], refs: &[Option<RefHit>], heights: &HeightMap, edge: EdgeMode) -> Accuracy {
+        Accuracy::of_levels(rays, hits, refs, std::slice::from_ref(heights), &[], edge)
+    }
+
+    /// [`Accuracy::of`] for hits that sampled mip levels: ray i on level `levels[i]` of
+    /// `chain` (level 0 for a ray past the end of `levels`), so that the surface a hit is
+    /// scored against is the one its shader sampled. Distances in texels are in level-0
+    /// texels throughout, so that they compare across levels.
+    pub fn of_levels(rays: &[ProbeRay], hits: &[ProbeHit], refs: &[Option<RefHit>], chain: &[HeightMap], levels: &[usize], edge: EdgeMode) -> Accuracy {
+        let heights = &chain[0];
         let n = hits.len().min(rays.len()).min(refs.len());
         let texels = heights.width.max(heights.height) as f64;
         let mut a = Accuracy { rays: n, ..Default::default() };
@@ -111,7 +120,7 @@ impl Accuracy {
                 continue;
             }
             a.outside += h.outside(r) as usize;
-            let surface = heights.bilinear(h.u as f64, h.v as f64, edge);
+            let surface = chain[levels.get(i).copied().unwrap_or(0)].bilinear(h.u as f64, h.v as f64, edge);
             let e = surface - h.z as f64;
             a.mse_sum += e * e;
             a.above_surface += (h.z as f64 > surface + ABOVE_SURFACE) as usize;
@@ -162,7 +171,12 @@ impl Accuracy {
 /// The accuracy fields, from the probe's hits and the reference hits of the same rays, on
 /// the surface the shader samples (`heights`, bilinear, with `edge`).
 pub fn set_accuracy(m: &mut Metrics, rays: &[ProbeRay], hits: &[ProbeHit], refs: &[Option<RefHit>], heights: &HeightMap, edge: EdgeMode) {
-    let a = Accuracy::of(rays, hits, refs, heights, edge);
+    set_accuracy_levels(m, rays, hits, refs, std::slice::from_ref(heights), &[], edge)
+}
+
+/// [`set_accuracy`] for hits that sampled mip levels ([`Accuracy::of_levels`]).
+pub fn set_accuracy_levels(m: &mut Metrics, rays: &[ProbeRay], hits: &[ProbeHit], refs: &[Option<RefHit>], chain: &[HeightMap], levels: &[usize], edge: EdgeMode) {
+    let a = Accuracy::of_levels(rays, hits, refs, chain, levels, edge);
     m.mse_dissertation = a.mse_sum;
     m.mse_dissertation_mean = a.per_ray(a.mse_sum);
     m.ref_err_t_rms = a.t_rms();

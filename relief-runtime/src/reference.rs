@@ -33,6 +33,7 @@ use rayon::prelude::*;
 use crate::heightmap::{EdgeMode, HeightMap};
 use crate::maps::max_mip::{cell_max_mip, max_mip, Pyramid};
 use crate::scene::{ProbeRay, Scene};
+use relief_dsl::spec::Lod;
 
 /// How the surface is reconstructed from the texels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
@@ -333,6 +334,53 @@ fn hit(o: [f64; 2], d: [f64; 3], t: f64) -> RefHit {
 pub fn clip_to_square(refs: &[Option<RefHit>], tiling: f64) -> Vec<Option<RefHit>> {
     let inside = |x: f64| (0.0..=tiling).contains(&x);
     refs.iter().map(|r| r.filter(|h| inside(h.u) && inside(h.v))).collect()
+}
+
+/// The mip level each ray samples under `lod`, computed as the shaders compute it
+/// (relief-dsl's `compose::lod_level_fn`): 0 under `zero`; k under `level(k)`; under `auto`
+/// the footprint level of the ray's pixel ([`Camera::footprint_lambda`] from the ray's entry
+/// point and its `pixel_size`, [`footprint_level`]) for a map of `size` texels at level 0
+/// and a chain of `levels` levels. An error for `level(k)` past the chain's last level (the
+/// shader would clamp it; relief does not measure a level the map does not have).
+///
+/// [`Camera::footprint_lambda`]: crate::scene::Camera::footprint_lambda
+/// [`footprint_level`]: crate::scene::camera::footprint_level
+pub fn ray_levels(scene: &Scene, rays: &[ProbeRay], lod: Lod, size: [usize; 2], levels: usize) -> Result<Vec<usize>, String> {
+    Ok(match lod {
+        Lod::Zero => vec![0; rays.len()],
+        Lod::Level(k) if k as usize >= levels => {
+            return Err(format!("lod=level({k}): the height map ({}×{}) has only {levels} mip levels (0..={})", size[0], size[1], levels - 1))
+        }
+        Lod::Level(k) => vec![k as usize; rays.len()],
+        Lod::Auto => rays
+            .iter()
+            .map(|r| {
+                let lambda = scene.camera.footprint_lambda(glam::Vec2::from(r.origin), r.pixel_size, size);
+                crate::scene::camera::footprint_level(lambda, levels)
+            })
+            .collect(),
+    })
+}
+
+/// Exact first hits of `rays`, ray i on the surface of level `levels[i]` of the mip chain
+/// `chain` (the bilinear or nearest surface of that level's texels, with `edge`): the
+/// surface a shader sampling at that level meets. In parallel, in input order.
+pub fn reference_hits_at_levels(
+    chain: &[HeightMap],
+    edge: EdgeMode,
+    rays: &[ProbeRay],
+    levels: &[usize],
+    sampling: Sampling,
+) -> Result<Vec<Option<RefHit>>, ReferenceError> {
+    assert_eq!(rays.len(), levels.len(), "one level per ray");
+    let mut used: Vec<usize> = levels.to_vec();
+    used.sort_unstable();
+    used.dedup();
+    let refs: Vec<(usize, Reference)> = used.iter().map(|&l| (l, Reference::new(&chain[l], edge, sampling))).collect();
+    rays.par_iter()
+        .zip(levels.par_iter())
+        .map(|(r, l)| refs.iter().find(|(k, _)| k == l).expect("every level used has a reference").1.trace(r))
+        .collect()
 }
 
 /// Exact first hits of `rays` on `scene`'s height map (its edge mode, the given sampling),

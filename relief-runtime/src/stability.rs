@@ -129,7 +129,7 @@ pub fn rays(scene: &Scene, n: u32, angle: f32) -> Vec<ProbeRay> {
     for y in 0..n {
         for x in 0..n {
             let origin = [(x as f32 + 0.5) / n as f32, (y as f32 + 0.5) / n as f32];
-            out.push(ProbeRay { origin, dir, x, y, pad: 0 });
+            out.push(ProbeRay { origin, dir, x, y, pixel_size: 0.0 });
         }
     }
     out

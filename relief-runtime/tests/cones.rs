@@ -38,7 +38,7 @@ fn random_rays(n: usize, depth: f32, seed: u64) -> Vec<ProbeRay> {
             let theta = (89.0 * next()).to_radians();
             let reach = theta.tan() * depth;
             let az = next() * std::f32::consts::TAU;
-            ProbeRay { origin: [u, v], dir: [reach * az.cos(), reach * az.sin(), -1.0], x: i as u32, y: 0, pad: 0 }
+            ProbeRay { origin: [u, v], dir: [reach * az.cos(), reach * az.sin(), -1.0], x: i as u32, y: 0, pixel_size: 0.0 }
         })
         .collect()
 }

@@ -63,9 +63,8 @@ fn check(g: &Gpu, scene: Scene, pipeline: &str) {
     assert!(outside as f64 >= 0.05 * judged as f64, "{name}: the view must show the outline ({outside} of {judged} rays leave the square)");
     assert!(outside < judged, "{name}: some rays must hit");
 
-    let p: relief_dsl::Pipeline = pipeline.parse().unwrap();
-    let options = Options { frag_depth: true, silhouette_clip: true };
-    let m = measure_with(g, &mut prep, &p, &options, 0, 1).unwrap();
+    let p: relief_dsl::Pipeline = format!("{pipeline}+silhouette=clip").parse().unwrap();
+    let m = measure_with(g, &mut prep, &p, &Options { frag_depth: true }, 0, 1).unwrap();
     let depth = m.frame.depth.as_ref().expect("frag_depth keeps the depth buffer");
     let mut wrong_probe = Vec::new();
     let mut wrong_pixel = Vec::new();
@@ -86,7 +85,7 @@ fn check(g: &Gpu, scene: Scene, pipeline: &str) {
     // misses than the search makes without the clip (a ray that leaves the square first no
     // longer has a hit to miss) plus the ambiguous rays.
     let ambiguous = (expected.len() - judged) as f64 / expected.len() as f64;
-    let unclipped = measure_with(g, &mut prep, &p, &Options::default(), 0, 1).unwrap();
+    let unclipped = measure_with(g, &mut prep, &pipeline.parse().unwrap(), &Options::default(), 0, 1).unwrap();
     assert!(
         m.metrics.missed_rate <= unclipped.metrics.missed_rate + ambiguous,
         "{name} {pipeline}: missed {} > {} without the clip + ambiguous share {ambiguous}",
@@ -124,6 +123,7 @@ fn without_clip_no_ray_is_clipped_and_with_repeat_edges_clip_is_refused() {
     let mut repeat = scene;
     repeat.edge = EdgeMode::Repeat;
     let mut prep = Prepared::new(&g, repeat, 32).unwrap();
-    let err = measure_with(&g, &mut prep, &p, &Options { silhouette_clip: true, ..Default::default() }, 0, 1).err().expect("refused");
+    let clip: relief_dsl::Pipeline = "linear(32)+binary(5)+silhouette=clip".parse().unwrap();
+    let err = measure_with(&g, &mut prep, &clip, &Options::default(), 0, 1).err().expect("refused");
     assert!(err.to_string().contains("silhouette=clip needs a scene with clamp edges"), "{err}");
 }

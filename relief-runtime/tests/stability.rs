@@ -115,7 +115,7 @@ fn a_broken_stage_is_caught_by_the_scores_and_the_metrics() {
 fn one_texel_of_travel_is_horizontal_or_vertical_whichever_comes_first() {
     use relief_runtime::metrics::one_texel_t;
     use relief_runtime::scene::ProbeRay;
-    let ray = |dir: [f32; 3]| ProbeRay { origin: [0.5, 0.5], dir, x: 0, y: 0, pad: 0 };
+    let ray = |dir: [f32; 3]| ProbeRay { origin: [0.5, 0.5], dir, x: 0, y: 0, pixel_size: 0.0 };
     assert!((one_texel_t(&ray([0.0, 0.0, -1.0]), 64.0) - 1.0 / 64.0).abs() < 1e-12);
     assert!((one_texel_t(&ray([0.5, 0.0, -1.0]), 64.0) - 1.0 / 64.0).abs() < 1e-12, "steeper than 45°: the depth decides");
     assert!((one_texel_t(&ray([3.0, 4.0, -1.0]), 64.0) - 1.0 / (64.0 * 5.0)).abs() < 1e-12, "grazing: the horizontal texel decides");

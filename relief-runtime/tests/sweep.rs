@@ -155,3 +155,40 @@ fn cells_that_read_one_map_kind_with_different_parameters_match_their_solo_runs(
     // The two cells read different maps: their results differ.
     assert_ne!(both[0]["mse_dissertation"], both[1]["mse_dissertation"]);
 }
+
+/// A sweep with `lod=auto` (and the same cells at `lod=zero`) runs on every one of the
+/// dissertation's main scenes (real and procedural), each auto cell scored on the levels it
+/// sampled, and the report puts the conclusions at both levels side by side.
+#[test]
+fn a_lod_auto_sweep_runs_on_every_main_scene() {
+    let dir = std::env::temp_dir().join(format!("relief-sweep-lod-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    let grid = dir.join("lod.grid");
+    std::fs::write(&grid, "coarse: [linear(8), csm(4, form=textbook)]\nrefine: binary(2)\nshadow: [none, hard(8)]\nlod: [zero, auto]\n").unwrap();
+    let out = dir.join("out");
+    let scenes = relief_runtime::sweep::grids::FIVE_SCENES;
+    let mut cmd = relief();
+    cmd.args(["sweep", "--grid"]).arg(&grid);
+    for s in scenes {
+        cmd.args(["--scene", s]);
+    }
+    let o = cmd.args(["--size", "32", "--frames", "2", "--out"]).arg(&out).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let all = rows(&out);
+    assert_eq!(all.len(), 2 * 2 * 2 * scenes.len());
+    for r in &all {
+        assert_eq!(r["status"], "ok", "{r}");
+        assert_eq!(r["nan_count"], 0, "{r}");
+        assert!(r["ref_err_t_rms"].as_f64().is_some_and(f64::is_finite), "{r}");
+    }
+    for s in scenes {
+        let auto = all.iter().filter(|r| r["pipeline"].as_str().unwrap().ends_with("+lod=auto") && r["scene"].as_str().unwrap().ends_with(s)).count();
+        assert_eq!(auto, 4, "{s}");
+    }
+    let o = relief().arg("report").arg(&out).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let md = std::fs::read_to_string(out.join("tables.md")).unwrap();
+    assert!(md.contains("Conclusions at the footprint level (`lod=auto`)"));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -153,6 +153,23 @@ fn resource_base(name: &str) -> Option<(String, String)> {
 
 /// Builds and validates the library module of `p`.
 pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileError> {
+    if p.lod != crate::spec::Lod::Zero {
+        // The stages would read a level that only relief's own entry points set.
+        return Err(CompileError {
+            stage: "library".into(),
+            message: format!("the library output does not support lod={} yet (its functions sample level 0)", p.lod),
+        });
+    }
+    if p.silhouette != crate::spec::Silhouette::None {
+        // A library has no fragment to discard; the caller knows its quad's square.
+        return Err(CompileError {
+            stage: "library".into(),
+            message: format!(
+                "silhouette={} is an option of relief's own render entry; in a library, discard where `hit.uv` leaves your quad's texture square yourself",
+                p.silhouette
+            ),
+        });
+    }
     check_prefix(&opts.prefix)?;
     let prefix = opts.prefix.as_str();
     let m = ModuleCtx::new();

@@ -20,7 +20,7 @@ use naga::{Binding, BuiltIn, Handle, Module, ShaderStage, TypeInner};
 use crate::abi::{binding, Param, ProbeHit, ProbeRay, PROBE_WORKGROUP};
 use crate::ir::{ModuleCtx, Stage, Ty, UVec3, Val, Vec2, Vec3, Vec4};
 use crate::CompileError;
-use crate::spec::{Pipeline, Slot, StageSpec};
+use crate::spec::{Pipeline, Silhouette, Slot, StageSpec};
 use crate::stage::{self, Bracket, Filter, Hit, Ray};
 
 /// A compiled pipeline: the module and its validation info.
@@ -56,7 +56,29 @@ fn wrap_err(slot: Slot, spec: &StageSpec) -> impl Fn(CompileError) -> CompileErr
     }
 }
 
+/// The error for a stage that read something with no level under `lod` other than zero
+/// (what [`Stage`]'s sampling methods noted in `lod_unsupported` while it was built): never a
+/// silent level 0.
+fn check_lod(m: &ModuleCtx, slot: Slot, spec: &StageSpec) -> Result<(), CompileError> {
+    let mut what = std::mem::take(&mut *m.lod_unsupported.borrow_mut());
+    if what.is_empty() {
+        return Ok(());
+    }
+    what.sort();
+    what.dedup();
+    Err(CompileError {
+        stage: format!("{} {}", slot.name(), spec.name),
+        message: format!(
+            "`{}` does not support lod={} yet: it reads {}, which has no mip chain of the level's own surface (built over level 0 of the height map)",
+            spec.name,
+            m.lod.get(),
+            what.join(", ")
+        ),
+    })
+}
+
 pub(crate) fn build_stage_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Result<StageFns, CompileError> {
+    m.lod.set(p.lod);
     m.counting.set(counted);
     let ray_ty = m.record_type::<Ray>();
     let hit_ty = m.record_type::<Hit>();
@@ -66,6 +88,7 @@ pub(crate) fn build_stage_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Res
         let s = m.function(&fn_name(Slot::Coarse, &p.coarse, counted), &[("ray", ray_ty, None)]);
         let ray: Ray = s.arg_record(0);
         let b = stage::coarse::build(&s, &ray, &p.coarse).map_err(wrap_err(Slot::Coarse, &p.coarse))?;
+        check_lod(m, Slot::Coarse, &p.coarse)?;
         m.add_function(s.finish_record(&b))
     };
     // refine(ray, bracket) -> Hit
@@ -78,6 +101,7 @@ pub(crate) fn build_stage_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Res
         let ray: Ray = s.arg_record(0);
         let b: Bracket = s.arg_record(1);
         let hit = stage::refine::build(&s, &ray, b, &p.refine).map_err(wrap_err(Slot::Refine, &p.refine))?;
+        check_lod(m, Slot::Refine, &p.refine)?;
         m.add_function(s.finish_record(&hit))
     };
     // trace(ray) -> Hit: the refinement runs on a bracket that holds a crossing; a search
@@ -112,6 +136,7 @@ pub(crate) fn build_stage_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Res
         let hit: Hit = s.arg_record(0);
         let light = stage::Light { dir: s.arg::<Vec3>(1), cos: s.arg::<f32>(2) };
         let v = stage::shadow::build(&s, &hit, &light, &p.shadow).map_err(wrap_err(Slot::Shadow, &p.shadow))?;
+        check_lod(m, Slot::Shadow, &p.shadow)?;
         let f = s.finish(Some((m.ty(f32::inner()), None, v.handle())));
         Some(m.add_function(f))
     };
@@ -121,6 +146,7 @@ pub(crate) fn build_stage_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Res
         let s = m.function(&fn_name(Slot::Ao, &p.ao, counted), &[("hit", hit_ty, None)]);
         let hit: Hit = s.arg_record(0);
         let v = stage::ao::build(&s, &hit, &p.ao).map_err(wrap_err(Slot::Ao, &p.ao))?;
+        check_lod(m, Slot::Ao, &p.ao)?;
         let f = s.finish(Some((m.ty(f32::inner()), None, v.handle())));
         Some(m.add_function(f))
     };
@@ -190,6 +216,71 @@ fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
     entry_point("vs_main", ShaderStage::Vertex, f, [0; 3])
 }
 
+/// The footprint level: `relief_lod_level(entry, pixel_size) -> f32`, the mip level every
+/// sample of a pixel is taken at, from the point `entry` where the pixel's ray enters the
+/// volume (on the polygon, z = 0 in world = tangent space) and the pixel's size δ (the
+/// render entry's from `Params::pixel_right.w`, the probe's from its ray record,
+/// `ProbeRay::pixel_size`). `None` under `lod=zero`. Both entry points
+/// call this one function and store its result in the stage-wide level
+/// ([`stage::SAMPLE_LEVEL`]) before they trace; the probe's rays are the render's pixels, so
+/// the probe finds the level of the pixel the ray belongs to.
+///
+/// `lod=level(k)` is `min(k, levels − 1)`. For `lod=auto` the level is derived from the
+/// camera (`relief-runtime`'s `scene::camera`: a pinhole at E with unit basis forward f,
+/// right r, up u in `Params::pixel_right`/`pixel_up`, square pixels of size δ =
+/// 2·tan(fov_y/2)/H on the image plane at unit distance), not from screen-space derivatives, which a
+/// compute entry lacks:
+///
+/// - the ray through image-plane point (a, b) is E + s·q with q = f + a·r + b·u, and meets
+///   the plane z = 0 at P(a, b) = E + s·q, s = −E.z / q.z;
+/// - differentiating, ∂P/∂a = s·(r − q·r.z/q.z), and with D = P − E = s·q (so s = D·f, since
+///   q·f = 1) this is ∂P/∂a = (D·f)·(r − D·r.z/D.z); likewise ∂P/∂b with u. Both lie in the
+///   plane (their z is 0);
+/// - one pixel moves a and b by δ, so the pixel's footprint in texels is spanned by
+///   δ·∂P/∂a and δ·∂P/∂b scaled by the map's size (w, h) (uv is in texture units);
+/// - as a GPU's trilinear filter does, λ = log2 of the longer of the two, and the level is
+///   `clamp(round(λ), 0, levels − 1)` (round half to even): one whole level, so the surface
+///   the stages sample is that level's bilinear surface.
+///
+/// The CPU twin is `Camera::footprint_lambda` in relief-runtime (the reference traces each
+/// ray on the level it gives).
+fn lod_level_fn(m: &ModuleCtx, lod: crate::spec::Lod) -> Option<Handle<naga::Function>> {
+    use crate::spec::Lod;
+    if lod == Lod::Zero {
+        return None;
+    }
+    let s = m.function("relief_lod_level", &[("entry", m.ty(Vec2::inner()), None), ("pixel_size", m.ty(f32::inner()), None)]);
+    let entry = s.arg::<Vec2>(0);
+    let delta = s.arg::<f32>(1);
+    let last = s.height_map_levels() - 1.0;
+    let level = match lod {
+        Lod::Zero => unreachable!("handled above"),
+        Lod::Level(k) => s.lit(f32::from(k)).min(last),
+        Lod::Auto => {
+            let eye = s.param::<Vec4>(Param::Camera).xyz();
+            let right = s.param::<Vec4>(Param::PixelRight).xyz();
+            let up = s.param::<Vec4>(Param::PixelUp).xyz();
+            let d = s.vec3(entry, 0.0) - eye;
+            let dist = d.dot(up.cross(right));
+            let size = s.height_map_size();
+            let dx = (right - d * (right.z() / d.z())) * (dist * delta);
+            let dy = (up - d * (up.z() / d.z())) * (dist * delta);
+            let extent = (dx.xy() * size).length().max((dy.xy() * size).length());
+            s.name("lod_lambda", extent.log2()).round().clamp(s.lit(0.0), last)
+        }
+    };
+    let f = s.finish(Some((m.ty(f32::inner()), None, level.handle())));
+    Some(m.add_function(f))
+}
+
+/// Stores the pixel's level ([`lod_level_fn`]) in the stage-wide level, before tracing.
+fn set_sample_level<'a>(s: &'a Stage<'a>, lod: Option<Handle<naga::Function>>, entry: Val<'a, Vec2>, pixel_size: impl FnOnce() -> Val<'a, f32>) {
+    if let Some(f) = lod {
+        let level = s.call(f, &[entry.handle(), pixel_size().handle()], true).unwrap();
+        s.store(s.global_ptr(stage::sample_level_global(s.module())), level);
+    }
+}
+
 /// What a module is built with besides its pipeline.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Options {
@@ -197,15 +288,15 @@ pub struct Options {
     /// depth of the hit point `(uv, (z - 1)·depth_scale)` under `params.view_proj`, so that
     /// a depth buffer holds the relief's surface, not the quad's.
     pub frag_depth: bool,
-    /// `silhouette=clip`: a hit whose (u, v) leaves the quad's square `[0, tiling]²` is no
-    /// hit. The fragment entry discards the pixel, so the relief's outline shows at the edge
-    /// of the quad; the probe reports the raw hit with `clipped = 1`. Meant for scenes with
-    /// clamp edges (the runtime refuses repeat edges).
-    pub silhouette_clip: bool,
 }
 
 /// Whether the hit's (u, v) lies outside the quad's square `[0, tiling]²` (`params.quad.x`
 /// is the tiling): the test of `silhouette=clip`, the same in the fragment and the probe.
+///
+/// Under `silhouette=clip` a hit outside the square is no hit: the fragment entry discards
+/// the pixel, so the relief's outline shows at the edge of the quad, and the probe reports
+/// the raw hit with `clipped = 1`. Meant for scenes with clamp edges (the runtime refuses
+/// repeat edges).
 fn outside_square<'a>(s: &'a Stage<'a>, uv: Val<'a, Vec2>) -> Val<'a, bool> {
     let tiling = s.param::<Vec4>(Param::Quad).x();
     uv.x().lt(0.0) | uv.y().lt(0.0) | uv.x().gt(tiling) | uv.y().gt(tiling)
@@ -230,7 +321,7 @@ fn fragment_output_with_depth(m: &ModuleCtx) -> Handle<naga::Type> {
     )
 }
 
-fn fragment_entry(m: &ModuleCtx, fns: &StageFns, options: &Options) -> naga::EntryPoint {
+fn fragment_entry(m: &ModuleCtx, fns: &StageFns, options: &Options, clip: bool, lod: Option<Handle<naga::Function>>) -> naga::EntryPoint {
     let loc = location(0);
     let s = m.function("fs_main", &[("world", m.ty(Vec2::inner()), Some(loc))]);
     let world = s.arg::<Vec2>(0);
@@ -240,8 +331,9 @@ fn fragment_entry(m: &ModuleCtx, fns: &StageFns, options: &Options) -> naga::Ent
     let view = (s.vec3(world, 0.0) - camera.xyz()).normalize();
     let dir = s.vec3(view.xy() * (depth_scale / -view.z()), -1.0);
     let ray = Ray { origin: world, dir, cos_view: -view.z() };
+    set_sample_level(&s, lod, world, || s.param::<Vec4>(Param::PixelRight).w());
     let traced: Hit = s.unpack(s.call(fns.trace, &[s.pack(&ray)], true).unwrap());
-    if options.silhouette_clip {
+    if clip {
         s.if_(outside_square(&s, traced.uv), |s| s.discard());
     }
     // The pixel is drawn inside the volume whatever the search returned (the probe, not
@@ -304,7 +396,7 @@ fn storage_array(m: &ModuleCtx, name: &str, item: Handle<naga::Type>, binding: u
     })
 }
 
-fn probe_entry(m: &ModuleCtx, fns: &StageFns, options: &Options) -> naga::EntryPoint {
+fn probe_entry(m: &ModuleCtx, fns: &StageFns, clip: bool, lod: Option<Handle<naga::Function>>) -> naga::EntryPoint {
     let ray_rec = m.record_ty("ProbeRay", &ProbeRay::MEMBERS);
     let hit_rec = m.record_ty("ProbeHit", &ProbeHit::MEMBERS);
     let rays = storage_array(m, "rays", ray_rec, binding::RAYS, false);
@@ -338,6 +430,7 @@ fn probe_entry(m: &ModuleCtx, fns: &StageFns, options: &Options) -> naga::EntryP
     let vz = dir_z * depth_scale;
     let cos_view = -vz / (dir_xy.dot(dir_xy) + vz * vz).sqrt();
     let ray = Ray { origin, dir: s.vec3(dir_xy, dir_z), cos_view };
+    set_sample_level(&s, lod, origin, || s.load::<f32>(s.member_ptr(rec, 5)));
     for c in counters {
         let zero = s.lit_u32(0);
         s.store(s.global_ptr(c), zero.handle());
@@ -346,7 +439,7 @@ fn probe_entry(m: &ModuleCtx, fns: &StageFns, options: &Options) -> naga::EntryP
     let out = s.element_ptr(s.global_ptr(hits), index.handle());
     let [coarse_steps, refine_steps, fetches] = counters.map(|c| s.load::<u32>(s.global_ptr(c)));
     let converged = s.select(hit.found, 1u32, 0u32);
-    let clipped = if options.silhouette_clip { s.select(outside_square(&s, hit.uv), 1u32, 0u32) } else { s.lit_u32(0) };
+    let clipped = if clip { s.select(outside_square(&s, hit.uv), 1u32, 0u32) } else { s.lit_u32(0) };
     let values = [
         hit.t.handle(),
         hit.uv.x().handle(),
@@ -375,9 +468,11 @@ pub fn build_module_with(p: &Pipeline, options: &Options) -> Result<Module, Comp
     let m = ModuleCtx::new();
     let plain = build_stage_fns(&m, p, false)?;
     let counted = build_stage_fns(&m, p, true)?;
+    let lod = lod_level_fn(&m, p.lod);
+    let clip = p.silhouette == Silhouette::Clip;
     let vs = vertex_entry(&m);
-    let fs = fragment_entry(&m, &plain, options);
-    let cs = probe_entry(&m, &counted, options);
+    let fs = fragment_entry(&m, &plain, options, clip, lod);
+    let cs = probe_entry(&m, &counted, clip, lod);
     let mut module = m.finish();
     module.entry_points.extend([vs, fs, cs]);
     Ok(module)
@@ -410,4 +505,63 @@ pub fn declared_resources(module: &Module) -> Vec<String> {
         .filter(|(_, g)| g.binding.is_some())
         .filter_map(|(_, g)| g.name.clone())
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wgsl(text: &str) -> Result<String, CompileError> {
+        let p: Pipeline = text.parse().unwrap();
+        let c = compile(&p)?;
+        Ok(naga::back::wgsl::write_string(&c.module, &c.info, naga::back::wgsl::WriterFlags::empty()).unwrap())
+    }
+
+    #[test]
+    fn sampling_at_a_level_validates_for_the_methods_that_support_it() {
+        for text in [
+            "linear(32)+binary(5)+lod=auto",
+            "linear(400)+interval(8)+lod=level(2)",
+            "linear_dynamic(8, 32)+secant(4)+lod=auto",
+            "parallax+lod=auto",
+            "offset_limited+lod=level(1)",
+            "slope_parallax+lod=auto",
+            "iterative_parallax(4)+binary(3)+lod=auto",
+            "linear(16)+binary(3)+shadow=hard(16)+lod=auto",
+            "linear(16)+binary(3)+shadow=soft(16)+lod=level(3)",
+            "csm(15, form=textbook)+binary(5)+lod=auto",
+            "csm(15, form=textbook, sample=min4)+lod=level(1)",
+            "rcs(15, form=textbook)+lod=auto",
+            "linear(16)+shadow=soft_cone(8)+lod=auto",
+        ] {
+            let src = wgsl(text).unwrap_or_else(|e| panic!("{text}: {e}"));
+            // Every sample reads the stage-wide level; no sample is left at level 0.
+            assert!(src.contains("relief_sample_level"), "{text}");
+            assert!(src.contains("fn relief_lod_level("), "{text}");
+            assert!(!src.contains("textureSampleLevel(height_map, linear_sampler, ray.origin, 0f)"), "{text}");
+            assert!(!src.contains("textureGather("), "{text}: a gather reads level 0 only");
+        }
+        // Every backend takes the level: SPIR-V and GLSL of the whole module.
+        for text in ["linear(32)+binary(5)+lod=auto", "csm(15, form=textbook, sample=min4)+lod=level(1)"] {
+            let out = crate::emit::emit(&text.parse().unwrap()).unwrap_or_else(|e| panic!("{text}: {e}"));
+            assert!(!out.spirv.is_empty() && out.glsl.len() == 3, "{text}");
+        }
+        // lod=zero is today's module, with no level in it.
+        let src = wgsl("linear(32)+binary(5)").unwrap();
+        assert!(!src.contains("relief_sample_level") && !src.contains("relief_lod_level"));
+    }
+
+    #[test]
+    fn methods_without_a_level_are_refused_by_name() {
+        for (text, stage) in [
+            ("maxmip(32)+lod=auto", "maxmip"),
+            ("sphere(32)+lod=level(1)", "sphere"),
+            ("csm(15)+binary(5)+lod=auto", "csm"),
+            ("qcsm(15, form=safe)+lod=level(2)", "qcsm"),
+        ] {
+            let e = wgsl(text).err().unwrap_or_else(|| panic!("{text} compiled"));
+            let msg = e.to_string();
+            assert!(msg.contains(&format!("`{stage}` does not support lod=")), "{text}: {msg}");
+        }
+    }
 }

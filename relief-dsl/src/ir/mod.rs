@@ -44,6 +44,13 @@ pub(crate) struct ModuleCtx {
     /// When set, stages read the edge mode from this module constant (a `bool`) instead of
     /// the `Params` block: the library output ([`crate::compose::library`]) has no `Params`.
     pub(crate) edge_clamp_constant: std::cell::Cell<Option<Handle<naga::Constant>>>,
+    /// The pipeline's `lod` option: under anything but [`Lod::Zero`](crate::spec::Lod) every
+    /// 2D sample is taken at the level in the private `relief_sample_level`, which the entry
+    /// points set ([`crate::compose`]).
+    pub(crate) lod: std::cell::Cell<crate::spec::Lod>,
+    /// What stages read that has no level (maps built over level 0, the 3D field), while
+    /// `lod` is not zero: the composer turns an entry into an error naming the stage.
+    pub(crate) lod_unsupported: RefCell<Vec<String>>,
 }
 
 /// Names of the probe's private counters.
@@ -71,6 +78,8 @@ impl ModuleCtx {
             counting: std::cell::Cell::new(false),
             step_counter: std::cell::Cell::new(counter::COARSE_STEPS),
             edge_clamp_constant: std::cell::Cell::new(None),
+            lod: std::cell::Cell::new(crate::spec::Lod::Zero),
+            lod_unsupported: RefCell::new(Vec::new()),
         }
     }
 

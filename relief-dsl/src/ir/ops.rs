@@ -199,6 +199,10 @@ impl<'a, T: Float> Val<'a, T> {
     pub fn floor(self) -> Self {
         self.math(MathFunction::Floor, &[])
     }
+    /// `round(self)`, halves to even (WGSL's `round`).
+    pub fn round(self) -> Self {
+        self.math(MathFunction::Round, &[])
+    }
     /// `log2(self)`
     pub fn log2(self) -> Self {
         self.math(MathFunction::Log2, &[])
@@ -384,6 +388,13 @@ impl<'a> Val<'a, super::types::UVec3> {
     /// First component.
     pub fn x(self) -> Val<'a, u32> {
         self.derive(Expression::AccessIndex { base: self.handle(), index: 0 })
+    }
+}
+
+impl<'a> Val<'a, Vec3> {
+    /// The cross product `self × o`.
+    pub fn cross(self, o: Val<'a, Vec3>) -> Val<'a, Vec3> {
+        self.derive(Expression::Math { fun: MathFunction::Cross, arg: self.handle(), arg1: Some(o.handle()), arg2: None, arg3: None })
     }
 }
 

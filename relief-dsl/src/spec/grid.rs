@@ -47,6 +47,7 @@ use std::str::FromStr;
 
 use super::parse::{err, parse_pattern, Form, ParseError};
 use super::resolve::{resolve_stage, RawArg, RawStage, RawValue};
+use super::options::{resolve_option, Lod, OptionKey, OptionValue, Silhouette};
 use super::{Pipeline, Slot, StageSpec};
 
 /// The most pipelines one grid may hold (and the most stages one stage pattern may expand
@@ -70,13 +71,29 @@ impl Grid {
     /// coarse outermost, then refine, shadow, ao. The stages are taken as they are: build
     /// them with [`StageSpec::new`] or [`resolve_stage`] to have them checked.
     pub fn product(name: Option<String>, lists: [Vec<StageSpec>; 4]) -> Self {
+        Grid::product_with_options(name, lists, &[Lod::Zero], &[Silhouette::None])
+    }
+    /// [`Grid::product`] with the pipeline options as further axes, innermost (after ao):
+    /// lod, then silhouette, so that the variants of one pipeline stand next to each other.
+    pub fn product_with_options(
+        name: Option<String>,
+        lists: [Vec<StageSpec>; 4],
+        lods: &[Lod],
+        silhouettes: &[Silhouette],
+    ) -> Self {
         let [coarse, r, s, a] = lists;
-        let mut cells = Vec::with_capacity(coarse.len() * r.len() * s.len() * a.len());
+        let n = coarse.len() * r.len() * s.len() * a.len() * lods.len() * silhouettes.len();
+        let mut cells = Vec::with_capacity(n);
         for c in &coarse {
             for r in &r {
                 for s in &s {
                     for a in &a {
-                        cells.push(Pipeline::new(c.clone(), r.clone(), s.clone(), a.clone()));
+                        for &lod in lods {
+                            for &sil in silhouettes {
+                                let p = Pipeline::new(c.clone(), r.clone(), s.clone(), a.clone());
+                                cells.push(p.with_lod(lod).with_silhouette(sil));
+                            }
+                        }
                     }
                 }
             }
@@ -143,6 +160,19 @@ pub struct GridPattern {
     pub slots: Vec<SlotPattern>,
     /// The position to report for what is missing at the end (no coarse slot).
     pub end: usize,
+    /// The pipeline-option entries (`lod: [zero, auto]`, `+lod=auto`) in the order written.
+    pub options: Vec<OptionPattern>,
+}
+
+/// `OPTION: [VALUE, …]`: the values are written like stages (`auto`, `level(1..=3)`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct OptionPattern {
+    /// The option.
+    pub key: OptionKey,
+    /// Where the option's name is.
+    pub pos: usize,
+    /// The values listed, in order.
+    pub values: Vec<StagePattern>,
 }
 
 /// `SLOT: [STAGE, …]`.
@@ -329,7 +359,47 @@ impl GridPattern {
 
     /// Expands and resolves every stage, then forms the product of the slots.
     pub fn expand(&self) -> Result<Grid, ParseError> {
-        Ok(Grid::product(self.name.clone(), self.resolve()?))
+        let lists = self.resolve()?;
+        let (lods, sils) = self.resolve_options()?;
+        let total = lists.iter().map(Vec::len).product::<usize>().saturating_mul(lods.len() * sils.len());
+        if total > MAX_CELLS {
+            let pos = self.options.first().map_or(self.end, |o| o.pos);
+            return Err(err(pos, "", format!("the grid has more than {MAX_CELLS} pipelines")));
+        }
+        Ok(Grid::product_with_options(self.name.clone(), lists, &lods, &sils))
+    }
+
+    /// Expands and resolves the option entries: the distinct values of each option in
+    /// declaration order (`[zero]`, `[none]` for an option left out).
+    pub fn resolve_options(&self) -> Result<(Vec<Lod>, Vec<Silhouette>), ParseError> {
+        let (mut lods, mut sils): (Option<Vec<Lod>>, Option<Vec<Silhouette>>) = (None, None);
+        for op in &self.options {
+            let given = match op.key {
+                OptionKey::Lod => lods.is_some(),
+                OptionKey::Silhouette => sils.is_some(),
+            };
+            if given {
+                return Err(err(op.pos, op.key.name(), format!("the {} option is given twice", op.key)));
+            }
+            if op.values.is_empty() {
+                return Err(err(op.pos, op.key.name(), format!("the {} option's list is empty", op.key)));
+            }
+            let (mut l, mut s) = (Vec::new(), Vec::new());
+            for v in &op.values {
+                for raw in v.expand()? {
+                    match resolve_option(op.key, &raw)? {
+                        OptionValue::Lod(x) if !l.contains(&x) => l.push(x),
+                        OptionValue::Silhouette(x) if !s.contains(&x) => s.push(x),
+                        _ => {}
+                    }
+                }
+            }
+            match op.key {
+                OptionKey::Lod => lods = Some(l),
+                OptionKey::Silhouette => sils = Some(s),
+            }
+        }
+        Ok((lods.unwrap_or(vec![Lod::Zero]), sils.unwrap_or(vec![Silhouette::None])))
     }
 
     /// The pattern as one pipeline: each slot must hold one stage with one value per
@@ -349,12 +419,19 @@ impl GridPattern {
             })?;
             Ok(stage)
         };
-        Ok(Pipeline::new(
+        let p = Pipeline::new(
             one(Slot::Coarse, Some(coarse))?,
             one(Slot::Refine, r)?,
             one(Slot::Shadow, s)?,
             one(Slot::Ao, a)?,
-        ))
+        );
+        let (lods, sils) = self.resolve_options()?;
+        let (&[lod], &[sil]) = (lods.as_slice(), sils.as_slice()) else {
+            let op = self.options.iter().find(|o| o.values.len() > 1).or(self.options.first());
+            let (pos, key) = op.map_or((self.end, ""), |o| (o.pos, o.key.name()));
+            return Err(err(pos, key, format!("the {key} option declares several values where a pipeline has one")));
+        };
+        Ok(p.with_lod(lod).with_silhouette(sil))
     }
 
     /// Expands and resolves every stage: the distinct stages of each slot in declaration

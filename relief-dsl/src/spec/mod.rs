@@ -3,18 +3,26 @@
 //!
 //! # Text form
 //!
-//! `COARSE[+REFINE][+shadow=SHADOW][+ao=AO]`, for example `linear(10)+binary(5)` or
-//! `linear(10)+interval(3)+shadow=soft(30)`. Names are lower_snake. Parameters are positional
+//! `COARSE[+REFINE][+shadow=SHADOW][+ao=AO][+lod=LOD][+silhouette=SILHOUETTE]`, for example
+//! `linear(10)+binary(5)` or `linear(10)+interval(3)+shadow=soft(30)+lod=auto`. Names are lower_snake. Parameters are positional
 //! or named (`linear(steps=10)`, `csm(15, form=textbook, sample=min4)`), and a parameter may itself be a
 //! stage (`shadow=hard(linear(20))`). Slots may also be named explicitly
 //! (`coarse=linear(10)+refine=binary(5)`). Left-out slots are `none`, left-out parameters take
 //! their defaults. [`Pipeline`]'s `Display` prints the canonical form: positional numbers,
 //! named options only where they differ from the default, `none` slots left out.
 //!
+//! After the slots come the pipeline-level [`options`]: `lod=zero|auto|level(k)` (which mip
+//! level the stages sample, default `zero`) and `silhouette=none|clip` (default `none`),
+//! printed only where they differ from the default. Grids and the macros take them as
+//! entries like the slots (`lod: [zero, auto]`), a grid repeating its pipelines once per
+//! value.
+//!
 //! ```
 //! use relief_dsl::spec::Pipeline;
 //! let p: Pipeline = "linear( steps = 10 ) + binary(5)".parse().unwrap();
 //! assert_eq!(p.to_string(), "linear(10)+binary(5)");
+//! let p: Pipeline = "linear(32)+binary(5)+lod=level(2)".parse().unwrap();
+//! assert_eq!(p.lod, relief_dsl::spec::Lod::Level(2));
 //! let err = "lnear(10)".parse::<Pipeline>().unwrap_err();
 //! assert!(err.to_string().contains("did you mean `linear`"));
 //! ```
@@ -33,6 +41,7 @@ mod catalog;
 mod choice;
 pub mod grid;
 mod lex;
+pub mod options;
 mod parse;
 mod resolve;
 pub mod suggest;
@@ -43,6 +52,7 @@ use std::str::FromStr;
 pub use catalog::{catalog, method, Builder, Catalog, no_maps, register, Args, MethodDef, ParamDef, ParamKind, RegisterError, StageOr, MAX_STEPS};
 pub use choice::{Choice, Form as ConeForm, SampleChoice, StartChoice};
 pub use grid::Grid;
+pub use options::{Lod, OptionKey, Silhouette, MAX_LOD_LEVEL};
 pub use parse::ParseError;
 // The parser's pieces for the macros (relief-macros): not part of the documented surface,
 // reached through `crate::__private`.
@@ -176,7 +186,7 @@ impl fmt::Display for StageSpec {
     }
 }
 
-/// A whole pipeline: one method per slot.
+/// A whole pipeline: one method per slot, and the pipeline-level [`options`].
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Pipeline {
     /// Finds a bracket around the first intersection.
@@ -187,12 +197,27 @@ pub struct Pipeline {
     pub shadow: StageSpec,
     /// Ambient occlusion at the hit (`none`: 1).
     pub ao: StageSpec,
+    /// The mip level the stages sample (`lod=`, default [`Lod::Zero`]).
+    pub lod: Lod,
+    /// What happens where the ray leaves the tile (`silhouette=`, default
+    /// [`Silhouette::None`]); carried and printed, its behaviour is the composer's.
+    pub silhouette: Silhouette,
 }
 
 impl Pipeline {
-    /// A pipeline from its four stages.
+    /// A pipeline from its four stages, with the default options.
     pub fn new(coarse: StageSpec, refine: StageSpec, shadow: StageSpec, ao: StageSpec) -> Self {
-        Pipeline { coarse, refine, shadow, ao }
+        Pipeline { coarse, refine, shadow, ao, lod: Lod::Zero, silhouette: Silhouette::None }
+    }
+    /// The pipeline with option `lod`.
+    pub fn with_lod(mut self, lod: Lod) -> Self {
+        self.lod = lod;
+        self
+    }
+    /// The pipeline with option `silhouette`.
+    pub fn with_silhouette(mut self, silhouette: Silhouette) -> Self {
+        self.silhouette = silhouette;
+        self
     }
     /// The stage in `slot`.
     pub fn slot(&self, slot: Slot) -> &StageSpec {
@@ -365,6 +390,26 @@ impl MapReq {
         }
     }
 
+    /// Whether the runtime can give the map a mip chain of its own level's data, so that a
+    /// stage may read it at a level other than 0 (`lod=auto`, `lod=level(k)`): the normal map
+    /// (box-filtered like the height map) and the texel maps defined per texel sample of the
+    /// height map in texture units (cone ratios and cone normals), which relief-runtime
+    /// builds again from each level of the height map's mip chain. Not the per-cell maps (one
+    /// texel per bilinear cell of level 0), the max-mip pyramid or the 3D distance field.
+    pub fn has_levels(self) -> bool {
+        matches!(
+            self,
+            MapReq::Normal
+                | MapReq::Cone
+                | MapReq::QuadCone
+                | MapReq::RelaxedCone
+                | MapReq::ConeNormal
+                | MapReq::RelaxedConeNormal
+                | MapReq::MultiCone(_)
+                | MapReq::PiecewiseCone(_)
+        )
+    }
+
     /// The map's texture name in the generated shader.
     pub fn texture_name(self) -> String {
         format!("{}_map", self.name())
@@ -382,6 +427,12 @@ impl fmt::Display for Pipeline {
         }
         if !self.ao.is_none() {
             write!(f, "+ao={}", self.ao)?;
+        }
+        if self.lod != Lod::Zero {
+            write!(f, "+lod={}", self.lod)?;
+        }
+        if self.silhouette != Silhouette::None {
+            write!(f, "+silhouette={}", self.silhouette)?;
         }
         Ok(())
     }

@@ -11,7 +11,8 @@
 
 use std::fmt;
 
-use super::grid::{ArgPattern, GridPattern, SlotPattern, StagePattern, ValuePattern};
+use super::grid::{ArgPattern, GridPattern, OptionPattern, SlotPattern, StagePattern, ValuePattern};
+use super::options::{key_named, Key};
 use super::lex::{lex, Tok, Token};
 use super::suggest::nearest;
 use super::Slot;
@@ -202,10 +203,28 @@ impl Parser {
             let named = match self.named() {
                 Some((n, npos)) => {
                     self.i += 2;
-                    Some(slot_named(&n, npos)?)
+                    match key_named(&n, npos)? {
+                        Key::Slot(s) => Some(s),
+                        Key::Option(key) => {
+                            let value = self.stage(0)?;
+                            self.pattern.options.push(OptionPattern { key, pos: npos, values: vec![value] });
+                            match self.peek().tok {
+                                Tok::Plus => {
+                                    self.next();
+                                    continue;
+                                }
+                                Tok::End => break,
+                                _ => return Err(self.unexpected("`+` or the end of the pipeline")),
+                            }
+                        }
+                    }
                 }
                 None => None,
             };
+            if !self.pattern.options.is_empty() {
+                let t = self.toks[self.toks.iter().position(|t| t.pos >= pos).unwrap_or(0)].clone();
+                return Err(err(t.pos, &t.text, "options come after the slots: write `+lod=…` at the end"));
+            }
             let stage = self.stage(0)?;
             let slot = match named {
                 Some(s) => s,
@@ -270,7 +289,18 @@ impl Parser {
                 });
                 continue;
             }
-            let slot = slot_named(&key, t.pos)?;
+            let slot = match key_named(&key, t.pos)? {
+                Key::Slot(s) => s,
+                Key::Option(okey) => {
+                    let values = if self.eat(&Tok::LBracket) {
+                        self.list(Tok::RBracket, |p| p.stage(0))?
+                    } else {
+                        vec![self.stage(0)?]
+                    };
+                    self.pattern.options.push(OptionPattern { key: okey, pos: t.pos, values });
+                    continue;
+                }
+            };
             let stages = if self.eat(&Tok::LBracket) {
                 self.list(Tok::RBracket, |p| p.stage(0))?
             } else {

@@ -231,13 +231,50 @@ fn sampler(m: &crate::ir::ModuleCtx, name: &str, binding: u32) -> naga::GlobalVa
     }
 }
 
+/// The private global that holds the mip level every 2D sample is taken at when the
+/// pipeline's `lod` is not zero (a whole number as `f32`); the entry points store it before
+/// they trace ([`crate::compose`]).
+pub(crate) const SAMPLE_LEVEL: &str = "relief_sample_level";
+
+/// The private `f32` global [`SAMPLE_LEVEL`].
+pub(crate) fn sample_level_global(m: &crate::ir::ModuleCtx) -> naga::Handle<naga::GlobalVariable> {
+    m.global(SAMPLE_LEVEL, |m| naga::GlobalVariable {
+        name: Some(SAMPLE_LEVEL.into()),
+        space: naga::AddressSpace::Private,
+        binding: None,
+        ty: m.ty(<f32 as crate::ir::Ty>::inner()),
+        init: None,
+        memory_decorations: Default::default(),
+    })
+}
+
 impl<'a> Stage<'a> {
+    /// The level 2D samples are taken at: `None` under `lod=zero` (level 0, the explicit
+    /// `SampleLevel::Zero` of every sample before the option), else the stage-wide level in
+    /// [`SAMPLE_LEVEL`]. Stage bodies never see it: every sampling method below reads it.
+    fn sample_level(&'a self) -> Option<Val<'a, f32>> {
+        if self.module().lod.get() == crate::spec::Lod::Zero {
+            return None;
+        }
+        let g = sample_level_global(self.module());
+        Some(self.load(self.global_ptr(g)))
+    }
+
+    /// Notes that a stage reads `what`, which has no level, under a `lod` other than zero:
+    /// the composer reports it as an error naming the stage ([`crate::compose`]).
+    fn no_level(&'a self, what: &str) {
+        if self.module().lod.get() != crate::spec::Lod::Zero {
+            self.module().lod_unsupported.borrow_mut().push(what.to_string());
+        }
+    }
+
     fn image_sample(
         &'a self,
         tex: naga::Handle<naga::GlobalVariable>,
         coordinate: naga::Handle<Expression>,
         filter: Filter,
         gather: bool,
+        level: SampleLevel,
     ) -> Val<'a, Vec4> {
         let m = self.module();
         let (sname, sbind) = match filter {
@@ -257,10 +294,75 @@ impl<'a> Stage<'a> {
             coordinate,
             array_index: None,
             offset: None,
-            level: SampleLevel::Zero,
+            level,
             depth_ref: None,
             clamp_to_edge: false,
         }))
+    }
+
+    /// A 2D sample at the stage-wide level ([`Stage::sample_level`]).
+    fn sample_2d(&'a self, tex: naga::Handle<naga::GlobalVariable>, uv: Val<'a, Vec2>, filter: Filter) -> Val<'a, Vec4> {
+        let level = match self.sample_level() {
+            None => SampleLevel::Zero,
+            Some(l) => SampleLevel::Exact(l.handle()),
+        };
+        self.image_sample(tex, uv.handle(), filter, false, level)
+    }
+
+    /// The first channel of the four texels a bilinear sample of `tex` at `uv` blends, in
+    /// gather order, at the stage-wide level.
+    ///
+    /// WGSL's `textureGather` has no level argument (it reads level 0), so at a level other
+    /// than zero the four texels are loaded one by one with `textureLoad` from that level,
+    /// addressed exactly as the sampler addresses them: with `(w, h)` the level's size, the
+    /// lower-left texel is `(i, j) = floor(uv·(w, h) − ½)` and the four are `(i, j+1),
+    /// (i+1, j+1), (i+1, j), (i, j)`; under repeat the indices wrap modulo the size, under
+    /// clamp they are clamped to `[0, size − 1]` ([`Stage::edge_is_clamp`]). The probe
+    /// counts them as one fetch, the one gather they stand for, so that fetch counts compare
+    /// across levels.
+    fn gather_2d(&'a self, tex: naga::Handle<naga::GlobalVariable>, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
+        let Some(level) = self.sample_level() else {
+            return self.image_sample(tex, uv.handle(), Filter::Linear, true, SampleLevel::Zero);
+        };
+        if self.counting() {
+            self.count(crate::ir::counter::FETCHES);
+        }
+        let li = level.to_u32();
+        let image = self.expr(Expression::GlobalVariable(tex));
+        let size_u = self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::Size { level: Some(li.handle()) } });
+        let size: Val<'a, Vec2> = self.wrap(self.expr(Expression::As { expr: size_u, kind: ScalarKind::Float, convert: Some(4) }));
+        let base = (uv * size - 0.5).floor();
+        let clamp = self.edge_is_clamp();
+        // One axis: the texel indices i and i + 1 under the edge mode (whole numbers in f32,
+        // exact below 2^24).
+        let axis = |b: Val<'a, f32>, n: Val<'a, f32>| -> (Val<'a, f32>, Val<'a, f32>) {
+            let r0 = b - n * (b / n).floor();
+            // Rounding of b / n can leave r0 one period off: bring it into [0, n).
+            let r0 = self.select(r0.ge(n), r0 - n, r0);
+            let r0 = self.select(r0.lt(0.0), r0 + n, r0);
+            let r1 = r0 + 1.0;
+            let r1 = self.select(r1.ge(n), r1 - n, r1);
+            let last = n - 1.0;
+            let c0 = b.clamp(0.0, last);
+            let c1 = (b + 1.0).clamp(0.0, last);
+            (self.select(clamp, c0, r0), self.select(clamp, c1, r1))
+        };
+        let (i0, i1) = axis(base.x(), size.x());
+        let (j0, j1) = axis(base.y(), size.y());
+        let load = |i: Val<'a, f32>, j: Val<'a, f32>| -> Val<'a, f32> {
+            let image = self.expr(Expression::GlobalVariable(tex));
+            let coordinate = self.vec2(i, j).to_u32().handle();
+            let texel: Val<'a, Vec4> = self.wrap(self.expr(Expression::ImageLoad {
+                image,
+                coordinate,
+                array_index: None,
+                sample: None,
+                level: Some(li.handle()),
+            }));
+            texel.x()
+        };
+        let (a, b, c, d) = (load(i0, j1), load(i1, j1), load(i1, j0), load(i0, j0));
+        self.vec4(self.vec3(self.vec2(a, b), c), d)
     }
 
     /// Samples the 2D map `map` (bound at `map_binding`) at `uv`, level 0 (explicit, so
@@ -276,11 +378,12 @@ impl<'a> Stage<'a> {
             Filter::Nearest => (format!("{map}_nearest"), map_binding + binding::NEAREST_OFFSET),
         };
         let tex = self.module().global(&name, |m| texture_2d(m, &name, b));
-        self.image_sample(tex, uv.handle(), filter, false)
+        self.sample_2d(tex, uv, filter)
     }
 
     /// Samples a precomputed map (all channels).
     pub fn map(&'a self, map: MapReq, uv: Val<'a, Vec2>, filter: Filter) -> Val<'a, Vec4> {
+        self.no_level_map(map);
         self.sample(&map.texture_name(), map.binding(), uv, filter)
     }
 
@@ -295,19 +398,33 @@ impl<'a> Stage<'a> {
     /// gather order: `(i, j+1), (i+1, j+1), (i+1, j), (i, j)` with `(i, j)` the lower-left
     /// texel.
     pub fn map_gather(&'a self, map: MapReq, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
+        self.no_level_map(map);
         let name = map.texture_name();
         let tex = self.module().global(&name, |m| texture_2d(m, &name, map.binding()));
-        self.image_sample(tex, uv.handle(), Filter::Linear, true)
+        self.gather_2d(tex, uv)
     }
 
-    /// The four heights a bilinear sample at `uv` blends (see [`Stage::map_gather`]).
+    /// The four heights a bilinear sample at `uv` blends (see [`Stage::map_gather`]), at the
+    /// stage-wide level.
     pub fn height_gather(&'a self, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
         let tex = self.module().global("height_map", |m| texture_2d(m, "height_map", binding::HEIGHT));
-        self.image_sample(tex, uv.handle(), Filter::Linear, true)
+        self.gather_2d(tex, uv)
     }
 
-    /// The texel `coords` of mip level `level` of a map (no filtering).
+    /// Only maps with a mip chain of their own level's data ([`MapReq::has_levels`]) may be
+    /// read at a level: every other map is built over level 0 of the height map (cells, the
+    /// max-mip pyramid), so reading it at another level would mix two surfaces; it is
+    /// refused under a `lod` other than zero.
+    fn no_level_map(&'a self, map: MapReq) {
+        if !map.has_levels() {
+            self.no_level(map.name());
+        }
+    }
+
+    /// The texel `coords` of mip level `level` of a map (no filtering). Refused under a `lod`
+    /// other than zero: the callers address level-0 cells or their own pyramid.
     pub fn map_texel(&'a self, map: MapReq, coords: Val<'a, crate::ir::UVec2>, level: Val<'a, u32>) -> Val<'a, Vec4> {
+        self.no_level(map.name());
         let name = map.texture_name();
         let tex = self.module().global(&name, |m| texture_2d(m, &name, map.binding()));
         if self.counting() {
@@ -327,17 +444,27 @@ impl<'a> Stage<'a> {
     pub fn distance(&'a self, p: Val<'a, Vec3>) -> Val<'a, f32> {
         let map = MapReq::DistanceField;
         let name = map.texture_name();
+        self.no_level(map.name());
         let tex = self.module().global(&name, |m| texture(m, &name, map.binding(), ImageDimension::D3));
-        self.image_sample(tex, p.handle(), Filter::Linear, false).x()
+        self.image_sample(tex, p.handle(), Filter::Linear, false, SampleLevel::Zero).x()
     }
 
-    /// The size of the height map in texels, as floats.
+    /// The size of level 0 of the height map in texels, as floats (its users address level-0
+    /// cells, and read maps that [`Stage::map_texel`] refuses at another level).
     pub fn height_map_size(&'a self) -> Val<'a, Vec2> {
         let tex = self.module().global("height_map", |m| texture_2d(m, "height_map", binding::HEIGHT));
         let image = self.expr(Expression::GlobalVariable(tex));
         let level = self.lit_u32(0).handle();
         let size = self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::Size { level: Some(level) } });
         self.wrap(self.expr(Expression::As { expr: size, kind: ScalarKind::Float, convert: Some(4) }))
+    }
+
+    /// The number of mip levels of the height map, as a float.
+    pub(crate) fn height_map_levels(&'a self) -> Val<'a, f32> {
+        let tex = self.module().global("height_map", |m| texture_2d(m, "height_map", binding::HEIGHT));
+        let image = self.expr(Expression::GlobalVariable(tex));
+        let n = self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::NumLevels });
+        self.wrap(self.expr(Expression::As { expr: n, kind: ScalarKind::Float, convert: Some(4) }))
     }
 
     /// GETHEIGHT of the algorithm boxes: the height map at `uv`, bilinear.

@@ -28,6 +28,9 @@ pub struct Program {
     pub maps: Vec<relief_dsl::spec::MapReq>,
     /// Whether the fragment entry writes the hit's depth (renders then get a depth buffer).
     pub writes_depth: bool,
+    /// Whether the stages read their maps at levels other than 0 (a `lod` other than zero):
+    /// the maps are then bound with their per-level chains ([`SceneTextures::add_maps_lod`]).
+    pub map_levels: bool,
 }
 
 impl Program {
@@ -51,7 +54,8 @@ impl Program {
             }
         }
         let c = relief_dsl::compose::compile_with(p, options)?;
-        Ok(Program { maps, writes_depth: options.frag_depth, ..Self::from_compiled(&c)? })
+        let map_levels = p.lod != relief_dsl::spec::Lod::Zero;
+        Ok(Program { maps, writes_depth: options.frag_depth, map_levels, ..Self::from_compiled(&c)? })
     }
 
     /// The WGSL loaded on `gpu`; a shader the device rejects is an error, not a panic.
@@ -86,6 +90,6 @@ impl Program {
             out.sort();
             out
         };
-        Ok(Program { wgsl, render_bindings: used(&["vs_main", "fs_main"]), probe_bindings: used(&["probe"]), maps: vec![], writes_depth: false })
+        Ok(Program { wgsl, render_bindings: used(&["vs_main", "fs_main"]), probe_bindings: used(&["probe"]), maps: vec![], writes_depth: false, map_levels: false })
     }
 }

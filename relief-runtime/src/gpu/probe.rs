@@ -43,12 +43,13 @@ pub fn probe(gpu: &Gpu, program: &Program, scene: &Scene, tex: &SceneTextures, r
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
-    let params = SceneTextures::params(gpu, scene, 1.0);
+    let params = SceneTextures::params(gpu, scene, 1.0, 0.0);
     let bg = tex.bind_group(
         gpu,
         &pipeline.get_bind_group_layout(0),
         &program.probe_bindings,
         &program.maps,
+        program.map_levels,
         &params,
         &[(binding::RAYS, &ray_buf), (binding::HITS, &hit_buf)],
     )?;

@@ -86,8 +86,8 @@ pub fn render(
     let view = target.create_view(&Default::default());
     let depth_target = program.writes_depth.then(|| attachment(gpu, "depth", size, DEPTH_FORMAT));
     let depth_view = depth_target.as_ref().map(|t| t.create_view(&Default::default()));
-    let params = SceneTextures::params(gpu, scene, 1.0);
-    let bg = tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), &program.render_bindings, &program.maps, &params, &[])?;
+    let params = SceneTextures::params(gpu, scene, 1.0, scene.camera.pixel_size(size));
+    let bg = tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), &program.render_bindings, &program.maps, program.map_levels, &params, &[])?;
     let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
         label: Some("frame times"),
         ty: wgpu::QueryType::Timestamp,

@@ -24,18 +24,28 @@ pub struct SceneTextures {
     /// (see [`SceneTextures::add_maps`]). Two maps of one kind with different parameters are
     /// two entries, though a shader binds either at the same binding.
     pub maps: HashMap<MapKey, wgpu::TextureView>,
+    /// The same maps with a mip chain of their own: level k built from level k of the height
+    /// map's chain, for stages that read them at a level ([`SceneTextures::add_maps_lod`]).
+    pub level_maps: HashMap<MapKey, wgpu::TextureView>,
     /// The heights as the device stores them (f32, or rounded to f16 where 32-bit float
     /// textures cannot be filtered): the surface the shaders sample, for the reference.
     pub heights_on_device: Vec<f32>,
+    /// The height map's mip chain as the device stores it (level 0 first, the same values as
+    /// `heights_on_device`): the surfaces `lod=level(k)` and `lod=auto` sample, for the
+    /// reference.
+    pub height_levels: Vec<crate::heightmap::HeightMap>,
 }
 
-fn texture(gpu: &Gpu, label: &str, w: usize, h: usize, format: wgpu::TextureFormat, bytes: &[u8]) -> wgpu::TextureView {
+/// A 2D texture with the given mip levels (level 0 first), each `(width, height, bytes)`.
+fn texture(gpu: &Gpu, label: &str, levels: &[(usize, usize, Vec<u8>)], format: wgpu::TextureFormat) -> wgpu::TextureView {
+    let (w, h, _) = levels[0];
+    let bytes: Vec<u8> = levels.iter().flat_map(|(_, _, b)| b.iter().copied()).collect();
     let t = gpu.device.create_texture_with_data(
         &gpu.queue,
         &wgpu::TextureDescriptor {
             label: Some(label),
             size: wgpu::Extent3d { width: w as u32, height: h as u32, depth_or_array_layers: 1 },
-            mip_level_count: 1,
+            mip_level_count: levels.len() as u32,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format,
@@ -43,44 +53,68 @@ fn texture(gpu: &Gpu, label: &str, w: usize, h: usize, format: wgpu::TextureForm
             view_formats: &[],
         },
         wgpu::util::TextureDataOrder::LayerMajor,
-        bytes,
+        &bytes,
     );
     t.create_view(&Default::default())
 }
 
 impl SceneTextures {
     /// Uploads the scene's height map, normal map (derived when the scene has none) and
-    /// albedo (neutral grey when it has none).
+    /// albedo (neutral grey when it has none), each with its mip chain built by the one
+    /// filter of [`crate::maps::mips`] (level 0 is what every pipeline under `lod=zero`
+    /// samples; the other levels are what `lod=level(k)` and `lod=auto` sample).
     pub fn new(gpu: &Gpu, scene: &Scene) -> SceneTextures {
-        let m = &scene.height;
-        let (w, h) = (m.width, m.height);
-        let (height, heights_on_device) = if gpu.float32_filterable {
-            let bytes: &[u8] = bytemuck::cast_slice(&m.data);
-            (texture(gpu, "height", w, h, wgpu::TextureFormat::R32Float, bytes), m.data.clone())
+        let chain = scene.height.mip_chain();
+        let (height, height_levels) = if gpu.float32_filterable {
+            let levels: Vec<(usize, usize, Vec<u8>)> =
+                chain.iter().map(|l| (l.width, l.height, bytemuck::cast_slice(&l.data).to_vec())).collect();
+            (texture(gpu, "height", &levels, wgpu::TextureFormat::R32Float), chain)
         } else {
-            let halves: Vec<half::f16> = m.data.iter().map(|&x| half::f16::from_f32(x)).collect();
-            let bytes: Vec<u8> = halves.iter().flat_map(|x| x.to_le_bytes()).collect();
-            (
-                texture(gpu, "height", w, h, wgpu::TextureFormat::R16Float, &bytes),
-                halves.iter().map(|x| x.to_f32()).collect(),
-            )
+            let rounded: Vec<crate::heightmap::HeightMap> = chain
+                .iter()
+                .map(|l| {
+                    let data = l.data.iter().map(|&x| half::f16::from_f32(x).to_f32()).collect();
+                    crate::heightmap::HeightMap::new(l.width, l.height, data)
+                })
+                .collect();
+            let levels: Vec<(usize, usize, Vec<u8>)> = rounded
+                .iter()
+                .map(|l| (l.width, l.height, l.data.iter().flat_map(|&x| half::f16::from_f32(x).to_le_bytes()).collect()))
+                .collect();
+            (texture(gpu, "height", &levels, wgpu::TextureFormat::R16Float), rounded)
         };
+        let heights_on_device = height_levels[0].data.clone();
         let normals: Vec<[f32; 3]> = match &scene.normal {
             Some(n) => n.data.clone(),
             None => normal::derived_normals(&scene.height, scene.depth_scale, scene.edge),
         };
         let (nw, nh) = match &scene.normal {
             Some(n) => (n.width, n.height),
-            None => (w, h),
+            None => (scene.height.width, scene.height.height),
         };
-        let nbytes: Vec<u8> = normals
-            .iter()
-            .flat_map(|n| [n[0], n[1], n[2]].map(|c| ((c * 0.5 + 0.5).clamp(0.0, 1.0) * 255.0).round() as u8).into_iter().chain([255]))
+        let flat: Vec<f32> = normals.iter().flat_map(|n| *n).collect();
+        let nlevels: Vec<(usize, usize, Vec<u8>)> = crate::maps::mips::box_chain(nw, nh, 3, &flat)
+            .into_iter()
+            .map(|l| {
+                let bytes = l
+                    .data
+                    .chunks(3)
+                    .flat_map(|n| [n[0], n[1], n[2]].map(|c| ((c * 0.5 + 0.5).clamp(0.0, 1.0) * 255.0).round() as u8).into_iter().chain([255]))
+                    .collect();
+                (l.width, l.height, bytes)
+            })
             .collect();
-        let normal = texture(gpu, "normal", nw, nh, wgpu::TextureFormat::Rgba8Unorm, &nbytes);
+        let normal = texture(gpu, "normal", &nlevels, wgpu::TextureFormat::Rgba8Unorm);
         let albedo = match &scene.albedo {
-            Some(a) => texture(gpu, "albedo", a.width, a.height, wgpu::TextureFormat::Rgba8UnormSrgb, &a.rgba),
-            None => texture(gpu, "albedo", 1, 1, wgpu::TextureFormat::Rgba8UnormSrgb, &[180, 170, 160, 255]),
+            Some(a) => {
+                let f: Vec<f32> = a.rgba.iter().map(|&b| b as f32).collect();
+                let levels: Vec<(usize, usize, Vec<u8>)> = crate::maps::mips::box_chain(a.width, a.height, 4, &f)
+                    .into_iter()
+                    .map(|l| (l.width, l.height, l.data.iter().map(|&x| x.round().clamp(0.0, 255.0) as u8).collect()))
+                    .collect();
+                texture(gpu, "albedo", &levels, wgpu::TextureFormat::Rgba8UnormSrgb)
+            }
+            None => texture(gpu, "albedo", &[(1, 1, vec![180, 170, 160, 255])], wgpu::TextureFormat::Rgba8UnormSrgb),
         };
         let address = match scene.edge {
             EdgeMode::Repeat => wgpu::AddressMode::Repeat,
@@ -102,7 +136,9 @@ impl SceneTextures {
             linear: sampler(wgpu::FilterMode::Linear),
             nearest: sampler(wgpu::FilterMode::Nearest),
             maps: HashMap::new(),
+            level_maps: HashMap::new(),
             heights_on_device,
+            height_levels,
         }
     }
 
@@ -110,6 +146,39 @@ impl SceneTextures {
     /// map is always there). Ratios are uploaded clamped to [`MAX_RATIO`]: a narrower cone
     /// than the exact one, which stays conservative and keeps `+inf` out of the shaders.
     pub fn add_maps(&mut self, gpu: &Gpu, scene: &Scene, reqs: &[MapReq]) -> Result<(), crate::maps::MapError> {
+        self.add_maps_lod(gpu, scene, reqs, relief_dsl::spec::Lod::Zero)
+    }
+
+    /// [`SceneTextures::add_maps`] for a pipeline whose stages sample at `lod`: under a `lod`
+    /// other than zero every map is built once per level of the height map's mip chain (the
+    /// chain of [`crate::maps::mips`], in f32 as the scene holds it), level k from level k,
+    /// and uploaded as the map's mip chain, so that a cone read at level k is the cone of
+    /// level k's surface. Only maps with levels ([`MapReq::has_levels`]) are asked for here:
+    /// the composer refuses the others under such a `lod`.
+    pub fn add_maps_lod(&mut self, gpu: &Gpu, scene: &Scene, reqs: &[MapReq], lod: relief_dsl::spec::Lod) -> Result<(), crate::maps::MapError> {
+        if lod != relief_dsl::spec::Lod::Zero {
+            let chain = scene.height.mip_chain();
+            for &req in reqs {
+                let Some((kind, params)) = MapKind::of(req) else { continue };
+                let key = MapKey { kind, params: params.relevant(kind) };
+                if self.level_maps.contains_key(&key) {
+                    continue;
+                }
+                if !req.has_levels() {
+                    return Err(crate::maps::MapError::Params {
+                        kind,
+                        message: format!("the {} map has no per-level form (lod={lod})", req.name()),
+                    });
+                }
+                let mut map = crate::maps::build(&chain[0], kind, &params, scene.edge)?;
+                for level in &chain[1..] {
+                    map.mips.push(crate::maps::build(level, kind, &params, scene.edge)?);
+                }
+                let view = upload_map(gpu, &map, map.channels, kind.is_ratio());
+                self.level_maps.insert(key, view);
+            }
+            return Ok(());
+        }
         for &req in reqs {
             // The normal map (no key) is uploaded with the scene.
             let Some((kind, params)) = MapKind::of(req) else { continue };
@@ -126,15 +195,21 @@ impl SceneTextures {
     }
 
     /// The uploaded map a shader binding `b` of a program reading `reqs` takes.
-    fn map_view(&self, b: u32, reqs: &[MapReq]) -> Result<&wgpu::TextureView, super::GpuError> {
+    fn map_view(&self, b: u32, reqs: &[MapReq], levels: bool) -> Result<&wgpu::TextureView, super::GpuError> {
         let req = reqs.iter().find(|r| **r != MapReq::Normal && r.binding() == b).ok_or_else(|| {
             super::GpuError::Pipeline(format!("the shader reads a map at binding {b}, which the pipeline's required maps do not name"))
         })?;
-        MapKey::of(*req).and_then(|k| self.maps.get(&k)).ok_or_else(|| missing_map(b))
+        let maps = if levels { &self.level_maps } else { &self.maps };
+        MapKey::of(*req).and_then(|k| maps.get(&k)).ok_or_else(|| missing_map(b))
     }
 
-    /// The params uniform buffer for a scene seen at `aspect`.
-    pub fn params(gpu: &Gpu, scene: &Scene, aspect: f32) -> wgpu::Buffer {
+    /// The params uniform buffer for a scene seen at `aspect`, in a frame whose pixels have
+    /// size `pixel_size` on the image plane at unit distance ([`Camera::pixel_size`]; the
+    /// probe passes 0, its rays carry their own).
+    ///
+    /// [`Camera::pixel_size`]: crate::scene::Camera::pixel_size
+    pub fn params(gpu: &Gpu, scene: &Scene, aspect: f32, pixel_size: f32) -> wgpu::Buffer {
+        let (_, right, up) = scene.camera.basis();
         let cam = scene.camera.camera_position();
         let l = scene.light_dir.normalize();
         let clamp = if scene.edge == EdgeMode::Clamp { 1.0 } else { 0.0 };
@@ -143,6 +218,8 @@ impl SceneTextures {
             camera: [cam.x, cam.y, cam.z, scene.depth_scale],
             light: [l.x, l.y, l.z, AMBIENT],
             quad: [scene.tiling, clamp, 0.0, 0.0],
+            pixel_right: [right.x, right.y, right.z, pixel_size],
+            pixel_up: [up.x, up.y, up.z, 0.0],
         };
         gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("params"),
@@ -152,13 +229,16 @@ impl SceneTextures {
     }
 
     /// A bind group with exactly `bindings`, from this scene's resources (the maps of
-    /// `program`'s requests) and the buffers given.
+    /// `program`'s requests, with their per-level chains when `map_levels`) and the buffers
+    /// given.
+    #[allow(clippy::too_many_arguments)]
     pub fn bind_group(
         &self,
         gpu: &Gpu,
         layout: &wgpu::BindGroupLayout,
         bindings: &[u32],
         reqs: &[MapReq],
+        map_levels: bool,
         params: &wgpu::Buffer,
         storage: &[(u32, &wgpu::Buffer)],
     ) -> Result<wgpu::BindGroup, super::GpuError> {
@@ -176,11 +256,11 @@ impl SceneTextures {
                         binding::HEIGHT => wgpu::BindingResource::TextureView(&self.height),
                         binding::NORMAL => wgpu::BindingResource::TextureView(&self.normal),
                         binding::ALBEDO => wgpu::BindingResource::TextureView(&self.albedo),
-                        _ => wgpu::BindingResource::TextureView(self.map_view(base, reqs)?),
+                        _ => wgpu::BindingResource::TextureView(self.map_view(base, reqs, map_levels)?),
                     }
                 }
                 binding::NEAREST_SAMPLER => wgpu::BindingResource::Sampler(&self.nearest),
-                b if b > binding::ALBEDO && b < binding::NEAREST_OFFSET => wgpu::BindingResource::TextureView(self.map_view(b, reqs)?),
+                b if b > binding::ALBEDO && b < binding::NEAREST_OFFSET => wgpu::BindingResource::TextureView(self.map_view(b, reqs, map_levels)?),
                 other => match storage.iter().find(|(n, _)| *n == other) {
                     Some((_, buf)) => buf.as_entire_binding(),
                     None => {
@@ -197,7 +277,7 @@ impl SceneTextures {
 }
 
 fn missing_map(b: u32) -> super::GpuError {
-    super::GpuError::Pipeline(format!("the shader reads the map at binding {b}, which was not built (call add_maps with the pipeline's required_maps)"))
+    super::GpuError::Pipeline(format!("the shader reads the map at binding {b}, which was not built (call add_maps_lod with the pipeline's required_maps and lod)"))
 }
 
 /// The largest cone ratio uploaded (a cone 89.99° wide).

@@ -16,6 +16,7 @@ pub mod encode;
 pub mod file;
 pub mod filter;
 pub mod max_mip;
+pub mod mips;
 pub mod normal;
 pub mod multi_cone;
 pub mod quad_cone;

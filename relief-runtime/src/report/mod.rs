@@ -138,6 +138,9 @@ pub fn write(dir: &Path) -> anyhow::Result<ReportSummary> {
         let _ = writeln!(md, "![{}](report/{})  \n{}\n", c.title, c.file, c.caption);
     }
     md.push_str(&conclusions::to_markdown(&conclusions, &agreement));
+    if let Some(lod) = conclusions::lod_markdown(&data, &diss) {
+        md.push_str(&lod);
+    }
     md.push_str(&failed_md(&summary));
     write_file(&dir.join("tables.md"), md.as_bytes(), &mut summary.files)?;
 

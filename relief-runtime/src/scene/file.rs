@@ -9,7 +9,7 @@
 //! albedo = "rocks_diffuse.png"   # optional, relative to this file
 //! normal_map = "rocks_NM_height.tga"  # optional, RGB = tangent-space normal (2·rgb/255 − 1)
 //! normal_green = "up"            # up: green points to the image's top, −v (default); down: +v
-//! lod = "zero"                   # sampling level: only `zero` (mip 0) for now
+//! lod = "zero"                   # sampling level: only `zero` (mip 0) for now; pipelines take `+lod=auto|level(k)`
 //!
 //! [height_map]
 //! path = "tatarchuk/rocks_NM_height.tga"   # relative to this file
@@ -189,8 +189,8 @@ fn build(path: &Path, f: FileSpec) -> Result<Scene, KeyError> {
     if let Some(l) = f.lod.as_deref() {
         match l {
             "zero" => {}
-            "auto" => return Err(("lod", "`auto` is not implemented yet (only `zero`: every sample at mip 0)".into())),
-            o if o.starts_with("level") => return Err(("lod", format!("`{o}` is not implemented yet (only `zero`: every sample at mip 0)"))),
+            "auto" => return Err(("lod", "`auto` is not implemented yet as a scene's policy (only `zero`); a pipeline takes it: `linear(32)+binary(5)+lod=auto`".into())),
+            o if o.starts_with("level") => return Err(("lod", format!("`{o}` is not implemented yet as a scene's policy (only `zero`); a pipeline takes it: `linear(32)+lod={o}`"))),
             o => return Err(("lod", format!("`{o}`: expected `zero` (`auto` and `level(k)` are not implemented yet)"))),
         }
     }

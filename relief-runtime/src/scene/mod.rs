@@ -136,10 +136,12 @@ impl Scene {
 
     /// One probe ray per pixel (through the pixel centre) whose camera ray meets the quad
     /// `[0, tiling]²` on z = 0 (boundary included), in row-major pixel order. Pixels that miss
-    /// the quad get no ray. Pixel (x, y) has NDC `(2(x + ½)/w - 1, 1 - 2(y + ½)/h)`.
+    /// the quad get no ray. Pixel (x, y) has NDC `(2(x + ½)/w - 1, 1 - 2(y + ½)/h)`; every ray
+    /// carries the frame's [`Camera::pixel_size`].
     pub fn rays_wh(&self, width: u32, height: u32) -> Vec<ProbeRay> {
         let aspect = width as f32 / height as f32;
         let eye = self.camera.camera_position();
+        let pixel_size = self.camera.pixel_size(height);
         let mut out = Vec::new();
         for py in 0..height {
             for px in 0..width {
@@ -147,7 +149,7 @@ impl Scene {
                 let ny = 1.0 - 2.0 * (py as f32 + 0.5) / height as f32;
                 let v = self.camera.ray_dir(nx, ny, aspect);
                 if let Some(r) = self.tangent_ray(eye, v) {
-                    out.push(ProbeRay { x: px, y: py, ..r });
+                    out.push(ProbeRay { x: px, y: py, pixel_size, ..r });
                 }
             }
         }
@@ -168,7 +170,7 @@ impl Scene {
             return None;
         }
         let k = self.depth_scale / -v.z;
-        Some(ProbeRay { origin: [p.x, p.y], dir: [v.x * k, v.y * k, -1.0], x: 0, y: 0, pad: 0 })
+        Some(ProbeRay { origin: [p.x, p.y], dir: [v.x * k, v.y * k, -1.0], x: 0, y: 0, pixel_size: 0.0 })
     }
 }
 
@@ -382,7 +384,7 @@ mod tests {
         for r in &rays {
             assert!((0.0..=2.0).contains(&r.origin[0]) && (0.0..=2.0).contains(&r.origin[1]));
             assert_eq!(r.dir[2], -1.0);
-            assert_eq!(r.pad, 0);
+            assert_eq!(r.pixel_size, s.camera.pixel_size(h));
             // The entry point projects to the pixel's centre (wgpu NDC, row 0 at the top).
             let p = vp.project_point3(Vec3::new(r.origin[0], r.origin[1], 0.0));
             let px = (p.x + 1.0) * 0.5 * w as f32;

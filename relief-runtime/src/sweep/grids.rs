@@ -45,6 +45,11 @@ const FILES: &[(&str, &str)] = &[
     ("f4.11", include_str!("../../grids/f4.11.grid")),
 ];
 
+/// Grids of relief's own, beyond the dissertation's: listed after `dissertation` and not
+/// part of it. `lod` repeats Tables 4.1, 4.2 and 4.7 (textbook CSM: the safe form reads
+/// per-cell maps, which have no level) with `lod: [zero, auto]`.
+const EXTRA_FILES: &[(&str, &str)] = &[("lod", include_str!("../../grids/lod.grid"))];
+
 /// The dissertation's five scenes: Lion, Self-shadow and Collage as relief's procedural
 /// stand-ins, Shapes and Rock Bump as the real maps `four` and `rocks` (see
 /// [`crate::scene::builtin`]).
@@ -62,6 +67,8 @@ pub fn default_scenes(name: &str) -> Vec<String> {
     let v: &[&str] = match name {
         "f4.5" => &["rocks", "self_shadow", "rock_bump"],
         "f4.7" => &f47,
+        // Lion as the tables have it, and the real maps that stand for Rock Bump and Shapes.
+        "lod" => &["lion", "rocks", "four"],
         _ => &["lion"],
     };
     v.iter().map(|s| s.to_string()).collect()
@@ -117,7 +124,8 @@ fn named(name: &str, text: &str, scenes: Option<&[String]>) -> NamedGrid {
     NamedGrid { name: name.to_string(), description: description(text), cells }
 }
 
-/// Every built-in grid, then `dissertation`: all of them, each (pipeline, scene) once.
+/// Every built-in grid of the dissertation, then `dissertation`: all of them, each
+/// (pipeline, scene) once; then relief's own grids (`lod`).
 pub fn builtin(scenes: Option<&[String]>) -> Vec<NamedGrid> {
     let mut all: Vec<NamedGrid> = FILES.iter().map(|(n, t)| named(n, t, scenes)).collect();
     let mut union: Vec<(Pipeline, String)> = Vec::new();
@@ -133,12 +141,13 @@ pub fn builtin(scenes: Option<&[String]>) -> Vec<NamedGrid> {
         description: "every table and figure of Burger 2018 chapter 4, duplicate cells measured once".into(),
         cells: union,
     });
+    all.extend(EXTRA_FILES.iter().map(|(n, t)| named(n, t, scenes)));
     all
 }
 
 /// The names of the built-in grids.
 pub fn names() -> Vec<&'static str> {
-    FILES.iter().map(|(n, _)| *n).chain(["dissertation"]).collect()
+    FILES.iter().map(|(n, _)| *n).chain(["dissertation"]).chain(EXTRA_FILES.iter().map(|(n, _)| *n)).collect()
 }
 
 /// A grid by built-in name, or from a grid file.
@@ -167,9 +176,10 @@ mod tests {
     #[test]
     fn every_builtin_grid_parses_and_the_union_has_no_duplicates() {
         let all = builtin(None);
-        assert_eq!(all.len(), FILES.len() + 1);
-        let diss = all.last().unwrap();
-        let sum: usize = all[..all.len() - 1].iter().map(|g| g.cells.len()).sum();
+        assert_eq!(all.len(), FILES.len() + 1 + EXTRA_FILES.len());
+        let diss = &all[FILES.len()];
+        assert_eq!(diss.name, "dissertation");
+        let sum: usize = all[..FILES.len()].iter().map(|g| g.cells.len()).sum();
         assert!(diss.cells.len() < sum, "duplicate cells are measured once");
         for (i, c) in diss.cells.iter().enumerate() {
             assert!(!diss.cells[..i].contains(c));
@@ -178,6 +188,12 @@ mod tests {
         assert_eq!(all[0].cells.len(), 13);
         // Table 4.3 is the union of its two halves (7 + 7).
         assert_eq!(all[2].cells.len(), 14);
+        // `lod` is Tables 4.1, 4.2 and 4.7 (textbook only) twice, on three scenes: 13 linear
+        // searches (4.2's and 4.7's linear ones among them), 2 × 6 with binary, 10 csm, each
+        // with lod zero and auto. None of its lod=auto cells is in the dissertation's union.
+        let lod = all.iter().find(|g| g.name == "lod").unwrap();
+        assert_eq!(lod.cells.len(), (13 + 12 + 10) * 2 * 3);
+        assert!(diss.cells.iter().all(|(p, _)| p.lod == relief_dsl::spec::Lod::Zero));
     }
 
     #[test]

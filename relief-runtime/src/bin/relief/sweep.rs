@@ -7,7 +7,7 @@ use relief_runtime::sweep::{self, grids};
 /// Arguments of `relief sweep`.
 #[derive(clap::Args, Debug)]
 pub struct SweepArgs {
-    /// A built-in grid (`t4.1` … `t4.15`, `f4.5`, `f4.7` … `f4.11`, `dissertation`) or a grid file.
+    /// A built-in grid (`t4.1` … `t4.15`, `f4.5`, `f4.7` … `f4.11`, `dissertation`, `lod`) or a grid file.
     #[arg(long, required_unless_present = "list")]
     pub grid: Option<String>,
     /// Scenes to measure on (`scene:NAME`, a bare NAME, a TOML scene file or a height-map

@@ -14,6 +14,7 @@ use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
+use relief_dsl::spec::Lod;
 use relief_dsl::Pipeline;
 
 mod checks;
@@ -137,11 +138,13 @@ struct Ours<'a> {
     read_cone: std::cell::Cell<bool>,
     /// The sizes of the rows a criterion read, with the pipelines read at each.
     used: RefCell<BTreeMap<u32, Vec<String>>>,
+    /// The `lod` of the rows read: every cell a criterion names is read with this option.
+    lod: Lod,
 }
 
 impl<'a> Ours<'a> {
-    fn new(data: &'a Data, scene: &str, metric: Metric, textbook: bool) -> Self {
-        Ours { data, scene: scene.to_string(), metric, textbook, read_cone: Default::default(), used: RefCell::new(BTreeMap::new()) }
+    fn new(data: &'a Data, scene: &str, metric: Metric, textbook: bool, lod: Lod) -> Self {
+        Ours { data, scene: scene.to_string(), metric, textbook, read_cone: Default::default(), used: RefCell::new(BTreeMap::new()), lod }
     }
 
     fn note(&self, r: &crate::results::Row) {
@@ -209,7 +212,7 @@ impl Src for Ours<'_> {
         if cone {
             self.read_cone.set(true);
         }
-        q
+        q.map(|q| q.with_lod(self.lod))
     }
 }
 
@@ -302,8 +305,8 @@ fn verdict(o: &Outcome) -> (Verdict, String) {
 /// is refused (not measured, the evidence naming the sizes) rather than an error, so that
 /// the rest of the report stays readable.
 /// Also says whether the criterion read a cone method (whose form `textbook` chose).
-fn run_ours(c: &Check, data: &Data, scene: &str, metric: Metric, textbook: bool) -> (Verdict, String, bool) {
-    let src = Ours::new(data, scene, metric, textbook);
+fn run_ours(c: &Check, data: &Data, scene: &str, metric: Metric, textbook: bool, lod: Lod) -> (Verdict, String, bool) {
+    let src = Ours::new(data, scene, metric, textbook, lod);
     let out = (c.run)(&src);
     let cone = src.read_cone.get();
     if let Some(why) = src.mixed_sizes() {
@@ -317,17 +320,24 @@ fn run_ours(c: &Check, data: &Data, scene: &str, metric: Metric, textbook: bool)
 /// is checked twice, on the `form=safe` rows and on the `form=textbook` ones.
 pub(crate) fn check(data: &Data, diss: &Diss) -> Vec<Conclusion> {
     let scene = data.main_scene().unwrap_or_else(|| "scene:lion".into());
+    check_at(data, diss, &scene, Lod::Zero)
+}
+
+/// [`check`] on `scene`'s rows of pipelines with option `lod` (every cell a criterion reads
+/// is read as `cell+lod=…`).
+pub(crate) fn check_at(data: &Data, diss: &Diss, scene: &str, lod: Lod) -> Vec<Conclusion> {
+    let scene = scene.to_string();
     let theirs = Theirs { diss };
     let mut out = Vec::new();
     for c in &checks::checks() {
         let (dv, de) = verdict(&(c.run)(&theirs));
         for textbook in [false, true] {
-            let (ours_mse, evidence_mse, cone) = run_ours(c, data, &scene, Metric::Mse, textbook);
+            let (ours_mse, evidence_mse, cone) = run_ours(c, data, &scene, Metric::Mse, textbook, lod);
             if textbook && !cone {
                 break;
             }
             let (ours_ref, evidence_ref) = if c.uses_error {
-                let (v, e, _) = run_ours(c, data, &scene, Metric::RefT, textbook);
+                let (v, e, _) = run_ours(c, data, &scene, Metric::RefT, textbook, lod);
                 (Some(v), e)
             } else {
                 (None, String::new())
@@ -493,6 +503,48 @@ fn capitalize(s: &str) -> String {
         Some(f) => f.to_uppercase().collect::<String>() + c.as_str(),
         None => String::new(),
     }
+}
+
+/// The conclusions of Tables 4.1, 4.2 and 4.7 (what the `lod` grid repeats) with every
+/// sample at level 0 and at the pixel's footprint level, on every scene with `lod=auto` rows;
+/// `None` when there are none. Verdicts are `mse / ref_err_t_rms` (frame-time criteria have
+/// one). Only the criteria of those tables are listed, cone methods in their textbook form.
+pub(crate) fn lod_markdown(data: &Data, diss: &Diss) -> Option<String> {
+    let scenes: Vec<String> = data
+        .scenes()
+        .into_iter()
+        .filter(|s| data.rows.iter().any(|r| &r.metrics.scene == s && r.metrics.pipeline.parse::<Pipeline>().is_ok_and(|p| p.lod == Lod::Auto)))
+        .collect();
+    if scenes.is_empty() {
+        return None;
+    }
+    let mut t = TextTable {
+        title: "Conclusions at the footprint level (`lod=auto`)".into(),
+        notes: vec!["The criteria of Tables 4.1, 4.2 and 4.7 (grid `lod`) on the same cells sampled at level 0 (`lod=zero`) and at the \
+                     pixel's footprint level (`lod=auto`), each scored against the exact hit on the surface it sampled; cone methods \
+                     in their textbook form (the safe form has no level). Verdicts: `mse_dissertation_mean / ref_err_t_rms`."
+            .into()],
+        header: vec!["table".into(), "claim".into(), "scene".into(), "lod=zero".into(), "lod=auto".into()],
+        ..Default::default()
+    };
+    let v = |c: &Conclusion| match c.ours_ref {
+        Some(r) => format!("{} / {}", c.ours_mse, r),
+        None => c.ours_mse.to_string(),
+    };
+    for scene in &scenes {
+        let zero = check_at(data, diss, scene, Lod::Zero);
+        let auto = check_at(data, diss, scene, Lod::Auto);
+        for (z, a) in zero.iter().zip(&auto) {
+            if !["4.1", "4.2", "4.7"].contains(&z.table.as_str()) || (!z.form.is_empty() && z.form != "textbook") {
+                continue;
+            }
+            if z.ours_mse == Verdict::NotMeasured && a.ours_mse == Verdict::NotMeasured {
+                continue;
+            }
+            t.rows.push(vec![z.table.clone(), z.claim.clone(), short_scene(scene).to_string(), v(z), v(a)]);
+        }
+    }
+    Some(t.to_markdown(2))
 }
 
 /// The conclusions section of `tables.md`.
