@@ -31,15 +31,6 @@ pub struct HeightMap {
 }
 
 impl HeightMap {
-    /// The map's mip chain, level 0 (a copy) first, by the one filter of
-    /// [`crate::maps::mips`] (2×2 box; the chain stops before a level with an odd side).
-    pub fn mip_chain(&self) -> Vec<HeightMap> {
-        crate::maps::mips::box_chain(self.width, self.height, 1, &self.data)
-            .into_iter()
-            .map(|l| HeightMap::new(l.width, l.height, l.data))
-            .collect()
-    }
-
     /// A map from row-major data; `data.len()` must be `width * height`.
     pub fn new(width: usize, height: usize, data: Vec<f32>) -> Self {
         assert_eq!(data.len(), width * height, "height map data has the wrong length");

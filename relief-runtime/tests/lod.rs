@@ -93,7 +93,7 @@ fn a_level_is_the_level_0_of_its_own_map() {
         let mut scene = Scene::by_name("rock_bump", Some(128)).unwrap();
         scene.edge = edge;
         let mut small = scene.clone();
-        small.height = scene.height.mip_chain()[2].clone();
+        small.height = relief_runtime::maps::mips::height_chain(&scene.height)[2].clone();
         small.normal = None;
         for pipeline in [
             "linear(100)+interval(8)",

@@ -64,7 +64,7 @@ impl SceneTextures {
     /// filter of [`crate::maps::mips`] (level 0 is what every pipeline under `lod=zero`
     /// samples; the other levels are what `lod=level(k)` and `lod=auto` sample).
     pub fn new(gpu: &Gpu, scene: &Scene) -> SceneTextures {
-        let chain = scene.height.mip_chain();
+        let chain = crate::maps::mips::height_chain(&scene.height);
         let (height, height_levels) = if gpu.float32_filterable {
             let levels: Vec<(usize, usize, Vec<u8>)> =
                 chain.iter().map(|l| (l.width, l.height, bytemuck::cast_slice(&l.data).to_vec())).collect();
@@ -157,7 +157,7 @@ impl SceneTextures {
     /// the composer refuses the others under such a `lod`.
     pub fn add_maps_lod(&mut self, gpu: &Gpu, scene: &Scene, reqs: &[MapReq], lod: relief_dsl::spec::Lod) -> Result<(), crate::maps::MapError> {
         if lod != relief_dsl::spec::Lod::Zero {
-            let chain = scene.height.mip_chain();
+            let chain = crate::maps::mips::height_chain(&scene.height);
             for &req in reqs {
                 let Some((kind, params)) = MapKind::of(req) else { continue };
                 let key = MapKey { kind, params: params.relevant(kind) };

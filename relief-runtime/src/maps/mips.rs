@@ -62,6 +62,15 @@ pub fn box_chain(width: usize, height: usize, channels: usize, data: &[f32]) -> 
     out
 }
 
+/// The mip chain of a height map, level 0 (a copy) first, by [`box_chain`] (2×2 box; the
+/// chain stops before a level with an odd side).
+pub fn height_chain(map: &crate::heightmap::HeightMap) -> Vec<crate::heightmap::HeightMap> {
+    box_chain(map.width, map.height, 1, &map.data)
+        .into_iter()
+        .map(|l| crate::heightmap::HeightMap::new(l.width, l.height, l.data))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
