@@ -13,6 +13,7 @@
 //! Resources are declared when a stage first reads them (see [`binding`]), so the module
 //! declares only what its stages read.
 
+pub mod interior;
 pub mod library;
 
 use naga::{Binding, BuiltIn, Handle, Module, ShaderStage, TypeInner};
@@ -61,7 +62,7 @@ pub(crate) fn ray_value<'a>(s: &'a Stage<'a>, ty: &Types, r: &Ray<'a>) -> Handle
 pub(crate) fn hit_from<'a>(s: &'a Stage<'a>, h: Handle<naga::Expression>) -> Hit<'a> {
     Hit { t: s.field(h, 0), uv: s.field(h, 1), z: s.field(h, 2), found: s.field(h, 3) }
 }
-fn hit_value<'a>(s: &'a Stage<'a>, ty: &Types, h: &Hit<'a>) -> Handle<naga::Expression> {
+pub(crate) fn hit_value<'a>(s: &'a Stage<'a>, ty: &Types, h: &Hit<'a>) -> Handle<naga::Expression> {
     s.make_struct(ty.hit, &[h.t.handle(), h.uv.handle(), h.z.handle(), h.found.handle()])
 }
 
@@ -165,7 +166,7 @@ pub(crate) fn build_stage_fns(m: &ModuleCtx, ty: &Types, p: &Pipeline, counted: 
     Ok(StageFns { trace, shadow, ao })
 }
 
-fn location(n: u32) -> Binding {
+pub(crate) fn location(n: u32) -> Binding {
     Binding::Location {
         location: n,
         interpolation: Some(naga::Interpolation::Perspective),
@@ -266,6 +267,7 @@ fn fragment_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns, options: &Options) 
     let view = (s.vec3(world, 0.0) - camera.xyz()).normalize();
     let dir = s.vec3(view.xy() * (depth_scale / -view.z()), -1.0);
     let ray = Ray { origin: world, dir, cos_view: -view.z() };
+    interior::store_view_distance(&s, (s.vec3(world, 0.0) - camera.xyz()).length());
     let rv = ray_value(&s, ty, &ray);
     let traced = hit_from(&s, s.call(fns.trace, &[rv], true).unwrap());
     // The pixel is drawn inside the volume whatever the search returned (the probe, not
@@ -305,7 +307,7 @@ fn fragment_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns, options: &Options) 
     entry_point("fs_main", ShaderStage::Fragment, f, [0; 3])
 }
 
-fn storage_array(m: &ModuleCtx, name: &str, item: Handle<naga::Type>, binding: u32, write: bool) -> Handle<naga::GlobalVariable> {
+pub(crate) fn storage_array(m: &ModuleCtx, name: &str, item: Handle<naga::Type>, binding: u32, write: bool) -> Handle<naga::GlobalVariable> {
     m.global(name, |m| {
         let (stride, _) = match &m.module.borrow().types[item].inner {
             TypeInner::Struct { span, .. } => (*span, 0),
@@ -366,6 +368,9 @@ fn probe_entry(m: &ModuleCtx, ty: &Types, fns: &StageFns) -> naga::EntryPoint {
         let zero = s.lit_u32(0);
         s.store(s.global_ptr(c), zero.handle());
     }
+    // The camera distance for stages that read it: from the camera to the ray's entry.
+    let camera = s.param::<Vec4>(Param::Camera).xyz();
+    interior::store_view_distance(&s, (s.vec3(origin, 0.0) - camera).length());
     let rv = ray_value(&s, ty, &ray);
     let hit = hit_from(&s, s.call(fns.trace, &[rv], true).unwrap());
     let out = s.element_ptr(s.global_ptr(hits), index.handle());
