@@ -25,7 +25,9 @@ fn room_modules_pass_naga_spirv_val_and_glslang() {
         "csm(15)+binary(5)+ao=cone_ratio",
     ] {
         let p: Pipeline = text.parse().unwrap();
-        let rc = compile_room(&p, &RoomOptions::default()).unwrap_or_else(|e| panic!("{p}: {e}"));
+        // Light scattering (seed 003 §2.3) on the shadowed pipeline.
+        let options = RoomOptions { scatter: text.contains("soft").then_some(42) };
+        let rc = compile_room(&p, &options).unwrap_or_else(|e| panic!("{p}: {e}"));
         let c = &rc.compiled;
         assert!(rc.wall_bindings.iter().all(|w| w.binding >= WALL_BASE && w.binding < 64));
         let names: Vec<&str> = c.module.entry_points.iter().map(|e| e.name.as_str()).collect();

@@ -73,7 +73,7 @@ pub struct RoomCompiled {
     pub wall_bindings: Vec<WallBinding>,
 }
 
-/// The room block (48 bytes) at binding [`ROOM_PARAMS`]. The `Params` block is shared
+/// The room block (64 bytes) at binding [`ROOM_PARAMS`]. The `Params` block is shared
 /// with plain modules and holds, for a room: `view_proj` world → clip, `camera.xyz` the
 /// camera in world units, `light.xyz` the unit vector toward a directional light or the
 /// position of a point light, `light.w` the ambient share, `quad.y = 1` (walls clamp).
@@ -87,11 +87,15 @@ pub struct RoomParams {
     pub depth_a: [f32; 4],
     /// x: depth scale of wall 4; y: 1 for a point light, 0 for a directional one; z, w: 0.
     pub depth_b: [f32; 4],
+    /// For light scattering ([`RoomOptions::scatter`]): xyz the unit vector toward the sun
+    /// outside the window (`z > 0`), w its intensity.
+    pub sun: [f32; 4],
 }
 
 impl RoomParams {
     /// The members as the shader declares them.
-    pub const MEMBERS: [(&'static str, Member); 3] = [("size", Member::Vec4), ("depth_a", Member::Vec4), ("depth_b", Member::Vec4)];
+    pub const MEMBERS: [(&'static str, Member); 4] =
+        [("size", Member::Vec4), ("depth_a", Member::Vec4), ("depth_b", Member::Vec4), ("sun", Member::Vec4)];
 }
 
 /// One ray of `probe_room` (32 bytes): from `origin` (world, the camera) along `dir` (world,
@@ -186,7 +190,18 @@ pub fn wall_frame(k: usize, size: [f64; 3]) -> WallFrame {
 
 /// Options of the room module.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct RoomOptions {}
+pub struct RoomOptions {
+    /// Light scattering through the window (seed 003 §2.3) with this many samples along the
+    /// view ray; `None` (the default): off. The sun is [`RoomParams::sun`]; each sample adds
+    /// [`SCATTER_WEIGHT`], decaying by [`SCATTER_DECAY`], where the sun passes the window.
+    pub scatter: Option<u32>,
+}
+
+/// Share of the in-scattered light each sample adds, before decay.
+pub const SCATTER_WEIGHT: f32 = 0.6;
+/// Decay of each further sample's contribution (seed 003 §2.3: "a diminished intensity each
+/// step of the way").
+pub const SCATTER_DECAY: f32 = 0.97;
 
 /// The walls' frames in the shader, from the room's size.
 struct Frame<'a> {
@@ -333,7 +348,36 @@ fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
 /// The glass colour the window's opacity blends toward.
 const GLASS: [f32; 3] = [0.72, 0.78, 0.84];
 
-fn fragment_entry(m: &ModuleCtx, ty: &Types, walls: &[StageFns]) -> naga::EntryPoint {
+/// Light scattering through the window (Amaro & Gustafsson §2.3): the window's inverted
+/// opacity says which rays of the sun pass the glass. From the window point along the view
+/// ray to the wall's plane, `samples` points at equal intervals; at each, the ray toward the
+/// sun is followed back to the window's plane, and where it passes the window's clear part
+/// the sample adds `weight · decay^i · (1 − opacity)`; the sum, times the sun's intensity
+/// over the samples, is added to the colour. Our reading of the seed's "paint the hit plane
+/// again and again at a known interval with a diminished intensity": a march along the view
+/// ray through the room's air, lit only where the window lets the sun in.
+fn scattering<'a>(s: &'a Stage<'a>, samples: u32, world: Val<'a, Vec3>, far: Val<'a, Vec3>, size: Val<'a, Vec3>, window_on: Val<'a, bool>) -> Val<'a, f32> {
+    let sun = room_param(s, 3);
+    let to_sun = sun.xyz();
+    let sum = s.var::<f32>("scatter", 0.0);
+    let k = s.var::<f32>("scatter_k", 0.0);
+    let w = s.var::<f32>("scatter_w", SCATTER_WEIGHT);
+    let n = samples.max(1);
+    s.repeat(n, |s| {
+        let p = world + (far - world) * ((k.get() + 0.5) / n as f32);
+        let q = p + to_sun * ((-p.z()) / to_sun.z().max(1e-4));
+        let inside = q.x().ge(0.0) & q.x().le(size.x()) & q.y().ge(0.0) & q.y().le(size.y()) & to_sun.z().gt(1e-4);
+        let uv = s.vec2(q.x() / size.x(), 1.0 - q.y() / size.y());
+        let opacity = s.sample("window_map", WINDOW_MAP, uv, Filter::Linear).x();
+        let clear = s.select(window_on, 1.0 - opacity, s.lit(1.0));
+        sum.set(sum.get() + s.select(inside, w.get() * clear, s.lit(0.0)));
+        w.set(w.get() * SCATTER_DECAY);
+        k.set(k.get() + 1.0);
+    });
+    sum.get() * sun.w() / n as f32
+}
+
+fn fragment_entry(m: &ModuleCtx, ty: &Types, walls: &[StageFns], options: &RoomOptions) -> naga::EntryPoint {
     let s = m.function("fs_room", &[("world", m.ty(Vec3::inner()), Some(location(0)))]);
     let world = s.arg::<Vec3>(0);
     let cam = s.param::<Vec4>(Param::Camera).xyz();
@@ -344,6 +388,7 @@ fn fragment_entry(m: &ModuleCtx, ty: &Types, walls: &[StageFns]) -> naga::EntryP
     let ambient = light.w();
     let point_light = room_param(&s, 2).y().gt(0.5);
     let color = s.var::<Vec3>("color", s.vec3(s.vec2(0.0, 0.0), 0.0));
+    let far = s.var::<Vec3>("far", world);
     for (k, fns) in walls.iter().enumerate() {
         s.if_(wall.ge(k as u32) & wall.le(k as u32), |s| {
             m.wall.set(Some((k as u32, WALL_BASE)));
@@ -378,11 +423,16 @@ fn fragment_entry(m: &ModuleCtx, ty: &Types, walls: &[StageFns]) -> naga::EntryP
             let albedo = s.sample("albedo_map", binding::ALBEDO, hit.uv, Filter::Linear).xyz();
             let diffuse = n_world.dot(to_light).max(0.0);
             color.set(albedo * (ambient * occlusion + (1.0 - ambient) * diffuse * visibility));
+            far.set(cam + w * t_wall);
             m.wall.set(None);
         });
     }
     // The window's opacity map (optional): opaque parts show glass, not the room.
     let window_on = room_param(&s, 0).w().gt(0.5);
+    if let Some(n) = options.scatter {
+        let i = scattering(&s, n, world, far.get(), size, window_on);
+        color.set(color.get() + s.vec3(s.vec2(i, i), i) * s.vec3(s.vec2(1.0, 0.95), 0.85));
+    }
     let out = s.var::<Vec3>("out", color.get());
     s.if_(window_on, |s| {
         let uv = s.vec2(world.x() / size.x(), 1.0 - world.y() / size.y());
@@ -452,13 +502,13 @@ fn probe_entry(m: &ModuleCtx, ty: &Types, walls: &[StageFns]) -> naga::EntryPoin
     entry_point("probe_room", ShaderStage::Compute, f, [PROBE_WORKGROUP, 1, 1])
 }
 
-fn build(p: &Pipeline) -> Result<(Module, Vec<WallBinding>), CompileError> {
+fn build(p: &Pipeline, options: &RoomOptions) -> Result<(Module, Vec<WallBinding>), CompileError> {
     let m = ModuleCtx::new();
     let ty = Types::new(&m);
     let plain = wall_fns(&m, &ty, p, false)?;
     let counted = wall_fns(&m, &ty, p, true)?;
     let vs = vertex_entry(&m);
-    let fs = fragment_entry(&m, &ty, &plain);
+    let fs = fragment_entry(&m, &ty, &plain, options);
     let cs = probe_entry(&m, &ty, &counted);
     let walls = m.wall_bindings.borrow().iter().map(|&(binding, wall, plain)| WallBinding { binding, wall, plain }).collect();
     let mut module = m.finish();
@@ -468,13 +518,16 @@ fn build(p: &Pipeline) -> Result<(Module, Vec<WallBinding>), CompileError> {
 
 /// Builds the room module for `p` (not yet validated): `vs_room` + `fs_room` (the window
 /// quad, interior mapping with `p` on every wall) and `probe_room`.
-pub fn build_room_module(p: &Pipeline, _options: &RoomOptions) -> Result<Module, CompileError> {
-    Ok(build(p)?.0)
+pub fn build_room_module(p: &Pipeline, options: &RoomOptions) -> Result<Module, CompileError> {
+    Ok(build(p, options)?.0)
 }
 
 /// Builds and validates the room module for `p`.
-pub fn compile_room(p: &Pipeline, _options: &RoomOptions) -> Result<RoomCompiled, CompileError> {
-    let (module, wall_bindings) = build(p)?;
+pub fn compile_room(p: &Pipeline, options: &RoomOptions) -> Result<RoomCompiled, CompileError> {
+    if options.scatter.is_some_and(|n| !(1..=4096).contains(&n)) {
+        return Err(CompileError { stage: "scatter".into(), message: format!("{} scattering samples: allowed 1..=4096", options.scatter.unwrap_or(0)) });
+    }
+    let (module, wall_bindings) = build(p, options)?;
     let info = super::validate(&module)?;
     Ok(RoomCompiled { compiled: super::Compiled { module, info }, wall_bindings })
 }

@@ -13,7 +13,7 @@ pub const DEFAULT_MAP_SIZE: usize = 128;
 
 /// The built-in rooms.
 pub fn names() -> &'static [&'static str] {
-    &["default", "deep"]
+    &["default", "deep", "window"]
 }
 
 /// Distance in texels from `(x, y)` to the map's nearest border texel.
@@ -78,6 +78,20 @@ pub fn coffers(n: usize) -> HeightMap {
     })
 }
 
+/// A window's opacity: a frame and a cross of mullions (opaque), faintly frosted glass.
+pub fn mullions(n: usize) -> HeightMap {
+    HeightMap::from_fn(n, n, |x, y| {
+        let (u, v) = ((x as f32 + 0.5) / n as f32, (y as f32 + 0.5) / n as f32);
+        let bar = |c: f32, half: f32| (c - 0.5).abs() < half;
+        let frame = u < 0.03 || u > 0.97 || v < 0.03 || v > 0.97;
+        if frame || bar(u, 0.015) || bar(v, 0.015) {
+            1.0
+        } else {
+            0.12
+        }
+    })
+}
+
 /// An albedo from a base colour, darker in the recesses.
 fn tinted(m: &HeightMap, base: [f32; 3]) -> Rgba8Image {
     let rgba = m
@@ -99,7 +113,7 @@ pub fn room(name: &str, map_size: Option<usize>) -> Result<Room, String> {
         return Err(format!("map size {n} is out of range: allowed 8..=4096"));
     }
     let depth = match name {
-        "default" => 0.08,
+        "default" | "window" => 0.08,
         "deep" => 0.2,
         other => return Err(format!("unknown room `{other}`; built-in rooms: {}", names().join(", "))),
     };
@@ -118,9 +132,11 @@ pub fn room(name: &str, map_size: Option<usize>) -> Result<Room, String> {
         name: format!("room:{name}"),
         size: [2.0, 1.5, 2.0],
         walls,
-        window: None,
+        window: (name == "window").then(|| mullions(4 * n)),
         camera: RoomCamera { position: Vec3::new(1.35, 0.95, 2.6), target: Vec3::new(1.0, 0.72, -1.0), fov_deg: 42.0 },
         light: RoomLight::Point(Vec3::new(0.7, 1.3, -0.8)),
         ambient: 0.25,
+        sun: Vec3::new(0.35, 0.55, 1.0).normalize(),
+        sun_intensity: 0.35,
     })
 }

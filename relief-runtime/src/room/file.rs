@@ -7,6 +7,8 @@
 //! ambient = 0.25
 //! map_size = 128                   # texels a side of the procedural maps
 //! window = "window_opacity.png"    # optional: white = opaque glass, black = clear
+//! sun = [0.35, 0.55, 1.0]          # toward the sun outside the window, for `--scatter`
+//! sun_intensity = 0.35
 //!
 //! [camera]
 //! position = [1.35, 0.95, 2.6]     # in front of the window (z > 0)
@@ -44,6 +46,8 @@ pub const KEYS: &[(&str, &str)] = &[
     ("ambient", "number"),
     ("map_size", "number"),
     ("window", "string"),
+    ("sun", "array of 3 numbers"),
+    ("sun_intensity", "number"),
     ("camera", "table"),
     ("camera.position", "array of 3 numbers"),
     ("camera.target", "array of 3 numbers"),
@@ -167,6 +171,16 @@ fn build(path: &Path, t: &toml::Table, map_size: Option<usize>) -> Result<Room, 
     }
     if let Some(v) = t.get("ambient") {
         room.ambient = num(v);
+    }
+    if let Some(v) = t.get("sun") {
+        let d = vec3(v);
+        if !(d.is_finite() && d.length() > 1e-6) {
+            return Err(("sun".into(), format!("{:?}: must be a finite, non-zero direction", d.to_array())));
+        }
+        room.sun = d.normalize();
+    }
+    if let Some(v) = t.get("sun_intensity") {
+        room.sun_intensity = num(v);
     }
     if let Some(v) = t.get("window") {
         let p = dir.join(v.as_str().unwrap_or_default());

@@ -29,9 +29,14 @@ pub struct RoomProgram {
 }
 
 impl RoomProgram {
-    /// Compiles `p` as a room module.
+    /// Compiles `p` as a room module (no light scattering).
     pub fn new(p: &Pipeline) -> Result<RoomProgram, CompileError> {
-        let rc = compile_room(p, &RoomOptions::default())?;
+        Self::new_with(p, &RoomOptions::default())
+    }
+
+    /// Compiles `p` as a room module with `options` (e.g. light scattering).
+    pub fn new_with(p: &Pipeline, options: &RoomOptions) -> Result<RoomProgram, CompileError> {
+        let rc = compile_room(p, options)?;
         let c = &rc.compiled;
         let wgsl = relief_dsl::emit::wgsl(c)?;
         let used = |name: &str| -> Vec<u32> {
@@ -124,7 +129,9 @@ pub fn room_params(room: &Room, aspect: f32) -> (Params, RoomParams) {
         quad: [1.0, 1.0, 0.0, 0.0],
     };
     let window = if room.window.is_some() { 1.0 } else { 0.0 };
-    let rp = RoomParams { size: [room.size[0], room.size[1], room.size[2], window], depth_a: [d[0], d[1], d[2], d[3]], depth_b: [d[4], kind, 0.0, 0.0] };
+    let rp = RoomParams { size: [room.size[0], room.size[1], room.size[2], window], depth_a: [d[0], d[1], d[2], d[3]], depth_b: [d[4], kind, 0.0, 0.0],
+        sun: [room.sun.x, room.sun.y, room.sun.z, room.sun_intensity],
+    };
     (params, rp)
 }
 

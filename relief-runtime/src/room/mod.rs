@@ -10,7 +10,7 @@
 //! [`relief_dsl::compose::interior::wall_frame`].
 //!
 //! - [`builtin`]: the procedural room (a fresh clone needs nothing);
-//! - [`file`]: room files (TOML), errors in the scene files' one-line style;
+//! - [`mod@file`]: room files (TOML), errors in the scene files' one-line style;
 //! - [`gpu`]: the room module on the device: timed interior frames and the room probe;
 //! - [`mesh`]: the real-geometry baseline (each wall's height map displaced into a grid);
 //! - [`accuracy`]: per-wall accuracy of the probe's hits against the exact reference.
@@ -107,6 +107,11 @@ pub struct Room {
     pub light: RoomLight,
     /// The ambient share of the shading.
     pub ambient: f32,
+    /// Unit vector toward the sun outside the window (`z > 0`), for light scattering
+    /// (seed 003 §2.3; off unless asked for).
+    pub sun: Vec3,
+    /// The sun's scattering intensity.
+    pub sun_intensity: f32,
 }
 
 /// One ray of a frame that passes through the window: its pixel and the probe ray.
@@ -244,6 +249,12 @@ impl Room {
             if !inside {
                 return Err(("light.point".into(), format!("{:?}: a point light must lie inside the room", p.to_array())));
             }
+        }
+        if !(self.sun.is_finite() && self.sun.z > 0.0) {
+            return Err(("sun".into(), format!("{:?}: the sun must lie in front of the window (z > 0)", self.sun.to_array())));
+        }
+        if !(self.sun_intensity.is_finite() && self.sun_intensity >= 0.0) {
+            return Err(("sun_intensity".into(), format!("{}: must be a number >= 0", self.sun_intensity)));
         }
         if !(0.0..=1.0).contains(&self.ambient) {
             return Err(("ambient".into(), format!("{}: must lie in [0, 1]", self.ambient)));
