@@ -314,3 +314,44 @@ fn maps_not_at_height_1_on_their_border_are_warned_about() {
     assert!(warnings[0].contains("floor") && warnings[0].contains(&format!("{} of its {}", n - 4, 4 * n - 4)), "{}", warnings[0]);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn the_report_has_a_room_section_from_a_room_grid() {
+    use relief_runtime::room::sweep::{read_rows, rows_path, variants, RoomRow};
+    let dir = std::env::temp_dir().join(format!("relief-room-report-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // Rows as `relief sweep --grid rooms` writes them (values made up: the section only
+    // reports them); POM is 4× faster than geometry, effects add cost.
+    let rows: Vec<RoomRow> = variants()
+        .iter()
+        .enumerate()
+        .map(|(i, v)| RoomRow {
+            room: "room:default".into(),
+            variant: v.label.into(),
+            pipeline: v.pipeline.into(),
+            scatter: v.scatter.unwrap_or(0),
+            size: 64,
+            grid: 320,
+            frame_ms: 1.0 + i as f64,
+            baseline_ms: 8.0,
+            ratio: (1.0 + i as f64) / 8.0,
+            status: "ok".into(),
+            ..Default::default()
+        })
+        .collect();
+    let text: String = rows.iter().map(|r| serde_json::to_string(r).unwrap() + "\n").collect();
+    std::fs::write(rows_path(&dir), text).unwrap();
+    assert_eq!(read_rows(&dir).unwrap().unwrap(), rows);
+    relief_runtime::report::write(&dir).unwrap();
+    let md = std::fs::read_to_string(dir.join("tables.md")).unwrap();
+    assert!(md.contains("Interior mapping in room:default"), "{md}");
+    for v in variants() {
+        assert!(md.contains(&format!("| {} |", v.label)), "{}: {md}", v.label);
+    }
+    // 8 ms of geometry against 2 ms of interior + POM: 4×, the seed's ordering.
+    assert!(md.contains("4.00× the frame time of interior mapping + POM: the ordering holds"), "{md}");
+    assert!(md.contains("rising, as in the seed"), "{md}");
+    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    assert!(html.contains("id=\"rooms\""));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -13,7 +13,9 @@
 //! - [`mod@file`]: room files (TOML), errors in the scene files' one-line style;
 //! - [`gpu`]: the room module on the device: timed interior frames and the room probe;
 //! - [`mesh`]: the real-geometry baseline (each wall's height map displaced into a grid);
-//! - [`accuracy`]: per-wall accuracy of the probe's hits against the exact reference.
+//! - [`accuracy`]: per-wall accuracy of the probe's hits against the exact reference;
+//! - [`measure`]: one room measured (both renders timed, the accuracy);
+//! - [`sweep`]: the room grid (pipelines × rooms) of `relief sweep --grid rooms`.
 //!
 //! Seed 003 (§4) needs wall height maps at height 1 on their borders, so that the walls
 //! meet at the room's edges: the procedural maps are made so, and [`border_warnings`] says
@@ -23,7 +25,9 @@ pub mod accuracy;
 pub mod builtin;
 pub mod file;
 pub mod gpu;
+pub mod measure;
 pub mod mesh;
+pub mod sweep;
 mod timing;
 pub use timing::Frames;
 

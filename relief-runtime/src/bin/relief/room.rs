@@ -8,18 +8,17 @@ use anyhow::Context;
 use relief_runtime::gpu::Gpu;
 use relief_runtime::io::write_atomic;
 use relief_runtime::metrics::percentile;
-use relief_runtime::room::accuracy::{reference_hits, room_accuracy};
-use relief_runtime::room::gpu::{probe_room, render_interior, RoomProgram, RoomTextures};
-use relief_runtime::room::mesh::{render_geometry, RoomMesh, DEFAULT_GRID};
-use relief_runtime::room::{room_from_arg, RoomLight, WALLS};
+use relief_runtime::room::measure::{measure_room, write_images, RoomSetup};
+use relief_runtime::room::mesh::DEFAULT_GRID;
+use relief_runtime::room::{room_from_arg, RoomLight};
 
 /// Arguments of `relief room`.
 #[derive(clap::Args, Debug)]
 pub struct RoomArgs {
     /// The pipeline run on every wall, in the text form, e.g. `linear(32)+binary(5)+shadow=soft(16)`.
     pub pipeline: String,
-    /// `room:NAME` (built-in: `room:default`, `room:deep`, `room:window` with mullions) or a room file (`.toml`); default:
-    /// the built-in room.
+    /// `room:NAME` (built-in: `room:default`, `room:deep`, `room:window` with mullions) or a
+    /// room file (`.toml`); default: the built-in room.
     #[arg(long)]
     pub scene: Option<String>,
     /// Frame size in pixels (square).
@@ -43,13 +42,6 @@ pub struct RoomArgs {
     pub out: PathBuf,
 }
 
-fn opaque(mut rgba: Vec<u8>) -> Vec<u8> {
-    for px in rgba.chunks_mut(4) {
-        px[3] = 255;
-    }
-    rgba
-}
-
 /// Runs `relief room`.
 pub fn run(a: &RoomArgs) -> anyhow::Result<()> {
     let pipeline: relief_dsl::Pipeline = a.pipeline.parse().map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", a.pipeline))?;
@@ -59,6 +51,9 @@ pub fn run(a: &RoomArgs) -> anyhow::Result<()> {
     if !(2..=2048).contains(&a.grid) {
         anyhow::bail!("--grid {} is out of range: allowed 2..=2048", a.grid);
     }
+    if a.frames == 0 {
+        anyhow::bail!("--frames 0: at least one timed frame is needed");
+    }
     let (room, warnings) = room_from_arg(a.scene.as_deref(), a.map_size).map_err(anyhow::Error::msg)?;
     for w in &warnings {
         eprintln!("relief: warning: {w}");
@@ -66,40 +61,9 @@ pub fn run(a: &RoomArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create output folder {}", a.out.display()))?;
     let g = Gpu::new()?;
     let options = relief_dsl::compose::interior::RoomOptions { scatter: a.scatter };
-    let prog = RoomProgram::new_with(&pipeline, &options).map_err(|e| anyhow::anyhow!("pipeline `{pipeline}`: {e}"))?;
-    let tex = RoomTextures::new(&g, &room, &prog.maps)?;
-    let pom = render_interior(&g, &prog, &room, &tex, a.size, 5, a.frames)?;
-    let mesh = RoomMesh::new(&room, a.grid);
-    let geo = render_geometry(&g, &room, &mesh, a.size, 5, a.frames)?;
-
-    let rays = room.rays(a.size);
-    let probe_rays: Vec<_> = rays.iter().map(|r| r.ray).collect();
-    let hits = probe_room(&g, &prog, &room, &tex, &probe_rays)?;
-    let heights: Vec<Vec<f32>> = tex.walls.iter().map(|t| t.heights_on_device.clone()).collect();
-    let refs = reference_hits(&room, &heights, &rays)?;
-    let per_wall = room_accuracy(&room, &rays, &hits, &refs);
-
-    let n = a.size as usize;
-    let frame = opaque(pom.rgba.clone());
-    let base = opaque(geo.rgba.clone());
-    let diff: Vec<u8> = frame
-        .chunks(4)
-        .zip(base.chunks(4))
-        .flat_map(|(p, q)| {
-            let d = |i: usize| ((p[i] as i32 - q[i] as i32).unsigned_abs() * 4).min(255) as u8;
-            [d(0), d(1), d(2), 255]
-        })
-        .collect();
-    let mean_abs_diff = frame.chunks(4).zip(base.chunks(4)).map(|(p, q)| (0..3).map(|i| (p[i] as f64 - q[i] as f64).abs()).sum::<f64>() / 3.0).sum::<f64>() / (n * n) as f64;
-    relief_runtime::io::png::write_rgba8(&a.out.join("frame.png"), a.size, a.size, frame)?;
-    relief_runtime::io::png::write_rgba8(&a.out.join("baseline.png"), a.size, a.size, base)?;
-    relief_runtime::io::png::write_rgba8(&a.out.join("diff.png"), a.size, a.size, diff)?;
-
-    let pom_ms = percentile(&pom.frame_ms, 0.5);
-    let geo_ms = percentile(&geo.frame_ms, 0.5);
-    let all_rays: usize = per_wall.iter().map(|w| w.rays).sum();
-    let all_missed: usize = per_wall.iter().map(|w| w.missed).sum();
-    let mismatch: usize = per_wall.iter().map(|w| w.wall_mismatch).sum();
+    let setup = RoomSetup { size: a.size, grid: a.grid, warmup: 5, frames: a.frames };
+    let m = measure_room(&g, &room, &pipeline, &options, &setup)?;
+    let mean_abs_diff = write_images(&a.out, a.size, &m)?;
     let light = match room.light {
         RoomLight::Point(p) => serde_json::json!({ "point": p.to_array() }),
         RoomLight::Directional(d) => serde_json::json!({ "direction": d.to_array() }),
@@ -116,32 +80,36 @@ pub fn run(a: &RoomArgs) -> anyhow::Result<()> {
         "adapter": g.adapter,
         "driver": g.driver,
         "frames": a.frames,
-        "frame_ms_median": pom_ms,
-        "frame_ms_p10": percentile(&pom.frame_ms, 0.1),
-        "frame_ms_p90": percentile(&pom.frame_ms, 0.9),
+        "frame_ms_median": m.frame_ms,
+        "frame_ms_p10": percentile(&m.interior.frame_ms, 0.1),
+        "frame_ms_p90": percentile(&m.interior.frame_ms, 0.9),
         "baseline_grid": a.grid,
-        "baseline_triangles": mesh.wall_triangles,
-        "baseline_ms_median": geo_ms,
-        "baseline_ms_p10": percentile(&geo.frame_ms, 0.1),
-        "baseline_ms_p90": percentile(&geo.frame_ms, 0.9),
-        "ratio_pom_to_baseline": pom_ms / geo_ms,
-        "rays": all_rays,
-        "wall_mismatch": mismatch,
-        "missed_rate": if all_rays > 0 { all_missed as f64 / all_rays as f64 } else { f64::NAN },
-        "t_err_max": per_wall.iter().map(|w| w.t_err_max).fold(0.0, f64::max),
-        "per_wall": per_wall,
+        "baseline_triangles": m.baseline_triangles,
+        "baseline_ms_median": m.baseline_ms,
+        "baseline_ms_p10": percentile(&m.baseline.frame_ms, 0.1),
+        "baseline_ms_p90": percentile(&m.baseline.frame_ms, 0.9),
+        "ratio_interior_to_baseline": m.frame_ms / m.baseline_ms,
+        "rays": m.rays(),
+        "wall_mismatch": m.per_wall.iter().map(|w| w.wall_mismatch).sum::<usize>(),
+        "missed_rate": m.missed_rate(),
+        "t_err_rms": m.t_err_rms(),
+        "t_err_max": m.per_wall.iter().map(|w| w.t_err_max).fold(0.0, f64::max),
+        "per_wall": m.per_wall,
         "mean_abs_diff_8bit": mean_abs_diff,
         "warnings": warnings,
     });
     write_atomic(&a.out.join("metrics.json"), serde_json::to_string_pretty(&json)?.as_bytes())?;
-    let walls: Vec<String> = per_wall.iter().take(WALLS).map(|w| format!("{} {:.1e}/{:.2}%", w.wall, w.t_err_rms, 100.0 * w.missed_rate)).collect();
+    let walls: Vec<String> = m.per_wall.iter().map(|w| format!("{} {:.1e}/{:.2}%", w.wall, w.t_err_rms, 100.0 * w.missed_rate)).collect();
     println!(
-        "{pipeline} in {} at {}²: interior {pom_ms:.3} ms, geometry ({}² per wall, {} triangles) {geo_ms:.3} ms, ratio {:.2}; t err rms/missed per wall: {} → {}",
+        "{pipeline}{} in {} at {}²: interior {:.3} ms, geometry ({}² per wall, {} triangles) {:.3} ms, ratio {:.2}; t err rms/missed per wall: {} → {}",
+        a.scatter.map(|n| format!(" + scatter({n})")).unwrap_or_default(),
         room.name,
         a.size,
+        m.frame_ms,
         a.grid,
-        mesh.wall_triangles,
-        pom_ms / geo_ms,
+        m.baseline_triangles,
+        m.baseline_ms,
+        m.frame_ms / m.baseline_ms,
         walls.join(", "),
         a.out.display()
     );
