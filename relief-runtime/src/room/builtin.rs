@@ -83,7 +83,7 @@ pub fn mullions(n: usize) -> HeightMap {
     HeightMap::from_fn(n, n, |x, y| {
         let (u, v) = ((x as f32 + 0.5) / n as f32, (y as f32 + 0.5) / n as f32);
         let bar = |c: f32, half: f32| (c - 0.5).abs() < half;
-        let frame = u < 0.03 || u > 0.97 || v < 0.03 || v > 0.97;
+        let frame = !(0.03..=0.97).contains(&u) || !(0.03..=0.97).contains(&v);
         if frame || bar(u, 0.015) || bar(v, 0.015) {
             1.0
         } else {
