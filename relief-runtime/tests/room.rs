@@ -355,3 +355,29 @@ fn the_report_has_a_room_section_from_a_room_grid() {
     assert!(html.contains("id=\"rooms\""));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn relief_room_writes_both_renders_and_the_metrics() {
+    let out = std::env::temp_dir().join(format!("relief-room-cli-{}", std::process::id()));
+    let run = |args: &[&str]| std::process::Command::new(env!("CARGO_BIN_EXE_relief")).args(args).output().unwrap();
+    let o = run(&["room", "linear(16)+binary(3)+shadow=soft(8)", "--size", "48", "--grid", "24", "--map-size", "16", "--frames", "2", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in ["frame.png", "baseline.png", "diff.png", "metrics.json"] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).unwrap()).unwrap();
+    let (f, b) = (m["frame_ms_median"].as_f64().unwrap(), m["baseline_ms_median"].as_f64().unwrap());
+    assert!(f > 0.0 && b > 0.0);
+    assert!((m["ratio_interior_to_baseline"].as_f64().unwrap() - f / b).abs() < 1e-9);
+    assert_eq!(m["per_wall"].as_array().unwrap().len(), WALLS);
+    assert_eq!(m["room"], "room:default");
+    // A bad room: one line naming the file and the key.
+    let bad = out.join("bad.toml");
+    std::fs::write(&bad, "[walls.floor]\ndepth_scale = -1\n").unwrap();
+    let o = run(&["room", "linear(8)", "--scene", bad.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(e.trim().lines().count(), 1, "{e}");
+    assert!(e.contains("bad.toml") && e.contains("key `walls.floor.depth_scale`"), "{e}");
+    std::fs::remove_dir_all(&out).ok();
+}
