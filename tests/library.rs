@@ -257,6 +257,7 @@ fn options_are_checked_and_written() {
 #[test]
 fn linear_distance_has_no_library() {
     let p: Pipeline = "linear_distance+binary(5)".parse().unwrap();
-    let e = emit::library(&p, &LibraryOptions::default()).err().expect("no library for linear_distance").to_string();
+    let Err(e) = emit::library(&p, &LibraryOptions::default()) else { panic!("no library for linear_distance") };
+    let e = e.to_string();
     assert!(e.contains("linear_distance") && e.contains("not implemented for libraries"), "{e}");
 }
