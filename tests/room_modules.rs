@@ -58,3 +58,13 @@ fn room_modules_pass_naga_spirv_val_and_glslang() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn light_scattering_is_off_by_default() {
+    let p: Pipeline = "linear(8)+shadow=soft(8)".parse().unwrap();
+    let wgsl = |o: &RoomOptions| emit::wgsl(&compile_room(&p, o).unwrap().compiled).unwrap();
+    assert_eq!(RoomOptions::default().scatter, None);
+    assert!(!wgsl(&RoomOptions::default()).contains("scatter"));
+    assert!(wgsl(&RoomOptions { scatter: Some(42) }).contains("scatter"));
+    assert!(compile_room(&p, &RoomOptions { scatter: Some(0) }).is_err(), "0 samples is refused, not defaulted");
+}
