@@ -381,3 +381,22 @@ fn relief_room_writes_both_renders_and_the_metrics() {
     assert!(e.contains("bad.toml") && e.contains("key `walls.floor.depth_scale`"), "{e}");
     std::fs::remove_dir_all(&out).ok();
 }
+
+#[test]
+fn a_safe_cone_pipeline_reads_each_walls_own_cone_map() {
+    // Each wall's cone map is built from that wall's heights and bound at that wall's
+    // binding: the safe form then never ends past the first hit (issue #13's guarantee,
+    // with its slack `metrics::PAST_SLACK`); a map of another wall could let it pass.
+    let g = gpu();
+    let room = builtin::room("default", Some(32)).unwrap();
+    let prog = RoomProgram::new(&"csm(15)+binary(5)".parse().unwrap()).unwrap();
+    assert!(prog.walls.iter().filter(|w| w.plain == relief_dsl::abi::binding::CELL_CONE).count() == WALLS);
+    let tex = RoomTextures::new(&g, &room, &prog.maps).unwrap();
+    let rays = room.rays(64);
+    let probe: Vec<RoomRay> = rays.iter().map(|r| r.ray).collect();
+    let hits = probe_room(&g, &prog, &room, &tex, &probe).unwrap();
+    let heights: Vec<Vec<f32>> = tex.walls.iter().map(|t| t.heights_on_device.clone()).collect();
+    let refs = reference_hits(&room, &heights, &rays).unwrap();
+    let past = hits.iter().zip(&refs).filter(|(h, (w, r))| h.wall as usize != *w || r.is_none_or(|r| h.t as f64 > r.t + relief_runtime::metrics::PAST_SLACK)).count();
+    assert_eq!(past, 0, "{past} of {} rays past the first hit or on another wall", rays.len());
+}
