@@ -82,6 +82,12 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
                 power.into(),
             ]);
         }
+        for r in mine.iter().filter(|r| r.status == "ok" && r.variant == "+ POM") {
+            let walls: Vec<String> = r.per_wall.iter().map(|w| format!("{} {} / {}", w.wall, fmt_sci(w.t_err_rms), fmt_pct(Some(100.0 * w.missed_rate)))).collect();
+            if !walls.is_empty() {
+                t.notes.push(format!("Per wall with POM (t err rms / missed, against the exact first hit on each wall's bilinear surface): {}.", walls.join(", ")));
+            }
+        }
         // The seed's ordering, checked on our frame times.
         let ms = |label: &str| mine.iter().find(|r| r.variant == label && r.status == "ok").map(|r| (r.frame_ms, r.baseline_ms));
         if let Some((pom, geo)) = ms("+ POM") {
