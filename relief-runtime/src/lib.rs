@@ -18,3 +18,4 @@ pub mod measure;
 pub mod stability;
 pub mod sweep;
 pub mod report;
+pub mod room;

@@ -9,7 +9,7 @@ use relief_runtime::stability;
 fn every_method_stays_finite_and_inside_the_volume_at_every_angle() {
     let gpu = Gpu::new().unwrap();
     let methods = stability::methods();
-    assert_eq!(methods.len(), (16 + 7) * 4, "every implemented coarse × refine at default parameters, cone methods in both forms");
+    assert_eq!(methods.len(), (17 + 7) * 4, "every implemented coarse × refine at default parameters, cone methods in both forms");
     let scenes = ["spikes", "flat1", "seam", "walls", "boxes", "rock_bump"];
     let cells = stability::run(&gpu, 16, &methods, &scenes, &stability::ANGLES, |_, _| {}).unwrap();
     assert_eq!(cells.len(), methods.len() * scenes.len() * stability::ANGLES.len());

@@ -270,6 +270,12 @@ pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileErro
     let mut order: Vec<(u32, Handle<naga::GlobalVariable>)> = Vec::new();
     for (h, g) in module.global_variables.iter() {
         let name = g.name.as_deref().unwrap_or("");
+        if name == crate::stage::coarse::linear::VIEW_DISTANCE {
+            return Err(CompileError {
+                stage: "library".into(),
+                message: "`linear_distance` reads the distance from the camera to the fragment (seed 003 §2.1.3), which the library interface (`P_trace(uv, view_ts, depth_scale)`) does not take: not implemented for libraries (`linear_dynamic` needs no distance)".into(),
+            });
+        }
         let Some(rb) = g.binding else {
             return Err(CompileError {
                 stage: "library".into(),

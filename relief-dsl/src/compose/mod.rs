@@ -13,6 +13,7 @@
 //! Resources are declared when a stage first reads them (see [`binding`]), so the module
 //! declares only what its stages read.
 
+pub mod interior;
 pub mod library;
 
 use naga::{Binding, BuiltIn, Handle, Module, ShaderStage, TypeInner};
@@ -153,7 +154,7 @@ pub(crate) fn build_stage_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Res
     Ok(StageFns { trace, shadow, ao })
 }
 
-fn location(n: u32) -> Binding {
+pub(crate) fn location(n: u32) -> Binding {
     Binding::Location {
         location: n,
         interpolation: Some(naga::Interpolation::Perspective),
@@ -332,6 +333,7 @@ fn fragment_entry(m: &ModuleCtx, fns: &StageFns, options: &Options, clip: bool, 
     let dir = s.vec3(view.xy() * (depth_scale / -view.z()), -1.0);
     let ray = Ray { origin: world, dir, cos_view: -view.z() };
     set_sample_level(&s, lod, world, || s.param::<Vec4>(Param::PixelRight).w());
+    interior::store_view_distance(&s, (s.vec3(world, 0.0) - camera.xyz()).length());
     let traced: Hit = s.unpack(s.call(fns.trace, &[s.pack(&ray)], true).unwrap());
     if clip {
         s.if_(outside_square(&s, traced.uv), |s| s.discard());
@@ -373,7 +375,7 @@ fn fragment_entry(m: &ModuleCtx, fns: &StageFns, options: &Options, clip: bool, 
     entry_point("fs_main", ShaderStage::Fragment, f, [0; 3])
 }
 
-fn storage_array(m: &ModuleCtx, name: &str, item: Handle<naga::Type>, binding: u32, write: bool) -> Handle<naga::GlobalVariable> {
+pub(crate) fn storage_array(m: &ModuleCtx, name: &str, item: Handle<naga::Type>, binding: u32, write: bool) -> Handle<naga::GlobalVariable> {
     m.global(name, |m| {
         let (stride, _) = match &m.module.borrow().types[item].inner {
             TypeInner::Struct { span, .. } => (*span, 0),
@@ -435,6 +437,9 @@ fn probe_entry(m: &ModuleCtx, fns: &StageFns, clip: bool, lod: Option<Handle<nag
         let zero = s.lit_u32(0);
         s.store(s.global_ptr(c), zero.handle());
     }
+    // The camera distance for stages that read it: from the camera to the ray's entry.
+    let camera = s.param::<Vec4>(Param::Camera).xyz();
+    interior::store_view_distance(&s, (s.vec3(origin, 0.0) - camera).length());
     let hit: Hit = s.unpack(s.call(fns.trace, &[s.pack(&ray)], true).unwrap());
     let out = s.element_ptr(s.global_ptr(hits), index.handle());
     let [coarse_steps, refine_steps, fetches] = counters.map(|c| s.load::<u32>(s.global_ptr(c)));

@@ -51,6 +51,13 @@ pub(crate) struct ModuleCtx {
     /// What stages read that has no level (maps built over level 0, the 3D field), while
     /// `lod` is not zero: the composer turns an entry into an error naming the stage.
     pub(crate) lod_unsupported: RefCell<Vec<String>>,
+    /// When set to `(k, first)`, every texture declared now is wall `k`'s: named
+    /// `NAME_wallK` and bound at the next free binding from `first` on, recorded in
+    /// `wall_bindings` (the interior entry, [`crate::compose::interior`]); samplers,
+    /// uniforms and private globals stay shared.
+    pub(crate) wall: std::cell::Cell<Option<(u32, u32)>>,
+    /// The walls' textures: (binding, wall, the binding of the same texture in a plain module).
+    pub(crate) wall_bindings: RefCell<Vec<(u32, u32, u32)>>,
 }
 
 /// Names of the probe's private counters.
@@ -80,6 +87,8 @@ impl ModuleCtx {
             edge_clamp_constant: std::cell::Cell::new(None),
             lod: std::cell::Cell::new(crate::spec::Lod::Zero),
             lod_unsupported: RefCell::new(Vec::new()),
+            wall: std::cell::Cell::new(None),
+            wall_bindings: RefCell::new(Vec::new()),
         }
     }
 
@@ -134,13 +143,51 @@ impl ModuleCtx {
         name: &str,
         make: impl FnOnce(&ModuleCtx) -> naga::GlobalVariable,
     ) -> Handle<naga::GlobalVariable> {
-        if let Some((_, h)) = self.globals.borrow().iter().find(|(n, _)| n == name) {
-            return *h;
+        let walled = self.wall.get().map(|(k, _)| format!("{name}_wall{k}"));
+        if let Some(key) = &walled {
+            if let Some(h) = self.find_global(key) {
+                return h;
+            }
+            if let Some(h) = self.find_global(name) {
+                if !self.is_texture(h) {
+                    return h;
+                }
+            }
+        } else if let Some(h) = self.find_global(name) {
+            return h;
         }
-        let var = make(self);
+        let mut var = make(self);
+        let mut name = name.to_string();
+        if let (Some(key), Some((k, first))) = (walled, self.wall.get()) {
+            if self.is_texture_ty(var.ty) {
+                var.name = Some(key.clone());
+                if let Some(b) = &mut var.binding {
+                    let mut list = self.wall_bindings.borrow_mut();
+                    let next = list.iter().map(|w| w.0 + 1).max().unwrap_or(first);
+                    list.push((next, k, b.binding));
+                    b.binding = next;
+                }
+                name = key;
+            }
+        }
+        let name = name.as_str();
         let h = self.module.borrow_mut().global_variables.append(var, Span::UNDEFINED);
         self.globals.borrow_mut().push((name.to_string(), h));
         h
+    }
+
+    /// The global already declared under `name`, if any.
+    pub(crate) fn find_global(&self, name: &str) -> Option<Handle<naga::GlobalVariable>> {
+        self.globals.borrow().iter().find(|(n, _)| n == name).map(|(_, h)| *h)
+    }
+
+    fn is_texture(&self, h: Handle<naga::GlobalVariable>) -> bool {
+        let ty = self.module.borrow().global_variables[h].ty;
+        self.is_texture_ty(ty)
+    }
+
+    fn is_texture_ty(&self, ty: Handle<naga::Type>) -> bool {
+        matches!(self.module.borrow().types[ty].inner, naga::TypeInner::Image { .. })
     }
 
     /// Starts a function with named, typed arguments (and optional bindings, for entry points).

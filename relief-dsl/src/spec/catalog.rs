@@ -443,6 +443,14 @@ fn builtins() -> &'static [MethodDef] {
             .param(steps("max", 32))
             .check(min_le_max),
             def(
+                "linear_distance",
+                "linear search, layer count from the view angle and the camera distance (Amaro & Gustafsson 2.1.3)",
+                Coarse,
+            )
+            .param(steps("min", 16))
+            .param(steps("max", 180))
+            .param(steps("theta_min", 4)),
+            def(
                 "csm",
                 "cone step mapping (Dummer 2006; Burger Algorithm 4); form=safe|textbook; sample=linear|nearest|min4 for form=textbook (Burger 4.3.1), auto: the cell's cone (safe) or linear (textbook)",
                 Coarse,

@@ -15,6 +15,7 @@ static BUILDERS: &[(Slot, &str, Build)] = &[
     (Slot::Coarse, "iterative_parallax", Coarse(c::build_iterative_parallax)),
     (Slot::Coarse, "linear", Coarse(c::build_linear)),
     (Slot::Coarse, "linear_dynamic", Coarse(c::build_linear_dynamic)),
+    (Slot::Coarse, "linear_distance", Coarse(c::build_linear_distance)),
     (Slot::Coarse, "csm", Coarse(c::build_csm)),
     (Slot::Coarse, "qcsm", Coarse(c::build_qcsm)),
     (Slot::Coarse, "rcs", Coarse(c::build_rcs)),

@@ -48,7 +48,12 @@ impl Gpu {
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("relief"),
             required_features: features,
-            required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
+            required_limits: wgpu::Limits {
+                // A room module binds every wall's maps (five of each kind): as many sampled
+                // textures as the adapter allows.
+                max_sampled_textures_per_shader_stage: adapter.limits().max_sampled_textures_per_shader_stage,
+                ..wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits())
+            },
             ..Default::default()
         }))
         .map_err(|e| GpuError::NoDevice { adapter: info.name.clone(), message: e.to_string() })?;

@@ -45,7 +45,7 @@ pub(crate) fn md_inline(s: &str) -> String {
     out
 }
 
-const STYLE: &str = "body{font-family:sans-serif;margin:1.5em;max-width:110em;color:#222}\
+pub(crate) const STYLE: &str = "body{font-family:sans-serif;margin:1.5em;max-width:110em;color:#222}\
 table{border-collapse:collapse;margin:.5em 0 1.5em;font-size:13px}\
 th,td{border:1px solid #ccc;padding:2px 6px;text-align:left;vertical-align:top}\
 th{background:#f0f0f0}td.holds{background:#dfd}td.fails{background:#fdd}td.err{background:#fdd}\

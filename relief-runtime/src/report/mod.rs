@@ -20,6 +20,7 @@ mod data;
 mod diss;
 mod html;
 mod pareto;
+mod rooms;
 mod stats;
 mod strips;
 mod tables;
@@ -76,7 +77,11 @@ pub fn write(dir: &Path) -> anyhow::Result<ReportSummary> {
         anyhow::bail!("no sweep folder {}: it does not exist or is not a folder", dir.display());
     }
     let data = Data::load(dir)?;
+    let room_rows = crate::room::sweep::read_rows(dir)?;
     if data.rows.is_empty() {
+        if let Some(rr) = &room_rows {
+            return write_rooms_only(dir, rr);
+        }
         let mut msg = format!(
             "{} holds no results: {} is missing or has no rows (run `relief sweep --out {}` first)",
             dir.display(),
@@ -141,6 +146,9 @@ pub fn write(dir: &Path) -> anyhow::Result<ReportSummary> {
     if let Some(lod) = conclusions::lod_markdown(&data, &diss) {
         md.push_str(&lod);
     }
+    if let Some(rr) = &room_rows {
+        md.push_str(&rooms::to_markdown(rr));
+    }
     md.push_str(&failed_md(&summary));
     write_file(&dir.join("tables.md"), md.as_bytes(), &mut summary.files)?;
 
@@ -160,6 +168,10 @@ pub fn write(dir: &Path) -> anyhow::Result<ReportSummary> {
         fronts: &fronts,
         pareto_svgs: &pareto_svgs,
     });
+    let page = match &room_rows {
+        Some(rr) => with_section_at_end(&page, &rooms::to_html(rr)),
+        None => page,
+    };
     write_file(&dir.join("index.html"), page.as_bytes(), &mut summary.files)?;
     // index first, then tables.md, then the rest.
     summary.files.rotate_right(1);
@@ -171,6 +183,35 @@ pub fn write(dir: &Path) -> anyhow::Result<ReportSummary> {
 }
 
 /// Removes charts and strips an earlier report wrote (only names this module writes).
+/// `page` with `section` inserted before the closing `</body>`.
+fn with_section_at_end(page: &str, section: &str) -> String {
+    match page.rfind("</body>") {
+        Some(i) => format!("{}{section}{}", &page[..i], &page[i..]),
+        None => format!("{page}{section}"),
+    }
+}
+
+/// The report of a folder holding only a room grid (`relief sweep --grid rooms`): the room
+/// section as `tables.md` and `index.html`.
+fn write_rooms_only(dir: &Path, rows: &[crate::room::sweep::RoomRow]) -> anyhow::Result<ReportSummary> {
+    let mut summary = ReportSummary {
+        dir: dir.to_path_buf(),
+        rows: rows.len(),
+        ok: rows.iter().filter(|r| r.status == "ok").count(),
+        failed: rows.iter().filter(|r| r.status != "ok").map(|r| (r.pipeline.clone(), r.room.clone(), r.error.clone())).collect(),
+        ..Default::default()
+    };
+    let md = format!("# relief report: rooms\n\n{}", rooms::to_markdown(rows));
+    write_file(&dir.join("tables.md"), md.as_bytes(), &mut summary.files)?;
+    let page = format!(
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>relief report: rooms</title><style>{}</style></head><body>\n<h1>relief report: rooms</h1>\n{}</body></html>\n",
+        html::STYLE,
+        rooms::to_html(rows)
+    );
+    write_file(&dir.join("index.html"), page.as_bytes(), &mut summary.files)?;
+    Ok(summary)
+}
+
 fn remove_stale(sub: &Path) {
     let Ok(rd) = std::fs::read_dir(sub) else { return };
     for e in rd.flatten() {

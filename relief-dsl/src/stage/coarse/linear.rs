@@ -39,3 +39,50 @@ pub fn linear_dynamic<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, min: u32, max: u32) -
     });
     one_step_back(t.get(), step)
 }
+
+/// The name of the private global that holds the distance from the camera to the fragment
+/// (the `d` of [`linear_distance`]); every entry point that traces writes it first.
+pub const VIEW_DISTANCE: &str = "view_distance";
+
+/// The distance from the camera to the fragment, as the entry point stored it (see
+/// [`VIEW_DISTANCE`]).
+fn view_distance<'a>(s: &'a Stage<'a>) -> Val<'a, f32> {
+    let g = s.module().global(VIEW_DISTANCE, |m| private_f32(m, VIEW_DISTANCE));
+    s.load(s.global_ptr(g))
+}
+
+/// A private `f32` global named `name`.
+pub(crate) fn private_f32(m: &crate::ir::ModuleCtx, name: &str) -> naga::GlobalVariable {
+    naga::GlobalVariable {
+        name: Some(name.into()),
+        space: naga::AddressSpace::Private,
+        binding: None,
+        ty: m.ty(naga::TypeInner::Scalar(naga::Scalar::F32)),
+        init: None,
+        memory_decorations: Default::default(),
+    }
+}
+
+/// Linear search with the layer count of seed 003's dynamic layer resolution (Amaro &
+/// Gustafsson §2.1.3, see [`distance_layers`]): the count depends on the view angle and on
+/// the distance `d` from the camera to the fragment (`L = (1 − cos θ)·(L_min·d/(3 + d) +
+/// L_max·(1 − d/(3 + d))) + L_θmin·cos θ`, then `max(1, floor(L))` steps), which the entry point stores in
+/// [`VIEW_DISTANCE`] (in the scene's world units: the quad's for `fs_main`, the room's for
+/// the interior entry). The loop is bounded by `max(min, max, theta_min)`.
+pub fn linear_distance<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, min: u32, max: u32, theta_min: u32) -> Bracket<'a> {
+    let d = view_distance(s).max(0.0);
+    let w = d / (d + 3.0);
+    let c = ray.cos_view.clamp(0.0, 1.0);
+    let far_near = w * min as f32 + (1.0 - w) * max as f32;
+    let layers = (1.0 - c) * far_near + c * theta_min as f32;
+    let bound = min.max(max).max(theta_min);
+    let n = s.name("layers", layers.floor().clamp(1.0, bound as f32));
+    let step = 1.0 / n;
+    let t = s.var("t", 0.0);
+    s.repeat_up_to(bound, n.to_u32(), |s| {
+        let p = ray.at(t.get());
+        s.break_if(s.height(p.xy()).ge(p.z()));
+        t.set(t.get() + step);
+    });
+    one_step_back(t.get(), step)
+}

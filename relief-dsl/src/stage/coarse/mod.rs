@@ -44,6 +44,9 @@ pub(crate) fn build_linear<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Res
 pub(crate) fn build_linear_dynamic<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
     Ok(linear::linear_dynamic(s, ray, a.int("min")?, a.int("max")?))
 }
+pub(crate) fn build_linear_distance<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+    Ok(linear::linear_distance(s, ray, a.int("min")?, a.int("max")?, a.int("theta_min")?))
+}
 pub(crate) fn build_csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
     let form = a.choice::<Form>("form")?;
     let sample = match (form, a.choice::<SampleChoice>("sample")?) {

@@ -6,6 +6,7 @@ mod gen;
 mod maps;
 mod render;
 mod report;
+mod room;
 mod stability;
 mod sweep;
 
@@ -32,6 +33,9 @@ enum Command {
     Stability(stability::StabilityArgs),
     /// Tables, conclusions, charts, picture strips and Pareto fronts from a sweep folder.
     Report(report::ReportArgs),
+    /// A room behind a window, interior mapping with relief on every wall (seed 003), against
+    /// the same room as real geometry: frame.png, baseline.png, diff.png, metrics.json.
+    Room(room::RoomArgs),
 }
 
 /// The scene overrides `relief render` and `relief sweep` take (a sweep applies them to
@@ -88,6 +92,7 @@ fn main() {
         Command::Sweep(a) => sweep::run(a),
         Command::Stability(a) => stability::run(a),
         Command::Report(a) => report::run(a),
+        Command::Room(a) => room::run(a),
     };
     if let Err(e) = result {
         // One line: the error and its causes.

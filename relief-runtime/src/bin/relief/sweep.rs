@@ -7,7 +7,9 @@ use relief_runtime::sweep::{self, grids};
 /// Arguments of `relief sweep`.
 #[derive(clap::Args, Debug)]
 pub struct SweepArgs {
-    /// A built-in grid (`t4.1` … `t4.15`, `f4.5`, `f4.7` … `f4.11`, `dissertation`, `lod`) or a grid file.
+    /// A built-in grid (`t4.1` … `t4.15`, `f4.5`, `f4.7` … `f4.11`, `dissertation`, `lod`),
+    /// `rooms` (seed 003's interior-mapping comparison on rooms, `--scene room:NAME` or room
+    /// files), or a grid file.
     #[arg(long, required_unless_present = "list")]
     pub grid: Option<String>,
     /// Scenes to measure on (`scene:NAME`, a bare NAME, a TOML scene file or a height-map
@@ -37,6 +39,9 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
         for g in grids::builtin(scenes) {
             println!("{:<13} {:>4} cells  {}", g.name, g.cells.len(), g.description);
         }
+        let rooms = a.scene.len().max(relief_runtime::room::sweep::DEFAULT_ROOMS.len());
+        let n = rooms * relief_runtime::room::sweep::variants().len();
+        println!("{:<13} {n:>4} cells  seed 003 §3: interior mapping alone, + POM, + soft shadows, + scattering, each against real geometry, on rooms", "rooms");
         return Ok(());
     }
     if a.size == 0 || a.size > 4096 {
@@ -44,6 +49,9 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
     }
     if a.frames == 0 {
         anyhow::bail!("--frames 0: at least one timed frame is needed");
+    }
+    if a.grid.as_deref() == Some("rooms") {
+        return run_rooms(a);
     }
     let overrides = a.overrides.checked()?;
     let grid = grids::load(a.grid.as_deref().unwrap_or_default(), scenes)?;
@@ -65,6 +73,28 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
         s.skipped,
         start.elapsed().as_secs_f64(),
         a.out.join("results.csv").display()
+    );
+    Ok(())
+}
+
+/// `relief sweep --grid rooms`: the room grid ([`relief_runtime::room::sweep`]).
+fn run_rooms(a: &SweepArgs) -> anyhow::Result<()> {
+    use relief_runtime::room::sweep;
+    let o = &a.overrides;
+    if o.angle.is_some() || o.azimuth.is_some() || o.depth_scale.is_some() || o.tiling.is_some() {
+        anyhow::bail!("--angle, --azimuth, --depth-scale and --tiling are not implemented for the room grid (set the camera and depth scales in a room file)");
+    }
+    let rooms: Vec<String> = if a.scene.is_empty() { sweep::DEFAULT_ROOMS.iter().map(|s| s.to_string()).collect() } else { a.scene.clone() };
+    let setup = relief_runtime::room::measure::RoomSetup { size: a.size, grid: relief_runtime::room::mesh::DEFAULT_GRID, warmup: 3, frames: a.frames };
+    let start = std::time::Instant::now();
+    let rows = sweep::run(&rooms, &setup, &a.out)?;
+    let failed = rows.iter().filter(|r| r.status != "ok").count();
+    println!(
+        "{} room cells: {} measured, {failed} failed, in {:.1} s → {}",
+        rows.len(),
+        rows.len() - failed,
+        start.elapsed().as_secs_f64(),
+        sweep::rows_path(&a.out).display()
     );
     Ok(())
 }

@@ -1,0 +1,546 @@
+//! Interior mapping with relief on every wall (Amaro & Gustafsson, seed 003 §2.2, §2.4).
+//!
+//! A window quad (the rectangle `[0, W] × [0, H]` at world `z = 0`) shows a box room behind
+//! it, `z ∈ [−D, 0]`, with five walls ([`WALL_NAMES`]). The fragment entry `fs_room`:
+//!
+//! 1. finds the wall the view ray from the camera through the fragment meets (§2.2.1,
+//!    eq. 1–4): per axis, the plane the ray heads for, `t = (plane − camera) / (frag −
+//!    camera)`, and the nearest of the three;
+//! 2. takes the hit point into that wall's tangent space ([`wall_frame`]: u, v along the
+//!    wall's edges in `[0, 1]`, height z with the wall's plane at z = 1 and the deepest point
+//!    `depth_scale` world units behind it, the relief convention of DESIGN.md), and scales the
+//!    ray so that t = 1 reaches z = 0;
+//! 3. runs the pipeline's coarse + refine (+ shadow, + ao) on that wall's maps (§2.4: one
+//!    relief function per wall, in the wall's space) and shades with the wall's albedo and
+//!    normal maps and the room's light, a point or a directional light.
+//!
+//! **Maps: five bindings per map.** Each wall has its own textures: the stage functions are
+//! built five times, once per wall, with every texture the stages (and the shading) declare
+//! renamed `NAME_wallK` and bound at the next free binding from [`WALL_BASE`]; samplers, the `Params`
+//! block and the [`RoomParams`] block are shared. The stages are unchanged: they sample
+//! `height_map` as always and get the wall's. Precomputed maps (cone maps, …) are per wall in
+//! the same way. Walls are sampled with clamp-to-edge (`params.quad.y = 1`).
+//!
+//! The probe entry `probe_room` (compute, [`RoomRay`] in, [`RoomHit`] out) runs the same
+//! selection and the counted trace, and reports per ray the wall and the hit in the wall's
+//! tangent space.
+
+use bytemuck::{Pod, Zeroable};
+use naga::{Binding, BuiltIn, Module, ShaderStage, TypeInner};
+
+use super::{build_stage_fns, entry_point, location, storage_array, StageFns};
+use crate::abi::{binding, Member, Param, PROBE_WORKGROUP};
+use crate::ir::{Mat4, ModuleCtx, Stage, Ty, UVec3, Val, Vec2, Vec3, Vec4};
+use crate::spec::Pipeline;
+use crate::stage::{Filter, Hit, Ray};
+use crate::CompileError;
+
+/// The walls, in index order.
+pub const WALL_NAMES: [&str; 5] = ["back", "left", "right", "floor", "ceiling"];
+/// Number of walls.
+pub const WALLS: usize = 5;
+
+/// Binding of the window's opacity map (read when [`RoomParams::size`]`[3]` is 1).
+pub const WINDOW_MAP: u32 = 4;
+/// Binding of the [`RoomParams`] uniform block.
+pub const ROOM_PARAMS: u32 = 5;
+/// The first binding of the walls' textures: each texture a wall reads gets the next free
+/// binding from here, in the order the module declares them ([`RoomCompiled::wall_bindings`]
+/// says which is which). Bindings stay small: GLSL limits sampler bindings (80 in glslang).
+pub const WALL_BASE: u32 = 6;
+/// Binding of the [`RoomRay`] storage buffer of `probe_room`.
+pub const ROOM_RAYS: u32 = binding::RAYS;
+/// Binding of the [`RoomHit`] storage buffer of `probe_room`.
+pub const ROOM_HITS: u32 = binding::HITS;
+
+/// One wall texture of a room module.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WallBinding {
+    /// Its binding in the room module.
+    pub binding: u32,
+    /// The wall ([`WALL_NAMES`]).
+    pub wall: u32,
+    /// The binding the same texture has in a plain module ([`crate::abi::binding`]; a
+    /// nearest-filtered copy at [`crate::abi::binding::NEAREST_OFFSET`] + its binding).
+    pub plain: u32,
+}
+
+/// A compiled room module and its walls' bindings.
+pub struct RoomCompiled {
+    /// The module and its validation info.
+    pub compiled: super::Compiled,
+    /// Every wall texture the module declares.
+    pub wall_bindings: Vec<WallBinding>,
+}
+
+/// The room block (64 bytes) at binding [`ROOM_PARAMS`]. The `Params` block is shared
+/// with plain modules and holds, for a room: `view_proj` world → clip, `camera.xyz` the
+/// camera in world units, `light.xyz` the unit vector toward a directional light or the
+/// position of a point light, `light.w` the ambient share, `quad.y = 1` (walls clamp).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct RoomParams {
+    /// Width W, height H, depth D of the room (world units); w: 1 when the window has an
+    /// opacity map.
+    pub size: [f32; 4],
+    /// Depth scale (world units from a wall's plane to its height 0) of walls 0–3.
+    pub depth_a: [f32; 4],
+    /// x: depth scale of wall 4; y: 1 for a point light, 0 for a directional one; z, w: 0.
+    pub depth_b: [f32; 4],
+    /// For light scattering ([`RoomOptions::scatter`]): xyz the unit vector toward the sun
+    /// outside the window (`z > 0`), w its intensity.
+    pub sun: [f32; 4],
+}
+
+impl RoomParams {
+    /// The members as the shader declares them.
+    pub const MEMBERS: [(&'static str, Member); 4] =
+        [("size", Member::Vec4), ("depth_a", Member::Vec4), ("depth_b", Member::Vec4), ("sun", Member::Vec4)];
+}
+
+/// One ray of `probe_room` (32 bytes): from `origin` (world, the camera) along `dir` (world,
+/// any length); the fourth components are padding.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct RoomRay {
+    /// The ray's origin in world units (w: 0).
+    pub origin: [f32; 4],
+    /// The ray's direction (w: 0).
+    pub dir: [f32; 4],
+}
+
+impl RoomRay {
+    /// The members as the shader declares them.
+    pub const MEMBERS: [(&'static str, Member); 2] = [("origin", Member::Vec4), ("dir", Member::Vec4)];
+}
+
+/// What `probe_room` reports per ray (32 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct RoomHit {
+    /// The wall the ray meets ([`WALL_NAMES`]).
+    pub wall: u32,
+    /// The search's raw t in the wall's normalized tangent space (t = 1 at height 0).
+    pub t: f32,
+    /// Where the hit lands on the wall, u.
+    pub u: f32,
+    /// Where the hit lands on the wall, v.
+    pub v: f32,
+    /// The hit's height.
+    pub z: f32,
+    /// Coarse loop passes.
+    pub coarse_steps: u32,
+    /// Refine loop passes.
+    pub refine_steps: u32,
+    /// 1 when the coarse search found the surface.
+    pub converged: u32,
+}
+
+impl RoomHit {
+    /// The members as the shader declares them.
+    pub const MEMBERS: [(&'static str, Member); 8] = [
+        ("wall", Member::U32),
+        ("t", Member::F32),
+        ("u", Member::F32),
+        ("v", Member::F32),
+        ("z", Member::F32),
+        ("coarse_steps", Member::U32),
+        ("refine_steps", Member::U32),
+        ("converged", Member::U32),
+    ];
+}
+
+/// A wall's frame in world units: the point at `(u, v, z) = (0, 0, 1)`, the edges along
+/// which u and v go from 0 to 1, and the unit normal into the room. A point `(u, v, z)` of
+/// the wall's relief is `origin + u·u_edge + v·v_edge + (z − 1)·depth_scale·normal`;
+/// `û × v̂ = normal` for every wall.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WallFrame {
+    /// The corner at u = v = 0.
+    pub origin: [f64; 3],
+    /// The edge along u (length: the wall's extent in u).
+    pub u_edge: [f64; 3],
+    /// The edge along v.
+    pub v_edge: [f64; 3],
+    /// The unit normal, pointing into the room.
+    pub normal: [f64; 3],
+}
+
+/// Coefficients of W, H, D per component of origin, u edge, v edge, and the normal, per wall.
+const FRAMES: [[[f64; 3]; 4]; WALLS] = [
+    // back: z = −D, u along +x, v along +y
+    [[0.0, 0.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+    // left: x = 0, u from the window to the back, v up
+    [[0.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]],
+    // right: x = W, u from the back to the window, v up
+    [[1.0, 0.0, -1.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]],
+    // floor: y = 0, u along +x, v from the window to the back
+    [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]],
+    // ceiling: y = H, u along +x, v from the back to the window
+    [[0.0, 1.0, -1.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]],
+];
+
+/// Wall `k`'s frame in a room of `size = [W, H, D]` (the host side of what the shader
+/// computes).
+pub fn wall_frame(k: usize, size: [f64; 3]) -> WallFrame {
+    let f = FRAMES[k];
+    let scale = |c: [f64; 3]| [c[0] * size[0], c[1] * size[1], c[2] * size[2]];
+    WallFrame { origin: scale(f[0]), u_edge: scale(f[1]), v_edge: scale(f[2]), normal: f[3] }
+}
+
+/// Options of the room module.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RoomOptions {
+    /// Light scattering through the window (seed 003 §2.3) with this many samples along the
+    /// view ray; `None` (the default): off. The sun is [`RoomParams::sun`]; each sample adds
+    /// [`SCATTER_WEIGHT`], decaying by [`SCATTER_DECAY`], where the sun passes the window.
+    pub scatter: Option<u32>,
+}
+
+/// Share of the in-scattered light each sample adds, before decay.
+pub const SCATTER_WEIGHT: f32 = 0.6;
+/// Decay of each further sample's contribution (seed 003 §2.3: "a diminished intensity each
+/// step of the way").
+pub const SCATTER_DECAY: f32 = 0.97;
+
+/// The walls' frames in the shader, from the room's size.
+struct Frame<'a> {
+    origin: Val<'a, Vec3>,
+    u_edge: Val<'a, Vec3>,
+    v_edge: Val<'a, Vec3>,
+    normal: Val<'a, Vec3>,
+}
+
+fn frame<'a>(s: &'a Stage<'a>, k: usize, size: Val<'a, Vec3>) -> Frame<'a> {
+    let f = FRAMES[k];
+    let v = |c: [f64; 3]| s.vec3(s.vec2(size.x() * c[0] as f32, size.y() * c[1] as f32), size.z() * c[2] as f32);
+    let n = f[3];
+    Frame { origin: v(f[0]), u_edge: v(f[1]), v_edge: v(f[2]), normal: s.vec3(s.vec2(n[0] as f32, n[1] as f32), n[2] as f32) }
+}
+
+fn room_param<'a>(s: &'a Stage<'a>, i: u32) -> Val<'a, Vec4> {
+    let g = s.module().global("room", |m| naga::GlobalVariable {
+        name: Some("room".into()),
+        space: naga::AddressSpace::Uniform,
+        binding: Some(naga::ResourceBinding { group: 0, binding: ROOM_PARAMS }),
+        ty: m.record_ty("RoomParams", &RoomParams::MEMBERS),
+        init: None,
+        memory_decorations: Default::default(),
+    });
+    s.load(s.member_ptr(s.global_ptr(g), i))
+}
+
+fn depth_scale<'a>(s: &'a Stage<'a>, k: usize) -> Val<'a, f32> {
+    let (a, b) = (room_param(s, 1), room_param(s, 2));
+    match k {
+        0 => a.x(),
+        1 => a.y(),
+        2 => a.z(),
+        3 => a.w(),
+        _ => b.x(),
+    }
+}
+
+/// Seed 003 eq. 1–4: per axis the plane the ray `cam + t·w` heads for, its t, and the
+/// nearest. Returns (wall index, t).
+fn select_wall<'a>(s: &'a Stage<'a>, cam: Val<'a, Vec3>, w: Val<'a, Vec3>, size: Val<'a, Vec3>) -> (Val<'a, u32>, Val<'a, f32>) {
+    let zero = s.lit(0.0);
+    let left = w.x().lt(0.0);
+    let tx = s.select(left, zero - cam.x(), size.x() - cam.x()) / w.x();
+    let down = w.y().lt(0.0);
+    let ty = s.select(down, zero - cam.y(), size.y() - cam.y()) / w.y();
+    let tz = (zero - size.z() - cam.z()) / w.z();
+    let wall = s.var::<u32>("wall", 0u32);
+    let t = s.var::<f32>("t_wall", tz);
+    s.if_(tx.lt(t.get()), |s| {
+        t.set(tx);
+        wall.set(s.select(left, 1u32, 2u32));
+    });
+    s.if_(ty.lt(t.get()), |s| {
+        t.set(ty);
+        wall.set(s.select(down, 3u32, 4u32));
+    });
+    (wall.get(), t.get())
+}
+
+/// The world ray `cam + t·w`, met at `t_wall` on wall `k`, in the wall's normalized tangent
+/// space (seed 003 §2.4: "a view matrix transform … into each wall's space").
+fn wall_ray<'a>(s: &'a Stage<'a>, f: &Frame<'a>, scale: Val<'a, f32>, cam: Val<'a, Vec3>, w: Val<'a, Vec3>, t_wall: Val<'a, f32>) -> Ray<'a> {
+    let x = cam + w * t_wall;
+    let rel = x - f.origin;
+    let uu = f.u_edge.dot(f.u_edge);
+    let vv = f.v_edge.dot(f.v_edge);
+    let origin = s.vec2(rel.dot(f.u_edge) / uu, rel.dot(f.v_edge) / vv);
+    let view = w.normalize();
+    let into = view.dot(f.normal); // < 0: toward the wall
+    let k = scale / (-into).max(1e-6);
+    let dir = s.vec3(s.vec2(view.dot(f.u_edge) / uu, view.dot(f.v_edge) / vv) * k, -1.0);
+    Ray { origin, dir, cos_view: -into }
+}
+
+/// The world point of a wall's relief at `(uv, z)`.
+fn wall_point<'a>(f: &Frame<'a>, scale: Val<'a, f32>, uv: Val<'a, Vec2>, z: Val<'a, f32>) -> Val<'a, Vec3> {
+    f.origin + f.u_edge * uv.x() + f.v_edge * uv.y() + f.normal * ((z - 1.0) * scale)
+}
+
+/// Stores the camera distance for [`crate::stage::coarse::linear::linear_distance`] when
+/// a stage of the module reads it.
+pub(crate) fn store_view_distance<'a>(s: &'a Stage<'a>, d: Val<'a, f32>) {
+    if let Some(g) = s.module().find_global(crate::stage::coarse::linear::VIEW_DISTANCE) {
+        s.store(s.global_ptr(g), d.handle());
+    }
+}
+
+/// The stage functions for each wall (`counted`: the probe's variant), their textures
+/// renamed and rebound per wall.
+fn wall_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Result<Vec<StageFns>, CompileError> {
+    let mut out = Vec::new();
+    for k in 0..WALLS as u32 {
+        let before = m.module.borrow().functions.len();
+        m.wall.set(Some((k, WALL_BASE)));
+        let fns = build_stage_fns(m, p, counted);
+        m.wall.set(None);
+        let fns = fns?;
+        for (i, (_, f)) in m.module.borrow_mut().functions.iter_mut().enumerate() {
+            if i >= before {
+                f.name = f.name.take().map(|n| format!("{n}_wall{k}"));
+            }
+        }
+        out.push(fns);
+    }
+    Ok(out)
+}
+
+fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
+    let out_ty = {
+        let v4 = m.ty(Vec4::inner());
+        let v3 = m.ty(Vec3::inner());
+        m.module.borrow_mut().types.insert(
+            naga::Type {
+                name: Some("RoomVertex".into()),
+                inner: TypeInner::Struct {
+                    members: vec![
+                        naga::StructMember {
+                            name: Some("clip".into()),
+                            ty: v4,
+                            binding: Some(Binding::BuiltIn(BuiltIn::Position { invariant: false })),
+                            offset: 0,
+                        },
+                        naga::StructMember { name: Some("world".into()), ty: v3, binding: Some(location(0)), offset: 16 },
+                    ],
+                    span: 32,
+                },
+            },
+            naga::Span::UNDEFINED,
+        )
+    };
+    let s = m.function("vs_room", &[("vertex", m.ty(u32::inner()), Some(Binding::BuiltIn(BuiltIn::VertexIndex)))]);
+    // The window: (0,0) (W,0) (0,H) (W,H) as a triangle strip, at z = 0.
+    let i = s.arg::<u32>(0);
+    let size = room_param(&s, 0);
+    let world = s.vec3(s.vec2(i.and(1).to_f32() * size.x(), i.shift_right(1).to_f32() * size.y()), 0.0);
+    let clip = s.param::<Mat4>(Param::ViewProj) * s.vec4(world, 1.0);
+    let out = s.make_struct(out_ty, &[clip.handle(), world.handle()]);
+    let f = s.finish(Some((out_ty, None, out)));
+    entry_point("vs_room", ShaderStage::Vertex, f, [0; 3])
+}
+
+/// The glass colour the window's opacity blends toward.
+const GLASS: [f32; 3] = [0.72, 0.78, 0.84];
+
+/// Light scattering through the window (Amaro & Gustafsson §2.3): the window's inverted
+/// opacity says which rays of the sun pass the glass. From the window point along the view
+/// ray to the wall's plane, `samples` points at equal intervals; at each, the ray toward the
+/// sun is followed back to the window's plane, and where it passes the window's clear part
+/// the sample adds `weight · decay^i · (1 − opacity)`; the sum, times the sun's intensity
+/// over the samples, is added to the colour. Our reading of the seed's "paint the hit plane
+/// again and again at a known interval with a diminished intensity": a march along the view
+/// ray through the room's air, lit only where the window lets the sun in.
+fn scattering<'a>(s: &'a Stage<'a>, samples: u32, world: Val<'a, Vec3>, far: Val<'a, Vec3>, size: Val<'a, Vec3>, window_on: Val<'a, bool>) -> Val<'a, f32> {
+    let sun = room_param(s, 3);
+    let to_sun = sun.xyz();
+    let sum = s.var::<f32>("scatter", 0.0);
+    let k = s.var::<f32>("scatter_k", 0.0);
+    let w = s.var::<f32>("scatter_w", SCATTER_WEIGHT);
+    let n = samples.max(1);
+    s.repeat(n, |s| {
+        let p = world + (far - world) * ((k.get() + 0.5) / n as f32);
+        let q = p + to_sun * ((-p.z()) / to_sun.z().max(1e-4));
+        let inside = q.x().ge(0.0) & q.x().le(size.x()) & q.y().ge(0.0) & q.y().le(size.y()) & to_sun.z().gt(1e-4);
+        let uv = s.vec2(q.x() / size.x(), 1.0 - q.y() / size.y());
+        let opacity = s.sample("window_map", WINDOW_MAP, uv, Filter::Linear).x();
+        let clear = s.select(window_on, 1.0 - opacity, s.lit(1.0));
+        sum.set(sum.get() + s.select(inside, w.get() * clear, s.lit(0.0)));
+        w.set(w.get() * SCATTER_DECAY);
+        k.set(k.get() + 1.0);
+    });
+    sum.get() * sun.w() / n as f32
+}
+
+fn fragment_entry(m: &ModuleCtx, walls: &[StageFns], options: &RoomOptions) -> naga::EntryPoint {
+    let s = m.function("fs_room", &[("world", m.ty(Vec3::inner()), Some(location(0)))]);
+    let world = s.arg::<Vec3>(0);
+    let cam = s.param::<Vec4>(Param::Camera).xyz();
+    let size = room_param(&s, 0).xyz();
+    let w = world - cam;
+    let (wall, t_wall) = select_wall(&s, cam, w, size);
+    let light = s.param::<Vec4>(Param::Light);
+    let ambient = light.w();
+    let point_light = room_param(&s, 2).y().gt(0.5);
+    let color = s.var::<Vec3>("color", s.vec3(s.vec2(0.0, 0.0), 0.0));
+    let far = s.var::<Vec3>("far", world);
+    for (k, fns) in walls.iter().enumerate() {
+        s.if_(wall.ge(k as u32) & wall.le(k as u32), |s| {
+            m.wall.set(Some((k as u32, WALL_BASE)));
+            let f = frame(s, k, size);
+            let scale = depth_scale(s, k);
+            let ray = wall_ray(s, &f, scale, cam, w, t_wall);
+            store_view_distance(s, (w * t_wall).length());
+            let traced: Hit = s.unpack(s.call(fns.trace, &[s.pack(&ray)], true).unwrap());
+            let hit = Hit::at_found(&ray, traced.t.clamp(0.0, ray.t_max()), traced.found);
+            let hv = s.pack(&hit);
+            let p = wall_point(&f, scale, hit.uv, hit.z);
+            let to_point = (light.xyz() - p).normalize();
+            let to_light = s.select(point_light, to_point, light.xyz().normalize());
+            let ln = to_light.dot(f.normal);
+            let uu = f.u_edge.dot(f.u_edge);
+            let vv = f.v_edge.dot(f.v_edge);
+            let visibility = match fns.shadow {
+                Some(sh) => {
+                    let lk = scale / ln.max(1e-3);
+                    let light_n = s.vec3(s.vec2(to_light.dot(f.u_edge) / uu, to_light.dot(f.v_edge) / vv) * lk, 1.0);
+                    let v = s.wrap::<f32>(s.call(sh, &[hv, light_n.handle(), ln.handle()], true).unwrap());
+                    s.select(ln.gt(0.0), v, s.lit(0.0))
+                }
+                None => s.lit(1.0),
+            };
+            let occlusion = match fns.ao {
+                Some(a) => s.wrap::<f32>(s.call(a, &[hv], true).unwrap()),
+                None => s.lit(1.0),
+            };
+            let n = s.normal(hit.uv);
+            let n_world = (f.u_edge * (n.x() / uu.sqrt()) + f.v_edge * (n.y() / vv.sqrt()) + f.normal * n.z()).normalize();
+            let albedo = s.sample("albedo_map", binding::ALBEDO, hit.uv, Filter::Linear).xyz();
+            let diffuse = n_world.dot(to_light).max(0.0);
+            color.set(albedo * (ambient * occlusion + (1.0 - ambient) * diffuse * visibility));
+            far.set(cam + w * t_wall);
+            m.wall.set(None);
+        });
+    }
+    // The window's opacity map (optional): opaque parts show glass, not the room.
+    let window_on = room_param(&s, 0).w().gt(0.5);
+    if let Some(n) = options.scatter {
+        let i = scattering(&s, n, world, far.get(), size, window_on);
+        color.set(color.get() + s.vec3(s.vec2(i, i), i) * s.vec3(s.vec2(1.0, 0.95), 0.85));
+    }
+    let out = s.var::<Vec3>("out", color.get());
+    s.if_(window_on, |s| {
+        let uv = s.vec2(world.x() / size.x(), 1.0 - world.y() / size.y());
+        let opacity = s.sample("window_map", WINDOW_MAP, uv, Filter::Linear).x();
+        let glass = s.vec3(s.vec2(GLASS[0], GLASS[1]), GLASS[2]);
+        out.set(color.get().mix(glass, s.vec3(s.vec2(opacity, opacity), opacity)));
+    });
+    let f = s.finish(Some((m.ty(Vec4::inner()), Some(location(0)), s.vec4(out.get(), 1.0).handle())));
+    entry_point("fs_room", ShaderStage::Fragment, f, [0; 3])
+}
+
+fn probe_entry(m: &ModuleCtx, walls: &[StageFns]) -> naga::EntryPoint {
+    let ray_rec = m.record_ty("RoomRay", &RoomRay::MEMBERS);
+    let hit_rec = m.record_ty("RoomHit", &RoomHit::MEMBERS);
+    let rays = storage_array(m, "room_rays", ray_rec, ROOM_RAYS, false);
+    let hits = storage_array(m, "room_hits", hit_rec, ROOM_HITS, true);
+    use crate::ir::counter;
+    let counters = [counter::COARSE_STEPS, counter::REFINE_STEPS, counter::FETCHES].map(|name| {
+        m.global(name, |m| naga::GlobalVariable {
+            name: Some(name.into()),
+            space: naga::AddressSpace::Private,
+            binding: None,
+            ty: m.ty(u32::inner()),
+            init: None,
+            memory_decorations: Default::default(),
+        })
+    });
+    let s = m.function("probe_room", &[("id", m.ty(UVec3::inner()), Some(Binding::BuiltIn(BuiltIn::GlobalInvocationId)))]);
+    let index = s.arg::<UVec3>(0).x();
+    let rays_ptr = s.global_ptr(rays);
+    s.if_(index.ge(s.array_length(rays_ptr)), |s| s.ret());
+    let rec = s.element_ptr(rays_ptr, index.handle());
+    let cam = s.load::<Vec4>(s.member_ptr(rec, 0)).xyz();
+    let w = s.load::<Vec4>(s.member_ptr(rec, 1)).xyz();
+    let size = room_param(&s, 0).xyz();
+    for c in counters {
+        let zero = s.lit_u32(0);
+        s.store(s.global_ptr(c), zero.handle());
+    }
+    let (wall, t_wall) = select_wall(&s, cam, w, size);
+    let out = s.element_ptr(s.global_ptr(hits), index.handle());
+    for (k, fns) in walls.iter().enumerate() {
+        s.if_(wall.ge(k as u32) & wall.le(k as u32), |s| {
+            let f = frame(s, k, size);
+            let scale = depth_scale(s, k);
+            let ray = wall_ray(s, &f, scale, cam, w, t_wall);
+            store_view_distance(s, (w * t_wall).length());
+            let hit: Hit = s.unpack(s.call(fns.trace, &[s.pack(&ray)], true).unwrap());
+            let [coarse_steps, refine_steps, _] = counters.map(|c| s.load::<u32>(s.global_ptr(c)));
+            let converged = s.select(hit.found, 1u32, 0u32);
+            let values = [
+                wall.handle(),
+                hit.t.handle(),
+                hit.uv.x().handle(),
+                hit.uv.y().handle(),
+                hit.z.handle(),
+                coarse_steps.handle(),
+                refine_steps.handle(),
+                converged.handle(),
+            ];
+            for (i, v) in values.into_iter().enumerate() {
+                s.store(s.member_ptr(out, i as u32), v);
+            }
+        });
+    }
+    let f = s.finish(None);
+    entry_point("probe_room", ShaderStage::Compute, f, [PROBE_WORKGROUP, 1, 1])
+}
+
+/// The pipeline options the room entries do not implement, as errors: the room's entries set
+/// no sample level (`lod`), and a window has no quad square to clip to (`silhouette`).
+fn refuse_render_options(p: &Pipeline) -> Result<(), CompileError> {
+    let refuse = |what: String| Err(CompileError { stage: "room".into(), message: format!("{what} is not implemented for rooms yet") });
+    if p.lod != crate::spec::Lod::Zero {
+        return refuse(format!("lod={}", p.lod));
+    }
+    if p.silhouette != crate::spec::Silhouette::None {
+        return refuse(format!("silhouette={}", p.silhouette));
+    }
+    Ok(())
+}
+
+fn build(p: &Pipeline, options: &RoomOptions) -> Result<(Module, Vec<WallBinding>), CompileError> {
+    refuse_render_options(p)?;
+    let m = ModuleCtx::new();
+    let plain = wall_fns(&m, p, false)?;
+    let counted = wall_fns(&m, p, true)?;
+    let vs = vertex_entry(&m);
+    let fs = fragment_entry(&m, &plain, options);
+    let cs = probe_entry(&m, &counted);
+    let walls = m.wall_bindings.borrow().iter().map(|&(binding, wall, plain)| WallBinding { binding, wall, plain }).collect();
+    let mut module = m.finish();
+    module.entry_points.extend([vs, fs, cs]);
+    Ok((module, walls))
+}
+
+/// Builds the room module for `p` (not yet validated): `vs_room` + `fs_room` (the window
+/// quad, interior mapping with `p` on every wall) and `probe_room`.
+pub fn build_room_module(p: &Pipeline, options: &RoomOptions) -> Result<Module, CompileError> {
+    Ok(build(p, options)?.0)
+}
+
+/// Builds and validates the room module for `p`.
+pub fn compile_room(p: &Pipeline, options: &RoomOptions) -> Result<RoomCompiled, CompileError> {
+    if options.scatter.is_some_and(|n| !(1..=4096).contains(&n)) {
+        return Err(CompileError { stage: "scatter".into(), message: format!("{} scattering samples: allowed 1..=4096", options.scatter.unwrap_or(0)) });
+    }
+    let (module, wall_bindings) = build(p, options)?;
+    let info = super::validate(&module)?;
+    Ok(RoomCompiled { compiled: super::Compiled { module, info }, wall_bindings })
+}

@@ -1,0 +1,260 @@
+//! The room module ([`relief_dsl::compose::interior`]) on the device: every wall's
+//! textures, the timed interior frames (`vs_room` + `fs_room` on the window quad) and the
+//! room probe (`probe_room`).
+
+use relief_dsl::abi::{binding, Params, PROBE_WORKGROUP};
+use relief_dsl::compose::interior::{compile_room, RoomOptions, RoomParams, WallBinding, ROOM_HITS, ROOM_PARAMS, ROOM_RAYS, WINDOW_MAP};
+use relief_dsl::spec::MapReq;
+use relief_dsl::{CompileError, Pipeline};
+use wgpu::util::DeviceExt;
+
+use super::timing::{timed, Frames, FORMAT};
+use super::{Room, RoomHit, RoomLight, RoomRay, WALLS};
+use crate::gpu::{Gpu, GpuError, MapKey, SceneTextures};
+
+/// A pipeline compiled as a room module, with the bindings each entry reads.
+pub struct RoomProgram {
+    /// The pipeline.
+    pub pipeline: Pipeline,
+    /// The WGSL the device loads.
+    pub wgsl: String,
+    /// Bindings `vs_room` + `fs_room` read.
+    pub render_bindings: Vec<u32>,
+    /// Bindings `probe_room` reads.
+    pub probe_bindings: Vec<u32>,
+    /// Which wall texture each wall binding is.
+    pub walls: Vec<WallBinding>,
+    /// The maps the pipeline reads (built per wall).
+    pub maps: Vec<MapReq>,
+}
+
+impl RoomProgram {
+    /// Compiles `p` as a room module (no light scattering).
+    pub fn new(p: &Pipeline) -> Result<RoomProgram, CompileError> {
+        Self::new_with(p, &RoomOptions::default())
+    }
+
+    /// Compiles `p` as a room module with `options` (e.g. light scattering).
+    pub fn new_with(p: &Pipeline, options: &RoomOptions) -> Result<RoomProgram, CompileError> {
+        let rc = compile_room(p, options)?;
+        let c = &rc.compiled;
+        let wgsl = relief_dsl::emit::wgsl(c)?;
+        let used = |name: &str| -> Vec<u32> {
+            let mut out = Vec::new();
+            for (i, ep) in c.module.entry_points.iter().enumerate() {
+                if ep.name != name && !(name == "fs_room" && ep.name == "vs_room") {
+                    continue;
+                }
+                let info = c.info.get_entry_point(i);
+                for (h, g) in c.module.global_variables.iter() {
+                    if let Some(b) = g.binding {
+                        if !info[h].is_empty() && !out.contains(&b.binding) {
+                            out.push(b.binding);
+                        }
+                    }
+                }
+            }
+            out.sort();
+            out
+        };
+        Ok(RoomProgram {
+            pipeline: p.clone(),
+            wgsl,
+            render_bindings: used("fs_room"),
+            probe_bindings: used("probe_room"),
+            walls: rc.wall_bindings,
+            maps: p.required_maps(),
+        })
+    }
+
+    fn shader(&self, gpu: &Gpu) -> Result<wgpu::ShaderModule, GpuError> {
+        gpu.checked(|| gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("room"), source: wgpu::ShaderSource::Wgsl(self.wgsl.as_str().into()) }))
+    }
+}
+
+/// Every wall's textures on the device (each wall as a scene with edge mode clamp,
+/// [`Room::wall_scene`]), and the window's opacity.
+pub struct RoomTextures {
+    /// Per wall, in [`super::WALL_NAMES`] order.
+    pub walls: Vec<SceneTextures>,
+    /// The window's opacity map (1×1 clear when the room has none).
+    pub window: wgpu::TextureView,
+}
+
+impl RoomTextures {
+    /// Uploads every wall's maps and the acceleration maps in `maps`.
+    pub fn new(gpu: &Gpu, room: &Room, maps: &[MapReq]) -> Result<RoomTextures, crate::maps::MapError> {
+        let mut walls = Vec::new();
+        for k in 0..WALLS {
+            let scene = room.wall_scene(k);
+            let mut t = SceneTextures::new(gpu, &scene);
+            t.add_maps(gpu, &scene, maps)?;
+            walls.push(t);
+        }
+        let (w, h, data) = match &room.window {
+            Some(m) => (m.width, m.height, m.data.clone()),
+            None => (1, 1, vec![0.0]),
+        };
+        let tex = gpu.device.create_texture_with_data(
+            &gpu.queue,
+            &wgpu::TextureDescriptor {
+                label: Some("window"),
+                size: wgpu::Extent3d { width: w as u32, height: h as u32, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::R8Unorm,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            &data.iter().map(|x| (x.clamp(0.0, 1.0) * 255.0).round() as u8).collect::<Vec<u8>>(),
+        );
+        Ok(RoomTextures { walls, window: tex.create_view(&Default::default()) })
+    }
+}
+
+/// The `Params` and [`RoomParams`] blocks of a room seen at `aspect`.
+pub fn room_params(room: &Room, aspect: f32) -> (Params, RoomParams) {
+    let c = room.camera.position;
+    let (l, kind) = match room.light {
+        RoomLight::Point(p) => (p, 1.0),
+        RoomLight::Directional(d) => (d.normalize(), 0.0),
+    };
+    let d: Vec<f32> = room.walls.iter().map(|w| w.depth_scale).collect();
+    let params = Params {
+        view_proj: room.camera.view_proj(aspect).to_cols_array(),
+        camera: [c.x, c.y, c.z, 0.0],
+        light: [l.x, l.y, l.z, room.ambient],
+        quad: [1.0, 1.0, 0.0, 0.0],
+        // The room entries sample level 0 (a room refuses lod other than zero).
+        pixel_right: [0.0; 4],
+        pixel_up: [0.0; 4],
+    };
+    let window = if room.window.is_some() { 1.0 } else { 0.0 };
+    let rp = RoomParams { size: [room.size[0], room.size[1], room.size[2], window], depth_a: [d[0], d[1], d[2], d[3]], depth_b: [d[4], kind, 0.0, 0.0],
+        sun: [room.sun.x, room.sun.y, room.sun.z, room.sun_intensity],
+    };
+    (params, rp)
+}
+
+fn uniform(gpu: &Gpu, label: &str, bytes: &[u8]) -> wgpu::Buffer {
+    gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: bytes, usage: wgpu::BufferUsages::UNIFORM })
+}
+
+fn map_view<'t>(t: &'t SceneTextures, b: u32, maps: &[MapReq]) -> Result<&'t wgpu::TextureView, GpuError> {
+    let req = maps
+        .iter()
+        .find(|r| **r != MapReq::Normal && r.binding() == b)
+        .ok_or_else(|| GpuError::Pipeline(format!("the room shader reads a map at binding {b}, which the pipeline's required maps do not name")))?;
+    MapKey::of(*req).and_then(|k| t.maps.get(&k)).ok_or_else(|| GpuError::Pipeline(format!("the map at binding {b} was not built")))
+}
+
+#[allow(clippy::too_many_arguments)]
+fn bind_group(
+    gpu: &Gpu,
+    layout: &wgpu::BindGroupLayout,
+    bindings: &[u32],
+    prog: &RoomProgram,
+    tex: &RoomTextures,
+    params: &wgpu::Buffer,
+    room: &wgpu::Buffer,
+    storage: &[(u32, &wgpu::Buffer)],
+) -> Result<wgpu::BindGroup, GpuError> {
+    let mut entries = Vec::new();
+    let shared = &tex.walls[0];
+    for &b in bindings {
+        let resource = if let Some(w) = prog.walls.iter().find(|w| w.binding == b) {
+            let t = &tex.walls[w.wall as usize];
+            let plain = if w.plain >= binding::NEAREST_OFFSET { w.plain - binding::NEAREST_OFFSET } else { w.plain };
+            let view = match plain {
+                binding::HEIGHT => &t.height,
+                binding::NORMAL => &t.normal,
+                binding::ALBEDO => &t.albedo,
+                other => map_view(t, other, &prog.maps)?,
+            };
+            wgpu::BindingResource::TextureView(view)
+        } else {
+            match b {
+                binding::PARAMS => params.as_entire_binding(),
+                ROOM_PARAMS => room.as_entire_binding(),
+                WINDOW_MAP => wgpu::BindingResource::TextureView(&tex.window),
+                binding::LINEAR_SAMPLER => wgpu::BindingResource::Sampler(&shared.linear),
+                binding::NEAREST_SAMPLER => wgpu::BindingResource::Sampler(&shared.nearest),
+                other => match storage.iter().find(|(n, _)| *n == other) {
+                    Some((_, buf)) => buf.as_entire_binding(),
+                    None => return Err(GpuError::Pipeline(format!("the room shader reads binding {other}, which the room runtime does not provide"))),
+                },
+            }
+        };
+        entries.push(wgpu::BindGroupEntry { binding: b, resource });
+    }
+    gpu.checked(|| gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("room"), layout, entries: &entries }))
+}
+
+/// Renders the room with interior mapping: `frames` timed frames after `warmup`, `size²`.
+pub fn render_interior(gpu: &Gpu, prog: &RoomProgram, room: &Room, tex: &RoomTextures, size: u32, warmup: u32, frames: u32) -> Result<Frames, GpuError> {
+    let module = prog.shader(gpu)?;
+    let pipeline = gpu.checked(|| {
+        gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("room interior"),
+            layout: None,
+            vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_room"), compilation_options: Default::default(), buffers: &[] },
+            primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleStrip, ..Default::default() },
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some("fs_room"), compilation_options: Default::default(), targets: &[Some(FORMAT.into())] }),
+            multiview_mask: None,
+            cache: None,
+        })
+    })?;
+    let (p, r) = room_params(room, 1.0);
+    let pb = uniform(gpu, "params", bytemuck::bytes_of(&p));
+    let rb = uniform(gpu, "room", bytemuck::bytes_of(&r));
+    let bg = bind_group(gpu, &pipeline.get_bind_group_layout(0), &prog.render_bindings, prog, tex, &pb, &rb, &[])?;
+    timed(gpu, size, false, warmup, frames, |pass| {
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bg, &[]);
+        pass.draw(0..4, 0..1);
+    })
+}
+
+/// Runs `probe_room` on `rays`: per ray the wall met and the hit in its tangent space.
+pub fn probe_room(gpu: &Gpu, prog: &RoomProgram, room: &Room, tex: &RoomTextures, rays: &[RoomRay]) -> Result<Vec<RoomHit>, GpuError> {
+    if rays.is_empty() {
+        return Ok(vec![]);
+    }
+    let module = prog.shader(gpu)?;
+    let pipeline = gpu.checked(|| {
+        gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("room probe"),
+            layout: None,
+            module: &module,
+            entry_point: Some("probe_room"),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    })?;
+    let ray_buf = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("room rays"), contents: bytemuck::cast_slice(rays), usage: wgpu::BufferUsages::STORAGE });
+    let bytes = rays.len() as u64 * std::mem::size_of::<RoomHit>() as u64;
+    let hit_buf = gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some("room hits"), size: bytes, usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC, mapped_at_creation: false });
+    let read = gpu.device.create_buffer(&wgpu::BufferDescriptor { label: None, size: bytes, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+    let (p, r) = room_params(room, 1.0);
+    let pb = uniform(gpu, "params", bytemuck::bytes_of(&p));
+    let rb = uniform(gpu, "room", bytemuck::bytes_of(&r));
+    let bg = bind_group(gpu, &pipeline.get_bind_group_layout(0), &prog.probe_bindings, prog, tex, &pb, &rb, &[(ROOM_RAYS, &ray_buf), (ROOM_HITS, &hit_buf)])?;
+    let groups = (rays.len() as u32).div_ceil(PROBE_WORKGROUP);
+    if groups > 65535 {
+        return Err(GpuError::Device(format!("{} rays are more than one probe dispatch takes", rays.len())));
+    }
+    let mut enc = gpu.device.create_command_encoder(&Default::default());
+    {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bg, &[]);
+        pass.dispatch_workgroups(groups, 1, 1);
+    }
+    enc.copy_buffer_to_buffer(&hit_buf, 0, &read, 0, bytes);
+    gpu.queue.submit([enc.finish()]);
+    Ok(bytemuck::cast_slice(&gpu.read_buffer(&read)?).to_vec())
+}

@@ -1,0 +1,167 @@
+//! The room grid of `relief sweep --grid rooms`: seed 003's comparison (§3.1.3) of interior
+//! mapping alone, + POM, + soft shadows, + light scattering, each against the same room as
+//! real geometry, on every room asked for. Rows go to `DIR/rooms.jsonl` (rewritten whole,
+//! atomically, after every cell), pictures to `DIR/rooms/ROOM/VARIANT/`; `relief report DIR`
+//! reads them into its room section.
+
+use std::path::{Path, PathBuf};
+
+use relief_dsl::compose::interior::RoomOptions;
+use relief_dsl::Pipeline;
+use serde::{Deserialize, Serialize};
+
+use super::accuracy::WallAccuracy;
+use super::measure::{measure_room, write_images, RoomSetup};
+use super::room_from_arg;
+use crate::gpu::Gpu;
+
+/// One variant of the seed's comparison: a label, the pipeline on every wall, scattering.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Variant {
+    /// The seed's name for it.
+    pub label: &'static str,
+    /// The pipeline on every wall.
+    pub pipeline: &'static str,
+    /// Light-scattering samples, if on.
+    pub scatter: Option<u32>,
+}
+
+/// The seed's four variants (§3.1.3, Figures 11–14). POM uses the seed's dynamic layer
+/// count (§2.1.3, `linear_distance` with its defaults 16, 180, 4) refined by 5 binary
+/// steps; soft shadows 16 steps; scattering the seed's 42 samples (§3.1.2).
+pub fn variants() -> Vec<Variant> {
+    vec![
+        Variant { label: "interior mapping alone", pipeline: "none", scatter: None },
+        Variant { label: "+ POM", pipeline: "linear_distance+binary(5)", scatter: None },
+        Variant { label: "+ soft shadows", pipeline: "linear_distance+binary(5)+shadow=soft(16)", scatter: None },
+        Variant { label: "+ scattering", pipeline: "linear_distance+binary(5)+shadow=soft(16)", scatter: Some(42) },
+    ]
+}
+
+/// The rooms measured when none are named.
+pub const DEFAULT_ROOMS: [&str; 2] = ["room:default", "room:window"];
+
+/// One cell: a variant in a room, against that room's geometry.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct RoomRow {
+    /// The room.
+    pub room: String,
+    /// The variant's label ([`Variant::label`]).
+    pub variant: String,
+    /// The pipeline on every wall.
+    pub pipeline: String,
+    /// Scattering samples (0: off).
+    pub scatter: u32,
+    /// Frame size.
+    pub size: u32,
+    /// Vertices a side of each wall's baseline grid.
+    pub grid: usize,
+    /// Median interior frame time, ms.
+    pub frame_ms: f64,
+    /// Median baseline frame time, ms.
+    pub baseline_ms: f64,
+    /// `frame_ms / baseline_ms`.
+    pub ratio: f64,
+    /// RMS t error over all walls.
+    pub t_err_rms: f64,
+    /// Missed share over all walls.
+    pub missed_rate: f64,
+    /// Mean |interior − baseline| per 8-bit channel.
+    pub mean_abs_diff: f64,
+    /// `ok` or `error`.
+    pub status: String,
+    /// The error, when the cell failed.
+    pub error: String,
+    /// Per wall (names and the same measures).
+    #[serde(default)]
+    pub per_wall: Vec<WallRow>,
+}
+
+/// A wall's accuracy in a [`RoomRow`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct WallRow {
+    /// The wall.
+    pub wall: String,
+    /// Rays on it.
+    pub rays: usize,
+    /// RMS t error.
+    pub t_err_rms: f64,
+    /// Missed share.
+    pub missed_rate: f64,
+}
+
+impl From<&WallAccuracy> for WallRow {
+    fn from(a: &WallAccuracy) -> WallRow {
+        WallRow { wall: a.wall.clone(), rays: a.rays, t_err_rms: a.t_err_rms, missed_rate: a.missed_rate }
+    }
+}
+
+/// The rows file of a sweep folder.
+pub fn rows_path(dir: &Path) -> PathBuf {
+    dir.join("rooms.jsonl")
+}
+
+/// Reads `DIR/rooms.jsonl`; `None` when there is none. Unreadable lines are errors.
+pub fn read_rows(dir: &Path) -> anyhow::Result<Option<Vec<RoomRow>>> {
+    let p = rows_path(dir);
+    if !p.exists() {
+        return Ok(None);
+    }
+    let text = std::fs::read_to_string(&p)?;
+    let mut out = Vec::new();
+    for (i, line) in text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty()) {
+        out.push(serde_json::from_str(line).map_err(|e| anyhow::anyhow!("{}: line {}: {e}", p.display(), i + 1))?);
+    }
+    Ok(Some(out))
+}
+
+fn folder(s: &str) -> String {
+    s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect()
+}
+
+/// Measures every variant in every room of `rooms` (`room:NAME` or room files) and writes
+/// the rows; returns them.
+pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> anyhow::Result<Vec<RoomRow>> {
+    std::fs::create_dir_all(out)?;
+    let gpu = Gpu::new()?;
+    let mut rows = Vec::new();
+    for arg in rooms {
+        let (room, warnings) = room_from_arg(Some(arg), None).map_err(anyhow::Error::msg)?;
+        for w in &warnings {
+            eprintln!("relief: warning: {w}");
+        }
+        for v in variants() {
+            let p: Pipeline = v.pipeline.parse().map_err(|e| anyhow::anyhow!("{}: {e}", v.pipeline))?;
+            let mut row = RoomRow {
+                room: room.name.clone(),
+                variant: v.label.into(),
+                pipeline: p.to_string(),
+                scatter: v.scatter.unwrap_or(0),
+                size: setup.size,
+                grid: setup.grid,
+                status: "ok".into(),
+                ..Default::default()
+            };
+            let dir = out.join("rooms").join(folder(&room.name)).join(folder(v.label));
+            match measure_room(&gpu, &room, &p, &RoomOptions { scatter: v.scatter }, setup).and_then(|m| Ok((write_images(&dir, setup.size, &m)?, m))) {
+                Ok((diff, m)) => {
+                    row.frame_ms = m.frame_ms;
+                    row.baseline_ms = m.baseline_ms;
+                    row.ratio = m.frame_ms / m.baseline_ms;
+                    row.t_err_rms = m.t_err_rms();
+                    row.missed_rate = m.missed_rate();
+                    row.mean_abs_diff = diff;
+                    row.per_wall = m.per_wall.iter().map(WallRow::from).collect();
+                }
+                Err(e) => {
+                    row.status = "error".into();
+                    row.error = format!("{e:#}");
+                }
+            }
+            rows.push(row);
+            let text: String = rows.iter().map(|r| serde_json::to_string(r).map(|s| s + "\n")).collect::<Result<_, _>>()?;
+            crate::io::write_atomic(&rows_path(out), text.as_bytes())?;
+        }
+    }
+    Ok(rows)
+}

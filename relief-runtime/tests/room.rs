@@ -1,0 +1,402 @@
+//! Rooms (seed 003): the dynamic layer count with the distance term, the wall selection
+//! against an independent CPU ray–box intersection, per-wall hits of an exact pipeline
+//! against the exact reference, the real-geometry baseline against the CPU reference, and
+//! room files' errors and border warnings.
+
+use std::path::Path;
+
+use relief_runtime::gpu::{self, Gpu, Program, SceneTextures};
+use relief_runtime::heightmap::HeightMap;
+use relief_runtime::room::accuracy::{reference_hits, room_accuracy};
+use relief_runtime::room::gpu::{probe_room, RoomProgram, RoomTextures};
+use relief_runtime::room::mesh::{render_geometry, wall_of_alpha, RoomMesh};
+use relief_runtime::room::{border_warnings, builtin, file::load_room_file, room_from_arg, PixelRay, Room, RoomRay, NEAR_FAR, WALLS};
+use relief_runtime::scene::Scene;
+
+fn gpu() -> Gpu {
+    Gpu::new().unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// xorshift64*: reproducible pseudo-random numbers in [0, 1).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next()
+    }
+}
+
+/// Seed 003 §2.1.3, written out here: `L = (1 − cos θ)(L_min·d/(3+d) + L_max·(1 − d/(3+d))) + L_θmin·cos θ`.
+fn seed_layers(cos: f64, d: f64, min: f64, max: f64, theta_min: f64) -> f64 {
+    let w = d / (3.0 + d);
+    (1.0 - cos) * (min * w + max * (1.0 - w)) + theta_min * cos
+}
+
+#[test]
+fn linear_distance_takes_the_seed_003_layer_count() {
+    let g = gpu();
+    // A flat map at height 0: no ray meets the surface before the bottom, so the linear
+    // search runs every one of its layers and the probe's coarse count is the layer count.
+    let mut scene = Scene::from_height_map("flat0", HeightMap::from_fn(16, 16, |_, _| 0.0));
+    let (min, max, theta_min) = (16.0, 180.0, 4.0);
+    let program = Program::new(&"linear_distance".parse().unwrap()).unwrap();
+    let mut checked = 0;
+    let mut counts = std::collections::BTreeSet::new();
+    for (angle, distance) in [(10.0, 0.5), (45.0, 1.3), (70.0, 4.0), (80.0, 12.0)] {
+        scene.camera.angle_deg = angle;
+        scene.camera.distance = distance;
+        let tex = SceneTextures::new(&g, &scene);
+        let rays = scene.rays(24);
+        let hits = gpu::probe(&g, &program, &scene, &tex, &rays).unwrap();
+        let cam = scene.camera.camera_position();
+        for (r, h) in rays.iter().zip(&hits) {
+            let d = ((r.origin[0] - cam.x) as f64).hypot((r.origin[1] - cam.y) as f64).hypot(cam.z as f64);
+            let vz = r.dir[2] as f64 * scene.depth_scale as f64;
+            let cos = -vz / ((r.dir[0] as f64).powi(2) + (r.dir[1] as f64).powi(2) + vz * vz).sqrt();
+            let l = seed_layers(cos, d, min, max, theta_min);
+            if (l - l.round()).abs() < 1e-3 {
+                continue; // f32 rounding may fall on either side of a whole number
+            }
+            let expected = l.floor().clamp(1.0, max) as u32;
+            assert_eq!(h.coarse_steps, expected, "angle {angle}, distance {d:.3}, cos {cos:.4}: L = {l:.4}");
+            counts.insert(expected);
+            checked += 1;
+        }
+    }
+    assert!(checked > 1000, "{checked} rays checked");
+    assert!(counts.len() > 20, "the count varies with angle and distance: {counts:?}");
+}
+
+fn small_room() -> Room {
+    builtin::room("default", Some(32)).unwrap()
+}
+
+/// The wall a ray from `o` along `w` (entering the box through the window) leaves the box
+/// through: the slab method (Kay & Kajiya), the face of the smallest far-plane t. Returns the
+/// wall, the exit point, and the gap to the second smallest far t (for skipping near-ties).
+fn slab_exit(size: [f64; 3], o: [f64; 3], w: [f64; 3]) -> (usize, [f64; 3], f64) {
+    let lo = [0.0, 0.0, -size[2]];
+    let hi = [size[0], size[1], 0.0];
+    let far: Vec<f64> = (0..3).map(|a| ((lo[a] - o[a]) / w[a]).max((hi[a] - o[a]) / w[a])).collect();
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&a, &b| far[a].total_cmp(&far[b]));
+    let axis = order[0];
+    let t = far[axis];
+    let wall = match axis {
+        0 if w[0] < 0.0 => 1, // left, x = 0
+        0 => 2,               // right, x = W
+        1 if w[1] < 0.0 => 3, // floor
+        1 => 4,               // ceiling
+        _ => 0,               // back
+    };
+    (wall, [o[0] + t * w[0], o[1] + t * w[1], o[2] + t * w[2]], far[order[1]] - t)
+}
+
+/// The exit point in the wall's texture coordinates, as the room format defines them (u, v
+/// from 0 to 1 along each wall; see `relief_dsl::compose::interior::wall_frame`'s docs),
+/// written out per wall.
+fn wall_uv(size: [f64; 3], wall: usize, p: [f64; 3]) -> [f64; 2] {
+    let [w, h, d] = size;
+    match wall {
+        0 => [p[0] / w, p[1] / h],
+        1 => [-p[2] / d, p[1] / h],
+        2 => [(p[2] + d) / d, p[1] / h],
+        3 => [p[0] / w, -p[2] / d],
+        _ => [p[0] / w, (p[2] + d) / d],
+    }
+}
+
+#[test]
+fn the_probe_selects_the_wall_a_cpu_ray_box_intersection_finds() {
+    let g = gpu();
+    let room = small_room();
+    let size = room.size64();
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let mut rays = Vec::new();
+    let mut expected = Vec::new();
+    while rays.len() < 20_000 {
+        let o = [rng.range(-1.5, 3.5), rng.range(-1.0, 2.5), rng.range(0.2, 4.0)];
+        let target = [rng.range(0.0, size[0]), rng.range(0.0, size[1]), 0.0];
+        let w = [target[0] - o[0], target[1] - o[1], target[2] - o[2]];
+        let ray = RoomRay { origin: [o[0] as f32, o[1] as f32, o[2] as f32, 0.0], dir: [w[0] as f32, w[1] as f32, w[2] as f32, 0.0] };
+        // The f32 ray, widened, is the ray the probe traces.
+        let o = [0, 1, 2].map(|i| ray.origin[i] as f64);
+        let w = [0, 1, 2].map(|i| ray.dir[i] as f64);
+        let (wall, p, gap) = slab_exit(size, o, w);
+        if gap < 1e-4 {
+            continue; // a ray through a room's edge: either wall is right within f32
+        }
+        rays.push(ray);
+        expected.push((wall, wall_uv(size, wall, p)));
+    }
+    // With no coarse search the hit is where the ray meets the wall's plane (t = 0).
+    let prog = RoomProgram::new(&"none".parse().unwrap()).unwrap();
+    let tex = RoomTextures::new(&g, &room, &prog.maps).unwrap();
+    let hits = probe_room(&g, &prog, &room, &tex, &rays).unwrap();
+    let mut per_wall = [0usize; WALLS];
+    for (i, (h, (wall, uv))) in hits.iter().zip(&expected).enumerate() {
+        assert_eq!(h.wall as usize, *wall, "ray {i}: {:?}", rays[i]);
+        per_wall[*wall] += 1;
+        // f32 arithmetic on coordinates of a few units: errors ~1e-6; 1e-4 is the goal.
+        assert!((h.u as f64 - uv[0]).abs() < 1e-4 && (h.v as f64 - uv[1]).abs() < 1e-4, "ray {i}: uv ({}, {}) vs {uv:?}", h.u, h.v);
+        assert_eq!(h.t, 0.0);
+    }
+    assert!(per_wall.iter().all(|&n| n > 500), "every wall is hit by many rays: {per_wall:?}");
+}
+
+#[test]
+fn an_exact_pipeline_meets_every_wall_where_the_reference_does() {
+    let g = gpu();
+    let room = builtin::room("default", Some(64)).unwrap();
+    let prog = RoomProgram::new(&"linear(400)+interval(8)".parse().unwrap()).unwrap();
+    let tex = RoomTextures::new(&g, &room, &prog.maps).unwrap();
+    let rays: Vec<PixelRay> = room.rays(128);
+    let probe: Vec<RoomRay> = rays.iter().map(|r| r.ray).collect();
+    let hits = probe_room(&g, &prog, &room, &tex, &probe).unwrap();
+    let heights: Vec<Vec<f32>> = tex.walls.iter().map(|t| t.heights_on_device.clone()).collect();
+    let refs = reference_hits(&room, &heights, &rays).unwrap();
+    let acc = room_accuracy(&room, &rays, &hits, &refs);
+    // Goal: on every wall, 99 % of the rays within 1e-4 of the exact t (400 linear steps are
+    // finer than a texel of travel on all but the most grazing rays, and interval(8)
+    // converges to f32 precision on a bilinear patch), none on another wall, none NaN.
+    for (k, a) in acc.iter().enumerate() {
+        eprintln!("{a:?}");
+        assert!(a.rays > 500, "{}: {} rays", a.wall, a.rays);
+        assert_eq!(a.wall_mismatch, 0, "{}", a.wall);
+        let close = rays
+            .iter()
+            .zip(&hits)
+            .zip(&refs)
+            .filter(|((_, _), (w, _))| *w == k)
+            .filter(|((_, h), (_, r))| r.is_some_and(|r| (h.t as f64 - r.t).abs() < 1e-4))
+            .count();
+        assert!(close as f64 >= 0.99 * a.rays as f64, "{}: {close} of {} rays within 1e-4", a.wall, a.rays);
+        assert!(a.missed_rate < 0.01, "{}: missed {}", a.wall, a.missed_rate);
+    }
+}
+
+#[test]
+fn the_geometry_baseline_shows_the_walls_and_depths_of_the_cpu_reference() {
+    let g = gpu();
+    let room = builtin::room("default", Some(64)).unwrap();
+    let size = 128u32;
+    let mesh = RoomMesh::new(&room, 128);
+    let frames = render_geometry(&g, &room, &mesh, size, 0, 1).unwrap();
+    let depth = frames.depth.unwrap();
+    let heights: Vec<Vec<f32>> = room.walls.iter().map(|w| w.height.data.clone()).collect();
+    let rays = room.rays(size);
+    let refs = reference_hits(&room, &heights, &rays).unwrap();
+    let (forward, _, _) = room.camera.basis();
+    let cam = room.camera.position;
+    let (near, far) = (NEAR_FAR.0 as f64, NEAR_FAR.1 as f64);
+    let n = size as usize;
+    let wall_at = |x: i64, y: i64| -> Option<usize> {
+        if x < 0 || y < 0 || x >= n as i64 || y >= n as i64 {
+            return None;
+        }
+        wall_of_alpha(frames.rgba[4 * (y as usize * n + x as usize) + 3])
+    };
+    let (mut id_ok, mut depth_ok, mut depth_n) = (0usize, 0usize, 0usize);
+    let mut inside = vec![false; n * n];
+    for (r, (wall, rf)) in rays.iter().zip(&refs) {
+        inside[r.y as usize * n + r.x as usize] = true;
+        let (x, y) = (r.x as i64, r.y as i64);
+        // Silhouette: the reference's wall is drawn at this pixel or a neighbour.
+        let near_ids: Vec<Option<usize>> = (-1..=1).flat_map(|dy| (-1..=1).map(move |dx| (dx, dy))).map(|(dx, dy)| wall_at(x + dx, y + dy)).collect();
+        if near_ids.contains(&Some(*wall)) {
+            id_ok += 1;
+        }
+        // Depth, away from silhouettes: the view depth of the reference's hit.
+        if near_ids.iter().all(|w| *w == Some(*wall)) {
+            let Some(rf) = rf else { continue };
+            let wr = room.wall_ray(&r.ray);
+            let p = room.wall_point(*wall, rf.u, rf.v, rf.z);
+            let expect = (p[0] - cam.x as f64) * forward.x as f64 + (p[1] - cam.y as f64) * forward.y as f64 + (p[2] - cam.z as f64) * forward.z as f64;
+            let ndc = depth[r.y as usize * n + r.x as usize] as f64;
+            let got = far * near / (far - ndc * (far - near));
+            depth_n += 1;
+            // Goal: within a quarter of the wall's relief depth (the mesh interpolates the
+            // bilinear surface linearly between grid points).
+            if (got - expect).abs() <= 0.25 * room.walls[wr.wall].depth_scale as f64 {
+                depth_ok += 1;
+            }
+        }
+    }
+    // Nothing but the facade outside the window.
+    let outside_walls = (0..n * n).filter(|&i| !inside[i] && wall_of_alpha(frames.rgba[4 * i + 3]).is_some()).count();
+    eprintln!("walls within a pixel {id_ok}/{}, depth {depth_ok}/{depth_n}, walls outside the window {outside_walls}", rays.len());
+    // Goals: 99 % of the window's pixels show the reference's wall within a pixel; 95 % of
+    // the pixels away from silhouettes have the reference's depth; at most one pixel row
+    // or column of walls leaks past the window's edge.
+    assert!(id_ok as f64 >= 0.99 * rays.len() as f64, "{id_ok} of {}", rays.len());
+    assert!(depth_n > rays.len() / 2);
+    assert!(depth_ok as f64 >= 0.95 * depth_n as f64, "{depth_ok} of {depth_n}");
+    assert!(outside_walls <= 4 * n, "{outside_walls} wall pixels outside the window");
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+#[test]
+fn bad_room_files_give_one_line_errors_naming_key_and_file() {
+    let dir = std::env::temp_dir().join(format!("relief-room-files-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cases: &[(&str, &str, &str)] = &[
+        ("sise = [1, 1, 1]", "sise", "did you mean `size`"),
+        ("size = [1, 1]", "size", "expected array of 3 numbers"),
+        ("size = [1, -1, 1]", "size", "must be positive"),
+        ("[walls.bak]\ndepth_scale = 0.1", "walls.bak", "did you mean `back`"),
+        ("[walls.floor]\ndepth_scale = \"deep\"", "walls.floor.depth_scale", "expected number"),
+        ("[walls.floor]\ndepth_scale = 0", "walls.floor.depth_scale", "positive"),
+        ("[walls.left]\nheight_map = \"missing.png\"", "walls.left.height_map", "missing.png"),
+        ("[walls.left]\nhieght_map = \"a.png\"", "walls.left.hieght_map", "did you mean `height_map`"),
+        ("[light]\npoint = [5, 5, 5]", "light.point", "inside the room"),
+        ("[light]\npoint = [1, 1, -1]\ndirection = [0, 1, 0]", "light", "not both"),
+        ("[camera]\nposition = [1, 1, -1]", "camera.position", "in front of the window"),
+        ("map_size = 3", "map_size", "8..=4096"),
+    ];
+    for (i, (text, key, says)) in cases.iter().enumerate() {
+        let p = write(&dir, &format!("bad{i}.toml"), text);
+        let e = load_room_file(&p, None).expect_err(text).to_string();
+        assert!(!e.contains('\n'), "one line: {e}");
+        assert!(e.starts_with(&p.display().to_string()), "names the file: {e}");
+        assert!(e.contains(&format!("key `{key}`")), "names `{key}`: {e}");
+        assert!(e.contains(says), "says `{says}`: {e}");
+    }
+    let e = load_room_file(&dir.join("nope.toml"), None).unwrap_err().to_string();
+    assert!(e.contains("nope.toml") && e.contains("not found"), "{e}");
+    let p = write(&dir, "broken.toml", "size = [1, 1, 1\n");
+    let e = load_room_file(&p, None).unwrap_err().to_string();
+    assert!(!e.contains('\n') && e.contains("not valid TOML"), "{e}");
+    // A good file: only what it names changes.
+    let p = write(&dir, "good.toml", "size = [3, 2, 4]\n[light]\ndirection = [0, 1, 1]\n[walls.back]\ndepth_scale = 0.3\n");
+    let r = load_room_file(&p, Some(16)).unwrap();
+    assert_eq!(r.size, [3.0, 2.0, 4.0]);
+    assert_eq!(r.walls[0].depth_scale, 0.3);
+    assert_eq!(r.walls[1].depth_scale, builtin::room("default", Some(16)).unwrap().walls[1].depth_scale);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn maps_not_at_height_1_on_their_border_are_warned_about() {
+    // The procedural maps are at 1 on every border texel (checked here directly).
+    for name in builtin::names() {
+        let r = builtin::room(name, Some(40)).unwrap();
+        for w in &r.walls {
+            let m = &w.height;
+            for y in 0..m.height {
+                for x in 0..m.width {
+                    if x == 0 || y == 0 || x + 1 == m.width || y + 1 == m.height {
+                        assert_eq!(m.data[y * m.width + x], 1.0, "{name}: ({x}, {y})");
+                    }
+                }
+            }
+        }
+        assert!(border_warnings(&r).is_empty());
+    }
+    // A given map with a low border: one warning, naming the wall, on stderr and returned.
+    let dir = std::env::temp_dir().join(format!("relief-room-border-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let n = 16u32;
+    let img = image::GrayImage::from_fn(n, n, |x, y| image::Luma([if x == 0 && y > 3 { 100 } else { 255 }]));
+    img.save(dir.join("low.png")).unwrap();
+    let p = write(&dir, "low.toml", "[walls.floor]\nheight_map = \"low.png\"\n");
+    let (_, warnings) = room_from_arg(Some(p.to_str().unwrap()), Some(16)).unwrap();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(warnings[0].contains("floor") && warnings[0].contains(&format!("{} of its {}", n - 4, 4 * n - 4)), "{}", warnings[0]);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn the_report_has_a_room_section_from_a_room_grid() {
+    use relief_runtime::room::sweep::{read_rows, rows_path, variants, RoomRow};
+    let dir = std::env::temp_dir().join(format!("relief-room-report-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // Rows as `relief sweep --grid rooms` writes them (values made up: the section only
+    // reports them); POM is 4× faster than geometry, effects add cost.
+    let rows: Vec<RoomRow> = variants()
+        .iter()
+        .enumerate()
+        .map(|(i, v)| RoomRow {
+            room: "room:default".into(),
+            variant: v.label.into(),
+            pipeline: v.pipeline.into(),
+            scatter: v.scatter.unwrap_or(0),
+            size: 64,
+            grid: 320,
+            frame_ms: 1.0 + i as f64,
+            baseline_ms: 8.0,
+            ratio: (1.0 + i as f64) / 8.0,
+            status: "ok".into(),
+            ..Default::default()
+        })
+        .collect();
+    let text: String = rows.iter().map(|r| serde_json::to_string(r).unwrap() + "\n").collect();
+    std::fs::write(rows_path(&dir), text).unwrap();
+    assert_eq!(read_rows(&dir).unwrap().unwrap(), rows);
+    relief_runtime::report::write(&dir).unwrap();
+    let md = std::fs::read_to_string(dir.join("tables.md")).unwrap();
+    assert!(md.contains("Interior mapping in room:default"), "{md}");
+    for v in variants() {
+        assert!(md.contains(&format!("| {} |", v.label)), "{}: {md}", v.label);
+    }
+    // 8 ms of geometry against 2 ms of interior + POM: 4×, the seed's ordering.
+    assert!(md.contains("4.00× the frame time of interior mapping + POM: the ordering holds"), "{md}");
+    assert!(md.contains("rising, as in the seed"), "{md}");
+    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    assert!(html.contains("id=\"rooms\""));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn relief_room_writes_both_renders_and_the_metrics() {
+    let out = std::env::temp_dir().join(format!("relief-room-cli-{}", std::process::id()));
+    let run = |args: &[&str]| std::process::Command::new(env!("CARGO_BIN_EXE_relief")).args(args).output().unwrap();
+    let o = run(&["room", "linear(16)+binary(3)+shadow=soft(8)", "--size", "48", "--grid", "24", "--map-size", "16", "--frames", "2", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in ["frame.png", "baseline.png", "diff.png", "metrics.json"] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).unwrap()).unwrap();
+    let (f, b) = (m["frame_ms_median"].as_f64().unwrap(), m["baseline_ms_median"].as_f64().unwrap());
+    assert!(f > 0.0 && b > 0.0);
+    assert!((m["ratio_interior_to_baseline"].as_f64().unwrap() - f / b).abs() < 1e-9);
+    assert_eq!(m["per_wall"].as_array().unwrap().len(), WALLS);
+    assert_eq!(m["room"], "room:default");
+    // A bad room: one line naming the file and the key.
+    let bad = out.join("bad.toml");
+    std::fs::write(&bad, "[walls.floor]\ndepth_scale = -1\n").unwrap();
+    let o = run(&["room", "linear(8)", "--scene", bad.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(e.trim().lines().count(), 1, "{e}");
+    assert!(e.contains("bad.toml") && e.contains("key `walls.floor.depth_scale`"), "{e}");
+    std::fs::remove_dir_all(&out).ok();
+}
+
+#[test]
+fn a_safe_cone_pipeline_reads_each_walls_own_cone_map() {
+    // Each wall's cone map is built from that wall's heights and bound at that wall's
+    // binding: the safe form then never ends past the first hit (issue #13's guarantee,
+    // with its slack `metrics::PAST_SLACK`); a map of another wall could let it pass.
+    let g = gpu();
+    let room = builtin::room("default", Some(32)).unwrap();
+    let prog = RoomProgram::new(&"csm(15)+binary(5)".parse().unwrap()).unwrap();
+    assert!(prog.walls.iter().filter(|w| w.plain == relief_dsl::abi::binding::CELL_CONE).count() == WALLS);
+    let tex = RoomTextures::new(&g, &room, &prog.maps).unwrap();
+    let rays = room.rays(64);
+    let probe: Vec<RoomRay> = rays.iter().map(|r| r.ray).collect();
+    let hits = probe_room(&g, &prog, &room, &tex, &probe).unwrap();
+    let heights: Vec<Vec<f32>> = tex.walls.iter().map(|t| t.heights_on_device.clone()).collect();
+    let refs = reference_hits(&room, &heights, &rays).unwrap();
+    let past = hits.iter().zip(&refs).filter(|(h, (w, r))| h.wall as usize != *w || r.is_none_or(|r| h.t as f64 > r.t + relief_runtime::metrics::PAST_SLACK)).count();
+    assert_eq!(past, 0, "{past} of {} rays past the first hit or on another wall", rays.len());
+}
