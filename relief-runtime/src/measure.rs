@@ -97,6 +97,9 @@ pub fn measure_with(
     warmup: u32,
     frames: u32,
 ) -> anyhow::Result<Measured> {
+    // The scene's level policy applies to a pipeline that names no lod; the metrics record
+    // the pipeline as measured.
+    let pipeline = &prep.scene.pipeline_for(pipeline);
     let clip = pipeline.silhouette == Silhouette::Clip;
     if clip && prep.scene.edge != EdgeMode::Clamp {
         anyhow::bail!(

@@ -265,8 +265,7 @@ fn bad_scene_files_give_one_line_naming_the_file_and_the_key() {
         ("bad_depth", format!("depth_scale = -1\n{ok}"), "depth_scale", &["positive"]),
         ("bad_channel", "[height_map]\npath = \"h.png\"\nchannel = \"q\"\n".into(), "height_map.channel", &["`q`"]),
         ("bad_white", "[height_map]\npath = \"h.png\"\nwhite = \"black\"\n".into(), "height_map.white", &["black"]),
-        ("lod_auto", format!("lod = \"auto\"\n{ok}"), "lod", &["`auto` is not implemented yet"]),
-        ("lod_level", format!("lod = \"level(2)\"\n{ok}"), "lod", &["not implemented yet"]),
+        ("lod_level", format!("lod = \"level(99)\"\n{ok}"), "lod", &["level(99)", "out of range"]),
         ("bad_green", format!("normal_green = \"left\"\n{ok}"), "normal_green", &["left", "up", "down"]),
         ("lod_bad", format!("lod = \"high\"\n{ok}"), "lod", &["high", "zero"]),
         ("missing_albedo", format!("albedo = \"none.png\"\n{ok}"), "albedo", &["none.png", "not found"]),
@@ -365,6 +364,50 @@ fn render_takes_a_scene_file_and_the_overrides_change_what_is_recorded() {
     let o = relief().args(["render", "linear(8)", "--out"]).arg(d.join("x")).arg("--scene").arg(d.join("bad.toml")).output().unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("bad.toml") && err.contains("key `tilling`") && err.contains("did you mean `tiling`"), "{err}");
+    std::fs::remove_dir_all(&d).ok();
+}
+
+/// A scene file's `lod` is the level policy of every pipeline measured on it that names
+/// none: the measurement is the explicit `+lod=` one, bit for bit, and rows record it; a
+/// pipeline's own lod wins (`level(0)` keeps mip 0); resuming a sweep on the file skips what
+/// it recorded.
+#[test]
+fn a_scene_files_lod_applies_to_pipelines_that_name_none() {
+    let d = tmpdir("lod-policy");
+    std::fs::copy(repo_file("scenes/tatarchuk/dent_NM_height.tga"), d.join("dent.tga")).unwrap();
+    let file = d.join("dent.toml");
+    std::fs::write(&file, "lod = \"auto\"\nedge = \"clamp\"\n[height_map]\npath = \"dent.tga\"\nchannel = \"a\"\n").unwrap();
+    let scene = load_scene_file(&file).unwrap();
+    assert_eq!(scene.lod, Some(relief_dsl::spec::Lod::Auto));
+    std::fs::write(d.join("l2.toml"), "lod = \"level(2)\"\n[height_map]\npath = \"dent.tga\"\nchannel = \"a\"\n").unwrap();
+    assert_eq!(load_scene_file(&d.join("l2.toml")).unwrap().lod, Some(relief_dsl::spec::Lod::Level(2)));
+
+    let g = relief_runtime::gpu::Gpu::new().unwrap();
+    let mut prep = relief_runtime::measure::Prepared::new(&g, scene, 64).unwrap();
+    let measure = |prep: &mut relief_runtime::measure::Prepared, text: &str| {
+        relief_runtime::measure::measure(&g, prep, &text.parse().unwrap(), 0, 1).unwrap().metrics
+    };
+    let by_scene = measure(&mut prep, "linear(64)+binary(5)");
+    let explicit = measure(&mut prep, "linear(64)+binary(5)+lod=auto");
+    assert_eq!(by_scene.pipeline, "linear(64)+binary(5)+lod=auto");
+    assert_eq!((by_scene.ref_err_t_rms, by_scene.mse_dissertation), (explicit.ref_err_t_rms, explicit.mse_dissertation));
+    let own = measure(&mut prep, "linear(64)+binary(5)+lod=level(0)");
+    assert_eq!(own.pipeline, "linear(64)+binary(5)+lod=level(0)");
+    assert_ne!(own.ref_err_t_rms, by_scene.ref_err_t_rms, "the footprint level is not level 0 here");
+
+    let grid = d.join("g.grid");
+    std::fs::write(&grid, "coarse: linear(8)\n").unwrap();
+    let out = d.join("sweep");
+    let sweep = || {
+        let o = relief().args(["sweep", "--grid"]).arg(&grid).arg("--scene").arg(&file).args(["--size", "32", "--frames", "1", "--out"]).arg(&out).output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).to_string()
+    };
+    sweep();
+    let again = sweep();
+    assert!(again.contains("1 already done"), "{again}");
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    assert!(csv.contains("linear(8)+lod=auto"), "{csv}");
     std::fs::remove_dir_all(&d).ok();
 }
 

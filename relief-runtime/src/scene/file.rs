@@ -9,7 +9,7 @@
 //! albedo = "rocks_diffuse.png"   # optional, relative to this file
 //! normal_map = "rocks_NM_height.tga"  # optional, RGB = tangent-space normal (2·rgb/255 − 1)
 //! normal_green = "up"            # up: green points to the image's top, −v (default); down: +v
-//! lod = "zero"                   # sampling level: only `zero` (mip 0) for now; pipelines take `+lod=auto|level(k)`
+//! lod = "auto"                   # sampling level policy: zero | auto | level(k), for pipelines that name none
 //!
 //! [height_map]
 //! path = "tatarchuk/rocks_NM_height.tga"   # relative to this file
@@ -186,18 +186,21 @@ fn build(path: &Path, f: FileSpec) -> Result<Scene, KeyError> {
         Some("depth") => true,
         Some(o) => return Err(("height_map.white", format!("`{o}`: expected `height` (white is the top) or `depth` (white is deep)"))),
     };
-    if let Some(l) = f.lod.as_deref() {
-        match l {
-            "zero" => {}
-            "auto" => return Err(("lod", "`auto` is not implemented yet as a scene's policy (only `zero`); a pipeline takes it: `linear(32)+binary(5)+lod=auto`".into())),
-            o if o.starts_with("level") => return Err(("lod", format!("`{o}` is not implemented yet as a scene's policy (only `zero`); a pipeline takes it: `linear(32)+lod={o}`"))),
-            o => return Err(("lod", format!("`{o}`: expected `zero` (`auto` and `level(k)` are not implemented yet)"))),
-        }
-    }
+    let lod = match f.lod.as_deref() {
+        None => None,
+        // The pipeline parser reads the word, so a scene and a pipeline accept the same.
+        Some(l) => Some(
+            format!("none+lod={l}")
+                .parse::<relief_dsl::Pipeline>()
+                .map_err(|e| ("lod", format!("`{l}`: expected zero, auto or level(k) ({})", e.message)))?
+                .lod,
+        ),
+    };
     let hpath = dir.join(&f.height_map.path);
     let hm = HeightMap::load(&hpath, &LoadOptions { channel, depth }).map_err(|e| ("height_map.path", e.to_string()))?;
     let name = f.name.clone().unwrap_or_else(|| path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default());
     let mut s = Scene::from_height_map(name, hm);
+    s.lod = lod;
     if let Some(d) = f.depth_scale {
         if !(d.is_finite() && d > 0.0) {
             return Err(("depth_scale", format!("{d}: must be a positive number")));

@@ -84,6 +84,9 @@ pub struct Scene {
     pub camera: Camera,
     /// Unit vector from the surface towards the light (world = tangent space).
     pub light_dir: Vec3,
+    /// The scene's sampling level policy (a scene file's `lod`): the `lod` of every pipeline
+    /// measured on it that names none ([`Scene::pipeline_for`]). `None`: the pipeline's own.
+    pub lod: Option<relief_dsl::spec::Lod>,
 }
 
 impl Scene {
@@ -100,6 +103,18 @@ impl Scene {
             edge: EdgeMode::Repeat,
             camera: Camera::default_for(1.0),
             light_dir: Vec3::new(-0.4, -0.5, 0.75).normalize(),
+            lod: None,
+        }
+    }
+
+    /// `p` as measured on this scene: with the scene's `lod` policy where `p` leaves `lod`
+    /// at its default (`zero`, not written). A pipeline keeps mip 0 on such a scene with
+    /// `lod=level(0)`, the same surface. The result is what rows record, so results say
+    /// which level policy was measured.
+    pub fn pipeline_for(&self, p: &relief_dsl::Pipeline) -> relief_dsl::Pipeline {
+        match self.lod {
+            Some(l) if p.lod == relief_dsl::spec::Lod::Zero => p.clone().with_lod(l),
+            _ => p.clone(),
         }
     }
 

@@ -18,7 +18,7 @@ use anyhow::Context;
 use crate::gpu::Gpu;
 use crate::measure::{measure, write_images, Prepared};
 use crate::results::{self, Metrics, Row};
-use crate::scene::{scene_from_arg, Overrides};
+use crate::scene::{scene_from_arg, Overrides, Scene};
 pub use grids::NamedGrid;
 
 /// What `relief sweep` measures.
@@ -54,11 +54,21 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
     let mut rows = results::read_for_append(&opts.out)?;
     let label = |arg: &str| scene_label(arg) + &opts.overrides.suffix();
     let done: HashSet<_> = rows.iter().map(|r| key(&r.metrics.pipeline, &r.metrics.scene, r.metrics.size)).collect();
+    // Each scene once: a cell is recorded under the pipeline as measured on its scene (the
+    // scene's lod policy applied), so that is what resuming compares.
+    let mut scenes: HashMap<String, Result<Scene, String>> = HashMap::new();
+    for (_, s) in &opts.grid.cells {
+        scenes.entry(s.clone()).or_insert_with(|| scene_from_arg(&scene_spec(s)).map(|sc| opts.overrides.apply(sc)).map_err(|e| format!("{e:#}")));
+    }
+    let measured_as = |p: &relief_dsl::Pipeline, s: &str| match &scenes[s] {
+        Ok(sc) => sc.pipeline_for(p),
+        Err(_) => p.clone(),
+    };
     let todo: Vec<_> = opts
         .grid
         .cells
         .iter()
-        .filter(|(p, s)| !done.contains(&key(&p.to_string(), &label(s), opts.size)))
+        .filter(|(p, s)| !done.contains(&key(&measured_as(p, s).to_string(), &label(s), opts.size)))
         .cloned()
         .collect();
     opts.overrides.check().map_err(anyhow::Error::msg)?;
@@ -80,13 +90,12 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
     };
     let mut prepared: HashMap<String, Result<Prepared, String>> = HashMap::new();
     for (pipeline, scene_arg) in todo {
+        let pipeline = measured_as(&pipeline, &scene_arg);
         let text = pipeline.to_string();
         bar.set_message(format!("{text} on {scene_arg}"));
         let prep = prepared.entry(scene_arg.clone()).or_insert_with(|| {
-            scene_from_arg(&scene_spec(&scene_arg))
-                .map_err(anyhow::Error::from)
-                .and_then(|s| Prepared::new(&gpu, opts.overrides.apply(s), opts.size))
-                .map_err(|e| format!("{e:#}"))
+            let scene = scenes[&scene_arg].clone()?;
+            Prepared::new(&gpu, scene, opts.size).map_err(|e| format!("{e:#}"))
         });
         let cell_dir = format!("cells/{}/{}", folder_name(&label(&scene_arg)), pipeline.file_stem());
         let mut row = Row {
