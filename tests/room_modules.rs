@@ -68,3 +68,14 @@ fn light_scattering_is_off_by_default() {
     assert!(wgsl(&RoomOptions { scatter: Some(42) }).contains("scatter"));
     assert!(compile_room(&p, &RoomOptions { scatter: Some(0) }).is_err(), "0 samples is refused, not defaulted");
 }
+
+/// The room's entries set no sample level and have no quad square: pipeline options they
+/// do not implement are errors that name them.
+#[test]
+fn rooms_refuse_the_pipeline_options_they_do_not_implement() {
+    for (text, says) in [("linear(8)+binary(3)+lod=auto", "lod=auto"), ("linear(8)+binary(3)+silhouette=clip", "silhouette=clip")] {
+        let p: relief::Pipeline = text.parse().unwrap();
+        let e = compile_room(&p, &RoomOptions::default()).err().unwrap_or_else(|| panic!("{text} compiled for a room"));
+        assert!(e.to_string().contains(says) && e.to_string().contains("not implemented for rooms"), "{text}: {e}");
+    }
+}
