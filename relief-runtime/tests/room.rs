@@ -257,7 +257,7 @@ fn bad_room_files_give_one_line_errors_naming_key_and_file() {
         ("[walls.floor]\ndepth_scale = \"deep\"", "walls.floor.depth_scale", "expected number"),
         ("[walls.floor]\ndepth_scale = 0", "walls.floor.depth_scale", "positive"),
         ("[walls.left]\nheight_map = \"missing.png\"", "walls.left.height_map", "missing.png"),
-        ("[walls.left]\nhieght_map = \"a.png\"", "walls.left.hieght_map", "did you mean `height_map`"),
+        ("[walls.left]\nhieght_map = \"a.png\"", "walls.left.hieght_map", "did you mean `walls.left.height_map`"),
         ("[light]\npoint = [5, 5, 5]", "light.point", "inside the room"),
         ("[light]\npoint = [1, 1, -1]\ndirection = [0, 1, 0]", "light", "not both"),
         ("[camera]\nposition = [1, 1, -1]", "camera.position", "in front of the window"),

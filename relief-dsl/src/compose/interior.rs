@@ -449,17 +449,7 @@ fn probe_entry(m: &ModuleCtx, walls: &[StageFns]) -> naga::EntryPoint {
     let hit_rec = m.record_ty("RoomHit", &RoomHit::MEMBERS);
     let rays = storage_array(m, "room_rays", ray_rec, ROOM_RAYS, false);
     let hits = storage_array(m, "room_hits", hit_rec, ROOM_HITS, true);
-    use crate::ir::counter;
-    let counters = [counter::COARSE_STEPS, counter::REFINE_STEPS, counter::FETCHES].map(|name| {
-        m.global(name, |m| naga::GlobalVariable {
-            name: Some(name.into()),
-            space: naga::AddressSpace::Private,
-            binding: None,
-            ty: m.ty(u32::inner()),
-            init: None,
-            memory_decorations: Default::default(),
-        })
-    });
+    let counters = super::probe_counters(m);
     let s = m.function("probe_room", &[("id", m.ty(UVec3::inner()), Some(Binding::BuiltIn(BuiltIn::GlobalInvocationId)))]);
     let index = s.arg::<UVec3>(0).x();
     let rays_ptr = s.global_ptr(rays);

@@ -398,13 +398,11 @@ pub(crate) fn storage_array(m: &ModuleCtx, name: &str, item: Handle<naga::Type>,
     })
 }
 
-fn probe_entry(m: &ModuleCtx, fns: &StageFns, clip: bool, lod: Option<Handle<naga::Function>>) -> naga::EntryPoint {
-    let ray_rec = m.record_ty("ProbeRay", &ProbeRay::MEMBERS);
-    let hit_rec = m.record_ty("ProbeHit", &ProbeHit::MEMBERS);
-    let rays = storage_array(m, "rays", ray_rec, binding::RAYS, false);
-    let hits = storage_array(m, "hits", hit_rec, binding::HITS, true);
+/// The probe's private counters (coarse steps, refine steps, fetches), which the counted
+/// stage functions increment; an entry zeroes them per ray and stores them in its hit.
+pub(crate) fn probe_counters(m: &ModuleCtx) -> [Handle<naga::GlobalVariable>; 3] {
     use crate::ir::counter;
-    let counters = [counter::COARSE_STEPS, counter::REFINE_STEPS, counter::FETCHES].map(|name| {
+    [counter::COARSE_STEPS, counter::REFINE_STEPS, counter::FETCHES].map(|name| {
         m.global(name, |m| naga::GlobalVariable {
             name: Some(name.into()),
             space: naga::AddressSpace::Private,
@@ -413,7 +411,15 @@ fn probe_entry(m: &ModuleCtx, fns: &StageFns, clip: bool, lod: Option<Handle<nag
             init: None,
             memory_decorations: Default::default(),
         })
-    });
+    })
+}
+
+fn probe_entry(m: &ModuleCtx, fns: &StageFns, clip: bool, lod: Option<Handle<naga::Function>>) -> naga::EntryPoint {
+    let ray_rec = m.record_ty("ProbeRay", &ProbeRay::MEMBERS);
+    let hit_rec = m.record_ty("ProbeHit", &ProbeHit::MEMBERS);
+    let rays = storage_array(m, "rays", ray_rec, binding::RAYS, false);
+    let hits = storage_array(m, "hits", hit_rec, binding::HITS, true);
+    let counters = probe_counters(m);
 
     let s = m.function(
         "probe",

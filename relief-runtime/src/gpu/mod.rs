@@ -12,7 +12,7 @@ mod resources;
 pub use device::{Gpu, GpuError};
 pub use probe::{probe, GpuHit};
 pub use relief_dsl::abi::OUTSIDE_TOLERANCE;
-pub use render::{attachment, render, Readback, RenderResult};
+pub use render::{attachment, render, timed_frames, Frames, Readback, RenderResult, DEPTH_FORMAT, FORMAT};
 pub use resources::{SceneTextures, AMBIENT, MAX_RATIO};
 pub use crate::maps::MapKey;
 
@@ -72,24 +72,28 @@ impl Program {
     /// for one that does).
     pub fn from_compiled(c: &Compiled) -> Result<Program, relief_dsl::CompileError> {
         let wgsl = relief_dsl::emit::wgsl(c)?;
-        let used = |names: &[&str]| -> Vec<u32> {
-            let mut out = Vec::new();
-            for (i, ep) in c.module.entry_points.iter().enumerate() {
-                if !names.contains(&ep.name.as_str()) {
-                    continue;
-                }
-                let info = c.info.get_entry_point(i);
-                for (h, g) in c.module.global_variables.iter() {
-                    if let Some(b) = g.binding {
-                        if !info[h].is_empty() && !out.contains(&b.binding) {
-                            out.push(b.binding);
-                        }
-                    }
-                }
-            }
-            out.sort();
-            out
-        };
+        let used = |names: &[&str]| used_bindings(c, names);
         Ok(Program { wgsl, render_bindings: used(&["vs_main", "fs_main"]), probe_bindings: used(&["probe"]), maps: vec![], writes_depth: false, map_levels: false })
     }
+}
+
+/// The bindings the entry points `names` of a validated module use (naga's per-entry global
+/// usage), sorted: what a bind group for those entries must hold.
+pub fn used_bindings(c: &Compiled, names: &[&str]) -> Vec<u32> {
+    let mut out = Vec::new();
+    for (i, ep) in c.module.entry_points.iter().enumerate() {
+        if !names.contains(&ep.name.as_str()) {
+            continue;
+        }
+        let info = c.info.get_entry_point(i);
+        for (h, g) in c.module.global_variables.iter() {
+            if let Some(b) = g.binding {
+                if !info[h].is_empty() && !out.contains(&b.binding) {
+                    out.push(b.binding);
+                }
+            }
+        }
+    }
+    out.sort();
+    out
 }

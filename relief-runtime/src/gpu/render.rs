@@ -15,7 +15,8 @@ pub struct RenderResult {
     pub depth: Option<Vec<f32>>,
 }
 
-const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// The depth format of the timed renders.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// A `size²` render attachment that can be copied out (with [`Readback`]): for headless
 /// programs that draw with their own pipelines, as `examples/integrate.rs` does.
@@ -32,7 +33,8 @@ pub fn attachment(gpu: &Gpu, label: &str, size: u32, format: wgpu::TextureFormat
     })
 }
 
-const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// The colour format of the timed renders.
+pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 
 /// Renders `frames` timed frames (after `warmup` untimed ones) of `program` on `scene` at
 /// `size × size` pixels.
@@ -82,29 +84,53 @@ pub fn render(
             cache: None,
         })
     })?;
-    let target = attachment(gpu, "frame", size, FORMAT);
-    let view = target.create_view(&Default::default());
-    let depth_target = program.writes_depth.then(|| attachment(gpu, "depth", size, DEPTH_FORMAT));
-    let depth_view = depth_target.as_ref().map(|t| t.create_view(&Default::default()));
     let params = SceneTextures::params(gpu, scene, 1.0, scene.camera.pixel_size(size));
     let bg = tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), &program.render_bindings, &program.maps, program.map_levels, &params, &[])?;
-    let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
-        label: Some("frame times"),
-        ty: wgpu::QueryType::Timestamp,
-        count: 2 * frames,
-    });
-    let resolve = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size: 16 * frames as u64,
-        usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let ts_read = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size: 16 * frames as u64,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
+    let clear = wgpu::Color { r: 0.02, g: 0.02, b: 0.03, a: 1.0 };
+    let f = timed_frames(gpu, size, program.writes_depth, clear, warmup, frames, |pass| {
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bg, &[]);
+        pass.draw(0..4, 0..1);
+    })?;
+    Ok(RenderResult { frame_ms: f.frame_ms, rgba: f.rgba, size, depth: f.depth })
+}
+
+/// Timed frames and the last one.
+pub struct Frames {
+    /// GPU time of each timed frame's render pass, ms (render-pass timestamps).
+    pub frame_ms: Vec<f64>,
+    /// The last frame, RGBA8 (sRGB), rows from the top.
+    pub rgba: Vec<u8>,
+    /// The last frame's depth buffer (NDC depth, cleared to 1), with `with_depth`.
+    pub depth: Option<Vec<f32>>,
+}
+
+/// Renders `warmup` untimed then `frames` (at least 1) timed frames into a `size²` RGBA8
+/// target cleared to `clear` (and a `Depth32Float` depth cleared to 1 `with_depth`), each
+/// in its own submission so that frames do not overlap, timed by render-pass timestamps
+/// (compute-pass timestamps are wrong on lavapipe); `draw` records the pass's pipeline,
+/// bind groups and draw calls. `relief render` and the room's two renders use it.
+pub fn timed_frames(
+    gpu: &Gpu,
+    size: u32,
+    with_depth: bool,
+    clear: wgpu::Color,
+    warmup: u32,
+    frames: u32,
+    draw: impl Fn(&mut wgpu::RenderPass<'_>),
+) -> Result<Frames, GpuError> {
+    if !gpu.timestamps {
+        return Err(GpuError::Device(format!("the adapter {} has no timestamp queries, so frames cannot be timed", gpu.adapter)));
+    }
+    let frames = frames.max(1);
+    let target = attachment(gpu, "frame", size, FORMAT);
+    let view = target.create_view(&Default::default());
+    let depth_target = with_depth.then(|| attachment(gpu, "depth", size, DEPTH_FORMAT));
+    let depth_view = depth_target.as_ref().map(|t| t.create_view(&Default::default()));
+    let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor { label: Some("frame times"), ty: wgpu::QueryType::Timestamp, count: 2 * frames });
+    let buffer = |usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: None, size: 16 * frames as u64, usage, mapped_at_creation: false });
+    let resolve = buffer(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC);
+    let ts_read = buffer(wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
     let frame = |enc: &mut wgpu::CommandEncoder, timed: Option<u32>| {
         let ts = timed.map(|i| wgpu::RenderPassTimestampWrites {
             query_set: &queries,
@@ -117,7 +143,7 @@ pub fn render(
                 view: &view,
                 depth_slice: None,
                 resolve_target: None,
-                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color { r: 0.02, g: 0.02, b: 0.03, a: 1.0 }), store: wgpu::StoreOp::Store },
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Store },
             })],
             depth_stencil_attachment: depth_view.as_ref().map(|view| wgpu::RenderPassDepthStencilAttachment {
                 view,
@@ -128,11 +154,8 @@ pub fn render(
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bg, &[]);
-        pass.draw(0..4, 0..1);
+        draw(&mut pass);
     };
-    // Warm-up, then each timed frame in its own submission so frames do not overlap.
     let mut enc = gpu.device.create_command_encoder(&Default::default());
     for _ in 0..warmup {
         frame(&mut enc, None);
@@ -159,7 +182,7 @@ pub fn render(
         Some(d) => Some(bytemuck::pod_collect_to_vec::<u8, f32>(&d.read(gpu)?)),
         None => None,
     };
-    Ok(RenderResult { frame_ms, rgba, size, depth })
+    Ok(Frames { frame_ms, rgba, depth })
 }
 
 /// A copy of a `size²` attachment of 4-byte texels (RGBA8, or one aspect such as a

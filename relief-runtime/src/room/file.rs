@@ -36,7 +36,7 @@ use glam::Vec3;
 
 use super::{builtin, Room, RoomLight, WALL_NAMES};
 use crate::heightmap::{HeightMap, LoadOptions};
-use crate::scene::file::{load_normal_map, SceneFileError};
+use crate::scene::file::{check_toml_keys, load_normal_map, SceneFileError};
 use crate::scene::Rgba8Image;
 
 /// The keys of a room file and the type each holds (`*` stands for a wall's name).
@@ -74,53 +74,17 @@ fn pattern_of(full: &str) -> String {
     full.to_string()
 }
 
-fn describe(v: &toml::Value) -> String {
-    match v {
-        toml::Value::String(s) => format!("the string \"{s}\""),
-        toml::Value::Integer(i) => format!("the integer {i}"),
-        toml::Value::Float(f) => format!("the number {f}"),
-        toml::Value::Boolean(b) => format!("the boolean {b}"),
-        toml::Value::Datetime(d) => format!("the date {d}"),
-        toml::Value::Array(a) => format!("an array of {} values", a.len()),
-        toml::Value::Table(_) => "a table".into(),
-    }
-}
-
-fn check_keys(t: &toml::Table, prefix: &str) -> Result<(), (String, String)> {
-    for (k, v) in t {
-        let full = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
-        if prefix == "walls" && !WALL_NAMES.contains(&k.as_str()) {
-            let near = relief_dsl::spec::suggest::nearest(k, WALL_NAMES.iter().copied()).map(|n| format!(" (did you mean `{n}`?)")).unwrap_or_default();
-            return Err((full, format!("unknown wall{near}; walls: {}", WALL_NAMES.join(", "))));
-        }
-        let pat = pattern_of(&full);
-        let Some((_, ty)) = KEYS.iter().find(|(n, _)| *n == pat) else {
-            let pprefix = pattern_of(prefix);
-            let siblings: Vec<String> = KEYS
-                .iter()
-                .map(|(n, _)| *n)
-                .filter(|n| n.rsplit_once('.').map(|(p, _)| p).unwrap_or("") == pprefix)
-                .map(|n| n.rsplit('.').next().unwrap_or(n).to_string())
-                .collect();
-            let near = relief_dsl::spec::suggest::nearest(k, siblings.iter().map(|s| s.as_str()))
-                .map(|n| format!(" (did you mean `{n}`?)"))
-                .unwrap_or_default();
-            return Err((full, format!("unknown key{near}; known keys here: {}", siblings.join(", "))));
-        };
-        let ok = match *ty {
-            "number" => v.is_integer() || v.is_float(),
-            "string" => v.is_str(),
-            "table" => v.is_table(),
-            _ => v.as_array().is_some_and(|a| a.len() == 3 && a.iter().all(|x| x.is_integer() || x.is_float())),
-        };
-        if !ok {
-            return Err((full, format!("expected {ty}, found {}", describe(v))));
-        }
-        if let Some(sub) = v.as_table() {
-            check_keys(sub, &full)?;
+/// Checks the room file's keys ([`KEYS`]); a wall table must be one of [`WALL_NAMES`].
+fn check_keys(t: &toml::Table) -> Result<(), (String, String)> {
+    if let Some(toml::Value::Table(walls)) = t.get("walls") {
+        for k in walls.keys() {
+            if !WALL_NAMES.contains(&k.as_str()) {
+                let near = relief_dsl::spec::suggest::nearest(k, WALL_NAMES.iter().copied()).map(|n| format!(" (did you mean `{n}`?)")).unwrap_or_default();
+                return Err((format!("walls.{k}"), format!("unknown wall{near}; walls: {}", WALL_NAMES.join(", "))));
+            }
         }
     }
-    Ok(())
+    check_toml_keys(t, "", KEYS, &pattern_of)
 }
 
 fn num(v: &toml::Value) -> f32 {
@@ -143,7 +107,7 @@ pub fn load_room_file(path: &Path, map_size: Option<usize>) -> Result<Room, Scen
         let at = line.map(|l| format!(" at line {l}")).unwrap_or_default();
         err(None, format!("not valid TOML{at}: {}", e.message().trim().replace('\n', " ")))
     })?;
-    check_keys(&t, "").map_err(|(k, m)| err(Some(&k), m))?;
+    check_keys(&t).map_err(|(k, m)| err(Some(&k), m))?;
     build(path, &t, map_size).map_err(|(k, m)| err(Some(&k), m))
 }
 

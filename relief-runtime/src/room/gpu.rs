@@ -8,7 +8,7 @@ use relief_dsl::spec::MapReq;
 use relief_dsl::{CompileError, Pipeline};
 use wgpu::util::DeviceExt;
 
-use super::timing::{timed, Frames, FORMAT};
+use crate::gpu::{timed_frames, Frames, FORMAT};
 use super::{Room, RoomHit, RoomLight, RoomRay, WALLS};
 use crate::gpu::{Gpu, GpuError, MapKey, SceneTextures};
 
@@ -39,23 +39,10 @@ impl RoomProgram {
         let rc = compile_room(p, options)?;
         let c = &rc.compiled;
         let wgsl = relief_dsl::emit::wgsl(c)?;
-        let used = |name: &str| -> Vec<u32> {
-            let mut out = Vec::new();
-            for (i, ep) in c.module.entry_points.iter().enumerate() {
-                if ep.name != name && !(name == "fs_room" && ep.name == "vs_room") {
-                    continue;
-                }
-                let info = c.info.get_entry_point(i);
-                for (h, g) in c.module.global_variables.iter() {
-                    if let Some(b) = g.binding {
-                        if !info[h].is_empty() && !out.contains(&b.binding) {
-                            out.push(b.binding);
-                        }
-                    }
-                }
-            }
-            out.sort();
-            out
+        // The fragment entry's bind group also serves its vertex entry.
+        let used = |name: &str| match name {
+            "fs_room" => crate::gpu::used_bindings(c, &["vs_room", "fs_room"]),
+            other => crate::gpu::used_bindings(c, &[other]),
         };
         Ok(RoomProgram {
             pipeline: p.clone(),
@@ -212,7 +199,7 @@ pub fn render_interior(gpu: &Gpu, prog: &RoomProgram, room: &Room, tex: &RoomTex
     let pb = uniform(gpu, "params", bytemuck::bytes_of(&p));
     let rb = uniform(gpu, "room", bytemuck::bytes_of(&r));
     let bg = bind_group(gpu, &pipeline.get_bind_group_layout(0), &prog.render_bindings, prog, tex, &pb, &rb, &[])?;
-    timed(gpu, size, false, warmup, frames, |pass| {
+    timed_frames(gpu, size, false, super::CLEAR, warmup, frames, |pass| {
         pass.set_pipeline(&pipeline);
         pass.set_bind_group(0, &bg, &[]);
         pass.draw(0..4, 0..1);

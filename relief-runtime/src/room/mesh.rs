@@ -10,7 +10,7 @@
 
 use wgpu::util::DeviceExt;
 
-use super::timing::{timed, Frames, DEPTH_FORMAT, FORMAT};
+use crate::gpu::{timed_frames, Frames, DEPTH_FORMAT, FORMAT};
 use super::{Room, RoomLight, WALLS};
 use crate::gpu::{Gpu, GpuError};
 use crate::heightmap::EdgeMode;
@@ -185,7 +185,7 @@ pub fn render_geometry(gpu: &Gpu, room: &Room, mesh: &RoomMesh, size: u32, warmu
         RoomLight::Point(p) => (p, 1.0),
         RoomLight::Directional(d) => (d.normalize(), 0.0),
     };
-    let c = super::timing::CLEAR;
+    let c = super::CLEAR;
     let params = MeshParams {
         view_proj: room.camera.view_proj(1.0).to_cols_array(),
         light: [l.x, l.y, l.z, room.ambient],
@@ -204,7 +204,7 @@ pub fn render_geometry(gpu: &Gpu, room: &Room, mesh: &RoomMesh, size: u32, warmu
         })
     })?;
     let count = mesh.indices.len() as u32;
-    timed(gpu, size, true, warmup, frames, |pass| {
+    timed_frames(gpu, size, true, super::CLEAR, warmup, frames, |pass| {
         pass.set_pipeline(&pipeline);
         pass.set_bind_group(0, &bg, &[]);
         pass.set_vertex_buffer(0, vb.slice(..));

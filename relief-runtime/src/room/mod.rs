@@ -28,8 +28,10 @@ pub mod gpu;
 pub mod measure;
 pub mod mesh;
 pub mod sweep;
-mod timing;
-pub use timing::Frames;
+pub use crate::gpu::Frames;
+
+/// The clear colour of the room's two renders (outside the window), alpha 0: no wall there.
+pub(crate) const CLEAR: wgpu::Color = wgpu::Color { r: 0.02, g: 0.02, b: 0.03, a: 0.0 };
 
 use glam::{Mat4, Vec3};
 

@@ -119,28 +119,42 @@ pub fn load_scene_file(path: &Path) -> Result<Scene, SceneFileError> {
         let at = line.map(|l| format!(" at line {l}")).unwrap_or_default();
         err(None, format!("not valid TOML{at}: {}", e.message().trim().replace('\n', " ")))
     })?;
-    check_keys(&table, "").map_err(|(k, m)| err(Some(&k), m))?;
+    check_keys(&table).map_err(|(k, m)| err(Some(&k), m))?;
     let spec: FileSpec = FileSpec::deserialize(toml::Value::Table(table)).map_err(|e| err(None, e.message().trim().replace('\n', " ")))?;
     build(path, spec).map_err(|(k, m)| err(Some(k), m))
 }
 
-/// Checks every key of `t` (under `prefix`) against [`KEYS`]: unknown keys and wrong types.
-fn check_keys(t: &toml::Table, prefix: &str) -> Result<(), (String, String)> {
-    if prefix.is_empty() && !t.contains_key("height_map") {
-        return Err(("height_map".into(), "missing (a scene file needs `[height_map]` with `path = \"...\"`)".into()));
+/// Checks the scene file's keys ([`KEYS`], [`check_toml_keys`]) and the two it requires.
+fn check_keys(t: &toml::Table) -> Result<(), (String, String)> {
+    match t.get("height_map") {
+        None => return Err(("height_map".into(), "missing (a scene file needs `[height_map]` with `path = \"...\"`)".into())),
+        Some(toml::Value::Table(h)) if !h.contains_key("path") => {
+            return Err(("height_map.path".into(), "missing (the height map's file, relative to the scene file)".into()))
+        }
+        _ => {}
     }
-    if prefix == "height_map" && !t.contains_key("path") {
-        return Err(("height_map.path".into(), "missing (the height map's file, relative to the scene file)".into()));
-    }
+    check_toml_keys(t, "", KEYS, &|k| k.to_string())
+}
+
+/// Checks every key of the TOML table `t` (under the dotted `prefix`, "" at the top) against
+/// `keys` (dotted names and the type each holds; `pattern` maps a key to its entry there, as
+/// a room file maps a wall's name to `*`): an unknown key is named with the nearest known one
+/// beside it, a wrong type with what it found. Recurses into tables. Scene and room files
+/// share it.
+pub(crate) fn check_toml_keys(t: &toml::Table, prefix: &str, keys: &[(&str, &str)], pattern: &dyn Fn(&str) -> String) -> Result<(), (String, String)> {
     for (k, v) in t {
         let full = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
-        let Some((_, ty)) = KEYS.iter().find(|(n, _)| *n == full) else {
-            let siblings: Vec<&str> = KEYS
+        let Some((_, ty)) = keys.iter().find(|(n, _)| *n == pattern(&full)) else {
+            // The known keys beside this one, named under the actual prefix.
+            let here = pattern(prefix);
+            let siblings: Vec<String> = keys
                 .iter()
-                .map(|(n, _)| *n)
-                .filter(|n| n.rsplit_once('.').map(|(p, _)| p).unwrap_or("") == prefix)
+                .filter_map(|(n, _)| {
+                    let (parent, last) = n.rsplit_once('.').unwrap_or(("", n));
+                    (parent == here).then(|| if prefix.is_empty() { last.to_string() } else { format!("{prefix}.{last}") })
+                })
                 .collect();
-            let near = relief_dsl::spec::suggest::nearest(&full, siblings.iter().copied())
+            let near = relief_dsl::spec::suggest::nearest(&full, siblings.iter().map(|s| s.as_str()))
                 .map(|n| format!(" (did you mean `{n}`?)"))
                 .unwrap_or_default();
             return Err((full, format!("unknown key{near}; known keys here: {}", siblings.join(", "))));
@@ -155,7 +169,7 @@ fn check_keys(t: &toml::Table, prefix: &str) -> Result<(), (String, String)> {
             return Err((full, format!("expected {ty}, found {}", describe(v))));
         }
         if let Some(sub) = v.as_table() {
-            check_keys(sub, &full)?;
+            check_toml_keys(sub, &full, keys, pattern)?;
         }
     }
     Ok(())
