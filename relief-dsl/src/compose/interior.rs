@@ -483,9 +483,7 @@ fn probe_entry(m: &ModuleCtx, walls: &[StageFns]) -> naga::EntryPoint {
                 refine_steps.handle(),
                 converged.handle(),
             ];
-            for (i, v) in values.into_iter().enumerate() {
-                s.store(s.member_ptr(out, i as u32), v);
-            }
+            s.store_members(out, &values);
         });
     }
     let f = s.finish(None);

@@ -462,9 +462,7 @@ fn probe_entry(m: &ModuleCtx, fns: &StageFns, clip: bool, lod: Option<Handle<nag
         converged.handle(),
         clipped.handle(),
     ];
-    for (i, v) in values.into_iter().enumerate() {
-        s.store(s.member_ptr(out, i as u32), v);
-    }
+    s.store_members(out, &values);
     let f = s.finish(None);
     entry_point("probe", ShaderStage::Compute, f, [PROBE_WORKGROUP, 1, 1])
 }

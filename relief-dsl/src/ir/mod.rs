@@ -576,6 +576,13 @@ impl<'a> Stage<'a> {
     pub(crate) fn store(&self, ptr: Handle<Expression>, value: Handle<Expression>) {
         self.stmt(Statement::Store { pointer: ptr, value });
     }
+    /// Stores `values` into the members of the struct behind `ptr`, in member order (a probe
+    /// entry's hit record).
+    pub(crate) fn store_members(&self, ptr: Handle<Expression>, values: &[Handle<Expression>]) {
+        for (i, v) in values.iter().enumerate() {
+            self.store(self.member_ptr(ptr, i as u32), *v);
+        }
+    }
     /// Number of elements of the runtime-sized array behind `ptr`.
     pub(crate) fn array_length(&'a self, ptr: Handle<Expression>) -> Val<'a, u32> {
         self.wrap(self.expr(Expression::ArrayLength(ptr)))
