@@ -16,7 +16,7 @@
 use std::path::Path;
 
 use relief::dsl::emit::{self, LibraryFiles, LibraryOptions};
-use relief::runtime::gpu::{attachment, Gpu, Readback, SceneTextures};
+use relief::runtime::gpu::{draw_frame, Gpu, SceneTextures, DEPTH_FORMAT, FORMAT};
 use relief::runtime::heightmap::EdgeMode;
 use relief::runtime::scene::Scene;
 use relief::Pipeline;
@@ -117,8 +117,6 @@ pub fn run(pipeline: &Pipeline, scene: &Scene, size: u32) -> anyhow::Result<Fram
             source: wgpu::ShaderSource::Wgsl(shader_source(&lib).into()),
         })
     })?;
-    const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
-    const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
     let pipe = gpu.checked(|| {
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("material"),
@@ -212,39 +210,16 @@ pub fn run(pipeline: &Pipeline, scene: &Scene, size: u32) -> anyhow::Result<Fram
         gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("relief"), layout: &pipe.get_bind_group_layout(1), entries: &entries })
     })?;
 
-    let target = attachment(&gpu, "frame", size, FORMAT);
-    let view = target.create_view(&Default::default());
-    let depth_target = attachment(&gpu, "depth", size, DEPTH_FORMAT);
-    let depth_view = depth_target.create_view(&Default::default());
-    let mut enc = gpu.device.create_command_encoder(&Default::default());
-    {
-        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: None,
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color { r: 0.02, g: 0.02, b: 0.03, a: 1.0 }), store: wgpu::StoreOp::Store },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &depth_view,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+    // One headless frame with a depth attachment (relief's helper for offscreen programs).
+    let clear = wgpu::Color { r: 0.02, g: 0.02, b: 0.03, a: 1.0 };
+    let frame = draw_frame(&gpu, size, true, clear, |pass| {
         pass.set_pipeline(&pipe);
         pass.set_bind_group(0, &material, &[]);
         pass.set_bind_group(1, &relief_group, &[]);
         pass.set_vertex_buffer(0, vbuf.slice(..));
         pass.draw(0..6, 0..1);
-    }
-    let color = Readback::new(&gpu, &mut enc, &target, wgpu::TextureAspect::All, size);
-    let depth = Readback::new(&gpu, &mut enc, &depth_target, wgpu::TextureAspect::DepthOnly, size);
-    gpu.queue.submit([enc.finish()]);
-    Ok(Frame { rgba: color.read(&gpu)?, depth: bytemuck::pod_collect_to_vec(&depth.read(&gpu)?) })
+    })?;
+    Ok(Frame { rgba: frame.rgba, depth: frame.depth.expect("drawn with a depth attachment") })
 }
 
 #[allow(dead_code)]

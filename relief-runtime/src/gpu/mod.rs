@@ -12,7 +12,7 @@ mod resources;
 pub use device::{Gpu, GpuError};
 pub use probe::{probe, GpuHit};
 pub use relief_dsl::abi::OUTSIDE_TOLERANCE;
-pub use render::{attachment, render, timed_frames, Frames, Readback, RenderResult, DEPTH_FORMAT, FORMAT};
+pub use render::{draw_frame, render, timed_frames, Frames, RenderResult, DEPTH_FORMAT, FORMAT};
 pub use resources::{SceneTextures, AMBIENT, MAX_RATIO};
 pub use crate::maps::MapKey;
 

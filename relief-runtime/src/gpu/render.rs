@@ -18,9 +18,8 @@ pub struct RenderResult {
 /// The depth format of the timed renders.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
-/// A `size²` render attachment that can be copied out (with [`Readback`]): for headless
-/// programs that draw with their own pipelines, as `examples/integrate.rs` does.
-pub fn attachment(gpu: &Gpu, label: &str, size: u32, format: wgpu::TextureFormat) -> wgpu::Texture {
+/// A `size²` render attachment that can be copied out (with [`Readback`]).
+fn attachment(gpu: &Gpu, label: &str, size: u32, format: wgpu::TextureFormat) -> wgpu::Texture {
     gpu.device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
@@ -95,6 +94,67 @@ pub fn render(
     Ok(RenderResult { frame_ms: f.frame_ms, rgba: f.rgba, size, depth: f.depth })
 }
 
+/// A render pass into `view` cleared to `clear` (and `depth` cleared to 1), with `ts`.
+fn begin_pass<'e>(
+    enc: &'e mut wgpu::CommandEncoder,
+    view: &wgpu::TextureView,
+    depth: Option<&wgpu::TextureView>,
+    clear: wgpu::Color,
+    ts: Option<wgpu::RenderPassTimestampWrites<'_>>,
+) -> wgpu::RenderPass<'e> {
+    enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: None,
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Store },
+        })],
+        depth_stencil_attachment: depth.map(|view| wgpu::RenderPassDepthStencilAttachment {
+            view,
+            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: ts,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+/// One untimed frame into a `size²` RGBA8 target cleared to `clear` (and a `Depth32Float`
+/// depth cleared to 1 `with_depth`), read back: for headless programs that draw with their
+/// own pipelines (`examples/integrate.rs`). `draw` records the pass's pipeline, bind groups
+/// and draw calls; [`Frames::frame_ms`] is empty.
+pub fn draw_frame(gpu: &Gpu, size: u32, with_depth: bool, clear: wgpu::Color, draw: impl Fn(&mut wgpu::RenderPass<'_>)) -> Result<Frames, GpuError> {
+    let target = attachment(gpu, "frame", size, FORMAT);
+    let view = target.create_view(&Default::default());
+    let depth_target = with_depth.then(|| attachment(gpu, "depth", size, DEPTH_FORMAT));
+    let depth_view = depth_target.as_ref().map(|t| t.create_view(&Default::default()));
+    let mut enc = gpu.device.create_command_encoder(&Default::default());
+    draw(&mut begin_pass(&mut enc, &view, depth_view.as_ref(), clear, None));
+    read_frame(gpu, enc, &target, depth_target.as_ref(), size, Vec::new())
+}
+
+/// Copies the frame (and its depth) out after the work recorded in `enc`.
+fn read_frame(
+    gpu: &Gpu,
+    mut enc: wgpu::CommandEncoder,
+    target: &wgpu::Texture,
+    depth: Option<&wgpu::Texture>,
+    size: u32,
+    frame_ms: Vec<f64>,
+) -> Result<Frames, GpuError> {
+    let pixels = Readback::new(gpu, &mut enc, target, wgpu::TextureAspect::All, size);
+    let depth_pixels = depth.map(|t| Readback::new(gpu, &mut enc, t, wgpu::TextureAspect::DepthOnly, size));
+    gpu.queue.submit([enc.finish()]);
+    let rgba = pixels.read(gpu)?;
+    let depth = match depth_pixels {
+        Some(d) => Some(bytemuck::pod_collect_to_vec::<u8, f32>(&d.read(gpu)?)),
+        None => None,
+    };
+    Ok(Frames { frame_ms, rgba, depth })
+}
+
 /// Timed frames and the last one.
 pub struct Frames {
     /// GPU time of each timed frame's render pass, ms (render-pass timestamps).
@@ -137,24 +197,7 @@ pub fn timed_frames(
             beginning_of_pass_write_index: Some(2 * i),
             end_of_pass_write_index: Some(2 * i + 1),
         });
-        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: None,
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Store },
-            })],
-            depth_stencil_attachment: depth_view.as_ref().map(|view| wgpu::RenderPassDepthStencilAttachment {
-                view,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: ts,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        draw(&mut pass);
+        draw(&mut begin_pass(enc, &view, depth_view.as_ref(), clear, ts));
     };
     let mut enc = gpu.device.create_command_encoder(&Default::default());
     for _ in 0..warmup {
@@ -171,23 +214,16 @@ pub fn timed_frames(
     let mut enc = gpu.device.create_command_encoder(&Default::default());
     enc.resolve_query_set(&queries, 0..2 * frames, &resolve, 0);
     enc.copy_buffer_to_buffer(&resolve, 0, &ts_read, 0, 16 * frames as u64);
-    let pixels = Readback::new(gpu, &mut enc, &target, wgpu::TextureAspect::All, size);
-    let depth_pixels = depth_target.as_ref().map(|t| Readback::new(gpu, &mut enc, t, wgpu::TextureAspect::DepthOnly, size));
     gpu.queue.submit([enc.finish()]);
     let stamps: Vec<u64> = bytemuck::cast_slice(&gpu.read_buffer(&ts_read)?).to_vec();
     let period = gpu.queue.get_timestamp_period() as f64;
     let frame_ms = stamps.chunks(2).map(|p| p[1].saturating_sub(p[0]) as f64 * period / 1e6).collect();
-    let rgba = pixels.read(gpu)?;
-    let depth = match depth_pixels {
-        Some(d) => Some(bytemuck::pod_collect_to_vec::<u8, f32>(&d.read(gpu)?)),
-        None => None,
-    };
-    Ok(Frames { frame_ms, rgba, depth })
+    read_frame(gpu, gpu.device.create_command_encoder(&Default::default()), &target, depth_target.as_ref(), size, frame_ms)
 }
 
 /// A copy of a `size²` attachment of 4-byte texels (RGBA8, or one aspect such as a
 /// `Depth32Float` depth) into a mappable buffer, rows padded to wgpu's 256-byte alignment.
-pub struct Readback {
+struct Readback {
     buffer: wgpu::Buffer,
     row: u32,
     size: u32,
@@ -195,7 +231,7 @@ pub struct Readback {
 
 impl Readback {
     /// Records the copy of `texture`'s `aspect` into `enc`; submit `enc` before [`Readback::read`].
-    pub fn new(gpu: &Gpu, enc: &mut wgpu::CommandEncoder, texture: &wgpu::Texture, aspect: wgpu::TextureAspect, size: u32) -> Readback {
+    fn new(gpu: &Gpu, enc: &mut wgpu::CommandEncoder, texture: &wgpu::Texture, aspect: wgpu::TextureAspect, size: u32) -> Readback {
         let row = (size * 4).div_ceil(256) * 256;
         let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: None,
@@ -215,7 +251,7 @@ impl Readback {
     }
 
     /// The texels' bytes, rows unpadded, top row first.
-    pub fn read(&self, gpu: &Gpu) -> Result<Vec<u8>, GpuError> {
+    fn read(&self, gpu: &Gpu) -> Result<Vec<u8>, GpuError> {
         let padded = gpu.read_buffer(&self.buffer)?;
         let (row, width) = (self.row as usize, self.size as usize * 4);
         Ok((0..self.size as usize).flat_map(|y| padded[y * row..y * row + width].iter().copied()).collect())
