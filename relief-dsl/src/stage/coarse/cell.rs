@@ -179,16 +179,16 @@ pub(super) fn patch_root<'a>(
     s.select(in_span(root), from + root, -1.0)
 }
 
+/// A method's step in a cell march: from the ray point `p` in cell `c`, how far (in t) the
+/// method's cone lets the ray advance.
+pub(super) trait CellStep<'a>: Fn(&'a Stage<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32> {}
+impl<'a, F: Fn(&'a Stage<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32>> CellStep<'a> for F {}
+
 /// The march of the `form=safe` conservative cone methods: from the entry, `step(p, cell)`
 /// (a cone step from the cell's apex, never past the surface) while it leaves the cell;
 /// otherwise the cell's patch decides: the hit, or the cell's exit. Returns the bracket
 /// `[hit, hit]`, or, out of steps, the point reached (above the surface everywhere before it).
-pub(super) fn safe_march<'a>(
-    s: &'a Stage<'a>,
-    ray: &Ray<'a>,
-    steps: u32,
-    step: impl Fn(&'a Stage<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32>,
-) -> Bracket<'a> {
+pub(super) fn safe_march<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, step: impl CellStep<'a>) -> Bracket<'a> {
     let t = s.var("t", 0.0);
     let found = s.var("found", false);
     s.repeat(steps, |l| {
@@ -206,12 +206,7 @@ pub(super) fn safe_march<'a>(
 /// cell relaxed cone's guarantee), and the bracket `[previous point, point]` holds the first
 /// crossing. A step that stays in the cell is replaced by the patch's exact answer, as in
 /// [`safe_march`].
-pub(super) fn relaxed_march<'a>(
-    s: &'a Stage<'a>,
-    ray: &Ray<'a>,
-    steps: u32,
-    step: impl Fn(&'a Stage<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32>,
-) -> Bracket<'a> {
+pub(super) fn relaxed_march<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, step: impl CellStep<'a>) -> Bracket<'a> {
     let t = s.var("t", 0.0);
     let t_prev = s.var("t_prev", 0.0);
     let found = s.var("found", false);
