@@ -38,6 +38,13 @@ fn every_default_combination_passes_spirv_val_and_glslang() {
         "cns(10)+shadow=hard(rcs(8, start=bracket))+ao=cone_ratio",
         "mcns(10, 2)+interval(2)+shadow=hard(pcns(6, 3))",
         "sphere(20)+secant(3)+shadow=hard(sphere(10))",
+        // Sampling at a level: the stage-wide level, gathers as nearest samples, the cell
+        // map atlas of the safe cone methods, and the silhouette's discard.
+        "linear(32)+binary(5)+shadow=soft(16)+lod=auto",
+        "csm(15, form=textbook, sample=min4)+binary(5)+lod=level(1)",
+        "csm(15)+binary(5)+lod=auto",
+        "rcs(15)+interval(3)+shadow=hard(qcsm(8))+lod=auto",
+        "maxmip(32)+silhouette=clip",
         "qcsm(12)+shadow=hard(qcsm(12))",
     ] {
         all.push(extra.parse().unwrap_or_else(|e| panic!("{extra}: {e}")));

@@ -79,6 +79,44 @@ fn a_level_the_map_does_not_have_is_an_error() {
     assert!(e.contains("has only 5 mip levels"), "{e}");
 }
 
+/// The `form=safe` conservative cone methods at a level (the cells and cell maps of the level
+/// they sample) never end past the exact first hit on that level's surface — the property
+/// they have at level 0 (tests/cones.rs) — under `lod=auto` on real maps and `lod=level(2)`
+/// on one-texel boxes, both edge modes. The relaxed ones (`rcs`, `rcns`) bracket the first
+/// crossing, so after an exact refinement they agree with it.
+#[test]
+fn safe_cone_methods_at_a_level_never_pass_the_first_hit_of_that_level() {
+    let g = gpu();
+    let boxes = Scene::from_height_map("boxes", relief_runtime::stability::boxes(64, 5));
+    let cases = [(Scene::by_name("rocks", None).unwrap(), "lod=auto"), (Scene::by_name("four", None).unwrap(), "lod=auto"), (boxes, "lod=level(2)")];
+    for (scene, lod) in cases {
+        for edge in [EdgeMode::Repeat, EdgeMode::Clamp] {
+            let mut scene = scene.clone();
+            scene.edge = edge;
+            scene.camera.angle_deg = 60.0;
+            let mut prep = Prepared::new(&g, scene, 48).unwrap();
+            for method in ["csm(40)", "qcsm(40)", "cns(40)", "mcns(40, 2)", "pcns(40, 2)", "rcs(40)+interval(12)", "rcns(40)+interval(12)"] {
+                let text = format!("{method}+{lod}");
+                let p: relief_dsl::Pipeline = text.parse().unwrap();
+                prep.textures.add_maps_lod(&g, &prep.scene, &p.required_maps(), p.lod).unwrap();
+                let hits = gpu::probe(&g, &Program::new(&p).unwrap_or_else(|e| panic!("{text}: {e}")), &prep.scene, &prep.textures, &prep.rays).unwrap();
+                let (levels, refs) = prep.refs_for(p.lod).unwrap();
+                let (levels, refs) = (levels.to_vec(), refs.to_vec());
+                assert!(levels.iter().any(|&l| l >= 1), "{text}: every ray at level 0");
+                let a = metrics::Accuracy::of_levels(&prep.rays, &hits, &refs, &prep.textures.height_levels, &levels, edge);
+                let name = &prep.scene.name;
+                assert_eq!(a.nan, 0, "{text} on {name} {edge:?}");
+                if method.starts_with('r') {
+                    assert!(a.t_rms() < AGREE_T_RMS, "{text} on {name} {edge:?}: t error {}", a.t_rms());
+                } else {
+                    let bad: Vec<_> = hits.iter().zip(&refs).zip(&levels).filter_map(|((h, r), l)| r.filter(|r| h.t as f64 - r.t > 1e-5).map(|r| (h.t as f64 - r.t, *l))).collect();
+                    assert_eq!(a.past, 0, "{text} on {name} {edge:?}: {} of {} rays past the first hit: {:?}", a.past, a.rays, &bad[..bad.len().min(9)]);
+                }
+            }
+        }
+    }
+}
+
 /// Sampling level k of a map is sampling level 0 of a map that is level k: the probe's hits
 /// under `lod=level(2)` on a scene equal its hits under `lod=zero` on the same scene with
 /// level 2 of the height map's chain as its height map (same rays, same texels, the cone map
@@ -100,6 +138,11 @@ fn a_level_is_the_level_0_of_its_own_map() {
             "csm(60, form=textbook)+binary(5)",
             "csm(60, form=textbook, sample=min4)+binary(5)",
             "rcs(30, form=textbook)+secant(4)",
+            // The safe forms: the march over the level's cells and the level's cell maps
+            // (one atlas of every level's cell map).
+            "csm(60)+binary(5)",
+            "rcs(30)+secant(4)",
+            "pcns(30, 2)+binary(3)",
         ] {
             let at_level: relief_dsl::Pipeline = format!("{pipeline}+lod=level(2)").parse().unwrap();
             let at_zero: relief_dsl::Pipeline = pipeline.parse().unwrap();

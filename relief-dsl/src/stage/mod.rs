@@ -276,15 +276,34 @@ impl<'a> Stage<'a> {
         gather: bool,
         level: SampleLevel,
     ) -> Val<'a, Vec4> {
-        let m = self.module();
+        // The sampler is declared before the counter is touched, as it always was, so that
+        // globals keep their order in the emitted module.
+        self.sampler_global(filter);
+        if self.counting() {
+            self.count(crate::ir::counter::FETCHES);
+        }
+        self.image_sample_uncounted(tex, coordinate, filter, gather, level)
+    }
+
+    /// The sampler of `filter` (declared on first use).
+    fn sampler_global(&'a self, filter: Filter) -> naga::Handle<naga::GlobalVariable> {
         let (sname, sbind) = match filter {
             Filter::Linear => ("linear_sampler", binding::LINEAR_SAMPLER),
             Filter::Nearest => ("nearest_sampler", binding::NEAREST_SAMPLER),
         };
-        let smp = m.global(sname, |m| sampler(m, sname, sbind));
-        if self.counting() {
-            self.count(crate::ir::counter::FETCHES);
-        }
+        self.module().global(sname, |m| sampler(m, sname, sbind))
+    }
+
+    /// [`Stage::image_sample`] without counting a fetch.
+    fn image_sample_uncounted(
+        &'a self,
+        tex: naga::Handle<naga::GlobalVariable>,
+        coordinate: naga::Handle<Expression>,
+        filter: Filter,
+        gather: bool,
+        level: SampleLevel,
+    ) -> Val<'a, Vec4> {
+        let smp = self.sampler_global(filter);
         let image = self.expr(Expression::GlobalVariable(tex));
         let sampler = self.expr(Expression::GlobalVariable(smp));
         self.wrap(self.expr(Expression::ImageSample {
@@ -309,60 +328,51 @@ impl<'a> Stage<'a> {
         self.image_sample(tex, uv.handle(), filter, false, level)
     }
 
-    /// The first channel of the four texels a bilinear sample of `tex` at `uv` blends, in
-    /// gather order, at the stage-wide level.
+    /// The first channel of the four texels a bilinear sample of the map `name` (bound at
+    /// `map_binding`) at `uv` blends, in gather order, at the stage-wide level.
     ///
     /// WGSL's `textureGather` has no level argument (it reads level 0), so at a level other
-    /// than zero the four texels are loaded one by one with `textureLoad` from that level,
-    /// addressed exactly as the sampler addresses them: with `(w, h)` the level's size, the
-    /// lower-left texel is `(i, j) = floor(uv·(w, h) − ½)` and the four are `(i, j+1),
-    /// (i+1, j+1), (i+1, j), (i, j)`; under repeat the indices wrap modulo the size, under
-    /// clamp they are clamped to `[0, size − 1]` ([`Stage::edge_is_clamp`]). The probe
-    /// counts them as one fetch, the one gather they stand for, so that fetch counts compare
-    /// across levels.
-    fn gather_2d(&'a self, tex: naga::Handle<naga::GlobalVariable>, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
+    /// than zero the four texels are read one by one: with `(w, h)` the level's size, the
+    /// lower-left texel is `(i, j) = floor(uv·(w, h) − ½)`, and each of `(i, j+1), (i+1, j+1),
+    /// (i+1, j), (i, j)` is a nearest sample at its texel centre on that level, so the
+    /// sampler applies the edge mode exactly as the bilinear sample does. Not `textureLoad`
+    /// and `textureDimensions` at the level: the level differs between neighbouring rays
+    /// under `lod=auto`, and lavapipe answers those two with another lane's level (measured:
+    /// safe CSM rays ended up to 0.4 in t past the first hit where neighbouring pixels
+    /// sampled different levels, while the same rays at one fixed level were exact). The
+    /// probe counts the four as one fetch, the one gather they stand for, so that fetch counts
+    /// compare across levels.
+    fn gather_2d(&'a self, name: &str, map_binding: u32, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
         let Some(level) = self.sample_level() else {
+            let tex = self.module().global(name, |m| texture_2d(m, name, map_binding));
             return self.image_sample(tex, uv.handle(), Filter::Linear, true, SampleLevel::Zero);
         };
         if self.counting() {
             self.count(crate::ir::counter::FETCHES);
         }
-        let li = level.to_u32();
-        let image = self.expr(Expression::GlobalVariable(tex));
-        let size_u = self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::Size { level: Some(li.handle()) } });
-        let size: Val<'a, Vec2> = self.wrap(self.expr(Expression::As { expr: size_u, kind: ScalarKind::Float, convert: Some(4) }));
+        let nearest = format!("{name}_nearest");
+        let tex = self.module().global(&nearest, |m| texture_2d(m, &nearest, map_binding + binding::NEAREST_OFFSET));
+        let size = self.level_size(name, map_binding, level);
         let base = (uv * size - 0.5).floor();
-        let clamp = self.edge_is_clamp();
-        // One axis: the texel indices i and i + 1 under the edge mode (whole numbers in f32,
-        // exact below 2^24).
-        let axis = |b: Val<'a, f32>, n: Val<'a, f32>| -> (Val<'a, f32>, Val<'a, f32>) {
-            let r0 = b - n * (b / n).floor();
-            // Rounding of b / n can leave r0 one period off: bring it into [0, n).
-            let r0 = self.select(r0.ge(n), r0 - n, r0);
-            let r0 = self.select(r0.lt(0.0), r0 + n, r0);
-            let r1 = r0 + 1.0;
-            let r1 = self.select(r1.ge(n), r1 - n, r1);
-            let last = n - 1.0;
-            let c0 = b.clamp(0.0, last);
-            let c1 = (b + 1.0).clamp(0.0, last);
-            (self.select(clamp, c0, r0), self.select(clamp, c1, r1))
+        let texel = |dx: f32, dy: f32| -> Val<'a, f32> {
+            let centre = (base + self.vec2(dx + 0.5, dy + 0.5)) / size;
+            self.image_sample_uncounted(tex, centre.handle(), Filter::Nearest, false, SampleLevel::Exact(level.handle())).x()
         };
-        let (i0, i1) = axis(base.x(), size.x());
-        let (j0, j1) = axis(base.y(), size.y());
-        let load = |i: Val<'a, f32>, j: Val<'a, f32>| -> Val<'a, f32> {
-            let image = self.expr(Expression::GlobalVariable(tex));
-            let coordinate = self.vec2(i, j).to_u32().handle();
-            let texel: Val<'a, Vec4> = self.wrap(self.expr(Expression::ImageLoad {
-                image,
-                coordinate,
-                array_index: None,
-                sample: None,
-                level: Some(li.handle()),
-            }));
-            texel.x()
-        };
-        let (a, b, c, d) = (load(i0, j1), load(i1, j1), load(i1, j0), load(i0, j0));
+        let (a, b, c, d) = (texel(0.0, 1.0), texel(1.0, 1.0), texel(1.0, 0.0), texel(0.0, 0.0));
         self.vec4(self.vec3(self.vec2(a, b), c), d)
+    }
+
+    /// The size in texels of level `level` of the map `name` (as floats): level 0's size
+    /// halved `level` times, exact because every level of relief's chains is half the one
+    /// before (`maps::mips` stops before an odd side). Not `textureDimensions` at the level,
+    /// which lavapipe gets wrong when the level differs between lanes (see [`Stage::gather_2d`]).
+    fn level_size(&'a self, name: &str, map_binding: u32, level: Val<'a, f32>) -> Val<'a, Vec2> {
+        let tex = self.module().global(name, |m| texture_2d(m, name, map_binding));
+        let image = self.expr(Expression::GlobalVariable(tex));
+        let zero = self.lit_u32(0).handle();
+        let size = self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::Size { level: Some(zero) } });
+        let size0: Val<'a, Vec2> = self.wrap(self.expr(Expression::As { expr: size, kind: ScalarKind::Float, convert: Some(4) }));
+        size0 * (-level).exp2()
     }
 
     /// Samples the 2D map `map` (bound at `map_binding`) at `uv`, level 0 (explicit, so
@@ -399,16 +409,13 @@ impl<'a> Stage<'a> {
     /// texel.
     pub fn map_gather(&'a self, map: MapReq, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
         self.no_level_map(map);
-        let name = map.texture_name();
-        let tex = self.module().global(&name, |m| texture_2d(m, &name, map.binding()));
-        self.gather_2d(tex, uv)
+        self.gather_2d(&map.texture_name(), map.binding(), uv)
     }
 
     /// The four heights a bilinear sample at `uv` blends (see [`Stage::map_gather`]), at the
     /// stage-wide level.
     pub fn height_gather(&'a self, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
-        let tex = self.module().global("height_map", |m| texture_2d(m, "height_map", binding::HEIGHT));
-        self.gather_2d(tex, uv)
+        self.gather_2d("height_map", binding::HEIGHT, uv)
     }
 
     /// Only maps with a mip chain of their own level's data ([`MapReq::has_levels`]) may be
@@ -452,11 +459,46 @@ impl<'a> Stage<'a> {
     /// The size of level 0 of the height map in texels, as floats (its users address level-0
     /// cells, and read maps that [`Stage::map_texel`] refuses at another level).
     pub fn height_map_size(&'a self) -> Val<'a, Vec2> {
-        let tex = self.module().global("height_map", |m| texture_2d(m, "height_map", binding::HEIGHT));
+        match self.sample_level() {
+            None => {
+                let tex = self.module().global("height_map", |m| texture_2d(m, "height_map", binding::HEIGHT));
+                let image = self.expr(Expression::GlobalVariable(tex));
+                let level = self.lit_u32(0).handle();
+                let size = self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::Size { level: Some(level) } });
+                self.wrap(self.expr(Expression::As { expr: size, kind: ScalarKind::Float, convert: Some(4) }))
+            }
+            Some(l) => self.level_size("height_map", binding::HEIGHT, l),
+        }
+    }
+
+    /// The entry of cell `index` in the cell map `map` (one load, no filtering), for the cells
+    /// of the level the stage samples.
+    ///
+    /// Under a `lod` other than zero the runtime uploads a cell map as an atlas of the cell
+    /// maps of every level of the height map's chain, stacked by rows from level 0 down, each
+    /// at the left edge (cells of a level: `w_k × h_k` under repeat, `(w_k + 1) × (h_k + 1)`
+    /// under clamp, see `stage::coarse::cell`). Every level of the chain is half the one
+    /// before (the chain stops before an odd side), so the rows above level k number
+    /// `Σ_{j<k} h_j = 2·h_0 − 2·h_k`, plus k under clamp: the cell's row is offset by that.
+    pub fn cell_map_texel(&'a self, map: MapReq, index: Val<'a, Vec2>) -> Val<'a, Vec4> {
+        let name = map.texture_name();
+        let tex = self.module().global(&name, |m| texture_2d(m, &name, map.binding()));
+        if self.counting() {
+            self.count(crate::ir::counter::FETCHES);
+        }
+        let coords = match self.sample_level() {
+            None => index.to_u32(),
+            Some(l) => {
+                let hk = self.level_size("height_map", binding::HEIGHT, l).y();
+                let h0 = hk * l.exp2();
+                let borders = self.select(self.edge_is_clamp(), l, self.lit(0.0));
+                let rows = h0 * 2.0 - hk * 2.0 + borders;
+                self.vec2(index.x(), index.y() + rows).to_u32()
+            }
+        };
         let image = self.expr(Expression::GlobalVariable(tex));
-        let level = self.lit_u32(0).handle();
-        let size = self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::Size { level: Some(level) } });
-        self.wrap(self.expr(Expression::As { expr: size, kind: ScalarKind::Float, convert: Some(4) }))
+        let level = self.lit_u32(0);
+        self.wrap(self.expr(Expression::ImageLoad { image, coordinate: coords.handle(), array_index: None, sample: None, level: Some(level.handle()) }))
     }
 
     /// The number of mip levels of the height map, as a float.

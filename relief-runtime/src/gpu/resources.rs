@@ -164,17 +164,23 @@ impl SceneTextures {
                 if self.level_maps.contains_key(&key) {
                     continue;
                 }
-                if !req.has_levels() {
-                    return Err(crate::maps::MapError::Params {
-                        kind,
-                        message: format!("the {} map has no per-level form (lod={lod})", req.name()),
-                    });
-                }
-                let mut map = crate::maps::build(&chain[0], kind, &params, scene.edge)?;
-                for level in &chain[1..] {
-                    map.mips.push(crate::maps::build(level, kind, &params, scene.edge)?);
-                }
-                let view = upload_map(gpu, &map, map.channels, kind.is_ratio());
+                let view = if kind.is_cell() {
+                    // Cell maps: every level's cells in one atlas (see `maps::cell::level_atlas`).
+                    let atlas = crate::maps::cell::level_atlas(&chain, kind, &params, scene.edge)?;
+                    upload_map(gpu, &atlas, atlas.channels - 1, kind.is_ratio())
+                } else {
+                    if !req.has_levels() {
+                        return Err(crate::maps::MapError::Params {
+                            kind,
+                            message: format!("the {} map has no per-level form (lod={lod})", req.name()),
+                        });
+                    }
+                    let mut map = crate::maps::build(&chain[0], kind, &params, scene.edge)?;
+                    for level in &chain[1..] {
+                        map.mips.push(crate::maps::build(level, kind, &params, scene.edge)?);
+                    }
+                    upload_map(gpu, &map, map.channels, kind.is_ratio())
+                };
                 self.level_maps.insert(key, view);
             }
             return Ok(());

@@ -14,7 +14,7 @@
 //! where the ray leaves C. So every pass leaves a cell or ends the search, none stalls, and
 //! the search never ends past the first intersection.
 
-use crate::ir::{Stage, UVec2, Val, Var, Vec2, Vec3, Vec4};
+use crate::ir::{Stage, Val, Var, Vec2, Vec3, Vec4};
 use crate::spec::MapReq;
 use crate::stage::{Bracket, Ray};
 
@@ -33,8 +33,8 @@ pub(super) struct Cell<'a> {
     pub corners: Val<'a, Vec4>,
     /// `A_C`, the highest corner: the apex of the cell's cones.
     pub apex: Val<'a, f32>,
-    /// Where the cell's cones are stored in a cell map.
-    pub index: Val<'a, UVec2>,
+    /// Where the cell's cones are stored in a cell map (whole texel coordinates).
+    pub index: Val<'a, Vec2>,
     /// Horizontal distance (texture units) from the point to the square the stored cone
     /// belongs to.
     pub dist: Val<'a, f32>,
@@ -66,7 +66,7 @@ pub(super) fn cell_at<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> C
         s.select(v.abs().lt(1e-12), s.lit(f32::MAX), to / v)
     };
     let exit = (t + exit_along(cell.x(), x.x(), speed.x()).min(exit_along(cell.y(), x.y(), speed.y()))).min(ray.t_max());
-    Cell { size, cell, corners, apex, index: index.to_u32(), dist: dist.named("dist"), exit: exit.named("exit") }
+    Cell { size, cell, corners, apex, index, dist: dist.named("dist"), exit: exit.named("exit") }
 }
 
 fn sign<'a>(s: &'a Stage<'a>, v: Val<'a, f32>) -> Val<'a, f32> {
@@ -102,7 +102,7 @@ impl<'a> Cell<'a> {
     /// Channel values of the cell's entry in the cell map `map` (one load, no filtering: a
     /// blend of two cells' cones is neither cell's cone).
     pub fn cones(&self, s: &'a Stage<'a>, map: MapReq) -> Val<'a, Vec4> {
-        s.map_texel(map, self.index, s.lit_u32(0))
+        s.cell_map_texel(map, self.index)
     }
 
     /// The height above the cone's apex that a step may descend through: the point's height
