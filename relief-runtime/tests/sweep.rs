@@ -165,7 +165,7 @@ fn a_lod_auto_sweep_runs_on_every_main_scene() {
     std::fs::remove_dir_all(&dir).ok();
     std::fs::create_dir_all(&dir).unwrap();
     let grid = dir.join("lod.grid");
-    std::fs::write(&grid, "coarse: [linear(8), csm(4, form=textbook)]\nrefine: binary(2)\nshadow: [none, hard(8)]\nlod: [zero, auto]\n").unwrap();
+    std::fs::write(&grid, "coarse: [linear(8), csm(4, form=[safe, textbook])]\nrefine: binary(2)\nshadow: [none, hard(8)]\nlod: [zero, auto]\n").unwrap();
     let out = dir.join("out");
     let scenes = relief_runtime::sweep::grids::FIVE_SCENES;
     let mut cmd = relief();
@@ -176,7 +176,7 @@ fn a_lod_auto_sweep_runs_on_every_main_scene() {
     let o = cmd.args(["--size", "32", "--frames", "2", "--out"]).arg(&out).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let all = rows(&out);
-    assert_eq!(all.len(), 2 * 2 * 2 * scenes.len());
+    assert_eq!(all.len(), 3 * 2 * 2 * scenes.len());
     for r in &all {
         assert_eq!(r["status"], "ok", "{r}");
         assert_eq!(r["nan_count"], 0, "{r}");
@@ -184,7 +184,7 @@ fn a_lod_auto_sweep_runs_on_every_main_scene() {
     }
     for s in scenes {
         let auto = all.iter().filter(|r| r["pipeline"].as_str().unwrap().ends_with("+lod=auto") && r["scene"].as_str().unwrap().ends_with(s)).count();
-        assert_eq!(auto, 4, "{s}");
+        assert_eq!(auto, 6, "{s}");
     }
     let o = relief().arg("report").arg(&out).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

@@ -188,11 +188,11 @@ mod tests {
         assert_eq!(all[0].cells.len(), 13);
         // Table 4.3 is the union of its two halves (7 + 7).
         assert_eq!(all[2].cells.len(), 14);
-        // `lod` is Tables 4.1, 4.2 and 4.7 (textbook only) twice, on three scenes: 13 linear
-        // searches (4.2's and 4.7's linear ones among them), 2 × 6 with binary, 10 csm, each
-        // with lod zero and auto. None of its lod=auto cells is in the dissertation's union.
+        // `lod` is Tables 4.1, 4.2 and 4.7 twice, on three scenes: 13 linear searches (4.2's
+        // and 4.7's linear ones among them), 2 × 6 with binary, 10 csm in each of two forms,
+        // each with lod zero and auto. None of its lod=auto cells is in the dissertation's union.
         let lod = all.iter().find(|g| g.name == "lod").unwrap();
-        assert_eq!(lod.cells.len(), (13 + 12 + 10) * 2 * 3);
+        assert_eq!(lod.cells.len(), (13 + 12 + 20) * 2 * 3);
         assert!(diss.cells.iter().all(|(p, _)| p.lod == relief_dsl::spec::Lod::Zero));
     }
 
