@@ -400,3 +400,29 @@ fn a_safe_cone_pipeline_reads_each_walls_own_cone_map() {
     let past = hits.iter().zip(&refs).filter(|(h, (w, r))| h.wall as usize != *w || r.is_none_or(|r| h.t as f64 > r.t + relief_runtime::metrics::PAST_SLACK)).count();
     assert_eq!(past, 0, "{past} of {} rays past the first hit or on another wall", rays.len());
 }
+
+/// The room grid resumes: a second run over the same folder keeps the cells the first
+/// measured (same rows, same frame times) and measures none.
+#[test]
+fn the_room_grid_resumes_where_it_stopped() {
+    use relief_runtime::room::measure::RoomSetup;
+    use relief_runtime::room::sweep;
+    let dir = std::env::temp_dir().join(format!("relief-room-resume-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    let setup = RoomSetup { size: 24, grid: 16, warmup: 0, frames: 1 };
+    let rooms = vec!["room:default".to_string()];
+    let first = sweep::run(&rooms, &setup, &dir).unwrap();
+    assert_eq!((first.measured, first.skipped), (sweep::variants().len(), 0));
+    assert!(first.rows.iter().all(|r| r.status == "ok"), "{:?}", first.rows);
+    let again = sweep::run(&rooms, &setup, &dir).unwrap();
+    assert_eq!((again.measured, again.skipped), (0, sweep::variants().len()));
+    // The kept rows are the first run's (its frame times, which a re-measure would not repeat;
+    // JSON keeps them to the digit).
+    let key = |rows: &[sweep::RoomRow]| rows.iter().map(|r| (r.room.clone(), r.variant.clone(), r.frame_ms, r.baseline_ms)).collect::<Vec<_>>();
+    assert_eq!(key(&again.rows), key(&first.rows));
+    // Another frame size is other cells.
+    let bigger = sweep::run(&rooms, &RoomSetup { size: 32, ..setup }, &dir).unwrap();
+    assert_eq!(bigger.measured, sweep::variants().len());
+    assert_eq!(sweep::read_rows(&dir).unwrap().unwrap().len(), 2 * sweep::variants().len());
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -1,8 +1,10 @@
 //! The room grid of `relief sweep --grid rooms`: seed 003's comparison (§3.1.3) of interior
 //! mapping alone, + POM, + soft shadows, + light scattering, each against the same room as
 //! real geometry, on every room asked for. Rows go to `DIR/rooms.jsonl` (rewritten whole,
-//! atomically, after every cell), pictures to `DIR/rooms/ROOM/VARIANT/`; `relief report DIR`
-//! reads them into its room section.
+//! atomically, after every cell, so a kill loses at most the cell in flight), pictures to
+//! `DIR/rooms/ROOM/VARIANT/`; a rerun keeps the cells already measured at the same size and
+//! grid and measures the rest (a failed cell again). `relief report DIR` reads the rows into
+//! its room section.
 
 use std::path::{Path, PathBuf};
 
@@ -119,18 +121,37 @@ fn folder(s: &str) -> String {
     s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect()
 }
 
-/// Measures every variant in every room of `rooms` (`room:NAME` or room files) and writes
-/// the rows; returns them.
-pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> anyhow::Result<Vec<RoomRow>> {
+/// What [`run`] did.
+pub struct RoomSweep {
+    /// Every row of the folder: those kept from earlier runs, then the new ones.
+    pub rows: Vec<RoomRow>,
+    /// Cells measured by this run.
+    pub measured: usize,
+    /// Cells kept from an earlier run.
+    pub skipped: usize,
+}
+
+/// Measures every variant in every room of `rooms` (`room:NAME` or room files) that the
+/// folder's rows do not already hold (ok, same size and grid) and writes the rows.
+pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> anyhow::Result<RoomSweep> {
     std::fs::create_dir_all(out)?;
+    let earlier = read_rows(out)?.unwrap_or_default();
+    let same_cell = |r: &RoomRow, room: &str, variant: &str| r.room == room && r.variant == variant && r.size == setup.size && r.grid == setup.grid;
     let gpu = Gpu::new()?;
-    let mut rows = Vec::new();
+    // Failed cells are measured again: only ok rows are kept.
+    let mut rows: Vec<RoomRow> = earlier.into_iter().filter(|r| r.status == "ok").collect();
+    let (mut measured, mut skipped) = (0, 0);
     for arg in rooms {
         let (room, warnings) = room_from_arg(Some(arg), None).map_err(anyhow::Error::msg)?;
         for w in &warnings {
             eprintln!("relief: warning: {w}");
         }
         for v in variants() {
+            if rows.iter().any(|r| same_cell(r, &room.name, v.label)) {
+                skipped += 1;
+                continue;
+            }
+            measured += 1;
             let p: Pipeline = v.pipeline.parse().map_err(|e| anyhow::anyhow!("{}: {e}", v.pipeline))?;
             let mut row = RoomRow {
                 room: room.name.clone(),
@@ -163,5 +184,5 @@ pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> anyhow::Result<Ve
             crate::io::write_atomic(&rows_path(out), text.as_bytes())?;
         }
     }
-    Ok(rows)
+    Ok(RoomSweep { rows, measured, skipped })
 }

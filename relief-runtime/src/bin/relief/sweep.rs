@@ -87,12 +87,13 @@ fn run_rooms(a: &SweepArgs) -> anyhow::Result<()> {
     let rooms: Vec<String> = if a.scene.is_empty() { sweep::DEFAULT_ROOMS.iter().map(|s| s.to_string()).collect() } else { a.scene.clone() };
     let setup = relief_runtime::room::measure::RoomSetup { size: a.size, grid: relief_runtime::room::mesh::DEFAULT_GRID, warmup: 3, frames: a.frames };
     let start = std::time::Instant::now();
-    let rows = sweep::run(&rooms, &setup, &a.out)?;
-    let failed = rows.iter().filter(|r| r.status != "ok").count();
+    let s = sweep::run(&rooms, &setup, &a.out)?;
+    let failed = s.rows.iter().filter(|r| r.status != "ok").count();
     println!(
-        "{} room cells: {} measured, {failed} failed, in {:.1} s → {}",
-        rows.len(),
-        rows.len() - failed,
+        "{} room cells: {} measured, {failed} failed, {} already done, in {:.1} s → {}",
+        s.rows.len(),
+        s.measured,
+        s.skipped,
         start.elapsed().as_secs_f64(),
         sweep::rows_path(&a.out).display()
     );
