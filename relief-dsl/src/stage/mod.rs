@@ -335,13 +335,14 @@ impl<'a> Stage<'a> {
     /// than zero the four texels are read one by one: with `(w, h)` the level's size, the
     /// lower-left texel is `(i, j) = floor(uv·(w, h) − ½)`, and each of `(i, j+1), (i+1, j+1),
     /// (i+1, j), (i, j)` is a nearest sample at its texel centre on that level, so the
-    /// sampler applies the edge mode exactly as the bilinear sample does. Not `textureLoad`
-    /// and `textureDimensions` at the level: the level differs between neighbouring rays
-    /// under `lod=auto`, and lavapipe answers those two with another lane's level (measured:
-    /// safe CSM rays ended up to 0.4 in t past the first hit where neighbouring pixels
-    /// sampled different levels, while the same rays at one fixed level were exact). The
-    /// probe counts the four as one fetch, the one gather they stand for, so that fetch counts
-    /// compare across levels.
+    /// sampler applies the edge mode exactly as the bilinear sample does. The level's size
+    /// comes from [`Stage::level_size`], not from `textureDimensions` at the level: the level
+    /// differs between neighbouring rays under `lod=auto`, and lavapipe answers
+    /// `textureDimensions` at such a level with another lane's level (measured: safe CSM rays
+    /// ended up to 0.46 in t past the first hit where neighbouring pixels sampled different
+    /// levels, while the same rays at one fixed level were exact; `textureLoad` at such a
+    /// level is right). The probe counts the four as one fetch, the one gather they stand
+    /// for, so that fetch counts compare across levels.
     fn gather_2d(&'a self, name: &str, map_binding: u32, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
         let Some(level) = self.sample_level() else {
             let tex = self.module().global(name, |m| texture_2d(m, name, map_binding));
