@@ -45,6 +45,7 @@ fn every_default_combination_passes_spirv_val_and_glslang() {
         "csm(15)+binary(5)+lod=auto",
         "rcs(15)+interval(3)+shadow=hard(qcsm(8))+lod=auto",
         "maxmip(32)+silhouette=clip",
+        "maxmip(32)+interval(2)+lod=auto",
         "qcsm(12)+shadow=hard(qcsm(12))",
     ] {
         all.push(extra.parse().unwrap_or_else(|e| panic!("{extra}: {e}")));

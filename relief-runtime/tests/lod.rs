@@ -19,6 +19,7 @@ fn measure(g: &Gpu, pipeline: &str, scene: Scene, size: u32) -> (Metrics, Vec<us
     let p: relief_dsl::Pipeline = pipeline.parse().unwrap();
     let program = Program::new(&p).unwrap_or_else(|e| panic!("{pipeline}: {e}"));
     let mut prep = Prepared::new(g, scene, size).unwrap();
+    prep.textures.add_maps_lod(g, &prep.scene, &p.required_maps(), p.lod).unwrap();
     let hits = gpu::probe(g, &program, &prep.scene, &prep.textures, &prep.rays).unwrap_or_else(|e| panic!("{e}"));
     let (levels, refs) = prep.refs_for(p.lod).unwrap();
     let (levels, refs) = (levels.to_vec(), refs.to_vec());
@@ -41,8 +42,11 @@ fn lod_auto_meets_the_reference_of_the_footprint_level_on_real_maps() {
     for (name, edge) in [("rocks", EdgeMode::Repeat), ("four", EdgeMode::Clamp), ("rocks", EdgeMode::Clamp)] {
         let mut scene = Scene::by_name(name, None).unwrap();
         scene.edge = edge;
-        let (m, levels) = measure(&g, "linear(400)+interval(8)+lod=auto", scene, 64);
+        let (m, levels) = measure(&g, "linear(400)+interval(8)+lod=auto", scene.clone(), 64);
         eprintln!("{name} {edge:?}: t_rms {} levels {:?}..={:?}", m.ref_err_t_rms, levels.iter().min(), levels.iter().max());
+        // maxmip walks every cell of the level it samples: exact there too.
+        let (mm, _) = measure(&g, "maxmip(128)+lod=auto", scene, 64);
+        assert!(mm.ref_err_t_rms < AGREE_T_RMS && mm.missed_rate == 0.0, "maxmip on {name} {edge:?}: t error {}, missed {}", mm.ref_err_t_rms, mm.missed_rate);
         // At 64² pixels a 256² map is minified: the footprint is above one texel, so the
         // rays sample levels above 0 (else the test would not test the levels).
         assert!(levels.iter().any(|&l| l >= 1), "{name}: all rays at level 0");
@@ -143,6 +147,8 @@ fn a_level_is_the_level_0_of_its_own_map() {
             "csm(60)+binary(5)",
             "rcs(30)+secant(4)",
             "pcns(30, 2)+binary(3)",
+            // The max-mip pyramid over the level's cells (one array layer per level).
+            "maxmip(64)",
         ] {
             let at_level: relief_dsl::Pipeline = format!("{pipeline}+lod=level(2)").parse().unwrap();
             let at_zero: relief_dsl::Pipeline = pipeline.parse().unwrap();

@@ -202,13 +202,17 @@ pub enum Filter {
 }
 
 fn texture(m: &crate::ir::ModuleCtx, name: &str, binding: u32, dim: ImageDimension) -> naga::GlobalVariable {
+    texture_of(m, name, binding, dim, false)
+}
+
+fn texture_of(m: &crate::ir::ModuleCtx, name: &str, binding: u32, dim: ImageDimension, arrayed: bool) -> naga::GlobalVariable {
     naga::GlobalVariable {
         name: Some(name.to_string()),
         space: naga::AddressSpace::Handle,
         binding: Some(naga::ResourceBinding { group: 0, binding }),
         ty: m.ty(TypeInner::Image {
             dim,
-            arrayed: false,
+            arrayed,
             class: ImageClass::Sampled { kind: ScalarKind::Float, multi: false },
         }),
         init: None,
@@ -429,12 +433,25 @@ impl<'a> Stage<'a> {
         }
     }
 
-    /// The texel `coords` of mip level `level` of a map (no filtering). Refused under a `lod`
-    /// other than zero: the callers address level-0 cells or their own pyramid.
+    /// The texel `coords` of mip level `level` of a map (no filtering).
+    ///
+    /// Under a `lod` other than zero only the max-mip pyramid has a form per level: the
+    /// runtime uploads the pyramid of every level of the height map's chain as the layers of
+    /// one array texture (layer k: the pyramid over level k's cells, its level j in the
+    /// top-left of mip j), so the read takes layer k, the stage-wide level, and the
+    /// pyramid's level `level` as the mip (`textureLoad` at a lane-varying mip is right on
+    /// lavapipe; `textureDimensions` is not, see [`Stage::gather_2d`]). Any other map is
+    /// refused there: its texels are level-0 cells.
     pub fn map_texel(&'a self, map: MapReq, coords: Val<'a, crate::ir::UVec2>, level: Val<'a, u32>) -> Val<'a, Vec4> {
-        self.no_level(map.name());
+        let layer = match self.sample_level() {
+            Some(l) if map == MapReq::MaxMip => Some(l.to_u32()),
+            _ => {
+                self.no_level(map.name());
+                None
+            }
+        };
         let name = map.texture_name();
-        let tex = self.module().global(&name, |m| texture_2d(m, &name, map.binding()));
+        let tex = self.module().global(&name, |m| texture_of(m, &name, map.binding(), ImageDimension::D2, layer.is_some()));
         if self.counting() {
             self.count(crate::ir::counter::FETCHES);
         }
@@ -442,7 +459,7 @@ impl<'a> Stage<'a> {
         self.wrap(self.expr(Expression::ImageLoad {
             image,
             coordinate: coords.handle(),
-            array_index: None,
+            array_index: layer.map(|l| l.handle()),
             sample: None,
             level: Some(level.handle()),
         }))

@@ -164,7 +164,11 @@ impl SceneTextures {
                 if self.level_maps.contains_key(&key) {
                     continue;
                 }
-                let view = if kind.is_cell() {
+                let view = if kind == MapKind::MaxMip {
+                    // The pyramid of every level's cells, one layer each (see `upload_layers`).
+                    let pyramids = chain.iter().map(|h| crate::maps::build(h, kind, &params, scene.edge)).collect::<Result<Vec<_>, _>>()?;
+                    upload_layers(gpu, &pyramids)
+                } else if kind.is_cell() {
                     // Cell maps: every level's cells in one atlas (see `maps::cell::level_atlas`).
                     let atlas = crate::maps::cell::level_atlas(&chain, kind, &params, scene.edge)?;
                     upload_map(gpu, &atlas, atlas.channels - 1, kind.is_ratio())
@@ -327,6 +331,50 @@ fn upload_map(gpu: &Gpu, map: &crate::maps::Map, used: usize, ratio: bool) -> wg
         bytemuck::cast_slice(&data),
     );
     t.create_view(&Default::default())
+}
+
+/// One-channel pyramids (`layers[k]`: a [`crate::maps::Map`] whose `mips` are its coarser
+/// levels) as the layers of one `R32Float` 2D array texture with a mip chain: layer k's level
+/// j sits in the top-left corner of mip j, the rest is 0. The max-mip pyramids of the levels
+/// of the height map's chain fit that way (level k's pyramid level j has `w_0 >> (k + j)`
+/// texels a side, at most mip j's `w_0 >> j`); a stage sampling at level k reads layer k
+/// (relief-dsl's `Stage::map_texel`). Mips past the texture's chain are dropped: the
+/// traversal starts at `floor(log2 n)`, the chain's last mip.
+fn upload_layers(gpu: &Gpu, layers: &[crate::maps::Map]) -> wgpu::TextureView {
+    let (w0, h0) = (layers[0].width, layers[0].height);
+    let mip_count = (usize::BITS - w0.max(h0).leading_zeros()) as usize;
+    let mut data = Vec::new();
+    for p in layers {
+        let levels: Vec<&crate::maps::Map> = std::iter::once(p).chain(&p.mips).collect();
+        for j in 0..mip_count {
+            let (mw, mh) = ((w0 >> j).max(1), (h0 >> j).max(1));
+            let mut mip = vec![0.0f32; mw * mh];
+            if let Some(l) = levels.get(j) {
+                for y in 0..l.height.min(mh) {
+                    for x in 0..l.width.min(mw) {
+                        mip[y * mw + x] = l.data[(y * l.width + x) * l.channels];
+                    }
+                }
+            }
+            data.extend(mip);
+        }
+    }
+    let t = gpu.device.create_texture_with_data(
+        &gpu.queue,
+        &wgpu::TextureDescriptor {
+            label: Some("map layers"),
+            size: wgpu::Extent3d { width: w0 as u32, height: h0 as u32, depth_or_array_layers: layers.len() as u32 },
+            mip_level_count: mip_count as u32,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytemuck::cast_slice(&data),
+    );
+    t.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() })
 }
 
 /// Ambient light share in the render.
