@@ -440,7 +440,7 @@ impl<'a> Stage<'a> {
     /// one array texture (layer k: the pyramid over level k's cells, its level j in the
     /// top-left of mip j), so the read takes layer k, the stage-wide level, and the
     /// pyramid's level `level` as the mip (`textureLoad` at a lane-varying mip is right on
-    /// lavapipe; `textureDimensions` is not, see [`Stage::gather_2d`]). Any other map is
+    /// lavapipe; `textureDimensions` is not, see the private `gather_2d`). Any other map is
     /// refused there: its texels are level-0 cells.
     pub fn map_texel(&'a self, map: MapReq, coords: Val<'a, crate::ir::UVec2>, level: Val<'a, u32>) -> Val<'a, Vec4> {
         let layer = match self.sample_level() {
