@@ -79,3 +79,24 @@ fn rooms_refuse_the_pipeline_options_they_do_not_implement() {
         assert!(e.to_string().contains(says) && e.to_string().contains("not implemented for rooms"), "{text}: {e}");
     }
 }
+
+/// The room's records are laid out by naga as the Rust structs the runtime uploads and reads
+/// (one field list declares both): same size, and member k at the struct's offset of field k.
+#[test]
+fn room_records_match_their_rust_structs() {
+    use relief::dsl::compose::interior::{RoomHit, RoomParams, RoomRay};
+    let p: relief::Pipeline = "linear(4)".parse().unwrap();
+    let rc = compile_room(&p, &RoomOptions::default()).unwrap();
+    let module = &rc.compiled.module;
+    let span_of = |name: &str| -> (u32, Vec<u32>) {
+        let ty = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("no type {name}")).1;
+        match &ty.inner {
+            naga::TypeInner::Struct { members, span } => (*span, members.iter().map(|m| m.offset).collect()),
+            other => panic!("{name} is {other:?}"),
+        }
+    };
+    assert_eq!(span_of("RoomParams"), (std::mem::size_of::<RoomParams>() as u32, vec![0, 16, 32, 48]));
+    assert_eq!(span_of("RoomRay"), (std::mem::size_of::<RoomRay>() as u32, vec![0, 16]));
+    assert_eq!(span_of("RoomHit"), (std::mem::size_of::<RoomHit>() as u32, (0..8).map(|i| 4 * i).collect()));
+    assert_eq!(std::mem::offset_of!(RoomHit, converged), 28);
+}

@@ -88,8 +88,50 @@ pub enum Member {
     Mat4,
 }
 
+/// The shader type of a record field, from its Rust type (what the records' `MEMBERS` list).
+pub trait AbiType {
+    /// The member type.
+    const MEMBER: Member;
+}
+impl AbiType for f32 {
+    const MEMBER: Member = Member::F32;
+}
+impl AbiType for u32 {
+    const MEMBER: Member = Member::U32;
+}
+impl AbiType for [f32; 2] {
+    const MEMBER: Member = Member::Vec2;
+}
+impl AbiType for [f32; 3] {
+    const MEMBER: Member = Member::Vec3;
+}
+impl AbiType for [f32; 4] {
+    const MEMBER: Member = Member::Vec4;
+}
+impl AbiType for [f32; 16] {
+    const MEMBER: Member = Member::Mat4;
+}
+
+/// Declares a `#[repr(C)]` record and, from the same field list, its `MEMBERS` as the shader
+/// declares them (each field's [`AbiType`]), so that the two cannot drift apart.
+macro_rules! abi_record {
+    ($(#[$meta:meta])* pub struct $name:ident { $($(#[$fmeta:meta])* pub $field:ident: $ty:ty,)* }) => {
+        $(#[$meta])*
+        #[repr(C)]
+        pub struct $name {
+            $($(#[$fmeta])* pub $field: $ty,)*
+        }
+        impl $name {
+            /// The members as the shader declares them, in order.
+            pub const MEMBERS: &'static [(&'static str, $crate::abi::Member)] =
+                &[$((stringify!($field), <$ty as $crate::abi::AbiType>::MEMBER)),*];
+        }
+    };
+}
+pub(crate) use abi_record;
+
+abi_record! {
 /// The `Params` uniform block (144 bytes).
-#[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Params {
     /// Tangent space → clip space, column-major.
@@ -110,6 +152,7 @@ pub struct Params {
     /// xyz: the camera's unit up vector; w: 0.
     pub pixel_up: [f32; 4],
 }
+}
 
 /// A member of [`Params`], in order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -126,18 +169,6 @@ pub enum Param {
     PixelRight,
     /// [`Params::pixel_up`].
     PixelUp,
-}
-
-impl Params {
-    /// The members as the shader declares them, in order.
-    pub const MEMBERS: [(&'static str, Member); 6] = [
-        ("view_proj", Member::Mat4),
-        ("camera", Member::Vec4),
-        ("light", Member::Vec4),
-        ("quad", Member::Vec4),
-        ("pixel_right", Member::Vec4),
-        ("pixel_up", Member::Vec4),
-    ];
 }
 
 impl Param {
@@ -175,7 +206,7 @@ pub struct ProbeRay {
 impl ProbeRay {
     /// The members as the shader declares them (`dir` split into `dir_xy` and `dir_z`, so
     /// that no member needs 16-byte alignment).
-    pub const MEMBERS: [(&'static str, Member); 6] = [
+    pub const MEMBERS: &'static [(&'static str, Member)] = &[
         ("origin", Member::Vec2),
         ("dir_xy", Member::Vec2),
         ("dir_z", Member::F32),
@@ -190,8 +221,8 @@ impl ProbeRay {
     }
 }
 
+abi_record! {
 /// One probe hit, 36 bytes: the search's raw result, never clamped into the volume.
-#[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct ProbeHit {
     /// The ray parameter of the hit.
@@ -216,21 +247,9 @@ pub struct ProbeHit {
     /// the ray counts as "no hit". The raw hit above is still reported. 0 otherwise.
     pub clipped: u32,
 }
+}
 
 impl ProbeHit {
-    /// The members as the shader declares them, in order.
-    pub const MEMBERS: [(&'static str, Member); 9] = [
-        ("t", Member::F32),
-        ("u", Member::F32),
-        ("v", Member::F32),
-        ("z", Member::F32),
-        ("coarse_steps", Member::U32),
-        ("refine_steps", Member::U32),
-        ("fetches", Member::U32),
-        ("converged", Member::U32),
-        ("clipped", Member::U32),
-    ];
-
     /// Loop passes over both stages.
     pub fn iterations(&self) -> u32 {
         self.coarse_steps + self.refine_steps

@@ -29,7 +29,7 @@ use bytemuck::{Pod, Zeroable};
 use naga::{Binding, BuiltIn, Module, ShaderStage, TypeInner};
 
 use super::{build_stage_fns, entry_point, location, storage_array, StageFns};
-use crate::abi::{binding, Member, Param, PROBE_WORKGROUP};
+use crate::abi::{abi_record, binding, Param, PROBE_WORKGROUP};
 use crate::ir::{Mat4, ModuleCtx, Stage, Ty, UVec3, Val, Vec2, Vec3, Vec4};
 use crate::spec::Pipeline;
 use crate::stage::{Filter, Hit, Ray};
@@ -73,11 +73,11 @@ pub struct RoomCompiled {
     pub wall_bindings: Vec<WallBinding>,
 }
 
+abi_record! {
 /// The room block (64 bytes) at binding [`ROOM_PARAMS`]. The `Params` block is shared
 /// with plain modules and holds, for a room: `view_proj` world → clip, `camera.xyz` the
 /// camera in world units, `light.xyz` the unit vector toward a directional light or the
 /// position of a point light, `light.w` the ambient share, `quad.y = 1` (walls clamp).
-#[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct RoomParams {
     /// Width W, height H, depth D of the room (world units); w: 1 when the window has an
@@ -91,16 +91,11 @@ pub struct RoomParams {
     /// outside the window (`z > 0`), w its intensity.
     pub sun: [f32; 4],
 }
-
-impl RoomParams {
-    /// The members as the shader declares them.
-    pub const MEMBERS: [(&'static str, Member); 4] =
-        [("size", Member::Vec4), ("depth_a", Member::Vec4), ("depth_b", Member::Vec4), ("sun", Member::Vec4)];
 }
 
+abi_record! {
 /// One ray of `probe_room` (32 bytes): from `origin` (world, the camera) along `dir` (world,
 /// any length); the fourth components are padding.
-#[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct RoomRay {
     /// The ray's origin in world units (w: 0).
@@ -108,14 +103,10 @@ pub struct RoomRay {
     /// The ray's direction (w: 0).
     pub dir: [f32; 4],
 }
-
-impl RoomRay {
-    /// The members as the shader declares them.
-    pub const MEMBERS: [(&'static str, Member); 2] = [("origin", Member::Vec4), ("dir", Member::Vec4)];
 }
 
+abi_record! {
 /// What `probe_room` reports per ray (32 bytes).
-#[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct RoomHit {
     /// The wall the ray meets ([`WALL_NAMES`]).
@@ -135,19 +126,6 @@ pub struct RoomHit {
     /// 1 when the coarse search found the surface.
     pub converged: u32,
 }
-
-impl RoomHit {
-    /// The members as the shader declares them.
-    pub const MEMBERS: [(&'static str, Member); 8] = [
-        ("wall", Member::U32),
-        ("t", Member::F32),
-        ("u", Member::F32),
-        ("v", Member::F32),
-        ("z", Member::F32),
-        ("coarse_steps", Member::U32),
-        ("refine_steps", Member::U32),
-        ("converged", Member::U32),
-    ];
 }
 
 /// A wall's frame in world units: the point at `(u, v, z) = (0, 0, 1)`, the edges along
@@ -223,7 +201,7 @@ fn room_param<'a>(s: &'a Stage<'a>, i: u32) -> Val<'a, Vec4> {
         name: Some("room".into()),
         space: naga::AddressSpace::Uniform,
         binding: Some(naga::ResourceBinding { group: 0, binding: ROOM_PARAMS }),
-        ty: m.record_ty("RoomParams", &RoomParams::MEMBERS),
+        ty: m.record_ty("RoomParams", RoomParams::MEMBERS),
         init: None,
         memory_decorations: Default::default(),
     });
@@ -445,8 +423,8 @@ fn fragment_entry(m: &ModuleCtx, walls: &[StageFns], options: &RoomOptions) -> n
 }
 
 fn probe_entry(m: &ModuleCtx, walls: &[StageFns]) -> naga::EntryPoint {
-    let ray_rec = m.record_ty("RoomRay", &RoomRay::MEMBERS);
-    let hit_rec = m.record_ty("RoomHit", &RoomHit::MEMBERS);
+    let ray_rec = m.record_ty("RoomRay", RoomRay::MEMBERS);
+    let hit_rec = m.record_ty("RoomHit", RoomHit::MEMBERS);
     let rays = storage_array(m, "room_rays", ray_rec, ROOM_RAYS, false);
     let hits = storage_array(m, "room_hits", hit_rec, ROOM_HITS, true);
     let counters = super::probe_counters(m);

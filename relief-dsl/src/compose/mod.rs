@@ -415,8 +415,8 @@ pub(crate) fn probe_counters(m: &ModuleCtx) -> [Handle<naga::GlobalVariable>; 3]
 }
 
 fn probe_entry(m: &ModuleCtx, fns: &StageFns, clip: bool, lod: Option<Handle<naga::Function>>) -> naga::EntryPoint {
-    let ray_rec = m.record_ty("ProbeRay", &ProbeRay::MEMBERS);
-    let hit_rec = m.record_ty("ProbeHit", &ProbeHit::MEMBERS);
+    let ray_rec = m.record_ty("ProbeRay", ProbeRay::MEMBERS);
+    let hit_rec = m.record_ty("ProbeHit", ProbeHit::MEMBERS);
     let rays = storage_array(m, "rays", ray_rec, binding::RAYS, false);
     let hits = storage_array(m, "hits", hit_rec, binding::HITS, true);
     let counters = probe_counters(m);

@@ -272,23 +272,6 @@ impl<'a> Stage<'a> {
         }
     }
 
-    fn image_sample(
-        &'a self,
-        tex: naga::Handle<naga::GlobalVariable>,
-        coordinate: naga::Handle<Expression>,
-        filter: Filter,
-        gather: bool,
-        level: SampleLevel,
-    ) -> Val<'a, Vec4> {
-        // The sampler is declared before the counter is touched, as it always was, so that
-        // globals keep their order in the emitted module.
-        self.sampler_global(filter);
-        if self.counting() {
-            self.count(crate::ir::counter::FETCHES);
-        }
-        self.image_sample_uncounted(tex, coordinate, filter, gather, level)
-    }
-
     /// The sampler of `filter` (declared on first use).
     fn sampler_global(&'a self, filter: Filter) -> naga::Handle<naga::GlobalVariable> {
         let (sname, sbind) = match filter {
@@ -298,16 +281,23 @@ impl<'a> Stage<'a> {
         self.module().global(sname, |m| sampler(m, sname, sbind))
     }
 
-    /// [`Stage::image_sample`] without counting a fetch.
-    fn image_sample_uncounted(
+    /// One `textureSample*` of `tex` through the sampler of `filter`; `counted`: it counts
+    /// one fetch in the probe variant (a gather at a level counts its four samples once).
+    fn image_sample(
         &'a self,
         tex: naga::Handle<naga::GlobalVariable>,
         coordinate: naga::Handle<Expression>,
         filter: Filter,
         gather: bool,
         level: SampleLevel,
+        counted: bool,
     ) -> Val<'a, Vec4> {
+        // The sampler is declared before the counter is touched, as it always was, so that
+        // globals keep their order in the emitted module.
         let smp = self.sampler_global(filter);
+        if counted && self.counting() {
+            self.count(crate::ir::counter::FETCHES);
+        }
         let image = self.expr(Expression::GlobalVariable(tex));
         let sampler = self.expr(Expression::GlobalVariable(smp));
         self.wrap(self.expr(Expression::ImageSample {
@@ -329,7 +319,7 @@ impl<'a> Stage<'a> {
             None => SampleLevel::Zero,
             Some(l) => SampleLevel::Exact(l.handle()),
         };
-        self.image_sample(tex, uv.handle(), filter, false, level)
+        self.image_sample(tex, uv.handle(), filter, false, level, true)
     }
 
     /// The first channel of the four texels a bilinear sample of the map `name` (bound at
@@ -350,7 +340,7 @@ impl<'a> Stage<'a> {
     fn gather_2d(&'a self, name: &str, map_binding: u32, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
         let Some(level) = self.sample_level() else {
             let tex = self.module().global(name, |m| texture_2d(m, name, map_binding));
-            return self.image_sample(tex, uv.handle(), Filter::Linear, true, SampleLevel::Zero);
+            return self.image_sample(tex, uv.handle(), Filter::Linear, true, SampleLevel::Zero, true);
         };
         if self.counting() {
             self.count(crate::ir::counter::FETCHES);
@@ -361,7 +351,7 @@ impl<'a> Stage<'a> {
         let base = (uv * size - 0.5).floor();
         let texel = |dx: f32, dy: f32| -> Val<'a, f32> {
             let centre = (base + self.vec2(dx + 0.5, dy + 0.5)) / size;
-            self.image_sample_uncounted(tex, centre.handle(), Filter::Nearest, false, SampleLevel::Exact(level.handle())).x()
+            self.image_sample(tex, centre.handle(), Filter::Nearest, false, SampleLevel::Exact(level.handle()), false).x()
         };
         let (a, b, c, d) = (texel(0.0, 1.0), texel(1.0, 1.0), texel(1.0, 0.0), texel(0.0, 0.0));
         self.vec4(self.vec3(self.vec2(a, b), c), d)
@@ -471,7 +461,7 @@ impl<'a> Stage<'a> {
         let name = map.texture_name();
         self.no_level(map.name());
         let tex = self.module().global(&name, |m| texture(m, &name, map.binding(), ImageDimension::D3));
-        self.image_sample(tex, p.handle(), Filter::Linear, false, SampleLevel::Zero).x()
+        self.image_sample(tex, p.handle(), Filter::Linear, false, SampleLevel::Zero, true).x()
     }
 
     /// The size of level 0 of the height map in texels, as floats (its users address level-0
@@ -538,7 +528,7 @@ impl<'a> Stage<'a> {
             name: Some("params".into()),
             space: naga::AddressSpace::Uniform,
             binding: Some(naga::ResourceBinding { group: 0, binding: binding::PARAMS }),
-            ty: m.record_ty("Params", &Params::MEMBERS),
+            ty: m.record_ty("Params", Params::MEMBERS),
             init: None,
             memory_decorations: Default::default(),
         });
