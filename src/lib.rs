@@ -24,6 +24,8 @@
 //! assert_eq!(p, "linear(10)+binary(5)".parse().unwrap());
 //! ```
 
+#![warn(missing_docs)]
+
 // The macros name their types `::relief::dsl::…`; this makes that path work inside this
 // crate too.
 extern crate self as relief;

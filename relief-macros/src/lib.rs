@@ -94,6 +94,8 @@
 //! let p = relief::relief! { coarse: linear(32), lod: autp }; // unknown lod value `autp`; did you mean `auto`?
 //! ```
 
+#![warn(missing_docs)]
+
 use proc_macro::TokenStream;
 use proc_macro2::TokenStream as TokenStream2;
 use quote::quote;

@@ -25,8 +25,12 @@ impl EdgeMode {
 /// A height map: `width * height` heights in [0, 1], row-major (row y = v).
 #[derive(Clone, Debug, PartialEq)]
 pub struct HeightMap {
+    /// Texels per row: the count along x (u).
     pub width: usize,
+    /// Rows: the count along y (v).
     pub height: usize,
+    /// The heights, row by row: texel (x, y) is `data[y * width + x]`. Each is in [0, 1],
+    /// 1 being the top of the relief volume.
     pub data: Vec<f32>,
 }
 
@@ -97,9 +101,14 @@ pub const MAX_TEXELS: usize = MAX_SIDE * MAX_SIDE;
 /// A channel of a colour image to read heights from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Channel {
+    /// Red: sample 0 of a pixel.
     R,
+    /// Green: sample 1 of a pixel.
     G,
+    /// Blue: sample 2 of a pixel.
     B,
+    /// Alpha: the last sample of a gray+alpha or colour+alpha pixel (sample 3 in a
+    /// `[h, w, c]` `.npy` array).
     A,
 }
 
@@ -142,28 +151,91 @@ pub struct LoadOptions {
 /// Why a height map could not be loaded. Every variant names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum HeightMapError {
+    /// Nothing exists at the path.
     #[error("{path}: file not found")]
-    Missing { path: PathBuf },
+    Missing {
+        /// The file asked for.
+        path: PathBuf,
+    },
+    /// The file exists but opening or reading it failed.
     #[error("{path}: cannot read: {source}")]
     Io {
+        /// The file.
         path: PathBuf,
+        /// The operating system's error.
         #[source]
         source: std::io::Error,
     },
+    /// The extension is none of `.png`, `.tga`, `.bmp`, `.exr`, `.npy` (case is ignored).
     #[error("{path}: unsupported file type (expected .png, .tga, .bmp, .exr or .npy)")]
-    Unsupported { path: PathBuf },
+    Unsupported {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The image decoder failed, or the `.npy` header, shape or data length is invalid.
     #[error("{path}: corrupt or unreadable image: {message}")]
-    Corrupt { path: PathBuf, message: String },
+    Corrupt {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, from the decoder or the `.npy` parser.
+        message: String,
+    },
+    /// The width or the height is 0 (for `.npy`, also a channel count of 0).
     #[error("{path}: the image has zero size ({width} x {height})")]
-    ZeroSize { path: PathBuf, width: usize, height: usize },
+    ZeroSize {
+        /// The file.
+        path: PathBuf,
+        /// Width in texels, as the header states it.
+        width: usize,
+        /// Height in texels, as the header states it.
+        height: usize,
+    },
+    /// A side is larger than [`MAX_SIDE`]; found from the header, before decoding.
     #[error("{path}: {width} x {height} texels exceeds the limit of {max} x {max}", max = MAX_SIDE)]
-    TooLarge { path: PathBuf, width: usize, height: usize },
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Width in texels, as the header states it.
+        width: usize,
+        /// Height in texels, as the header states it.
+        height: usize,
+    },
+    /// [`LoadOptions::channel`] names a channel the file does not have (a colour channel
+    /// of a gray image, alpha of an image without alpha, or past the last `.npy` channel).
     #[error("{path}: channel `{channel}` does not exist in this {layout} image", channel = channel.letter())]
-    MissingChannel { path: PathBuf, channel: Channel, layout: String },
+    MissingChannel {
+        /// The file.
+        path: PathBuf,
+        /// The channel asked for.
+        channel: Channel,
+        /// What the file holds, for the message: the decoder's colour type (e.g. `L8`) or
+        /// `"N-channel npy"`.
+        layout: String,
+    },
+    /// A height is NaN or infinite (only float files can hold one).
     #[error("{path}: texel ({x}, {y}) is not a finite number ({value})")]
-    NotFinite { path: PathBuf, x: usize, y: usize, value: f32 },
+    NotFinite {
+        /// The file.
+        path: PathBuf,
+        /// Column of the first bad texel.
+        x: usize,
+        /// Row of the first bad texel.
+        y: usize,
+        /// Its value.
+        value: f32,
+    },
+    /// A height is below 0 or above 1 (only float files can hold one).
     #[error("{path}: texel ({x}, {y}) = {value} lies outside [0, 1]")]
-    OutOfRange { path: PathBuf, x: usize, y: usize, value: f32 },
+    OutOfRange {
+        /// The file.
+        path: PathBuf,
+        /// Column of the first bad texel.
+        x: usize,
+        /// Row of the first bad texel.
+        y: usize,
+        /// Its value.
+        value: f32,
+    },
 }
 
 impl HeightMap {

@@ -5,6 +5,8 @@
 //! [`reference`](mod@reference); [`gpu`]; [`metrics`]; [`measure`]; [`sweep`], [`stability`]; [`report`].
 //! The `relief` command line lives in `src/bin/relief/` and the library never calls it.
 
+#![warn(missing_docs)]
+
 pub mod io;
 pub mod picture;
 pub mod results;

@@ -60,26 +60,40 @@ pub const PAST_SLACK: f64 = 1e-5;
 /// none is a false hit.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Accuracy {
+    /// Rays scored: the shortest of the ray, hit and reference lists.
     pub rays: usize,
     /// Σ (h(hit.uv) − hit.z)² over all rays (Burger §4.1).
     pub mse_sum: f64,
     /// Rays the reference hits (the t and uv errors are over these).
     pub both: usize,
+    /// Σ (t − t_ref)² over the `both` rays (a non-finite hit adds `t_max²`).
     pub t_sq_sum: f64,
+    /// Largest |t − t_ref| over the `both` rays (`t_max` for a non-finite hit).
     pub t_abs_max: f64,
+    /// Σ of the squared (u, v) distance to the reference hit, in level-0 texels (the
+    /// longer side of the map), over the `both` rays.
     pub uv_texels_sq_sum: f64,
+    /// Rays the reference hits where the hit is clipped or more than one texel of travel
+    /// ([`one_texel_t`]) past the reference, plus every non-finite hit.
     pub missed: usize,
     /// Rays with a hit (not clipped) where the reference has none.
     pub false_hits: usize,
     /// Finite hits past the exact first hit by more than [`PAST_SLACK`] in t.
     pub past: usize,
+    /// Hits with a NaN or infinite t, u, v or z.
     pub nan: usize,
+    /// Finite hits outside the ray's volume
+    /// ([`ProbeHit::outside`](relief_dsl::abi::ProbeHit::outside)).
     pub outside: usize,
+    /// Hits whose coarse search ran out of steps (`converged == 0`).
     pub nonconverged: usize,
     /// Finite hits that end above the surface by more than [`ABOVE_SURFACE`].
     pub above_surface: usize,
+    /// Σ of the coarse stage's loop passes over all rays.
     pub coarse_steps: u64,
+    /// Σ of the refine stage's loop passes over all rays.
     pub refine_steps: u64,
+    /// Σ of the texture samples over all rays.
     pub fetches: u64,
 }
 
@@ -154,15 +168,19 @@ impl Accuracy {
     pub fn t_rms(&self) -> f64 {
         if self.both > 0 { (self.t_sq_sum / self.both as f64).sqrt() } else { 0.0 }
     }
+    /// `missed` as a share of all rays, in [0, 1]; 0 when there are no rays.
     pub fn missed_rate(&self) -> f64 {
         self.share(self.missed)
     }
+    /// `false_hits` as a share of all rays, in [0, 1]; 0 when there are no rays.
     pub fn false_hit_rate(&self) -> f64 {
         self.share(self.false_hits)
     }
+    /// `nonconverged` as a share of all rays, in [0, 1]; 0 when there are no rays.
     pub fn nonconverged_rate(&self) -> f64 {
         self.share(self.nonconverged)
     }
+    /// `above_surface` as a share of all rays, in [0, 1]; 0 when there are no rays.
     pub fn above_surface_rate(&self) -> f64 {
         self.share(self.above_surface)
     }

@@ -62,10 +62,14 @@ fn next_up(f: f32) -> f32 {
 /// How values are stored.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum Format {
+    /// 32-bit IEEE float, 4 bytes; keeps `+inf`.
     #[default]
     F32,
+    /// 16-bit IEEE half float, 2 bytes; keeps `+inf`.
     F16,
+    /// 8-bit code `q` in `0..=255` for `q / 255` of [`Encoding::max_value`]; clamps.
     Unorm8,
+    /// 16-bit code `q` in `0..=65535` for `q / 65535` of [`Encoding::max_value`]; clamps.
     Unorm16,
 }
 
@@ -105,6 +109,7 @@ pub enum Rounding {
 /// An encoding: format, optional square-root encoding, and the unorm range.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Encoding {
+    /// How each value is stored.
     pub format: Format,
     /// Store `sqrt(value / max_value)` (unorm) or `sqrt(value)` (float).
     pub sqrt: bool,
@@ -257,10 +262,15 @@ fn step_code(format: Format, code: u32, r: Rounding) -> u32 {
 /// A map in its stored form: little-endian codes, ready to upload.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EncodedMap {
+    /// Entries per row, as in the [`Map`] it was encoded from.
     pub width: usize,
+    /// Rows, as in the source [`Map`].
     pub height: usize,
+    /// Slices: 1 for 2D maps, the z resolution for `distance_field`.
     pub depth: usize,
+    /// Values per entry.
     pub channels: usize,
+    /// How the codes in `bytes` were made and must be decoded.
     pub encoding: Encoding,
     /// `width * height * depth * channels * encoding.format.bytes()` bytes, channels
     /// interleaved, row-major, slice-major.

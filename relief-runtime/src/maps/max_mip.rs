@@ -53,8 +53,11 @@ impl Reducer {
 /// One level of a pyramid: `w * h` values, row-major.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Level {
+    /// Entries per row: `max(1, width >> L)` at level `L`.
     pub w: usize,
+    /// Rows: `max(1, height >> L)` at level `L`.
     pub h: usize,
+    /// Each entry the maximum (or minimum) of the level-0 entries it covers.
     pub data: Vec<f32>,
 }
 
@@ -73,10 +76,15 @@ impl Level {
 /// map as well; their open ends are [`Node::UNBOUNDED`] (negated for the lower end).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Node {
+    /// The node's entry: the maximum (or minimum) over its range.
     pub value: f32,
+    /// First level-0 column of the range (inclusive); can be negative.
     pub x0: i64,
+    /// End of the column range (exclusive).
     pub x1: i64,
+    /// First level-0 row of the range (inclusive); can be negative.
     pub y0: i64,
+    /// End of the row range (exclusive).
     pub y1: i64,
 }
 

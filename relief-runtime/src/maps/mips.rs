@@ -18,8 +18,11 @@
 /// One level: `width × height` texels of `channels` values each, row-major.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Level {
+    /// Texels per row.
     pub width: usize,
+    /// Rows.
     pub height: usize,
+    /// `width * height * channels` values, channels interleaved, row y = v.
     pub data: Vec<f32>,
 }
 

@@ -256,7 +256,9 @@ impl MapParams {
 /// requests of one kind with different parameters are two maps.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct MapKey {
+    /// The kind of map.
     pub kind: MapKind,
+    /// Its parameters, reduced to those the kind reads ([`MapParams::relevant`]).
     pub params: MapParams,
 }
 
@@ -272,11 +274,17 @@ impl MapKey {
 /// row-major (row y = v), slices (3D maps) outermost.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Map {
+    /// Entries per row: the height map's width for texel kinds; for the cell kinds the cell
+    /// count ([`cell::CellGrid::cw`], one more under [`EdgeMode::Clamp`]).
     pub width: usize,
+    /// Rows, counted like `width` ([`cell::CellGrid::ch`] for the cell kinds).
     pub height: usize,
     /// 1 for 2D maps; the z resolution for `distance_field`.
     pub depth: usize,
+    /// Values per entry (see [`MapKind::channels`]).
     pub channels: usize,
+    /// The values, `width * height * depth * channels` of them, laid out as said above;
+    /// not clamped (a cone ratio can be `+inf`).
     pub data: Vec<f32>,
     /// Coarser levels for pyramid kinds (`max_mip`), level 1 first; empty otherwise.
     pub mips: Vec<Map>,
@@ -328,18 +336,37 @@ impl Map {
 /// Why a map could not be built or written.
 #[derive(Debug, thiserror::Error)]
 pub enum MapError {
+    /// A name that is no [`MapKind`]; holds the name as compared: trimmed, lower-case, `-`
+    /// turned into `_`.
     #[error("unknown map kind `{0}` (see `relief maps --list`)")]
     UnknownKind(String),
+    /// The map cannot be built with these inputs: a parameter out of its range, an empty
+    /// height map, or a kind that has no per-level form.
     #[error("bad parameter for {kind}: {message}")]
-    Params { kind: MapKind, message: String },
+    Params {
+        /// The kind being built.
+        kind: MapKind,
+        /// What is wrong.
+        message: String,
+    },
+    /// Writing a `.npy` map file failed.
     #[error("{path}: cannot write: {source}")]
     Io {
+        /// The file being written.
         path: PathBuf,
+        /// The operating system's error.
         #[source]
         source: std::io::Error,
     },
+    /// The map cannot be saved in this file: unknown extension, a format or a 3D map the
+    /// file type cannot hold, or a `.png`/`.exr` writer error.
     #[error("{path}: {message}")]
-    Output { path: PathBuf, message: String },
+    Output {
+        /// The file being written.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
 }
 
 /// Builds one map of `kind` from `hm` (see each kind's module for the definition).
@@ -407,11 +434,15 @@ pub fn build_encoded(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: Ed
 /// An encoded map with its encoded mip levels (if any).
 #[derive(Clone, Debug, PartialEq)]
 pub struct EncodedBundle {
+    /// Level 0: the map itself, encoded.
     pub base: EncodedMap,
+    /// The encoded [`Map::mips`], level 1 first; empty when the map has none.
     pub mips: Vec<EncodedMap>,
 }
 
 impl EncodedBundle {
+    /// Encodes `map` and its mip levels with `enc`, each channel rounded in the safe
+    /// direction for `kind` ([`kind_rounding`]).
     pub fn from_map(map: &Map, kind: MapKind, enc: &Encoding) -> EncodedBundle {
         let r = kind_rounding(map, kind);
         EncodedBundle {
@@ -435,14 +466,19 @@ pub fn kind_rounding(map: &Map, kind: MapKind) -> Vec<Rounding> {
 pub struct CacheKey {
     /// [`HeightMap::content_hash`].
     pub content: u64,
+    /// The kind of map.
     pub kind: MapKind,
     /// Only the parameters the kind reads ([`MapParams::relevant`]).
     pub params: MapParams,
+    /// The edge mode the map was built with.
     pub edge: EdgeMode,
+    /// The storage encoding.
     pub encoding: Encoding,
 }
 
 impl CacheKey {
+    /// The key of `kind` built from `hm`; hashes the whole height map and keeps only the
+    /// parameters `kind` reads.
     pub fn new(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode, encoding: &Encoding) -> CacheKey {
         CacheKey { content: hm.content_hash(), kind, params: params.relevant(kind), edge, encoding: *encoding }
     }
@@ -468,6 +504,7 @@ pub struct MapCache {
 }
 
 impl MapCache {
+    /// An empty cache that keeps maps in memory only.
     pub fn new() -> MapCache {
         MapCache::default()
     }

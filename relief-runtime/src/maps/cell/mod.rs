@@ -117,14 +117,18 @@ use crate::maps::search::reduce_pyramid;
 pub struct CellGrid {
     /// Texels.
     pub w: usize,
+    /// Texel rows: the height map's height (`w` is its width).
     pub h: usize,
+    /// The edge mode; it decides the cell counts and how corner indices are resolved.
     pub edge: EdgeMode,
     /// Cells: `w x h` (repeat) or `(w + 1) x (h + 1)` (clamp).
     pub cw: usize,
+    /// Cell rows: `h` (repeat) or `h + 1` (clamp); `cw` is the cells per row.
     pub ch: usize,
 }
 
 impl CellGrid {
+    /// The cell grid of a `w x h` height map under `edge`.
     pub fn new(w: usize, h: usize, edge: EdgeMode) -> CellGrid {
         let extra = usize::from(edge == EdgeMode::Clamp);
         CellGrid { w, h, edge, cw: w + extra, ch: h + extra }
@@ -203,8 +207,11 @@ pub fn gap(x: f64, c0: f64, c1: f64) -> f64 {
 /// units, both ≥ 0) and height.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Corner {
+    /// Gap along u from `C` to the corner, in texture units, ≥ 0 (0 inside `C`'s column).
     pub gx: f64,
+    /// Gap along v from `C` to the corner, in texture units, ≥ 0 (0 inside `C`'s row).
     pub gy: f64,
+    /// The corner's height, in [0, 1].
     pub s: f64,
 }
 
@@ -462,6 +469,7 @@ pub fn level_atlas(chain: &[HeightMap], kind: crate::maps::MapKind, params: &cra
 
 /// Maximum-corner quadtree over cells, with an optional AND of per-cell flags.
 pub struct CellTree {
+    /// The grid whose cells are the tree's leaves.
     pub grid: CellGrid,
     /// The height map's texels (corners are looked up, not stored: a 16-byte-per-cell array
     /// made 1024² searches cache-bound).
@@ -471,6 +479,7 @@ pub struct CellTree {
 }
 
 impl CellTree {
+    /// The tree over `map`'s cells under `edge`, without flags.
     pub fn new(map: &HeightMap, edge: EdgeMode) -> CellTree {
         Self::with_flags(map, edge, None)
     }
