@@ -17,12 +17,18 @@ use crate::scene::{ProbeRay, Scene};
 /// A scene on the device, with its probe rays and their exact first hits (computed once,
 /// shared by every pipeline measured on it).
 pub struct Prepared {
+    /// The scene as given (heights as loaded).
     pub scene: Scene,
     /// The scene with the heights as the device stores them: the surface measured against.
     pub on_device: Scene,
+    /// The scene's textures on the device; each measurement adds the maps it needs.
     pub textures: SceneTextures,
+    /// One probe ray per pixel that sees the quad, row-major ([`Scene::rays`]).
     pub rays: Vec<ProbeRay>,
+    /// The exact first hit of each ray in `rays` (same index) on `on_device`'s bilinear
+    /// surface at level 0; `None` where the reference finds none.
     pub refs: Vec<Option<RefHit>>,
+    /// Side of the square frame, in pixels.
     pub size: u32,
     /// Per `lod` other than zero: the level each ray samples and its exact hits on that
     /// level's surface (computed on first use).
@@ -71,8 +77,11 @@ impl Prepared {
 
 /// The outcome of measuring one pipeline.
 pub struct Measured {
+    /// The metrics of the run, as a results row records them.
     pub metrics: Metrics,
+    /// The timed frame times and the last frame's pixels.
     pub frame: RenderResult,
+    /// The probe's raw hit for each ray of [`Prepared::rays`], same order.
     pub hits: Vec<GpuHit>,
     /// The reference hits the metrics compared with: the prepared scene's on the level the
     /// pipeline's `lod` samples, clipped to the quad's square for `silhouette=clip`.

@@ -49,9 +49,13 @@ pub enum Sampling {
 /// which equals the surface height up to rounding).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RefHit {
+    /// The ray parameter, ≥ 0; the ray's height is `1 + t·dz`, so height 0 is at `t = -1/dz`.
     pub t: f64,
+    /// The hit's u, `u0 + t·dx`: not wrapped into [0, 1] (the map has period 1 in u).
     pub u: f64,
+    /// The hit's v, `v0 + t·dy`, not wrapped either.
     pub v: f64,
+    /// The ray's height at the hit, `1 + t·dz`, in [0, 1].
     pub z: f64,
 }
 
@@ -72,11 +76,17 @@ pub struct Reference {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("the exact reference did not finish the ray from ({u}, {v}) with direction ({dx}, {dy}, {dz}) within {passes} traversal passes")]
 pub struct ReferenceError {
+    /// The ray's origin u (at height 1).
     pub u: f64,
+    /// The ray's origin v (at height 1).
     pub v: f64,
+    /// The ray direction's u component.
     pub dx: f64,
+    /// The ray direction's v component.
     pub dy: f64,
+    /// The ray direction's height component (< 0).
     pub dz: f64,
+    /// The pass limit the traversal reached.
     pub passes: u64,
 }
 

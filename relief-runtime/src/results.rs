@@ -18,15 +18,24 @@ use serde::{Deserialize, Serialize};
 /// One run's metrics (the names are the column names of results files).
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 pub struct Metrics {
+    /// The pipeline's text form as measured, with the scene's `lod` policy applied
+    /// ([`crate::scene::Scene::pipeline_for`]).
     pub pipeline: String,
+    /// The scene's name; in a sweep the scene argument ([`crate::sweep::scene_label`]) with
+    /// the overrides' suffix.
     pub scene: String,
+    /// Side of the square frame, in pixels (one probe ray per pixel that sees the quad).
     pub size: u32,
+    /// The GPU adapter and its driver: `NAME (DRIVER VERSION)`.
     pub adapter: String,
+    /// Median GPU time of the timed frames' render pass, in milliseconds.
     pub frame_ms_median: f64,
     /// Mean frame time over the timed frames (the dissertation reports the mean of 500).
     #[serde(default)]
     pub frame_ms_mean: f64,
+    /// 10th percentile of the frame times (nearest rank), in milliseconds.
     pub frame_ms_p10: f64,
+    /// 90th percentile of the frame times (nearest rank), in milliseconds.
     pub frame_ms_p90: f64,
     /// Burger 2018 §4.1: Σ over pixels of (h(hit.uv) − hit.z)², the sum (a NaN hit adds 1,
     /// the largest error a hit in the volume can have).
@@ -74,13 +83,17 @@ pub struct Metrics {
 /// One results row: the metrics and where they came from.
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 pub struct Row {
+    /// The name of the grid the cell belongs to (`t4.1`, `dissertation`, …).
     pub grid: String,
+    /// The cell's metrics; in the files their fields are columns of the row itself. Only
+    /// the pipeline, scene, size and adapter are set for a failed cell.
     #[serde(flatten)]
     pub metrics: Metrics,
     /// `ok` or `error`.
     pub status: String,
     /// The error of a failed cell (empty otherwise).
     pub error: String,
+    /// The version of relief-runtime that measured the row.
     pub relief_version: String,
     /// The cell's folder, relative to the sweep's folder (holds frame.png and error.png).
     pub cell_dir: String,

@@ -34,9 +34,13 @@ pub const SCENES: [&str; 20] = [
 /// One method on one condition.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Cell {
+    /// The pipeline's text form.
     pub method: String,
+    /// The scene's name.
     pub scene: String,
+    /// The view angle from the surface normal, in degrees.
     pub angle: f32,
+    /// Rays scored: the `size²` grid of entry points.
     pub rays: usize,
     /// Hits with NaN or Inf anywhere.
     pub nan_count: usize,
@@ -53,7 +57,9 @@ pub struct Cell {
     /// Hits past the exact first hit by more than [`crate::metrics::PAST_SLACK`] in t (the
     /// `form=safe` conservative cone methods, sphere and maxmip must have none).
     pub past_count: usize,
+    /// Largest |t − t_ref| over the rays the reference hits.
     pub ref_err_t_max: f64,
+    /// RMS of t − t_ref over the rays the reference hits.
     pub ref_err_t_rms: f64,
 }
 

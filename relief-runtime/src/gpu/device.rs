@@ -3,22 +3,36 @@
 /// Why no device could be had.
 #[derive(Debug, thiserror::Error)]
 pub enum GpuError {
+    /// wgpu found no adapter; holds wgpu's reason.
     #[error(
         "no GPU adapter found ({0}). relief needs a Vulkan, Metal, DX12 or GL device; on Linux \
          without a GPU, install Mesa's software Vulkan device: `apt-get install mesa-vulkan-drivers libvulkan1`"
     )]
     NoAdapter(String),
+    /// The adapter would not create a device with the features and limits asked for.
     #[error("the adapter {adapter} refused a device: {message}")]
-    NoDevice { adapter: String, message: String },
+    NoDevice {
+        /// The adapter's name.
+        adapter: String,
+        /// wgpu's reason.
+        message: String,
+    },
+    /// Work on the device failed or cannot be done: a wait that failed or timed out, a
+    /// buffer that could not be read back, missing timestamp queries, or more probe rays
+    /// than one dispatch takes.
     #[error("the device failed: {0}")]
     Device(String),
+    /// The device reported a validation error for a shader or pipeline, or the shader reads
+    /// a binding the runtime has nothing for (a map that was not built).
     #[error("shader or pipeline rejected by the device: {0}")]
     Pipeline(String),
 }
 
 /// A device and queue, with what every result records about them.
 pub struct Gpu {
+    /// The device, with timestamp queries and 32-bit float filtering when the adapter has them.
     pub device: wgpu::Device,
+    /// The device's queue.
     pub queue: wgpu::Queue,
     /// Adapter name, e.g. `llvmpipe (LLVM 15.0.6, 256 bits)`.
     pub adapter: String,

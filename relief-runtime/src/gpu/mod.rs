@@ -21,8 +21,12 @@ use relief_dsl::compose::Compiled;
 /// A pipeline compiled for the device: the WGSL the device loads, and the bindings each
 /// entry point reads (from naga's analysis of the same module).
 pub struct Program {
+    /// The composed module as WGSL text (naga's output): what the device loads.
     pub wgsl: String,
+    /// The binding numbers (group 0, [`relief_dsl::abi::binding`]) that `vs_main` and
+    /// `fs_main` read, sorted.
     pub render_bindings: Vec<u32>,
+    /// The binding numbers the `probe` entry reads, sorted.
     pub probe_bindings: Vec<u32>,
     /// The maps the pipeline reads, each with its parameters: which map a map binding takes.
     pub maps: Vec<relief_dsl::spec::MapReq>,

@@ -9,6 +9,7 @@ pub struct RenderResult {
     pub frame_ms: Vec<f64>,
     /// The last frame, RGBA8 (sRGB), row-major, `size × size`.
     pub rgba: Vec<u8>,
+    /// Side of the square frame, in pixels.
     pub size: u32,
     /// The last frame's depth buffer (NDC depth, row-major, cleared to 1), when the program
     /// writes depth.

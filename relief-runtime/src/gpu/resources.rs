@@ -15,10 +15,17 @@ use crate::scene::Scene;
 
 /// The textures a scene needs on the device.
 pub struct SceneTextures {
+    /// The height map with its mip chain: `R32Float`, or `R16Float` where 32-bit float
+    /// textures cannot be filtered.
     pub height: wgpu::TextureView,
+    /// The normal map (the scene's, or derived from the heights) with its mip chain:
+    /// `Rgba8Unorm`, `n * 0.5 + 0.5` in rgb.
     pub normal: wgpu::TextureView,
+    /// The albedo with its mip chain, `Rgba8UnormSrgb`; one grey texel when the scene has none.
     pub albedo: wgpu::TextureView,
+    /// Linear filtering; address mode repeat or clamp-to-edge after the scene's edge mode.
     pub linear: wgpu::Sampler,
+    /// Nearest filtering, same address mode.
     pub nearest: wgpu::Sampler,
     /// Acceleration maps by the full request: kind and every parameter that changes the map
     /// (see [`SceneTextures::add_maps`]). Two maps of one kind with different parameters are

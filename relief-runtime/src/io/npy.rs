@@ -23,6 +23,7 @@ pub fn npy_bytes(shape: &[usize], values: &[f32]) -> Vec<u8> {
 /// A parsed `.npy` header.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NpyHeader {
+    /// The array's dimensions, outermost first (C order); `[]` for a scalar.
     pub shape: Vec<usize>,
     /// 4 (`<f4`) or 8 (`<f8`).
     pub item_size: usize,

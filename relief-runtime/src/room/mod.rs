@@ -109,7 +109,9 @@ pub struct Room {
     pub walls: Vec<Wall>,
     /// The window's opacity (1 = opaque glass, 0 = clear), `None`: no glass.
     pub window: Option<HeightMap>,
+    /// The eye in front of the window that both renders and the probe use.
     pub camera: RoomCamera,
+    /// The room's one light: a point inside the room, or a direction.
     pub light: RoomLight,
     /// The ambient share of the shading.
     pub ambient: f32,

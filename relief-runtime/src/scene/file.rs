@@ -68,9 +68,11 @@ pub const KEYS: &[(&str, &str)] = &[
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("{}: {}{message}", path.display(), key.as_ref().map(|k| format!("key `{k}`: ")).unwrap_or_default())]
 pub struct SceneFileError {
+    /// The scene file (`.toml`), also when the fault is in a file it names.
     pub path: PathBuf,
     /// The dotted key at fault (`camera.angle`), if the error is about one.
     pub key: Option<String>,
+    /// What is wrong; the display puts the path and key in front of it.
     pub message: String,
 }
 
@@ -326,9 +328,14 @@ pub fn load_normal_map(path: &Path, green_up: bool) -> Result<NormalMap, String>
 /// Command-line overrides of a scene (`--depth-scale`, `--tiling`, `--angle`, `--azimuth`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Overrides {
+    /// `--depth-scale`: the relief depth in texture units, > 0. `None`: keep the scene's.
     pub depth_scale: Option<f32>,
+    /// `--tiling`: repeats across the quad, > 0; re-centres the camera. `None`: keep it.
     pub tiling: Option<f32>,
+    /// `--angle`: the camera's angle from the surface normal, degrees, in [0, 90).
+    /// `None`: keep it.
     pub angle: Option<f32>,
+    /// `--azimuth`: the camera's azimuth, degrees, any finite value. `None`: keep it.
     pub azimuth: Option<f32>,
 }
 

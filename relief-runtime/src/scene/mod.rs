@@ -48,16 +48,22 @@ pub const DEFAULT_SIZE: usize = 256;
 /// An RGBA8 image, row-major, 4 bytes per texel (r, g, b, a), row 0 at v = 0.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Rgba8Image {
+    /// Texels per row.
     pub width: usize,
+    /// Rows.
     pub height: usize,
+    /// `width * height * 4` bytes; colour is sRGB-encoded (uploaded as `Rgba8UnormSrgb`).
     pub rgba: Vec<u8>,
 }
 
 /// A tangent-space normal map: unit vectors (x along u, y along v, z up), row-major.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NormalMap {
+    /// Texels per row (may differ from the height map's).
     pub width: usize,
+    /// Rows.
     pub height: usize,
+    /// `width * height` normals, texel (x, y) at `data[y * width + x]`.
     pub data: Vec<[f32; 3]>,
 }
 
@@ -81,6 +87,7 @@ pub struct Scene {
     pub tiling: f32,
     /// How maps are sampled past their edges.
     pub edge: EdgeMode,
+    /// The eye that renders use and that [`Scene::rays`] casts the probe rays from.
     pub camera: Camera,
     /// Unit vector from the surface towards the light (world = tangent space).
     pub light_dir: Vec3,
@@ -255,12 +262,25 @@ pub fn scene_from_arg_with(arg: &str, size: Option<usize>, options: &LoadOptions
 pub enum SceneError {
     /// Not one of [`SCENES`].
     #[error("{}", unknown_message(name, suggestion))]
-    Unknown { name: String, suggestion: Option<&'static str> },
+    Unknown {
+        /// The name asked for, without `scene:`.
+        name: String,
+        /// The nearest built-in name, when one is close enough to be a likely typo.
+        suggestion: Option<&'static str>,
+    },
+    /// A built-in scene asked for at size 0.
     #[error("a scene needs at least one texel (size 0 asked for)")]
     ZeroSize,
     /// A real scene asked for at a size it cannot be box-filtered down to.
     #[error("scene `{name}` is a real {native}x{native} map: size {size} must divide {native} (it is box-filtered down by a whole factor, never up)")]
-    BadRealSize { name: &'static str, native: usize, size: usize },
+    BadRealSize {
+        /// The real scene's name.
+        name: &'static str,
+        /// Its side in texels as stored.
+        native: usize,
+        /// The side asked for: it must divide `native` (so it is at most `native`).
+        size: usize,
+    },
     /// A scene file could not be read.
     #[error(transparent)]
     File(#[from] SceneFileError),

@@ -13,6 +13,8 @@ use relief_dsl::Pipeline;
 /// A named grid and the scenes it is measured on.
 #[derive(Clone, Debug)]
 pub struct NamedGrid {
+    /// The grid's name, as rows record it: a built-in name (`t4.1`, `f4.5`, `dissertation`,
+    /// `lod`) or a grid file's stem.
     pub name: String,
     /// The first comment line of its file.
     pub description: String,

@@ -23,10 +23,15 @@ pub use grids::NamedGrid;
 
 /// What `relief sweep` measures.
 pub struct Options {
+    /// The cells to measure; its name goes into every row's `grid`.
     pub grid: NamedGrid,
+    /// Side of the square frame, in pixels.
     pub size: u32,
+    /// Timed frames per cell (at least one is rendered).
     pub frames: u32,
+    /// Untimed frames rendered before the timed ones.
     pub warmup: u32,
+    /// The output folder (created if missing): `results.jsonl`, `results.csv`, `cells/`.
     pub out: PathBuf,
     /// Show a progress bar.
     pub progress: bool,
@@ -38,8 +43,12 @@ pub struct Options {
 /// What a sweep did.
 #[derive(Debug, Default)]
 pub struct Summary {
+    /// Cells measured and recorded as `ok` in this run.
     pub measured: usize,
+    /// Cells not run because the results already hold them (same pipeline as measured,
+    /// scene and size).
     pub skipped: usize,
+    /// Cells recorded with status `error` in this run.
     pub failed: usize,
 }
 

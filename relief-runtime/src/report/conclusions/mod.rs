@@ -25,12 +25,17 @@ use super::{short_scene, Data, Metric, TextTable, DASH};
 /// Whether a conclusion holds in a set of numbers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Verdict {
+    /// The criterion was checked and is met.
     Holds,
+    /// The criterion was checked and is not met.
     DoesNotHold,
+    /// The criterion could not be checked: too few of the cells it reads were measured, or
+    /// they mix frame sizes. The evidence says which.
     NotMeasured,
 }
 
 impl Verdict {
+    /// The verdict as the report prints it: `holds`, `does not hold` or `not measured`.
     pub fn as_str(self) -> &'static str {
         match self {
             Verdict::Holds => "holds",
@@ -59,13 +64,17 @@ pub struct Conclusion {
     pub why: String,
     /// Our rows, error measured by `mse_dissertation_mean` (or frame time only).
     pub ours_mse: Verdict,
+    /// The numbers behind `ours_mse` in one line, or why it was not measured.
     pub evidence_mse: String,
     /// Our rows, error measured by `ref_err_t_rms`; None when the criterion is about frame
     /// time only.
     pub ours_ref: Option<Verdict>,
+    /// The numbers behind `ours_ref`, or why it was not measured; empty when `ours_ref`
+    /// is `None`.
     pub evidence_ref: String,
     /// The dissertation's own numbers under the same criterion.
     pub diss: Verdict,
+    /// The dissertation's numbers behind `diss`, or why they do not settle it.
     pub evidence_diss: String,
     /// The scene our rows were taken from.
     pub scene: String,
