@@ -83,7 +83,7 @@ impl Program {
 
 /// The bindings the entry points `names` of a validated module use (naga's per-entry global
 /// usage), sorted: what a bind group for those entries must hold.
-pub fn used_bindings(c: &Compiled, names: &[&str]) -> Vec<u32> {
+pub(crate) fn used_bindings(c: &Compiled, names: &[&str]) -> Vec<u32> {
     let mut out = Vec::new();
     for (i, ep) in c.module.entry_points.iter().enumerate() {
         if !names.contains(&ep.name.as_str()) {

@@ -13,7 +13,8 @@
 //! stores √r to increase precision of smaller values"), which spends the codes on the narrow
 //! cones that matter. Unorm formats clamp to `[0, max_value]` (the GPU Gems 3 cone maps use
 //! `max_value = 1`); this is the only place where a map is clamped: the f32 maps keep `+inf`.
-//! F16 keeps `+inf` and rounds finite values above 65504 to 65504.
+//! F16 keeps `+inf`; a finite value above 65504 becomes 65504 when rounded down and `+inf` when
+//! rounded up (the safe side either way; heights and apexes, the values rounded up, are at most 1).
 //!
 //! # Conservative rounding
 //!

@@ -463,7 +463,7 @@ pub fn kind_rounding(map: &Map, kind: MapKind) -> Vec<Rounding> {
 
 /// What identifies a built map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct CacheKey {
+pub(crate) struct CacheKey {
     /// [`HeightMap::content_hash`].
     pub content: u64,
     /// The kind of map.
@@ -479,12 +479,12 @@ pub struct CacheKey {
 impl CacheKey {
     /// The key of `kind` built from `hm`; hashes the whole height map and keeps only the
     /// parameters `kind` reads.
-    pub fn new(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode, encoding: &Encoding) -> CacheKey {
+    pub(crate) fn new(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode, encoding: &Encoding) -> CacheKey {
         CacheKey { content: hm.content_hash(), kind, params: params.relevant(kind), edge, encoding: *encoding }
     }
 
     /// A file name that identifies the key (for the on-disk cache).
-    pub fn file_stem(&self) -> String {
+    pub(crate) fn file_stem(&self) -> String {
         let mut f = crate::heightmap::Fnv::new();
         f.write(format!("{:?}", (self.kind, self.params, self.edge, self.encoding)).as_bytes());
         format!("{:016x}-{}-{:016x}", self.content, self.kind.name(), f.finish())

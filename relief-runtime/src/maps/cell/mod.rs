@@ -64,7 +64,7 @@
 //!
 //! # Search
 //!
-//! [`CellTree::search`]: a maximum-height quadtree over the cells (each cell's value the largest of
+//! `CellTree::search`: a maximum-height quadtree over the cells (each cell's value the largest of
 //! its four corners), visited nearest-bound first, dropping a node whose lower bound
 //! `d_min / (h_max − apex)` is not below the best ratio found (with a relative margin of
 //! `1e-9` so that rounding in the per-cell formula can never make a pruned cell smaller than
@@ -219,7 +219,7 @@ pub struct Corner {
 /// coordinates (`dx = [D.x0, D.x1]`, `cx = [C.x0, C.x1]`, same for y) and `D`'s corner
 /// heights `[h00, h10, h01, h11]`. `w`, `h`: the map's texel counts (cell units → texture units).
 #[inline]
-pub fn corners_seen_from(dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2], hd: &[f32; 4], w: usize, h: usize) -> [Corner; 4] {
+pub(crate) fn corners_seen_from(dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2], hd: &[f32; 4], w: usize, h: usize) -> [Corner; 4] {
     let gx = [gap(dx[0], cx[0], cx[1]) / w as f64, gap(dx[1], cx[0], cx[1]) / w as f64];
     let gy = [gap(dy[0], cy[0], cy[1]) / h as f64, gap(dy[1], cy[0], cy[1]) / h as f64];
     [
@@ -383,7 +383,7 @@ pub fn prune_ratio(d2: f64, dh: f64, best: f64) -> Option<f64> {
 /// Which cells a search may use along one axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Dir {
-    /// All cells (with repeat: plane offsets `-(n-1)..=n-1`, see [`CellTree::search`]).
+    /// All cells (with repeat: plane offsets `-(n-1)..=n-1`, see `CellTree::search`).
     Both,
     /// Cells at or after `C` (repeat: plane offsets `0..=n-1`).
     Forward,
@@ -468,7 +468,7 @@ pub fn level_atlas(chain: &[HeightMap], kind: crate::maps::MapKind, params: &cra
 }
 
 /// Maximum-corner quadtree over cells, with an optional AND of per-cell flags.
-pub struct CellTree {
+pub(crate) struct CellTree {
     /// The grid whose cells are the tree's leaves.
     pub grid: CellGrid,
     /// The height map's texels (corners are looked up, not stored: a 16-byte-per-cell array
@@ -519,7 +519,7 @@ impl CellTree {
 
     /// Minimum score over the cells reachable from cell `(ci, cj)` with directions
     /// `(ax, ay)`, starting from `best` (and its binding cell, a plane position, see
-    /// [`CellTree::leaf_at`]). Returns the minimum and the plane position of the cell that
+    /// [`CellTree::leaf_below_at`]). Returns the minimum and the plane position of the cell that
     /// gave it.
     pub fn search<S: CellScorer>(&self, ci: usize, cj: usize, ax: Dir, ay: Dir, s: &S, start: (f64, Option<(i64, i64)>)) -> (f64, Option<(i64, i64)>) {
         let mut best = start;
@@ -548,13 +548,8 @@ impl CellTree {
     }
 
     /// The score of the cell at plane position `(px, py)` (repeat: any integers, the cell is
-    /// `px mod w`; clamp: the storage index), if it is reachable.
-    #[allow(clippy::too_many_arguments)]
-    pub fn leaf_at<S: CellScorer>(&self, px: i64, py: i64, ci: usize, cj: usize, ax: Dir, ay: Dir, s: &S) -> Option<f64> {
-        self.leaf_below_at(px, py, ci, cj, ax, ay, s, f64::INFINITY)
-    }
-
-    /// [`CellTree::leaf_at`] when below `best`, else `None`.
+    /// `px mod w`; clamp: the storage index) if it is reachable and scores below `best`, else
+    /// `None`.
     #[allow(clippy::too_many_arguments)]
     #[inline]
     pub fn leaf_below_at<S: CellScorer>(&self, px: i64, py: i64, ci: usize, cj: usize, ax: Dir, ay: Dir, s: &S, best: f64) -> Option<f64> {

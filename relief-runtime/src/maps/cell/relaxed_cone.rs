@@ -62,7 +62,7 @@
 //!
 //! # Search
 //!
-//! The max-corner quadtree of [`super::CellTree`] with a flag byte per cell (monotone in `+X`,
+//! The max-corner quadtree of `CellTree` with a flag byte per cell (monotone in `+X`,
 //! `−X`, `+Y`, `−Y` over the whole patch), AND-ed per node: a node lying entirely after `C` in
 //! `X` whose cells all rise in `+X` (and likewise for `Y`; a node overlapping `C`'s column
 //! needs `∂S/∂X = 0`) holds only rising cells and is skipped. Otherwise the conservative
