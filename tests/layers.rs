@@ -2,7 +2,7 @@
 //!
 //! relief-dsl: abi → spec → ir → stage → compose → emit. relief-runtime: the leaves (io,
 //! results, picture), then heightmap, scene, maps, reference → gpu → metrics → measure →
-//! sweep, stability → report; the command line (src/bin) is above everything, and nothing in
+//! sweep, stability, room → report; the command line (src/bin) is above everything, and nothing in
 //! the library names it. A module may name its own layer and any below it (`crate::X` paths
 //! and `use crate::{X, ...}` groups are both read). A file's unit tests (from its
 //! `#[cfg(test)]` line on) are not part of the library and may drive the whole pipeline.
@@ -46,14 +46,22 @@ fn named_modules(text: &str) -> Vec<String> {
 }
 
 /// Checks every file of `src`: the layer of a file is that of its top-level module; a file
-/// may name modules of its layer or lower. `layers[i]` lists the modules of layer i.
+/// may name modules of its layer or lower. `layers[i]` lists the modules of layer i. A
+/// module in no layer is reported too, so that a new module cannot escape the check (the
+/// crate root `lib.rs` and the command line under `bin/` are above every layer).
 fn check(src: &Path, layers: &[&[&str]]) -> Vec<String> {
     let layer_of = |m: &str| layers.iter().position(|l| l.contains(&m));
     let mut bad = Vec::new();
     for file in rust_files(src) {
         let rel = file.strip_prefix(src).unwrap();
         let top = rel.iter().next().unwrap().to_string_lossy().trim_end_matches(".rs").to_string();
-        let Some(own) = layer_of(&top) else { continue };
+        if top == "lib" || top == "bin" {
+            continue;
+        }
+        let Some(own) = layer_of(&top) else {
+            bad.push(format!("{} ({top}) is in no layer", rel.display()));
+            continue;
+        };
         let text = std::fs::read_to_string(&file).unwrap();
         for m in named_modules(&text) {
             if let Some(l) = layer_of(&m) {
@@ -86,7 +94,7 @@ fn relief_runtime_imports_point_down() {
         &["gpu"],
         &["metrics"],
         &["measure"],
-        &["sweep", "stability"],
+        &["sweep", "stability", "room"],
         &["report"],
     ];
     let bad = check(&root.join("relief-runtime/src"), layers);
@@ -106,4 +114,17 @@ fn the_checker_sees_a_back_edge() {
     assert_eq!(named_modules("use crate::stage::{self, Build};"), ["stage"]);
     assert_eq!(named_modules("use crate::{ir::Stage, spec};  // crate::emit"), ["ir", "spec"]);
     assert_eq!(named_modules("let a = crate::abi::X;\n#[cfg(test)]\nmod tests { use crate::emit; }"), ["abi"]);
+    // On a tree: a back edge and a module in no layer.
+    let dir = std::env::temp_dir().join(format!("relief-layers-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("low")).unwrap();
+    std::fs::write(dir.join("low/mod.rs"), "use crate::high::X;\n").unwrap();
+    std::fs::write(dir.join("high.rs"), "use crate::low::Y;\n").unwrap();
+    std::fs::write(dir.join("stray.rs"), "").unwrap();
+    std::fs::write(dir.join("lib.rs"), "use crate::high;\n").unwrap();
+    let mut bad = check(&dir, &[&["low"], &["high"]]);
+    bad.sort();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(bad.len(), 2, "{bad:?}");
+    assert!(bad[0].contains("low/mod.rs (low, layer 0) names crate::high (layer 1)"), "{bad:?}");
+    assert!(bad[1].contains("stray.rs (stray) is in no layer"), "{bad:?}");
 }

@@ -2,7 +2,7 @@
 //!
 //! Modules in import order (a module imports only modules listed before it): the leaves
 //! [`io`], [`picture`] and [`results`]; then [`heightmap`], [`scene`], [`maps`],
-//! [`reference`](mod@reference); [`gpu`]; [`metrics`]; [`measure`]; [`sweep`], [`stability`]; [`report`].
+//! [`reference`](mod@reference); [`gpu`]; [`metrics`]; [`measure`]; [`sweep`], [`stability`], [`room`]; [`report`].
 //! The `relief` command line lives in `src/bin/relief/` and the library never calls it.
 
 #![warn(missing_docs)]
