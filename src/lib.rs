@@ -35,3 +35,10 @@ pub use relief_dsl::spec::Grid;
 pub use relief_dsl::{compile, CompileError, Pipeline, Slot, StageSpec};
 pub use relief_macros::{relief, relief_grid, relief_shader};
 pub use relief_runtime as runtime;
+
+/// The Rust examples of `README.md` and `docs/text-form.md`, compiled and run as doctests so
+/// that the documentation stays true.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+#[doc = include_str!("../docs/text-form.md")]
+pub struct DocExamples;
