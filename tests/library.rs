@@ -274,3 +274,78 @@ fn linear_distance_has_no_library() {
     let e = e.to_string();
     assert!(e.contains("linear_distance") && e.contains("not implemented for libraries"), "{e}");
 }
+
+/// A library at the largest options every language accepts (the longest prefix, the highest
+/// group, the last binding at the highest binding) compiles with the real validators, and one
+/// past each limit is refused with a one-line error that names the option and the limit
+/// (`relief_dsl::emit::limits`).
+#[test]
+fn the_largest_accepted_options_compile_and_one_past_is_refused() {
+    use relief::dsl::emit::limits::{self, Target};
+    let glslang = tool("glslangValidator");
+    let spirv_val = tool("spirv-val");
+    let dir = std::env::temp_dir().join(format!("relief-library-limits-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // The longest names: nested stages in the shadow slot, an ao stage.
+    let p: Pipeline = "cns(10)+shadow=hard(rcs(8, start=bracket))+ao=cone_ratio".parse().unwrap();
+    let count = emit::library(&p, &LibraryOptions::default()).unwrap().bindings.len() as u32;
+    let max_name = |t| limits::limits(t).max_name.map_or(usize::MAX, |(n, _)| n);
+    let max_group = |t| limits::limits(t).max_group.map_or(u32::MAX, |(n, _)| n);
+    let max_binding = |t| limits::limits(t).max_binding.map_or(u32::MAX, |(n, _)| n);
+    let longest = Target::LIBRARY.iter().map(|t| max_name(*t)).min().unwrap() - limits::LONGEST_SUFFIX;
+    let group = Target::LIBRARY.iter().map(|t| max_group(*t)).min().unwrap();
+    let last = Target::LIBRARY.iter().map(|t| max_binding(*t)).min().unwrap();
+    let prefix = format!("r{}", "e".repeat(longest - 1));
+    let opts = LibraryOptions { prefix: prefix.clone(), group, binding: last + 1 - count, ..LibraryOptions::default() };
+    let lib = emit::library(&p, &opts).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(lib.bindings.last().map(|b| (b.group, b.binding)), Some((group, last)));
+    let hit = format!("{}Hit", camel(&prefix));
+
+    let wgsl = format!("{}\n{}", lib.wgsl, wgsl_user(&lib, &prefix, "user_main"));
+    naga_wgsl(&wgsl, "WGSL library at the limits");
+
+    let frag = dir.join("limits.frag");
+    let call = |lang_vec3: &str| {
+        let mut s = format!("    {hit} hit = {prefix}_trace(UV, normalize(VIEW), {DEPTH});\n    float shade = {prefix}_shadow(hit, normalize({lang_vec3}(0.3, 0.2, 0.9)), {DEPTH}) * {prefix}_ao(hit);\n");
+        s += "    return_value(hit.uv, hit.height + hit.t + hit.depth_offset, shade);\n";
+        s
+    };
+    let glsl_body = call("vec3").replace("UV", "v_uv").replace("VIEW", "v_view").replace("return_value", "o_color = vec4");
+    std::fs::write(
+        &frag,
+        format!("#version 450\n{}layout(location = 0) in vec2 v_uv;\nlayout(location = 1) in vec3 v_view;\nlayout(location = 0) out vec4 o_color;\nvoid main() {{\n{glsl_body}}}\n", lib.glsl),
+    )
+    .unwrap();
+    let spv = dir.join("limits.glsl.spv");
+    run(Command::new(glslang).args(["-V", "-S", "frag", "-o"]).arg(&spv).arg(&frag), "glslangValidator -V at the limits");
+    run(Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv), "spirv-val on the GLSL library at the limits");
+    run(Command::new(glslang).args(["-G", "-S", "frag", "-o"]).arg(dir.join("limits.gl.spv")).arg(&frag), "glslangValidator -G at the limits");
+
+    let hlsl_body = call("float3").replace("UV", "i.uv").replace("VIEW", "i.view").replace("return_value", "return float4");
+    let hlsl = dir.join("limits.hlsl");
+    std::fs::write(
+        &hlsl,
+        format!("{}struct UserIn {{ float4 pos : SV_Position; float2 uv : TEXCOORD0; float3 view : TEXCOORD1; }};\nfloat4 user_main(UserIn i) : SV_Target {{\n{hlsl_body}}}\n", lib.hlsl),
+    )
+    .unwrap();
+    let spv = dir.join("limits.hlsl.spv");
+    run(Command::new(glslang).args(["-D", "-V", "-S", "frag", "-e", "user_main", "-o"]).arg(&spv).arg(&hlsl), "glslangValidator -D at the limits");
+    run(Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv), "spirv-val on the HLSL library at the limits");
+    std::fs::remove_dir_all(&dir).ok();
+
+    // One past each limit: refused, in one line, naming the option and the limit.
+    let past = [
+        (LibraryOptions { prefix: format!("{prefix}e"), ..LibraryOptions::default() }, "prefix of"),
+        (LibraryOptions { group: group + 1, ..LibraryOptions::default() }, "group"),
+        (LibraryOptions { binding: last + 2 - count, ..LibraryOptions::default() }, "binding"),
+        (LibraryOptions { prefix: "gl".into(), ..LibraryOptions::default() }, "prefix `gl`"),
+        (LibraryOptions { group: 1000, ..LibraryOptions::default() }, "group 1000"),
+        (LibraryOptions { group: u32::MAX, binding: u32::MAX, ..LibraryOptions::default() }, "group"),
+        (LibraryOptions { binding: u32::MAX, ..LibraryOptions::default() }, "binding"),
+    ];
+    for (o, says) in past {
+        let e = emit::library(&p, &o).err().unwrap_or_else(|| panic!("{o:?} accepted")).to_string();
+        assert!(e.contains(says), "{o:?}: {e}");
+        assert!(!e.contains('\n'), "{e}");
+    }
+}

@@ -318,7 +318,10 @@ pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileErro
             what = format!("{}, read texel by texel (textureLoad) over its mip chain", what.split(", read").next().unwrap_or(""));
         }
         let name = format!("{prefix}_{base}");
-        let binding = opts.binding + i as u32;
+        let binding = u32::try_from(i).ok().and_then(|i| opts.binding.checked_add(i)).ok_or_else(|| CompileError {
+            stage: "library".into(),
+            message: format!("binding {} + {i}: the resources' bindings would pass {}", opts.binding, u32::MAX),
+        })?;
         g.name = Some(name.clone());
         g.binding = Some(naga::ResourceBinding { group: opts.group, binding });
         let kind = match &module.types[g.ty].inner {

@@ -314,9 +314,17 @@ fn msl_text(lib: &Library) -> Result<String, CompileError> {
     Ok(text)
 }
 
-/// Builds the library of `p` and writes it in the four languages.
+/// Builds the library of `p` and writes it in the four languages. The options are checked
+/// against every language's limits first ([`super::limits`]), and the names as written
+/// against what was asked for, so a file that would not compile, or whose functions a
+/// writer renamed, is an error instead.
 pub fn library(p: &Pipeline, opts: &LibraryOptions) -> Result<LibraryFiles, CompileError> {
+    use super::limits::{self, Target};
+    limits::check_all(&Target::LIBRARY, &opts.prefix, opts.group, opts.binding)?;
     let lib = crate::compose::library::build(p, opts)?;
+    let last = lib.bindings.last().map_or(opts.binding, |b| b.binding);
+    limits::check_all(&Target::LIBRARY, &opts.prefix, opts.group, last)?;
+    check_name_lengths(&lib, &opts.prefix)?;
     let mut wgsl = String::new();
     if let Some(path) = &opts.import_path {
         let ok = path.split("::").all(|seg| {
@@ -328,10 +336,78 @@ pub fn library(p: &Pipeline, opts: &LibraryOptions) -> Result<LibraryFiles, Comp
         }
         let _ = writeln!(wgsl, "#define_import_path {path}\n");
     }
+    let bodies = [
+        (Target::Wgsl, wgsl_text(&lib)?),
+        (Target::Glsl, glsl_text(&lib, opts)?),
+        (Target::Hlsl, hlsl_text(&lib)?),
+        (Target::Msl, msl_text(&lib)?),
+    ];
+    for (target, body) in &bodies {
+        check_names_kept(&lib, &opts.prefix, *target, body)?;
+    }
+    let [(_, w), (_, g), (_, h), (_, m)] = bodies;
     wgsl.push_str(&header(p, &lib, opts, Lang::Wgsl));
-    wgsl.push_str(&wgsl_text(&lib)?);
-    let glsl = header(p, &lib, opts, Lang::Glsl) + &glsl_text(&lib, opts)?;
-    let hlsl = header(p, &lib, opts, Lang::Hlsl) + &hlsl_text(&lib)?;
-    let msl = header(p, &lib, opts, Lang::Msl) + &msl_text(&lib)?;
+    wgsl.push_str(&w);
+    let glsl = header(p, &lib, opts, Lang::Glsl) + &g;
+    let hlsl = header(p, &lib, opts, Lang::Hlsl) + &h;
+    let msl = header(p, &lib, opts, Lang::Msl) + &m;
     Ok(LibraryFiles { wgsl, glsl, hlsl, msl, bindings: lib.bindings, has_shadow: lib.has_shadow, has_ao: lib.has_ao })
+}
+
+/// The module's names may add at most [`super::limits::LONGEST_SUFFIX`] characters to the
+/// prefix (what the limits assumed when they checked the prefix's length).
+fn check_name_lengths(lib: &Library, prefix: &str) -> Result<(), CompileError> {
+    let m = &lib.module;
+    let names = m
+        .functions
+        .iter()
+        .filter_map(|(_, f)| f.name.as_deref())
+        .chain(m.global_variables.iter().filter_map(|(_, g)| g.name.as_deref()))
+        .chain(m.types.iter().filter_map(|(_, t)| t.name.as_deref()))
+        .chain(m.constants.iter().filter_map(|(_, c)| c.name.as_deref()));
+    let longest = names.max_by_key(|n| n.chars().count()).unwrap_or("");
+    let extra = longest.chars().count().saturating_sub(prefix.chars().count());
+    if extra > super::limits::LONGEST_SUFFIX {
+        return Err(CompileError {
+            stage: "library".into(),
+            message: format!(
+                "the name `{longest}` adds {extra} characters to the prefix, more than the {} the languages' name limits allow for",
+                super::limits::LONGEST_SUFFIX
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// Whether `name` occurs in `text` as a whole identifier.
+fn has_word(text: &str, name: &str) -> bool {
+    let ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    text.match_indices(name).any(|(i, _)| {
+        let before = text[..i].chars().next_back();
+        let after = text[i + name.len()..].chars().next();
+        !before.is_some_and(ident) && !after.is_some_and(ident)
+    })
+}
+
+/// The public functions, the hit type and the resources came out of `target`'s writer with
+/// the names asked for: a writer renames a name its language reserves (naga prepends `gen_`
+/// or appends `_`), which would leave the user calling a function that does not exist.
+fn check_names_kept(lib: &Library, prefix: &str, target: super::limits::Target, body: &str) -> Result<(), CompileError> {
+    let mut names = vec![format!("{prefix}_trace"), format!("{}Hit", crate::compose::library::camel(prefix))];
+    if lib.has_shadow {
+        names.push(format!("{prefix}_shadow"));
+    }
+    if lib.has_ao {
+        names.push(format!("{prefix}_ao"));
+    }
+    // GLSL keeps no sampler (a texture is combined with its sampler).
+    let glsl = target == super::limits::Target::Glsl;
+    names.extend(lib.bindings.iter().filter(|b| !(glsl && b.kind == ResourceKind::Sampler)).map(|b| b.name.clone()));
+    match names.iter().find(|n| !has_word(body, n)) {
+        None => Ok(()),
+        Some(n) => Err(CompileError {
+            stage: format!("library {}", target.name()),
+            message: format!("prefix `{prefix}`: the {} writer renamed `{n}` (a name the language reserves); choose another prefix", target.name()),
+        }),
+    }
 }

@@ -85,4 +85,5 @@ pub fn emit(p: &crate::spec::Pipeline) -> Result<Outputs, CompileError> {
 }
 
 pub mod library;
+pub mod limits;
 pub use library::{library, LibraryBinding, LibraryFiles, LibraryOptions, ResourceKind};
