@@ -166,8 +166,9 @@ pub enum HeightMapError {
         #[source]
         source: std::io::Error,
     },
-    /// The extension is none of `.png`, `.tga`, `.bmp`, `.exr`, `.npy` (case is ignored).
-    #[error("{path}: unsupported file type (expected .png, .tga, .bmp, .exr or .npy)")]
+    /// The extension is none of `.png`, `.tga`, `.bmp`, `.jpg`/`.jpeg`, `.tif`/`.tiff`,
+    /// `.webp`, `.exr`, `.npy` (case is ignored).
+    #[error("{path}: unsupported file type (expected .png, .tga, .bmp, .jpg, .jpeg, .tif, .tiff, .webp, .exr or .npy)")]
     Unsupported {
         /// The file.
         path: PathBuf,
@@ -241,8 +242,10 @@ pub enum HeightMapError {
 impl HeightMap {
     /// Loads a height map from a file, chosen by extension:
     ///
-    /// - `.png` (8 or 16 bit, gray, gray+alpha, RGB or RGBA), `.tga`, `.bmp`: integer samples
-    ///   are normalised to [0, 1] (`v / 255` or `v / 65535`).
+    /// - `.png` and `.tif`/`.tiff` (8 or 16 bit, gray, gray+alpha, RGB or RGBA), `.tga`,
+    ///   `.bmp`, `.jpg`/`.jpeg` (8 bit, gray or RGB), `.webp` (8 bit, lossy or lossless, RGB or
+    ///   RGBA): integer samples are normalised to [0, 1] (`v / 255` or `v / 65535`), through the
+    ///   `image` crate's decoders.
     /// - `.exr`: float samples, used as they are.
     /// - `.npy`: the raw float format, see [`HeightMap::from_npy_bytes`].
     ///
@@ -264,7 +267,7 @@ impl HeightMap {
                 let bytes = std::fs::read(path).map_err(|source| HeightMapError::Io { path: p(), source })?;
                 HeightMap::from_npy_bytes(&bytes, options.channel, path)?
             }
-            "png" | "tga" | "bmp" | "exr" => load_image(path, options.channel)?,
+            "png" | "tga" | "bmp" | "jpg" | "jpeg" | "tif" | "tiff" | "webp" | "exr" => load_image(path, options.channel)?,
             _ => return Err(HeightMapError::Unsupported { path: p() }),
         };
         if options.depth {

@@ -149,3 +149,88 @@ fn content_hash_is_stable_and_sensitive() {
     let c = HeightMap::new(4, 16, a.data.clone());
     assert_ne!(a.content_hash(), c.content_hash());
 }
+
+/// An 8-bit pattern uniform over each 8×8 block (JPEG's block size): a baseline JPEG at
+/// quality 100 stores such a block in its DC coefficient alone, with a quantisation step of
+/// 1, so the decoder gives back every value exactly.
+fn block_pattern(w: u32, h: u32) -> image::GrayImage {
+    image::GrayImage::from_fn(w, h, |x, y| image::Luma([((x / 8) * 37 + (y / 8) * 91 + 5) as u8 % 251]))
+}
+
+#[test]
+fn jpeg_8_bit_gray() {
+    let d = dir();
+    let img = block_pattern(32, 24);
+    let p = d.join("blocks.jpg");
+    let mut file = std::io::BufWriter::new(std::fs::File::create(&p).unwrap());
+    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut file, 100).encode_image(&img).unwrap();
+    drop(file);
+    let m = HeightMap::load(&p, &LoadOptions::default()).unwrap();
+    assert_eq!((m.width, m.height), (32, 24));
+    for (i, (got, px)) in m.data.iter().zip(img.pixels()).enumerate() {
+        assert_eq!(*got, px.0[0] as f32 / 255.0, "texel {i}");
+    }
+    // `.jpeg` too, and the depth flag.
+    let q = d.join("blocks.JPEG");
+    std::fs::copy(&p, &q).unwrap();
+    let m = HeightMap::load(&q, &opts(None, true)).unwrap();
+    assert_eq!(m.data[9 * 32 + 17], 1.0 - img.get_pixel(17, 9).0[0] as f32 / 255.0);
+}
+
+#[test]
+fn tiff_8_and_16_bit() {
+    let d = dir();
+    let img8 = image::GrayImage::from_fn(6, 5, |x, y| image::Luma([(x * 40 + y * 3) as u8]));
+    let p8 = d.join("g8.tif");
+    img8.save(&p8).unwrap();
+    let m = HeightMap::load(&p8, &LoadOptions::default()).unwrap();
+    assert_eq!((m.width, m.height), (6, 5));
+    assert_eq!(m.data[4 * 6 + 5], (5 * 40 + 4 * 3) as f32 / 255.0);
+
+    let img16 = image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::from_fn(5, 4, |x, y| image::Luma([(x * 13001 + y * 11) as u16]));
+    let p16 = d.join("g16.tiff");
+    img16.save(&p16).unwrap();
+    let m = HeightMap::load(&p16, &LoadOptions::default()).unwrap();
+    // 16-bit precision survives: 52037 is not a multiple of 257.
+    assert_eq!(m.data[3 * 5 + 4], (4 * 13001 + 3 * 11) as f32 / 65535.0);
+
+    // 16-bit RGBA: the alpha channel on request.
+    let rgba16 = image::ImageBuffer::<image::Rgba<u16>, Vec<u16>>::from_fn(3, 3, |x, y| image::Rgba([1000, 2000, 3000, (x * 20000 + y * 3) as u16]));
+    let p = d.join("rgba16.tif");
+    rgba16.save(&p).unwrap();
+    let m = HeightMap::load(&p, &opts(Some(Channel::A), false)).unwrap();
+    assert_eq!(m.data[2 * 3 + 1], (20000 + 2 * 3) as f32 / 65535.0);
+}
+
+#[test]
+fn webp_8_bit_lossless() {
+    let d = dir();
+    // image's WebP encoder writes lossless WebP (VP8L): every value comes back.
+    let img = image::RgbaImage::from_fn(7, 5, |x, y| image::Rgba([(x * 30) as u8, (y * 50) as u8, 77, (x * 9 + y * 40) as u8]));
+    let p = d.join("rgba.webp");
+    img.save(&p).unwrap();
+    let m = HeightMap::load(&p, &opts(Some(Channel::A), false)).unwrap();
+    assert_eq!((m.width, m.height), (7, 5));
+    assert_eq!(m.data[4 * 7 + 6], (6 * 9 + 4 * 40) as f32 / 255.0);
+    let m = HeightMap::load(&p, &opts(Some(Channel::G), false)).unwrap();
+    assert_eq!(m.data[3 * 7], (3 * 50) as f32 / 255.0);
+    // Gray written as RGB: the default (luma) reads the gray value.
+    let gray = image::RgbImage::from_fn(4, 4, |x, y| {
+        let v = (x * 60 + y) as u8;
+        image::Rgb([v, v, v])
+    });
+    let p = d.join("gray.webp");
+    gray.save(&p).unwrap();
+    let m = HeightMap::load(&p, &LoadOptions::default()).unwrap();
+    let want = (3 * 60 + 2) as f32 / 255.0;
+    assert!((m.data[2 * 4 + 3] - want).abs() < 1e-6, "{} vs {want}", m.data[2 * 4 + 3]);
+}
+
+#[test]
+fn the_unsupported_message_names_the_new_formats() {
+    let d = dir();
+    let p = d.join("map.gif");
+    std::fs::write(&p, b"GIF89a").unwrap();
+    let e = HeightMap::load(&p, &LoadOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("unsupported file type") && e.contains(".jpg") && e.contains(".tiff") && e.contains(".webp"), "{e}");
+}

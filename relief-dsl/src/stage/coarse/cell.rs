@@ -22,6 +22,13 @@ use crate::stage::{Bracket, Ray};
 /// the cell the ray is entering, not the one it leaves.
 const AHEAD_CELLS: f32 = 1e-4;
 
+/// The exit t along an axis the ray does not move on (|speed| < 1e-12 cells per unit t):
+/// larger than any real exit (at most about one cell over 1e-12, i.e. 1e12) so that the
+/// other axis or the floor decides, and a finite f32 that every shader compiler accepts as a
+/// literal (`f32::MAX` is written `340282350000000000000000000000000000000`, a decimal just
+/// above f32's range, which Chromium's Tint rejects).
+const NO_EXIT: f32 = 1e30;
+
 /// The bilinear cell a ray point is in (or entering), with what the safe cone steps need.
 #[derive(Clone, Copy)]
 pub(super) struct Cell<'a> {
@@ -63,7 +70,7 @@ pub(super) fn cell_at<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> C
     let dist = s.select(clamp, outside.length(), s.lit(0.0));
     let exit_along = |c: Val<'a, f32>, x: Val<'a, f32>, v: Val<'a, f32>| {
         let to = s.select(v.ge(0.0), c + 1.0 - x, c - x);
-        s.select(v.abs().lt(1e-12), s.lit(f32::MAX), to / v)
+        s.select(v.abs().lt(1e-12), s.lit(NO_EXIT), to / v)
     };
     let exit = (t + exit_along(cell.x(), x.x(), speed.x()).min(exit_along(cell.y(), x.y(), speed.y()))).min(ray.t_max());
     Cell { size, cell, corners, apex, index, dist: dist.named("dist"), exit: exit.named("exit") }
