@@ -114,7 +114,7 @@ pub fn run_page(p: &Page<'_>) -> serde_json::Value {
         let mut result = report["result"].to_string();
         if result.len() > 4000 {
             result.truncate(4000);
-            result.push_str("…");
+            result.push('…');
         }
         panic!(
             "{} failed in Chromium (exit {status}):\nconsole:\n{}\nerrors:\n{}\nresult: {result}\n{stderr}",
