@@ -1,4 +1,4 @@
-//! The layers of DESIGN.md, checked on the source: no module names one above it.
+//! The layers of ARCHITECTURE.md, checked on the source: no module names one above it.
 //!
 //! relief-dsl: abi → spec → ir → stage → compose → emit. relief-runtime: the leaves (io,
 //! results, picture), then heightmap, scene, maps, reference → gpu → metrics → measure →

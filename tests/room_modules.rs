@@ -25,7 +25,7 @@ fn room_modules_pass_naga_spirv_val_and_glslang() {
         "csm(15)+binary(5)+ao=cone_ratio",
     ] {
         let p: Pipeline = text.parse().unwrap();
-        // Light scattering (seed 003 §2.3) on the shadowed pipeline.
+        // Light scattering (Amaro & Gustafsson 2022, §2.3) on the shadowed pipeline.
         let options = RoomOptions { scatter: text.contains("soft").then_some(42) };
         let rc = compile_room(&p, &options).unwrap_or_else(|e| panic!("{p}: {e}"));
         let c = &rc.compiled;

@@ -1,8 +1,8 @@
-//! Map generator timings at 1024² (the issue's goals: exact conservative cone map ≤ 2 s,
+//! Map generator timings at 1024² (goals: exact conservative cone map ≤ 2 s,
 //! relaxed ≤ 10 s on 2 cores). `cargo bench -p relief-runtime --bench maps`.
 //! White noise and 6-octave value noise (fBm) as inputs.
 //!
-//! The cell kinds (issue #13; goals on 2 cores: `cell_cone` 1024² ≤ 1 s and
+//! The cell kinds (goals on 2 cores: `cell_cone` 1024² ≤ 1 s and
 //! `cell_relaxed_cone` 1024² ≤ 5 s, on fBm and on a hard-edged map of boxes, one-texel walls
 //! and single-texel pillars): group `cells_1024`, e.g.
 //! `cargo bench -p relief-runtime --bench maps -- cells`.

@@ -44,7 +44,7 @@ pub const ABOVE_SURFACE: f64 = 1e-3;
 
 /// A hit further than this in t past the exact first hit counts as past it: the f32
 /// rounding of a t near 1 is ~1e-7, and of the ray's position on a ray nearly parallel to a
-/// steep bilinear ramp up to ~1e-6 (issue #13's goal for the safe cone methods: 1e-5).
+/// steep bilinear ramp up to ~1e-6 (the goal set for the safe cone methods: 1e-5).
 pub const PAST_SLACK: f64 = 1e-5;
 
 /// Accuracy of a set of probe hits against the reference hits of the same rays, from the

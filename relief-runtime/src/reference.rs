@@ -3,7 +3,7 @@
 //! The surface is the height map interpolated **bilinearly between texel centres** (or, for
 //! stages that sample nearest, the piecewise-constant **nearest-texel** surface), extended past
 //! the map by the scene's edge mode; either way it covers the whole plane. A ray is
-//! `(u0 + t·dx, v0 + t·dy, 1 + t·dz)` with `dz < 0` (DESIGN.md: normalized so that t = -1/dz,
+//! `(u0 + t·dx, v0 + t·dy, 1 + t·dz)` with `dz < 0` (ARCHITECTURE.md: normalized so that t = -1/dz,
 //! usually 1, reaches height 0). Its first hit is the smallest `t >= 0` where the ray's height is
 //! at or below the surface. Heights are never negative, so every ray hits by the time it
 //! reaches height 0.
@@ -20,7 +20,7 @@
 //!    so the first root found is the first hit.
 //! 3. **Empty-space skipping.** A maximum mipmap over the cells ([`cell_max_mip`], after Tevs,
 //!    Ihrke & Seidel 2008, and the pyramidal displacement mapping of Oh & Ki 2006 surveyed in
-//!    Szirmay-Kalos & Umenhoffer, paper 002, section 4.3.3) bounds the surface over blocks of
+//!    Szirmay-Kalos & Umenhoffer 2008, section 4.3.3) bounds the surface over blocks of
 //!    cells. A block whose maximum lies below the ray wherever the ray crosses it is skipped
 //!    whole; otherwise the ray first advances to where it descends to that maximum, then the
 //!    block is opened. After a skip the traversal climbs one level. The result is the same as

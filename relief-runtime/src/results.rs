@@ -6,7 +6,7 @@
 //! appended with one write, so a run killed at any moment leaves at most a last line cut
 //! short, which every reader drops ([`read`]; [`read_for_append`] also truncates it away).
 //! A metric written as `null` (NaN or infinite when measured) reads back as NaN, and so
-//! does a metric that rows written before issue #11 lack, never a silent 0.
+//! does a metric that older rows lack, never a silent 0.
 //! `DIR/results.csv` holds the same rows in the [`COLUMNS`] order.
 
 use std::io::Write;
@@ -243,7 +243,7 @@ pub fn parse_row(line: &str) -> anyhow::Result<Row> {
     };
     let mut base = serde_json::to_value(Row::default())?;
     let mut nulls = Vec::new();
-    // Fields that rows written before issue #11 lack: not recorded, so NaN (shown as such),
+    // Fields that older rows lack: not recorded, so NaN (shown as such),
     // never a silent 0.
     for k in LATER_FIELDS {
         if !obj.contains_key(*k) {
@@ -266,7 +266,7 @@ pub fn parse_row(line: &str) -> anyhow::Result<Row> {
     Ok(row)
 }
 
-/// Metrics fields added with issues #11 and #15 (absent from older results files).
+/// Metrics fields added after the first results files (absent from older ones).
 const LATER_FIELDS: &[&str] = &["frame_ms_mean", "avg_coarse_steps", "avg_refine_steps", "nonconverged_rate", "false_hit_rate"];
 
 fn set_nan(m: &mut Metrics, field: &str) {

@@ -64,7 +64,7 @@ pub struct Cell {
 }
 
 /// Boxes of random heights on a floor at 0.05, with one-texel walls (full height) and
-/// single-texel pillars between them: the hard case for cone methods (issue #13). `seed`
+/// single-texel pillars between them: the hard case for cone methods. `seed`
 /// makes other layouts of the same kind.
 pub fn boxes(n: usize, seed: u64) -> HeightMap {
     let mut state = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);

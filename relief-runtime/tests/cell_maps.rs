@@ -1,4 +1,4 @@
-//! Cone maps on bilinear cells (issue #13) and the distance field to the bilinear surface:
+//! Cone maps on bilinear cells and the distance field to the bilinear surface:
 //! every fast generator against a brute-force minimum over all cells (bit for bit), the cone
 //! property checked by dense sampling of the surface (without the generator's lower bound),
 //! the relaxed rule checked by marching rays, encodings, and the distance field's bound under

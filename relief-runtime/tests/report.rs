@@ -232,7 +232,7 @@ fn report_on_a_real_sweep() {
 }
 
 // ---------------------------------------------------------------------------------------
-// Issue #11: the numbers mean what they say.
+// The numbers mean what they say.
 
 /// A row built from `row` with some metrics changed.
 fn rowm(pipeline: &str, f: impl FnOnce(&mut Metrics)) -> Row {

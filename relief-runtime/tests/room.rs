@@ -1,4 +1,4 @@
-//! Rooms (seed 003): the dynamic layer count with the distance term, the wall selection
+//! Rooms (Amaro & Gustafsson 2022): the dynamic layer count with the distance term, the wall selection
 //! against an independent CPU ray–box intersection, per-wall hits of an exact pipeline
 //! against the exact reference, the real-geometry baseline against the CPU reference, and
 //! room files' errors and border warnings.
@@ -31,14 +31,14 @@ impl Rng {
     }
 }
 
-/// Seed 003 §2.1.3, written out here: `L = (1 − cos θ)(L_min·d/(3+d) + L_max·(1 − d/(3+d))) + L_θmin·cos θ`.
-fn seed_layers(cos: f64, d: f64, min: f64, max: f64, theta_min: f64) -> f64 {
+/// Amaro & Gustafsson 2022, §2.1.3, written out here: `L = (1 − cos θ)(L_min·d/(3+d) + L_max·(1 − d/(3+d))) + L_θmin·cos θ`.
+fn paper_layers(cos: f64, d: f64, min: f64, max: f64, theta_min: f64) -> f64 {
     let w = d / (3.0 + d);
     (1.0 - cos) * (min * w + max * (1.0 - w)) + theta_min * cos
 }
 
 #[test]
-fn linear_distance_takes_the_seed_003_layer_count() {
+fn linear_distance_takes_amaro_and_gustafssons_layer_count() {
     let g = gpu();
     // A flat map at height 0: no ray meets the surface before the bottom, so the linear
     // search runs every one of its layers and the probe's coarse count is the layer count.
@@ -58,7 +58,7 @@ fn linear_distance_takes_the_seed_003_layer_count() {
             let d = ((r.origin[0] - cam.x) as f64).hypot((r.origin[1] - cam.y) as f64).hypot(cam.z as f64);
             let vz = r.dir[2] as f64 * scene.depth_scale as f64;
             let cos = -vz / ((r.dir[0] as f64).powi(2) + (r.dir[1] as f64).powi(2) + vz * vz).sqrt();
-            let l = seed_layers(cos, d, min, max, theta_min);
+            let l = paper_layers(cos, d, min, max, theta_min);
             if (l - l.round()).abs() < 1e-3 {
                 continue; // f32 rounding may fall on either side of a whole number
             }
@@ -348,9 +348,9 @@ fn the_report_has_a_room_section_from_a_room_grid() {
     for v in variants() {
         assert!(md.contains(&format!("| {} |", v.label)), "{}: {md}", v.label);
     }
-    // 8 ms of geometry against 2 ms of interior + POM: 4×, the seed's ordering.
+    // 8 ms of geometry against 2 ms of interior + POM: 4×, the paper's ordering.
     assert!(md.contains("4.00× the frame time of interior mapping + POM: the ordering holds"), "{md}");
-    assert!(md.contains("rising, as in the seed"), "{md}");
+    assert!(md.contains("rising, as in the paper"), "{md}");
     let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
     assert!(html.contains("id=\"rooms\""));
     std::fs::remove_dir_all(&dir).ok();
@@ -385,7 +385,7 @@ fn relief_room_writes_both_renders_and_the_metrics() {
 #[test]
 fn a_safe_cone_pipeline_reads_each_walls_own_cone_map() {
     // Each wall's cone map is built from that wall's heights and bound at that wall's
-    // binding: the safe form then never ends past the first hit (issue #13's guarantee,
+    // binding: the safe form then never ends past the first hit (the safe methods' guarantee,
     // with its slack `metrics::PAST_SLACK`); a map of another wall could let it pass.
     let g = gpu();
     let room = builtin::room("default", Some(32)).unwrap();

@@ -1,4 +1,4 @@
-//! Interior mapping with relief on every wall (Amaro & Gustafsson, seed 003 §2.2, §2.4).
+//! Interior mapping with relief on every wall (Amaro & Gustafsson 2022, §2.2, §2.4).
 //!
 //! A window quad (the rectangle `[0, W] × [0, H]` at world `z = 0`) shows a box room behind
 //! it, `z ∈ [−D, 0]`, with five walls ([`WALL_NAMES`]). The fragment entry `fs_room`:
@@ -8,7 +8,7 @@
 //!    camera)`, and the nearest of the three;
 //! 2. takes the hit point into that wall's tangent space ([`wall_frame`]: u, v along the
 //!    wall's edges in `[0, 1]`, height z with the wall's plane at z = 1 and the deepest point
-//!    `depth_scale` world units behind it, the relief convention of DESIGN.md), and scales the
+//!    `depth_scale` world units behind it, the relief convention of ARCHITECTURE.md), and scales the
 //!    ray so that t = 1 reaches z = 0;
 //! 3. runs the pipeline's coarse + refine (+ shadow, + ao) on that wall's maps (§2.4: one
 //!    relief function per wall, in the wall's space) and shades with the wall's albedo and
@@ -169,7 +169,7 @@ pub fn wall_frame(k: usize, size: [f64; 3]) -> WallFrame {
 /// Options of the room module.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct RoomOptions {
-    /// Light scattering through the window (seed 003 §2.3) with this many samples along the
+    /// Light scattering through the window (Amaro & Gustafsson 2022, §2.3) with this many samples along the
     /// view ray; `None` (the default): off. The sun is [`RoomParams::sun`]; each sample adds
     /// [`SCATTER_WEIGHT`], decaying by [`SCATTER_DECAY`], where the sun passes the window.
     pub scatter: Option<u32>,
@@ -177,7 +177,7 @@ pub struct RoomOptions {
 
 /// Share of the in-scattered light each sample adds, before decay.
 pub const SCATTER_WEIGHT: f32 = 0.6;
-/// Decay of each further sample's contribution (seed 003 §2.3: "a diminished intensity each
+/// Decay of each further sample's contribution (Amaro & Gustafsson 2022, §2.3: "a diminished intensity each
 /// step of the way").
 pub const SCATTER_DECAY: f32 = 0.97;
 
@@ -219,7 +219,7 @@ fn depth_scale<'a>(s: &'a Stage<'a>, k: usize) -> Val<'a, f32> {
     }
 }
 
-/// Seed 003 eq. 1–4: per axis the plane the ray `cam + t·w` heads for, its t, and the
+/// Amaro & Gustafsson 2022, eq. 1–4: per axis the plane the ray `cam + t·w` heads for, its t, and the
 /// nearest. Returns (wall index, t).
 fn select_wall<'a>(s: &'a Stage<'a>, cam: Val<'a, Vec3>, w: Val<'a, Vec3>, size: Val<'a, Vec3>) -> (Val<'a, u32>, Val<'a, f32>) {
     let zero = s.lit(0.0);
@@ -242,7 +242,7 @@ fn select_wall<'a>(s: &'a Stage<'a>, cam: Val<'a, Vec3>, w: Val<'a, Vec3>, size:
 }
 
 /// The world ray `cam + t·w`, met at `t_wall` on wall `k`, in the wall's normalized tangent
-/// space (seed 003 §2.4: "a view matrix transform … into each wall's space").
+/// space (Amaro & Gustafsson 2022, §2.4: "a view matrix transform … into each wall's space").
 fn wall_ray<'a>(s: &'a Stage<'a>, f: &Frame<'a>, scale: Val<'a, f32>, cam: Val<'a, Vec3>, w: Val<'a, Vec3>, t_wall: Val<'a, f32>) -> Ray<'a> {
     let x = cam + w * t_wall;
     let rel = x - f.origin;
@@ -331,7 +331,7 @@ const GLASS: [f32; 3] = [0.72, 0.78, 0.84];
 /// ray to the wall's plane, `samples` points at equal intervals; at each, the ray toward the
 /// sun is followed back to the window's plane, and where it passes the window's clear part
 /// the sample adds `weight · decay^i · (1 − opacity)`; the sum, times the sun's intensity
-/// over the samples, is added to the colour. Our reading of the seed's "paint the hit plane
+/// over the samples, is added to the colour. Our reading of the paper's "paint the hit plane
 /// again and again at a known interval with a diminished intensity": a march along the view
 /// ray through the room's air, lit only where the window lets the sun in.
 fn scattering<'a>(s: &'a Stage<'a>, samples: u32, world: Val<'a, Vec3>, far: Val<'a, Vec3>, size: Val<'a, Vec3>, window_on: Val<'a, bool>) -> Val<'a, f32> {

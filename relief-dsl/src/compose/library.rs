@@ -14,7 +14,7 @@
 //!   themselves assume (maxmip's texel walk): fixed when the library is generated.
 //!
 //! `relief_trace` turns the view ray into the normalized ray the stages search (the
-//! conversion of the render entry, DESIGN.md "Conventions"): with `v` the normalized view
+//! conversion of the render entry, ARCHITECTURE.md "Conventions"): with `v` the normalized view
 //! direction (`v.z < 0`) and `d` the depth scale, the ray enters at `(uv, 1)` with direction
 //! `(v.xy · d / −v.z, −1)`, so that t = 1 reaches the floor. The hit's t is clamped into
 //! `[0, 1]` as the render entry clamps it.
@@ -273,7 +273,7 @@ pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileErro
         if name == crate::stage::coarse::linear::VIEW_DISTANCE {
             return Err(CompileError {
                 stage: "library".into(),
-                message: "`linear_distance` reads the distance from the camera to the fragment (seed 003 §2.1.3), which the library interface (`P_trace(uv, view_ts, depth_scale)`) does not take: not implemented for libraries (`linear_dynamic` needs no distance)".into(),
+                message: "`linear_distance` reads the distance from the camera to the fragment (Amaro & Gustafsson 2022, §2.1.3), which the library interface (`P_trace(uv, view_ts, depth_scale)`) does not take: not implemented for libraries (`linear_dynamic` needs no distance)".into(),
             });
         }
         let Some(rb) = g.binding else {

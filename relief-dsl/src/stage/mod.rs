@@ -1,6 +1,6 @@
 //! The stage interface and the resources stages read.
 //!
-//! Conventions (DESIGN.md): texture space with u, v in texture coordinates and z the height
+//! Conventions (ARCHITECTURE.md): texture space with u, v in texture coordinates and z the height
 //! in [0, 1], the polygon at z = 1. A [`Ray`] enters at `(origin, 1)` with direction `dir`,
 //! `dir.z < 0`, scaled so that t = 1 reaches z = 0. Every stage speaks in this t.
 //!
@@ -134,7 +134,7 @@ pub struct Bracket<'a> {
     /// A t at or below the surface when `found` holds (meaningless otherwise).
     pub below: Val<'a, f32>,
     /// Whether `[above, below]` holds a crossing. When it does not, no stage after the search
-    /// reports anything past `above` (the composer skips the refinement: DESIGN.md, "Stage
+    /// reports anything past `above` (the composer skips the refinement: ARCHITECTURE.md, "The stage
     /// interface").
     pub found: Val<'a, bool>,
 }

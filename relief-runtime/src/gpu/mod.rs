@@ -2,7 +2,7 @@
 //! render-pass timestamp queries, and the probe entry dispatched over CPU-made rays.
 //!
 //! Timing uses render-pass timestamps only: on Mesa's lavapipe compute-pass timestamps are
-//! wrong (DESIGN.md, "Environment facts").
+//! wrong (ARCHITECTURE.md, "Environment facts").
 
 mod device;
 mod probe;

@@ -1,5 +1,5 @@
 //! Conservative cone map (Dummer 2006, *Cone Step Mapping*; as summarised in GPU Gems 3
-//! ch. 18.3, paper 001, and Burger 2018 §2.4 eq. 2.7, paper 000).
+//! ch. 18.3 (Policarpo & Oliveira 2007), and Burger 2018 §2.4 eq. 2.7).
 //!
 //! # Definition
 //!

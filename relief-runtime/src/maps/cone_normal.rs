@@ -1,4 +1,4 @@
-//! Cone normal maps (Burger 2018, *Cone Normal Stepping*, §3.1-3.3, paper 000): the cone is
+//! Cone normal maps (Burger 2018, *Cone Normal Stepping*, §3.1-3.3): the cone is
 //! stored as the z component of the unit normal of its side instead of its ratio.
 //!
 //! # Definition

@@ -1,6 +1,6 @@
 //! 3D distance field for sphere tracing (Donnelly 2005, *Per-Pixel Displacement Mapping with
-//! Distance Functions*, GPU Gems 2 ch. 8; surveyed by Szirmay-Kalos & Umenhoffer,
-//! *Displacement Mapping on the GPU*, section on sphere tracing, paper 002).
+//! Distance Functions*, GPU Gems 2 ch. 8; surveyed by Szirmay-Kalos & Umenhoffer 2008,
+//! *Displacement Mapping on the GPU*, section on sphere tracing).
 //!
 //! # Definition
 //!

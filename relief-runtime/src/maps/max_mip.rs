@@ -7,10 +7,10 @@
 //!   Height Field Rendering* (I3D 2008): a mip chain whose every texel holds the **maximum**
 //!   of the heights below it, so a ray that stays above a node's value over the node's
 //!   footprint can skip the whole footprint. (Not in `/work/shared/papers`; the idea is the
-//!   pyramidal scheme of Oh & Ki 2006 as surveyed by Szirmay-Kalos & Umenhoffer,
+//!   pyramidal scheme of Oh & Ki 2006 as surveyed by Szirmay-Kalos & Umenhoffer 2008,
 //!   *Displacement Mapping on the GPU*, section 4.3.3 "Pyramidal displacement mapping",
-//!   paper 002, which stores the complementary minimum *difference* to the top.)
-//! - Policarpo & Oliveira, *Relaxed Cone Stepping* (GPU Gems 3 ch. 18, paper 001, the
+//!   which stores the complementary minimum *difference* to the top.)
+//! - Policarpo & Oliveira 2007, *Relaxed Cone Stepping* (GPU Gems 3 ch. 18, the
 //!   paragraph on mip-mapping): cone maps must not be filtered linearly; a coarser level must
 //!   take the **minimum** over each group of texels so it never promises more empty space than
 //!   any texel below it. [`min_mip`] builds exactly that.
@@ -201,7 +201,7 @@ pub fn max_mip(map: &HeightMap) -> Pyramid {
 }
 
 /// Minimum mipmap of any per-texel quantity (cone ratios, distances): every coarser entry is
-/// the smallest value below it (Policarpo & Oliveira, GPU Gems 3 ch. 18).
+/// the smallest value below it (Policarpo & Oliveira 2007, GPU Gems 3 ch. 18).
 pub fn min_mip(width: usize, height: usize, data: &[f32]) -> Pyramid {
     Pyramid::build(width, height, data.to_vec(), Reducer::Min)
 }

@@ -135,21 +135,21 @@ impl MapKind {
     /// One line: what the map holds, its channels and the parameters it reads.
     pub fn describe(self) -> &'static str {
         match self {
-            MapKind::Cone => "conservative cone ratio (Dummer CSM); 1 channel; +inf where nothing is higher",
-            MapKind::QuadCone => "conservative cone ratio per quadrant of ray direction (QCSM); 4 channels: +u+v, -u+v, -u-v, +u-v",
-            MapKind::RelaxedCone => "relaxed cone ratio (Policarpo & Oliveira, Listing 18-1); 1 channel",
-            MapKind::ConeNormal => "n_z of the conservative cone side (Burger 3.1), r / sqrt(1 + r^2); 1 channel",
-            MapKind::RelaxedConeNormal => "n_z of the relaxed cone side (Burger 3.1); 1 channel",
-            MapKind::MultiCone => "n_z of K stacked cones, apexes at h + (1-h) k/K (Burger 3.4 method 1); K channels; param cones=K",
-            MapKind::PiecewiseCone => "n_z of K piecewise cone slopes over [h + (1-h) k/K, h + (1-h)(k+1)/K] (Burger 3.4 method 2); K channels; param cones=K",
+            MapKind::Cone => "conservative cone ratio (Dummer 2006, CSM); 1 channel; +inf where nothing is higher",
+            MapKind::QuadCone => "conservative cone ratio per quadrant of ray direction (QCSM; Policarpo & Oliveira 2007); 4 channels: +u+v, -u+v, -u-v, +u-v",
+            MapKind::RelaxedCone => "relaxed cone ratio (Policarpo & Oliveira 2007, Listing 18-1); 1 channel",
+            MapKind::ConeNormal => "n_z of the conservative cone side (Burger 2018 §3.1), r / sqrt(1 + r^2); 1 channel",
+            MapKind::RelaxedConeNormal => "n_z of the relaxed cone side (Burger 2018 §3.1); 1 channel",
+            MapKind::MultiCone => "n_z of K stacked cones, apexes at h + (1-h) k/K (Burger 2018 §3.4 method 1); K channels; param cones=K",
+            MapKind::PiecewiseCone => "n_z of K piecewise cone slopes over [h + (1-h) k/K, h + (1-h)(k+1)/K] (Burger 2018 §3.4 method 2); K channels; param cones=K",
             MapKind::MaxMip => "maximum-height pyramid over bilinear cells (Tevs et al. 2008); 1 channel + mip levels",
-            MapKind::DistanceField => "3D distance lower bound to the bilinear surface, safe under trilinear filtering (Donnelly); width x height x z_resolution; param z_resolution",
+            MapKind::DistanceField => "3D distance lower bound to the bilinear surface, safe under trilinear filtering (Donnelly 2005); width x height x z_resolution; param z_resolution",
             MapKind::CellCone => "cone per bilinear cell, conservative for the bilinear surface; cell grid (w x h repeat, (w+1) x (h+1) clamp); 2 channels: ratio, apex",
             MapKind::CellQuadCone => "quad-directional cone per bilinear cell; 5 channels: ratios +u+v, -u+v, -u-v, +u-v, apex",
             MapKind::CellRelaxedCone => "relaxed cone per bilinear cell (at most one crossing inside the cone, proven rule); 2 channels: ratio, apex",
-            MapKind::CellConeNormal => "n_z of the cell cone (Burger 3.1) per bilinear cell; 2 channels: n_z, apex",
-            MapKind::CellMultiCone => "K stacked cell cones at apex + (1-apex) k/K as n_z (Burger 3.4 method 1); K+1 channels: n_z x K, apex; param cones=K",
-            MapKind::CellPiecewiseCone => "K piecewise cell-cone slopes as n_z (Burger 3.4 method 2); K+1 channels: n_z x K, apex; param cones=K",
+            MapKind::CellConeNormal => "n_z of the cell cone (Burger 2018 §3.1) per bilinear cell; 2 channels: n_z, apex",
+            MapKind::CellMultiCone => "K stacked cell cones at apex + (1-apex) k/K as n_z (Burger 2018 §3.4 method 1); K+1 channels: n_z x K, apex; param cones=K",
+            MapKind::CellPiecewiseCone => "K piecewise cell-cone slopes as n_z (Burger 2018 §3.4 method 2); K+1 channels: n_z x K, apex; param cones=K",
         }
     }
 

@@ -1,4 +1,4 @@
-//! Multiple cones per texel (Burger 2018, *Cone Normal Stepping*, §3.4, paper 000):
+//! Multiple cones per texel (Burger 2018, *Cone Normal Stepping*, §3.4):
 //! method 1, K stacked cones at different heights (evaluated there as MCNS), and method 2,
 //! K piecewise cones (proposed there, never evaluated).
 //!

@@ -1,5 +1,5 @@
-//! Quad-directional cone map (QCSM; Policarpo & Oliveira, GPU Gems 3 ch. 18.4.1 and
-//! Figure 18-8b, paper 001; Burger 2018 §2.4, paper 000).
+//! Quad-directional cone map (QCSM; Policarpo & Oliveira 2007, GPU Gems 3 ch. 18.4.1 and
+//! Figure 18-8b; Burger 2018 §2.4).
 //!
 //! # Definition
 //!

@@ -1,5 +1,5 @@
-//! Relaxed cone map (Policarpo & Oliveira, *Relaxed Cone Stepping for Relief Mapping*,
-//! GPU Gems 3 ch. 18.4.1, Listings 18-1 and 18-2, paper 001).
+//! Relaxed cone map (Policarpo & Oliveira 2007, *Relaxed Cone Stepping for Relief Mapping*,
+//! GPU Gems 3 ch. 18.4.1, Listings 18-1 and 18-2).
 //!
 //! # Definition
 //!

@@ -67,7 +67,7 @@ pub(crate) fn write_all(data: &Data, sub: &Path, warnings: &mut Vec<String>) -> 
                 pipelines.push(p.clone());
             }
         }
-        // One chart per size: points of different sizes are different measurements (issue #11).
+        // One chart per size: points of different sizes are different measurements.
         let sizes = data.sizes();
         for &size in &sizes {
             let scenes: Vec<String> =

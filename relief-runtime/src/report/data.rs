@@ -10,7 +10,7 @@ use relief_dsl::Pipeline;
 use crate::results::{self, Row};
 
 /// The sweep's rows, indexed by (canonical pipeline, scene label, size): rows of one
-/// pipeline and scene at two sizes are two rows, never one replacing the other (issue #11).
+/// pipeline and scene at two sizes are two rows, never one replacing the other.
 pub(crate) struct Data {
     pub dir: PathBuf,
     pub rows: Vec<Row>,

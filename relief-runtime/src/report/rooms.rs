@@ -1,16 +1,16 @@
-//! The room section: seed 003's comparison (Amaro & Gustafsson §3.1.3) of interior mapping
+//! The room section: Amaro & Gustafsson 2022's comparison (§3.1.3) of interior mapping
 //! alone, + POM, + soft shadows, + light scattering, against real geometry, from
 //! `DIR/rooms.jsonl` (`relief sweep --grid rooms`).
 //!
-//! The seed measured GPU utilisation and power on an RTX 3070 Ti (nvtop); relief measures
+//! The paper measured GPU utilisation and power on an RTX 3070 Ti (nvtop); relief measures
 //! render-pass frame times on the device at hand. The two are shown side by side, not
-//! equated: the one claim checked is the seed's ordering (real geometry costs more than
+//! equated: the one claim checked is the paper's ordering (real geometry costs more than
 //! interior mapping with POM; each added effect costs more).
 
 use super::text::{fmt_ms, fmt_num, fmt_pct, fmt_sci, TextTable, DASH};
 use crate::room::sweep::RoomRow;
 
-/// The seed's figures per variant (§3.1.3): GPU utilisation and power.
+/// The paper's figures per variant (§3.1.3): GPU utilisation and power.
 fn seed(variant: &str) -> (&'static str, &'static str) {
     match variant {
         "interior mapping alone" => ("42%", "36 W"),
@@ -21,8 +21,8 @@ fn seed(variant: &str) -> (&'static str, &'static str) {
     }
 }
 
-/// The seed's baseline (real geometry, 320² grids per wall).
-const SEED_BASELINE: (&str, &str) = ("92%", "141 W");
+/// The paper's baseline (real geometry, 320² grids per wall).
+const PAPER_BASELINE: (&str, &str) = ("92%", "141 W");
 
 /// The room tables: one per room.
 pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
@@ -36,7 +36,7 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
     for room in rooms {
         let mine: Vec<&RoomRow> = rows.iter().filter(|r| r.room == room).collect();
         let mut t = TextTable {
-            title: format!("Interior mapping in {room} (seed 003 §3.1.3)"),
+            title: format!("Interior mapping in {room} (Amaro & Gustafsson 2022, §3.1.3)"),
             header: [
                 "variant",
                 "pipeline",
@@ -46,8 +46,8 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
                 "t err rms",
                 "missed",
                 "mean |Δ| vs geometry",
-                "seed: GPU util.",
-                "seed: power",
+                "paper: GPU util.",
+                "paper: power",
             ]
             .map(String::from)
             .to_vec(),
@@ -55,11 +55,11 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
         };
         if let Some(r) = mine.first() {
             t.notes.push(format!(
-                "{}² pixels; real geometry: every wall's height map on a {}² grid (the seed's 320²), depth-buffered, Lambert lighting, no shadows. The seed's baseline: {} GPU utilisation, {}. Scattering: {} samples.",
+                "{}² pixels; real geometry: every wall's height map on a {}² grid (the paper's 320²), depth-buffered, Lambert lighting, no shadows. The paper's baseline: {} GPU utilisation, {}. Scattering: {} samples.",
                 r.size,
                 r.grid,
-                SEED_BASELINE.0,
-                SEED_BASELINE.1,
+                PAPER_BASELINE.0,
+                PAPER_BASELINE.1,
                 mine.iter().map(|r| r.scatter).max().unwrap_or(0)
             ));
         }
@@ -88,12 +88,12 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
                 t.notes.push(format!("Per wall with POM (t err rms / missed, against the exact first hit on each wall's bilinear surface): {}.", walls.join(", ")));
             }
         }
-        // The seed's ordering, checked on our frame times.
+        // The paper's ordering, checked on our frame times.
         let ms = |label: &str| mine.iter().find(|r| r.variant == label && r.status == "ok").map(|r| (r.frame_ms, r.baseline_ms));
         if let Some((pom, geo)) = ms("+ POM") {
             let holds = pom < geo;
             t.notes.push(format!(
-                "Seed: real geometry needs about twice the power of interior mapping + POM (141 W against 74 W). Here real geometry takes {:.2}× the frame time of interior mapping + POM: the ordering {}.",
+                "Amaro & Gustafsson 2022: real geometry needs about twice the power of interior mapping + POM (141 W against 74 W). Here real geometry takes {:.2}× the frame time of interior mapping + POM: the ordering {}.",
                 geo / pom,
                 if holds { "holds" } else { "does not hold" }
             ));
@@ -102,9 +102,9 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
         if order.len() == 4 {
             let rising = order.windows(2).all(|w| w[0] <= w[1]);
             t.notes.push(format!(
-                "Seed: each added effect costs more (36 → 74 → 81 → 93 W). Frame times here: {} ms: {}.",
+                "Amaro & Gustafsson 2022: each added effect costs more (36 → 74 → 81 → 93 W). Frame times here: {} ms: {}.",
                 order.iter().map(|x| format!("{x:.3}")).collect::<Vec<_>>().join(" → "),
-                if rising { "rising, as in the seed" } else { "not rising at every step (frame times on a shared software device vary; one run's medians)" }
+                if rising { "rising, as in the paper" } else { "not rising at every step (frame times on a shared software device vary; one run's medians)" }
             ));
         }
         out.push(t);
@@ -114,7 +114,7 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
 
 /// The section in Markdown.
 pub(crate) fn to_markdown(rows: &[RoomRow]) -> String {
-    let mut md = String::from("## Rooms: interior mapping against real geometry (seed 003)\n\n");
+    let mut md = String::from("## Rooms: interior mapping against real geometry (Amaro & Gustafsson 2022)\n\n");
     for t in tables(rows) {
         md.push_str(&t.to_markdown(3));
     }
@@ -123,7 +123,7 @@ pub(crate) fn to_markdown(rows: &[RoomRow]) -> String {
 
 /// The section in HTML.
 pub(crate) fn to_html(rows: &[RoomRow]) -> String {
-    let mut h = String::from("<h2 id=\"rooms\">Rooms: interior mapping against real geometry (seed 003)</h2>\n");
+    let mut h = String::from("<h2 id=\"rooms\">Rooms: interior mapping against real geometry (Amaro & Gustafsson 2022)</h2>\n");
     for t in tables(rows) {
         h.push_str(&t.to_html(3));
     }

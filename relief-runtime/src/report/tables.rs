@@ -63,7 +63,7 @@ pub(crate) fn build(data: &Data, diss: &Diss) -> Vec<ReportTable> {
         }
         let entries_template = entries(&id, &pipelines, diss);
         // (scene, size) groups: those with at least one row of this table, else the grid's
-        // own scenes, unmeasured. A table never mixes sizes (issue #11).
+        // own scenes, unmeasured. A table never mixes sizes.
         let multi_size = data.sizes().len() > 1;
         let mut groups: Vec<(String, Option<u32>)> = Vec::new();
         for s in data.scenes() {

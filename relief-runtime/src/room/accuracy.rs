@@ -1,5 +1,5 @@
 //! Per-wall accuracy of the room probe's hits against the exact reference: for each ray,
-//! the wall the host computes ([`Room::wall_ray`], seed 003 eq. 1–4 in f64) and the first
+//! the wall the host computes ([`Room::wall_ray`], Amaro & Gustafsson 2022, eq. 1–4, in f64) and the first
 //! hit on that wall's bilinear surface ([`crate::reference::Reference`] on the heights as
 //! the device stores them, edge mode clamp), in the wall's normalized tangent space.
 

@@ -1,6 +1,6 @@
 //! The built-in procedural room: bricks on the back wall, recessed panels on the side
 //! walls, tiles on the floor, coffers in the ceiling. Every map is at height 1 on its
-//! border, as seed 003 (§4) needs for the walls to meet.
+//! border, as Amaro & Gustafsson 2022 (§4) need for the walls to meet.
 
 use glam::Vec3;
 

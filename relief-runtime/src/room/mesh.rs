@@ -1,6 +1,6 @@
-//! The real-geometry baseline of seed 003 §3.1.2: each wall's height map displaced into a
-//! grid of `grid × grid` vertices (the seed used 320 × 320) and rasterised with a depth
-//! buffer, lit by the room's light (Lambert and the ambient share, no shadows: the seed's
+//! The real-geometry baseline of Amaro & Gustafsson 2022, §3.1.2: each wall's height map displaced into a
+//! grid of `grid × grid` vertices (the paper used 320 × 320) and rasterised with a depth
+//! buffer, lit by the room's light (Lambert and the ambient share, no shadows: the paper's
 //! "basic lighting"), coloured by the wall's albedo at each vertex. A facade at z = 0 with
 //! the window cut out hides everything outside the window, as the interior entry draws only
 //! the window quad.
@@ -15,7 +15,7 @@ use super::{Room, RoomLight, WALLS};
 use crate::gpu::{Gpu, GpuError};
 use crate::heightmap::EdgeMode;
 
-/// The seed's grid size.
+/// The paper's grid size.
 pub const DEFAULT_GRID: usize = 320;
 
 /// One vertex: position, normal, linear colour, wall index (−1: the facade).

@@ -1,10 +1,10 @@
-//! Rooms behind a window: interior mapping with relief on every wall (Amaro & Gustafsson,
-//! seed 003 §2.2–2.4), and the same room as real geometry.
+//! Rooms behind a window: interior mapping with relief on every wall (Amaro &
+//! Gustafsson 2022, §2.2–2.4), and the same room as real geometry.
 //!
 //! A [`Room`] is a box `[0, W] × [0, H] × [−D, 0]` in world units behind a window quad at
 //! `z = 0`, five walls ([`WALL_NAMES`]: back, left, right, floor, ceiling), each with a
 //! height map, an optional albedo and normal map and a depth scale (world units from the
-//! wall's plane to height 0: the relief goes *into* the wall, seed 003 §4), an optional
+//! wall's plane to height 0: the relief goes *into* the wall, Amaro & Gustafsson 2022, §4), an optional
 //! window opacity map, a camera in front of the window and a point or directional light
 //! inside the room. Every wall's frame (where u, v and the height point) is
 //! [`relief_dsl::compose::interior::wall_frame`].
@@ -17,7 +17,7 @@
 //! - [`measure`]: one room measured (both renders timed, the accuracy);
 //! - [`sweep`]: the room grid (pipelines × rooms) of `relief sweep --grid rooms`.
 //!
-//! Seed 003 (§4) needs wall height maps at height 1 on their borders, so that the walls
+//! Amaro & Gustafsson 2022 (§4) need wall height maps at height 1 on their borders, so that the walls
 //! meet at the room's edges: the procedural maps are made so, and [`border_warnings`] says
 //! which given map is not.
 
@@ -116,7 +116,7 @@ pub struct Room {
     /// The ambient share of the shading.
     pub ambient: f32,
     /// Unit vector toward the sun outside the window (`z > 0`), for light scattering
-    /// (seed 003 §2.3; off unless asked for).
+    /// (Amaro & Gustafsson 2022, §2.3; off unless asked for).
     pub sun: Vec3,
     /// The sun's scattering intensity.
     pub sun_intensity: f32,
@@ -178,7 +178,7 @@ impl Room {
         out
     }
 
-    /// The wall a world ray meets and the ray in that wall's tangent space: seed 003 eq. 1–4
+    /// The wall a world ray meets and the ray in that wall's tangent space: Amaro & Gustafsson 2022, eq. 1–4
     /// on the host (what `fs_room` and `probe_room` compute), in f64.
     pub fn wall_ray(&self, ray: &RoomRay) -> WallRay {
         let o = [ray.origin[0] as f64, ray.origin[1] as f64, ray.origin[2] as f64];
@@ -274,7 +274,7 @@ impl Room {
 /// Texels on a map's border lower than this below 1 make [`border_warnings`] warn.
 pub const BORDER_TOLERANCE: f32 = 1e-3;
 
-/// One warning per wall whose height map is not at height 1 on its whole border (seed 003
+/// One warning per wall whose height map is not at height 1 on its whole border (Amaro & Gustafsson 2022
 /// §4: the walls would not meet at the room's edges). Empty when every border is at 1.
 pub fn border_warnings(room: &Room) -> Vec<String> {
     let mut out = Vec::new();
@@ -298,7 +298,7 @@ pub fn border_warnings(room: &Room) -> Vec<String> {
         }
         if low > 0 {
             out.push(format!(
-                "room {}: the {} wall's height map is below 1 on {low} of its {total} border texels (lowest {min:.3}); seed 003 needs height 1 at the borders so that the walls meet",
+                "room {}: the {} wall's height map is below 1 on {low} of its {total} border texels (lowest {min:.3}); interior mapping (Amaro & Gustafsson 2022) needs height 1 at the borders so that the walls meet",
                 room.name, WALL_NAMES[k]
             ));
         }

@@ -1,4 +1,4 @@
-//! The room grid of `relief sweep --grid rooms`: seed 003's comparison (§3.1.3) of interior
+//! The room grid of `relief sweep --grid rooms`: Amaro & Gustafsson 2022's comparison (§3.1.3) of interior
 //! mapping alone, + POM, + soft shadows, + light scattering, each against the same room as
 //! real geometry, on every room asked for. Rows go to `DIR/rooms.jsonl` (rewritten whole,
 //! atomically, after every cell, so a kill loses at most the cell in flight), pictures to
@@ -17,10 +17,10 @@ use super::measure::{measure_room, write_images, RoomSetup};
 use super::room_from_arg;
 use crate::gpu::Gpu;
 
-/// One variant of the seed's comparison: a label, the pipeline on every wall, scattering.
+/// One variant of the paper's comparison: a label, the pipeline on every wall, scattering.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Variant {
-    /// The seed's name for it.
+    /// The paper's name for it.
     pub label: &'static str,
     /// The pipeline on every wall.
     pub pipeline: &'static str,
@@ -28,9 +28,9 @@ pub struct Variant {
     pub scatter: Option<u32>,
 }
 
-/// The seed's four variants (§3.1.3, Figures 11–14). POM uses the seed's dynamic layer
+/// The paper's four variants (§3.1.3, Figures 11–14). POM uses the paper's dynamic layer
 /// count (§2.1.3, `linear_distance` with its defaults 16, 180, 4) refined by 5 binary
-/// steps; soft shadows 16 steps; scattering the seed's 42 samples (§3.1.2).
+/// steps; soft shadows 16 steps; scattering the paper's 42 samples (§3.1.2).
 pub fn variants() -> Vec<Variant> {
     vec![
         Variant { label: "interior mapping alone", pipeline: "none", scatter: None },

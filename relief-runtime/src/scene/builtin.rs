@@ -5,7 +5,7 @@
 //!
 //! Each file is a 32-bit TGA: RGB a tangent-space normal map, **alpha the height** (255 = the
 //! top of the relief = relief's height 1, the polygon; 0 = the deepest point = height 0), the
-//! same orientation as relief's height maps (DESIGN.md "Conventions": z in [0, 1], polygon at
+//! same orientation as relief's height maps (ARCHITECTURE.md "Conventions": z in [0, 1], polygon at
 //! z = 1), so heights are `alpha / 255` with no inversion.
 //!
 //! # Depth scale

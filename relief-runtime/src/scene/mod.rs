@@ -6,12 +6,12 @@
 //! World units are texture units. The relief quad is the square `[0, tiling]²` in the world
 //! plane z = 0, with world x = u and world y = v (so the texture repeats `tiling` times across
 //! it), and world z pointing up, out of the surface. The quad is the *top* of the relief
-//! volume (height z = 1, see DESIGN.md "Conventions"); the relief hangs below it, down to world
+//! volume (height z = 1, see ARCHITECTURE.md "Conventions"); the relief hangs below it, down to world
 //! z = -`depth_scale` at height 0. A point at height `z` in [0, 1] lies at world
 //! z = (z - 1) · depth_scale.
 //!
 //! A world view direction `V` (pointing away from the eye, `V.z < 0`) becomes the normalized
-//! tangent-space ray direction (Szirmay-Kalos & Umenhoffer, paper 002, eq. 11):
+//! tangent-space ray direction (Szirmay-Kalos & Umenhoffer 2008, eq. 11):
 //!
 //! ```text
 //! d = (V.x · s / -V.z,  V.y · s / -V.z,  -1),   s = depth_scale

@@ -141,7 +141,7 @@ fn quadrant<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, q: Val<'a, crate::ir::Vec4>) ->
     s.select(south, s.select(west, q.z(), q.w()), s.select(west, q.y(), q.x()))
 }
 
-/// Quad-directional cone stepping (Policarpo & Oliveira, GPU Gems 3 §18.4.1): as CSM, with
+/// Quad-directional cone stepping (Policarpo & Oliveira 2007, GPU Gems 3 §18.4.1): as CSM, with
 /// the cone of the quadrant the ray is heading into (channels `+u+v, -u+v, -u-v, +u-v`).
 pub fn qcsm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form) -> Bracket<'a> {
     match form {
@@ -166,7 +166,7 @@ pub enum RelaxedStart {
     Bracket,
 }
 
-/// Relaxed cone stepping (Policarpo & Oliveira, GPU Gems 3 Listing 18-3): step with the
+/// Relaxed cone stepping (Policarpo & Oliveira 2007, GPU Gems 3 Listing 18-3): step with the
 /// relaxed cone, whose ray may enter the surface but never leave it; stop at the first point
 /// below the surface (K). The safe form always brackets from J: on cells, the one crossing
 /// inside the cone lies between J and K.

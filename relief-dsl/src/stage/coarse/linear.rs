@@ -63,8 +63,8 @@ pub(crate) fn private_f32(m: &crate::ir::ModuleCtx, name: &str) -> naga::GlobalV
     }
 }
 
-/// Linear search with the layer count of seed 003's dynamic layer resolution (Amaro &
-/// Gustafsson §2.1.3, see [`distance_layers`]): the count depends on the view angle and on
+/// Linear search with the layer count of the dynamic layer resolution of Amaro &
+/// Gustafsson 2022 (§2.1.3, see [`distance_layers`]): the count depends on the view angle and on
 /// the distance `d` from the camera to the fragment (`L = (1 − cos θ)·(L_min·d/(3 + d) +
 /// L_max·(1 − d/(3 + d))) + L_θmin·cos θ`, then `max(1, floor(L))` steps), which the entry point stores in
 /// [`VIEW_DISTANCE`] (in the scene's world units: the quad's for `fs_main`, the room's for

@@ -33,7 +33,7 @@ enum Command {
     Stability(stability::StabilityArgs),
     /// Tables, conclusions, charts, picture strips and Pareto fronts from a sweep folder.
     Report(report::ReportArgs),
-    /// A room behind a window, interior mapping with relief on every wall (seed 003), against
+    /// A room behind a window, interior mapping with relief on every wall (Amaro & Gustafsson 2022), against
     /// the same room as real geometry: frame.png, baseline.png, diff.png, metrics.json.
     Room(room::RoomArgs),
 }

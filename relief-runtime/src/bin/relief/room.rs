@@ -1,5 +1,5 @@
 //! `relief room`: a room behind a window with interior mapping and relief on every wall
-//! (seed 003), against the same room as real geometry.
+//! (Amaro & Gustafsson 2022), against the same room as real geometry.
 
 use std::path::PathBuf;
 
@@ -24,14 +24,14 @@ pub struct RoomArgs {
     /// Frame size in pixels (square).
     #[arg(long, default_value_t = 512)]
     pub size: u32,
-    /// Vertices a side of each wall's grid in the real-geometry baseline (seed 003: 320).
+    /// Vertices a side of each wall's grid in the real-geometry baseline (Amaro & Gustafsson 2022: 320).
     #[arg(long, default_value_t = DEFAULT_GRID)]
     pub grid: usize,
     /// Texels a side of the procedural wall maps.
     #[arg(long)]
     pub map_size: Option<usize>,
-    /// Light scattering through the window (seed 003 §2.3) with this many samples per pixel
-    /// (the seed measured 42); off when left out.
+    /// Light scattering through the window (Amaro & Gustafsson 2022, §2.3) with this many
+    /// samples per pixel (the paper measured 42); off when left out.
     #[arg(long)]
     pub scatter: Option<u32>,
     /// Number of timed frames of each render (after 5 warm-up frames).

@@ -8,7 +8,7 @@ use relief_runtime::sweep::{self, grids};
 #[derive(clap::Args, Debug)]
 pub struct SweepArgs {
     /// A built-in grid (`t4.1` … `t4.15`, `f4.5`, `f4.7` … `f4.11`, `dissertation`, `lod`),
-    /// `rooms` (seed 003's interior-mapping comparison on rooms, `--scene room:NAME` or room
+    /// `rooms` (Amaro & Gustafsson 2022's interior-mapping comparison on rooms, `--scene room:NAME` or room
     /// files), or a grid file.
     #[arg(long, required_unless_present = "list")]
     pub grid: Option<String>,
@@ -41,7 +41,7 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
         }
         let rooms = a.scene.len().max(relief_runtime::room::sweep::DEFAULT_ROOMS.len());
         let n = rooms * relief_runtime::room::sweep::variants().len();
-        println!("{:<13} {n:>4} cells  seed 003 §3: interior mapping alone, + POM, + soft shadows, + scattering, each against real geometry, on rooms", "rooms");
+        println!("{:<13} {n:>4} cells  Amaro & Gustafsson 2022 §3: interior mapping alone, + POM, + soft shadows, + scattering, each against real geometry, on rooms", "rooms");
         return Ok(());
     }
     if a.size == 0 || a.size > 4096 {

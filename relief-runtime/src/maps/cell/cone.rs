@@ -1,7 +1,7 @@
 //! `cell_cone`, `cell_quad_cone` and `cell_cone_normal`: conservative cones of bilinear cells
-//! (the cell-grid version of Dummer's cone step mapping, paper 003, and of QCSM and CNS,
-//! Policarpo & Oliveira GPU Gems 3 ch. 18.4.1, paper 001; Burger 2018 §2.4 and §3.1, paper
-//! 000). Grid, distances and the per-cell bound: [`super`].
+//! (the cell-grid version of Dummer 2006's cone step mapping, and of QCSM and CNS,
+//! Policarpo & Oliveira 2007, GPU Gems 3 ch. 18.4.1; Burger 2018 §2.4 and §3.1).
+//! Grid, distances and the per-cell bound: [`super`].
 //!
 //! # `cell_cone` (2 channels)
 //!

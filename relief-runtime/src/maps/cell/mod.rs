@@ -1,8 +1,8 @@
 //! Cone maps on the **bilinear cells** of a height map, conservative for the surface the
-//! shaders actually intersect (issue #13).
+//! shaders actually intersect.
 //!
-//! The texel-sample cone maps ([`super::cone`] and friends; Dummer 2006, *Cone Step Mapping*,
-//! paper 003; Policarpo & Oliveira, GPU Gems 3 ch. 18, paper 001; Burger 2018, paper 000)
+//! The texel-sample cone maps ([`super::cone`] and friends; Dummer 2006, *Cone Step Mapping*;
+//! Policarpo & Oliveira 2007, GPU Gems 3 ch. 18; Burger 2018)
 //! keep their cones clear of the texel *samples* only. Between texel centres the shaders
 //! sample the bilinear surface, which can rise above a texel-sample cone. The kinds here are
 //! defined on the continuous surface instead.

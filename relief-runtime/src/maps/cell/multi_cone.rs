@@ -1,5 +1,5 @@
 //! `cell_multi_cone` and `cell_piecewise_cone`: Burger's multiple cones (2018, *Cone Normal
-//! Stepping*, §3.4 methods 1 and 2, paper 000) on bilinear cells, the cell-grid counterparts
+//! Stepping*, §3.4 methods 1 and 2) on bilinear cells, the cell-grid counterparts
 //! of [`crate::maps::multi_cone`]. Grid and per-cell bound: [`super`].
 //!
 //! Both have `K + 1` channels per cell: channels `0..K` the `n_z` of cone (or piece) `k`

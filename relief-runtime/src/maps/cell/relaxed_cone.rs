@@ -1,5 +1,5 @@
 //! `cell_relaxed_cone`: a relaxed cone per bilinear cell with a rule that is provably safe
-//! (the relaxed cones of Policarpo & Oliveira, GPU Gems 3 ch. 18.4.1, paper 001, on cells;
+//! (the relaxed cones of Policarpo & Oliveira 2007, GPU Gems 3 ch. 18.4.1, on cells;
 //! grid and per-cell bound: [`super`]).
 //!
 //! # Channels
