@@ -72,25 +72,7 @@
 //! cell of the row. Rows of cells run in parallel with rayon. The result is bit-identical to
 //! the brute-force minimum over all cells (tested in `tests/cell_maps.rs`).
 //!
-//! Where the time goes (measured, 256² fBm: about 40 nodes opened and 20 cells scored per
-//! cell, and the seeds already give the final minimum for about 3 cells in 4, so the search
-//! is mostly a proof that nothing is smaller), and what is done about it:
-//!
-//! - a cell is scored with [`piece_ratio_below`], which stops as soon as one certified term
-//!   reaches the current best (the cell then cannot lower the minimum) and returns exactly
-//!   [`piece_ratio`] otherwise;
-//! - a node's two child columns and two child rows are placed relative to `C` once, not once
-//!   per child, and cells are scored straight from their level-1 parent;
-//! - a node is dropped, when it can be, by [`prune_ratio`]'s comparison of squares, without
-//!   the square root and division the plain bound needs (profiling showed the node loop
-//!   waiting on their latency).
-//!
-//! Tried and not kept (slower at 256² and 512² on fBm): per-node slope envelopes
-//! `max (M_D − λ u)` over a table of slopes `λ`, which give the bound
-//! `min(d / (F(λ) − apex), cos / λ)` for nodes wholly on one side of `C`; building and
-//! reading them cost more than the nodes they closed. Dropping the `1e-9` margin by computing
-//! the node bound with the same monotone operations as option 2 of [`piece_ratio`] (valid,
-//! and bit-identical in the tests) closed too few tied nodes to measure.
+//! What was measured and tried to make the search fast: `docs/notes/cell-map-search.md`.
 //!
 //! # Quantisation and the 3×3 pass
 //!
