@@ -53,13 +53,13 @@ fn geometric<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a
     Ok(Bracket::new((t.get() - last.get()).max(0.0), t.get()))
 }
 
-/// Adds `geometric(steps, growth)` to the catalogue (once per process; a second call finds
-/// it there).
 /// The builder of `geometric`: a coarse stage.
 pub fn build() -> Build {
     Build::Coarse(geometric)
 }
 
+/// Adds `geometric(steps, growth)` to the catalogue, declared the way relief declares its
+/// own methods (once per process; a second call finds it there).
 pub fn register_geometric() -> Result<(), Error> {
     let def = MethodDef::new(
         "geometric",

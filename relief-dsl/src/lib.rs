@@ -37,20 +37,6 @@ pub struct CompileError {
     pub message: String,
 }
 
-impl CompileError {
-    pub(crate) fn not_implemented(slot: &str, name: &str) -> Self {
-        CompileError {
-            stage: format!("{slot} {name}"),
-            message: format!("the {slot} method `{name}` has no stage code yet"),
-        }
-    }
-    pub(crate) fn wrong_slot(slot: spec::Slot, name: &str, built: spec::Slot) -> Self {
-        CompileError {
-            stage: format!("{slot} {name}"),
-            message: format!("the catalogue's `{name}` of the {slot} slot builds a {built} stage"),
-        }
-    }
-}
 pub use spec::{register, Pipeline, Slot, StageSpec};
 
 /// What relief-macros calls: the pattern types and parser pieces the macros build from Rust

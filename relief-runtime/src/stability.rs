@@ -161,10 +161,10 @@ pub fn score(method: &str, scene: &Scene, angle: f32, rays: &[ProbeRay], hits: &
     }
 }
 
-/// Every implemented coarse × refine combination at default parameters, and the cone
+/// Every coarse × refine combination at default parameters, and the cone
 /// methods again in `form=textbook`.
 pub fn methods() -> Vec<Pipeline> {
-    let of = |slot| catalog().iter().filter(move |m| m.slot == slot && m.implemented).map(|m| m.default_spec());
+    let of = |slot| catalog().iter().filter(move |m| m.slot == slot).map(|m| m.default_spec());
     let textbook = of(Slot::Coarse).filter(|c| c.get("form").is_some()).map(|mut c| {
         for (n, v) in c.params.iter_mut() {
             if n == "form" {

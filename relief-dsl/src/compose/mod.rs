@@ -88,7 +88,7 @@ pub(crate) fn build_stage_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Res
     let coarse = {
         let s = m.function(&fn_name(Slot::Coarse, &p.coarse, counted), &[("ray", ray_ty, None)]);
         let ray: Ray = s.arg_record(0);
-        let b = stage::coarse::build(&s, &ray, &p.coarse).map_err(wrap_err(Slot::Coarse, &p.coarse))?;
+        let b = stage::coarse(&s, &ray, &p.coarse).map_err(wrap_err(Slot::Coarse, &p.coarse))?;
         check_lod(m, Slot::Coarse, &p.coarse)?;
         m.add_function(s.finish_record(&b))
     };
@@ -101,7 +101,7 @@ pub(crate) fn build_stage_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Res
         );
         let ray: Ray = s.arg_record(0);
         let b: Bracket = s.arg_record(1);
-        let hit = stage::refine::build(&s, &ray, b, &p.refine).map_err(wrap_err(Slot::Refine, &p.refine))?;
+        let hit = stage::refine(&s, &ray, b, &p.refine).map_err(wrap_err(Slot::Refine, &p.refine))?;
         check_lod(m, Slot::Refine, &p.refine)?;
         m.add_function(s.finish_record(&hit))
     };
@@ -136,7 +136,7 @@ pub(crate) fn build_stage_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Res
         );
         let hit: Hit = s.arg_record(0);
         let light = stage::Light { dir: s.arg::<Vec3>(1), cos: s.arg::<f32>(2) };
-        let v = stage::shadow::build(&s, &hit, &light, &p.shadow).map_err(wrap_err(Slot::Shadow, &p.shadow))?;
+        let v = stage::shadow(&s, &hit, &light, &p.shadow).map_err(wrap_err(Slot::Shadow, &p.shadow))?;
         check_lod(m, Slot::Shadow, &p.shadow)?;
         let f = s.finish(Some((m.ty(f32::inner()), None, v.handle())));
         Some(m.add_function(f))
@@ -146,7 +146,7 @@ pub(crate) fn build_stage_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Res
     } else {
         let s = m.function(&fn_name(Slot::Ao, &p.ao, counted), &[("hit", hit_ty, None)]);
         let hit: Hit = s.arg_record(0);
-        let v = stage::ao::build(&s, &hit, &p.ao).map_err(wrap_err(Slot::Ao, &p.ao))?;
+        let v = stage::ao(&s, &hit, &p.ao).map_err(wrap_err(Slot::Ao, &p.ao))?;
         check_lod(m, Slot::Ao, &p.ao)?;
         let f = s.finish(Some((m.ty(f32::inner()), None, v.handle())));
         Some(m.add_function(f))

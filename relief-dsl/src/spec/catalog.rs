@@ -1,19 +1,15 @@
 //! The catalogue of methods: names, slots, parameters, defaults, the maps each reads and the
-//! function that builds it. Every method is registered here once; the text form, the macros,
-//! `relief gen --list` and the composer all read it, so they cannot disagree.
+//! function that builds it. The text form, the macros, `relief gen --list` and the composer
+//! all read it, so they cannot disagree.
 //!
-//! The built-in methods are listed in [`catalog`]; a program adds its own with
-//! [`register`] (see its docs for when that must happen).
-//!
-//! The catalogue is data: names, parameters, maps, checks. The code that writes a stage
-//! into a module sits above the spec, in `stage`: a registered method carries its builder
-//! as a [`Builder`] (the stage layer's `Build`), and the built-in methods' builders are the
-//! stage layer's own table (`stage::builtins`), which a test keeps equal to this one.
+//! Each built-in method is declared once, in its own file under `stage/` (a function that
+//! returns its [`MethodDef`]), and `stage/mod.rs` lists them. The spec sits below the stage
+//! layer and cannot name it: the catalogue reaches that list, and the type of a builder,
+//! through the trait [`StageLayer`], which the stage layer implements for [`Stages`]. A
+//! program adds its own methods with [`register`], through the same [`MethodDef`].
 
-use std::any::Any;
-use std::sync::{Arc, OnceLock, RwLock};
+use std::sync::{OnceLock, RwLock};
 
-use super::choice::{Form, SampleChoice, StartChoice};
 use super::{Choice, MapReq, Slot, StageSpec, Value};
 use crate::CompileError;
 
@@ -143,25 +139,38 @@ pub enum StageOr<'s> {
     Stage(&'s StageSpec),
 }
 
-/// The code that builds a method, as the catalogue holds it: any value that knows its slot.
-/// The stage layer's `Build` is the one implementation; the composer takes it back with
-/// [`Builder::as_any`]. The catalogue itself never calls it.
-pub trait Builder: Any + Send + Sync {
-    /// The slot the builder fills.
-    fn slot(&self) -> Slot;
-    /// The builder as `Any`, to be taken back as its own type.
-    fn as_any(&self) -> &dyn Any;
+/// What the catalogue needs from the stage layer, which sits above the spec and cannot be
+/// named from here: the type of a method's builder and the list of built-in methods. The
+/// stage layer implements it once, for [`Stages`]; nothing else does (nor can: the trait and
+/// the type are both this crate's).
+pub trait StageLayer {
+    /// The function that writes a method's stage into a module (the stage layer's `Build`).
+    type Build: Copy + std::fmt::Debug + Send + Sync + 'static;
+    /// The slot a builder fills.
+    fn slot(build: &Self::Build) -> Slot;
+    /// The built-in methods, in listing order.
+    fn builtins() -> Vec<MethodDef>;
 }
 
-/// One method: its slot, parameters, the maps it reads and its builder.
+/// The stage layer as the catalogue sees it (see [`StageLayer`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Stages;
+
+/// A method's builder: the stage layer's `Build` (`relief_dsl::stage::Build`), one function
+/// per slot shape.
+pub type Builder = <Stages as StageLayer>::Build;
+
+/// One method: its name, slot, parameters, the maps it reads, the combinations it refuses and
+/// its builder.
 ///
 /// Make one with [`MethodDef::new`], then [`MethodDef::param`], [`MethodDef::reads`] and
-/// [`MethodDef::check`]; add it with [`register`].
-#[derive(Clone)]
+/// [`MethodDef::check`]; add it with [`register`]. The built-in methods are made the same way,
+/// each in its own file under `stage/`.
+#[derive(Clone, Debug)]
 pub struct MethodDef {
     /// The name in the text form (lower_snake).
     pub name: &'static str,
-    /// The slot it fills (always the slot of [`MethodDef::build`], where there is one).
+    /// The slot it fills (always the slot of [`MethodDef::build`]).
     pub slot: Slot,
     /// One line for `relief gen --list`, with the source.
     pub summary: &'static str,
@@ -169,13 +178,10 @@ pub struct MethodDef {
     pub params: Vec<ParamDef>,
     /// The maps a stage with these parameters reads, besides the height map.
     pub maps: fn(&StageSpec) -> Vec<MapReq>,
-    /// Whether stage code exists for it (the catalogue may name methods still to come).
-    pub implemented: bool,
     /// Parameter combinations that cannot work, refused at resolution (`Err(message)`).
     pub check: fn(&StageSpec) -> Result<(), String>,
-    /// The function that writes the stage into a module, for a registered method; `None`
-    /// for a built-in one, whose builder is the stage layer's.
-    pub build: Option<Arc<dyn Builder>>,
+    /// The function that writes the stage into a module.
+    pub build: Builder,
 }
 
 fn no_check(_: &StageSpec) -> Result<(), String> {
@@ -185,13 +191,9 @@ fn no_check(_: &StageSpec) -> Result<(), String> {
 impl MethodDef {
     /// A method called `name` in the slot of `build`, with no parameters and no maps besides
     /// the height map.
-    pub fn new(name: &'static str, summary: &'static str, build: impl Builder) -> Self {
-        let slot = build.slot();
-        MethodDef { name, slot, summary, params: vec![], maps: no_maps, implemented: true, check: no_check, build: Some(Arc::new(build)) }
-    }
-    /// A built-in method of `slot` (its builder is the stage layer's).
-    fn builtin(name: &'static str, summary: &'static str, slot: Slot) -> Self {
-        MethodDef { name, slot, summary, params: vec![], maps: no_maps, implemented: true, check: no_check, build: None }
+    pub fn new(name: &'static str, summary: &'static str, build: Builder) -> Self {
+        let slot = <Stages as StageLayer>::slot(&build);
+        MethodDef { name, slot, summary, params: vec![], maps: no_maps, check: no_check, build }
     }
     /// Adds a parameter (after those already added).
     pub fn param(mut self, p: ParamDef) -> Self {
@@ -252,22 +254,33 @@ static CATALOG: RwLock<Option<&'static [&'static MethodDef]>> = RwLock::new(None
 /// slot that is not the builder's, two parameters with one name, a default outside its
 /// parameter's range.
 pub fn register(def: MethodDef) -> Result<(), RegisterError> {
-    let refuse = |message: String| RegisterError { name: def.name.to_string(), message };
+    let mut current = CATALOG.write().unwrap_or_else(|e| e.into_inner());
+    let mut all: Vec<&'static MethodDef> = match *current {
+        Some(c) => c.to_vec(),
+        None => builtins().iter().collect(),
+    };
+    if let Some(message) = refusal(&def, &all) {
+        return Err(RegisterError { name: def.name.to_string(), message });
+    }
+    all.push(Box::leak(Box::new(def)));
+    *current = Some(Box::leak(all.into_boxed_slice()));
+    Ok(())
+}
+
+/// Why `def` cannot join the methods `others` (see [`register`]), or `None`.
+fn refusal(def: &MethodDef, others: &[&MethodDef]) -> Option<String> {
     let snake = def.name.chars().next().is_some_and(|c| c.is_ascii_lowercase())
         && def.name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
     if !snake {
-        return Err(refuse("a method name is lower_snake: a-z, 0-9 and `_`, starting with a letter".into()));
+        return Some("a method name is lower_snake: a-z, 0-9 and `_`, starting with a letter".into());
     }
-    match &def.build {
-        None => return Err(refuse("a registered method needs a builder".into())),
-        Some(b) if b.slot() != def.slot => {
-            return Err(refuse(format!("declared a {} stage but its builder is a {} stage", def.slot, b.slot())));
-        }
-        Some(_) => {}
+    let built = <Stages as StageLayer>::slot(&def.build);
+    if built != def.slot {
+        return Some(format!("declared a {} stage but its builder is a {} stage", def.slot, built));
     }
     for (i, p) in def.params.iter().enumerate() {
         if def.params[..i].iter().any(|q| q.name == p.name) {
-            return Err(refuse(format!("two parameters called `{}`", p.name)));
+            return Some(format!("two parameters called `{}`", p.name));
         }
         let ok = match (&p.kind, &p.default) {
             (_, None) => true,
@@ -278,28 +291,19 @@ pub fn register(def: MethodDef) -> Result<(), RegisterError> {
             _ => false,
         };
         if !ok {
-            return Err(refuse(format!("the default of `{}` is not {}", p.name, p.kind.describe())));
+            return Some(format!("the default of `{}` is not {}", p.name, p.kind.describe()));
         }
     }
-    let mut current = CATALOG.write().unwrap_or_else(|e| e.into_inner());
-    let mut all: Vec<&'static MethodDef> = match *current {
-        Some(c) => c.to_vec(),
-        None => builtins().iter().collect(),
-    };
-    if all.iter().any(|m| m.slot == def.slot && m.name == def.name) {
-        return Err(refuse(format!("the {} slot already has a method called `{}`", def.slot, def.name)));
+    if others.iter().any(|m| m.slot == def.slot && m.name == def.name) {
+        return Some(format!("the {} slot already has a method called `{}`", def.slot, def.name));
     }
     // The text form prints a stage from its name alone, so a name has the same parameters
     // in every slot that has it.
     let same_params = |m: &MethodDef| {
         m.params.len() == def.params.len() && m.params.iter().zip(&def.params).all(|(a, b)| a.name == b.name && a.kind == b.kind)
     };
-    if let Some(other) = all.iter().find(|m| m.name == def.name && !same_params(m)) {
-        return Err(refuse(format!("the {} method `{}` has other parameters; a name has the same parameters in every slot", other.slot, def.name)));
-    }
-    all.push(Box::leak(Box::new(def)));
-    *current = Some(Box::leak(all.into_boxed_slice()));
-    Ok(())
+    let other = others.iter().find(|m| m.name == def.name && !same_params(m))?;
+    Some(format!("the {} method `{}` has other parameters; a name has the same parameters in every slot", other.slot, def.name))
 }
 
 /// Every method relief knows, in listing order: the built-in ones, then those added with
@@ -354,188 +358,17 @@ pub(crate) fn method_any(name: &str) -> Option<&'static MethodDef> {
 pub fn no_maps(_: &StageSpec) -> Vec<MapReq> {
     vec![]
 }
-fn normal_map(_: &StageSpec) -> Vec<MapReq> {
-    vec![MapReq::Normal]
-}
-fn cone(_: &StageSpec) -> Vec<MapReq> {
-    vec![MapReq::Cone]
-}
-fn cone_normal(_: &StageSpec) -> Vec<MapReq> {
-    vec![MapReq::ConeNormal]
-}
-/// The map a cone method reads: the texel-sample map for `form=textbook`, the cell map for
-/// `form=safe`.
-fn by_form(s: &StageSpec, textbook: MapReq, safe: MapReq) -> Vec<MapReq> {
-    // A word outside the choice (only a hand-edited spec has one) fails to compile; the safe
-    // form's map is as good a guess as any for it.
-    match Form::from_word(s.word("form")) {
-        Some(Form::Textbook) => vec![textbook],
-        Some(Form::Safe) | None => vec![safe],
-    }
-}
-fn csm_maps(s: &StageSpec) -> Vec<MapReq> {
-    by_form(s, MapReq::Cone, MapReq::CellCone)
-}
-fn quad_cone(s: &StageSpec) -> Vec<MapReq> {
-    by_form(s, MapReq::QuadCone, MapReq::CellQuadCone)
-}
-fn relaxed_cone(s: &StageSpec) -> Vec<MapReq> {
-    by_form(s, MapReq::RelaxedCone, MapReq::CellRelaxedCone)
-}
-fn cns_maps(s: &StageSpec) -> Vec<MapReq> {
-    by_form(s, MapReq::ConeNormal, MapReq::CellConeNormal)
-}
-fn relaxed_cone_normal(s: &StageSpec) -> Vec<MapReq> {
-    by_form(s, MapReq::RelaxedConeNormal, MapReq::CellRelaxedCone)
-}
-fn multi_cone(s: &StageSpec) -> Vec<MapReq> {
-    by_form(s, MapReq::MultiCone(s.int("k")), MapReq::CellMultiCone(s.int("k")))
-}
-fn piecewise_cone(s: &StageSpec) -> Vec<MapReq> {
-    by_form(s, MapReq::PiecewiseCone(s.int("k")), MapReq::CellPiecewiseCone(s.int("k")))
-}
-fn distance_field(_: &StageSpec) -> Vec<MapReq> {
-    vec![MapReq::DistanceField]
-}
-fn max_mip(_: &StageSpec) -> Vec<MapReq> {
-    vec![MapReq::MaxMip]
-}
 
-/// `form=safe|textbook` of the cone methods: `safe` (the default) steps on cones of the
-/// bilinear cells and never passes the first hit; `textbook` steps on the texel-sample maps
-/// as the papers print it.
-fn form() -> ParamDef {
-    ParamDef::choice::<Form>("form")
-}
-fn cones(default: u32) -> ParamDef {
-    ParamDef::count("k", 1, 4, default)
-}
-
-fn min_le_max(s: &StageSpec) -> Result<(), String> {
-    if s.int("min") > s.int("max") {
-        return Err(format!("`linear_dynamic` needs min <= max, got min {} and max {}", s.int("min"), s.int("max")));
-    }
-    Ok(())
-}
-
-/// The built-in methods, in listing order.
+/// The built-in methods, in listing order (the stage layer's list, made once).
 fn builtins() -> &'static [MethodDef] {
     static BUILTINS: OnceLock<Vec<MethodDef>> = OnceLock::new();
-    BUILTINS.get_or_init(|| {
-        use Slot::{Ao, Coarse, Refine, Shadow};
-        let steps = ParamDef::steps;
-        let def = MethodDef::builtin;
-        vec![
-            def("none", "plain texture mapping: the hit is the entry point", Coarse),
-            def("parallax", "parallax mapping (Kaneko et al. 2001; Burger eq. 2.3-2.5)", Coarse),
-            def("offset_limited", "parallax with offset limiting (Welsh 2004; survey 4.1.3)", Coarse),
-            def("slope_parallax", "parallax along the normal map's slope (survey 4.1.4)", Coarse).reads(normal_map),
-            def("iterative_parallax", "iterative parallax with slope (Premecz 2006; survey 4.2.1)", Coarse)
-                .param(steps("steps", 4))
-                .reads(normal_map),
-            def("linear", "linear search (Burger Algorithm 1)", Coarse).param(steps("steps", 32)),
-            def(
-                "linear_dynamic",
-                "linear search, step count from the view angle (Tatarchuk 2006; Amaro & Gustafsson 2.1.3)",
-                Coarse,
-            )
-            .param(steps("min", 8))
-            .param(steps("max", 32))
-            .check(min_le_max),
-            def(
-                "linear_distance",
-                "linear search, layer count from the view angle and the camera distance (Amaro & Gustafsson 2.1.3)",
-                Coarse,
-            )
-            .param(steps("min", 16))
-            .param(steps("max", 180))
-            .param(steps("theta_min", 4)),
-            def(
-                "csm",
-                "cone step mapping (Dummer 2006; Burger Algorithm 4); form=safe|textbook; sample=linear|nearest|min4 for form=textbook (Burger 4.3.1), auto: the cell's cone (safe) or linear (textbook)",
-                Coarse,
-            )
-            .param(steps("steps", 15))
-            .param(form())
-            .param(ParamDef::choice::<SampleChoice>("sample"))
-            .reads(csm_maps),
-            def("qcsm", "quad-directional cone stepping (Policarpo & Oliveira, GPU Gems 3 18.4.1); form=safe|textbook", Coarse)
-                .param(steps("steps", 15))
-                .param(form())
-                .reads(quad_cone),
-            def(
-                "rcs",
-                "relaxed cone stepping (GPU Gems 3 Listing 18-3); form=safe|textbook; start=hk|bracket (Fig. 18-10), auto: bracket (safe) or hk (textbook)",
-                Coarse,
-            )
-            .param(steps("steps", 15))
-            .param(form())
-            .param(ParamDef::choice::<StartChoice>("start"))
-            .reads(relaxed_cone),
-            def("cns", "cone normal stepping (Burger 3.3, eq. 3.2); form=safe|textbook", Coarse)
-                .param(steps("steps", 15))
-                .param(form())
-                .reads(cns_maps),
-            def("rcns", "relaxed cone normal stepping (Burger 4.3.4); form=safe|textbook", Coarse)
-                .param(steps("steps", 15))
-                .param(form())
-                .reads(relaxed_cone_normal),
-            def("mcns", "multiple cone normal stepping, K stacked cones (Burger 3.4, method 1); form=safe|textbook", Coarse)
-                .param(steps("steps", 15))
-                .param(cones(4))
-                .param(form())
-                .reads(multi_cone),
-            def("pcns", "piecewise cone normal stepping, K cone pieces (Burger 3.4, method 2); form=safe|textbook", Coarse)
-                .param(steps("steps", 15))
-                .param(cones(4))
-                .param(form())
-                .reads(piecewise_cone),
-            def("sphere", "sphere tracing a 3D distance field (Donnelly 2005)", Coarse)
-                .param(steps("steps", 15))
-                .reads(distance_field),
-            def(
-                "maxmip",
-                "maximum-mipmap traversal with the exact bilinear patch in the finest cells (Tevs et al. 2008)",
-                Coarse,
-            )
-            .param(steps("steps", 64))
-            .reads(max_mip),
-            def("none", "no refinement: the hit is the bracket's far end", Refine),
-            def("binary", "binary search (Burger Algorithm 2)", Refine).param(steps("steps", 5)),
-            def("interval", "interval mapping, false position (Burger Algorithm 3; Risser et al. 2005)", Refine)
-                .param(steps("steps", 5)),
-            def("secant", "the true secant method on the last two guesses (survey 4.2.3), guarded", Refine)
-                .param(steps("steps", 5)),
-            def("none", "no self-shadowing: visibility 1", Shadow),
-            def("hard", "hard shadow: a coarse search toward the light (Amaro & Gustafsson 2.1.1)", Shadow)
-                .param(ParamDef::stage_or("search", Slot::Coarse, 16)),
-            def(
-                "soft",
-                "soft shadow from the deepest blocker, 1 - w/(0.24 + w) (Tatarchuk 2006; Amaro & Gustafsson 2.1.2)",
-                Shadow,
-            )
-            .param(steps("steps", 16)),
-            def(
-                "soft_cone",
-                "soft shadow from the cone-normal distance d = h n_z (Burger 3.2) with penumbra k d / t",
-                Shadow,
-            )
-            .param(steps("steps", 16))
-            .reads(cone_normal),
-            def("soft_ratio", "the same soft shadow from CSM's cone ratio", Shadow)
-                .param(steps("steps", 16))
-                .reads(cone),
-            def("none", "no ambient occlusion: factor 1", Ao),
-            def("cone_ratio", "ambient occlusion from the cone ratio at the hit (Burger 4.5)", Ao).reads(cone),
-            def("cone_normal", "ambient occlusion from the cone normal at the hit (Burger 4.5)", Ao)
-                .reads(cone_normal),
-        ]
-    })
+    BUILTINS.get_or_init(<Stages as StageLayer>::builtins)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::spec::Pipeline;
 
     #[test]
     fn the_catalogues_choices_are_the_choice_words() {
@@ -550,5 +383,76 @@ mod tests {
         assert_eq!(words("csm", "sample"), ["auto", "linear", "nearest", "min4"]);
         assert_eq!(words("rcs", "start"), ["auto", "hk", "bracket"]);
         assert_eq!(words("cns", "form"), ["safe", "textbook"]);
+    }
+
+    fn coarse_linear() -> Builder {
+        method(Slot::Coarse, "linear").unwrap().build
+    }
+
+    /// The built-in methods pass the checks a registered one must pass, each against those
+    /// listed before it: lower_snake names, no name twice in a slot, defaults in range, the
+    /// builder's slot, one parameter list per name.
+    #[test]
+    fn every_built_in_method_could_have_been_registered() {
+        let all = builtins();
+        assert!(all.len() >= 29, "{}", all.len());
+        for (i, def) in all.iter().enumerate() {
+            let before: Vec<&MethodDef> = all[..i].iter().collect();
+            assert_eq!(refusal(def, &before), None, "{} {}", def.slot, def.name);
+        }
+        for slot in Slot::ALL {
+            assert_eq!(all.iter().filter(|m| m.slot == slot).map(|m| m.name).next(), Some("none"), "{slot}");
+        }
+    }
+
+    #[test]
+    fn register_refuses_what_the_text_form_could_not_read() {
+        let refused = |def: MethodDef, why: &str| {
+            let e = register(def).unwrap_err();
+            assert!(e.message.contains(why), "{e}");
+        };
+        refused(MethodDef::new("Linear2", "", coarse_linear()), "lower_snake");
+        refused(MethodDef::new("2linear", "", coarse_linear()), "lower_snake");
+        refused(MethodDef::new("linear", "", coarse_linear()), "already has a method called `linear`");
+        let mut wrong_slot = MethodDef::new("test_wrong_slot", "", coarse_linear());
+        wrong_slot.slot = Slot::Refine;
+        refused(wrong_slot, "builder is a coarse stage");
+        refused(
+            MethodDef::new("test_twice", "", coarse_linear()).param(ParamDef::steps("n", 4)).param(ParamDef::steps("n", 8)),
+            "two parameters called `n`",
+        );
+        refused(MethodDef::new("test_range", "", coarse_linear()).param(ParamDef::count("k", 1, 4, 5)), "default of `k`");
+        refused(MethodDef::new("test_steps", "", coarse_linear()).param(ParamDef::steps("n", 0)), "default of `n`");
+        // `none` exists in every slot without parameters; a coarse `binary` would print with
+        // the refine `binary`'s parameters.
+        refused(MethodDef::new("binary", "", coarse_linear()), "has other parameters");
+        for name in ["Linear2", "2linear", "test_wrong_slot", "test_twice", "test_range", "test_steps"] {
+            assert!(catalog().iter().all(|m| m.name != name), "{name} was added");
+        }
+    }
+
+    #[test]
+    fn a_registered_stage_parses_prints_and_compiles() {
+        register(MethodDef::new("test_search", "a test", coarse_linear()).param(ParamDef::steps("steps", 7))).unwrap();
+        let p: Pipeline = "test_search+binary(2)".parse().unwrap();
+        assert_eq!(p.to_string(), "test_search(7)+binary(2)");
+        let e = "test_search(0)".parse::<Pipeline>().unwrap_err();
+        assert!(e.message.contains("out of range"), "{e}");
+        // The builder is linear's: the module has the registered name and linear's loop.
+        let wgsl = crate::emit::emit(&p).unwrap().wgsl;
+        assert!(wgsl.contains("fn coarse_test_search("), "{wgsl}");
+        assert!(catalog().iter().any(|m| m.name == "test_search"));
+    }
+
+    #[test]
+    fn a_hand_edited_choice_is_an_error_not_a_default() {
+        for (text, param) in [("csm(8)", "form"), ("csm(8)", "sample"), ("rcs(8)", "start"), ("qcsm(8)", "form")] {
+            let mut p: Pipeline = text.parse().unwrap();
+            let v = p.coarse.params.iter_mut().find(|(n, _)| n == param).unwrap();
+            v.1 = Value::Word("sideways".into());
+            let e = crate::compile(&p).err().unwrap_or_else(|| panic!("{text} with {param}=sideways compiled"));
+            assert!(e.stage.starts_with("coarse "), "{e}");
+            assert!(e.message.contains(&format!("`{param}=sideways` is not a choice")), "{e}");
+        }
     }
 }

@@ -49,7 +49,10 @@ pub mod suggest;
 use std::fmt;
 use std::str::FromStr;
 
-pub use catalog::{catalog, method, Builder, Catalog, no_maps, register, Args, MethodDef, ParamDef, ParamKind, RegisterError, StageOr, MAX_STEPS};
+pub use catalog::{
+    catalog, method, no_maps, register, Args, Builder, Catalog, MethodDef, ParamDef, ParamKind, RegisterError, StageLayer, StageOr, Stages,
+    MAX_STEPS,
+};
 pub use choice::{Choice, Form as ConeForm, SampleChoice, StartChoice};
 pub use grid::Grid;
 pub use options::{Lod, OptionKey, Silhouette, MAX_LOD_LEVEL};
@@ -263,7 +266,7 @@ impl Pipeline {
         let of = |slot: Slot| -> Vec<StageSpec> {
             catalog()
                 .iter()
-                .filter(|m| m.slot == slot && m.implemented)
+                .filter(|m| m.slot == slot)
                 .map(|m| m.default_spec())
                 .collect()
         };

@@ -134,9 +134,6 @@ pub(crate) fn resolve(slot: Slot, name: &str, pos: usize, args: Vec<Arg>) -> Res
         e.expected = names;
         return Err(e);
     };
-    if !def.implemented {
-        return Err(err(pos, name, format!("the {slot} stage `{name}` is not implemented yet")));
-    }
     let mut values: Vec<Option<Value>> = vec![None; def.params.len()];
     let mut next_positional = 0;
     for a in args {

@@ -15,11 +15,12 @@
 //! refine after it searches between the two. A search that runs out of steps before it
 //! finds the surface returns [`Bracket::searched`] with `found` false.
 //!
-//! Each method is a function of one of the four [`Build`] shapes, registered in the
-//! catalogue ([`crate::spec::catalog`]) with its parameters; [`crate::spec::register`] adds
-//! one written outside relief.
+//! Each method is a function of one of the four [`Build`] shapes, declared once in its own
+//! file as a [`MethodDef`] (name, citation, parameters, maps, builder). Each slot's `mod.rs`
+//! lists its methods, and [`Stages`] hands the lists to the catalogue
+//! ([`crate::spec::catalog`]); [`crate::spec::register`] adds a method written outside relief
+//! through the same [`MethodDef`].
 
-mod builtins;
 pub(crate) mod ao;
 pub(crate) mod coarse;
 pub(crate) mod refine;
@@ -29,7 +30,7 @@ use naga::{Expression, ImageClass, ImageDimension, SampleLevel, ScalarKind, Type
 
 use crate::abi::{binding, Param, Params};
 use crate::ir::{IntoVal, Stage, Val, Vec2, Vec3, Vec4};
-use crate::spec::{Args, MapReq, Slot};
+use crate::spec::{Args, MapReq, MethodDef, Slot, StageLayer, StageSpec, Stages};
 use crate::CompileError;
 
 /// A coarse stage: writes the search for `ray` into the stage function and returns its
@@ -42,8 +43,8 @@ pub type ShadowFn = for<'a> fn(&'a Stage<'a>, &Hit<'a>, &Light<'a>, &Args) -> Re
 /// An ambient-occlusion stage: the ambient factor at the hit, in [0, 1].
 pub type AoFn = for<'a> fn(&'a Stage<'a>, &Hit<'a>, &Args) -> Result<Val<'a, f32>, CompileError>;
 
-/// The function that builds a method, by slot: what a [`crate::spec::MethodDef`] runs when
-/// a pipeline names it. The [`Args`] are the method's parameters, already checked against
+/// The function that builds a method, by slot: what a [`MethodDef`] runs when a pipeline
+/// names it. The [`Args`] are the method's parameters, already checked against
 /// its parameter definitions.
 #[derive(Clone, Copy, Debug)]
 pub enum Build {
@@ -79,23 +80,65 @@ pub struct Light<'a> {
     pub cos: Val<'a, f32>,
 }
 
-impl crate::spec::Builder for Build {
-    fn slot(&self) -> Slot {
-        Build::slot(self)
+/// The stage layer's side of the catalogue: the type of a builder and the built-in methods,
+/// slot by slot in listing order (each slot's `methods`).
+impl StageLayer for Stages {
+    type Build = Build;
+    fn slot(build: &Build) -> Slot {
+        build.slot()
     }
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
+    fn builtins() -> Vec<MethodDef> {
+        [coarse::methods(), refine::methods(), shadow::methods(), ao::methods()].concat()
     }
 }
 
-/// The builder of the method of `slot` a pipeline names: a registered method's own, or the
-/// built-in one's from [`builtins`].
-fn lookup(slot: Slot, spec: &crate::spec::StageSpec) -> Result<Build, CompileError> {
-    let missing = || CompileError::not_implemented(slot.name(), &spec.name);
-    let def = crate::spec::method(slot, &spec.name).filter(|d| d.implemented).ok_or_else(missing)?;
-    match &def.build {
-        Some(b) => b.as_any().downcast_ref::<Build>().copied().ok_or_else(missing),
-        None => builtins::builder(slot, &spec.name).ok_or_else(missing),
+/// The catalogue's builder for the method of `slot` that `spec` names.
+fn builder(slot: Slot, spec: &StageSpec) -> Result<Build, CompileError> {
+    let def = crate::spec::method(slot, &spec.name).ok_or_else(|| CompileError {
+        stage: format!("{slot} {}", spec.name),
+        message: format!("the catalogue has no {slot} method `{}`", spec.name),
+    })?;
+    Ok(def.build)
+}
+
+/// The error for a builder of another slot than the one it is registered in, which
+/// [`crate::spec::register`] refuses (so only a catalogue bug reaches it).
+fn wrong_slot(slot: Slot, spec: &StageSpec, build: Build) -> CompileError {
+    CompileError {
+        stage: format!("{slot} {}", spec.name),
+        message: format!("the catalogue's `{}` of the {slot} slot builds a {} stage", spec.name, build.slot()),
+    }
+}
+
+/// Writes the coarse stage `spec` into the current function, with its catalogue builder.
+pub(crate) fn coarse<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, spec: &StageSpec) -> Result<Bracket<'a>, CompileError> {
+    match builder(Slot::Coarse, spec)? {
+        Build::Coarse(f) => f(s, ray, &Args::new(Slot::Coarse, spec)),
+        other => Err(wrong_slot(Slot::Coarse, spec, other)),
+    }
+}
+
+/// Writes the refine stage `spec` into the current function.
+pub(crate) fn refine<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, b: Bracket<'a>, spec: &StageSpec) -> Result<Hit<'a>, CompileError> {
+    match builder(Slot::Refine, spec)? {
+        Build::Refine(f) => f(s, ray, b, &Args::new(Slot::Refine, spec)),
+        other => Err(wrong_slot(Slot::Refine, spec, other)),
+    }
+}
+
+/// Writes the shadow stage `spec` into the current function.
+pub(crate) fn shadow<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, light: &Light<'a>, spec: &StageSpec) -> Result<Val<'a, f32>, CompileError> {
+    match builder(Slot::Shadow, spec)? {
+        Build::Shadow(f) => f(s, hit, light, &Args::new(Slot::Shadow, spec)),
+        other => Err(wrong_slot(Slot::Shadow, spec, other)),
+    }
+}
+
+/// Writes the ao stage `spec` into the current function.
+pub(crate) fn ao<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, spec: &StageSpec) -> Result<Val<'a, f32>, CompileError> {
+    match builder(Slot::Ao, spec)? {
+        Build::Ao(f) => f(s, hit, &Args::new(Slot::Ao, spec)),
+        other => Err(wrong_slot(Slot::Ao, spec, other)),
     }
 }
 

@@ -4,9 +4,8 @@
 //! (`tan α = r`, `sin α = n_z`) lets in the share `sin² α` of cosine-weighted ambient light.
 
 use crate::ir::{Stage, Val};
-use crate::spec::{Args, MapReq, Slot, StageSpec};
+use crate::spec::{MapReq, MethodDef};
 use crate::stage::{Build, Filter, Hit};
-use crate::CompileError;
 
 /// Ambient occlusion from CSM's cone ratio: `r² / (1 + r²)`.
 fn cone_ratio<'a>(s: &'a Stage<'a>, hit: &Hit<'a>) -> Val<'a, f32> {
@@ -21,20 +20,28 @@ fn cone_normal<'a>(s: &'a Stage<'a>, hit: &Hit<'a>) -> Val<'a, f32> {
     (n_z * n_z).clamp(0.0, 1.0)
 }
 
-/// Builds the ao stage `spec` into the current function.
-pub(crate) fn build<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, spec: &StageSpec) -> Result<Val<'a, f32>, CompileError> {
-    match super::lookup(Slot::Ao, spec)? {
-        Build::Ao(f) => f(s, hit, &Args::new(Slot::Ao, spec)),
-        other => Err(CompileError::wrong_slot(Slot::Ao, &spec.name, other.slot())),
-    }
+/// `cone_ratio`: [`cone_ratio`] in the catalogue.
+fn cone_ratio_def() -> MethodDef {
+    MethodDef::new(
+        "cone_ratio",
+        "ambient occlusion from the cone ratio at the hit (Burger 4.5)",
+        Build::Ao(|s, hit, _| Ok(cone_ratio(s, hit))),
+    )
+    .reads(|_| vec![MapReq::Cone])
 }
 
-pub(crate) fn build_none<'a>(s: &'a Stage<'a>, _: &Hit<'a>, _: &Args) -> Result<Val<'a, f32>, CompileError> {
-    Ok(s.lit(1.0))
+/// `cone_normal`: [`cone_normal`] in the catalogue.
+fn cone_normal_def() -> MethodDef {
+    MethodDef::new(
+        "cone_normal",
+        "ambient occlusion from the cone normal at the hit (Burger 4.5)",
+        Build::Ao(|s, hit, _| Ok(cone_normal(s, hit))),
+    )
+    .reads(|_| vec![MapReq::ConeNormal])
 }
-pub(crate) fn build_cone_ratio<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, _: &Args) -> Result<Val<'a, f32>, CompileError> {
-    Ok(cone_ratio(s, hit))
-}
-pub(crate) fn build_cone_normal<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, _: &Args) -> Result<Val<'a, f32>, CompileError> {
-    Ok(cone_normal(s, hit))
+
+/// The built-in ao methods, in listing order (`none`: no ambient occlusion, factor 1).
+pub(crate) fn methods() -> Vec<MethodDef> {
+    let none = MethodDef::new("none", "no ambient occlusion: factor 1", Build::Ao(|s, _, _| Ok(s.lit(1.0))));
+    vec![none, cone_ratio_def(), cone_normal_def()]
 }

@@ -22,8 +22,9 @@
 
 use super::cell::{relaxed_march, safe_march, Cell};
 use crate::ir::{Stage, Val, Vec3};
-use crate::spec::MapReq;
-use crate::stage::{Bracket, Filter, Ray};
+use crate::spec::{Args, Choice, MapReq, MethodDef, ParamDef, SampleChoice, StageSpec, StartChoice};
+use crate::stage::{Bracket, Build, Filter, Ray};
+use crate::CompileError;
 
 /// Which cones a method steps on (see the module docs).
 pub use crate::spec::ConeForm as Form;
@@ -61,6 +62,37 @@ fn ratio_of<'a>(n_z: Val<'a, f32>) -> Val<'a, f32> {
 /// The cone normal of a cone of ratio `r`: `n_z = r / sqrt(1 + r²)`.
 fn normal_of<'a>(r: Val<'a, f32>) -> Val<'a, f32> {
     r / (1.0 + r * r).sqrt()
+}
+
+/// `form=safe|textbook` of the cone methods: `safe` (the default) steps on cones of the
+/// bilinear cells and never passes the first hit; `textbook` steps on the texel-sample maps
+/// as the papers print it.
+fn form() -> ParamDef {
+    ParamDef::choice::<Form>("form")
+}
+
+/// `k`, the number of cones of `mcns` and `pcns`.
+fn cones(default: u32) -> ParamDef {
+    ParamDef::count("k", 1, 4, default)
+}
+
+/// The map a cone method reads: the texel-sample map for `form=textbook`, the cell map for
+/// `form=safe`.
+fn by_form(s: &StageSpec, textbook: MapReq, safe: MapReq) -> Vec<MapReq> {
+    // A word outside the choice (only a hand-edited spec has one) fails to compile; the safe
+    // form's map is as good a guess as any for it.
+    match Form::from_word(s.word("form")) {
+        Some(Form::Textbook) => vec![textbook],
+        Some(Form::Safe) | None => vec![safe],
+    }
+}
+
+/// The error for a sampling choice of the textbook form given with `form=safe`.
+fn only_textbook(stage: &str, what: &str) -> CompileError {
+    CompileError {
+        stage: format!("coarse {stage}"),
+        message: format!("`{what}` applies to `form=textbook` only: the safe form reads the cone of the cell under the ray point"),
+    }
 }
 
 /// Where the textbook loop ended.
@@ -134,6 +166,35 @@ pub fn csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form, sample: 
     }
 }
 
+/// `csm(steps, form, sample)`: [`csm`] in the catalogue.
+pub(crate) fn csm_def() -> MethodDef {
+    MethodDef::new(
+        "csm",
+        "cone step mapping (Dummer 2006; Burger Algorithm 4); form=safe|textbook; sample=linear|nearest|min4 for form=textbook (Burger 4.3.1), auto: the cell's cone (safe) or linear (textbook)",
+        Build::Coarse(build_csm),
+    )
+    .param(ParamDef::steps("steps", 15))
+    .param(form())
+    .param(ParamDef::choice::<SampleChoice>("sample"))
+    .reads(|s| by_form(s, MapReq::Cone, MapReq::CellCone))
+}
+
+/// `sample=auto` is the safe form's cell cone or the textbook's linear read; a textbook
+/// sampling with `form=safe` is an error, not ignored.
+fn build_csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+    let form = a.choice::<Form>("form")?;
+    let sample = match (form, a.choice::<SampleChoice>("sample")?) {
+        (Form::Safe, SampleChoice::Auto) => ConeSample::Linear,
+        (Form::Textbook, SampleChoice::Auto | SampleChoice::Linear) => ConeSample::Linear,
+        (Form::Textbook, SampleChoice::Nearest) => ConeSample::Nearest,
+        (Form::Textbook, SampleChoice::Min4) => ConeSample::Min4,
+        (Form::Safe, SampleChoice::Linear) => return Err(only_textbook("csm", "sample=linear")),
+        (Form::Safe, SampleChoice::Nearest) => return Err(only_textbook("csm", "sample=nearest")),
+        (Form::Safe, SampleChoice::Min4) => return Err(only_textbook("csm", "sample=min4")),
+    };
+    Ok(csm(s, ray, a.int("steps")?, form, sample))
+}
+
 /// The quadrant cone of a ray heading `dir` from channels `+u+v, -u+v, -u-v, +u-v`.
 fn quadrant<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, q: Val<'a, crate::ir::Vec4>) -> Val<'a, f32> {
     let west = ray.dir.x().lt(0.0);
@@ -155,6 +216,18 @@ pub fn qcsm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form) -> Brac
         })
         .conservative(),
     }
+}
+
+/// `qcsm(steps, form)`: [`qcsm`] in the catalogue.
+pub(crate) fn qcsm_def() -> MethodDef {
+    MethodDef::new(
+        "qcsm",
+        "quad-directional cone stepping (Policarpo & Oliveira, GPU Gems 3 18.4.1); form=safe|textbook",
+        Build::Coarse(|s, ray, a| Ok(qcsm(s, ray, a.int("steps")?, a.choice("form")?))),
+    )
+    .param(ParamDef::steps("steps", 15))
+    .param(form())
+    .reads(|s| by_form(s, MapReq::QuadCone, MapReq::CellQuadCone))
 }
 
 /// Where relaxed stepping starts the refinement (GPU Gems 3 Fig. 18-10).
@@ -189,6 +262,32 @@ pub fn rcs<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form, start: R
     }
 }
 
+/// `rcs(steps, form, start)`: [`rcs`] in the catalogue.
+pub(crate) fn rcs_def() -> MethodDef {
+    MethodDef::new(
+        "rcs",
+        "relaxed cone stepping (GPU Gems 3 Listing 18-3); form=safe|textbook; start=hk|bracket (Fig. 18-10), auto: bracket (safe) or hk (textbook)",
+        Build::Coarse(build_rcs),
+    )
+    .param(ParamDef::steps("steps", 15))
+    .param(form())
+    .param(ParamDef::choice::<StartChoice>("start"))
+    .reads(|s| by_form(s, MapReq::RelaxedCone, MapReq::CellRelaxedCone))
+}
+
+/// `start=auto` is the bracket from J (safe) or from H (textbook); `start=hk` with
+/// `form=safe` is an error.
+fn build_rcs<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+    let form = a.choice::<Form>("form")?;
+    let start = match (form, a.choice::<StartChoice>("start")?) {
+        (Form::Safe, StartChoice::Auto | StartChoice::Bracket) => RelaxedStart::Bracket,
+        (Form::Textbook, StartChoice::Auto | StartChoice::Hk) => RelaxedStart::Hk,
+        (Form::Textbook, StartChoice::Bracket) => RelaxedStart::Bracket,
+        (Form::Safe, StartChoice::Hk) => return Err(only_textbook("rcs", "start=hk")),
+    };
+    Ok(rcs(s, ray, a.int("steps")?, form, start))
+}
+
 /// Cone normal stepping (Burger 2018 §3.3): CSM with the cone stored as the normal of its
 /// side, stepping by the ray-plane intersection of eq. 3.2.
 pub fn cns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form) -> Bracket<'a> {
@@ -205,6 +304,18 @@ pub fn cns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form) -> Brack
     }
 }
 
+/// `cns(steps, form)`: [`cns`] in the catalogue.
+pub(crate) fn cns_def() -> MethodDef {
+    MethodDef::new(
+        "cns",
+        "cone normal stepping (Burger 3.3, eq. 3.2); form=safe|textbook",
+        Build::Coarse(|s, ray, a| Ok(cns(s, ray, a.int("steps")?, a.choice("form")?))),
+    )
+    .param(ParamDef::steps("steps", 15))
+    .param(form())
+    .reads(|s| by_form(s, MapReq::ConeNormal, MapReq::CellConeNormal))
+}
+
 /// Relaxed cone normal stepping (Burger §4.3.4): cone normal stepping on the relaxed cones;
 /// returns the bracket around the crossing (from J, the last point above the surface).
 pub fn rcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form) -> Bracket<'a> {
@@ -219,6 +330,18 @@ pub fn rcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form) -> Brac
         })
         .relaxed(),
     }
+}
+
+/// `rcns(steps, form)`: [`rcns`] in the catalogue.
+pub(crate) fn rcns_def() -> MethodDef {
+    MethodDef::new(
+        "rcns",
+        "relaxed cone normal stepping (Burger 4.3.4); form=safe|textbook",
+        Build::Coarse(|s, ray, a| Ok(rcns(s, ray, a.int("steps")?, a.choice("form")?))),
+    )
+    .param(ParamDef::steps("steps", 15))
+    .param(form())
+    .reads(|s| by_form(s, MapReq::RelaxedConeNormal, MapReq::CellRelaxedCone))
 }
 
 /// The first K channels of a cone map entry.
@@ -252,6 +375,19 @@ pub fn mcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: Form)
         })
         .conservative(),
     }
+}
+
+/// `mcns(steps, k, form)`: [`mcns`] in the catalogue.
+pub(crate) fn mcns_def() -> MethodDef {
+    MethodDef::new(
+        "mcns",
+        "multiple cone normal stepping, K stacked cones (Burger 3.4, method 1); form=safe|textbook",
+        Build::Coarse(|s, ray, a| Ok(mcns(s, ray, a.int("steps")?, a.int("k")?, a.choice("form")?))),
+    )
+    .param(ParamDef::steps("steps", 15))
+    .param(cones(4))
+    .param(form())
+    .reads(|s| by_form(s, MapReq::MultiCone(s.int("k")), MapReq::CellMultiCone(s.int("k"))))
 }
 
 /// Multiple cone normal stepping, method 2 (Burger §3.4, proposed there and never
@@ -290,4 +426,17 @@ pub fn pcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: Form)
         })
         .conservative(),
     }
+}
+
+/// `pcns(steps, k, form)`: [`pcns`] in the catalogue.
+pub(crate) fn pcns_def() -> MethodDef {
+    MethodDef::new(
+        "pcns",
+        "piecewise cone normal stepping, K cone pieces (Burger 3.4, method 2); form=safe|textbook",
+        Build::Coarse(|s, ray, a| Ok(pcns(s, ray, a.int("steps")?, a.int("k")?, a.choice("form")?))),
+    )
+    .param(ParamDef::steps("steps", 15))
+    .param(cones(4))
+    .param(form())
+    .reads(|s| by_form(s, MapReq::PiecewiseCone(s.int("k")), MapReq::CellPiecewiseCone(s.int("k"))))
 }

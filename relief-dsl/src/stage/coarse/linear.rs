@@ -1,7 +1,8 @@
 //! Linear search: equal steps down the ray until it dips below the surface.
 
 use crate::ir::{IntoVal, Stage, Val};
-use crate::stage::{Bracket, Ray};
+use crate::spec::{MethodDef, ParamDef, StageSpec};
+use crate::stage::{Bracket, Build, Ray};
 
 /// Linear search (Burger 2018, Algorithm 1): `steps` equal steps that reach the bottom of the
 /// volume after the last one; stop at the first point at or below the surface.
@@ -14,6 +15,12 @@ pub fn linear<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
         t.set(t.get() + step);
     });
     one_step_back(t.get(), step)
+}
+
+/// `linear(steps)`: [`linear`] in the catalogue.
+pub(crate) fn linear_def() -> MethodDef {
+    MethodDef::new("linear", "linear search (Burger Algorithm 1)", Build::Coarse(|s, ray, a| Ok(linear(s, ray, a.int("steps")?))))
+        .param(ParamDef::steps("steps", 32))
 }
 
 /// The bracket from one step before `t` to `t`, never starting before the entry: when the
@@ -38,6 +45,25 @@ pub fn linear_dynamic<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, min: u32, max: u32) -
         t.set(t.get() + step);
     });
     one_step_back(t.get(), step)
+}
+
+/// `linear_dynamic(min, max)`: [`linear_dynamic`] in the catalogue.
+pub(crate) fn linear_dynamic_def() -> MethodDef {
+    MethodDef::new(
+        "linear_dynamic",
+        "linear search, step count from the view angle (Tatarchuk 2006; Amaro & Gustafsson 2.1.3)",
+        Build::Coarse(|s, ray, a| Ok(linear_dynamic(s, ray, a.int("min")?, a.int("max")?))),
+    )
+    .param(ParamDef::steps("min", 8))
+    .param(ParamDef::steps("max", 32))
+    .check(min_le_max)
+}
+
+fn min_le_max(s: &StageSpec) -> Result<(), String> {
+    if s.int("min") > s.int("max") {
+        return Err(format!("`linear_dynamic` needs min <= max, got min {} and max {}", s.int("min"), s.int("max")));
+    }
+    Ok(())
 }
 
 /// The name of the private global that holds the distance from the camera to the fragment
@@ -85,4 +111,16 @@ pub fn linear_distance<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, min: u32, max: u32, 
         t.set(t.get() + step);
     });
     one_step_back(t.get(), step)
+}
+
+/// `linear_distance(min, max, theta_min)`: [`linear_distance`] in the catalogue.
+pub(crate) fn linear_distance_def() -> MethodDef {
+    MethodDef::new(
+        "linear_distance",
+        "linear search, layer count from the view angle and the camera distance (Amaro & Gustafsson 2.1.3)",
+        Build::Coarse(|s, ray, a| Ok(linear_distance(s, ray, a.int("min")?, a.int("max")?, a.int("theta_min")?))),
+    )
+    .param(ParamDef::steps("min", 16))
+    .param(ParamDef::steps("max", 180))
+    .param(ParamDef::steps("theta_min", 4))
 }

@@ -9,8 +9,8 @@
 //! Each pass through the loop is one node visit.
 
 use crate::ir::{Stage, Val, Vec2};
-use crate::spec::MapReq;
-use crate::stage::{Bracket, Ray};
+use crate::spec::{MapReq, MethodDef, ParamDef};
+use crate::stage::{Bracket, Build, Ray};
 
 /// Maximum-mipmap traversal with the exact bilinear-patch intersection in the finest cells
 /// (Tevs, Ihrke & Seidel 2008; the survey's pyramidal displacement mapping), one node per
@@ -73,6 +73,17 @@ pub fn maxmip<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     // known to be above the surface up to where the traversal stopped.
     let end = t.get().min(ray.t_max());
     Bracket::searched(end, end, hit | t.ge(ray.t_max()))
+}
+
+/// `maxmip(steps)`: [`maxmip`] in the catalogue.
+pub(crate) fn maxmip_def() -> MethodDef {
+    MethodDef::new(
+        "maxmip",
+        "maximum-mipmap traversal with the exact bilinear patch in the finest cells (Tevs et al. 2008)",
+        Build::Coarse(|s, ray, a| Ok(maxmip(s, ray, a.int("steps")?))),
+    )
+    .param(ParamDef::steps("steps", 64))
+    .reads(|_| vec![MapReq::MaxMip])
 }
 
 /// The first t in `[from, to]` where the ray meets the bilinear patch of the cell it is in (or

@@ -8,11 +8,21 @@
 //! the view ray from the normal).
 
 use crate::ir::{Stage, Val};
-use crate::stage::{Bracket, Ray};
+use crate::spec::{MapReq, MethodDef, ParamDef, StageSpec};
+use crate::stage::{Bracket, Build, Ray};
+
+fn normal_map(_: &StageSpec) -> Vec<MapReq> {
+    vec![MapReq::Normal]
+}
 
 /// Plain texture mapping: the hit is where the ray enters, t = 0.
 pub fn none<'a>(s: &'a Stage<'a>, _ray: &Ray<'a>) -> Bracket<'a> {
     Bracket::point(s.lit(0.0))
+}
+
+/// `none`: [`none`] in the catalogue.
+pub(crate) fn none_def() -> MethodDef {
+    MethodDef::new("none", "plain texture mapping: the hit is the entry point", Build::Coarse(|s, ray, _| Ok(none(s, ray))))
 }
 
 /// Parallax mapping (Kaneko et al. 2001; Burger eq. 2.3): the surface is taken to be the
@@ -22,11 +32,25 @@ pub fn parallax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>) -> Bracket<'a> {
     Bracket::point((1.0 - h) / -ray.dir.z())
 }
 
+/// `parallax`: [`parallax`] in the catalogue.
+pub(crate) fn parallax_def() -> MethodDef {
+    MethodDef::new("parallax", "parallax mapping (Kaneko et al. 2001; Burger eq. 2.3-2.5)", Build::Coarse(|s, ray, _| Ok(parallax(s, ray))))
+}
+
 /// Parallax with offset limiting (Welsh 2004; survey §4.1.3, Burger eq. 2.6): the offset is
 /// the depth along the *normalized* view vector, so it never exceeds the depth itself.
 pub fn offset_limited<'a>(s: &'a Stage<'a>, ray: &Ray<'a>) -> Bracket<'a> {
     let h = s.height(ray.origin);
     Bracket::point((1.0 - h) * ray.cos_view / -ray.dir.z())
+}
+
+/// `offset_limited`: [`offset_limited`] in the catalogue.
+pub(crate) fn offset_limited_def() -> MethodDef {
+    MethodDef::new(
+        "offset_limited",
+        "parallax with offset limiting (Welsh 2004; survey 4.1.3)",
+        Build::Coarse(|s, ray, _| Ok(offset_limited(s, ray))),
+    )
 }
 
 /// Parallax along the slope (survey §4.1.4, the "safer" form): the depth is scaled by the
@@ -35,6 +59,16 @@ pub fn slope_parallax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>) -> Bracket<'a> {
     let h = s.height(ray.origin);
     let n = s.normal(ray.origin);
     Bracket::point((1.0 - h) * n.z() * ray.cos_view / -ray.dir.z())
+}
+
+/// `slope_parallax`: [`slope_parallax`] in the catalogue.
+pub(crate) fn slope_parallax_def() -> MethodDef {
+    MethodDef::new(
+        "slope_parallax",
+        "parallax along the normal map's slope (survey 4.1.4)",
+        Build::Coarse(|s, ray, _| Ok(slope_parallax(s, ray))),
+    )
+    .reads(normal_map)
 }
 
 /// Iterative parallax mapping (Premecz 2006; survey §4.2.1): repeat the slope correction
@@ -49,4 +83,15 @@ pub fn iterative_parallax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Br
         t.set(t.get() + step);
     });
     Bracket::point(t.get())
+}
+
+/// `iterative_parallax(steps)`: [`iterative_parallax`] in the catalogue.
+pub(crate) fn iterative_parallax_def() -> MethodDef {
+    MethodDef::new(
+        "iterative_parallax",
+        "iterative parallax with slope (Premecz 2006; survey 4.2.1)",
+        Build::Coarse(|s, ray, a| Ok(iterative_parallax(s, ray, a.int("steps")?))),
+    )
+    .param(ParamDef::steps("steps", 4))
+    .reads(normal_map)
 }

@@ -1,7 +1,8 @@
 //! Sphere tracing a distance field.
 
 use crate::ir::Stage;
-use crate::stage::{Bracket, Ray};
+use crate::spec::{MapReq, MethodDef, ParamDef};
+use crate::stage::{Bracket, Build, Ray};
 
 /// Sphere tracing a 3D distance field (Donnelly 2005; survey §4.3): each step moves by the
 /// distance to the nearest surface, which is free space in every direction. Distances are in
@@ -15,4 +16,15 @@ use crate::stage::{Bracket, Ray};
 pub fn sphere<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     let speed = ray.dir.length();
     super::cell::safe_march(s, ray, steps, |s, p, _| s.distance(p) / speed)
+}
+
+/// `sphere(steps)`: [`sphere`] in the catalogue.
+pub(crate) fn sphere_def() -> MethodDef {
+    MethodDef::new(
+        "sphere",
+        "sphere tracing a 3D distance field (Donnelly 2005)",
+        Build::Coarse(|s, ray, a| Ok(sphere(s, ray, a.int("steps")?))),
+    )
+    .param(ParamDef::steps("steps", 15))
+    .reads(|_| vec![MapReq::DistanceField])
 }

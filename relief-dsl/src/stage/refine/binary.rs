@@ -1,7 +1,8 @@
 //! Binary search refinement.
 
 use crate::ir::Stage;
-use crate::stage::{Bracket, Hit, Ray};
+use crate::spec::{MethodDef, ParamDef};
+use crate::stage::{Bracket, Build, Hit, Ray};
 
 /// Binary search (Burger 2018, Algorithm 2): start half a step back from the coarse hit,
 /// then move by half the previous move each time: backward while below the surface,
@@ -16,4 +17,10 @@ pub fn binary<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, b: Bracket<'a>, steps: u32) -
         t.set(t.get() + s.select(below, -step.get(), step.get()));
     });
     Hit::at(ray, t.get())
+}
+
+/// `binary(steps)`: [`binary`] in the catalogue.
+pub(crate) fn binary_def() -> MethodDef {
+    MethodDef::new("binary", "binary search (Burger Algorithm 2)", Build::Refine(|s, ray, b, a| Ok(binary(s, ray, b, a.int("steps")?))))
+        .param(ParamDef::steps("steps", 5))
 }

@@ -3,8 +3,8 @@
 //! distance-field penumbra `k·d / τ` (Quílez-style; Burger §4.4).
 
 use crate::ir::{Stage, Val, Vec3};
-use crate::spec::MapReq;
-use crate::stage::{Filter, Hit};
+use crate::spec::{MapReq, MethodDef, ParamDef};
+use crate::stage::{Build, Filter, Hit};
 
 /// Penumbra sharpness `k`: the light is fully visible once the distance to the surface is
 /// at least `τ / k` at distance τ along the light ray.
@@ -41,4 +41,26 @@ pub fn soft<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, light: Val<'a, Vec3>, steps: u3
         tau.set(tau.get() + step);
     });
     visible.get().clamp(0.0, 1.0)
+}
+
+/// `soft_cone(steps)`: [`soft`] from the cone normal map in the catalogue.
+pub(crate) fn soft_cone_def() -> MethodDef {
+    MethodDef::new(
+        "soft_cone",
+        "soft shadow from the cone-normal distance d = h n_z (Burger 3.2) with penumbra k d / t",
+        Build::Shadow(|s, hit, light, a| Ok(soft(s, hit, light.dir, a.int("steps")?, Source::ConeNormal))),
+    )
+    .param(ParamDef::steps("steps", 16))
+    .reads(|_| vec![MapReq::ConeNormal])
+}
+
+/// `soft_ratio(steps)`: [`soft`] from CSM's cone ratio in the catalogue.
+pub(crate) fn soft_ratio_def() -> MethodDef {
+    MethodDef::new(
+        "soft_ratio",
+        "the same soft shadow from CSM's cone ratio",
+        Build::Shadow(|s, hit, light, a| Ok(soft(s, hit, light.dir, a.int("steps")?, Source::ConeRatio))),
+    )
+    .param(ParamDef::steps("steps", 16))
+    .reads(|_| vec![MapReq::Cone])
 }

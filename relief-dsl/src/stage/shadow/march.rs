@@ -4,7 +4,9 @@
 //! space, scaled so that `light.z = 1`); it leaves the volume after `1 - hit.z`.
 
 use crate::ir::{Stage, Val, Vec3};
-use crate::stage::{Bracket, Hit, Ray};
+use crate::spec::{Args, MethodDef, ParamDef, Slot, StageOr};
+use crate::stage::{Bracket, Build, Hit, Light, Ray};
+use crate::CompileError;
 
 /// The light ray's point at parameter τ.
 fn toward_light<'a>(hit: &Hit<'a>, light: Val<'a, Vec3>, tau: Val<'a, f32>) -> Val<'a, Vec3> {
@@ -49,6 +51,16 @@ pub fn soft<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, light: Val<'a, Vec3>, steps: u3
     (1.0 - w.get() / (0.24 + w.get())).clamp(0.0, 1.0)
 }
 
+/// `soft(steps)`: [`soft`] in the catalogue.
+pub(crate) fn soft_def() -> MethodDef {
+    MethodDef::new(
+        "soft",
+        "soft shadow from the deepest blocker, 1 - w/(0.24 + w) (Tatarchuk 2006; Amaro & Gustafsson 2.1.2)",
+        Build::Shadow(|s, hit, light, a| Ok(soft(s, hit, light.dir, a.int("steps")?))),
+    )
+    .param(ParamDef::steps("steps", 16))
+}
+
 /// Hard shadow with any coarse search: the light ray is traced from where it enters the
 /// volume down toward the hit — an ordinary view ray, so every coarse stage applies — and the
 /// hit is in shadow when the search stops on the surface clearly before reaching it.
@@ -66,4 +78,33 @@ pub fn hard_with<'a>(
     let on_surface = s.height(p.xy()).ge(p.z());
     let before_hit = b.below.lt(t_hit * 0.99 - 1e-3);
     s.select(b.found & on_surface & before_hit, 0.0, 1.0)
+}
+
+/// `hard(n)` or `hard(COARSE)`: [`hard`] or [`hard_with`] in the catalogue.
+pub(crate) fn hard_def() -> MethodDef {
+    MethodDef::new(
+        "hard",
+        "hard shadow: a coarse search toward the light (Amaro & Gustafsson 2.1.1)",
+        Build::Shadow(build_hard),
+    )
+    .param(ParamDef::stage_or("search", Slot::Coarse, 16))
+}
+
+/// A step count is [`hard`]'s linear search; a coarse stage is [`hard_with`] that search.
+fn build_hard<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, light: &Light<'a>, a: &Args) -> Result<Val<'a, f32>, CompileError> {
+    Ok(match a.stage_or("search")? {
+        StageOr::Steps(n) => hard(s, hit, light.dir, n),
+        StageOr::Stage(inner) => {
+            let mut result = Ok(());
+            let v = hard_with(s, hit, light.dir, light.cos, |s, ray| match crate::stage::coarse(s, ray, inner) {
+                Ok(b) => b,
+                Err(e) => {
+                    result = Err(e);
+                    Bracket::new(s.lit(0.0), s.lit(0.0))
+                }
+            });
+            result?;
+            v
+        }
+    })
 }

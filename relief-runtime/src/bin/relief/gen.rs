@@ -57,8 +57,7 @@ pub fn listing() -> String {
                 })
                 .collect();
             let sig = if params.is_empty() { m.name.to_string() } else { format!("{}({})", m.name, params.join(", ")) };
-            let state = if m.implemented { "" } else { " [not implemented yet]" };
-            s.push_str(&format!("  {sig:<28} {}{state}\n", m.summary));
+            s.push_str(&format!("  {sig:<28} {}\n", m.summary));
             for p in &m.params {
                 s.push_str(&format!("  {:<28}   {}: {}\n", "", p.name, p.kind.describe()));
             }
