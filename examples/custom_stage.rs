@@ -91,6 +91,7 @@ pub fn run(out: &Path) -> Result<Vec<Row>, Error> {
         out: out.to_path_buf(),
         progress: false,
         overrides: Default::default(),
+        shard: None,
     };
     sweep::run(&options).map_err(|e| e.to_string())?;
     Ok(results::read(out).map_err(|e| e.to_string())?.rows)

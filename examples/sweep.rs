@@ -31,6 +31,7 @@ pub fn run(out: &Path) -> Result<(usize, usize), Error> {
         out: out.to_path_buf(),
         progress: false,
         overrides: Default::default(),
+        shard: None,
     };
     let summary = sweep::run(&options).map_err(|e| e.to_string())?;
     let report = relief::runtime::report::write(out).map_err(|e| e.to_string())?;

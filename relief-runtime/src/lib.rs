@@ -1,8 +1,8 @@
 //! relief-runtime: maps, scenes, the GPU runtime, the exact reference, metrics and sweeps.
 //!
 //! Modules in import order (a module imports only modules listed before it): the leaves
-//! [`io`], [`picture`] and [`results`]; then [`heightmap`], [`scene`], [`maps`],
-//! [`reference`](mod@reference); [`gpu`]; [`metrics`]; [`measure`]; [`sweep`], [`stability`], [`room`]; [`report`].
+//! [`io`], [`picture`], [`results`] and [`timing`]; then [`heightmap`], [`scene`], [`maps`],
+//! [`reference`](mod@reference); [`gpu`]; [`metrics`] and [`simd`]; [`measure`]; [`sweep`], [`stability`], [`room`]; [`report`].
 //! The `relief` command line lives in `src/bin/relief/` and the library never calls it.
 
 #![warn(missing_docs)]
@@ -10,12 +10,14 @@
 pub mod io;
 pub mod picture;
 pub mod results;
+pub mod timing;
 pub mod heightmap;
 pub mod maps;
 pub mod scene;
 pub mod reference;
 pub mod gpu;
 pub mod metrics;
+pub mod simd;
 pub mod measure;
 pub mod stability;
 pub mod sweep;

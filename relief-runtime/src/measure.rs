@@ -7,7 +7,7 @@ use std::path::Path;
 use anyhow::Context;
 
 use crate::io;
-use crate::gpu::{self, Gpu, GpuHit, Program, RenderResult, SceneTextures};
+use crate::gpu::{self, Clock, Gpu, GpuHit, Program, RenderResult, Renderer, SceneTextures};
 use crate::metrics::{self, Metrics};
 use crate::heightmap::EdgeMode;
 use crate::reference::{clip_to_square, ray_levels, reference_hits, reference_hits_at_levels, RefHit, Sampling};
@@ -33,6 +33,22 @@ pub struct Prepared {
     /// Per `lod` other than zero: the level each ray samples and its exact hits on that
     /// level's surface (computed on first use).
     pub lod_refs: std::collections::HashMap<Lod, (Vec<usize>, Vec<Option<RefHit>>)>,
+    /// The baseline's renderer on this scene, for paired timing (built on first use).
+    baseline: Option<Baseline>,
+}
+
+/// The pipeline every cell of a sweep is timed against, in alternating blocks on the same
+/// scene ([`measure_paired`]): 32 linear steps then 5 binary steps (Burger 2018, Algorithms
+/// 1 and 2), the common relief-mapping search; it reads the height map only (no map to
+/// build, the same work on every scene's kind of map) and is the pipeline of the
+/// hand-written benchmark. It is measured on each scene under that scene's `lod` policy.
+pub const BASELINE: &str = "linear(32)+binary(5)";
+
+/// The baseline drawn on a prepared scene, with its frames per block.
+struct Baseline {
+    pipeline: String,
+    renderer: Renderer,
+    frames_per_block: u32,
 }
 
 impl Prepared {
@@ -43,7 +59,7 @@ impl Prepared {
         on_device.height.data = textures.heights_on_device.clone();
         let rays = scene.rays(size);
         let refs = reference_hits(&on_device, &rays, Sampling::Bilinear).with_context(|| format!("scene {}", scene.name))?;
-        Ok(Prepared { scene, on_device, textures, rays, refs, size, lod_refs: Default::default() })
+        Ok(Prepared { scene, on_device, textures, rays, refs, size, lod_refs: Default::default(), baseline: None })
     }
 
     /// The exact hits under `lod`, once [`Prepared::refs_for`] has computed them (a panic
@@ -106,48 +122,170 @@ pub fn measure_with(
     warmup: u32,
     frames: u32,
 ) -> anyhow::Result<Measured> {
-    // The scene's level policy applies to a pipeline that names no lod; the metrics record
-    // the pipeline as measured.
-    let pipeline = &prep.scene.pipeline_for(pipeline);
-    let clip = pipeline.silhouette == Silhouette::Clip;
-    if clip && prep.scene.edge != EdgeMode::Clamp {
-        anyhow::bail!(
-            "silhouette=clip needs a scene with clamp edges; scene `{}` repeats its height map (set `edge = \"clamp\"` in a scene file)",
-            prep.scene.name
-        );
-    }
-    let program = Program::new_with(pipeline, options)?;
-    // Checked before the GPU runs: a level the map does not have is an error.
-    prep.refs_for(pipeline.lod)?;
-    prep.textures.add_maps_lod(gpu, &prep.scene, &pipeline.required_maps(), pipeline.lod)?;
-    let frame = gpu::render(gpu, &program, &prep.scene, &prep.textures, prep.size, warmup, frames)?;
-    let hits = gpu::probe(gpu, &program, &prep.scene, &prep.textures, &prep.rays)?;
-    let mut m = Metrics {
-        pipeline: pipeline.to_string(),
-        scene: prep.scene.name.clone(),
-        size: prep.size,
-        adapter: format!("{} ({})", gpu.adapter, gpu.driver),
-        ..Default::default()
-    };
+    let cell = Cell::new(gpu, prep, pipeline, options)?;
+    let frame = gpu::render(gpu, &cell.program, &prep.scene, &prep.textures, prep.size, warmup, frames)?;
+    let mut m = cell.metrics(gpu, prep);
     metrics::set_timing(&mut m, &frame.frame_ms);
-    let edge = prep.scene.edge;
-    let (levels, refs) = match pipeline.lod {
-        Lod::Zero => (Vec::new(), prep.refs.clone()),
-        lod => {
-            let (l, r) = prep.refs_for(lod)?;
-            (l.to_vec(), r.to_vec())
+    m.frames_per_block = frame.frames_per_block;
+    m.timestamp_period_ns = frame.timestamp_period_ns;
+    cell.finish(gpu, prep, m, frame)
+}
+
+/// [`measure`] with paired timing: the pipeline's frames are timed in blocks alternating
+/// with blocks of the scene's [`BASELINE`] (`pairs` pairs, after `warmup` untimed frames of
+/// each and the blocks that calibrate their lengths; [`gpu::paired_blocks`]). The metrics'
+/// frame times are the pipeline's blocks, and `frame_ratio_to_baseline` with its 95 %
+/// interval compares them with the baseline's blocks of the same pairs
+/// ([`crate::timing::paired_ratio`]).
+pub fn measure_paired(gpu: &Gpu, prep: &mut Prepared, pipeline: &relief_dsl::Pipeline, warmup: u32, pairs: u32) -> anyhow::Result<Measured> {
+    let cell = Cell::new(gpu, prep, pipeline, &relief_dsl::compose::Options::default())?;
+    let clock = Clock::new(gpu)?;
+    prep.baseline(gpu, &clock, warmup)?;
+    let base = prep.baseline.as_ref().expect("built above");
+    let r = Renderer::new(gpu, &cell.program, &prep.scene, &prep.textures, prep.size)?;
+    let draw = |p: &mut wgpu::RenderPass<'_>| r.draw(p);
+    r.target.untimed(gpu, warmup, &draw)?;
+    let k = clock.calibrate(gpu, &r.target, &draw)?;
+    let blocks = gpu::paired_blocks(gpu, &clock, &r, &base.renderer, [k, base.frames_per_block], pairs)?;
+    let ratio = blocks.ratio();
+    let f = r.target.read(gpu, blocks.a_ms.clone())?;
+    let frame = RenderResult { frame_ms: f.frame_ms, rgba: f.rgba, size: prep.size, depth: f.depth, frames_per_block: k, timestamp_period_ns: clock.period_ns };
+    let mut m = cell.metrics(gpu, prep);
+    metrics::set_timing(&mut m, &frame.frame_ms);
+    m.frames_per_block = k;
+    m.timestamp_period_ns = clock.period_ns;
+    m.baseline = base.pipeline.clone();
+    m.timing_pairs = ratio.pairs;
+    let finite = |v: f64| v.is_finite().then_some(v);
+    m.frame_ratio_to_baseline = finite(ratio.ratio);
+    m.frame_ratio_to_baseline_lo = finite(ratio.lo);
+    m.frame_ratio_to_baseline_hi = finite(ratio.hi);
+    cell.finish(gpu, prep, m, frame)
+}
+
+impl Prepared {
+    /// Builds the scene's baseline renderer on first use ([`BASELINE`] under the scene's
+    /// `lod` policy): its maps, `warmup` untimed frames, its frames per block.
+    fn baseline(&mut self, gpu: &Gpu, clock: &Clock, warmup: u32) -> anyhow::Result<()> {
+        if self.baseline.is_some() {
+            return Ok(());
         }
-    };
-    let refs = if clip { clip_to_square(&refs, prep.scene.tiling as f64) } else { refs };
-    if pipeline.lod == Lod::Zero {
-        metrics::set_accuracy(&mut m, &prep.rays, &hits, &refs, &prep.on_device.height, edge);
-    } else {
-        metrics::set_accuracy_levels(&mut m, &prep.rays, &hits, &refs, &prep.textures.height_levels, &levels, edge);
+        let p = self.scene.pipeline_for(&BASELINE.parse().expect("the baseline parses"));
+        let program = Program::new(&p)?;
+        self.textures.add_maps_lod(gpu, &self.scene, &p.required_maps(), p.lod)?;
+        let renderer = Renderer::new(gpu, &program, &self.scene, &self.textures, self.size)?;
+        let draw = |pass: &mut wgpu::RenderPass<'_>| renderer.draw(pass);
+        renderer.target.untimed(gpu, warmup, &draw)?;
+        let frames_per_block = clock.calibrate(gpu, &renderer.target, &draw)?;
+        self.baseline = Some(Baseline { pipeline: p.to_string(), renderer, frames_per_block });
+        Ok(())
     }
-    if let Some(depth) = &frame.depth {
-        m.depth_err_max = Some(depth_errors(prep, &refs, depth).into_iter().fold(0.0, f64::max));
+}
+
+/// A pipeline being measured on a prepared scene: as measured (the scene's `lod` policy
+/// applied), compiled, its maps and reference hits ready.
+struct Cell {
+    pipeline: relief_dsl::Pipeline,
+    program: Program,
+    clip: bool,
+}
+
+impl Cell {
+    fn new(gpu: &Gpu, prep: &mut Prepared, pipeline: &relief_dsl::Pipeline, options: &relief_dsl::compose::Options) -> anyhow::Result<Cell> {
+        // The scene's level policy applies to a pipeline that names no lod; the metrics record
+        // the pipeline as measured.
+        let pipeline = prep.scene.pipeline_for(pipeline);
+        let clip = pipeline.silhouette == Silhouette::Clip;
+        if clip && prep.scene.edge != EdgeMode::Clamp {
+            anyhow::bail!(
+                "silhouette=clip needs a scene with clamp edges; scene `{}` repeats its height map (set `edge = \"clamp\"` in a scene file)",
+                prep.scene.name
+            );
+        }
+        let program = Program::new_with(&pipeline, options)?;
+        // Checked before the GPU runs: a level the map does not have is an error.
+        prep.refs_for(pipeline.lod)?;
+        prep.textures.add_maps_lod(gpu, &prep.scene, &pipeline.required_maps(), pipeline.lod)?;
+        Ok(Cell { pipeline, program, clip })
     }
-    Ok(Measured { metrics: m, frame, hits, refs, lod: pipeline.lod })
+
+    /// The row's naming fields.
+    fn metrics(&self, gpu: &Gpu, prep: &Prepared) -> Metrics {
+        Metrics {
+            pipeline: self.pipeline.to_string(),
+            scene: prep.scene.name.clone(),
+            size: prep.size,
+            adapter: format!("{} ({})", gpu.adapter, gpu.driver),
+            ..Default::default()
+        }
+    }
+
+    /// Probes every ray and scores the hits (accuracy, the SIMD cost model, depth).
+    fn finish(self, gpu: &Gpu, prep: &mut Prepared, mut m: Metrics, frame: RenderResult) -> anyhow::Result<Measured> {
+        let pipeline = &self.pipeline;
+        let hits = gpu::probe(gpu, &self.program, &prep.scene, &prep.textures, &prep.rays)?;
+        let edge = prep.scene.edge;
+        let (levels, refs) = match pipeline.lod {
+            Lod::Zero => (Vec::new(), prep.refs.clone()),
+            lod => {
+                let (l, r) = prep.refs_for(lod)?;
+                (l.to_vec(), r.to_vec())
+            }
+        };
+        let refs = if self.clip { clip_to_square(&refs, prep.scene.tiling as f64) } else { refs };
+        if pipeline.lod == Lod::Zero {
+            metrics::set_accuracy(&mut m, &prep.rays, &hits, &refs, &prep.on_device.height, edge);
+        } else {
+            metrics::set_accuracy_levels(&mut m, &prep.rays, &hits, &refs, &prep.textures.height_levels, &levels, edge);
+        }
+        let cost = crate::simd::simd_cost(&prep.rays, &hits);
+        m.simd32_steps = cost.simd32_steps;
+        m.simd64_steps = cost.simd64_steps;
+        m.simd32_fetches = cost.simd32_fetches;
+        m.simd32_divergence = cost.simd32_divergence;
+        if let Some(depth) = &frame.depth {
+            m.depth_err_max = Some(depth_errors(prep, &refs, depth).into_iter().fold(0.0, f64::max));
+        }
+        Ok(Measured { metrics: m, frame, hits, refs, lod: pipeline.lod })
+    }
+}
+
+/// What [`compare`] measured: two pipelines timed in alternating blocks on one scene.
+pub struct Comparison {
+    /// The two pipelines as measured (the scene's `lod` policy applied), A first.
+    pub pipelines: [String; 2],
+    /// The ratio of A's mean frame time to B's, with its 95 % interval.
+    pub ratio: crate::timing::Ratio,
+    /// The blocks behind it.
+    pub blocks: gpu::PairedBlocks,
+    /// The SIMD cost model of each ([`crate::simd`]), from the probe on the frame's rays.
+    pub cost: [crate::simd::SimdCost; 2],
+}
+
+/// Times pipelines `a` and `b` on `scene` at `size²` in `pairs` pairs of alternating blocks
+/// (after `warmup` untimed frames of each and the blocks that calibrate their lengths), and
+/// probes each once for the SIMD cost model. No reference is traced: this is timing only.
+pub fn compare(gpu: &Gpu, scene: &Scene, size: u32, a: &relief_dsl::Pipeline, b: &relief_dsl::Pipeline, warmup: u32, pairs: u32) -> anyhow::Result<Comparison> {
+    let mut tex = SceneTextures::new(gpu, scene);
+    let rays = scene.rays(size);
+    let clock = Clock::new(gpu)?;
+    let mut sides = Vec::new();
+    for p in [a, b] {
+        let p = scene.pipeline_for(p);
+        if p.silhouette == Silhouette::Clip && scene.edge != EdgeMode::Clamp {
+            anyhow::bail!("`{p}`: silhouette=clip needs a scene with clamp edges; scene `{}` repeats its height map", scene.name);
+        }
+        let program = Program::new(&p)?;
+        tex.add_maps_lod(gpu, scene, &p.required_maps(), p.lod)?;
+        let r = Renderer::new(gpu, &program, scene, &tex, size)?;
+        let draw = |pass: &mut wgpu::RenderPass<'_>| r.draw(pass);
+        r.target.untimed(gpu, warmup, &draw)?;
+        let k = clock.calibrate(gpu, &r.target, &draw)?;
+        let hits = gpu::probe(gpu, &program, scene, &tex, &rays)?;
+        sides.push((p.to_string(), r, k, crate::simd::simd_cost(&rays, &hits)));
+    }
+    let blocks = gpu::paired_blocks(gpu, &clock, &sides[0].1, &sides[1].1, [sides[0].2, sides[1].2], pairs)?;
+    Ok(Comparison { pipelines: [sides[0].0.clone(), sides[1].0.clone()], ratio: blocks.ratio(), blocks, cost: [sides[0].3, sides[1].3] })
 }
 
 /// The NDC depth of the reference hit of every probe ray (one per covered pixel) against the

@@ -74,6 +74,42 @@ pub struct Metrics {
     pub avg_iterations: f64,
     /// Texture fetches per ray over all stages.
     pub avg_fetches: f64,
+    /// The SIMD cost model ([`crate::simd`]): the largest coarse + refine step count of a
+    /// group of 32 rays (8 × 4 pixels), averaged over groups.
+    #[serde(default)]
+    pub simd32_steps: f64,
+    /// The same for groups of 64 rays (8 × 8 pixels).
+    #[serde(default)]
+    pub simd64_steps: f64,
+    /// The largest fetch count of a group of 32 rays, averaged over groups.
+    #[serde(default)]
+    pub simd32_fetches: f64,
+    /// A group of 32's largest step count over its mean, averaged over groups.
+    #[serde(default)]
+    pub simd32_divergence: f64,
+    /// The pipeline the cell was timed against in alternating blocks (paired timing,
+    /// [`crate::timing`]); empty when it was timed alone.
+    #[serde(default)]
+    pub baseline: String,
+    /// The cell's mean frame time over the baseline's, from the paired blocks.
+    #[serde(default)]
+    pub frame_ratio_to_baseline: Option<f64>,
+    /// Lower end of the ratio's 95 % interval.
+    #[serde(default)]
+    pub frame_ratio_to_baseline_lo: Option<f64>,
+    /// Upper end of the ratio's 95 % interval.
+    #[serde(default)]
+    pub frame_ratio_to_baseline_hi: Option<f64>,
+    /// Pairs of blocks behind the ratio (0 when timed alone).
+    #[serde(default)]
+    pub timing_pairs: u32,
+    /// Frames per timed block (each block lasts at least 2 ms of device time); 0 when not
+    /// recorded.
+    #[serde(default)]
+    pub frames_per_block: u32,
+    /// The device timer's tick, in nanoseconds (`wgpu::Queue::get_timestamp_period`).
+    #[serde(default)]
+    pub timestamp_period_ns: f64,
     /// With `relief render --write-depth`: the largest |NDC depth − the reference hit's NDC
     /// depth| over the covered pixels.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -126,6 +162,17 @@ pub const COLUMNS: &[&str] = &[
     "avg_refine_steps",
     "avg_iterations",
     "avg_fetches",
+    "simd32_steps",
+    "simd64_steps",
+    "simd32_fetches",
+    "simd32_divergence",
+    "baseline",
+    "frame_ratio_to_baseline",
+    "frame_ratio_to_baseline_lo",
+    "frame_ratio_to_baseline_hi",
+    "timing_pairs",
+    "frames_per_block",
+    "timestamp_period_ns",
     "cell_dir",
 ];
 
@@ -267,7 +314,18 @@ pub fn parse_row(line: &str) -> anyhow::Result<Row> {
 }
 
 /// Metrics fields added after the first results files (absent from older ones).
-const LATER_FIELDS: &[&str] = &["frame_ms_mean", "avg_coarse_steps", "avg_refine_steps", "nonconverged_rate", "false_hit_rate"];
+const LATER_FIELDS: &[&str] = &[
+    "frame_ms_mean",
+    "avg_coarse_steps",
+    "avg_refine_steps",
+    "nonconverged_rate",
+    "false_hit_rate",
+    "simd32_steps",
+    "simd64_steps",
+    "simd32_fetches",
+    "simd32_divergence",
+    "timestamp_period_ns",
+];
 
 fn set_nan(m: &mut Metrics, field: &str) {
     let f = match field {
@@ -286,6 +344,11 @@ fn set_nan(m: &mut Metrics, field: &str) {
         "false_hit_rate" => &mut m.false_hit_rate,
         "avg_iterations" => &mut m.avg_iterations,
         "avg_fetches" => &mut m.avg_fetches,
+        "simd32_steps" => &mut m.simd32_steps,
+        "simd64_steps" => &mut m.simd64_steps,
+        "simd32_fetches" => &mut m.simd32_fetches,
+        "simd32_divergence" => &mut m.simd32_divergence,
+        "timestamp_period_ns" => &mut m.timestamp_period_ns,
         _ => return,
     };
     *f = f64::NAN;

@@ -12,7 +12,10 @@ mod resources;
 pub use device::{Gpu, GpuError};
 pub use probe::{probe, GpuHit};
 pub use relief_dsl::abi::OUTSIDE_TOLERANCE;
-pub use render::{draw_frame, render, timed_frames, Frames, RenderResult, DEPTH_FORMAT, FORMAT};
+pub use render::{
+    draw_frame, paired_blocks, render, timed_frames, Clock, Frames, PairedBlocks, RenderResult, Renderer, Target, DEPTH_FORMAT, FORMAT, MAX_FRAMES_PER_BLOCK,
+    MIN_BLOCK_MS,
+};
 pub use resources::{SceneTextures, AMBIENT, MAX_RATIO};
 pub use crate::maps::MapKey;
 

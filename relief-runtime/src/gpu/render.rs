@@ -5,7 +5,8 @@ use crate::scene::Scene;
 
 /// Frame times and the last frame.
 pub struct RenderResult {
-    /// GPU time of each timed frame's render pass, in milliseconds.
+    /// Mean GPU time per frame of each timed block of frames, in milliseconds (one value per
+    /// frame where a frame lasts at least [`MIN_BLOCK_MS`]).
     pub frame_ms: Vec<f64>,
     /// The last frame, RGBA8 (sRGB), row-major, `size × size`.
     pub rgba: Vec<u8>,
@@ -14,10 +15,24 @@ pub struct RenderResult {
     /// The last frame's depth buffer (NDC depth, row-major, cleared to 1), when the program
     /// writes depth.
     pub depth: Option<Vec<f32>>,
+    /// Frames per timed block ([`Clock::calibrate`]).
+    pub frames_per_block: u32,
+    /// The timer's tick in nanoseconds (`wgpu::Queue::get_timestamp_period`).
+    pub timestamp_period_ns: f64,
 }
 
 /// The depth format of the timed renders.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// The colour format of the timed renders.
+pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+
+/// A timed block lasts at least this long on the device: a 256² frame can take 20 µs on a
+/// desktop GPU, near the timer's resolution, so fast frames are timed many to a block.
+pub const MIN_BLOCK_MS: f64 = 2.0;
+
+/// The most frames one block holds (a frame below the timer's resolution still ends).
+pub const MAX_FRAMES_PER_BLOCK: u32 = 1 << 14;
 
 /// A `size²` render attachment that can be copied out (with [`Readback`]).
 fn attachment(gpu: &Gpu, label: &str, size: u32, format: wgpu::TextureFormat) -> wgpu::Texture {
@@ -33,11 +48,200 @@ fn attachment(gpu: &Gpu, label: &str, size: u32, format: wgpu::TextureFormat) ->
     })
 }
 
-/// The colour format of the timed renders.
-pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// What frames are drawn into: a `size²` RGBA8 colour attachment cleared to `clear` and,
+/// `with_depth`, a `Depth32Float` depth cleared to 1.
+pub struct Target {
+    color: wgpu::Texture,
+    view: wgpu::TextureView,
+    depth: Option<(wgpu::Texture, wgpu::TextureView)>,
+    size: u32,
+    clear: wgpu::Color,
+}
+
+impl Target {
+    /// A new target (see the type's doc).
+    pub fn new(gpu: &Gpu, size: u32, with_depth: bool, clear: wgpu::Color) -> Target {
+        let color = attachment(gpu, "frame", size, FORMAT);
+        let view = color.create_view(&Default::default());
+        let depth = with_depth.then(|| {
+            let t = attachment(gpu, "depth", size, DEPTH_FORMAT);
+            let v = t.create_view(&Default::default());
+            (t, v)
+        });
+        Target { color, view, depth, size, clear }
+    }
+
+    /// A render pass into the target, cleared, with `ts`.
+    fn pass<'e>(&self, enc: &'e mut wgpu::CommandEncoder, ts: Option<wgpu::RenderPassTimestampWrites<'_>>) -> wgpu::RenderPass<'e> {
+        enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: None,
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(self.clear), store: wgpu::StoreOp::Store },
+            })],
+            depth_stencil_attachment: self.depth.as_ref().map(|(_, view)| wgpu::RenderPassDepthStencilAttachment {
+                view,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: ts,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+
+    /// `frames` untimed frames in one submission, waited for.
+    pub fn untimed(&self, gpu: &Gpu, frames: u32, draw: &dyn Fn(&mut wgpu::RenderPass<'_>)) -> Result<(), GpuError> {
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        for _ in 0..frames {
+            draw(&mut self.pass(&mut enc, None));
+        }
+        gpu.queue.submit([enc.finish()]);
+        gpu.wait()
+    }
+
+    /// The last frame drawn (and its depth), read back, with `frame_ms` as the frame times.
+    pub fn read(&self, gpu: &Gpu, frame_ms: Vec<f64>) -> Result<Frames, GpuError> {
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        let pixels = Readback::new(gpu, &mut enc, &self.color, wgpu::TextureAspect::All, self.size);
+        let depth_pixels = self.depth.as_ref().map(|(t, _)| Readback::new(gpu, &mut enc, t, wgpu::TextureAspect::DepthOnly, self.size));
+        gpu.queue.submit([enc.finish()]);
+        let rgba = pixels.read(gpu)?;
+        let depth = match depth_pixels {
+            Some(d) => Some(bytemuck::pod_collect_to_vec::<u8, f32>(&d.read(gpu)?)),
+            None => None,
+        };
+        Ok(Frames { frame_ms, rgba, depth, frames_per_block: 0, timestamp_period_ns: f64::NAN })
+    }
+}
+
+/// The device's clock: render-pass timestamps around a block of frames (compute-pass
+/// timestamps are wrong on lavapipe).
+pub struct Clock {
+    queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    read: wgpu::Buffer,
+    /// The timer's tick, ns (`wgpu::Queue::get_timestamp_period`).
+    pub period_ns: f64,
+}
+
+impl Clock {
+    /// A clock on `gpu`; an adapter without timestamp queries is an error.
+    pub fn new(gpu: &Gpu) -> Result<Clock, GpuError> {
+        if !gpu.timestamps {
+            return Err(GpuError::Device(format!("the adapter {} has no timestamp queries, so frames cannot be timed", gpu.adapter)));
+        }
+        let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor { label: Some("block time"), ty: wgpu::QueryType::Timestamp, count: 2 });
+        let buffer = |usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: None, size: 16, usage, mapped_at_creation: false });
+        Ok(Clock {
+            queries,
+            resolve: buffer(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
+            read: buffer(wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST),
+            period_ns: gpu.queue.get_timestamp_period() as f64,
+        })
+    }
+
+    /// One timed block: `frames` (at least 1) frames drawn into `target` in one submission,
+    /// a timestamp at the beginning of the first pass and one at the end of the last; waits
+    /// for it and returns the block's device time in milliseconds.
+    pub fn block(&self, gpu: &Gpu, target: &Target, frames: u32, draw: &dyn Fn(&mut wgpu::RenderPass<'_>)) -> Result<f64, GpuError> {
+        let frames = frames.max(1);
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        for i in 0..frames {
+            let (first, last) = (i == 0, i + 1 == frames);
+            let ts = (first || last).then(|| wgpu::RenderPassTimestampWrites {
+                query_set: &self.queries,
+                beginning_of_pass_write_index: first.then_some(0),
+                end_of_pass_write_index: last.then_some(1),
+            });
+            draw(&mut target.pass(&mut enc, ts));
+        }
+        enc.resolve_query_set(&self.queries, 0..2, &self.resolve, 0);
+        enc.copy_buffer_to_buffer(&self.resolve, 0, &self.read, 0, 16);
+        gpu.queue.submit([enc.finish()]);
+        let stamps: Vec<u64> = bytemuck::pod_collect_to_vec(&gpu.read_buffer(&self.read)?);
+        Ok(stamps[1].saturating_sub(stamps[0]) as f64 * self.period_ns / 1e6)
+    }
+
+    /// Frames per block such that a block lasts at least [`MIN_BLOCK_MS`] of device time:
+    /// one-frame blocks are timed, then blocks growing by the shortfall (×2 at least, with a
+    /// quarter to spare) until one lasts long enough, up to [`MAX_FRAMES_PER_BLOCK`]. The
+    /// blocks timed here are warm-up: their times are dropped.
+    pub fn calibrate(&self, gpu: &Gpu, target: &Target, draw: &dyn Fn(&mut wgpu::RenderPass<'_>)) -> Result<u32, GpuError> {
+        let mut k = 1u32;
+        loop {
+            let ms = self.block(gpu, target, k, draw)?;
+            if ms >= MIN_BLOCK_MS || k >= MAX_FRAMES_PER_BLOCK {
+                return Ok(k);
+            }
+            let grow = if ms > 0.0 { (1.25 * MIN_BLOCK_MS / ms * k as f64).ceil() as u32 } else { 16 * k };
+            k = grow.max(2 * k).min(MAX_FRAMES_PER_BLOCK);
+        }
+    }
+}
+
+/// A pipeline ready to draw: its render pipeline and bind group on a scene, and its target.
+pub struct Renderer {
+    pipeline: wgpu::RenderPipeline,
+    bind_group: wgpu::BindGroup,
+    /// Where its frames go.
+    pub target: Target,
+}
+
+/// The background of the renders.
+const CLEAR: wgpu::Color = wgpu::Color { r: 0.02, g: 0.02, b: 0.03, a: 1.0 };
+
+impl Renderer {
+    /// `program`'s render entry on `scene` (its textures and maps already in `tex`) at
+    /// `size × size` pixels.
+    pub fn new(gpu: &Gpu, program: &Program, scene: &Scene, tex: &SceneTextures, size: u32) -> Result<Renderer, GpuError> {
+        let module = program.shader_module(gpu)?;
+        let pipeline = gpu.checked(|| {
+            gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("render"),
+                layout: None,
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleStrip, ..Default::default() },
+                depth_stencil: program.writes_depth.then(|| wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Always),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_main"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(FORMAT.into())],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        })?;
+        let params = SceneTextures::params(gpu, scene, 1.0, scene.camera.pixel_size(size));
+        let bind_group = tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), &program.render_bindings, &program.maps, program.map_levels, &params, &[])?;
+        Ok(Renderer { pipeline, bind_group, target: Target::new(gpu, size, program.writes_depth, CLEAR) })
+    }
+
+    /// Records one frame's draw into `pass`.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.draw(0..4, 0..1);
+    }
+}
 
 /// Renders `frames` timed frames (after `warmup` untimed ones) of `program` on `scene` at
-/// `size × size` pixels.
+/// `size × size` pixels, in blocks of at least [`MIN_BLOCK_MS`] ([`timed_frames`]).
 pub fn render(
     gpu: &Gpu,
     program: &Program,
@@ -47,130 +251,45 @@ pub fn render(
     warmup: u32,
     frames: u32,
 ) -> Result<RenderResult, GpuError> {
-    if !gpu.timestamps {
-        return Err(GpuError::Device(format!(
-            "the adapter {} has no timestamp queries, so frames cannot be timed",
-            gpu.adapter
-        )));
-    }
-    let frames = frames.max(1);
-    let module = program.shader_module(gpu)?;
-    let pipeline = gpu.checked(|| {
-        gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("render"),
-            layout: None,
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleStrip, ..Default::default() },
-            depth_stencil: program.writes_depth.then(|| wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Always),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(FORMAT.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
-    })?;
-    let params = SceneTextures::params(gpu, scene, 1.0, scene.camera.pixel_size(size));
-    let bg = tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), &program.render_bindings, &program.maps, program.map_levels, &params, &[])?;
-    let clear = wgpu::Color { r: 0.02, g: 0.02, b: 0.03, a: 1.0 };
-    let f = timed_frames(gpu, size, program.writes_depth, clear, warmup, frames, |pass| {
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bg, &[]);
-        pass.draw(0..4, 0..1);
-    })?;
-    Ok(RenderResult { frame_ms: f.frame_ms, rgba: f.rgba, size, depth: f.depth })
+    let clock = Clock::new(gpu)?;
+    let r = Renderer::new(gpu, program, scene, tex, size)?;
+    let f = time_frames(gpu, &clock, &r.target, warmup, frames, &|pass| r.draw(pass))?;
+    Ok(RenderResult { frame_ms: f.frame_ms, rgba: f.rgba, size, depth: f.depth, frames_per_block: f.frames_per_block, timestamp_period_ns: f.timestamp_period_ns })
 }
 
-/// A render pass into `view` cleared to `clear` (and `depth` cleared to 1), with `ts`.
-fn begin_pass<'e>(
-    enc: &'e mut wgpu::CommandEncoder,
-    view: &wgpu::TextureView,
-    depth: Option<&wgpu::TextureView>,
-    clear: wgpu::Color,
-    ts: Option<wgpu::RenderPassTimestampWrites<'_>>,
-) -> wgpu::RenderPass<'e> {
-    enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: None,
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Store },
-        })],
-        depth_stencil_attachment: depth.map(|view| wgpu::RenderPassDepthStencilAttachment {
-            view,
-            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
-            stencil_ops: None,
-        }),
-        timestamp_writes: ts,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    })
-}
-
-/// One untimed frame into a `size²` RGBA8 target cleared to `clear` (and a `Depth32Float`
+/// One untimed headless frame into a `size²` RGBA8 target cleared to `clear` (and a `Depth32Float`
 /// depth cleared to 1 `with_depth`), read back: for headless programs that draw with their
 /// own pipelines (`examples/integrate.rs`). `draw` records the pass's pipeline, bind groups
 /// and draw calls; [`Frames::frame_ms`] is empty.
 pub fn draw_frame(gpu: &Gpu, size: u32, with_depth: bool, clear: wgpu::Color, draw: impl Fn(&mut wgpu::RenderPass<'_>)) -> Result<Frames, GpuError> {
-    let target = attachment(gpu, "frame", size, FORMAT);
-    let view = target.create_view(&Default::default());
-    let depth_target = with_depth.then(|| attachment(gpu, "depth", size, DEPTH_FORMAT));
-    let depth_view = depth_target.as_ref().map(|t| t.create_view(&Default::default()));
-    let mut enc = gpu.device.create_command_encoder(&Default::default());
-    draw(&mut begin_pass(&mut enc, &view, depth_view.as_ref(), clear, None));
-    read_frame(gpu, enc, &target, depth_target.as_ref(), size, Vec::new())
-}
-
-/// Copies the frame (and its depth) out after the work recorded in `enc`.
-fn read_frame(
-    gpu: &Gpu,
-    mut enc: wgpu::CommandEncoder,
-    target: &wgpu::Texture,
-    depth: Option<&wgpu::Texture>,
-    size: u32,
-    frame_ms: Vec<f64>,
-) -> Result<Frames, GpuError> {
-    let pixels = Readback::new(gpu, &mut enc, target, wgpu::TextureAspect::All, size);
-    let depth_pixels = depth.map(|t| Readback::new(gpu, &mut enc, t, wgpu::TextureAspect::DepthOnly, size));
-    gpu.queue.submit([enc.finish()]);
-    let rgba = pixels.read(gpu)?;
-    let depth = match depth_pixels {
-        Some(d) => Some(bytemuck::pod_collect_to_vec::<u8, f32>(&d.read(gpu)?)),
-        None => None,
-    };
-    Ok(Frames { frame_ms, rgba, depth })
+    let target = Target::new(gpu, size, with_depth, clear);
+    target.untimed(gpu, 1, &draw)?;
+    target.read(gpu, Vec::new())
 }
 
 /// Timed frames and the last one.
 pub struct Frames {
-    /// GPU time of each timed frame's render pass, ms (render-pass timestamps).
+    /// Mean GPU time per frame of each timed block, ms (render-pass timestamps): one value
+    /// per frame when a frame lasts at least [`MIN_BLOCK_MS`].
     pub frame_ms: Vec<f64>,
     /// The last frame, RGBA8 (sRGB), rows from the top.
     pub rgba: Vec<u8>,
     /// The last frame's depth buffer (NDC depth, cleared to 1), with `with_depth`.
     pub depth: Option<Vec<f32>>,
+    /// Frames per timed block (0 for an untimed frame).
+    pub frames_per_block: u32,
+    /// The timer's tick in nanoseconds (NaN for an untimed frame).
+    pub timestamp_period_ns: f64,
 }
 
-/// Renders `warmup` untimed then `frames` (at least 1) timed frames into a `size²` RGBA8
-/// target cleared to `clear` (and a `Depth32Float` depth cleared to 1 `with_depth`), each
-/// in its own submission so that frames do not overlap, timed by render-pass timestamps
-/// (compute-pass timestamps are wrong on lavapipe); `draw` records the pass's pipeline,
-/// bind groups and draw calls. `relief render` and the room's two renders use it.
+/// Renders `warmup` untimed frames, then times about `frames` (at least 1) frames into a
+/// `size²` RGBA8 target cleared to `clear` (and a `Depth32Float` depth cleared to 1
+/// `with_depth`): in blocks of as many frames as make a block last at least
+/// [`MIN_BLOCK_MS`] ([`Clock::calibrate`], whose blocks are dropped as warm-up), each block
+/// in its own submission so that blocks do not overlap, timed by render-pass timestamps
+/// (compute-pass timestamps are wrong on lavapipe). `frames / k` blocks (at least one) are
+/// timed, one frame time per block. `draw` records the pass's pipeline, bind groups and draw
+/// calls. `relief render` and the room's two renders use it.
 pub fn timed_frames(
     gpu: &Gpu,
     size: u32,
@@ -180,46 +299,66 @@ pub fn timed_frames(
     frames: u32,
     draw: impl Fn(&mut wgpu::RenderPass<'_>),
 ) -> Result<Frames, GpuError> {
-    if !gpu.timestamps {
-        return Err(GpuError::Device(format!("the adapter {} has no timestamp queries, so frames cannot be timed", gpu.adapter)));
+    let clock = Clock::new(gpu)?;
+    let target = Target::new(gpu, size, with_depth, clear);
+    time_frames(gpu, &clock, &target, warmup, frames, &draw)
+}
+
+fn time_frames(gpu: &Gpu, clock: &Clock, target: &Target, warmup: u32, frames: u32, draw: &dyn Fn(&mut wgpu::RenderPass<'_>)) -> Result<Frames, GpuError> {
+    target.untimed(gpu, warmup, draw)?;
+    let k = clock.calibrate(gpu, target, draw)?;
+    let blocks = (frames.max(1) / k).max(1);
+    let mut frame_ms = Vec::with_capacity(blocks as usize);
+    for _ in 0..blocks {
+        frame_ms.push(clock.block(gpu, target, k, draw)? / k as f64);
     }
-    let frames = frames.max(1);
-    let target = attachment(gpu, "frame", size, FORMAT);
-    let view = target.create_view(&Default::default());
-    let depth_target = with_depth.then(|| attachment(gpu, "depth", size, DEPTH_FORMAT));
-    let depth_view = depth_target.as_ref().map(|t| t.create_view(&Default::default()));
-    let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor { label: Some("frame times"), ty: wgpu::QueryType::Timestamp, count: 2 * frames });
-    let buffer = |usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: None, size: 16 * frames as u64, usage, mapped_at_creation: false });
-    let resolve = buffer(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC);
-    let ts_read = buffer(wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
-    let frame = |enc: &mut wgpu::CommandEncoder, timed: Option<u32>| {
-        let ts = timed.map(|i| wgpu::RenderPassTimestampWrites {
-            query_set: &queries,
-            beginning_of_pass_write_index: Some(2 * i),
-            end_of_pass_write_index: Some(2 * i + 1),
-        });
-        draw(&mut begin_pass(enc, &view, depth_view.as_ref(), clear, ts));
-    };
-    let mut enc = gpu.device.create_command_encoder(&Default::default());
-    for _ in 0..warmup {
-        frame(&mut enc, None);
+    let mut f = target.read(gpu, frame_ms)?;
+    f.frames_per_block = k;
+    f.timestamp_period_ns = clock.period_ns;
+    Ok(f)
+}
+
+/// Block times of two pipelines timed alternately ([`paired_blocks`]).
+#[derive(Clone, Debug, Default)]
+pub struct PairedBlocks {
+    /// Mean frame time (ms) of each of A's timed blocks, pair order.
+    pub a_ms: Vec<f64>,
+    /// Mean frame time (ms) of each of B's timed blocks, pair order.
+    pub b_ms: Vec<f64>,
+    /// Frames per block of A and of B.
+    pub frames_per_block: [u32; 2],
+    /// The timer's tick, ns.
+    pub timestamp_period_ns: f64,
+}
+
+impl PairedBlocks {
+    /// The ratio of A's to B's mean frame time with its 95 % interval
+    /// ([`crate::timing::paired_ratio`]).
+    pub fn ratio(&self) -> crate::timing::Ratio {
+        crate::timing::paired_ratio(&self.a_ms, &self.b_ms)
     }
-    gpu.queue.submit([enc.finish()]);
-    gpu.wait()?;
-    for i in 0..frames {
-        let mut enc = gpu.device.create_command_encoder(&Default::default());
-        frame(&mut enc, Some(i));
-        gpu.queue.submit([enc.finish()]);
-        gpu.wait()?;
+}
+
+/// Times renderers A and B in alternating blocks: `pairs` pairs, A B in even pairs and B A
+/// in odd ones, so that a steady drift falls on both alike (`crate::timing`). Each block
+/// holds `frames_per_block` frames of its pipeline (calibrate them with [`Clock::calibrate`]:
+/// those blocks are the warm-up, dropped); one more untimed block of each is drawn first.
+pub fn paired_blocks(gpu: &Gpu, clock: &Clock, a: &Renderer, b: &Renderer, frames_per_block: [u32; 2], pairs: u32) -> Result<PairedBlocks, GpuError> {
+    let side = [a, b];
+    let draws: [&dyn Fn(&mut wgpu::RenderPass<'_>); 2] = [&|p| a.draw(p), &|p| b.draw(p)];
+    for i in 0..2 {
+        side[i].target.untimed(gpu, frames_per_block[i], draws[i])?;
     }
-    let mut enc = gpu.device.create_command_encoder(&Default::default());
-    enc.resolve_query_set(&queries, 0..2 * frames, &resolve, 0);
-    enc.copy_buffer_to_buffer(&resolve, 0, &ts_read, 0, 16 * frames as u64);
-    gpu.queue.submit([enc.finish()]);
-    let stamps: Vec<u64> = bytemuck::cast_slice(&gpu.read_buffer(&ts_read)?).to_vec();
-    let period = gpu.queue.get_timestamp_period() as f64;
-    let frame_ms = stamps.chunks(2).map(|p| p[1].saturating_sub(p[0]) as f64 * period / 1e6).collect();
-    read_frame(gpu, gpu.device.create_command_encoder(&Default::default()), &target, depth_target.as_ref(), size, frame_ms)
+    let mut out = PairedBlocks { frames_per_block, timestamp_period_ns: clock.period_ns, ..Default::default() };
+    for pair in 0..pairs {
+        let order = if pair % 2 == 0 { [0, 1] } else { [1, 0] };
+        for i in order {
+            let k = frames_per_block[i].max(1);
+            let ms = clock.block(gpu, &side[i].target, k, draws[i])? / k as f64;
+            if i == 0 { out.a_ms.push(ms) } else { out.b_ms.push(ms) }
+        }
+    }
+    Ok(out)
 }
 
 /// A copy of a `size²` attachment of 4-byte texels (RGBA8, or one aspect such as a

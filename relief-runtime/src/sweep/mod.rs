@@ -8,6 +8,11 @@
 //! next run starts, and cells already recorded (same pipeline, scene and size) are skipped.
 //! A cell that fails is recorded with its error, and the sweep goes on. Rows are read,
 //! appended and written by [`crate::results`].
+//!
+//! Each cell is timed in blocks alternating with the scene's baseline pipeline
+//! ([`crate::measure::BASELINE`], [`crate::measure::measure_paired`]), and its row records
+//! `frame_ratio_to_baseline` with its 95 % interval. `--shard K/N` measures a deterministic
+//! share of the cells ([`shard_of`]); the report merges the shards' folders.
 
 pub mod grids;
 
@@ -16,7 +21,7 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 use crate::gpu::Gpu;
-use crate::measure::{measure, write_images, Prepared};
+use crate::measure::{measure_paired, write_images, Prepared};
 use crate::results::{self, Metrics, Row};
 use crate::scene::{scene_from_arg, Overrides, Scene};
 pub use grids::NamedGrid;
@@ -27,7 +32,10 @@ pub struct Options {
     pub grid: NamedGrid,
     /// Side of the square frame, in pixels.
     pub size: u32,
-    /// Timed frames per cell (at least one is rendered).
+    /// Timed blocks per cell, the cell's and the baseline's together: `frames / 2` pairs
+    /// (at least 2) of blocks alternating with the scene's baseline ([`pairs`]). On a device
+    /// where a frame lasts at least 2 ms a block is one frame, so a cell renders about as
+    /// many timed frames as `frames`, half of them the baseline's.
     pub frames: u32,
     /// Untimed frames rendered before the timed ones.
     pub warmup: u32,
@@ -38,6 +46,38 @@ pub struct Options {
     /// Overrides applied to every scene (`--depth-scale`, `--tiling`, `--angle`,
     /// `--azimuth`); an overridden scene's results carry [`Overrides::suffix`] in their name.
     pub overrides: Overrides,
+    /// Measure only shard K of N (`Some((K, N))`, K in 1..=N): see [`shard_of`].
+    pub shard: Option<(u32, u32)>,
+}
+
+/// The pairs of blocks a cell is timed in for `frames` timed blocks: `frames / 2`, at least 2
+/// (an interval needs two pairs).
+pub fn pairs(frames: u32) -> u32 {
+    (frames / 2).max(2)
+}
+
+/// The shard (1..=`n`) of each of `cells` (keys: the pipeline's canonical text as measured,
+/// and the scene's label), same order: the distinct keys sorted, then dealt round robin, the
+/// first to shard 1. Shards differ in size by at most one cell and do not depend on the
+/// order the grid lists its cells in, nor on duplicates; they do depend on the whole grid (a
+/// cell added to it can move others to another shard), so every shard must be given the same
+/// grid, scenes and overrides.
+pub fn shard_of(cells: &[(String, String)], n: u32) -> Vec<u32> {
+    let mut keys: Vec<&(String, String)> = cells.iter().collect();
+    keys.sort_by(|a, b| (&a.1, &a.0).cmp(&(&b.1, &b.0)));
+    keys.dedup();
+    cells.iter().map(|c| (keys.binary_search_by(|k| (&k.1, &k.0).cmp(&(&c.1, &c.0))).expect("every key is listed") as u32 % n.max(1)) + 1).collect()
+}
+
+/// Parses `K/N` (1 ≤ K ≤ N): the shard a sweep measures.
+pub fn parse_shard(text: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("--shard `{text}`: expected K/N with 1 ≤ K ≤ N, e.g. 2/4");
+    let (k, n) = text.split_once('/').ok_or_else(bad)?;
+    let (k, n): (u32, u32) = (k.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
+    if k == 0 || n == 0 || k > n {
+        return Err(bad());
+    }
+    Ok((k, n))
 }
 
 /// What a sweep did.
@@ -50,6 +90,8 @@ pub struct Summary {
     pub skipped: usize,
     /// Cells recorded with status `error` in this run.
     pub failed: usize,
+    /// The cells this run was given: the grid's, or its shard's with `shard`.
+    pub cells: usize,
 }
 
 /// The key that says a cell is done.
@@ -73,15 +115,17 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
         Ok(sc) => sc.pipeline_for(p),
         Err(_) => p.clone(),
     };
-    let todo: Vec<_> = opts
-        .grid
-        .cells
-        .iter()
-        .filter(|(p, s)| !done.contains(&key(&measured_as(p, s).to_string(), &label(s), opts.size)))
-        .cloned()
-        .collect();
+    let mine: Vec<_> = match opts.shard {
+        None => opts.grid.cells.clone(),
+        Some((k, n)) => {
+            let keys: Vec<(String, String)> = opts.grid.cells.iter().map(|(p, s)| (measured_as(p, s).to_string(), label(s))).collect();
+            let shards = shard_of(&keys, n);
+            opts.grid.cells.iter().zip(shards).filter(|(_, s)| *s == k).map(|(c, _)| c.clone()).collect()
+        }
+    };
+    let todo: Vec<_> = mine.iter().filter(|(p, s)| !done.contains(&key(&measured_as(p, s).to_string(), &label(s), opts.size))).cloned().collect();
     opts.overrides.check().map_err(anyhow::Error::msg)?;
-    let mut summary = Summary { skipped: opts.grid.cells.len() - todo.len(), ..Default::default() };
+    let mut summary = Summary { skipped: mine.len() - todo.len(), cells: mine.len(), ..Default::default() };
     if todo.is_empty() {
         results::write_csv(&opts.out, &rows)?;
         return Ok(summary);
@@ -118,7 +162,7 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
             Err(e) => Err(anyhow::anyhow!("scene {scene_arg}: {e}")),
             Ok(prep) => {
                 let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    let m = measure(&gpu, prep, &pipeline, opts.warmup, opts.frames)?;
+                    let m = measure_paired(&gpu, prep, &pipeline, opts.warmup, pairs(opts.frames))?;
                     write_images(&opts.out.join(&cell_dir), prep, &m)?;
                     Ok::<_, anyhow::Error>(m.metrics)
                 }));

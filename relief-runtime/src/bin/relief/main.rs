@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use relief_runtime::scene::Overrides;
+mod compare;
 mod gen;
 mod maps;
 mod render;
@@ -27,6 +28,9 @@ enum Command {
     /// Render and probe one pipeline on one scene: frame time, accuracy against the exact
     /// reference, frame.png, error.png, metrics.json (and hits.csv).
     Render(render::RenderArgs),
+    /// Two pipelines timed in alternating blocks on one scene: the ratio of their mean frame
+    /// times with its 95 % interval, and the SIMD cost model.
+    Compare(compare::CompareArgs),
     /// Measure a whole grid (the dissertation's tables and figures, or a grid file), resumable.
     Sweep(sweep::SweepArgs),
     /// Every coarse × refine method on stress scenes and grazing angles: where each fails.
@@ -89,6 +93,7 @@ fn main() {
         Command::Gen(a) => gen::run(a),
         Command::Maps(a) => maps::run(a),
         Command::Render(a) => render::run(a),
+        Command::Compare(a) => compare::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Stability(a) => stability::run(a),
         Command::Report(a) => report::run(a),

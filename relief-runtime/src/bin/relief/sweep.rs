@@ -21,9 +21,15 @@ pub struct SweepArgs {
     /// Frame size in pixels (square).
     #[arg(long, default_value_t = 256)]
     pub size: u32,
-    /// Timed frames per cell (after 3 warm-up frames).
+    /// Timed blocks per cell, the cell's and the baseline's together: frames/2 pairs (at
+    /// least 2) alternating with the baseline `linear(32)+binary(5)`, after 3 warm-up frames;
+    /// a block is as many frames as last 2 ms (one frame on lavapipe).
     #[arg(long, default_value_t = 50)]
     pub frames: u32,
+    /// Measure only shard K of N (K/N, e.g. 2/4): the grid's cells sorted and dealt round
+    /// robin, so that N machines given the same grid measure every cell once between them.
+    #[arg(long, value_parser = sweep::parse_shard)]
+    pub shard: Option<(u32, u32)>,
     /// Output folder; re-running with the same folder skips finished cells.
     #[arg(long, default_value = "out/sweep")]
     pub out: PathBuf,
@@ -51,12 +57,14 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
         anyhow::bail!("--frames 0: at least one timed frame is needed");
     }
     if a.grid.as_deref() == Some("rooms") {
+        if a.shard.is_some() {
+            anyhow::bail!("--shard is not implemented for the room grid");
+        }
         return run_rooms(a);
     }
     let overrides = a.overrides.checked()?;
     let grid = grids::load(a.grid.as_deref().unwrap_or_default(), scenes)?;
     let start = std::time::Instant::now();
-    let total = grid.cells.len();
     let s = sweep::run(&sweep::Options {
         grid,
         size: a.size,
@@ -65,9 +73,12 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
         out: a.out.clone(),
         progress: std::io::IsTerminal::is_terminal(&std::io::stderr()),
         overrides,
+        shard: a.shard,
     })?;
+    let shard = a.shard.map(|(k, n)| format!("shard {k}/{n}: ")).unwrap_or_default();
     println!(
-        "{total} cells: {} measured, {} failed, {} already done, in {:.1} s → {}",
+        "{shard}{} cells: {} measured, {} failed, {} already done, in {:.1} s → {}",
+        s.cells,
         s.measured,
         s.failed,
         s.skipped,
