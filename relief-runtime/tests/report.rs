@@ -705,3 +705,102 @@ fn stability_table_is_html_and_strip_frames_are_captioned() {
     assert!(md.contains("- 2. linear(10): 32² · mean 0.500 ms"), "captions in tables.md");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A row timed against the baseline: ratio `r` with its 95 % interval `[lo, hi]`.
+fn with_ratio(m: &mut Metrics, r: f64, lo: f64, hi: f64) {
+    m.baseline = "linear(32)+binary(5)".into();
+    m.frame_ratio_to_baseline = Some(r);
+    m.frame_ratio_to_baseline_lo = Some(lo);
+    m.frame_ratio_to_baseline_hi = Some(hi);
+    m.timing_pairs = 20;
+}
+
+/// Table 4.5's twelve cells: interval(k) and binary(k) after linear(10), k = 1…6, with the
+/// given ratios to the baseline (interval's, binary's) and a half-width in log units.
+fn t45_rows(interval: f64, binary: f64, half: f64) -> Vec<Row> {
+    let mut rows = Vec::new();
+    for k in 1..=6u32 {
+        for (refine, r) in [("interval", interval), ("binary", binary)] {
+            rows.push(rowm(&format!("linear(10)+{refine}({k})"), |m| {
+                // Mean frame times that say the opposite: the ratios must be what is read.
+                with_ms(m, if refine == "interval" { 0.4 } else { 0.6 });
+                with_ratio(m, r, r * (-half).exp(), r * half.exp());
+                m.simd32_fetches = if refine == "interval" { 14.0 } else { 12.0 };
+            }));
+        }
+    }
+    rows
+}
+
+#[test]
+fn timing_criteria_read_the_paired_ratios_and_are_not_decided_when_the_intervals_straddle() {
+    // Separated intervals: interval(k) is decidedly slower (1.30 vs 1.00, ±3 %).
+    let (dir, s) = report_of("ratio-decided", &t45_rows(1.30, 1.00, 0.03));
+    let c = conclusion(&s, "4.5", "costs more frame time");
+    assert_eq!(c.ours_mse, Verdict::Holds, "{}", c.evidence_mse);
+    assert!(c.evidence_mse.contains("paired ratios"), "{}", c.evidence_mse);
+    // The model judges it on simd32_fetches (14 > 12): holds too, labelled.
+    assert_eq!(c.model, Some(Verdict::Holds), "{}", c.evidence_model);
+    assert!(c.evidence_model.contains("model"), "{}", c.evidence_model);
+    // An error criterion reads no frame time: no model verdict.
+    assert_eq!(conclusion(&s, "4.5", "lower error").model, None);
+    let md = std::fs::read_to_string(dir.join("tables.md")).unwrap();
+    let (h, row) = md_row(&md, "## Table 4.5", "linear(10)+interval(3)");
+    assert_eq!(row[col(&h, "frame ÷ baseline (95 %)")], format!("1.300 [{:.3}, {:.3}]", 1.3 * (-0.03f64).exp(), 1.3 * 0.03f64.exp()));
+    assert_eq!(row[col(&h, "simd32 fetches (model)")], "14.00");
+    let _ = std::fs::remove_dir_all(&dir);
+
+    // 3 % apart with ±10 % intervals: the quotient's interval holds 1, not decided.
+    let (dir, s) = report_of("ratio-open", &t45_rows(1.03, 1.00, 0.10));
+    let c = conclusion(&s, "4.5", "costs more frame time");
+    assert_eq!(c.ours_mse, Verdict::NotDecided, "{}", c.evidence_mse);
+    assert!(c.evidence_mse.contains("6 not decided"), "{}", c.evidence_mse);
+    let _ = std::fs::remove_dir_all(&dir);
+
+    // Decidedly faster: does not hold.
+    let (dir, s) = report_of("ratio-no", &t45_rows(0.80, 1.00, 0.03));
+    assert_eq!(conclusion(&s, "4.5", "costs more frame time").ours_mse, Verdict::DoesNotHold);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn rows_from_several_folders_merge_and_each_adapters_timing_verdicts_sit_side_by_side() {
+    // Two machines: on A interval is decidedly slower, on B decidedly faster.
+    let (a, b) = (fresh_dir("adapter-a"), fresh_dir("adapter-b"));
+    let named = |rows: Vec<Row>, adapter: &str| -> Vec<Row> {
+        rows.into_iter()
+            .map(|mut r| {
+                r.metrics.adapter = adapter.into();
+                r
+            })
+            .collect()
+    };
+    // A has more rows (Table 4.1's too): it is the adapter the tables show.
+    let mut rows_a = named(t45_rows(1.30, 1.00, 0.03), "GPU A (driver 1)");
+    let timed_linear = linear_rows(true).into_iter().map(|mut r| {
+        with_ratio(&mut r.metrics, 1.0, 0.97, 1.03);
+        r
+    });
+    rows_a.extend(named(timed_linear.collect(), "GPU A (driver 1)"));
+    write_rows(&a, &rows_a, true);
+    write_rows(&b, &named(t45_rows(0.80, 1.00, 0.03), "GPU B (driver 2)"), false);
+    let out = fresh_dir("adapter-merged");
+    let s = report::write_many(&[a.clone(), b.clone()], &out).expect("merged report");
+    assert_eq!(s.rows, rows_a.len() + 12);
+    assert_eq!(s.adapters, ["GPU A (driver 1)", "GPU B (driver 2)"]);
+    assert_eq!(conclusion(&s, "4.5", "costs more frame time").ours_mse, Verdict::Holds, "the tables' adapter is A");
+    let md = std::fs::read_to_string(out.join("tables.md")).unwrap();
+    let sec = &md[md.find("## Timing conclusions per adapter").expect("per-adapter section")..];
+    let header = sec.lines().find(|l| l.starts_with("| table |")).unwrap();
+    assert!(header.contains("GPU A (driver 1)") && header.contains("GPU B (driver 2)") && header.contains("model"), "{header}");
+    let line = sec.lines().find(|l| l.contains("costs more frame time")).unwrap();
+    let cells: Vec<&str> = line.trim_matches('|').split(" | ").map(str::trim).collect();
+    assert!(cells[2].starts_with("holds") && cells[3].starts_with("does not hold"), "{line}");
+    // Merged rows are written to the new folder, and the strips find A's images there.
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    assert_eq!(csv.lines().count(), rows_a.len() + 12 + 1);
+    assert!(std::fs::read_dir(out.join("report")).unwrap().any(|e| e.unwrap().file_name().to_string_lossy().starts_with("strip_")), "strips from the merged folders' images");
+    for d in [a, b, out] {
+        let _ = std::fs::remove_dir_all(&d);
+    }
+}

@@ -192,3 +192,65 @@ fn a_lod_auto_sweep_runs_on_every_main_scene() {
     assert!(md.contains("Conclusions at the footprint level (`lod=auto`)"));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `--shard K/N`: three shards of a grid, each swept into its own folder and merged by the
+/// report, hold the same cells as the grid swept whole, equal in every column that is not a
+/// timing or a provenance column (accuracy, work and the cost model are bit-identical run to
+/// run); no cell is in two shards.
+#[test]
+fn a_grid_swept_as_three_shards_and_merged_equals_the_grid_swept_whole() {
+    let dir = std::env::temp_dir().join(format!("relief-sweep-shards-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    let grid = dir.join("g.grid");
+    std::fs::write(&grid, "coarse: [linear([4, 8]), csm(4)]\nrefine: [none, binary(2)]\n").unwrap();
+    let sweep = |out: &std::path::Path, shard: Option<&str>| {
+        let mut c = relief();
+        c.args(["sweep", "--grid"]).arg(&grid).args(["--scene", "scene:rock_bump", "--scene", "scene:step", "--size", "24", "--frames", "2", "--out"]).arg(out);
+        if let Some(s) = shard {
+            c.args(["--shard", s]);
+        }
+        let o = c.output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    sweep(&dir.join("whole"), None);
+    let mut shards = Vec::new();
+    for k in 1..=3 {
+        let out = dir.join(format!("shard{k}"));
+        let text = sweep(&out, Some(&format!("{k}/3")));
+        assert!(text.starts_with(&format!("shard {k}/3: 4 cells")), "12 cells dealt 4, 4, 4: {text}");
+        shards.push(out);
+    }
+    // Both through the report's merge (which writes the rows it read to its own folder), so
+    // that both tables take the same path from results.jsonl to results.csv.
+    let report = |dirs: &[std::path::PathBuf], out: &std::path::Path| {
+        let o = relief().arg("report").args(dirs).arg("--out").arg(out).output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    let merged = dir.join("merged");
+    report(&shards, &merged);
+    report(&[dir.join("whole")], &dir.join("whole_report"));
+    let table = |path: std::path::PathBuf| -> Vec<std::collections::BTreeMap<String, String>> {
+        let mut r = csv::Reader::from_path(&path).unwrap();
+        let h = r.headers().unwrap().clone();
+        r.records().map(|rec| h.iter().zip(rec.unwrap().iter()).map(|(k, v)| (k.to_string(), v.to_string())).collect()).collect()
+    };
+    let timing = |c: &str| c.starts_with("frame_") || ["timing_pairs", "frames_per_block", "timestamp_period_ns", "cell_dir", "grid"].contains(&c);
+    let key = |r: &std::collections::BTreeMap<String, String>| (r["pipeline"].clone(), r["scene"].clone());
+    let mut whole = table(dir.join("whole_report/results.csv"));
+    let mut parts = table(merged.join("results.csv"));
+    whole.sort_by_key(key);
+    parts.sort_by_key(key);
+    assert_eq!(whole.len(), 12);
+    assert_eq!(parts.iter().map(key).collect::<Vec<_>>(), whole.iter().map(key).collect::<Vec<_>>(), "the same cells, none twice");
+    let columns: Vec<&String> = whole[0].keys().filter(|c| !timing(c)).collect();
+    assert!(columns.iter().any(|c| *c == "mse_dissertation") && columns.iter().any(|c| *c == "simd32_fetches"), "{columns:?}");
+    for (w, p) in whole.iter().zip(&parts) {
+        for c in &columns {
+            assert_eq!(w[*c], p[*c], "{c} of {:?}", key(w));
+        }
+        assert_eq!(w["status"], "ok");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

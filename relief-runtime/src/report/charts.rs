@@ -109,13 +109,58 @@ pub(crate) fn write_all(data: &Data, sub: &Path, warnings: &mut Vec<String>) -> 
                 }
                 out.push(Chart { figure: fig.into(), file, title: chart_title, caption });
             }
+            if fig != "f4.5" {
+                if let Some(c) = model_chart(fig, title, data, &pipelines, &scenes, size, sizes.len() > 1, sub, warnings) {
+                    out.push(c);
+                }
+            }
         }
     }
     out
 }
 
+/// The figure with the SIMD cost model on x: `mse_dissertation_mean` against `simd32_fetches`
+/// (the largest fetch count of a group of 32 rays, averaged over groups; [`crate::simd`]),
+/// what a GPU whose time goes into fetches would spend, beside the chart against lavapipe's
+/// frame time.
+#[allow(clippy::too_many_arguments)]
+fn model_chart(fig: &str, title: &str, data: &Data, pipelines: &[Pipeline], scenes: &[String], size: u32, multi_size: bool, sub: &Path, warnings: &mut Vec<String>) -> Option<Chart> {
+    let metric = Metric::Mse;
+    let (series, not_finite) = series_with(fig, data, pipelines, scenes, size, metric, |r| r.metrics.simd32_fetches);
+    if series.iter().all(|s| s.points.is_empty()) {
+        return None;
+    }
+    let size_part = if multi_size { format!(" ({size}²)") } else { String::new() };
+    let chart_title = format!("{title}{size_part} — {} against the model's simd32_fetches", metric.name());
+    let (svg, clamp_note) = svg_chart(&chart_title, "simd32_fetches (model: largest fetch count of a 32-ray group)", metric.name(), &series);
+    let file = if multi_size { format!("{fig}_s{size}_model_simd32_fetches.svg") } else { format!("{fig}_model_simd32_fetches.svg") };
+    if let Err(e) = std::fs::write(sub.join(&file), svg) {
+        warnings.push(format!("cannot write {}: {e}", sub.join(&file).display()));
+        return None;
+    }
+    let mut caption = format!(
+        "Model: x = simd32_fetches, the largest texture-fetch count of a group of 32 rays (8 × 4 pixels) averaged over groups, \
+         the cost of a GPU whose time goes into fetches; y = {} (log scale); scenes {}; points labelled with coarse step counts.",
+        metric.name(),
+        scenes.iter().map(|s| short_scene(s)).collect::<Vec<_>>().join(", ")
+    );
+    if let Some(n) = clamp_note {
+        caption.push(' ');
+        caption.push_str(&n);
+    }
+    if !not_finite.is_empty() {
+        caption.push_str(&format!(" Not drawn, their error or model cost is not a finite number: {}.", not_finite.join(", ")));
+    }
+    Some(Chart { figure: fig.into(), file, title: chart_title, caption })
+}
+
 /// The series of one figure at one size, and the points that could not be drawn.
 fn figure_series(fig: &str, data: &Data, pipelines: &[Pipeline], scenes: &[String], size: u32, metric: Metric) -> (Vec<Series>, Vec<String>) {
+    series_with(fig, data, pipelines, scenes, size, metric, |r| r.metrics.frame_ms_mean)
+}
+
+/// [`figure_series`] with `x_of` in place of the mean frame time.
+fn series_with(fig: &str, data: &Data, pipelines: &[Pipeline], scenes: &[String], size: u32, metric: Metric, x_of: fn(&crate::results::Row) -> f64) -> (Vec<Series>, Vec<String>) {
     let mut not_finite = Vec::new();
     let multi = scenes.len() > 1;
     let mut series: Vec<Series> = Vec::new();
@@ -124,7 +169,7 @@ fn figure_series(fig: &str, data: &Data, pipelines: &[Pipeline], scenes: &[Strin
     for scene in scenes {
         for p in pipelines {
             let Some(r) = data.ok(&p.to_string(), scene, size) else { continue };
-            let (y, ms) = (metric.of(r), r.metrics.frame_ms_mean);
+            let (y, ms) = (metric.of(r), x_of(r));
             if !y.is_finite() || (!ms.is_finite() && fig != "f4.5") {
                 not_finite.push(format!("`{p}` on {}", short_scene(scene)));
                 continue;

@@ -19,13 +19,7 @@ pub(crate) struct Data {
 }
 
 impl Data {
-    /// Reads `dir/results.jsonl` without changing it ([`results::read`]): unreadable lines
-    /// are skipped and kept in `bad_lines`. A missing file gives no rows.
-    pub fn load(dir: &Path) -> anyhow::Result<Data> {
-        let read = results::read(dir)?;
-        Ok(Data::from_rows(dir, read.rows, read.bad_lines))
-    }
-
+    /// The rows of one adapter, read from `dir` (or merged into it), indexed.
     pub fn from_rows(dir: &Path, mut rows: Vec<Row>, bad_lines: Vec<String>) -> Data {
         for r in rows.iter_mut() {
             r.metrics.pipeline = canonical(&r.metrics.pipeline);
@@ -115,6 +109,57 @@ impl Data {
         }
         scenes.into_iter().max_by_key(|s| self.rows.iter().filter(|r| &r.metrics.scene == s && r.status == "ok").count())
     }
+}
+
+/// The rows of the sweeps in `dirs`, in folder order, each row's `cell_dir` made relative to
+/// `out` (where the report goes), and the unreadable lines named with their folder.
+pub(crate) fn read_merged(dirs: &[PathBuf], out: &Path) -> anyhow::Result<(Vec<Row>, Vec<String>)> {
+    let mut rows = Vec::new();
+    let mut bad = Vec::new();
+    let many = dirs.len() > 1;
+    for dir in dirs {
+        let read = results::read(dir)?;
+        let prefix = relative(out, dir);
+        for mut r in read.rows {
+            if !r.cell_dir.is_empty() && prefix != Path::new("") {
+                r.cell_dir = prefix.join(&r.cell_dir).to_string_lossy().replace('\\', "/");
+            }
+            rows.push(r);
+        }
+        bad.extend(read.bad_lines.into_iter().map(|l| if many { format!("{}: {l}", dir.display()) } else { l }));
+    }
+    Ok((rows, bad))
+}
+
+/// `rows` per adapter, the adapter with the most ok rows first (ties: first seen first);
+/// each adapter's rows in their order.
+pub(crate) fn by_adapter(rows: Vec<Row>) -> Vec<(String, Vec<Row>)> {
+    let mut out: Vec<(String, Vec<Row>)> = Vec::new();
+    for r in rows {
+        match out.iter_mut().find(|(a, _)| *a == r.metrics.adapter) {
+            Some((_, v)) => v.push(r),
+            None => out.push((r.metrics.adapter.clone(), vec![r])),
+        }
+    }
+    let ok = |v: &Vec<Row>| v.iter().filter(|r| r.status == "ok").count();
+    out.sort_by_key(|(_, v)| std::cmp::Reverse(ok(v)));
+    out
+}
+
+/// The path from folder `from` to folder `to` (`""` when they are one), through their
+/// canonical forms; `to` as given when either cannot be resolved.
+fn relative(from: &Path, to: &Path) -> PathBuf {
+    let (Ok(a), Ok(b)) = (from.canonicalize(), to.canonicalize()) else { return to.to_path_buf() };
+    let (ac, bc): (Vec<_>, Vec<_>) = (a.components().collect(), b.components().collect());
+    let common = ac.iter().zip(&bc).take_while(|(x, y)| x == y).count();
+    let mut p = PathBuf::new();
+    for _ in common..ac.len() {
+        p.push("..");
+    }
+    for c in &bc[common..] {
+        p.push(c);
+    }
+    p
 }
 
 /// A scene and size as a short label: `lion, 64²`.

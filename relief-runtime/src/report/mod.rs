@@ -12,6 +12,11 @@
 //!
 //! The dissertation's numbers are embedded (`data/dissertation_tables.csv`), so a report
 //! works on a fresh clone. The report never fails on a failed cell: failed rows are listed.
+//!
+//! [`write_many`] merges the result folders of several sweeps (the shards of one grid, the
+//! same grid on several machines) into one report. Rows are kept apart per adapter: the
+//! tables, charts and conclusions show the adapter with the most ok rows, and a table puts
+//! the timing conclusions of every adapter side by side.
 
 mod agreement;
 mod charts;
@@ -54,17 +59,23 @@ pub struct ReportSummary {
     pub conclusions: Vec<Conclusion>,
     /// Problems that did not stop the report (an unreadable image, ...).
     pub warnings: Vec<String>,
+    /// The result folders read (one, or several merged).
+    pub sources: Vec<PathBuf>,
+    /// The adapters of the rows, the one the tables show first.
+    pub adapters: Vec<String>,
 }
 
 impl ReportSummary {
-    /// How many conclusions hold / do not hold / were not measured, by `mse_dissertation_mean`.
-    pub fn verdict_counts(&self) -> (usize, usize, usize) {
-        let mut c = (0, 0, 0);
+    /// How many conclusions hold / do not hold / were not measured / are not decided, by
+    /// `mse_dissertation_mean`.
+    pub fn verdict_counts(&self) -> (usize, usize, usize, usize) {
+        let mut c = (0, 0, 0, 0);
         for k in &self.conclusions {
             match k.ours_mse {
                 Verdict::Holds => c.0 += 1,
                 Verdict::DoesNotHold => c.1 += 1,
                 Verdict::NotMeasured => c.2 += 1,
+                Verdict::NotDecided => c.3 += 1,
             }
         }
         c
@@ -73,11 +84,37 @@ impl ReportSummary {
 
 /// Writes the report for the sweep in `dir` (see the module docs).
 pub fn write(dir: &Path) -> anyhow::Result<ReportSummary> {
-    if !dir.is_dir() {
-        anyhow::bail!("no sweep folder {}: it does not exist or is not a folder", dir.display());
+    write_many(&[dir.to_path_buf()], dir)
+}
+
+/// Writes the report of the sweeps in `dirs`, merged, into `out` (created if missing; one of
+/// `dirs` or another folder). Rows of one pipeline, scene and size from two folders are one
+/// cell (the later folder's row wins, an ok row over a failed one), unless their adapters
+/// differ: each adapter's rows are kept apart (see the module docs). With `out` outside
+/// `dirs`, the merged rows are written to `out/results.csv` too.
+pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary> {
+    if dirs.is_empty() {
+        anyhow::bail!("no sweep folder given");
     }
-    let data = Data::load(dir)?;
-    let room_rows = crate::room::sweep::read_rows(dir)?;
+    for dir in dirs {
+        if !dir.is_dir() {
+            anyhow::bail!("no sweep folder {}: it does not exist or is not a folder", dir.display());
+        }
+    }
+    let dir = out;
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let (all_rows, bad_lines) = data::read_merged(dirs, dir)?;
+    let mut adapters = data::by_adapter(all_rows.clone());
+    let primary = if adapters.is_empty() { Vec::new() } else { adapters.remove(0).1 };
+    let data = Data::from_rows(dir, primary, bad_lines);
+    let others: Vec<(String, Data)> = adapters.into_iter().map(|(a, rows)| (a, Data::from_rows(dir, rows, Vec::new()))).collect();
+    let mut room_rows = None;
+    for d in dirs {
+        if let Some(rr) = crate::room::sweep::read_rows(d)? {
+            room_rows = Some(rr);
+            break;
+        }
+    }
     if data.rows.is_empty() {
         if let Some(rr) = &room_rows {
             return write_rooms_only(dir, rr);
@@ -99,21 +136,30 @@ pub fn write(dir: &Path) -> anyhow::Result<ReportSummary> {
 
     let mut summary = ReportSummary {
         dir: dir.to_path_buf(),
-        rows: data.rows.len(),
-        ok: data.rows.iter().filter(|r| r.status == "ok").count(),
-        failed: data
-            .rows
+        rows: all_rows.len(),
+        ok: all_rows.iter().filter(|r| r.status == "ok").count(),
+        failed: all_rows
             .iter()
             .filter(|r| r.status != "ok")
             .map(|r| (r.metrics.pipeline.clone(), r.metrics.scene.clone(), r.error.clone()))
             .collect(),
         bad_lines: data.bad_lines.clone(),
+        sources: dirs.to_vec(),
+        adapters: std::iter::once(&data).chain(others.iter().map(|(_, d)| d)).filter_map(|d| d.rows.first().map(|r| r.metrics.adapter.clone())).collect(),
         ..Default::default()
     };
+    if !dirs.iter().any(|d| same_dir(d, dir)) {
+        write_file(&dir.join("results.csv"), &crate::results::csv_bytes(&all_rows)?, &mut summary.files)?;
+    }
 
     let diss = diss::Diss::load();
     let tables = tables::build(&data, &diss);
     let conclusions = conclusions::check(&data, &diss);
+    let per_adapter = {
+        let mut v = vec![(summary.adapters.first().cloned().unwrap_or_default(), conclusions.clone())];
+        v.extend(others.iter().map(|(a, d)| (a.clone(), conclusions::check(d, &diss))));
+        conclusions::by_adapter(&v)
+    };
     let agreement = agreement::metric_agreement(&data, &tables);
     let charts = charts::write_all(&data, &sub, &mut summary.warnings);
     let strips = strips::write_all(&data, &tables, &sub, &mut summary.warnings);
@@ -143,6 +189,9 @@ pub fn write(dir: &Path) -> anyhow::Result<ReportSummary> {
         let _ = writeln!(md, "![{}](report/{})  \n{}\n", c.title, c.file, c.caption);
     }
     md.push_str(&conclusions::to_markdown(&conclusions, &agreement));
+    if let Some(t) = &per_adapter {
+        md.push_str(&t.to_markdown(2));
+    }
     if let Some(lod) = conclusions::lod_markdown(&data, &diss) {
         md.push_str(&lod);
     }
@@ -168,6 +217,10 @@ pub fn write(dir: &Path) -> anyhow::Result<ReportSummary> {
         fronts: &fronts,
         pareto_svgs: &pareto_svgs,
     });
+    let page = match &per_adapter {
+        Some(t) => with_section_at_end(&page, &t.to_html(2)),
+        None => page,
+    };
     let page = match &room_rows {
         Some(rr) => with_section_at_end(&page, &rooms::to_html(rr)),
         None => page,
@@ -230,9 +283,23 @@ fn write_file(path: &Path, bytes: &[u8], files: &mut Vec<PathBuf>) -> anyhow::Re
     Ok(())
 }
 
+/// Whether `a` and `b` name the same folder.
+fn same_dir(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => a == b,
+    }
+}
+
 fn overview_md(data: &Data, s: &ReportSummary) -> String {
     let mut md = String::new();
     let _ = writeln!(md, "Sweep folder: `{}`  ", data.dir.display());
+    if s.sources.len() > 1 || s.sources.first().is_some_and(|d| !same_dir(d, &data.dir)) {
+        let _ = writeln!(md, "Merged from: {}  ", s.sources.iter().map(|d| format!("`{}`", d.display())).collect::<Vec<_>>().join(", "));
+    }
+    if s.adapters.len() > 1 {
+        let _ = writeln!(md, "Adapters kept apart: {} (tables, charts and conclusions: the first; timing conclusions of each side by side)  ", s.adapters.join("; "));
+    }
     let _ = writeln!(md, "Rows: {} ({} ok, {} failed{})  ", s.rows, s.ok, s.failed.len(), if s.bad_lines.is_empty() { String::new() } else { format!(", {} unreadable lines skipped", s.bad_lines.len()) });
     let _ = writeln!(md, "Scenes: {}  ", data.scenes().iter().map(|x| short_scene(x)).collect::<Vec<_>>().join(", "));
     let _ = writeln!(md, "Sizes: {}  ", data.distinct(|r| r.metrics.size.to_string()).join(", "));

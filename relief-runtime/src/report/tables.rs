@@ -227,7 +227,7 @@ fn ratio_pct(v: f64, base: f64) -> Option<f64> {
 /// so they sit next to our mean and the trend columns use the mean. The dissertation's
 /// "avg steps" counts the coarse search only (Table 4.11's csm(5)+binary(5) shows 2.016 as
 /// Table 4.8's csm(5) does), so it sits next to our coarse steps.
-pub(crate) const HEADER: [&str; 24] = [
+pub(crate) const HEADER: [&str; 26] = [
     "#",
     "pipeline",
     "base",
@@ -236,11 +236,13 @@ pub(crate) const HEADER: [&str; 24] = [
     "diss ms (mean of 500)",
     "mean ms % base",
     "diss ms (mean) % base",
+    "frame ÷ baseline (95 %)",
     "avg coarse steps",
     "diss avg steps (coarse)",
     "avg refine steps",
     "avg iter (total)",
     "avg fetches (total)",
+    "simd32 fetches (model)",
     "mse_dissertation (sum)",
     "mse_dissertation_mean",
     "diss MSE",
@@ -320,11 +322,13 @@ fn render(t: &ReportTable, data: &Data, description: &str, multi_size: bool) -> 
             text(d.map(|d| &d.frame_ms)),
             rel(|r| r.metrics.frame_ms_mean),
             diss_rel(DissRow::ms_f),
+            ours(r, fmt_ratio),
             ours(r, |r| fmt_num(r.metrics.avg_coarse_steps, 3)),
             text(d.map(|d| &d.avg_steps)),
             ours(r, |r| fmt_num(r.metrics.avg_refine_steps, 3)),
             ours(r, |r| fmt_num(r.metrics.avg_iterations, 2)),
             ours(r, |r| fmt_num(r.metrics.avg_fetches, 2)),
+            ours(r, |r| fmt_num(r.metrics.simd32_fetches, 2)),
             ours(r, |r| fmt_sci(r.metrics.mse_dissertation)),
             ours(r, |r| fmt_sci(r.metrics.mse_dissertation_mean)),
             text(d.map(|d| &d.mse)),
@@ -341,13 +345,29 @@ fn render(t: &ReportTable, data: &Data, description: &str, multi_size: bool) -> 
     TextTable { title, notes, header: HEADER.iter().map(|s| s.to_string()).collect(), rows }
 }
 
+/// `1.234 [1.201, 1.268]`: the row's frame time over the baseline's with its 95 % interval
+/// (paired timing), `—` for a row timed alone.
+fn fmt_ratio(r: &Row) -> String {
+    let m = &r.metrics;
+    match (m.frame_ratio_to_baseline, m.frame_ratio_to_baseline_lo, m.frame_ratio_to_baseline_hi) {
+        (Some(x), Some(lo), Some(hi)) => format!("{x:.3} [{lo:.3}, {hi:.3}]"),
+        (Some(x), _, _) => format!("{x:.3}"),
+        _ => DASH.into(),
+    }
+}
+
 /// The explanation printed before the tables.
 pub(crate) fn intro_md() -> String {
     "## Tables\n\n\
 Each table has the dissertation's rows in its order (rows the grid adds come last), on one scene \
 and one image size: rows of different sizes are never mixed. Frame time: `frame ms (median)` and \
 `frame ms (mean)` over the timed frames; the dissertation's `diss ms (mean of 500)` is a mean over \
-500 frames, so compare it with our mean, and `mean ms % base` is the mean's trend. Steps: \
+500 frames, so compare it with our mean, and `mean ms % base` is the mean's trend. \
+`frame ÷ baseline (95 %)` is the row's mean frame time over the baseline pipeline's, timed in \
+alternating blocks in the same run, with its 95 % interval (docs/timing.md): the timing that \
+survives a busy machine, and what the timing conclusions read. `simd32 fetches (model)` is the \
+GPU cost model: the largest fetch count of a group of 32 rays (8 × 4 pixels), averaged over \
+groups. Steps: \
 `avg coarse steps` and `avg refine steps` are loop passes per ray of each search; the \
 dissertation's \"avg steps\" counts the coarse search only (Table 4.11's csm(5)+binary(5) shows \
 2.016, like Table 4.8's csm(5)), so it sits next to `avg coarse steps`; `avg iter (total)` and \

@@ -213,3 +213,48 @@ fn folder_name(label: &str) -> String {
     let name = label.strip_prefix("scene:").unwrap_or(label);
     name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.' { c } else { '_' }).collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cells(n: usize) -> Vec<(String, String)> {
+        (0..n).map(|i| (format!("linear({})", i % 7 + 1), format!("scene:s{}", i / 7))).collect()
+    }
+
+    #[test]
+    fn shards_are_balanced_cover_every_cell_once_and_ignore_the_listing_order() {
+        let c = cells(23);
+        for n in 1..=5u32 {
+            let s = shard_of(&c, n);
+            let sizes: Vec<usize> = (1..=n).map(|k| s.iter().filter(|x| **x == k).count()).collect();
+            assert_eq!(sizes.iter().sum::<usize>(), 23);
+            assert!(sizes.iter().max().unwrap() - sizes.iter().min().unwrap() <= 1, "{n}: {sizes:?}");
+            // The same cells listed in another order (reversed, rotated) land in the same shards.
+            let mut shuffled: Vec<(usize, (String, String))> = c.iter().cloned().enumerate().collect();
+            shuffled.reverse();
+            shuffled.rotate_left(5);
+            let (idx, cs): (Vec<usize>, Vec<(String, String)>) = shuffled.into_iter().unzip();
+            let t = shard_of(&cs, n);
+            for (i, shard) in idx.iter().zip(t) {
+                assert_eq!(s[*i], shard, "cell {:?} with {n} shards", c[*i]);
+            }
+        }
+        // A cell listed twice is one cell, in one shard.
+        let mut d = cells(6);
+        d.push(d[2].clone());
+        let s = shard_of(&d, 3);
+        assert_eq!(s[2], s[6]);
+    }
+
+    #[test]
+    fn shard_arguments_are_checked() {
+        assert_eq!(parse_shard("2/4"), Ok((2, 4)));
+        for bad in ["0/4", "5/4", "2", "a/b", "1/0", ""] {
+            let e = parse_shard(bad).unwrap_err();
+            assert!(e.contains("expected K/N"), "{bad}: {e}");
+        }
+        assert_eq!(pairs(50), 25);
+        assert_eq!(pairs(1), 2);
+    }
+}

@@ -6,8 +6,7 @@ use std::collections::BTreeMap;
 
 use relief_dsl::Pipeline;
 
-use super::{figure_points, g, method_variant, pareto_front, share, Check};
-use crate::report::stats::spearman;
+use super::{and, figure_points, Dec, g, method_variant, pareto_front, share, share_dec, slower, spearman_at_least, Check};
 
 /// The common share: a criterion over several cells holds when at least 75% of the
 /// measured cells agree, so one odd or noisy cell in four does not decide it. The same for
@@ -47,7 +46,7 @@ pub(super) fn checks() -> Vec<Check> {
                 let flags: Vec<Option<bool>> = pts.windows(2).map(|w| Some(w[1].1 <= w[0].1 * 1.05)).collect();
                 let (ok, ev) = share(&flags, SHARE, 2, "consecutive step counts lower or equal")?;
                 let (first, last) = (pts[0], pts[pts.len() - 1]);
-                Ok((ok && last.1 < first.1, format!("{ev}; linear({}) {} → linear({}) {}", first.0, g(first.1), last.0, g(last.1))))
+                Ok((and(ok, Some(last.1 < first.1)), format!("{ev}; linear({}) {} → linear({}) {}", first.0, g(first.1), last.0, g(last.1))))
             },
         },
         Check {
@@ -57,10 +56,8 @@ pub(super) fn checks() -> Vec<Check> {
             why: "ρ ≥ 0.8 for every 'grows with' claim (4.1, 4.14): a strong monotone trend that a few noisy frame times cannot make or break.",
             uses_error: false,
             run: |s| {
-                let pts: Vec<(f64, f64)> = LINEAR_41.iter().filter_map(|&n| s.ms("4.1", &format!("linear({n})")).map(|t| (n as f64, t))).collect();
-                let (x, y): (Vec<f64>, Vec<f64>) = pts.iter().copied().unzip();
-                let rho = spearman(&x, &y).ok_or_else(|| format!("{} step counts measured (need 3)", pts.len()))?;
-                Ok((rho >= 0.8, format!("ρ = {rho:.2} over {} step counts", pts.len())))
+                let (x, y): (Vec<f64>, Vec<_>) = LINEAR_41.iter().filter_map(|&n| s.time("4.1", &format!("linear({n})")).map(|t| (n as f64, t))).unzip();
+                spearman_at_least(&x, &y, 0.8)
             },
         },
         Check {
@@ -85,7 +82,7 @@ pub(super) fn checks() -> Vec<Check> {
                     return Err(format!("{} consecutive binary step pairs measured with nonzero error (need 2)", factors.len()));
                 }
                 let gm = (factors.iter().map(|f| f.ln()).sum::<f64>() / factors.len() as f64).exp();
-                Ok(((2.5..=6.5).contains(&gm), format!("geometric mean {gm:.2}× per step over {} steps", factors.len())))
+                Ok((Some((2.5..=6.5).contains(&gm)), format!("geometric mean {gm:.2}× per step over {} steps", factors.len())))
             },
         },
         Check {
@@ -96,14 +93,15 @@ pub(super) fn checks() -> Vec<Check> {
             uses_error: true,
             run: |s| {
                 let pairs = [(25u32, 3u32), (30, 4), (40, 5), (50, 7), (60, 8), (75, 10), (100, 14)];
-                let flags: Vec<Option<bool>> = pairs
+                let flags: Vec<Option<Dec>> = pairs
                     .iter()
                     .map(|&(n, m)| {
                         let (l, b) = (format!("linear({n})"), format!("linear({m})+binary(2)"));
-                        Some(s.ms("4.3", &b)? < s.ms("4.3", &l)? && s.err("4.3", &b)? <= 1.5 * s.err("4.3", &l)?)
+                        let similar = s.err("4.3", &b)? <= 1.5 * s.err("4.3", &l)?;
+                        Some(and(slower(s, "4.3", &l, &b, 1.0)?, Some(similar)))
                     })
                     .collect();
-                share(&flags, SHARE, 2, "pairs faster at similar or lower error")
+                share_dec(&flags, SHARE, 2, "pairs faster at similar or lower error")
             },
         },
         Check {
@@ -130,7 +128,7 @@ pub(super) fn checks() -> Vec<Check> {
                 if ev.is_empty() {
                     return Err("no linear(N), +binary(1), +interval(1) triple measured".into());
                 }
-                Ok((all, ev.join("; ")))
+                Ok((Some(all), ev.join("; ")))
             },
         },
         Check {
@@ -140,10 +138,10 @@ pub(super) fn checks() -> Vec<Check> {
             why: "",
             uses_error: false,
             run: |s| {
-                let flags: Vec<Option<bool>> = (1..=6u32)
-                    .map(|k| Some(s.ms("4.5", &format!("linear(10)+interval({k})"))? > s.ms("4.5", &format!("linear(10)+binary({k})"))?))
+                let flags: Vec<Option<Dec>> = (1..=6u32)
+                    .map(|k| slower(s, "4.5", &format!("linear(10)+interval({k})"), &format!("linear(10)+binary({k})"), 1.0))
                     .collect();
-                share(&flags, SHARE, 3, "step counts where interval is slower")
+                share_dec(&flags, SHARE, 3, "step counts where interval is slower")
             },
         },
         Check {
@@ -207,18 +205,27 @@ pub(super) fn checks() -> Vec<Check> {
             uses_error: true,
             run: |s| {
                 let steps = [5u32, 10, 15, 20, 25];
-                let pts = |m: &str| -> Vec<(f64, f64)> {
+                let pts = |m: &str| -> Vec<(String, f64)> {
                     steps.iter().filter_map(|n| {
                         let p = format!("{}+binary(5)", with_steps(m, *n));
-                        Some((s.ms("4.9", &p)?, s.err("4.9", &p)?))
+                        s.time("4.9", &p)?;
+                        Some((p.clone(), s.err("4.9", &p)?))
                     }).collect()
                 };
-                let others: Vec<(f64, f64)> = pts(CSM_NEAREST).into_iter().chain(pts("qcsm")).collect();
+                let others: Vec<(String, f64)> = pts(CSM_NEAREST).into_iter().chain(pts("qcsm")).collect();
                 if others.is_empty() {
                     return Err("no csm/qcsm+binary(5) point measured".into());
                 }
-                let flags: Vec<Option<bool>> = pts("rcs").iter().map(|&(t, e)| Some(!others.iter().any(|&(t2, e2)| t2 < t && e2 < e))).collect();
-                share(&flags, SHARE, 2, "RCS points on the front")
+                // Dominated when a more accurate point is decidedly faster; on the front when
+                // every more accurate point is decidedly not faster; not decided between.
+                let flags: Vec<Option<Dec>> = pts("rcs")
+                    .iter()
+                    .map(|(p, e)| {
+                        let faster: Vec<Dec> = others.iter().filter(|(_, e2)| e2 < e).filter_map(|(q, _)| slower(s, "4.9", p, q, 1.0)).collect();
+                        Some(if faster.contains(&Some(true)) { Some(false) } else if faster.contains(&None) { None } else { Some(true) })
+                    })
+                    .collect();
+                share_dec(&flags, SHARE, 2, "RCS points on the front")
             },
         },
         Check {
@@ -262,11 +269,11 @@ pub(super) fn checks() -> Vec<Check> {
             why: "75%, the common share (it was 2/3, with no reason to differ).",
             uses_error: false,
             run: |s| {
-                let flags: Vec<Option<bool>> = CONE_STEPS
+                let flags: Vec<Option<Dec>> = CONE_STEPS
                     .iter()
-                    .map(|n| Some(s.ms("4.11", &format!("cns({n})+binary(5)"))? > s.ms("4.11", &format!("csm({n}, sample=nearest)+binary(5)"))?))
+                    .map(|n| slower(s, "4.11", &format!("cns({n})+binary(5)"), &format!("csm({n}, sample=nearest)+binary(5)"), 1.0))
                     .collect();
-                share(&flags, SHARE, 2, "step counts where CNS is slower")
+                share_dec(&flags, SHARE, 2, "step counts where CNS is slower")
             },
         },
         Check {
@@ -307,11 +314,11 @@ pub(super) fn checks() -> Vec<Check> {
             why: "",
             uses_error: false,
             run: |s| {
-                let flags: Vec<Option<bool>> = CONE_STEPS
+                let flags: Vec<Option<Dec>> = CONE_STEPS
                     .iter()
-                    .map(|n| Some(s.ms("4.13", &format!("mcns({n})+binary(5)"))? > s.ms("4.13", &format!("cns({n})+binary(5)"))?))
+                    .map(|n| slower(s, "4.13", &format!("mcns({n})+binary(5)"), &format!("cns({n})+binary(5)"), 1.0))
                     .collect();
-                share(&flags, SHARE, 2, "step counts where MCNS is slower")
+                share_dec(&flags, SHARE, 2, "step counts where MCNS is slower")
             },
         },
         Check {
@@ -322,23 +329,23 @@ pub(super) fn checks() -> Vec<Check> {
             uses_error: false,
             run: |s| {
                 let mut ev = Vec::new();
-                let mut all = true;
+                let mut all = Some(true);
                 for m in ["hard", "soft", "soft_cone"] {
                     let mut x = Vec::new();
                     let mut y = Vec::new();
-                    if let Some(t) = s.ms("4.14", SHADOW_BASE) {
+                    if let Some(t) = s.time("4.14", SHADOW_BASE) {
                         x.push(0.0);
                         y.push(t);
                     }
                     for n in (10..=60u32).step_by(10) {
-                        if let Some(t) = s.ms("4.14", &format!("{SHADOW_BASE}+shadow={m}({n})")) {
+                        if let Some(t) = s.time("4.14", &format!("{SHADOW_BASE}+shadow={m}({n})")) {
                             x.push(n as f64);
                             y.push(t);
                         }
                     }
-                    if let Some(rho) = spearman(&x, &y) {
-                        all &= rho >= 0.8;
-                        ev.push(format!("{m}: ρ = {rho:.2}"));
+                    if let Ok((d, e)) = spearman_at_least(&x, &y, 0.8) {
+                        all = and(all, d);
+                        ev.push(format!("{m}: {e}"));
                     }
                 }
                 if ev.is_empty() {
@@ -354,14 +361,14 @@ pub(super) fn checks() -> Vec<Check> {
             why: "",
             uses_error: false,
             run: |s| {
-                let flags: Vec<Option<bool>> = (10..=60u32)
+                let flags: Vec<Option<Dec>> = (10..=60u32)
                     .step_by(10)
                     .map(|n| {
-                        let t = |m: &str| s.ms("4.14", &format!("{SHADOW_BASE}+shadow={m}({n})"));
-                        Some(t("soft_cone")? > t("hard")?.max(t("soft")?))
+                        let p = |m: &str| format!("{SHADOW_BASE}+shadow={m}({n})");
+                        Some(and(slower(s, "4.14", &p("soft_cone"), &p("hard"), 1.0)?, slower(s, "4.14", &p("soft_cone"), &p("soft"), 1.0)?))
                     })
                     .collect();
-                share(&flags, SHARE, 2, "step counts where soft_cone is slowest")
+                share_dec(&flags, SHARE, 2, "step counts where soft_cone is slowest")
             },
         },
         Check {
@@ -372,13 +379,15 @@ pub(super) fn checks() -> Vec<Check> {
             uses_error: false,
             run: |s| {
                 let mut ev = Vec::new();
-                let mut all = true;
+                let mut all = Some(true);
                 for (p, ao) in [("csm(15)+binary(5)", "cone_ratio"), ("cns(15)+binary(5)", "cone_normal")] {
-                    if let (Some(a), Some(b)) = (s.ms("4.15", &format!("{p}+ao={ao}")), s.ms("4.15", p)) {
-                        if b > 0.0 {
-                            let inc = a / b - 1.0;
-                            all &= inc <= 0.05;
-                            ev.push(format!("{ao}: {:+.1}%", inc * 100.0));
+                    if let (Some(a), Some(b)) = (s.time("4.15", &format!("{p}+ao={ao}")), s.time("4.15", p)) {
+                        if b.ratio > 0.0 {
+                            let q = a.over(&b);
+                            all = and(all, q.above(1.05).map(|more| !more));
+                            let pct = |v: f64| (v - 1.0) * 100.0;
+                            let range = if q.lo.is_finite() { format!(" [{:+.1}%, {:+.1}%]", pct(q.lo), pct(q.hi)) } else { String::new() };
+                            ev.push(format!("{ao}: {:+.1}%{range}", pct(q.ratio)));
                         }
                     }
                 }
@@ -407,7 +416,7 @@ pub(super) fn checks() -> Vec<Check> {
                 let flags: Vec<Option<bool>> = front.iter().filter(|f| f.1 >= start).map(|(p, _, _)| Some(li(p))).collect();
                 let (ok, ev) = share(&flags, SHARE, 1, "front points from the fastest linear+interval on are linear+interval")?;
                 let best = front.iter().min_by(|a, b| a.2.total_cmp(&b.2)).expect("non-empty");
-                Ok((ok && li(&best.0), format!("{ev}; most accurate `{}` ({} {})", best.0, g(best.2), s.unit())))
+                Ok((and(ok, Some(li(&best.0))), format!("{ev}; most accurate `{}` ({} {}; on the frame times' estimates)", best.0, g(best.2), s.unit())))
             },
         },
         Check {
@@ -434,7 +443,7 @@ pub(super) fn checks() -> Vec<Check> {
                 let n_csm = counts.get("csm").copied().unwrap_or(0);
                 let most = counts.iter().filter(|(k, _)| k.as_str() != "csm").all(|(_, &v)| v < n_csm);
                 let text = counts.iter().map(|(k, v)| format!("{k} {v}")).collect::<Vec<_>>().join(", ");
-                Ok((ok && most, format!("{ev}; front points by method: {text}")))
+                Ok((and(ok, Some(most)), format!("{ev}; front points by method: {text} (on the frame times' estimates)")))
             },
         },
         Check {
@@ -444,14 +453,14 @@ pub(super) fn checks() -> Vec<Check> {
             why: "",
             uses_error: false,
             run: |s| {
-                let flags: Vec<Option<bool>> = [5u32, 10, 15, 20, 25, 30, 40, 50]
+                let flags: Vec<Option<Dec>> = [5u32, 10, 15, 20, 25, 30, 40, 50]
                     .iter()
-                    .map(|n| Some(s.ms("4.6", &format!("csm({n}, sample=min4)"))? > s.ms("4.6", &format!("csm({n})"))?))
+                    .map(|n| slower(s, "4.6", &format!("csm({n}, sample=min4)"), &format!("csm({n})"), 1.0))
                     .collect();
                 if flags.iter().all(Option::is_none) {
                     return Err("no csm(N, sample=min4) and csm(N) pair with frame times (the dissertation prints no min-of-4 row)".into());
                 }
-                share(&flags, SHARE, 2, "step counts where min-of-4 sampling is slower")
+                share_dec(&flags, SHARE, 2, "step counts where min-of-4 sampling is slower")
             },
         },
     ]

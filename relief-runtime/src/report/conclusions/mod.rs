@@ -7,6 +7,14 @@
 //! of one size only: one that would mix sizes is refused, "not measured", with the sizes
 //! named (a verdict rather than an error, so one mixed criterion does not hide the others).
 //!
+//! Frame-time criteria read the rows' `frame_ratio_to_baseline` when every ok row of the
+//! scene has one against one baseline (paired timing, [`crate::timing`]): a comparison of
+//! two cells is the quotient of their ratios with its 95 % interval, and a criterion whose
+//! answer the intervals leave open is "not decided". Rows without ratios are compared by
+//! their mean frame times, as points. Every criterion that reads frame time is judged a
+//! second time on the SIMD cost model (`simd32_fetches`, [`crate::simd`]), labelled
+//! "model".
+//!
 //! This module runs the checks and prints their verdicts; the checks themselves, one per
 //! conclusion, are the table in [`checks`].
 
@@ -20,6 +28,8 @@ use relief_dsl::Pipeline;
 mod checks;
 
 use super::diss::{Diss, DissRow};
+use super::stats::spearman;
+use crate::timing::Ratio;
 use super::{short_scene, Data, Metric, TextTable, DASH};
 
 /// Whether a conclusion holds in a set of numbers.
@@ -32,15 +42,20 @@ pub enum Verdict {
     /// The criterion could not be checked: too few of the cells it reads were measured, or
     /// they mix frame sizes. The evidence says which.
     NotMeasured,
+    /// The frame-time intervals straddle the criterion's threshold: the rows measured
+    /// cannot say whether it holds.
+    NotDecided,
 }
 
 impl Verdict {
-    /// The verdict as the report prints it: `holds`, `does not hold` or `not measured`.
+    /// The verdict as the report prints it: `holds`, `does not hold`, `not measured` or
+    /// `not decided`.
     pub fn as_str(self) -> &'static str {
         match self {
             Verdict::Holds => "holds",
             Verdict::DoesNotHold => "does not hold",
             Verdict::NotMeasured => "not measured",
+            Verdict::NotDecided => "not decided",
         }
     }
 }
@@ -81,6 +96,13 @@ pub struct Conclusion {
     /// Which form of the cone methods our rows used (`safe` or `textbook`), or empty when the
     /// criterion reads no cone method. The dissertation's numbers are the same for both.
     pub form: String,
+    /// Whether the criterion reads frame time.
+    pub reads_time: bool,
+    /// The criterion on our rows with the SIMD cost model's `simd32_fetches` in place of
+    /// frame time (errors by `mse_dissertation_mean`); None when it reads no frame time.
+    pub model: Option<Verdict>,
+    /// The numbers behind `model`, or why it was not measured.
+    pub evidence_model: String,
 }
 
 /// `p` with its cone method (if any) in the form a reading checks, and whether it has one:
@@ -118,16 +140,18 @@ pub(crate) fn for_form(p: &Pipeline, textbook: bool) -> (Option<Pipeline>, bool)
 
 /// Where the numbers come from.
 trait Src {
-    /// Mean frame time of pipeline `p` (canonical text) in table `table` (the dissertation
-    /// reports the mean over 500 frames, Burger 2018 §4.1, so ours is the mean too).
-    fn ms(&self, table: &str, p: &str) -> Option<f64>;
+    /// The frame time of pipeline `p` (canonical text) in table `table`: our paired ratio to
+    /// the baseline with its 95 % interval, or a point (the mean frame time: the
+    /// dissertation reports the mean over 500 frames, Burger 2018 §4.1; the model's cost).
+    /// Compare two with [`slower`].
+    fn time(&self, table: &str, p: &str) -> Option<Ratio>;
     /// Error of `p` in table `table`, as a *squared* error: an MSE as it is, an RMS squared.
     /// Every ratio threshold below is stated for an MSE, and squaring the RMS makes it mean
     /// the same for `ref_err_t_rms` (a 10% MSE difference is a 4.9% RMS difference). A
     /// non-finite error is infinite: a NaN counts as the worst error, never as unmeasured.
     fn err(&self, table: &str, p: &str) -> Option<f64>;
-    /// (mean frame ms, squared error) of `p` from one row, for the criteria about the best
-    /// error per frame time. The dissertation's numbers: the latest table that prints `p`
+    /// (frame time, squared error) of `p` from one row, for the criteria about the best
+    /// error per frame time: the estimate of [`Src::time`], without its interval. The dissertation's numbers: the latest table that prints `p`
     /// with both (its later tables are the ones comparing methods, as the figures do).
     fn point(&self, p: &str) -> Option<(f64, f64)>;
     /// What `err` is, for evidence.
@@ -137,8 +161,27 @@ trait Src {
     fn select(&self, p: &Pipeline) -> Option<Pipeline>;
 }
 
+/// What our rows' frame time is read as.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Clock {
+    /// `frame_ratio_to_baseline` with its interval (every ok row of the scene has one, to one
+    /// baseline).
+    Ratio,
+    /// `frame_ms_mean`, a point.
+    Mean,
+    /// The SIMD cost model's `simd32_fetches`, a point.
+    Model,
+}
+
 struct Ours<'a> {
     data: &'a Data,
+    /// How frame time is read.
+    clock: Clock,
+    /// Whether a criterion read frame time.
+    read_time: std::cell::Cell<bool>,
+    /// Whether the model was asked for a pipeline with shadow or ao work, which the probe
+    /// does not trace.
+    untraced: std::cell::Cell<bool>,
     scene: String,
     metric: Metric,
     /// Read the cone methods' `form=textbook` rows instead of the (default) safe ones.
@@ -152,8 +195,43 @@ struct Ours<'a> {
 }
 
 impl<'a> Ours<'a> {
-    fn new(data: &'a Data, scene: &str, metric: Metric, textbook: bool, lod: Lod) -> Self {
-        Ours { data, scene: scene.to_string(), metric, textbook, read_cone: Default::default(), used: RefCell::new(BTreeMap::new()), lod }
+    fn new(data: &'a Data, scene: &str, metric: Metric, textbook: bool, lod: Lod, model: bool) -> Self {
+        let clock = if model { Clock::Model } else { time_clock(data, scene) };
+        Ours {
+            data,
+            clock,
+            read_time: Default::default(),
+            untraced: Default::default(),
+            scene: scene.to_string(),
+            metric,
+            textbook,
+            read_cone: Default::default(),
+            used: RefCell::new(BTreeMap::new()),
+            lod,
+        }
+    }
+
+    /// The row's frame time as this source reads it.
+    fn time_of(&self, r: &crate::results::Row) -> Option<Ratio> {
+        self.read_time.set(true);
+        let m = &r.metrics;
+        let v = match self.clock {
+            Clock::Ratio => Ratio {
+                ratio: m.frame_ratio_to_baseline?,
+                lo: m.frame_ratio_to_baseline_lo.unwrap_or(f64::NAN),
+                hi: m.frame_ratio_to_baseline_hi.unwrap_or(f64::NAN),
+                pairs: m.timing_pairs,
+            },
+            Clock::Mean => Ratio::point(m.frame_ms_mean),
+            Clock::Model => {
+                if r.metrics.pipeline.parse::<Pipeline>().is_ok_and(|p| !p.shadow.is_none() || !p.ao.is_none()) {
+                    self.untraced.set(true);
+                    return None;
+                }
+                Ratio::point(m.simd32_fetches)
+            }
+        };
+        v.ratio.is_finite().then_some(v)
     }
 
     fn note(&self, r: &crate::results::Row) {
@@ -200,15 +278,16 @@ impl<'a> Ours<'a> {
 }
 
 impl Src for Ours<'_> {
-    fn ms(&self, _: &str, p: &str) -> Option<f64> {
-        self.row(p).map(|r| r.metrics.frame_ms_mean).filter(|v| v.is_finite())
+    fn time(&self, _: &str, p: &str) -> Option<Ratio> {
+        self.time_of(self.row(p)?)
     }
     fn err(&self, _: &str, p: &str) -> Option<f64> {
         self.row(p).map(|r| self.squared(self.metric.of(r)))
     }
     fn point(&self, p: &str) -> Option<(f64, f64)> {
         let r = self.row(p)?;
-        r.metrics.frame_ms_mean.is_finite().then(|| (r.metrics.frame_ms_mean, self.squared(self.metric.of(r))))
+        let t = self.time_of(r)?;
+        Some((t.ratio, self.squared(self.metric.of(r))))
     }
     fn unit(&self) -> &'static str {
         match self.metric {
@@ -264,8 +343,8 @@ impl Theirs<'_> {
 }
 
 impl Src for Theirs<'_> {
-    fn ms(&self, table: &str, p: &str) -> Option<f64> {
-        self.find(table, p, DissRow::ms_f)
+    fn time(&self, table: &str, p: &str) -> Option<Ratio> {
+        self.find(table, p, DissRow::ms_f).map(Ratio::point)
     }
     fn err(&self, table: &str, p: &str) -> Option<f64> {
         self.find(table, p, DissRow::mse_f)
@@ -287,8 +366,75 @@ impl Src for Theirs<'_> {
     }
 }
 
-/// A criterion's outcome: Ok((holds, evidence)) or Err(why it could not be checked).
-type Outcome = Result<(bool, String), String>;
+/// A comparison's answer: `Some(answer)`, or `None` when the frame-time intervals leave it
+/// open (not decided).
+type Dec = Option<bool>;
+
+/// A criterion's outcome: Ok((holds, evidence)), `holds` None when not decided, or Err(why
+/// it could not be checked).
+type Outcome = Result<(Dec, String), String>;
+
+/// How our rows' frame times are read on `scene`: as paired ratios when every ok row there
+/// has one, all to one baseline; as mean frame times otherwise (ratios of different
+/// baselines, or rows timed alone, do not compare).
+fn time_clock(data: &Data, scene: &str) -> Clock {
+    let rows: Vec<&crate::results::Row> = data.rows.iter().filter(|r| r.metrics.scene == scene && r.status == "ok").collect();
+    let base = rows.first().map(|r| r.metrics.baseline.clone()).unwrap_or_default();
+    let paired = !rows.is_empty() && !base.is_empty() && rows.iter().all(|r| r.metrics.frame_ratio_to_baseline.is_some() && r.metrics.baseline == base);
+    if paired { Clock::Ratio } else { Clock::Mean }
+}
+
+/// Whether `a` is slower than `factor` × `b` in `table`: decided when the interval of
+/// time(a) ÷ time(b) lies on one side of `factor` ([`Ratio::over`], [`Ratio::above`]); None
+/// when either is not measured.
+fn slower(s: &dyn Src, table: &str, a: &str, b: &str, factor: f64) -> Option<Dec> {
+    Some(s.time(table, a)?.over(&s.time(table, b)?).above(factor))
+}
+
+/// Both decided true: true; either decided false: false; otherwise not decided.
+fn and(a: Dec, b: Dec) -> Dec {
+    match (a, b) {
+        (Some(false), _) | (_, Some(false)) => Some(false),
+        (Some(true), Some(true)) => Some(true),
+        _ => None,
+    }
+}
+
+/// Spearman's ρ between `x` and the frame times `y` is at least `need`: on the estimates
+/// when no time has an interval; otherwise decided by a parametric bootstrap over the
+/// intervals (2000 draws of every ln time from a normal with its estimate and standard
+/// error, [`Ratio::log_se`], a fixed seed): holds when the 2.5 % quantile of the drawn ρ is
+/// at least `need`, fails when the 97.5 % quantile is below it, not decided between.
+fn spearman_at_least(x: &[f64], y: &[Ratio], need: f64) -> Result<(Dec, String), String> {
+    let est: Vec<f64> = y.iter().map(|r| r.ratio).collect();
+    let rho = spearman(x, &est).ok_or_else(|| format!("{} step counts measured (need 3)", x.len()))?;
+    let se: Vec<f64> = y.iter().map(|r| r.log_se()).collect();
+    if se.iter().all(|s| !s.is_finite()) {
+        return Ok((Some(rho >= need), format!("ρ = {rho:.2} over {} step counts", x.len())));
+    }
+    let mut state = 0x5eed_u64;
+    let mut uniform = || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    };
+    let mut rhos: Vec<f64> = (0..2000)
+        .map(|_| {
+            let draw: Vec<f64> = est
+                .iter()
+                .zip(&se)
+                .map(|(e, s)| {
+                    let z = (-2.0 * uniform().ln()).sqrt() * (std::f64::consts::TAU * uniform()).cos();
+                    e.ln() + if s.is_finite() { s * z } else { 0.0 }
+                })
+                .collect();
+            spearman(x, &draw).unwrap_or(f64::NAN)
+        })
+        .collect();
+    rhos.sort_by(f64::total_cmp);
+    let (lo, hi) = (rhos[50], rhos[1949]);
+    let dec = if lo >= need { Some(true) } else if hi < need { Some(false) } else { None };
+    Ok((dec, format!("ρ = {rho:.2} [{lo:.2}, {hi:.2}] (95 %) over {} step counts", x.len())))
+}
 
 struct Check {
     table: &'static str,
@@ -304,8 +450,9 @@ struct Check {
 
 fn verdict(o: &Outcome) -> (Verdict, String) {
     match o {
-        Ok((true, e)) => (Verdict::Holds, e.clone()),
-        Ok((false, e)) => (Verdict::DoesNotHold, e.clone()),
+        Ok((Some(true), e)) => (Verdict::Holds, e.clone()),
+        Ok((Some(false), e)) => (Verdict::DoesNotHold, e.clone()),
+        Ok((None, e)) => (Verdict::NotDecided, e.clone()),
         Err(e) => (Verdict::NotMeasured, e.clone()),
     }
 }
@@ -313,16 +460,28 @@ fn verdict(o: &Outcome) -> (Verdict, String) {
 /// Runs a check on our rows with `metric`; a criterion that read rows of more than one size
 /// is refused (not measured, the evidence naming the sizes) rather than an error, so that
 /// the rest of the report stays readable.
-/// Also says whether the criterion read a cone method (whose form `textbook` chose).
-fn run_ours(c: &Check, data: &Data, scene: &str, metric: Metric, textbook: bool, lod: Lod) -> (Verdict, String, bool) {
-    let src = Ours::new(data, scene, metric, textbook, lod);
+/// Also says whether the criterion read a cone method (whose form `textbook` chose) and
+/// whether it read frame time. With `model`, frame time is the SIMD cost model's.
+fn run_ours(c: &Check, data: &Data, scene: &str, metric: Metric, textbook: bool, lod: Lod, model: bool) -> (Verdict, String, bool, bool) {
+    let src = Ours::new(data, scene, metric, textbook, lod, model);
     let out = (c.run)(&src);
-    let cone = src.read_cone.get();
+    let (cone, time) = (src.read_cone.get(), src.read_time.get());
     if let Some(why) = src.mixed_sizes() {
-        return (Verdict::NotMeasured, why, cone);
+        return (Verdict::NotMeasured, why, cone, time);
     }
-    let (v, e) = verdict(&out);
-    (v, e, cone)
+    if src.untraced.get() {
+        let why = "the model counts the probe's trace only; shadow and ambient-occlusion work is not in it".to_string();
+        return (Verdict::NotMeasured, why, cone, time);
+    }
+    let (v, mut e) = verdict(&out);
+    if time && v != Verdict::NotMeasured {
+        e.push_str(match src.clock {
+            Clock::Ratio => "; frame times as paired ratios to the baseline, 95 % intervals",
+            Clock::Mean => "; mean frame times as points (the rows have no paired ratios to one baseline)",
+            Clock::Model => "; model: simd32_fetches",
+        });
+    }
+    (v, e, cone, time)
 }
 
 /// Checks every conclusion on the main scene's rows; a criterion that reads a cone method
@@ -341,12 +500,18 @@ pub(crate) fn check_at(data: &Data, diss: &Diss, scene: &str, lod: Lod) -> Vec<C
     for c in &checks::checks() {
         let (dv, de) = verdict(&(c.run)(&theirs));
         for textbook in [false, true] {
-            let (ours_mse, evidence_mse, cone) = run_ours(c, data, &scene, Metric::Mse, textbook, lod);
+            let (ours_mse, evidence_mse, cone, reads_time) = run_ours(c, data, &scene, Metric::Mse, textbook, lod, false);
             if textbook && !cone {
                 break;
             }
             let (ours_ref, evidence_ref) = if c.uses_error {
-                let (v, e, _) = run_ours(c, data, &scene, Metric::RefT, textbook, lod);
+                let (v, e, _, _) = run_ours(c, data, &scene, Metric::RefT, textbook, lod, false);
+                (Some(v), e)
+            } else {
+                (None, String::new())
+            };
+            let (model, evidence_model) = if reads_time {
+                let (v, e, _, _) = run_ours(c, data, &scene, Metric::Mse, textbook, lod, true);
                 (Some(v), e)
             } else {
                 (None, String::new())
@@ -369,6 +534,9 @@ pub(crate) fn check_at(data: &Data, diss: &Diss, scene: &str, lod: Lod) -> Vec<C
                 evidence_diss: de.clone(),
                 scene: scene.clone(),
                 form: form.into(),
+                reads_time,
+                model,
+                evidence_model,
             });
         }
     }
@@ -435,7 +603,24 @@ fn share(flags: &[Option<bool>], need: f64, min: usize, what: &str) -> Outcome {
     }
     let yes = measured.iter().filter(|b| **b).count();
     let holds = yes as f64 >= need * measured.len() as f64 - 1e-9;
-    Ok((holds, format!("{yes}/{} {what}", measured.len())))
+    Ok((Some(holds), format!("{yes}/{} {what}", measured.len())))
+}
+
+/// [`share`] over comparisons that may be undecided (`Some(None)`): holds when the decided
+/// yes alone reach the share, fails when they cannot reach it even with every undecided
+/// one counted yes, not decided otherwise.
+fn share_dec(flags: &[Option<Dec>], need: f64, min: usize, what: &str) -> Outcome {
+    let measured: Vec<Dec> = flags.iter().flatten().copied().collect();
+    if measured.len() < min {
+        return Err(format!("{} of the needed cells measured (need {min})", measured.len()));
+    }
+    let n = measured.len() as f64;
+    let yes = measured.iter().filter(|d| **d == Some(true)).count();
+    let open = measured.iter().filter(|d| d.is_none()).count();
+    let reach = |k: usize| k as f64 >= need * n - 1e-9;
+    let dec = if reach(yes) { Some(true) } else if !reach(yes + open) { Some(false) } else { None };
+    let open_text = if open > 0 { format!(" ({open} not decided)") } else { String::new() };
+    Ok((dec, format!("{yes}/{} {what}{open_text}", measured.len())))
 }
 
 // ---------------------------------------------------------------------------------------
@@ -459,10 +644,16 @@ pub(crate) fn table(cs: &[Conclusion]) -> TextTable {
              maps, with the sampling the criterion names) and on the `form=safe` rows (cones of bilinear cells, read \
              unfiltered by every safe method, so a criterion's `sample=nearest` reads the safe default, and a sampling \
              with no safe counterpart, `sample=linear|min4` or `start=hk`, is not measured). Criteria \
-             about frame time only have no separate `ref_err_t_rms` verdict. Frame times from a software rasterizer or \
-             a busy machine are noisy: read timing verdicts with the adapter in mind."
+             about frame time only have no separate `ref_err_t_rms` verdict. Frame times are read as each row's \
+             `frame_ratio_to_baseline` (the row's mean frame time over the baseline pipeline's, timed in alternating \
+             blocks in the same run, with its 95 % interval) when every row has one: two cells compare by the quotient \
+             of their ratios, and a criterion whose answer the intervals leave open is `not decided`. The `model` \
+             column judges every criterion that reads frame time on the SIMD cost model instead (`simd32_fetches`, the \
+             largest fetch count of a group of 32 rays, averaged over groups: a GPU whose time goes into fetches); the \
+             probe traces only, so criteria about shadows or ambient occlusion are not measured by it. Frame times \
+             from a software rasterizer are one adapter's: read timing verdicts with the adapter in mind."
         )],
-        header: ["table", "conclusion", "criterion", "ours (mse_dissertation_mean)", "ours (ref_err_t_rms)", "dissertation's numbers"]
+        header: ["table", "conclusion", "criterion", "ours (mse_dissertation_mean)", "ours (ref_err_t_rms)", "model (simd32_fetches)", "dissertation's numbers"]
             .iter()
             .map(|s| s.to_string())
             .collect(),
@@ -478,11 +669,56 @@ pub(crate) fn table(cs: &[Conclusion]) -> TextTable {
                         Some(v) => cell(v, &c.evidence_ref),
                         None => "(frame time only)".into(),
                     },
+                    match c.model {
+                        Some(v) => cell(v, &c.evidence_model),
+                        None => "(no frame time)".into(),
+                    },
                     cell(c.diss, &c.evidence_diss),
                 ]
             })
             .collect(),
     }
+}
+
+/// The criteria that read frame time, checked on each adapter's rows (`adapters`: the
+/// adapter's name and its conclusions, from [`check`]), side by side: one column per
+/// adapter, and the model's verdict (the SIMD cost model reads the probe's counters, the
+/// same on every adapter: the first adapter's rows). None with fewer than two adapters.
+pub(crate) fn by_adapter(adapters: &[(String, Vec<Conclusion>)]) -> Option<TextTable> {
+    if adapters.len() < 2 {
+        return None;
+    }
+    let cell = |v: Verdict, e: &str| if e.is_empty() { v.as_str().to_string() } else { format!("{} ({e})", v.as_str()) };
+    let mut header = vec!["table".to_string(), "conclusion".to_string()];
+    header.extend(adapters.iter().map(|(a, _)| a.clone()));
+    header.push("model (simd32_fetches)".into());
+    let mut rows = Vec::new();
+    for (i, c) in adapters[0].1.iter().enumerate() {
+        if !c.reads_time {
+            continue;
+        }
+        let claim = if c.form.is_empty() { c.claim.clone() } else { format!("{} (`form={}`)", c.claim, c.form) };
+        let mut row = vec![c.table.clone(), claim];
+        for (_, cs) in adapters {
+            row.push(match cs.get(i).filter(|d| d.claim == c.claim && d.form == c.form) {
+                Some(d) => cell(d.ours_mse, &d.evidence_mse),
+                None => DASH.into(),
+            });
+        }
+        row.push(c.model.map(|m| cell(m, &c.evidence_model)).unwrap_or_else(|| DASH.into()));
+        rows.push(row);
+    }
+    Some(TextTable {
+        title: "Timing conclusions per adapter".into(),
+        notes: vec![format!(
+            "The criteria that read frame time, on each adapter's rows apart (rows of {} adapters merged from their result folders), \
+             errors by `mse_dissertation_mean`; each adapter's frame times as its paired ratios to the baseline where its rows have them. \
+             The model column reads the SIMD cost model, which does not depend on the adapter.",
+            adapters.len()
+        )],
+        header,
+        rows,
+    })
 }
 
 /// Short lists: which hold and which do not (by mse_dissertation_mean and by ref_err_t_rms).
@@ -498,7 +734,7 @@ pub(crate) fn summary_lines(cs: &[Conclusion]) -> Vec<String> {
             .collect()
     };
     for (label, r) in [("by mse_dissertation_mean", false), ("by ref_err_t_rms", true)] {
-        for v in [Verdict::Holds, Verdict::DoesNotHold, Verdict::NotMeasured] {
+        for v in [Verdict::Holds, Verdict::DoesNotHold, Verdict::NotDecided, Verdict::NotMeasured] {
             let l = by(v, r);
             out.push(format!("**{} {label}** ({}): {}", capitalize(v.as_str()), l.len(), if l.is_empty() { DASH.to_string() } else { l.join("; ") }));
         }
