@@ -85,13 +85,7 @@ fn sweep_into(grid: NamedGrid, out: &Path, size: u32, frames: u32) -> Result<Vec
 }
 
 fn ratio(r: &Row) -> Ratio {
-    let m = &r.metrics;
-    Ratio {
-        ratio: m.frame_ratio_to_baseline.unwrap_or(f64::NAN),
-        lo: m.frame_ratio_to_baseline_lo.unwrap_or(f64::NAN),
-        hi: m.frame_ratio_to_baseline_hi.unwrap_or(f64::NAN),
-        pairs: m.timing_pairs,
-    }
+    Ratio::to_baseline(&r.metrics).unwrap_or(Ratio::point(f64::NAN))
 }
 
 fn canonical(p: &str) -> String {

@@ -54,12 +54,7 @@ fn main() {
     println!("adapter: {} ({}); {pipeline} on {} at {size}², against {}", g.adapter, g.driver, prep.scene.name, relief_runtime::measure::BASELINE);
     let mut run = |label: &str| {
         let m = measure_paired(&g, &mut prep, &p, 3, pairs).unwrap_or_else(|e| panic!("{e:#}")).metrics;
-        let r = Ratio {
-            ratio: m.frame_ratio_to_baseline.unwrap_or(f64::NAN),
-            lo: m.frame_ratio_to_baseline_lo.unwrap_or(f64::NAN),
-            hi: m.frame_ratio_to_baseline_hi.unwrap_or(f64::NAN),
-            pairs: m.timing_pairs,
-        };
+        let r = Ratio::to_baseline(&m).expect("a paired measurement has a ratio");
         println!("{label:<11} mean frame {:.3} ms, frame_ratio_to_baseline {r}", m.frame_ms_mean);
         (r, m.frame_ms_mean)
     };

@@ -123,6 +123,17 @@ impl Ratio {
         }
     }
 
+    /// A results row's `frame_ratio_to_baseline` with its interval (`_lo`, `_hi`) and
+    /// `timing_pairs`; None for a row timed alone. Bounds the row lacks are NaN.
+    pub fn to_baseline(m: &crate::results::Metrics) -> Option<Ratio> {
+        Some(Ratio {
+            ratio: m.frame_ratio_to_baseline?,
+            lo: m.frame_ratio_to_baseline_lo.unwrap_or(f64::NAN),
+            hi: m.frame_ratio_to_baseline_hi.unwrap_or(f64::NAN),
+            pairs: m.timing_pairs,
+        })
+    }
+
     /// A point value without an interval (a mean frame time, a model cost).
     pub fn point(v: f64) -> Ratio {
         Ratio { ratio: v, lo: f64::NAN, hi: f64::NAN, pairs: 0 }

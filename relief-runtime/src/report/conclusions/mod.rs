@@ -216,12 +216,7 @@ impl<'a> Ours<'a> {
         self.read_time.set(true);
         let m = &r.metrics;
         let v = match self.clock {
-            Clock::Ratio => Ratio {
-                ratio: m.frame_ratio_to_baseline?,
-                lo: m.frame_ratio_to_baseline_lo.unwrap_or(f64::NAN),
-                hi: m.frame_ratio_to_baseline_hi.unwrap_or(f64::NAN),
-                pairs: m.timing_pairs,
-            },
+            Clock::Ratio => Ratio::to_baseline(m)?,
             Clock::Mean => Ratio::point(m.frame_ms_mean),
             Clock::Model => {
                 if r.metrics.pipeline.parse::<Pipeline>().is_ok_and(|p| !p.shadow.is_none() || !p.ao.is_none()) {
