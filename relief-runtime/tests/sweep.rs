@@ -254,3 +254,40 @@ fn a_grid_swept_as_three_shards_and_merged_equals_the_grid_swept_whole() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A scene named with a view (`scene:step@angle=70`, as results name a scene swept with
+/// `--angle 70`) is that scene at that view: the same row as `--angle 70`, under the same
+/// name; an override that would replace a cell's own view is refused.
+#[test]
+fn a_scene_with_a_view_is_the_scene_swept_at_that_view() {
+    let dir = std::env::temp_dir().join(format!("relief-sweep-view-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    let grid = dir.join("g.grid");
+    std::fs::write(&grid, "coarse: linear(8)\nrefine: binary(2)\n").unwrap();
+    let sweep = |out: &str, args: &[&str]| {
+        let o = relief().args(["sweep", "--grid"]).arg(&grid).args(args).args(["--size", "32", "--frames", "1", "--out"]).arg(dir.join(out)).output().unwrap();
+        (o.status.success(), String::from_utf8_lossy(&o.stderr).into_owned())
+    };
+    let (ok, err) = sweep("named", &["--scene", "step@angle=70"]);
+    assert!(ok, "{err}");
+    let (ok, err) = sweep("flag", &["--scene", "step", "--angle", "70"]);
+    assert!(ok, "{err}");
+    let (named, flag) = (rows(&dir.join("named")), rows(&dir.join("flag")));
+    assert_eq!(named[0]["scene"], "scene:step@angle=70");
+    assert_eq!(named[0]["scene"], flag[0]["scene"]);
+    for col in ["mse_dissertation", "ref_err_t_rms", "missed_rate", "avg_coarse_steps", "avg_fetches"] {
+        assert_eq!(named[0][col], flag[0][col], "{col}");
+    }
+    // The 70° view differs from the scene's own.
+    let (ok, err) = sweep("own", &["--scene", "step"]);
+    assert!(ok, "{err}");
+    assert_ne!(rows(&dir.join("own"))[0]["avg_coarse_steps"], named[0]["avg_coarse_steps"]);
+    // An override of the same key is refused, naming the flag and the scene; another key is fine.
+    let (ok, err) = sweep("clash", &["--scene", "step@angle=70", "--angle", "30"]);
+    assert!(!ok && err.contains("--angle") && err.contains("step@angle=70"), "{err}");
+    let (ok, err) = sweep("bad", &["--scene", "step@angle=95"]);
+    assert!(ok, "a bad view fails its cells, not the sweep: {err}");
+    assert!(rows(&dir.join("bad"))[0]["error"].as_str().unwrap().contains("angle"), "{:?}", rows(&dir.join("bad")));
+    std::fs::remove_dir_all(&dir).ok();
+}

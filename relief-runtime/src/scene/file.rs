@@ -383,6 +383,40 @@ impl Overrides {
         }
     }
 
+    /// Reads an override list as [`Overrides::suffix`] writes it, without the `@`
+    /// (`angle=70`, `depth_scale=0.05,angle=60`): its inverse. Values are not range-checked
+    /// here ([`Overrides::check`] does that). Errors name the bad part.
+    pub fn parse_suffix(text: &str) -> Result<Overrides, String> {
+        let mut o = Overrides::default();
+        for part in text.split(',') {
+            let (k, v) = part.split_once('=').ok_or_else(|| format!("`{part}` is not KEY=VALUE"))?;
+            let v: f32 = v.trim().parse().map_err(|_| format!("`{part}`: `{v}` is not a number"))?;
+            let slot = match k.trim() {
+                "depth_scale" => &mut o.depth_scale,
+                "tiling" => &mut o.tiling,
+                "angle" => &mut o.angle,
+                "azimuth" => &mut o.azimuth,
+                other => return Err(format!("`{other}` is not a view key (depth_scale, tiling, angle, azimuth)")),
+            };
+            if slot.replace(v).is_some() {
+                return Err(format!("`{}` is given twice", k.trim()));
+            }
+        }
+        Ok(o)
+    }
+
+    /// The keys both `self` and `other` set (`angle`, …), for refusing one that would
+    /// silently replace the other.
+    pub fn shared_keys(&self, other: &Overrides) -> Vec<&'static str> {
+        let pairs = [
+            ("depth_scale", self.depth_scale.is_some() && other.depth_scale.is_some()),
+            ("tiling", self.tiling.is_some() && other.tiling.is_some()),
+            ("angle", self.angle.is_some() && other.angle.is_some()),
+            ("azimuth", self.azimuth.is_some() && other.azimuth.is_some()),
+        ];
+        pairs.iter().filter(|(_, both)| *both).map(|(k, _)| *k).collect()
+    }
+
     /// Applies the overrides: tiling first (with [`Scene::with_tiling`]), then depth scale,
     /// angle and azimuth; appends [`Overrides::suffix`] to the name. Call [`Overrides::check`]
     /// first.
@@ -402,6 +436,20 @@ impl Overrides {
         s.name += &self.suffix();
         s
     }
+}
+
+/// A scene argument with a view (`rocks@angle=70`, the name results give a scene measured
+/// with `--angle 70`): the argument before the last `@` and the override list after it.
+/// `None` when there is no `@` or what follows does not read as an override list (a file
+/// name with an `@` in it is then a file name); an override list with a bad value is `Some`
+/// with the error.
+pub fn split_view(arg: &str) -> Option<(&str, Result<Overrides, String>)> {
+    let (base, view) = arg.rsplit_once('@')?;
+    let keys = ["depth_scale=", "tiling=", "angle=", "azimuth="];
+    if base.is_empty() || !view.split(',').all(|p| keys.iter().any(|k| p.trim_start().starts_with(k))) {
+        return None;
+    }
+    Some((base, Overrides::parse_suffix(view).and_then(|o| o.check().map(|()| o))))
 }
 
 /// The camera's fields as written into `metrics.json` by `relief render`.

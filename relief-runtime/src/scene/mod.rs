@@ -227,14 +227,19 @@ pub fn scene_names() -> Vec<&'static str> {
 
 /// A scene from a command-line argument: `scene:NAME` (built-in, default size), a TOML scene
 /// file (`.toml`, see [`mod@file`]) or a path to an image file (edge mode repeat, loaded with
-/// default [`LoadOptions`]).
+/// default [`LoadOptions`]), each optionally followed by a view as results name it
+/// (`scene:rocks@angle=70` is `scene:rocks` with `--angle 70`; see [`file::split_view`]).
 pub fn scene_from_arg(arg: &str) -> Result<Scene, SceneError> {
     scene_from_arg_with(arg, None, &LoadOptions::default())
 }
 
 /// The canonical form of a scene argument: `scene:NAME` for a built-in name (a bare NAME is
-/// one), the argument itself for anything with a `:`, a `.toml` ending or an existing path.
+/// one), the argument itself for anything with a `:`, a `.toml` ending or an existing path;
+/// a view suffix (`@angle=70`) is kept after the canonical base.
 pub fn scene_spec(arg: &str) -> String {
+    if let Some((base, _)) = file::split_view(arg) {
+        return format!("{}{}", scene_spec(base), &arg[base.len()..]);
+    }
     let is_file = Path::new(arg).extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) || Path::new(arg).exists();
     if arg.contains(':') || is_file {
         arg.to_string()
@@ -245,6 +250,11 @@ pub fn scene_spec(arg: &str) -> String {
 
 /// [`scene_from_arg`] with a texel size for procedural scenes and load options for files.
 pub fn scene_from_arg_with(arg: &str, size: Option<usize>, options: &LoadOptions) -> Result<Scene, SceneError> {
+    // `rocks@angle=70`: the scene with that view, named as `--angle 70` names it.
+    if let Some((base, view)) = file::split_view(arg) {
+        let view = view.map_err(|e| SceneError::View { arg: arg.to_string(), message: e })?;
+        return Ok(view.apply(scene_from_arg_with(base, size, options)?));
+    }
     if let Some(name) = arg.strip_prefix("scene:") {
         return Scene::by_name(name, size);
     }
@@ -280,6 +290,14 @@ pub enum SceneError {
         native: usize,
         /// The side asked for: it must divide `native` (so it is at most `native`).
         size: usize,
+    },
+    /// The view after the `@` of `NAME@angle=70` does not read or is out of range.
+    #[error("scene `{arg}`: {message}")]
+    View {
+        /// The scene argument as given.
+        arg: String,
+        /// What is wrong with its view.
+        message: String,
     },
     /// A scene file could not be read.
     #[error(transparent)]

@@ -50,7 +50,10 @@ const FILES: &[(&str, &str)] = &[
 /// Grids of relief's own, beyond the dissertation's: listed after `dissertation` and not
 /// part of it. `lod` repeats Tables 4.1, 4.2 and 4.7 (textbook CSM: the safe form reads
 /// per-cell maps, which have no level) with `lod: [zero, auto]`.
-const EXTRA_FILES: &[(&str, &str)] = &[("lod", include_str!("../../grids/lod.grid"))];
+/// `frontier` pits the family engines ship against the safe methods on real and procedural
+/// maps at two views (see [`default_views`]), for the report's answer table.
+const EXTRA_FILES: &[(&str, &str)] =
+    &[("lod", include_str!("../../grids/lod.grid")), ("frontier", include_str!("../../grids/frontier.grid"))];
 
 /// The dissertation's five scenes: Lion, Self-shadow and Collage as relief's procedural
 /// stand-ins, Shapes and Rock Bump as the real maps `four` and `rocks` (see
@@ -70,10 +73,20 @@ pub fn default_scenes(name: &str) -> Vec<String> {
         "f4.5" => &["rocks", "self_shadow", "rock_bump"],
         "f4.7" => &f47,
         // Lion as the tables have it, and the real maps that stand for Rock Bump and Shapes.
-        "lod" => &["lion", "rocks", "four"],
+        "lod" | "frontier" => &["lion", "rocks", "four"],
         _ => &["lion"],
     };
     v.iter().map(|s| s.to_string()).collect()
+}
+
+/// The views a built-in grid repeats each of its scenes at, as scene-argument suffixes
+/// ([`crate::scene::file::split_view`]); `""` is the scene's own camera. `frontier`: the
+/// scenes' own 45° (every built-in scene's camera) and 70° from the normal.
+pub fn default_views(name: &str) -> &'static [&'static str] {
+    match name {
+        "frontier" => &["", "@angle=70"],
+        _ => &[""],
+    }
 }
 
 /// Parses a grid file's text: one or more grids separated by `---` lines, as their union.
@@ -120,14 +133,16 @@ fn named(name: &str, text: &str, scenes: Option<&[String]>) -> NamedGrid {
     let mut cells = Vec::new();
     for p in pipelines {
         for s in &scenes {
-            cells.push((p.clone(), s.clone()));
+            for v in default_views(name) {
+                cells.push((p.clone(), format!("{s}{v}")));
+            }
         }
     }
     NamedGrid { name: name.to_string(), description: description(text), cells }
 }
 
 /// Every built-in grid of the dissertation, then `dissertation`: all of them, each
-/// (pipeline, scene) once; then relief's own grids (`lod`).
+/// (pipeline, scene) once; then relief's own grids (`lod`, `frontier`).
 pub fn builtin(scenes: Option<&[String]>) -> Vec<NamedGrid> {
     let mut all: Vec<NamedGrid> = FILES.iter().map(|(n, t)| named(n, t, scenes)).collect();
     let mut union: Vec<(Pipeline, String)> = Vec::new();
@@ -196,6 +211,41 @@ mod tests {
         let lod = all.iter().find(|g| g.name == "lod").unwrap();
         assert_eq!(lod.cells.len(), (13 + 12 + 20) * 2 * 3);
         assert!(diss.cells.iter().all(|(p, _)| p.lod == relief_dsl::spec::Lod::Zero));
+    }
+
+    #[test]
+    fn frontier_is_the_engine_family_against_every_safe_method_at_two_views() {
+        let all = builtin(None);
+        let f = all.iter().find(|g| g.name == "frontier").unwrap();
+        let pipelines: Vec<String> = f.cells.iter().map(|(p, _)| p.to_string()).fold(Vec::new(), |mut v, p| {
+            if !v.contains(&p) {
+                v.push(p);
+            }
+            v
+        });
+        // 6 layer counts × 3 refinements, 5 conservative cone methods × 4, sphere and maxmip
+        // × 4, 2 relaxed cone methods × 4.
+        assert_eq!(pipelines.len(), 18 + 20 + 8 + 8);
+        assert_eq!(f.cells.len(), pipelines.len() * 3 * 2);
+        for n in [8, 256] {
+            for r in ["interval(1)", "binary(5)", "binary(8)"] {
+                assert!(pipelines.contains(&format!("linear_dynamic(1, {n})+{r}")), "{n} {r}");
+            }
+        }
+        for m in ["csm", "qcsm", "cns", "mcns", "pcns", "sphere", "maxmip", "rcs", "rcns"] {
+            assert_eq!(pipelines.iter().filter(|p| p.starts_with(&format!("{m}("))).count(), 4, "{m}");
+        }
+        // Every cone method in the grid is in its safe form (the default).
+        assert!(!pipelines.iter().any(|p| p.contains("textbook")));
+        for s in ["lion", "rocks", "four"] {
+            assert!(f.cells.iter().any(|(_, c)| c == s) && f.cells.iter().any(|(_, c)| *c == format!("{s}@angle=70")));
+            // The scene's own view is the 45° the grid's description names.
+            let sc = crate::scene::scene_from_arg(&crate::scene::scene_spec(s)).unwrap();
+            assert_eq!(sc.camera.angle_deg, 45.0, "{s}");
+        }
+        // Not part of the dissertation's union.
+        let diss = all.iter().find(|g| g.name == "dissertation").unwrap();
+        assert!(!diss.cells.iter().any(|(_, s)| s.contains('@')));
     }
 
     #[test]

@@ -125,6 +125,7 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
     };
     let todo: Vec<_> = mine.iter().filter(|(p, s)| !done.contains(&key(&measured_as(p, s).to_string(), &label(s), opts.size))).cloned().collect();
     opts.overrides.check().map_err(anyhow::Error::msg)?;
+    check_views(&opts.grid, &opts.overrides)?;
     let mut summary = Summary { skipped: mine.len() - todo.len(), cells: mine.len(), ..Default::default() };
     if todo.is_empty() {
         results::write_csv(&opts.out, &rows)?;
@@ -196,6 +197,23 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
     }
     bar.finish_and_clear();
     Ok(summary)
+}
+
+/// Refuses overrides that would replace a view a cell's scene names itself (`--angle 30` on
+/// `rocks@angle=70`): the cell would be measured at another view than its name says.
+fn check_views(grid: &NamedGrid, overrides: &crate::scene::Overrides) -> anyhow::Result<()> {
+    for (_, s) in &grid.cells {
+        if let Some((_, Ok(view))) = crate::scene::file::split_view(s) {
+            if let Some(k) = view.shared_keys(overrides).first() {
+                anyhow::bail!(
+                    "--{} conflicts with grid `{}`'s own view of scene `{s}`: leave the flag out or name scenes without a view",
+                    k.replace('_', "-"),
+                    grid.name
+                );
+            }
+        }
+    }
+    Ok(())
 }
 
 /// How a scene argument is named in results: `scene:NAME` for procedural scenes (a bare

@@ -7,7 +7,7 @@ use relief_runtime::sweep::{self, grids};
 /// Arguments of `relief sweep`.
 #[derive(clap::Args, Debug)]
 pub struct SweepArgs {
-    /// A built-in grid (`t4.1` … `t4.15`, `f4.5`, `f4.7` … `f4.11`, `dissertation`, `lod`),
+    /// A built-in grid (`t4.1` … `t4.15`, `f4.5`, `f4.7` … `f4.11`, `dissertation`, `lod`, `frontier`),
     /// `rooms` (Amaro & Gustafsson 2022's interior-mapping comparison on rooms, `--scene room:NAME` or room
     /// files), or a grid file.
     #[arg(long, required_unless_present = "list")]
