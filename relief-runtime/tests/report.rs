@@ -159,7 +159,7 @@ fn report_writes_tables_charts_strips_and_checks_conclusions() {
 
     // Strips: one per table with images, rows stacked.
     let strip = image::open(dir.join("report/strip_t4.1.png")).expect("strip").to_rgba8();
-    assert_eq!(strip.height(), 13 * 128 + 12 * 4);
+    assert_eq!(strip.height(), 13 * 256 + 12 * 4, "tiles 256 pixels high");
     assert!(!dir.join("report/strip_t4.9.png").exists());
 
     // Pareto.
@@ -691,18 +691,196 @@ fn stability_table_is_html_and_strip_frames_are_captioned() {
     assert!(stab.contains("<th>method</th><th>worst scene</th><th>nan_count</th>"), "{stab}");
     assert!(stab.contains("<td><code>csm(5)</code></td><td>lion | steep</td><td>3</td>"), "{stab}");
     assert!(!stab.contains("|---|"));
-    // Each frame of Table 4.1's strip carries its pipeline and metric values.
+    // The per-method table is folded.
+    assert!(stab.contains("<details id=\"stability-worst\"><summary>"), "{stab}");
+    // Each frame of Table 4.1's strip carries its pipeline, frame time, t error and missed share.
     let expect = format!(
-        "<figcaption>#2 <code>linear(10)</code><br>32² · mean {:.3} ms · mse_dissertation_mean {:.3e} · ref_err_t_rms {:.3e} · missed_rate {:.4} · nan_count 0</figcaption>",
+        "<figcaption>#2 <code>linear(10)</code><br>{:.3} ms (median; mean {:.3}) · t error {:.3e} (RMS) · missed {:.4} · MSE mean {:.3e} · 32²</figcaption>",
         0.5,
-        0.01 / 1024.0,
+        0.5,
         0.05,
-        0.0
+        0.0,
+        0.01 / 1024.0,
     );
     assert!(html.contains(&expect), "{expect} missing");
-    assert!(html.contains("<img src=\"cells/lion/"), "frames shown");
+    // Frame and error side by side, each a link to its full-size PNG.
+    let cell = "cells/lion/linear_10";
+    assert!(
+        html.contains(&format!("<a href=\"{cell}/frame.png\"><img src=\"{cell}/frame.png\"")) && html.contains(&format!("<a href=\"{cell}/error.png\"><img src=\"{cell}/error.png\"")),
+        "frames shown and linked"
+    );
     let md = std::fs::read_to_string(dir.join("tables.md")).unwrap();
-    assert!(md.contains("- 2. linear(10): 32² · mean 0.500 ms"), "captions in tables.md");
+    assert!(md.contains("- 2. linear(10): 0.500 ms (median; mean 0.500)"), "captions in tables.md");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+// ---------------------------------------------------------------------------------------
+// The answer first.
+
+/// A row of `pipeline` on `scene` with frame time `ms` (median and mean) and RMS t error `t`.
+fn answer_row(scene: &str, pipeline: &str, ms: f64, t: f64) -> Row {
+    let mut r = row(pipeline, ms, t * t * 1024.0, t, 0.0);
+    r.metrics.scene = scene.into();
+    r.cell_dir = format!("cells/{}/{}", scene.trim_start_matches("scene:").replace(['@', '=', ','], "_"), relief_dsl::spec::file_safe(pipeline));
+    r
+}
+
+/// The rows of the answer tests: on rocks at its own view, the engine family and safe
+/// methods with known times and errors, plus rows that must not compete; at 70°, no
+/// engine-family row.
+fn answer_rows() -> Vec<Row> {
+    let rocks = "scene:rocks";
+    let mut rows = vec![
+        answer_row(rocks, "linear_dynamic(1, 16)+binary(5)", 1.0, 2e-2),
+        answer_row(rocks, "linear_dynamic(1, 64)+binary(5)", 2.0, 5e-3),
+        answer_row(rocks, "linear_dynamic(1, 256)+interval(1)", 6.0, 5e-4),
+        answer_row(rocks, "csm(16)", 1.5, 8e-3),
+        answer_row(rocks, "qcsm(32)", 2.5, 2e-4),
+        answer_row(rocks, "csm(64)", 3.0, 3e-8),
+        // Faster and exact, but with a shadow stage, at another level, or clipped: not searches
+        // that compete.
+        answer_row(rocks, "linear(8)+binary(5)+shadow=hard(8)", 0.1, 0.0),
+        answer_row(rocks, "linear(8)+binary(5)+lod=auto", 0.1, 0.0),
+        answer_row(rocks, "linear(8)+binary(5)+silhouette=clip", 0.1, 0.0),
+        // Outside the family: a minimum of 8 layers, and interval with more than one step.
+        answer_row(rocks, "linear_dynamic(8, 32)+binary(5)", 1.8, 4e-3),
+        answer_row(rocks, "linear_dynamic(1, 32)+interval(2)", 1.9, 3e-3),
+        // No finite frame time: left out and named.
+        answer_row(rocks, "sphere(16)", f64::NAN, 1e-3),
+    ];
+    let at70 = "scene:rocks@angle=70";
+    rows.push(answer_row(at70, "csm(16)", 1.2, 2e-2));
+    rows.push(answer_row(at70, "csm(64)", 2.4, 1e-8));
+    rows
+}
+
+/// The cells of a Markdown table line.
+fn md_line_cells(line: &str) -> Vec<String> {
+    line.trim().trim_matches('|').split('|').map(|c| c.trim().to_string()).collect()
+}
+
+#[test]
+fn the_answer_names_the_fastest_pipeline_at_each_accuracy_and_the_engine_familys_ratio() {
+    let rows = answer_rows();
+    let (dir, _) = {
+        let dir = fresh_dir("answer");
+        write_rows(&dir, &rows, true);
+        let s = report::write(&dir).expect("report");
+        (dir, s)
+    };
+    let md = std::fs::read_to_string(dir.join("tables.md")).unwrap();
+    let section = |title: &str| -> Vec<Vec<String>> {
+        let start = md.find(title).unwrap_or_else(|| panic!("{title} missing from\n{md}"));
+        md[start..].lines().skip_while(|l| !l.starts_with("| accuracy")).skip(2).take_while(|l| l.starts_with('|')).map(md_line_cells).collect()
+    };
+    let own = section("### Fastest at each accuracy: rocks, 45°, 32²");
+    assert_eq!(own.len(), 4, "{own:?}");
+    // Level 3e-2: the family's linear_dynamic(1, 16)+binary(5) is the fastest of all.
+    assert_eq!(own[0][1], "`linear_dynamic(1, 16)+binary(5)`");
+    assert_eq!(own[0][8], "1× (the fastest is in the family)");
+    // 1e-2: csm(16) at 1.5 ms; the family's best there is linear_dynamic(1, 64)+binary(5) at
+    // 2.0 ms: 2.0 / 1.5 = 1.33. linear_dynamic(8, 32) and interval(2) are not the family.
+    assert_eq!((own[1][1].as_str(), own[1][2].as_str()), ("`csm(16)`", "1.500"));
+    assert_eq!((own[1][5].as_str(), own[1][6].as_str()), ("`linear_dynamic(1, 64)+binary(5)`", "2.000"));
+    assert_eq!(own[1][8], "1.33×");
+    // 1e-3: linear_dynamic(1, 32)+interval(2) (1.9 ms, 3e-3) does not reach it; qcsm(32) at
+    // 2.5 ms does; the family gets there with 256 layers at 6.0 ms: 2.40×. The shadow, lod and
+    // silhouette rows (0.1 ms, exact) never compete.
+    assert_eq!(own[2][1], "`qcsm(32)`");
+    assert_eq!(own[2][5], "`linear_dynamic(1, 256)+interval(1)`");
+    assert_eq!(own[2][8], "2.40×");
+    // 1e-6: only csm(64); the family never gets there although it was measured.
+    assert_eq!(own[3][1], "`csm(64)`");
+    assert_eq!(own[3][5], "unreachable");
+    assert_eq!(own[3][8], "family unreachable");
+    assert!(md.contains("Left out, their error or frame time is not a finite number: `sphere(16)`."));
+    // At 70° no row of the family was measured: "not measured", not "unreachable".
+    let at70 = section("### Fastest at each accuracy: rocks, 70°, 32²");
+    assert_eq!(at70[0][1], "`csm(16)`");
+    assert_eq!(at70[0][5], "not measured");
+    assert_eq!(at70[0][8], "family not measured");
+    assert_eq!(at70[1][1], "`csm(64)`");
+
+    // The page: the answer comes first, its overview table before any other section, one row
+    // per scene and view, each linking to its own section.
+    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    let at = |needle: &str| html.find(needle).unwrap_or_else(|| panic!("{needle} missing"));
+    assert!(at("id=\"answer-table\"") < at("<section id=\"conclusions\""));
+    let overview = &html[at("id=\"answer-table\"")..];
+    let overview = &overview[..overview.find("</table>").unwrap()];
+    assert_eq!(overview.matches("<tr><td><a href=\"#answer-").count() + overview.matches("<tr class=\"unmeasured\"><td><a href=\"#answer-").count(), 2, "{overview}");
+    assert!(overview.contains("<code>csm(16)</code> 1.500 ms<span class=\"fam\">engine family: 1.33× the time (<code>linear_dynamic(1, 64)+binary(5)</code>)</span>"), "{overview}");
+    // The scene's picture: its height map (at least 256 pixels) and the exact row's frame.
+    let map = image::open(dir.join("report/scene_rocks.png")).expect("height map").to_luma8();
+    assert!(map.width() >= 256 && map.height() >= 256);
+    let rocks = relief_runtime::scene::scene_from_arg("scene:rocks").unwrap();
+    let k = map.width() as usize / rocks.height.width;
+    for (x, y) in [(0usize, 0usize), (17, 99), (255, 128)] {
+        let want = (rocks.height.data[y * rocks.height.width + x] * 255.0).round() as u8;
+        assert_eq!(map.get_pixel((x * k) as u32, (y * k) as u32).0[0], want, "texel ({x}, {y})");
+    }
+    assert!(html.contains("exact: 3.000 ms · t error 3.000e-8"), "the fastest exact row's frame");
+    // The chart: numbered points keyed beside it, every number drawn.
+    let svg = std::fs::read_to_string(dir.join("report/answer_rocks_s32.svg")).expect("answer chart");
+    assert!(svg.contains("(log scale)"));
+    let key = &html[at("<ol class=\"key\">")..];
+    let key = &key[..key.find("</ol>").unwrap()];
+    assert!(key.contains("<code>csm(64)</code> 3.000 ms"), "{key}");
+    assert!(!key.contains("no room"), "{key}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The page holds together: no external resource, every in-page link has its target, ids
+/// are unique, tables are folded, sortable and filterable, both colour schemes are styled.
+#[test]
+fn the_page_is_self_contained_and_every_in_page_link_lands() {
+    let dir = fresh_dir("page");
+    let mut rows = linear_rows(true);
+    rows.extend(answer_rows());
+    write_rows(&dir, &rows, true);
+    std::fs::create_dir_all(dir.join("stability")).unwrap();
+    std::fs::write(dir.join("stability/worst.md"), "| method | worst |\n|---|---|\n| `csm(5)` | lion |\n").unwrap();
+    std::fs::write(dir.join("stability/stability_nan_count.svg"), "<svg xmlns=\"http://www.w3.org/2000/svg\"/>").unwrap();
+    report::write(&dir).expect("report");
+    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    for bad in ["src=\"http", "href=\"http", "src=\"//", "href=\"//", "@import", "url(http"] {
+        assert!(!html.contains(bad), "external resource: {bad}");
+    }
+    let attr = |name: &str| -> Vec<String> {
+        let pat = format!("{name}=\"");
+        html.match_indices(&pat).map(|(i, _)| html[i + pat.len()..].split('"').next().unwrap().to_string()).collect()
+    };
+    let ids = attr("id");
+    for (i, id) in ids.iter().enumerate() {
+        assert!(!ids[..i].contains(id), "id `{id}` twice");
+    }
+    let links: Vec<String> = attr("href").into_iter().filter(|h| h.starts_with('#')).collect();
+    for want in ["#answer", "#answer-scene-rocks-angle-70-s32", "#conclusions", "#tables", "#table-4-1-performance-of-linear-search-lion"] {
+        assert!(links.iter().any(|l| l == want), "no link {want}: {links:?}");
+    }
+    for l in &links {
+        assert!(ids.contains(&l[1..].to_string()), "link {l} has no target");
+    }
+    // Files the page links to exist.
+    for f in attr("href").into_iter().chain(attr("src")).filter(|h| !h.starts_with('#') && !h.starts_with("data:")) {
+        assert!(dir.join(&f).exists(), "{f} linked but missing");
+    }
+    // Every table of the tables section is folded, sortable and has a filter.
+    let tables = &html[html.find("<section id=\"tables\"").unwrap()..];
+    let tables = &tables[..tables.find("</section>").unwrap()];
+    let n = tables.matches("<table class=\"sortable\"").count();
+    assert!(n >= 15, "{n}");
+    assert_eq!(tables.matches("<details id=").count(), n, "each table folded");
+    assert!(!tables.contains("<details id=\"table-4-1") || !tables.contains(" open>"), "folded by default");
+    assert_eq!(tables.matches("<input class=\"filter\"").count(), n);
+    // The stylesheet and script are the files under web/, embedded.
+    assert!(html.contains(include_str!("../web/report.css")) && html.contains(include_str!("../web/report.js")));
+    assert!(include_str!("../web/report.css").contains("prefers-color-scheme: dark"));
+    // Verdicts are badges.
+    assert!(html.contains("<span class=\"badge holds\">holds</span>"));
+    // Stability: the heat maps before the folded per-method table.
+    let stab = &html[html.find("<section id=\"stability\"").unwrap()..];
+    assert!(stab.find("stability/stability_nan_count.svg").unwrap() < stab.find("<details id=\"stability-worst\"").unwrap());
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use relief_dsl::Pipeline;
 
+use super::labels::{self, Rect};
 use super::{short_scene, stage_steps, Data, Metric};
 use crate::sweep::grids;
 
@@ -83,7 +84,7 @@ pub(crate) fn write_all(data: &Data, sub: &Path, warnings: &mut Vec<String>) -> 
                 let xlabel = if fig == "f4.5" { "refinement steps" } else { "frame time, mean (ms)" };
                 let size_part = if sizes.len() > 1 { format!(" ({size}²)") } else { String::new() };
                 let chart_title = format!("{title}{size_part} — {}", metric.name());
-                let (svg, clamp_note) = svg_chart(&chart_title, xlabel, metric.name(), &series);
+                let ChartSvg { svg, note: clamp_note, .. } = svg_chart(&chart_title, xlabel, metric.name(), &series);
                 let file = if sizes.len() > 1 { format!("{fig}_s{size}_{}.svg", metric.name()) } else { format!("{fig}_{}.svg", metric.name()) };
                 if let Err(e) = std::fs::write(sub.join(&file), svg) {
                     warnings.push(format!("cannot write {}: {e}", sub.join(&file).display()));
@@ -132,7 +133,7 @@ fn model_chart(fig: &str, title: &str, data: &Data, pipelines: &[Pipeline], scen
     }
     let size_part = if multi_size { format!(" ({size}²)") } else { String::new() };
     let chart_title = format!("{title}{size_part} — {} against the model's simd32_fetches", metric.name());
-    let (svg, clamp_note) = svg_chart(&chart_title, "simd32_fetches (model: largest fetch count of a 32-ray group)", metric.name(), &series);
+    let ChartSvg { svg, note: clamp_note, .. } = svg_chart(&chart_title, "simd32_fetches (model: largest fetch count of a 32-ray group)", metric.name(), &series);
     let file = if multi_size { format!("{fig}_s{size}_model_simd32_fetches.svg") } else { format!("{fig}_model_simd32_fetches.svg") };
     if let Err(e) = std::fs::write(sub.join(&file), svg) {
         warnings.push(format!("cannot write {}: {e}", sub.join(&file).display()));
@@ -245,9 +246,27 @@ fn fmt_tick(v: f64, step: f64) -> String {
     format!("{v:.decimals$}")
 }
 
+/// A chart as drawn by [`svg_chart`].
+pub(crate) struct ChartSvg {
+    pub svg: String,
+    /// What the reader must know about the drawing: values clamped to the log floor, labels
+    /// left out for lack of room.
+    pub note: Option<String>,
+    /// Each point label drawn, with its box ([`super::labels`]): no two intersect.
+    pub labels: Vec<(String, Rect)>,
+}
+
 /// Renders a chart with a log-scale y axis. Values at or below zero are drawn at a floor
-/// (a tenth of the smallest positive value) with hollow markers; the returned note says so.
-pub(crate) fn svg_chart(title: &str, xlabel: &str, ylabel: &str, series: &[Series]) -> (String, Option<String>) {
+/// (a tenth of the smallest positive value) with hollow markers; the note says so. Point
+/// labels (non-faint series) are placed so that none overlaps another or a marker
+/// ([`super::labels::place`]); one with no room is left out and the note counts it.
+pub(crate) fn svg_chart(title: &str, xlabel: &str, ylabel: &str, series: &[Series]) -> ChartSvg {
+    svg_chart_axes(title, xlabel, ylabel, series, false)
+}
+
+/// [`svg_chart`], with a log-scale x axis too when `log_x` (and every x is positive):
+/// frame times that span two decades stay apart.
+pub(crate) fn svg_chart_axes(title: &str, xlabel: &str, ylabel: &str, series: &[Series], log_x: bool) -> ChartSvg {
     let (w, h) = (860.0, 500.0);
     let (l, r, t, b) = (80.0, 640.0, 50.0, 440.0);
     let all: Vec<&Pt> = series.iter().flat_map(|s| &s.points).filter(|p| p.x.is_finite() && p.y.is_finite()).collect();
@@ -255,7 +274,7 @@ pub(crate) fn svg_chart(title: &str, xlabel: &str, ylabel: &str, series: &[Serie
     let max_y = all.iter().map(|p| p.y).fold(f64::NEG_INFINITY, f64::max);
     let any_clamped = all.iter().any(|p| p.y <= 0.0);
     let floor = if min_pos.is_finite() { min_pos / 10.0 } else { 1e-6 };
-    let note = any_clamped.then(|| {
+    let mut note = any_clamped.then(|| {
         format!(
             "{} value(s) ≤ 0 cannot be shown on a log scale and are drawn at the floor {floor:.1e} with hollow markers.",
             all.iter().filter(|p| p.y <= 0.0).count()
@@ -281,7 +300,17 @@ pub(crate) fn svg_chart(title: &str, xlabel: &str, ylabel: &str, series: &[Serie
     if x0 < 0.0 && xmin >= 0.0 {
         x0 = 0.0;
     }
-    let sx = |x: f64| l + (x - x0) / (x1 - x0) * (r - l);
+    let log_x = log_x && xmin.is_finite() && xmin > 0.0;
+    if log_x {
+        (x0, x1) = (xmin / 1.15, xmax * 1.15);
+    }
+    let sx = |x: f64| {
+        if log_x {
+            l + (x.log10() - x0.log10()) / (x1.log10() - x0.log10()) * (r - l)
+        } else {
+            l + (x - x0) / (x1 - x0) * (r - l)
+        }
+    };
     let sy = |y: f64| {
         let v = if y > 0.0 { y.log10() } else { floor.log10() };
         b - (v - d0) / (d1 - d0) * (b - t)
@@ -309,18 +338,35 @@ pub(crate) fn svg_chart(title: &str, xlabel: &str, ylabel: &str, series: &[Serie
         }
     }
     // X ticks.
-    let step = nice_step(x1 - x0, 7.0);
-    let mut xv = (x0 / step).ceil() * step;
-    let mut guard = 0;
-    while xv <= x1 + 1e-12 && guard < 100 {
-        let x = sx(xv);
+    let mut ticks: Vec<(f64, String)> = Vec::new();
+    if log_x {
+        let (k0, k1) = (x0.log10().floor() as i32, x1.log10().ceil() as i32);
+        let few = k1 - k0 <= 1;
+        for k in k0..=k1 {
+            let ms: &[f64] = if few { &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0] } else { &[1.0, 2.0, 5.0] };
+            for m in ms {
+                let v = m * 10f64.powi(k);
+                if v >= x0 && v <= x1 {
+                    ticks.push((v, fmt_tick(v, 10f64.powi(k))));
+                }
+            }
+        }
+    } else {
+        let step = nice_step(x1 - x0, 7.0);
+        let mut xv = (x0 / step).ceil() * step;
+        while xv <= x1 + 1e-12 && ticks.len() < 100 {
+            ticks.push((xv, fmt_tick(xv, step)));
+            xv += step;
+        }
+    }
+    for (xv, text) in &ticks {
+        let x = sx(*xv);
         let _ = writeln!(s, r##"<line x1="{x:.1}" y1="{t}" x2="{x:.1}" y2="{b}" stroke="#eee"/>"##);
-        let _ = writeln!(s, r#"<text x="{x:.1}" y="{}" text-anchor="middle">{}</text>"#, b + 18.0, fmt_tick(xv, step));
-        xv += step;
-        guard += 1;
+        let _ = writeln!(s, r#"<text x="{x:.1}" y="{}" text-anchor="middle">{text}</text>"#, b + 18.0);
     }
     let _ = writeln!(s, r#"<rect x="{l}" y="{t}" width="{}" height="{}" fill="none" stroke="black"/>"#, r - l, b - t);
-    let _ = writeln!(s, r#"<text x="{}" y="{}" text-anchor="middle">{}</text>"#, (l + r) / 2.0, b + 42.0, esc(xlabel));
+    let xlabel = if log_x { format!("{xlabel} (log scale)") } else { xlabel.to_string() };
+    let _ = writeln!(s, r#"<text x="{}" y="{}" text-anchor="middle">{}</text>"#, (l + r) / 2.0, b + 42.0, esc(&xlabel));
     let _ = writeln!(
         s,
         r#"<text x="18" y="{}" text-anchor="middle" transform="rotate(-90 18 {})">{} (log scale)</text>"#,
@@ -328,6 +374,31 @@ pub(crate) fn svg_chart(title: &str, xlabel: &str, ylabel: &str, series: &[Serie
         (t + b) / 2.0,
         esc(ylabel)
     );
+    // Labels of the non-faint points, placed clear of each other and of every marker.
+    let mut wants = Vec::new();
+    let mut texts = Vec::new();
+    let mut markers = Vec::new();
+    for se in series.iter().filter(|s| !s.faint) {
+        for p in se.points.iter().filter(|p| p.x.is_finite() && p.y.is_finite()) {
+            markers.push(Rect::around(sx(p.x), sy(p.y), 8.0, 8.0));
+            if !p.label.is_empty() {
+                let (lw, lh) = labels::text_size(&p.label);
+                wants.push(labels::Want { px: sx(p.x), py: sy(p.y), w: lw, h: lh });
+                texts.push(p.label.clone());
+            }
+        }
+    }
+    let placed = labels::place(&wants, &markers, Rect { x: l, y: t, w: r - l, h: b - t });
+    let unplaced = placed.iter().filter(|p| p.is_none()).count();
+    if unplaced > 0 {
+        let n = format!("{unplaced} point label(s) left out for lack of room (hover a point for its values).");
+        note = Some(match note {
+            Some(x) => format!("{x} {n}"),
+            None => n,
+        });
+    }
+    let mut label_at = placed.iter().zip(&wants).zip(&texts);
+    let mut drawn_labels = Vec::new();
     // Series: faint first.
     let mut order: Vec<usize> = (0..series.len()).collect();
     order.sort_by_key(|&i| !series[i].faint);
@@ -374,7 +445,23 @@ pub(crate) fn svg_chart(title: &str, xlabel: &str, ylabel: &str, series: &[Serie
                 p.y
             );
             if !p.label.is_empty() && !se.faint {
-                let _ = writeln!(s, r#"<text x="{:.1}" y="{:.1}" font-size="9" fill="{color}">{}</text>"#, x + 4.0, y - 5.0, esc(&p.label));
+                // Labels come in the order they were placed: series by series, point by point.
+                if let Some(((Some(pl), want), text)) = label_at.next() {
+                    let rc = pl.rect;
+                    if pl.leader {
+                        let (ex, ey) = rc.nearest(want.px, want.py);
+                        let _ = writeln!(s, r#"<line x1="{:.1}" y1="{:.1}" x2="{ex:.1}" y2="{ey:.1}" stroke="{color}" stroke-width="0.7"/>"#, want.px, want.py);
+                    }
+                    let _ = writeln!(
+                        s,
+                        r#"<text x="{:.1}" y="{:.1}" font-family="monospace" font-size="{}" fill="{color}">{}</text>"#,
+                        rc.x + (rc.w - text.chars().count() as f64 * labels::CHAR_W) / 2.0,
+                        rc.y + rc.h / 2.0 + 0.35 * labels::FONT,
+                        labels::FONT,
+                        esc(text)
+                    );
+                    drawn_labels.push((text.clone(), rc));
+                }
             }
         }
     }
@@ -392,5 +479,38 @@ pub(crate) fn svg_chart(title: &str, xlabel: &str, ylabel: &str, series: &[Serie
         let _ = writeln!(s, r##"<text x="{l}" y="{}" font-size="10" fill="#555">{}</text>"##, h - 8.0, esc(n));
     }
     s.push_str("</svg>\n");
-    (s, note)
+    ChartSvg { svg: s, note, labels: drawn_labels }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A chart whose points crowd one corner (the Pareto chart's usual case): every label it
+    /// draws is clear of every other, and each is drawn once at its box.
+    #[test]
+    fn point_labels_never_overlap() {
+        for log_x in [false, true] {
+            let points: Vec<Pt> = (0..40)
+                .map(|i| Pt { x: 1.0 + (i % 7) as f64 * 0.01, y: 0.1 / (1.0 + (i / 7) as f64 * 0.05), label: format!("{}", i + 1) })
+                .collect();
+            let far = vec![Pt { x: 500.0, y: 1e-8, label: "far".into() }];
+            let series = vec![
+                Series { name: "crowd".into(), points, line: Line::Step, faint: false },
+                Series { name: "far".into(), points: far, line: Line::None, faint: false },
+            ];
+            let c = svg_chart_axes("t", "x", "y", &series, log_x);
+            assert!(c.labels.len() >= 30, "{} of 41 labels placed", c.labels.len());
+            for (i, (ta, a)) in c.labels.iter().enumerate() {
+                for (tb, b) in &c.labels[i + 1..] {
+                    assert!(!a.intersects(b), "labels {ta} and {tb} overlap: {a:?} {b:?}");
+                }
+                assert!(c.svg.contains(&format!(">{ta}</text>")));
+            }
+            let left_out = 41 - c.labels.len();
+            if left_out > 0 {
+                assert!(c.note.as_deref().unwrap_or("").contains(&format!("{left_out} point label(s) left out")), "{:?}", c.note);
+            }
+        }
+    }
 }

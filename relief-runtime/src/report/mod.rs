@@ -19,11 +19,13 @@
 //! the timing conclusions of every adapter side by side.
 
 mod agreement;
+mod answer;
 mod charts;
 mod conclusions;
 mod data;
 mod diss;
 mod html;
+mod labels;
 mod pareto;
 mod rooms;
 mod stats;
@@ -165,18 +167,22 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary>
     let strips = strips::write_all(&data, &tables, &sub, &mut summary.warnings);
     let fronts = pareto::build(&data);
     let pareto_svgs = pareto::write_svgs(&fronts, &sub, &mut summary.warnings);
+    let answers = answer::build(&data);
+    let answer_charts: Vec<_> = answers.iter().map(|a| answer::write_chart(a, &sub, &mut summary.warnings)).collect();
+    let scene_maps: Vec<_> = answers.iter().map(|a| answer::write_height_map(&a.scene, &sub, &mut summary.warnings)).collect();
 
     // tables.md
     let mut md = String::new();
     let _ = writeln!(md, "# relief report: Burger 2018, chapter 4, reproduced\n");
     md.push_str(&overview_md(&data, &summary));
+    md.push_str(&answer::to_markdown(&answers));
     md.push_str(&tables::intro_md());
     for t in &tables {
         md.push_str(&t.table.to_markdown(2));
         if let Some(s) = strips.iter().find(|s| s.key == t.key) {
             let _ = writeln!(md, "Image strip (rows in table order, frame | error): [{}]({})\n", s.file, s.file);
             for f in &s.frames {
-                let _ = writeln!(md, "- {}: {}", f.label, f.values);
+                let _ = writeln!(md, "- {}: {}", f.numbered(), f.values);
             }
             md.push('\n');
         }
@@ -206,9 +212,12 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary>
     write_file(&dir.join("pareto.md"), pmd.as_bytes(), &mut summary.files)?;
 
     // index.html
-    let page = html::page(&html::Parts {
+    let page = html::page(html::Parts {
         data: &data,
         summary: &summary,
+        answers: &answers,
+        answer_charts: &answer_charts,
+        scene_maps: &scene_maps,
         tables: &tables,
         conclusions: &conclusions,
         agreement: &agreement,
@@ -216,32 +225,24 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary>
         strips: &strips,
         fronts: &fronts,
         pareto_svgs: &pareto_svgs,
+        extra: per_adapter
+            .iter()
+            .map(|t| html::Section { id: "adapters".into(), nav: "Per adapter".into(), html: t.to_html(2) })
+            .chain(room_rows.iter().map(|rr| html::Section { id: "rooms".into(), nav: "Rooms".into(), html: rooms::to_html(rr) }))
+            .collect(),
     });
-    let page = match &per_adapter {
-        Some(t) => with_section_at_end(&page, &t.to_html(2)),
-        None => page,
-    };
-    let page = match &room_rows {
-        Some(rr) => with_section_at_end(&page, &rooms::to_html(rr)),
-        None => page,
-    };
     write_file(&dir.join("index.html"), page.as_bytes(), &mut summary.files)?;
     // index first, then tables.md, then the rest.
     summary.files.rotate_right(1);
     summary.files.extend(charts.iter().map(|c| sub.join(&c.file)));
     summary.files.extend(strips.iter().map(|s| dir.join(&s.file)));
     summary.files.extend(pareto_svgs.iter().map(|p| dir.join(&p.1)));
+    summary.files.extend(answer_charts.iter().flatten().map(|c| dir.join(&c.file)));
+    let mut maps: Vec<&String> = scene_maps.iter().flatten().collect();
+    maps.dedup();
+    summary.files.extend(maps.into_iter().map(|m| dir.join(m)));
     summary.conclusions = conclusions;
     Ok(summary)
-}
-
-/// Removes charts and strips an earlier report wrote (only names this module writes).
-/// `page` with `section` inserted before the closing `</body>`.
-fn with_section_at_end(page: &str, section: &str) -> String {
-    match page.rfind("</body>") {
-        Some(i) => format!("{}{section}{}", &page[..i], &page[i..]),
-        None => format!("{page}{section}"),
-    }
 }
 
 /// The report of a folder holding only a room grid (`relief sweep --grid rooms`): the room
@@ -265,12 +266,13 @@ fn write_rooms_only(dir: &Path, rows: &[crate::room::sweep::RoomRow]) -> anyhow:
     Ok(summary)
 }
 
+/// Removes charts, strips and pictures an earlier report wrote (only names this module writes).
 fn remove_stale(sub: &Path) {
     let Ok(rd) = std::fs::read_dir(sub) else { return };
     for e in rd.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
-        let ours = (name.starts_with("strip_") && name.ends_with(".png"))
-            || ((name.starts_with('f') || name.starts_with("pareto_")) && name.ends_with(".svg"));
+        let ours = ((name.starts_with("strip_") || name.starts_with("scene_")) && name.ends_with(".png"))
+            || ((name.starts_with('f') || name.starts_with("pareto_") || name.starts_with("answer_")) && name.ends_with(".svg"));
         if ours {
             let _ = std::fs::remove_file(e.path());
         }

@@ -124,7 +124,7 @@ pub(crate) fn write_svgs(fronts: &[Front], sub: &Path, warnings: &mut Vec<String
             },
         ];
         let title = format!("Pareto front, scene {} — {}", front_place(f), f.metric.name());
-        let (svg, _) = svg_chart(&title, "frame time, mean (ms)", f.metric.name(), &series);
+        let svg = svg_chart(&title, "frame time, mean (ms)", f.metric.name(), &series).svg;
         let place = if f.multi_size { format!("{}_s{}", short_scene(&f.scene), f.size) } else { short_scene(&f.scene).to_string() };
         let name = format!("pareto_{}_{}.svg", super::file_safe(&place), f.metric.name());
         match std::fs::write(sub.join(&name), svg) {

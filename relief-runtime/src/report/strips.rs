@@ -1,5 +1,5 @@
 //! Image strips: for each table, each row's frame and error images side by side, rows
-//! stacked in table order (a grey tile where a row has no image).
+//! stacked in table order (a grey tile where a row has no image), at least 256 pixels high.
 
 use std::path::Path;
 
@@ -8,8 +8,8 @@ use image::{imageops, Rgba, RgbaImage};
 use super::tables::ReportTable;
 use super::{fmt_ms, fmt_num, fmt_sci, Data};
 
-/// Height of each tile in pixels.
-pub(crate) const TILE: u32 = 128;
+/// Height of each tile in pixels: frames are readable at this size.
+pub(crate) const TILE: u32 = 256;
 const GAP: u32 = 4;
 
 /// A strip written under `report/`.
@@ -29,13 +29,25 @@ pub(crate) struct Strip {
 /// One row of a strip as the HTML report shows it: its images and a caption naming the
 /// pipeline and its metric values, so the strip reads without the table beside it.
 pub(crate) struct Frame {
-    /// `3. linear(15)`.
+    /// Its row's number in the table (`3`), when it has one.
+    pub number: Option<usize>,
+    /// The pipeline (`linear(15)`).
     pub label: String,
     /// The frame and error images, relative to the sweep folder, when they exist.
     pub frame: Option<String>,
     pub error: Option<String>,
-    /// `mean 0.512 ms · mse_dissertation_mean 1.2e-5 · …`, or why there are no values.
+    /// `0.512 ms (median) · t error 1.2e-3 · missed 0.0100 · …`, or why there are no values.
     pub values: String,
+}
+
+impl Frame {
+    /// `3. linear(15)`, or the pipeline alone.
+    pub fn numbered(&self) -> String {
+        match self.number {
+            Some(n) => format!("{n}. {}", self.label),
+            None => self.label.clone(),
+        }
+    }
 }
 
 /// The caption values of a row.
@@ -45,14 +57,15 @@ pub(crate) fn caption_values(r: Option<&crate::results::Row>) -> String {
         Some(r) if r.status != "ok" => format!("failed: {}", r.error.replace('\n', " ")),
         Some(r) => {
             let m = &r.metrics;
+            let nan = if m.nan_count > 0 { format!(" · {} non-finite hits", m.nan_count) } else { String::new() };
             format!(
-                "{}² · mean {} ms · mse_dissertation_mean {} · ref_err_t_rms {} · missed_rate {} · nan_count {}",
-                m.size,
+                "{} ms (median; mean {}) · t error {} (RMS) · missed {} · MSE mean {} · {}²{nan}",
+                fmt_ms(m.frame_ms_median),
                 fmt_ms(m.frame_ms_mean),
-                fmt_sci(m.mse_dissertation_mean),
                 fmt_sci(m.ref_err_t_rms),
                 fmt_num(m.missed_rate, 4),
-                m.nan_count
+                fmt_sci(m.mse_dissertation_mean),
+                m.size,
             )
         }
     }
@@ -84,7 +97,8 @@ pub(crate) fn write_all(data: &Data, tables: &[ReportTable], sub: &Path, warning
             let er = load("error.png", warnings);
             let rel = |name: &str, present: bool| present.then(|| format!("{}/{name}", row.map(|r| r.cell_dir.as_str()).unwrap_or("")));
             frames.push(Frame {
-                label: format!("{}. {}", i + 1, e.label),
+                number: Some(i + 1),
+                label: e.label.clone(),
                 frame: rel("frame.png", f.is_some()),
                 error: rel("error.png", er.is_some()),
                 values: caption_values(t.row(data, i)),

@@ -83,11 +83,12 @@ impl TextTable {
         md
     }
 
+    /// The table with its heading (`<hN id=…>` from the title) and notes.
     pub fn to_html(&self, level: usize) -> String {
         let mut h = String::new();
         let lv = level.clamp(1, 6);
         if !self.title.is_empty() {
-            let _ = writeln!(h, "<h{lv} id=\"{}\">{}</h{lv}>", anchor(&self.title), html::esc(&self.title));
+            let _ = writeln!(h, "<h{lv} id=\"{}\">{}</h{lv}>", anchor(&self.title), html::md_inline(&self.title));
         }
         for n in &self.notes {
             let _ = writeln!(h, "<p>{}</p>", html::md_inline(n));
@@ -95,7 +96,15 @@ impl TextTable {
         if self.header.is_empty() {
             return h;
         }
-        h.push_str("<table>\n<thead><tr>");
+        h.push_str(&self.table_html(&format!("{}-table", anchor(&self.title))));
+        h
+    }
+
+    /// The `<table>` alone, sortable by the page's script, with id `id`. A cell that starts
+    /// with a verdict (`holds`, `does not hold`, `not measured`) shows it as a badge.
+    pub fn table_html(&self, id: &str) -> String {
+        let mut h = String::new();
+        let _ = write!(h, "<table class=\"sortable\" id=\"{id}\">\n<thead><tr>");
         for c in &self.header {
             let _ = write!(h, "<th>{}</th>", html::esc(c));
         }
@@ -103,16 +112,22 @@ impl TextTable {
         for r in &self.rows {
             h.push_str("<tr>");
             for c in r {
-                let class = if c.starts_with("holds") {
-                    " class=\"holds\""
-                } else if c.starts_with("does not hold") {
-                    " class=\"fails\""
-                } else if c == "error" {
-                    " class=\"err\""
-                } else {
-                    ""
-                };
-                let _ = write!(h, "<td{class}>{}</td>", html::md_inline(c));
+                let badge = [("holds", "holds"), ("does not hold", "fails"), ("not measured", "nm")]
+                    .into_iter()
+                    .find(|(v, _)| c.starts_with(v) && c[v.len()..].chars().next().is_none_or(|ch| !ch.is_alphanumeric()));
+                match badge {
+                    Some((v, class)) => {
+                        let rest = c[v.len()..].trim_start();
+                        let td = if class == "nm" { String::new() } else { format!(" class=\"{class}\"") };
+                        let _ = write!(h, "<td{td}><span class=\"badge {class}\">{v}</span>{}</td>", html::md_inline(rest));
+                    }
+                    None if c == "error" => {
+                        let _ = write!(h, "<td class=\"err\">error</td>");
+                    }
+                    None => {
+                        let _ = write!(h, "<td>{}</td>", html::md_inline(c));
+                    }
+                }
             }
             h.push_str("</tr>\n");
         }
