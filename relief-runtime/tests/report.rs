@@ -777,28 +777,28 @@ fn the_answer_names_the_fastest_pipeline_at_each_accuracy_and_the_engine_familys
     assert_eq!(own.len(), 4, "{own:?}");
     // Level 3e-2: the family's linear_dynamic(1, 16)+binary(5) is the fastest of all.
     assert_eq!(own[0][1], "`linear_dynamic(1, 16)+binary(5)`");
-    assert_eq!(own[0][8], "1× (the fastest is in the family)");
+    assert_eq!(own[0][10], "1× (the fastest is in the family)");
     // 1e-2: csm(16) at 1.5 ms; the family's best there is linear_dynamic(1, 64)+binary(5) at
     // 2.0 ms: 2.0 / 1.5 = 1.33. linear_dynamic(8, 32) and interval(2) are not the family.
     assert_eq!((own[1][1].as_str(), own[1][2].as_str()), ("`csm(16)`", "1.500"));
-    assert_eq!((own[1][5].as_str(), own[1][6].as_str()), ("`linear_dynamic(1, 64)+binary(5)`", "2.000"));
-    assert_eq!(own[1][8], "1.33×");
+    assert_eq!((own[1][6].as_str(), own[1][7].as_str()), ("`linear_dynamic(1, 64)+binary(5)`", "2.000"));
+    assert_eq!(own[1][10], "1.33×");
     // 1e-3: linear_dynamic(1, 32)+interval(2) (1.9 ms, 3e-3) does not reach it; qcsm(32) at
     // 2.5 ms does; the family gets there with 256 layers at 6.0 ms: 2.40×. The shadow, lod and
     // silhouette rows (0.1 ms, exact) never compete.
     assert_eq!(own[2][1], "`qcsm(32)`");
-    assert_eq!(own[2][5], "`linear_dynamic(1, 256)+interval(1)`");
-    assert_eq!(own[2][8], "2.40×");
+    assert_eq!(own[2][6], "`linear_dynamic(1, 256)+interval(1)`");
+    assert_eq!(own[2][10], "2.40×");
     // 1e-6: only csm(64); the family never gets there although it was measured.
     assert_eq!(own[3][1], "`csm(64)`");
-    assert_eq!(own[3][5], "unreachable");
-    assert_eq!(own[3][8], "family unreachable");
+    assert_eq!(own[3][6], "unreachable");
+    assert_eq!(own[3][10], "family unreachable");
     assert!(md.contains("Left out, their error or frame time is not a finite number: `sphere(16)`."));
     // At 70° no row of the family was measured: "not measured", not "unreachable".
     let at70 = section("### Fastest at each accuracy: rocks, 70°, 32²");
     assert_eq!(at70[0][1], "`csm(16)`");
-    assert_eq!(at70[0][5], "not measured");
-    assert_eq!(at70[0][8], "family not measured");
+    assert_eq!(at70[0][6], "not measured");
+    assert_eq!(at70[0][10], "family not measured");
     assert_eq!(at70[1][1], "`csm(64)`");
 
     // The page: the answer comes first, its overview table before any other section, one row
@@ -827,6 +827,69 @@ fn the_answer_names_the_fastest_pipeline_at_each_accuracy_and_the_engine_familys
     let key = &key[..key.find("</ol>").unwrap()];
     assert!(key.contains("<code>csm(64)</code> 3.000 ms"), "{key}");
     assert!(!key.contains("no room"), "{key}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Under paired timing the answer ranks by each row's ratio to the baseline, not by the
+/// medians of separate runs, and the family's multiple is the quotient of two ratios with its
+/// interval: decided where the interval clears 1, "not decided" where it reaches 1. One row
+/// timed alone puts its scene back on medians.
+#[test]
+fn the_answer_ranks_by_paired_ratios_and_says_not_decided_where_the_interval_reaches_one() {
+    let rocks = "scene:rocks";
+    // (pipeline, median ms, ratio, lo, hi, t error)
+    let cells = [
+        ("linear_dynamic(1, 16)+binary(5)", 1.0, 1.00, 0.98, 1.02, 2e-2),
+        // csm(16)'s median is the slower of the two, its paired ratio the faster.
+        ("csm(16)", 1.8, 1.10, 1.08, 1.12, 8e-3),
+        ("linear_dynamic(1, 64)+binary(5)", 1.5, 1.20, 1.17, 1.23, 5e-3),
+        ("qcsm(32)", 2.0, 1.60, 1.55, 1.65, 2e-4),
+        ("linear_dynamic(1, 256)+interval(1)", 3.0, 1.65, 1.55, 1.75, 5e-4),
+        ("csm(64)", 2.5, 2.00, 1.96, 2.04, 3e-8),
+    ];
+    let mut rows: Vec<Row> = cells
+        .iter()
+        .map(|&(p, ms, r, lo, hi, t)| {
+            let mut row = answer_row(rocks, p, ms, t);
+            with_ratio(&mut row.metrics, r, lo, hi);
+            row
+        })
+        .collect();
+    // At 70°: the same two rows, one of them timed alone.
+    let at70 = "scene:rocks@angle=70";
+    let mut timed = answer_row(at70, "csm(16)", 1.8, 8e-3);
+    with_ratio(&mut timed.metrics, 1.10, 1.08, 1.12);
+    rows.push(timed);
+    rows.push(answer_row(at70, "linear_dynamic(1, 64)+binary(5)", 1.5, 5e-3));
+    let dir = fresh_dir("answer-paired");
+    write_rows(&dir, &rows, false);
+    report::write(&dir).expect("report");
+    let md = std::fs::read_to_string(dir.join("tables.md")).unwrap();
+    let section = |title: &str| -> Vec<Vec<String>> {
+        let start = md.find(title).unwrap_or_else(|| panic!("{title} missing from\n{md}"));
+        md[start..].lines().skip_while(|l| !l.starts_with("| accuracy")).skip(2).take_while(|l| l.starts_with('|')).map(md_line_cells).collect()
+    };
+    let own = section("### Fastest at each accuracy: rocks, 45°, 32²");
+    assert_eq!(own[0][10], "1× (the fastest is in the family)");
+    // 1e-2: csm(16) by its ratio 1.10 (its median, 1.8 ms, is above the family's 1.5 ms).
+    assert_eq!((own[1][1].as_str(), own[1][2].as_str(), own[1][3].as_str()), ("`csm(16)`", "1.800", "1.100 [1.080, 1.120]"));
+    assert_eq!(own[1][6], "`linear_dynamic(1, 64)+binary(5)`");
+    // 1.20 / 1.10 = 1.09; the log half-widths (0.0092 and 0.0125 in ln, over t(0.975, 19))
+    // add in quadrature: the interval is about [1.06, 1.12], clear of 1.
+    assert!(own[1][10].starts_with("1.09× [1.0") && !own[1][10].contains("not decided"), "{}", own[1][10]);
+    let bounds: Vec<f64> = own[1][10].trim_start_matches("1.09× [").trim_end_matches(']').split(", ").map(|x| x.parse().unwrap()).collect();
+    assert!(bounds[0] > 1.04 && bounds[0] < 1.08 && bounds[1] > 1.10 && bounds[1] < 1.14, "{bounds:?}");
+    // 1e-3: qcsm(32) at 1.60 against the family's 1.65: 3 % apart with intervals of ±3 % and
+    // ±6 %: not decided.
+    assert_eq!((own[2][1].as_str(), own[2][6].as_str()), ("`qcsm(32)`", "`linear_dynamic(1, 256)+interval(1)`"));
+    assert!(own[2][10].starts_with("not decided: 1.03× ["), "{}", own[2][10]);
+    assert!(md.contains("timed in alternating blocks"), "the note says how rows are timed");
+    // At 70° one row has no ratio: medians rank, the ratio is a point, the column is empty.
+    let a70 = section("### Fastest at each accuracy: rocks, 70°, 32²");
+    assert_eq!((a70[1][1].as_str(), a70[1][3].as_str()), ("`linear_dynamic(1, 64)+binary(5)`", "—"));
+    assert_eq!(a70[0][1], "`linear_dynamic(1, 64)+binary(5)`");
+    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    assert!(html.contains("<code>csm(16)</code> 1.800 ms · 1.10× baseline<span class=\"fam\">engine family: 1.09× ["), "overview cell");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

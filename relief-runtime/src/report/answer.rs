@@ -14,6 +14,7 @@ use relief_dsl::Pipeline;
 
 use super::{fmt_ms, fmt_num, fmt_sci, short_scene, stage_steps, Data, TextTable};
 use crate::results::Row;
+use crate::timing::Ratio;
 
 /// The engine family in words, as every part of the report names it.
 pub(crate) const ENGINE_FAMILY: &str = "`linear_dynamic(1, N)` + `interval(1)` or `binary(k)`";
@@ -53,33 +54,72 @@ pub(crate) fn levels() -> Vec<Level> {
     ]
 }
 
-/// How fast a row is, as the answer ranks it: today the median frame time of the row's one
-/// run (`interval` none). A measure with a confidence interval (a paired ratio to a baseline)
-/// goes here; two rows whose intervals overlap are then "not decided".
+/// How fast a row is, as the answer ranks it: its frame time over the baseline's, timed in
+/// alternating blocks in the row's own run, with its 95 % interval ([`Ratio::to_baseline`]),
+/// when every competing row of the answer has one to one baseline; else the median frame
+/// time of the row's one run, a point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Speed {
-    /// What ranks: smaller is faster.
-    pub value: f64,
-    /// A 95 % interval of `value`, when the row has one.
-    pub interval: Option<(f64, f64)>,
+    /// The median frame time in ms (shown; it ranks only without paired timing).
+    pub ms: f64,
+    /// The paired ratio to the baseline, when the answer ranks by it.
+    pub paired: Option<Ratio>,
 }
 
 impl Speed {
-    pub fn of(r: &Row) -> Speed {
-        Speed { value: r.metrics.frame_ms_median, interval: None }
+    /// What ranks: smaller is faster.
+    pub fn rank(&self) -> f64 {
+        self.paired.map_or(self.ms, |r| r.ratio)
     }
 
-    /// Whether the two speeds cannot be told apart: both have intervals and they overlap.
-    pub fn undecided(&self, other: &Speed) -> bool {
-        match (self.interval, other.interval) {
-            (Some((a0, a1)), Some((b0, b1))) => a0 <= b1 && b0 <= a1,
-            _ => false,
+    /// `self`'s frame time over `other`'s: the quotient of the two paired ratios with its
+    /// interval ([`Ratio::over`]; the baseline cancels), or the quotient of the medians as a
+    /// point when either was timed alone.
+    pub fn over(&self, other: &Speed) -> Ratio {
+        match (self.paired, other.paired) {
+            (Some(a), Some(b)) => a.over(&b),
+            _ => Ratio::point(self.ms / other.ms),
         }
     }
 }
 
-/// What the answer says a speed is, in the table's words.
+/// `1.33×`, `1.33× [1.20, 1.47]`, or `not decided: 1.05× [0.97, 1.14]` where the interval
+/// reaches 1 (the two cannot be told apart in this run).
+pub(crate) fn fmt_times(r: &Ratio) -> String {
+    if !(r.lo.is_finite() && r.hi.is_finite()) {
+        return format!("{}×", fmt_num(r.ratio, 2));
+    }
+    let body = format!("{}× [{}, {}]", fmt_num(r.ratio, 2), fmt_num(r.lo, 2), fmt_num(r.hi, 2));
+    if r.lo <= 1.0 && 1.0 <= r.hi {
+        format!("not decided: {body}")
+    } else {
+        body
+    }
+}
+
+/// How an answer's rows are timed.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Clock {
+    /// Every competing row has a paired ratio to this baseline.
+    Paired(String),
+    /// Median frame times of one run each.
+    Median,
+}
+
+impl Clock {
+    /// What the answer ranks by, in the table's words.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Clock::Paired(_) => RATIO_NAME,
+            Clock::Median => SPEED_NAME,
+        }
+    }
+}
+
+/// A median frame time, in the table's words.
 pub(crate) const SPEED_NAME: &str = "frame ms (median)";
+/// A paired ratio to the baseline, in the table's words.
+pub(crate) const RATIO_NAME: &str = "frame ÷ baseline (95 %)";
 
 /// One competing row.
 pub(crate) struct Cand {
@@ -110,6 +150,8 @@ pub(crate) struct Answer {
     pub cands: Vec<Cand>,
     /// Whether any engine-family row was measured here.
     pub engine_measured: bool,
+    /// How the rows are timed (what "fastest" ranks by).
+    pub clock: Clock,
     /// One per [`levels`].
     pub picks: Vec<Pick>,
     /// Competing rows left out because their error or frame time is not a finite number.
@@ -124,7 +166,7 @@ impl Answer {
         self.cands
             .iter()
             .find(|c| c.err <= 1e-6 && c.missed == 0.0)
-            .or_else(|| self.cands.iter().min_by(|a, b| a.err.total_cmp(&b.err).then(a.speed.value.total_cmp(&b.speed.value))))
+            .or_else(|| self.cands.iter().min_by(|a, b| a.err.total_cmp(&b.err).then(a.speed.rank().total_cmp(&b.speed.rank()))))
     }
 }
 
@@ -159,16 +201,19 @@ pub(crate) fn build(data: &Data) -> Vec<Answer> {
     let mut out = Vec::new();
     for scene in data.scenes() {
         for size in data.sizes_of(&scene) {
+            let rows: Vec<(&Row, Pipeline)> = data
+                .rows
+                .iter()
+                .filter(|r| r.status == "ok" && r.metrics.scene == scene && r.metrics.size == size && data.is_indexed(r))
+                .filter_map(|r| r.metrics.pipeline.parse::<Pipeline>().ok().filter(competes).map(|p| (r, p)))
+                .collect();
+            let clock = clock_of(rows.iter().map(|(r, _)| *r));
             let mut cands = Vec::new();
             let mut not_finite = Vec::new();
             let mut adapters: Vec<String> = Vec::new();
-            for r in data.rows.iter().filter(|r| r.status == "ok" && r.metrics.scene == scene && r.metrics.size == size && data.is_indexed(r)) {
-                let Ok(p) = r.metrics.pipeline.parse::<Pipeline>() else { continue };
-                if !competes(&p) {
-                    continue;
-                }
-                let speed = Speed::of(r);
-                if !(speed.value.is_finite() && r.metrics.ref_err_t_rms.is_finite()) {
+            for (r, p) in rows {
+                let speed = Speed { ms: r.metrics.frame_ms_median, paired: if clock == Clock::Median { None } else { Ratio::to_baseline(&r.metrics) } };
+                if !(speed.rank().is_finite() && r.metrics.ref_err_t_rms.is_finite()) {
                     not_finite.push(r.metrics.pipeline.clone());
                     continue;
                 }
@@ -187,7 +232,7 @@ pub(crate) fn build(data: &Data) -> Vec<Answer> {
             if cands.is_empty() && not_finite.is_empty() {
                 continue;
             }
-            cands.sort_by(|a, b| a.speed.value.total_cmp(&b.speed.value).then(a.err.total_cmp(&b.err)));
+            cands.sort_by(|a, b| a.speed.rank().total_cmp(&b.speed.rank()).then(a.err.total_cmp(&b.err)));
             let row_of = |c: &Cand| data.ok(&c.pipeline, &scene, size);
             let picks = levels()
                 .iter()
@@ -204,6 +249,7 @@ pub(crate) fn build(data: &Data) -> Vec<Answer> {
             out.push(Answer {
                 id: format!("answer-{}", super::anchor(&format!("{scene} s{size}"))),
                 engine_measured: cands.iter().any(|c| c.engine),
+                clock: clock.clone(),
                 scene: scene.clone(),
                 size,
                 title,
@@ -218,30 +264,48 @@ pub(crate) fn build(data: &Data) -> Vec<Answer> {
     out
 }
 
-/// The engine family's column at one level: its fastest pipeline, or why there is none.
-fn engine_cell(a: &Answer, pick: &Pick) -> (String, String, String) {
-    match pick.engine {
-        Some(j) => {
-            let e = &a.cands[j];
-            (format!("`{}`", e.pipeline), fmt_ms(e.speed.value), fmt_sci(e.err))
+/// How the rows of one answer are timed: by their paired ratios when every one has a ratio
+/// to the same baseline (ratios to different baselines, or a row timed alone, do not
+/// compare), by median frame times otherwise.
+fn clock_of<'a>(rows: impl Iterator<Item = &'a Row>) -> Clock {
+    let mut base: Option<&str> = None;
+    for r in rows {
+        let m = &r.metrics;
+        if m.frame_ratio_to_baseline.is_none() || m.baseline.is_empty() || base.is_some_and(|b| b != m.baseline) {
+            return Clock::Median;
         }
-        None if a.engine_measured => ("unreachable".into(), String::new(), String::new()),
-        None => ("not measured".into(), String::new(), String::new()),
+        base = Some(&m.baseline);
+    }
+    base.map_or(Clock::Median, |b| Clock::Paired(b.to_string()))
+}
+
+/// A row's ratio to the baseline as the tables print it, `—` without one.
+fn fmt_paired(c: &Cand) -> String {
+    match c.speed.paired {
+        Some(r) if r.lo.is_finite() && r.hi.is_finite() => format!("{} [{}, {}]", fmt_num(r.ratio, 3), fmt_num(r.lo, 3), fmt_num(r.hi, 3)),
+        Some(r) => fmt_num(r.ratio, 3),
+        None => "—".into(),
     }
 }
 
-/// The ratio of the engine family's frame time to the fastest's at one level.
+/// The engine family's column at one level: its fastest pipeline, or why there is none.
+fn engine_cell(a: &Answer, pick: &Pick) -> [String; 4] {
+    match pick.engine {
+        Some(j) => {
+            let e = &a.cands[j];
+            [format!("`{}`", e.pipeline), fmt_ms(e.speed.ms), fmt_paired(e), fmt_sci(e.err)]
+        }
+        None if a.engine_measured => ["unreachable".into(), String::new(), String::new(), String::new()],
+        None => ["not measured".into(), String::new(), String::new(), String::new()],
+    }
+}
+
+/// The ratio of the engine family's frame time to the fastest's at one level: with its
+/// 95 % interval under paired timing, "not decided" where that interval reaches 1.
 pub(crate) fn ratio_cell(a: &Answer, pick: &Pick) -> String {
     match (pick.best, pick.engine) {
         (Some(b), Some(e)) if b == e => "1× (the fastest is in the family)".into(),
-        (Some(b), Some(e)) => {
-            let (b, e) = (&a.cands[b], &a.cands[e]);
-            if b.speed.undecided(&e.speed) {
-                "not decided (intervals overlap)".into()
-            } else {
-                format!("{}×", fmt_num(e.speed.value / b.speed.value, 2))
-            }
-        }
+        (Some(b), Some(e)) => fmt_times(&a.cands[e].speed.over(&a.cands[b].speed)),
         (Some(_), None) if a.engine_measured => "family unreachable".into(),
         (Some(_), None) => "family not measured".into(),
         (None, _) => "unreachable".into(),
@@ -252,19 +316,30 @@ pub(crate) fn ratio_cell(a: &Answer, pick: &Pick) -> String {
 pub(crate) fn table(a: &Answer) -> TextTable {
     let mut rows = Vec::new();
     for (l, pick) in levels().iter().zip(&a.picks) {
-        let (bp, bms, berr, bmiss) = match pick.best {
+        let best = match pick.best {
             Some(i) => {
                 let c = &a.cands[i];
-                (format!("`{}`", c.pipeline), fmt_ms(c.speed.value), fmt_sci(c.err), fmt_num(c.missed, 4))
+                [format!("`{}`", c.pipeline), fmt_ms(c.speed.ms), fmt_paired(c), fmt_sci(c.err), fmt_num(c.missed, 4)]
             }
-            None => ("unreachable".into(), String::new(), String::new(), String::new()),
+            None => ["unreachable".into(), String::new(), String::new(), String::new(), String::new()],
         };
-        let (ep, ems, eerr) = engine_cell(a, pick);
-        rows.push(vec![l.name.to_string(), bp, bms, berr, bmiss, ep, ems, eerr, ratio_cell(a, pick)]);
+        let mut row = vec![l.name.to_string()];
+        row.extend(best);
+        row.extend(engine_cell(a, pick));
+        row.push(ratio_cell(a, pick));
+        rows.push(row);
     }
+    let timing = match &a.clock {
+        Clock::Paired(base) => format!(
+            "speed: each row's mean frame time over the baseline `{base}`'s, timed in alternating blocks in the row's own run \
+             ({RATIO_NAME}); the family's ratio to the fastest is the quotient of the two with its 95 % interval, \
+             *not decided* where that interval reaches 1"
+        ),
+        Clock::Median => format!("speed: {SPEED_NAME} of one run (no paired timing), so a ratio near 1 is within the noise"),
+    };
     let mut notes = vec![format!(
-        "{} competing rows ({} of the engine family, {ENGINE_FAMILY}). Accuracy: `ref_err_t_rms`; speed: {SPEED_NAME} of one run{}, \
-         so a ratio near 1 is within the noise. The ratio is the family's frame time over the fastest's.",
+        "{} competing rows ({} of the engine family, {ENGINE_FAMILY}){}. Accuracy: `ref_err_t_rms`; {timing}. \
+         The ratio is the family's frame time over the fastest's.",
         a.cands.len(),
         a.cands.iter().filter(|c| c.engine).count(),
         if a.adapters.is_empty() { String::new() } else { format!(" on {}", a.adapters.join("; ")) },
@@ -282,10 +357,12 @@ pub(crate) fn table(a: &Answer) -> TextTable {
             "accuracy (RMS)",
             "fastest pipeline",
             SPEED_NAME,
+            RATIO_NAME,
             "ref_err_t_rms",
             "missed_rate",
             "fastest of the engine family",
             SPEED_NAME,
+            RATIO_NAME,
             "ref_err_t_rms",
             "family ÷ fastest",
         ]
@@ -348,7 +425,7 @@ pub(crate) fn write_chart(a: &Answer, sub: &std::path::Path, warnings: &mut Vec<
         .map(|(k, &i)| Keyed { number: k + 1, cand: i, on_all: all.contains(&i), on_family: fam.contains(&i), drawn: false })
         .collect();
     let number = |i: usize| numbered.iter().position(|&j| j == i).map(|k| (k + 1).to_string()).unwrap_or_default();
-    let pt = |i: usize, label: String| Pt { x: a.cands[i].speed.value, y: a.cands[i].err, label };
+    let pt = |i: usize, label: String| Pt { x: a.cands[i].speed.rank(), y: a.cands[i].err, label };
     let mut series = vec![Series {
         name: "every competing row".into(),
         points: (0..a.cands.len()).map(|i| pt(i, String::new())).collect(),
@@ -365,7 +442,7 @@ pub(crate) fn write_chart(a: &Answer, sub: &std::path::Path, warnings: &mut Vec<
         });
     }
     series.push(Series { name: "Pareto front".into(), points: all.iter().map(|&i| pt(i, number(i))).collect(), line: Line::Step, faint: false });
-    let chart = svg_chart_axes(&format!("Frame time against t error: {}", a.title), SPEED_NAME, "ref_err_t_rms", &series, true);
+    let chart = svg_chart_axes(&format!("Frame time against t error: {}", a.title), a.clock.name(), "ref_err_t_rms", &series, true);
     let name = format!("answer_{}.svg", super::file_safe(&format!("{}_s{}", short_scene(&a.scene), a.size)));
     for k in key.iter_mut() {
         k.drawn = chart.labels.iter().any(|(text, _)| *text == k.number.to_string());
@@ -445,14 +522,21 @@ mod tests {
     }
 
     #[test]
-    fn speeds_with_overlapping_intervals_are_not_decided() {
-        let a = Speed { value: 1.0, interval: Some((0.9, 1.1)) };
-        let b = Speed { value: 1.2, interval: Some((1.05, 1.3)) };
-        let c = Speed { value: 1.5, interval: Some((1.4, 1.6)) };
-        assert!(a.undecided(&b) && b.undecided(&a));
-        assert!(!a.undecided(&c));
-        // One run, no interval: decided by the values (and said to be one run).
-        let d = Speed { value: 1.0, interval: None };
-        assert!(!d.undecided(&a));
+    fn the_family_over_the_fastest_is_the_quotient_of_their_paired_ratios() {
+        let paired = |ratio: f64, lo: f64, hi: f64| Speed { ms: 9.0, paired: Some(Ratio { ratio, lo, hi, pairs: 15 }) };
+        // Both to one baseline: 1.5 / 1.0, and the interval of the quotient is wider than
+        // either's: the log half-widths add in quadrature.
+        let (fast, slow) = (paired(1.0, 0.98, 1.02), paired(1.5, 1.47, 1.53));
+        let q = slow.over(&fast);
+        assert!((q.ratio - 1.5).abs() < 1e-12);
+        let half = |r: &Ratio| (r.hi / r.lo).ln() / 2.0;
+        assert!(half(&q) > half(&Ratio { ratio: 1.5, lo: 1.47, hi: 1.53, pairs: 15 }));
+        assert!(fmt_times(&q).starts_with("1.50× ["), "{}", fmt_times(&q));
+        // Estimates 3 % apart with intervals of ±5 %: not decided.
+        let close = slow.over(&paired(1.45, 1.38, 1.52));
+        assert!(fmt_times(&close).starts_with("not decided: 1.03× ["), "{}", fmt_times(&close));
+        // Timed alone: the medians' quotient, a point.
+        let alone = |ms: f64| Speed { ms, paired: None };
+        assert_eq!(fmt_times(&alone(2.0).over(&alone(1.5))), "1.33×");
     }
 }

@@ -213,7 +213,15 @@ fn overview_cell(a: &Answer, k: usize) -> String {
         Some(e) => format!("engine family: {} the time (<code>{}</code>)", esc(&answer::ratio_cell(a, pick)), esc(&a.cands[e].pipeline)),
         None => esc(&answer::ratio_cell(a, pick)),
     };
-    format!("<td><code>{}</code> {} ms<span class=\"fam\">{fam}</span></td>", esc(&c.pipeline), fmt_ms(c.speed.value))
+    format!("<td><code>{}</code> {}<span class=\"fam\">{fam}</span></td>", esc(&c.pipeline), esc(&speed_words(c)))
+}
+
+/// `1.234 ms`, or `1.234 ms · 0.81× baseline` under paired timing.
+fn speed_words(c: &answer::Cand) -> String {
+    match c.speed.paired {
+        Some(r) => format!("{} ms · {}× baseline", fmt_ms(c.speed.ms), super::fmt_num(r.ratio, 2)),
+        None => format!("{} ms", fmt_ms(c.speed.ms)),
+    }
 }
 
 fn answer_section(p: &Parts) -> Section {
@@ -226,10 +234,11 @@ fn answer_section(p: &Parts) -> Section {
     let _ = writeln!(
         h,
         "<p>For each scene and view, the fastest measured pipeline whose RMS t error (<code>ref_err_t_rms</code>) is at most each \
-         level, its {}, and how the engine family ({}) compares: its fastest pipeline at that level as a multiple of that time, \
-         or <i>unreachable</i> where none of its rows gets there (<i>not measured</i>: no row of it here). Frame times are \
-         medians of one run; ratios near 1 are within the noise.</p>",
-        answer::SPEED_NAME,
+         level, its median frame time, and how the engine family ({}) compares: its fastest pipeline at that level as a multiple \
+         of that time, or <i>unreachable</i> where none of its rows gets there (<i>not measured</i>: no row of it here). Where the \
+         sweep timed every row against one baseline in alternating blocks, “fastest” ranks by that paired ratio (<code>× \
+         baseline</code>), the family's multiple carries its 95 % interval and is <i>not decided</i> where the interval reaches \
+         1; otherwise frame times are medians of one run and a multiple near 1 is within the noise.</p>",
         md_inline(answer::ENGINE_FAMILY)
     );
     h.push_str("<table class=\"answer sortable\" id=\"answer-table\"><thead><tr><th>scene, view, size</th>");
@@ -264,7 +273,7 @@ fn answer_section(p: &Parts) -> Section {
                 label: c.pipeline.clone(),
                 frame: Some(format!("{}/frame.png", c.cell_dir)).filter(|f| p.data.dir.join(f).is_file()),
                 error: Some(format!("{}/error.png", c.cell_dir)).filter(|f| p.data.dir.join(f).is_file()),
-                values: format!("{what}: {} ms · t error {} · missed {}", fmt_ms(c.speed.value), fmt_sci(c.err), super::fmt_num(c.missed, 4)),
+                values: format!("{what}: {} · t error {} · missed {}", speed_words(c), fmt_sci(c.err), super::fmt_num(c.missed, 4)),
             };
             h.push_str(&shot(&fr));
         }
@@ -285,12 +294,12 @@ fn answer_section(p: &Parts) -> Section {
                 let c = &a.cands[k.cand];
                 let _ = write!(
                     h,
-                    "<li value=\"{}\">{}{} <code>{}</code> {} ms · {}{}</li>",
+                    "<li value=\"{}\">{}{} <code>{}</code> {} · {}{}</li>",
                     k.number,
                     if k.on_all { "●" } else { "" },
                     if k.on_family { "◆" } else { "" },
                     esc(&c.pipeline),
-                    fmt_ms(c.speed.value),
+                    esc(&speed_words(c)),
                     fmt_sci(c.err),
                     if k.drawn { "" } else { " <small>(no room for its number in the chart)</small>" }
                 );
