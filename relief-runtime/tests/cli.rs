@@ -82,6 +82,8 @@ fn bad_input_gives_one_line_and_a_failure() {
         vec!["render", "linear(8)"],
         vec!["sweep", "--grid", "no_such_grid", "--out", "/tmp/relief-x"],
         vec!["report", "/tmp/relief-no-such-sweep-folder"],
+        vec!["serve", "/tmp/relief-no-such-report-folder"],
+        vec!["serve", "/etc/hostname"],
         vec!["frobnicate"],
     ] {
         let o = relief().args(&args).output().unwrap();
@@ -153,4 +155,98 @@ fn render_writes_the_depth_of_the_hit() {
     let m: serde_json::Value = serde_json::from_slice(&std::fs::read(dir.join("plain/metrics.json")).unwrap()).unwrap();
     assert!(m.get("depth_err_max").is_none());
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A raw HTTP/1.1 request to 127.0.0.1:`port` (the target sent as given, unnormalised):
+/// the status code, the headers and the body.
+fn http(port: u16, request: &str) -> (u16, String, Vec<u8>) {
+    use std::io::{Read, Write};
+    let mut s = std::net::TcpStream::connect(("127.0.0.1", port)).unwrap();
+    s.set_read_timeout(Some(std::time::Duration::from_secs(20))).unwrap();
+    s.write_all(request.as_bytes()).unwrap();
+    let mut reply = Vec::new();
+    s.read_to_end(&mut reply).unwrap();
+    let split = reply.windows(4).position(|w| w == b"\r\n\r\n").unwrap_or_else(|| panic!("no head in {reply:?}"));
+    let head = String::from_utf8(reply[..split].to_vec()).unwrap();
+    let code = head.split_whitespace().nth(1).unwrap().parse().unwrap();
+    (code, head, reply[split + 4..].to_vec())
+}
+
+fn get(port: u16, target: &str) -> (u16, String, Vec<u8>) {
+    http(port, &format!("GET {target} HTTP/1.1\r\nHost: localhost\r\n\r\n"))
+}
+
+/// The server stops when the test ends, passed or not.
+struct Serving(std::process::Child);
+impl Drop for Serving {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+#[test]
+fn serve_answers_files_inside_its_folder_and_nothing_outside() {
+    use std::io::BufRead;
+    let base = tmp("serve");
+    let (root, outside) = (base.join("report"), base.join("outside"));
+    std::fs::create_dir_all(root.join("report")).unwrap();
+    std::fs::create_dir_all(&outside).unwrap();
+    std::fs::write(root.join("index.html"), "<!DOCTYPE html><title>r</title>").unwrap();
+    std::fs::write(root.join("report/a b.svg"), "<svg xmlns=\"http://www.w3.org/2000/svg\"/>").unwrap();
+    std::fs::write(outside.join("secret.txt"), "SECRET").unwrap();
+    // Links that lead out of the folder, to a file and to a folder; one that stays inside.
+    std::os::unix::fs::symlink("../outside/secret.txt", root.join("out-file")).unwrap();
+    std::os::unix::fs::symlink("../outside", root.join("out-dir")).unwrap();
+    std::os::unix::fs::symlink("index.html", root.join("in-link.html")).unwrap();
+
+    let mut child = relief().args(["serve", "--port", "0"]).arg(&root).stdout(std::process::Stdio::piped()).spawn().unwrap();
+    let stdout = child.stdout.take().unwrap();
+    let _serving = Serving(child);
+    let mut line = String::new();
+    std::io::BufReader::new(stdout).read_line(&mut line).unwrap();
+    let url = line.split_whitespace().find(|w| w.starts_with("http://")).unwrap_or_else(|| panic!("no URL in {line:?}"));
+    let port: u16 = url.trim_start_matches("http://127.0.0.1:").trim_end_matches([';', '/']).parse().unwrap_or_else(|_| panic!("not 127.0.0.1: {url}"));
+
+    let (code, head, body) = get(port, "/");
+    assert_eq!((code, body.as_slice()), (200, b"<!DOCTYPE html><title>r</title>".as_slice()));
+    assert!(head.contains("Content-Type: text/html"), "{head}");
+    let (code, head, _) = get(port, "/report/a%20b.svg?x=1#top");
+    assert_eq!(code, 200);
+    assert!(head.contains("Content-Type: image/svg+xml"), "{head}");
+    assert_eq!(get(port, "/in-link.html").0, 200, "a link inside the folder is served");
+    let (code, _, body) = http(port, "HEAD /index.html HTTP/1.1\r\n\r\n");
+    assert_eq!((code, body.len()), (200, 0));
+
+    for target in [
+        "/../outside/secret.txt",
+        "/report/../../outside/secret.txt",
+        "/%2e%2e/outside/secret.txt",
+        "/report%2F..%2F..%2Foutside%2Fsecret.txt",
+        "/..%5Coutside%5Csecret.txt",
+        &format!("/{}", outside.join("secret.txt").display()),
+        &format!("/%2F{}", outside.join("secret.txt").display().to_string().trim_start_matches('/')),
+        "/out-file",
+        "/out-dir/secret.txt",
+        "/no-such-file.html",
+        "/report",
+        "/%zz",
+        "relative.html",
+    ] {
+        let (code, _, body) = get(port, target);
+        assert_eq!(code, 404, "{target}");
+        assert!(!String::from_utf8_lossy(&body).contains("SECRET"), "{target}");
+    }
+    assert_eq!(http(port, "POST /index.html HTTP/1.1\r\nContent-Length: 0\r\n\r\n").0, 405);
+    assert_eq!(http(port, "nonsense\r\n\r\n").0, 400);
+    // Bound to 127.0.0.1 itself: another loopback address is refused.
+    assert!(std::net::TcpStream::connect(("127.0.0.2", port)).is_err(), "listening beyond 127.0.0.1");
+
+    // A port in use: one line naming it, and a failure.
+    let o = relief().args(["serve", "--port", &port.to_string()]).arg(&root).output().unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.starts_with("relief: error:") && err.contains(&format!("port {port}")) && err.contains("in use"), "{err}");
+    std::fs::remove_dir_all(&base).ok();
 }

@@ -8,6 +8,7 @@ mod maps;
 mod render;
 mod report;
 mod room;
+mod serve;
 mod stability;
 mod sweep;
 
@@ -40,6 +41,9 @@ enum Command {
     /// A room behind a window, interior mapping with relief on every wall (Amaro & Gustafsson 2022), against
     /// the same room as real geometry: frame.png, baseline.png, diff.png, metrics.json.
     Room(room::RoomArgs),
+    /// Serve a report folder on this machine over HTTP (127.0.0.1 unless `--bind` says
+    /// otherwise): files inside the folder only; prints the URL.
+    Serve(serve::ServeArgs),
 }
 
 /// The scene overrides `relief render` and `relief sweep` take (a sweep applies them to
@@ -98,6 +102,7 @@ fn main() {
         Command::Stability(a) => stability::run(a),
         Command::Report(a) => report::run(a),
         Command::Room(a) => room::run(a),
+        Command::Serve(a) => serve::run(a),
     };
     if let Err(e) = result {
         // One line: the error and its causes.
