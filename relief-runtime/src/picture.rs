@@ -1,7 +1,14 @@
 //! Pictures drawn from measurements (a leaf): the error map written as `error.png`.
 
-/// Per-pixel |t − t_ref| as a heat map (log scale, black = exact, yellow = the largest
-/// error, magenta = no finite hit), with a legend bar and its range below the image.
+/// The error map's colour scale, the same in every picture so that one colour means one
+/// error on the whole report page: black at or below `lo` (1e-6, the report's "exact"
+/// level), yellow at `hi` (1, a whole ray length) and beyond, logarithmic between (a
+/// decade is a sixth of the bar).
+pub const ERROR_SCALE: (f64, f64) = (1e-6, 1.0);
+
+/// Per-pixel |t − t_ref| as a heat map on [`ERROR_SCALE`] (black = exact, red = 1e-3,
+/// yellow = 1 or more, magenta = no finite hit), with a legend bar and its range below the
+/// image.
 pub fn error_map(size: u32, errors: &[(u32, u32, f64)]) -> (u32, u32, Vec<u8>) {
     let legend_h = 24u32;
     let (w, h) = (size.max(96), size + legend_h);
@@ -9,8 +16,7 @@ pub fn error_map(size: u32, errors: &[(u32, u32, f64)]) -> (u32, u32, Vec<u8>) {
     for px in img.chunks_mut(4) {
         px.copy_from_slice(&[40, 40, 48, 255]);
     }
-    let max = errors.iter().map(|e| e.2).filter(|e| e.is_finite()).fold(1e-9, f64::max);
-    let lo = (max * 1e-4).max(1e-9);
+    let (lo, max) = ERROR_SCALE;
     let scale = |e: f64| ((e.max(lo) / lo).ln() / (max / lo).ln()).clamp(0.0, 1.0);
     let mut put = |x: u32, y: u32, c: [u8; 3]| {
         if x < w && y < h {
@@ -19,7 +25,7 @@ pub fn error_map(size: u32, errors: &[(u32, u32, f64)]) -> (u32, u32, Vec<u8>) {
         }
     };
     for &(x, y, e) in errors {
-        let c = if e.is_finite() { heat(if e <= lo { 0.0 } else { scale(e) }) } else { [255, 0, 255] };
+        let c = if e.is_finite() { heat(scale(e)) } else { [255, 0, 255] };
         put(x, y, c);
     }
     // Legend: the colour bar from `lo` (left) to `max` (right), labelled with both.
@@ -29,7 +35,7 @@ pub fn error_map(size: u32, errors: &[(u32, u32, f64)]) -> (u32, u32, Vec<u8>) {
         }
     }
     draw_text(&mut put, 2, size + 11, &format!("{lo:.0e}"));
-    let label = format!("{max:.1e}");
+    let label = format!("{max:.0e}");
     draw_text(&mut put, w.saturating_sub(4 * label.len() as u32 + 2), size + 11, &label);
     (w, h, img)
 }
@@ -71,5 +77,37 @@ fn draw_text(put: &mut impl FnMut(u32, u32, [u8; 3]), x0: u32, y0: u32, s: &str)
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The colour of pixel (x, 0) of an error map.
+    fn colour(map: &(u32, u32, Vec<u8>), x: u32) -> [u8; 3] {
+        let i = (x * 4) as usize;
+        [map.2[i], map.2[i + 1], map.2[i + 2]]
+    }
+
+    #[test]
+    fn one_error_has_one_colour_in_every_map() {
+        // Three decades above 1e-6 is half the bar: pure red; 1e-6 and below black; 1 and
+        // above yellow; no finite hit magenta.
+        let errors = [(0, 0, 1e-9), (1, 0, 1e-6), (2, 0, 1e-3), (3, 0, 1.0), (4, 0, 7.0), (5, 0, f64::INFINITY), (6, 0, f64::NAN)];
+        let map = error_map(96, &errors);
+        assert_eq!(colour(&map, 0), [0, 0, 0]);
+        assert_eq!(colour(&map, 1), [0, 0, 0]);
+        let red = colour(&map, 2);
+        assert!(red[0] >= 254 && red[1] <= 1, "{red:?}");
+        assert_eq!(colour(&map, 3), [255, 255, 80]);
+        assert_eq!(colour(&map, 4), [255, 255, 80]);
+        assert_eq!(colour(&map, 5), [255, 0, 255]);
+        assert_eq!(colour(&map, 6), [255, 0, 255]);
+        // The same error beside a near-exact neighbour or beside a gross one: the same colour.
+        let quiet = error_map(96, &[(0, 0, 1e-4), (1, 0, 1e-7)]);
+        let loud = error_map(96, &[(0, 0, 1e-4), (1, 0, 0.5)]);
+        assert_eq!(colour(&quiet, 0), colour(&loud, 0));
+        assert_eq!(colour(&quiet, 1), [0, 0, 0]);
     }
 }

@@ -395,8 +395,8 @@ fn tables_section(p: &Parts) -> Section {
             let _ = writeln!(
                 after,
                 "<h4>Pictures: frame and error of each row</h4><p><small>{} of {} rows with images; click a picture for full size; \
-                 <a href=\"{f}\">all rows as one image</a>. Error images: black = exact, yellow = the largest |t − t_ref|, \
-                 magenta = no finite hit.</small></p><div class=\"shots\">",
+                 <a href=\"{f}\">all rows as one image</a>. Error images, one scale for all: |t − t_ref| black at 1e-6 or \
+                 less, red at 1e-3, yellow at 1 (log scale), magenta = no finite hit.</small></p><div class=\"shots\">",
                 st.with_images,
                 st.rows.len(),
                 f = esc(&st.file)
