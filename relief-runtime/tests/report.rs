@@ -883,6 +883,10 @@ fn the_answer_ranks_by_paired_ratios_and_says_not_decided_where_the_interval_rea
     // ±6 %: not decided.
     assert_eq!((own[2][1].as_str(), own[2][6].as_str()), ("`qcsm(32)`", "`linear_dynamic(1, 256)+interval(1)`"));
     assert!(own[2][10].starts_with("not decided: 1.03× ["), "{}", own[2][10]);
+    // The rows not told apart from the fastest: at 1e-3 the family's 256 layers (1.03×, its
+    // interval reaches 1), not csm(64) (1.25× [1.20, 1.30]); at 1e-2 none (1.09×, decided).
+    assert_eq!(own[2][11], "`linear_dynamic(1, 256)+interval(1)`");
+    assert_eq!(own[1][11], "—");
     assert!(md.contains("timed in alternating blocks"), "the note says how rows are timed");
     // At 70° one row has no ratio: medians rank, the ratio is a point, the column is empty.
     let a70 = section("### Fastest at each accuracy: rocks, 70°, 32²");
@@ -890,6 +894,7 @@ fn the_answer_ranks_by_paired_ratios_and_says_not_decided_where_the_interval_rea
     assert_eq!(a70[0][1], "`linear_dynamic(1, 64)+binary(5)`");
     let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
     assert!(html.contains("<code>csm(16)</code> 1.800 ms · 1.10× baseline<span class=\"fam\">engine family: 1.09× ["), "overview cell");
+    assert!(html.contains("<code>qcsm(32)</code> 2.000 ms · 1.60× baseline<span class=\"fam\">not told apart from 1 other: <code>linear_dynamic(1, 256)+interval(1)</code></span>"), "overview ties");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -83,6 +83,12 @@ impl Speed {
     }
 }
 
+/// Whether a ratio of two frame times leaves open which is faster: its 95 % interval reaches
+/// 1. A point (no interval) never does.
+pub(crate) fn undecided(r: &Ratio) -> bool {
+    r.lo.is_finite() && r.hi.is_finite() && r.lo <= 1.0 && 1.0 <= r.hi
+}
+
 /// `1.33×`, `1.33× [1.20, 1.47]`, or `not decided: 1.05× [0.97, 1.14]` where the interval
 /// reaches 1 (the two cannot be told apart in this run).
 pub(crate) fn fmt_times(r: &Ratio) -> String {
@@ -90,7 +96,7 @@ pub(crate) fn fmt_times(r: &Ratio) -> String {
         return format!("{}×", fmt_num(r.ratio, 2));
     }
     let body = format!("{}× [{}, {}]", fmt_num(r.ratio, 2), fmt_num(r.lo, 2), fmt_num(r.hi, 2));
-    if r.lo <= 1.0 && 1.0 <= r.hi {
+    if undecided(r) {
         format!("not decided: {body}")
     } else {
         body
@@ -135,6 +141,10 @@ pub(crate) struct Cand {
 pub(crate) struct Pick {
     pub best: Option<usize>,
     pub engine: Option<usize>,
+    /// The other rows that reach the level and cannot be told apart from `best` in this run
+    /// (their frame time over its has an interval that reaches 1), fastest first: under
+    /// paired timing "the fastest" is one of these as much as `best`.
+    pub ties: Vec<usize>,
 }
 
 /// The answer for one scene (with its view) and size.
@@ -238,10 +248,12 @@ pub(crate) fn build(data: &Data) -> Vec<Answer> {
                 .iter()
                 .map(|l| {
                     let reached = |c: &&Cand| row_of(c).is_some_and(|r| (l.reached)(r));
-                    Pick {
-                        best: cands.iter().position(|c| reached(&c)),
-                        engine: cands.iter().position(|c| c.engine && reached(&c)),
-                    }
+                    let best = cands.iter().position(|c| reached(&c));
+                    let ties = match best {
+                        Some(b) => (0..cands.len()).filter(|&i| i != b && reached(&&cands[i]) && undecided(&cands[i].speed.over(&cands[b].speed))).collect(),
+                        None => Vec::new(),
+                    };
+                    Pick { best, engine: cands.iter().position(|c| c.engine && reached(&c)), ties }
                 })
                 .collect();
             let (base, view) = view_words(&scene);
@@ -312,6 +324,19 @@ pub(crate) fn ratio_cell(a: &Answer, pick: &Pick) -> String {
     }
 }
 
+/// The rows not told apart from the fastest at one level: `—`, or up to `most` pipelines
+/// and how many more.
+pub(crate) fn ties_cell(a: &Answer, pick: &Pick, most: usize) -> String {
+    if pick.ties.is_empty() {
+        return "—".into();
+    }
+    let mut s = pick.ties.iter().take(most).map(|&i| format!("`{}`", a.cands[i].pipeline)).collect::<Vec<_>>().join(", ");
+    if pick.ties.len() > most {
+        s.push_str(&format!(" and {} more", pick.ties.len() - most));
+    }
+    s
+}
+
 /// The detailed table of one answer.
 pub(crate) fn table(a: &Answer) -> TextTable {
     let mut rows = Vec::new();
@@ -327,13 +352,15 @@ pub(crate) fn table(a: &Answer) -> TextTable {
         row.extend(best);
         row.extend(engine_cell(a, pick));
         row.push(ratio_cell(a, pick));
+        row.push(ties_cell(a, pick, 4));
         rows.push(row);
     }
     let timing = match &a.clock {
         Clock::Paired(base) => format!(
             "speed: each row's mean frame time over the baseline `{base}`'s, timed in alternating blocks in the row's own run \
              ({RATIO_NAME}); the family's ratio to the fastest is the quotient of the two with its 95 % interval, \
-             *not decided* where that interval reaches 1"
+             *not decided* where that interval reaches 1; the last column names the rows reaching the level whose \
+             quotient to the fastest reaches 1, any of which may be the fastest in another run"
         ),
         Clock::Median => format!("speed: {SPEED_NAME} of one run (no paired timing), so a ratio near 1 is within the noise"),
     };
@@ -365,6 +392,7 @@ pub(crate) fn table(a: &Answer) -> TextTable {
             RATIO_NAME,
             "ref_err_t_rms",
             "family ÷ fastest",
+            "not told apart from the fastest (95 %)",
         ]
         .iter()
         .map(|s| s.to_string())

@@ -213,7 +213,15 @@ fn overview_cell(a: &Answer, k: usize) -> String {
         Some(e) => format!("engine family: {} the time (<code>{}</code>)", esc(&answer::ratio_cell(a, pick)), esc(&a.cands[e].pipeline)),
         None => esc(&answer::ratio_cell(a, pick)),
     };
-    format!("<td><code>{}</code> {}<span class=\"fam\">{fam}</span></td>", esc(&c.pipeline), esc(&speed_words(c)))
+    let ties = match pick.ties.len() {
+        0 => String::new(),
+        n => format!(
+            "<span class=\"fam\">not told apart from {n} other{}: {}</span>",
+            if n == 1 { "" } else { "s" },
+            md_inline(&answer::ties_cell(a, pick, 2))
+        ),
+    };
+    format!("<td><code>{}</code> {}{ties}<span class=\"fam\">{fam}</span></td>", esc(&c.pipeline), esc(&speed_words(c)))
 }
 
 /// `1.234 ms`, or `1.234 ms · 0.81× baseline` under paired timing.
