@@ -241,12 +241,14 @@ fn answer_section(p: &Parts) -> Section {
     let levels = answer::levels();
     let _ = writeln!(
         h,
-        "<p>For each scene and view, the fastest measured pipeline whose RMS t error (<code>ref_err_t_rms</code>) is at most each \
-         level, its median frame time, and how the engine family ({}) compares: its fastest pipeline at that level as a multiple \
-         of that time, or <i>unreachable</i> where none of its rows gets there (<i>not measured</i>: no row of it here). Where the \
-         sweep timed every row against one baseline in alternating blocks, “fastest” ranks by that paired ratio (<code>× \
-         baseline</code>), the family's multiple carries its 95 % interval and is <i>not decided</i> where the interval reaches \
-         1; otherwise frame times are medians of one run and a multiple near 1 is within the noise.</p>",
+        "<p>For each scene and view: the fastest measured pipeline whose RMS t error (<code>ref_err_t_rms</code>) is at most \
+         each level, and the engine family's ({}) fastest there as a multiple of its time (<i>unreachable</i>: none of the \
+         family's rows gets there; <i>not measured</i>: no row of it here).</p>\
+         <details class=\"how\"><summary>How speed is compared</summary><p>Where the sweep timed every row against one \
+         baseline in alternating blocks, “fastest” ranks by that paired ratio (<code>× baseline</code>); the family's multiple \
+         carries its 95 % interval and is <i>not decided</i> where the interval reaches 1, and the rows that cannot be told \
+         apart from the fastest are named under it. Otherwise frame times are medians of one run and a multiple near 1 is \
+         within the noise.</p></details>",
         md_inline(answer::ENGINE_FAMILY)
     );
     h.push_str("<table class=\"answer sortable\" id=\"answer-table\"><thead><tr><th>scene, view, size</th>");
