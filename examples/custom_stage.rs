@@ -78,7 +78,8 @@ pub fn register_geometric() -> Result<(), Error> {
 /// Registers the stage, sweeps it against `linear(16)` into `out` and returns the rows.
 pub fn run(out: &Path) -> Result<Vec<Row>, Error> {
     register_geometric()?;
-    let pipelines = ["linear(16)", "geometric(16)", "geometric(16, 0)", "geometric(16, 25)+binary(5)", "linear(16)+binary(5)"];
+    let pipelines =
+        ["linear(16)", "geometric(16)", "geometric(16, 0)", "geometric(16, 25)+binary(5)", "linear(16)+binary(5)"];
     let cells = pipelines
         .iter()
         .map(|p| Ok((p.parse::<Pipeline>()?, "rock_bump".to_string())))
@@ -99,12 +100,18 @@ pub fn run(out: &Path) -> Result<Vec<Row>, Error> {
 
 #[allow(dead_code)]
 fn main() -> Result<(), Error> {
-    let out = std::env::args().nth(1).map(PathBuf::from).unwrap_or_else(|| std::env::temp_dir().join("relief-custom-stage-example"));
+    let out = std::env::args()
+        .nth(1)
+        .map(PathBuf::from)
+        .unwrap_or_else(|| std::env::temp_dir().join("relief-custom-stage-example"));
     let rows = run(&out)?;
     println!("{:<32} {:>9} {:>14} {:>12}", "pipeline", "frame ms", "ref t rms", "coarse steps");
     for r in &rows {
         let m = &r.metrics;
-        println!("{:<32} {:>9.3} {:>14.6} {:>12.2}  {}", m.pipeline, m.frame_ms_median, m.ref_err_t_rms, m.avg_coarse_steps, r.status);
+        println!(
+            "{:<32} {:>9.3} {:>14.6} {:>12.2}  {}",
+            m.pipeline, m.frame_ms_median, m.ref_err_t_rms, m.avg_coarse_steps, r.status
+        );
     }
     Ok(())
 }

@@ -18,7 +18,10 @@ pub fn run() -> Vec<String> {
         ("parallax with offset limiting", relief! { coarse: offset_limited }),
         ("steep parallax", relief! { coarse: linear(32) }),
         ("parallax occlusion mapping", relief! { coarse: linear(15), refine: binary(6), shadow: soft(30) }),
-        ("dynamic steps, interval refinement", relief! { coarse: linear_dynamic(min = 8, max = 48), refine: interval(steps = 4) }),
+        (
+            "dynamic steps, interval refinement",
+            relief! { coarse: linear_dynamic(min = 8, max = 48), refine: interval(steps = 4) },
+        ),
         ("iterative parallax, hard shadow", relief! { coarse: iterative_parallax(4), shadow: hard(linear(24)) }),
         ("the text form, checked too", relief!("linear(10)+secant(3)")),
     ];
@@ -32,7 +35,12 @@ pub fn run() -> Vec<String> {
         coarse: [linear(8..=32 step 8), linear_dynamic(8, 32)],
         refine: [none, binary(3), interval(3)],
     };
-    lines.push(format!("a grid of {} pipelines, from {} to {}", grid.len(), grid.cells()[0], grid.cells()[grid.len() - 1]));
+    lines.push(format!(
+        "a grid of {} pipelines, from {} to {}",
+        grid.len(),
+        grid.cells()[0],
+        grid.cells()[grid.len() - 1]
+    ));
     lines.push(format!(
         "{} compiled at build time: {} bytes of WGSL, {} SPIR-V words",
         pom::TEXT,

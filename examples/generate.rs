@@ -28,10 +28,8 @@ pub fn run(out: &Path) -> Result<Vec<String>, Error> {
 
 #[allow(dead_code)]
 fn main() -> Result<(), Error> {
-    let out = std::env::args_os()
-        .nth(1)
-        .map(PathBuf::from)
-        .unwrap_or_else(|| std::env::temp_dir().join("relief-generate"));
+    let out =
+        std::env::args_os().nth(1).map(PathBuf::from).unwrap_or_else(|| std::env::temp_dir().join("relief-generate"));
     let stems = run(&out)?;
     for s in &stems {
         println!("{s}");

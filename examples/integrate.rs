@@ -108,7 +108,10 @@ pub struct Frame {
 /// depth attachment the fragment writes the hit's depth to.
 pub fn run(pipeline: &Pipeline, scene: &Scene, size: u32) -> anyhow::Result<Frame> {
     let gpu = Gpu::new()?;
-    let lib = emit::library(pipeline, &LibraryOptions { group: 1, binding: 0, edge_clamp: scene.edge == EdgeMode::Clamp, ..Default::default() })?;
+    let lib = emit::library(
+        pipeline,
+        &LibraryOptions { group: 1, binding: 0, edge_clamp: scene.edge == EdgeMode::Clamp, ..Default::default() },
+    )?;
     let mut tex = SceneTextures::new(&gpu, scene);
     tex.add_maps(&gpu, scene, &pipeline.required_maps())?;
     let module = gpu.checked(|| {
@@ -194,10 +197,9 @@ pub fn run(pipeline: &Pipeline, scene: &Scene, size: u32) -> anyhow::Result<Fram
             "height" | "height_nearest" => wgpu::BindingResource::TextureView(&tex.height),
             other => {
                 let map = other.strip_suffix("_nearest").unwrap_or(other);
-                let req = reqs
-                    .iter()
-                    .find(|r| r.name() == map)
-                    .ok_or_else(|| anyhow::anyhow!("the library reads `{}`, which the pipeline's maps do not name", b.name))?;
+                let req = reqs.iter().find(|r| r.name() == map).ok_or_else(|| {
+                    anyhow::anyhow!("the library reads `{}`, which the pipeline's maps do not name", b.name)
+                })?;
                 let view = relief::runtime::gpu::MapKey::of(*req)
                     .and_then(|k| tex.maps.get(&k))
                     .ok_or_else(|| anyhow::anyhow!("map for `{}` not built", b.name))?;
@@ -207,7 +209,11 @@ pub fn run(pipeline: &Pipeline, scene: &Scene, size: u32) -> anyhow::Result<Fram
         entries.push(wgpu::BindGroupEntry { binding: b.binding, resource });
     }
     let relief_group = gpu.checked(|| {
-        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("relief"), layout: &pipe.get_bind_group_layout(1), entries: &entries })
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("relief"),
+            layout: &pipe.get_bind_group_layout(1),
+            entries: &entries,
+        })
     })?;
 
     // One headless frame with a depth attachment (relief's helper for offscreen programs).
@@ -225,7 +231,8 @@ pub fn run(pipeline: &Pipeline, scene: &Scene, size: u32) -> anyhow::Result<Fram
 #[allow(dead_code)]
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let pipeline: Pipeline = args.first().map(String::as_str).unwrap_or("linear(32)+binary(5)+shadow=soft(16)").parse()?;
+    let pipeline: Pipeline =
+        args.first().map(String::as_str).unwrap_or("linear(32)+binary(5)+shadow=soft(16)").parse()?;
     let scene = relief::runtime::scene::scene_from_arg(args.get(1).map(String::as_str).unwrap_or("scene:lion"))?;
     let size: u32 = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(256);
     let out = args.get(3).map(String::as_str).unwrap_or("integrate.png");

@@ -19,10 +19,7 @@ pub fn run(out: &Path) -> Result<(usize, usize), Error> {
         coarse: [linear(8..=24 step 8), rcs(8)],
         refine: [none, binary(3)],
     };
-    let cells = grid
-        .iter()
-        .flat_map(|p| ["rock_bump", "shapes"].map(|s| (p.clone(), s.to_string())))
-        .collect();
+    let cells = grid.iter().flat_map(|p| ["rock_bump", "shapes"].map(|s| (p.clone(), s.to_string()))).collect();
     let options = sweep::Options {
         grid: NamedGrid { name: "sweep-example".into(), description: "the sweep example".into(), cells },
         size: 64,
@@ -40,7 +37,8 @@ pub fn run(out: &Path) -> Result<(usize, usize), Error> {
 
 #[allow(dead_code)]
 fn main() -> Result<(), Error> {
-    let out = std::env::args().nth(1).map(PathBuf::from).unwrap_or_else(|| std::env::temp_dir().join("relief-sweep-example"));
+    let out =
+        std::env::args().nth(1).map(PathBuf::from).unwrap_or_else(|| std::env::temp_dir().join("relief-sweep-example"));
     let (cells, files) = run(&out)?;
     println!("{cells} cells measured, report of {files} files: {}", out.join("index.html").display());
     Ok(())

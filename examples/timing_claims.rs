@@ -60,7 +60,11 @@ fn args() -> Result<Args, Error> {
             "--size" => a.size = value()?.parse()?,
             "--frames" => a.frames = value()?.parse()?,
             "--no-hog" => a.hog = false,
-            other => return Err(format!("unknown argument `{other}` (expected --out DIR, --size N, --frames N, --no-hog)").into()),
+            other => {
+                return Err(
+                    format!("unknown argument `{other}` (expected --out DIR, --size N, --frames N, --no-hog)").into()
+                )
+            }
         }
     }
     Ok(a)
@@ -80,7 +84,16 @@ fn union(names: &[&str], scenes: Option<&[String]>) -> NamedGrid {
 }
 
 fn sweep_into(grid: NamedGrid, out: &Path, size: u32, frames: u32) -> Result<Vec<Row>, Error> {
-    sweep::run(&sweep::Options { grid, size, frames, warmup: 3, out: out.to_path_buf(), progress: true, overrides: Default::default(), shard: None })?;
+    sweep::run(&sweep::Options {
+        grid,
+        size,
+        frames,
+        warmup: 3,
+        out: out.to_path_buf(),
+        progress: true,
+        overrides: Default::default(),
+        shard: None,
+    })?;
     Ok(results::read(out)?.rows.into_iter().filter(|r| r.status == "ok").collect())
 }
 
@@ -121,7 +134,11 @@ fn claims(md: &mut String, label: &str, out: &Path, rows: &[Row]) -> Result<(), 
             let cns = format!("cns({n}, form={form})+binary(5)");
             // The report's reading: the safe form reads every cone map unfiltered (its default
             // sampling), the textbook CSM with nearest filtering like CNS.
-            let csm = if form == "safe" { format!("csm({n})+binary(5)") } else { format!("csm({n}, form=textbook, sample=nearest)+binary(5)") };
+            let csm = if form == "safe" {
+                format!("csm({n})+binary(5)")
+            } else {
+                format!("csm({n}, form=textbook, sample=nearest)+binary(5)")
+            };
             md.push_str(&quotient_line(rows, &cns, &csm));
             md.push('\n');
         }
@@ -131,7 +148,11 @@ fn claims(md: &mut String, label: &str, out: &Path, rows: &[Row]) -> Result<(), 
     for c in s.conclusions.iter().filter(|c| c.reads_time && (c.table == "4.5" || c.table == "4.11")) {
         let form = if c.form.is_empty() { String::new() } else { format!(" [form={}]", c.form) };
         let model = c.model.unwrap_or(Verdict::NotMeasured);
-        let _ = writeln!(md, "- {} {}{form}: **{}** ({}); model: **{}** ({})", c.table, c.claim, c.ours_mse, c.evidence_mse, model, c.evidence_model);
+        let _ = writeln!(
+            md,
+            "- {} {}{form}: **{}** ({}); model: **{}** ({})",
+            c.table, c.claim, c.ours_mse, c.evidence_mse, model, c.evidence_model
+        );
     }
     Ok(())
 }
@@ -175,7 +196,13 @@ fn main() -> Result<(), Error> {
         let _ = writeln!(
             md,
             "| `{}` | {:.2} | {:.2} | {:.2} | {:.3} | {:.2} | {:.3e} |",
-            m.pipeline, m.simd32_steps, m.simd64_steps, m.simd32_fetches, m.simd32_divergence, m.avg_fetches, m.mse_dissertation_mean
+            m.pipeline,
+            m.simd32_steps,
+            m.simd64_steps,
+            m.simd32_fetches,
+            m.simd32_divergence,
+            m.avg_fetches,
+            m.mse_dissertation_mean
         );
     }
     std::fs::write(a.out.join("timing_claims.md"), &md)?;

@@ -54,7 +54,11 @@ fn tint_compiles_every_module_of_gen_all() {
         let out = relief::dsl::emit::emit(p).unwrap_or_else(|e| panic!("{p}: {e}"));
         let file = format!("{}.wgsl", p.file_stem());
         write(&dir, &file, &out.wgsl);
-        let entries = if i % 10 == 0 { serde_json::json!([["render", "vs_main", "fs_main"], ["compute", "probe"]]) } else { serde_json::json!([]) };
+        let entries = if i % 10 == 0 {
+            serde_json::json!([["render", "vs_main", "fs_main"], ["compute", "probe"]])
+        } else {
+            serde_json::json!([])
+        };
         items.push(serde_json::json!({ "file": file, "entries": entries }));
     }
     let n = items.len();

@@ -32,7 +32,11 @@ fn module_has_the_render_pair_and_the_probe() {
     let names: Vec<_> = c.module.entry_points.iter().map(|e| (e.name.as_str(), e.stage)).collect();
     assert_eq!(
         names,
-        [("vs_main", naga::ShaderStage::Vertex), ("fs_main", naga::ShaderStage::Fragment), ("probe", naga::ShaderStage::Compute)]
+        [
+            ("vs_main", naga::ShaderStage::Vertex),
+            ("fs_main", naga::ShaderStage::Fragment),
+            ("probe", naga::ShaderStage::Compute)
+        ]
     );
 }
 
@@ -58,7 +62,8 @@ fn nothing_unread_is_declared() {
         // Only a map read with nearest filtering brings the nearest sampler.
         let nearest = declared.iter().any(|d| d.ends_with("_nearest"));
         assert_eq!(declared.contains(&"nearest_sampler".to_string()), nearest, "{pipe}");
-        let bindings: Vec<u32> = c.module.global_variables.iter().filter_map(|(_, g)| g.binding).map(|b| b.binding).collect();
+        let bindings: Vec<u32> =
+            c.module.global_variables.iter().filter_map(|(_, g)| g.binding).map(|b| b.binding).collect();
         // Plain texture mapping with no refinement and no shadow samples no height at all.
         let samples_height = !(pipe.coarse.is_none() && pipe.refine.is_none() && pipe.shadow.is_none());
         assert_eq!(bindings.contains(&binding::HEIGHT), samples_height, "{pipe}");
@@ -94,7 +99,11 @@ fn required_maps_match_what_the_probe_and_shading_read() {
         let c = relief::compile(&pipe).unwrap();
         let read: Vec<String> = [used_by(&c, "probe"), used_by(&c, "fs_main")].concat();
         let reads = |m: MapReq| read.iter().any(|r| r.starts_with(&m.texture_name()));
-        assert_eq!(pipe.required_maps().contains(&MapReq::Normal), used_by(&c, "probe").contains(&"normal_map".to_string()), "{pipe}");
+        assert_eq!(
+            pipe.required_maps().contains(&MapReq::Normal),
+            used_by(&c, "probe").contains(&"normal_map".to_string()),
+            "{pipe}"
+        );
         for m in pipe.required_maps() {
             assert!(reads(m), "{pipe}: requires {} but reads {read:?}", m.name());
         }
@@ -116,7 +125,10 @@ fn required_maps_match_what_the_probe_and_shading_read() {
     // The example: relaxed stepping with cone-normal AO needs both maps (the safe
     // form's cell map, and the texel map the AO reads).
     assert_eq!(p("rcs(15)+binary(5)+ao=cone_normal").required_maps(), [MapReq::ConeNormal, MapReq::CellRelaxedCone]);
-    assert_eq!(p("rcs(15, form=textbook)+binary(5)+ao=cone_normal").required_maps(), [MapReq::RelaxedCone, MapReq::ConeNormal]);
+    assert_eq!(
+        p("rcs(15, form=textbook)+binary(5)+ao=cone_normal").required_maps(),
+        [MapReq::RelaxedCone, MapReq::ConeNormal]
+    );
     // A sampling choice of the textbook form is an error on the safe one, not ignored.
     let e = relief::compile(&p("csm(10, sample=min4)")).err().expect("sample=min4 with form=safe");
     assert!(e.to_string().contains("form=textbook"), "{e}");
@@ -129,7 +141,11 @@ fn counters_exist_only_in_the_probe_variant() {
     let plain = function_body(&wgsl, "fn coarse_linear(");
     assert!(!plain.contains("relief_fetches") && !plain.contains("relief_coarse_steps"));
     let counted = function_body(&wgsl, "fn coarse_linear_counted(");
-    assert!(counted.contains("relief_fetches") && counted.contains("relief_coarse_steps") && !counted.contains("relief_refine_steps"));
+    assert!(
+        counted.contains("relief_fetches")
+            && counted.contains("relief_coarse_steps")
+            && !counted.contains("relief_refine_steps")
+    );
     // The refine stage's passes go to their own counter.
     let refine = function_body(&wgsl, "fn refine_interval_counted(");
     assert!(refine.contains("relief_refine_steps") && !refine.contains("relief_coarse_steps"));
@@ -195,7 +211,13 @@ fn abi_records_match_their_rust_structs() {
     use relief::dsl::abi::{Params, ProbeHit, ProbeRay};
     let c = relief::compile(&p("linear(4)")).unwrap();
     let span_of = |name: &str| -> (u32, Vec<u32>) {
-        let ty = c.module.types.iter().find(|(_, t)| t.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("no type {name}")).1;
+        let ty = c
+            .module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("no type {name}"))
+            .1;
         match &ty.inner {
             naga::TypeInner::Struct { members, span } => (*span, members.iter().map(|m| m.offset).collect()),
             other => panic!("{name} is {other:?}"),

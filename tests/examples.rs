@@ -12,7 +12,10 @@ fn declare_prints_the_combinations() {
     let lines = declare::run();
     assert!(lines.iter().any(|l| l.contains("linear(15)+binary(6)+shadow=soft(30)")), "{lines:#?}");
     assert!(lines.iter().any(|l| l.contains("iterative_parallax(4)+shadow=hard(24)  (reads: normal)")), "{lines:#?}");
-    assert!(lines.iter().any(|l| l.contains("a grid of 15 pipelines, from linear(8) to linear_dynamic(8, 32)+interval(3)")), "{lines:#?}");
+    assert!(
+        lines.iter().any(|l| l.contains("a grid of 15 pipelines, from linear(8) to linear_dynamic(8, 32)+interval(3)")),
+        "{lines:#?}"
+    );
 }
 
 #[test]

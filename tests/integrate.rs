@@ -52,7 +52,11 @@ fn the_integration_example_matches_relief_render() {
         }
         let mean = sum as f64 / n as f64;
         let share = big as f64 / (size * size) as f64;
-        println!("{pipe} on {}: mean |difference| {mean:.4} of 255, {:.3} % of pixels off by more than 8", scene.name, share * 100.0);
+        println!(
+            "{pipe} on {}: mean |difference| {mean:.4} of 255, {:.3} % of pixels off by more than 8",
+            scene.name,
+            share * 100.0
+        );
         assert!(mean <= 1.0, "{pipe}: mean absolute difference {mean}");
         assert!(share <= 0.01, "{pipe}: {:.3} % of pixels differ by more than 8", share * 100.0);
         // The picture is not empty: the quad covers most of the frame in lit colours.
@@ -150,7 +154,11 @@ struct Query { uv: vec2<f32>, depth_scale: f32, pad: f32, view: vec4<f32> };
             },
         })
         .collect();
-    let bg0 = g.device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &pipe.get_bind_group_layout(0), entries: &lib_entries });
+    let bg0 = g.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipe.get_bind_group_layout(0),
+        entries: &lib_entries,
+    });
     let bg1 = g.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: None,
         layout: &pipe.get_bind_group_layout(1),
@@ -180,11 +188,17 @@ struct Query { uv: vec2<f32>, depth_scale: f32, pad: f32, view: vec4<f32> };
         let s_tol = step * d / cos + 1e-5;
         let expect_uv = [q[0] + s * v[0], q[1] + s * v[1]];
         let uv_tol = step * d / cos * (v[0] * v[0] + v[1] * v[1]).sqrt() + 1e-5;
-        let what = format!("query {k} (view {v:?}, depth {d}): got uv ({}, {}), height {}, t {}, depth_offset {}", r[0], r[1], r[2], r[3], r[4]);
+        let what = format!(
+            "query {k} (view {v:?}, depth {d}): got uv ({}, {}), height {}, t {}, depth_offset {}",
+            r[0], r[1], r[2], r[3], r[4]
+        );
         assert!((r[3] - 0.5).abs() <= step + 1e-5, "t: {what}");
         assert!((r[2] - 0.5).abs() <= step + 1e-5, "height: {what}");
         assert!((r[4] - s).abs() <= s_tol, "depth_offset, expected {s}: {what}");
-        assert!((r[0] - expect_uv[0]).abs() <= uv_tol && (r[1] - expect_uv[1]).abs() <= uv_tol, "uv, expected {expect_uv:?}: {what}");
+        assert!(
+            (r[0] - expect_uv[0]).abs() <= uv_tol && (r[1] - expect_uv[1]).abs() <= uv_tol,
+            "uv, expected {expect_uv:?}: {what}"
+        );
     }
 }
 
@@ -202,7 +216,10 @@ fn the_integration_examples_depth_offset_matches_the_reference_hits() {
         let prep = relief::runtime::measure::Prepared::new(&g, scene, size).unwrap();
         let errors = relief::runtime::measure::depth_errors(&prep, &prep.refs, &frame.depth);
         let worst = errors.iter().copied().fold(0.0, f64::max);
-        println!("{name}: depth_offset depth against the reference: max |error| {worst:.2e} over {} pixels", errors.len());
+        println!(
+            "{name}: depth_offset depth against the reference: max |error| {worst:.2e} over {} pixels",
+            errors.len()
+        );
         assert!(errors.len() > (size * size / 3) as usize, "{name}: the quad covers the frame");
         assert!(worst <= 1e-4, "{name}: NDC depth off the reference hit by {worst}");
     }

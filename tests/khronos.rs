@@ -66,10 +66,7 @@ fn validate_all(all: &[Pipeline], dir: &Path, spirv_val: &str, glslang: &str) {
         let stem = p.file_stem();
         let spv = dir.join(format!("{stem}.spv"));
         std::fs::write(&spv, bytes(&out.spirv)).unwrap();
-        run(
-            Command::new(spirv_val).args(["--target-env", "vulkan1.1"]).arg(&spv),
-            &format!("spirv-val on {p}"),
-        );
+        run(Command::new(spirv_val).args(["--target-env", "vulkan1.1"]).arg(&spv), &format!("spirv-val on {p}"));
         assert_eq!(out.glsl.len(), 3, "{p}: one GLSL file per entry point");
         for (stage, src) in &out.glsl {
             let file = dir.join(format!("{stem}.{stage}.glsl"));

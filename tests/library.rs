@@ -42,7 +42,9 @@ fn glsl_user(lib: &LibraryFiles) -> String {
     let mut s = String::from("#version 450\n");
     s += &lib.glsl;
     s += "layout(location = 0) in vec2 v_uv;\nlayout(location = 1) in vec3 v_view;\nlayout(location = 0) out vec4 o_color;\n";
-    s += &format!("void main() {{\n    ReliefHit hit = relief_trace(v_uv, normalize(v_view), {DEPTH});\n    float shade = 1.0;\n");
+    s += &format!(
+        "void main() {{\n    ReliefHit hit = relief_trace(v_uv, normalize(v_view), {DEPTH});\n    float shade = 1.0;\n"
+    );
     if lib.has_shadow {
         s += &format!("    shade *= relief_shadow(hit, normalize(vec3(0.3, 0.2, 0.9)), {DEPTH});\n");
     }
@@ -71,7 +73,8 @@ fn hlsl_user(lib: &LibraryFiles) -> String {
 
 /// Parses and validates a WGSL user module with naga.
 fn naga_wgsl(src: &str, what: &str) -> naga::Module {
-    let module = naga::front::wgsl::parse_str(src).unwrap_or_else(|e| panic!("{what}: {}\n{src}", e.emit_to_string(src)));
+    let module =
+        naga::front::wgsl::parse_str(src).unwrap_or_else(|e| panic!("{what}: {}\n{src}", e.emit_to_string(src)));
     naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default())
         .validate(&module)
         .unwrap_or_else(|e| panic!("{what}: {e:?}"));
@@ -84,7 +87,8 @@ fn pipelines() -> Vec<Pipeline> {
     // nearest and gathered cone reads.
     // `linear_distance` needs the camera distance, which the library interface does not take
     // (its library is an error: `linear_distance_has_no_library`).
-    let mut all: Vec<Pipeline> = Pipeline::all_defaults().into_iter().filter(|p| p.coarse.name != "linear_distance").step_by(5).collect();
+    let mut all: Vec<Pipeline> =
+        Pipeline::all_defaults().into_iter().filter(|p| p.coarse.name != "linear_distance").step_by(5).collect();
     for extra in [
         "rcs(15)+binary(5)+ao=cone_normal",
         "csm(15)+binary(4)+ao=cone_ratio",
@@ -133,16 +137,22 @@ fn check_one(p: &Pipeline, dir: &Path, glslang: &str, spirv_val: &str) {
     let mut found: Vec<(u32, String)> = module
         .global_variables
         .iter()
-        .filter_map(|(_, g)| g.binding.map(|rb| {
-            assert_eq!(rb.group, 2, "{p}: {:?} in group {}", g.name, rb.group);
-            (rb.binding, g.name.clone().unwrap())
-        }))
+        .filter_map(|(_, g)| {
+            g.binding.map(|rb| {
+                assert_eq!(rb.group, 2, "{p}: {:?} in group {}", g.name, rb.group);
+                (rb.binding, g.name.clone().unwrap())
+            })
+        })
         .collect();
     found.sort();
     let expect: Vec<(u32, String)> = (5..).zip(lib.bindings.iter().map(|b| b.name.clone())).collect();
     assert_eq!(found, expect, "{p}: bindings consecutive from 5 in the header's order");
     for b in &lib.bindings {
-        assert!(lib.wgsl.contains(&format!("//   group 2 binding {}: {} ", b.binding, b.name)), "{p}: header lists {}", b.name);
+        assert!(
+            lib.wgsl.contains(&format!("//   group 2 binding {}: {} ", b.binding, b.name)),
+            "{p}: header lists {}",
+            b.name
+        );
     }
     // Nothing of relief's own module is left: no entry points, Params, probe buffers.
     for gone in ["params", "rays", "hits", "@vertex", "@compute", "fs_main", "_counted"] {
@@ -153,10 +163,19 @@ fn check_one(p: &Pipeline, dir: &Path, glslang: &str, spirv_val: &str) {
     let file = dir.join(format!("{stem}.frag"));
     std::fs::write(&file, glsl_user(&lib)).unwrap();
     let spv = dir.join(format!("{stem}.glsl.spv"));
-    run(Command::new(glslang).args(["-V", "-S", "frag", "-o"]).arg(&spv).arg(&file), &format!("glslangValidator -V on the GLSL library of {p}"));
-    run(Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv), &format!("spirv-val on the GLSL library of {p}"));
+    run(
+        Command::new(glslang).args(["-V", "-S", "frag", "-o"]).arg(&spv).arg(&file),
+        &format!("glslangValidator -V on the GLSL library of {p}"),
+    );
+    run(
+        Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv),
+        &format!("spirv-val on the GLSL library of {p}"),
+    );
     let gl = dir.join(format!("{stem}.gl.spv"));
-    run(Command::new(glslang).args(["-G", "-S", "frag", "-o"]).arg(&gl).arg(&file), &format!("glslangValidator -G on the GLSL library of {p}"));
+    run(
+        Command::new(glslang).args(["-G", "-S", "frag", "-o"]).arg(&gl).arg(&file),
+        &format!("glslangValidator -G on the GLSL library of {p}"),
+    );
 
     // HLSL: glslang's HLSL front end, then spirv-val.
     let file = dir.join(format!("{stem}.hlsl"));
@@ -166,7 +185,10 @@ fn check_one(p: &Pipeline, dir: &Path, glslang: &str, spirv_val: &str) {
         Command::new(glslang).args(["-D", "-V", "-S", "frag", "-e", "user_main", "-o"]).arg(&spv).arg(&file),
         &format!("glslangValidator -D on the HLSL library of {p}"),
     );
-    run(Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv), &format!("spirv-val on the HLSL library of {p}"));
+    run(
+        Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv),
+        &format!("spirv-val on the HLSL library of {p}"),
+    );
 
     // MSL: written (naga validated the module first) with the public functions.
     assert!(lib.msl.contains("#include <metal_stdlib>"), "{p}");
@@ -180,13 +202,18 @@ fn the_resources_are_what_the_stages_read() {
     // linear and binary read the height map through the linear sampler, nothing else.
     let p: Pipeline = "linear(10)+binary(5)".parse().unwrap();
     let lib = emit::library(&p, &LibraryOptions::default()).unwrap();
-    let got: Vec<(&str, u32, ResourceKind)> = lib.bindings.iter().map(|b| (b.name.as_str(), b.binding, b.kind)).collect();
+    let got: Vec<(&str, u32, ResourceKind)> =
+        lib.bindings.iter().map(|b| (b.name.as_str(), b.binding, b.kind)).collect();
     assert_eq!(got, [("relief_height", 0, ResourceKind::Texture2d), ("relief_sampler", 1, ResourceKind::Sampler)]);
     assert!(!lib.has_shadow && !lib.has_ao);
     // sphere tracing reads the 3D distance field.
     let p: Pipeline = "sphere(20)".parse().unwrap();
     let lib = emit::library(&p, &LibraryOptions::default()).unwrap();
-    assert!(lib.bindings.iter().any(|b| b.name == "relief_distance_field" && b.kind == ResourceKind::Texture3d), "{:?}", lib.bindings);
+    assert!(
+        lib.bindings.iter().any(|b| b.name == "relief_distance_field" && b.kind == ResourceKind::Texture3d),
+        "{:?}",
+        lib.bindings
+    );
     // an ao stage adds its map and relief_ao.
     let p: Pipeline = "linear(10)+ao=cone_normal".parse().unwrap();
     let lib = emit::library(&p, &LibraryOptions::default()).unwrap();
@@ -197,9 +224,12 @@ fn the_resources_are_what_the_stages_read() {
 fn two_prefixed_libraries_compose_in_one_module() {
     let a: Pipeline = "linear(16)+binary(4)+shadow=soft(10)".parse().unwrap();
     let b: Pipeline = "rcs(15)+binary(5)+ao=cone_normal".parse().unwrap();
-    let la = emit::library(&a, &LibraryOptions { prefix: "rock".into(), binding: 0, ..LibraryOptions::default() }).unwrap();
+    let la =
+        emit::library(&a, &LibraryOptions { prefix: "rock".into(), binding: 0, ..LibraryOptions::default() }).unwrap();
     let next = la.bindings.len() as u32;
-    let lb = emit::library(&b, &LibraryOptions { prefix: "brick_wall".into(), binding: next, ..LibraryOptions::default() }).unwrap();
+    let lb =
+        emit::library(&b, &LibraryOptions { prefix: "brick_wall".into(), binding: next, ..LibraryOptions::default() })
+            .unwrap();
     let src = format!(
         "{}\n{}\n{}\n{}",
         la.wgsl,
@@ -223,7 +253,8 @@ fn two_prefixed_libraries_compose_in_one_module() {
     for (_, c) in module.constants.iter() {
         assert!(owned(c.name.as_deref().unwrap()), "constant {:?} not under a prefix", c.name);
     }
-    let mut bindings: Vec<u32> = module.global_variables.iter().filter_map(|(_, g)| g.binding.map(|b| b.binding)).collect();
+    let mut bindings: Vec<u32> =
+        module.global_variables.iter().filter_map(|(_, g)| g.binding.map(|b| b.binding)).collect();
     bindings.sort();
     assert_eq!(bindings, (0..bindings.len() as u32).collect::<Vec<_>>(), "one binding range, no overlap");
 }
@@ -246,7 +277,8 @@ fn options_are_checked_and_written() {
     // The edge mode is the constant the stages read: maxmip's texel walk uses it.
     let src = lib.wgsl.replacen("#define_import_path relief::maxmip", "", 1);
     let module = naga_wgsl(&src, "maxmip library");
-    let (_, c) = module.constants.iter().find(|(_, c)| c.name.as_deref() == Some("relief_edge_clamp")).expect("edge constant");
+    let (_, c) =
+        module.constants.iter().find(|(_, c)| c.name.as_deref() == Some("relief_edge_clamp")).expect("edge constant");
     assert!(matches!(module.global_expressions[c.init], naga::Expression::Literal(naga::Literal::Bool(true))));
     let uses = module.functions.iter().any(|(_, f)| {
         f.expressions.iter().any(|(_, e)| matches!(e, naga::Expression::Constant(h) if module.constants[*h].name.as_deref() == Some("relief_edge_clamp")))
@@ -310,18 +342,29 @@ fn the_largest_accepted_options_compile_and_one_past_is_refused() {
         s += "    return_value(hit.uv, hit.height + hit.t + hit.depth_offset, shade);\n";
         s
     };
-    let glsl_body = call("vec3").replace("UV", "v_uv").replace("VIEW", "v_view").replace("return_value", "o_color = vec4");
+    let glsl_body =
+        call("vec3").replace("UV", "v_uv").replace("VIEW", "v_view").replace("return_value", "o_color = vec4");
     std::fs::write(
         &frag,
         format!("#version 450\n{}layout(location = 0) in vec2 v_uv;\nlayout(location = 1) in vec3 v_view;\nlayout(location = 0) out vec4 o_color;\nvoid main() {{\n{glsl_body}}}\n", lib.glsl),
     )
     .unwrap();
     let spv = dir.join("limits.glsl.spv");
-    run(Command::new(glslang).args(["-V", "-S", "frag", "-o"]).arg(&spv).arg(&frag), "glslangValidator -V at the limits");
-    run(Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv), "spirv-val on the GLSL library at the limits");
-    run(Command::new(glslang).args(["-G", "-S", "frag", "-o"]).arg(dir.join("limits.gl.spv")).arg(&frag), "glslangValidator -G at the limits");
+    run(
+        Command::new(glslang).args(["-V", "-S", "frag", "-o"]).arg(&spv).arg(&frag),
+        "glslangValidator -V at the limits",
+    );
+    run(
+        Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv),
+        "spirv-val on the GLSL library at the limits",
+    );
+    run(
+        Command::new(glslang).args(["-G", "-S", "frag", "-o"]).arg(dir.join("limits.gl.spv")).arg(&frag),
+        "glslangValidator -G at the limits",
+    );
 
-    let hlsl_body = call("float3").replace("UV", "i.uv").replace("VIEW", "i.view").replace("return_value", "return float4");
+    let hlsl_body =
+        call("float3").replace("UV", "i.uv").replace("VIEW", "i.view").replace("return_value", "return float4");
     let hlsl = dir.join("limits.hlsl");
     std::fs::write(
         &hlsl,
@@ -329,8 +372,14 @@ fn the_largest_accepted_options_compile_and_one_past_is_refused() {
     )
     .unwrap();
     let spv = dir.join("limits.hlsl.spv");
-    run(Command::new(glslang).args(["-D", "-V", "-S", "frag", "-e", "user_main", "-o"]).arg(&spv).arg(&hlsl), "glslangValidator -D at the limits");
-    run(Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv), "spirv-val on the HLSL library at the limits");
+    run(
+        Command::new(glslang).args(["-D", "-V", "-S", "frag", "-e", "user_main", "-o"]).arg(&spv).arg(&hlsl),
+        "glslangValidator -D at the limits",
+    );
+    run(
+        Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv),
+        "spirv-val on the HLSL library at the limits",
+    );
     std::fs::remove_dir_all(&dir).ok();
 
     // One past each limit: refused, in one line, naming the option and the limit.

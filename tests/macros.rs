@@ -19,13 +19,19 @@ fn parse(text: &str) -> Pipeline {
 #[test]
 fn relief_equals_the_text_form() {
     let cases: Vec<(Pipeline, &str)> = vec![
-        (relief! { coarse: linear(15), refine: binary(6), shadow: soft(30), ao: none }, "linear(15)+binary(6)+shadow=soft(30)"),
+        (
+            relief! { coarse: linear(15), refine: binary(6), shadow: soft(30), ao: none },
+            "linear(15)+binary(6)+shadow=soft(30)",
+        ),
         (relief! { coarse: linear(steps = 10) }, "linear(10)"),
         (relief! { coarse: linear }, "linear"),
         (relief! { refine: interval(3), coarse: parallax, }, "parallax+interval(3)"),
         (relief! { coarse: linear_dynamic(max = 64, min = 4), refine: secant(4) }, "linear_dynamic(4, 64)+secant(4)"),
         (relief! { coarse: iterative_parallax(6), shadow: hard(linear(20)) }, "iterative_parallax(6)+shadow=hard(20)"),
-        (relief! { coarse: slope_parallax, shadow: hard(iterative_parallax(3)) }, "slope_parallax+shadow=hard(iterative_parallax(3))"),
+        (
+            relief! { coarse: slope_parallax, shadow: hard(iterative_parallax(3)) },
+            "slope_parallax+shadow=hard(iterative_parallax(3))",
+        ),
         (relief! { coarse: offset_limited, shadow: hard }, "offset_limited+shadow=hard"),
         (relief! { coarse: none, refine: none, shadow: none, ao: none }, "none"),
         (relief!("linear(10)+binary(5)"), "linear(10)+binary(5)"),
@@ -69,7 +75,14 @@ fn relief_grid_equals_the_text_grid() {
     assert_eq!(g.name.as_deref(), Some("nested"));
     assert_eq!(g.len(), 4 * 2 * 3);
     let texts: Vec<String> = g.into_iter().map(|p| p.to_string()).take(3).collect();
-    assert_eq!(texts, ["linear_dynamic(4, 16)+binary(1)", "linear_dynamic(4, 16)+binary(1)+shadow=hard(4)", "linear_dynamic(4, 16)+binary(1)+shadow=hard(8)"]);
+    assert_eq!(
+        texts,
+        [
+            "linear_dynamic(4, 16)+binary(1)",
+            "linear_dynamic(4, 16)+binary(1)+shadow=hard(4)",
+            "linear_dynamic(4, 16)+binary(1)+shadow=hard(8)"
+        ]
+    );
 
     // Pipeline options as grid axes, innermost.
     let g = relief_grid! { coarse: linear([8, 16]), refine: binary(5), lod: [zero, auto, level(1..=2)] };

@@ -18,13 +18,25 @@ fn the_report_page_answers_above_the_fold_and_its_tables_and_links_work() {
     // Table 4.1's rows on lion, and the engine family against a safe method on rocks at its
     // own view and at 70°.
     let lion = grids::parse_grid_file("coarse: linear([5, 10, 20])\n").unwrap();
-    let rocks = grids::parse_grid_file("coarse: linear_dynamic(1, [8, 32])\nrefine: [interval(1), binary(5)]\n---\ncoarse: csm([8, 32])\n").unwrap();
+    let rocks = grids::parse_grid_file(
+        "coarse: linear_dynamic(1, [8, 32])\nrefine: [interval(1), binary(5)]\n---\ncoarse: csm([8, 32])\n",
+    )
+    .unwrap();
     let mut cells: Vec<_> = lion.into_iter().map(|p| (p, "lion".to_string())).collect();
     for s in ["rocks", "rocks@angle=70"] {
         cells.extend(rocks.iter().map(|p| (p.clone(), s.to_string())));
     }
     let grid = NamedGrid { name: "page".into(), description: "the report page test".into(), cells };
-    let opts = sweep::Options { grid, size: 64, frames: 2, warmup: 1, out: dir.clone(), progress: false, overrides: Default::default(), shard: None };
+    let opts = sweep::Options {
+        grid,
+        size: 64,
+        frames: 2,
+        warmup: 1,
+        out: dir.clone(),
+        progress: false,
+        overrides: Default::default(),
+        shard: None,
+    };
     let s = sweep::run(&opts).expect("sweep");
     assert_eq!(s.failed, 0);
     relief::runtime::report::write(&dir).expect("report");

@@ -53,7 +53,10 @@ fn room_modules_pass_naga_spirv_val_and_glslang() {
             let file = dir.join(format!("room-{stem}.{stage}.glsl"));
             std::fs::write(&file, src).unwrap();
             let o = file.with_extension("glsl.spv");
-            run(Command::new(glslang).args(["-G", "-S", stage, "-o"]).arg(&o).arg(&file), &format!("glslangValidator on room {p} ({stage})"));
+            run(
+                Command::new(glslang).args(["-G", "-S", stage, "-o"]).arg(&o).arg(&file),
+                &format!("glslangValidator on room {p} ({stage})"),
+            );
         }
     }
     std::fs::remove_dir_all(&dir).ok();
@@ -73,7 +76,9 @@ fn light_scattering_is_off_by_default() {
 /// do not implement are errors that name them.
 #[test]
 fn rooms_refuse_the_pipeline_options_they_do_not_implement() {
-    for (text, says) in [("linear(8)+binary(3)+lod=auto", "lod=auto"), ("linear(8)+binary(3)+silhouette=clip", "silhouette=clip")] {
+    for (text, says) in
+        [("linear(8)+binary(3)+lod=auto", "lod=auto"), ("linear(8)+binary(3)+silhouette=clip", "silhouette=clip")]
+    {
         let p: relief::Pipeline = text.parse().unwrap();
         let e = compile_room(&p, &RoomOptions::default()).err().unwrap_or_else(|| panic!("{text} compiled for a room"));
         assert!(e.to_string().contains(says) && e.to_string().contains("not implemented for rooms"), "{text}: {e}");
@@ -89,7 +94,12 @@ fn room_records_match_their_rust_structs() {
     let rc = compile_room(&p, &RoomOptions::default()).unwrap();
     let module = &rc.compiled.module;
     let span_of = |name: &str| -> (u32, Vec<u32>) {
-        let ty = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("no type {name}")).1;
+        let ty = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("no type {name}"))
+            .1;
         match &ty.inner {
             naga::TypeInner::Struct { members, span } => (*span, members.iter().map(|m| m.offset).collect()),
             other => panic!("{name} is {other:?}"),

@@ -10,7 +10,11 @@ fn methods(slot: Slot) -> Vec<&'static MethodDef> {
 /// A random stage of `slot` with random valid parameters.
 fn stage(slot: Slot) -> impl Strategy<Value = StageSpec> {
     let ms = methods(slot);
-    (0..ms.len(), proptest::collection::vec(1u32..=MAX_STEPS, 4), proptest::collection::vec(any::<prop::sample::Index>(), 4))
+    (
+        0..ms.len(),
+        proptest::collection::vec(1u32..=MAX_STEPS, 4),
+        proptest::collection::vec(any::<prop::sample::Index>(), 4),
+    )
         .prop_map(move |(i, ints, picks)| {
             let m = ms[i];
             let mut values: Vec<Value> = m
@@ -81,7 +85,10 @@ fn canonical_form_examples() {
 fn bad_inputs_give_errors_that_name_the_problem() {
     let cases: &[(&str, &[&str])] = &[
         ("", &["empty pipeline"]),
-        ("lnear(10)", &["at 0 (`lnear`)", "unknown coarse stage", "did you mean `linear`", "expected one of: none, parallax"]),
+        (
+            "lnear(10)",
+            &["at 0 (`lnear`)", "unknown coarse stage", "did you mean `linear`", "expected one of: none, parallax"],
+        ),
         ("linear(10)+binery(3)", &["at 11 (`binery`)", "unknown refine stage", "did you mean `binary`"]),
         ("binary(5)", &["`binary` is a refine stage, not a coarse stage"]),
         ("linear(10)+linear(5)", &["`linear` is a coarse stage, not a refine stage"]),

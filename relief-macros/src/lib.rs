@@ -270,14 +270,14 @@ fn shader_module(
     p: &Pipeline,
 ) -> syn::Result<TokenStream2> {
     let k = dsl();
-    let out = relief_dsl::emit::emit(p).map_err(|e| {
-        syn::Error::new(name.span(), format!("pipeline `{p}` does not compile: {e}"))
-    })?;
-    let glsl = |suffix: &str| -> syn::Result<String> {
-        out.glsl.iter().find(|(s, _)| *s == suffix).map(|(_, src)| src.clone()).ok_or_else(|| {
-            syn::Error::new(name.span(), format!("pipeline `{p}`: no GLSL for the `{suffix}` entry"))
-        })
-    };
+    let out = relief_dsl::emit::emit(p)
+        .map_err(|e| syn::Error::new(name.span(), format!("pipeline `{p}` does not compile: {e}")))?;
+    let glsl =
+        |suffix: &str| -> syn::Result<String> {
+            out.glsl.iter().find(|(s, _)| *s == suffix).map(|(_, src)| src.clone()).ok_or_else(|| {
+                syn::Error::new(name.span(), format!("pipeline `{p}`: no GLSL for the `{suffix}` entry"))
+            })
+        };
     let (vert, frag, comp) = (glsl("vert")?, glsl("frag")?, glsl("comp")?);
     let text = p.to_string();
     let wgsl = &out.wgsl;

@@ -3,8 +3,8 @@
 //! error relief-dsl reports (it carries the position unchanged) maps back to its token.
 
 use proc_macro2::{Span, TokenStream};
-use relief_dsl::__private::{ArgPattern, GridPattern, OptionPattern, SlotPattern, StagePattern, ValuePattern};
 use relief_dsl::__private::{key_named, Form, Key, ParseError, MAX_DEPTH};
+use relief_dsl::__private::{ArgPattern, GridPattern, OptionPattern, SlotPattern, StagePattern, ValuePattern};
 use syn::ext::IdentExt;
 use syn::parse::ParseStream;
 use syn::spanned::Spanned;
@@ -29,8 +29,8 @@ impl Spans {
         let mut msg = e.message.clone();
         // A valid name in the wrong slot: the message says where it belongs; a look-alike of
         // this slot would only mislead.
-        let wrong_slot = e.message.contains(" stage, not a ")
-            && relief_dsl::spec::catalog().iter().any(|m| m.name == e.token);
+        let wrong_slot =
+            e.message.contains(" stage, not a ") && relief_dsl::spec::catalog().iter().any(|m| m.name == e.token);
         match &e.suggestion {
             Some(s) if !wrong_slot => msg.push_str(&format!("; did you mean `{s}`?")),
             // Short lists only (slots, choices): the catalogue's longer lists grow.
@@ -58,9 +58,9 @@ pub fn body(input: ParseStream, form: Form, spans: &mut Spans) -> syn::Result<Gr
     let mut g = GridPattern::default();
     let mut name_seen = false;
     while !input.is_empty() {
-        let key = input.call(Ident::parse_any).map_err(|e| {
-            syn::Error::new(e.span(), "expected a slot such as `coarse: linear(32)`")
-        })?;
+        let key = input
+            .call(Ident::parse_any)
+            .map_err(|e| syn::Error::new(e.span(), "expected a slot such as `coarse: linear(32)`"))?;
         let key_str = key.to_string();
         input.parse::<Token![:]>().map_err(|e| syn::Error::new(e.span(), format!("expected `:` after `{key_str}`")))?;
         if key_str == "name" && form == Form::Grid {
@@ -71,7 +71,10 @@ pub fn body(input: ParseStream, form: Form, spans: &mut Spans) -> syn::Result<Gr
             g.name = Some(if input.peek(LitStr) {
                 input.parse::<LitStr>()?.value()
             } else {
-                input.call(Ident::parse_any).map_err(|e| syn::Error::new(e.span(), "expected the grid's name as a \"string\""))?.to_string()
+                input
+                    .call(Ident::parse_any)
+                    .map_err(|e| syn::Error::new(e.span(), "expected the grid's name as a \"string\""))?
+                    .to_string()
             });
         } else {
             let pos = spans.one(key.span());
@@ -134,9 +137,7 @@ fn stage(input: ParseStream, form: Form, spans: &mut Spans, depth: usize) -> syn
             if content.is_empty() {
                 break;
             }
-            content
-                .parse::<Token![,]>()
-                .map_err(|e| syn::Error::new(e.span(), "expected `,` or `)`"))?;
+            content.parse::<Token![,]>().map_err(|e| syn::Error::new(e.span(), "expected `,` or `)`"))?;
         }
         Some(args)
     } else {
@@ -165,15 +166,15 @@ fn value(input: ParseStream, form: Form, spans: &mut Spans, depth: usize) -> syn
             if let syn::RangeLimits::HalfOpen(d) = dots {
                 return Err(syn::Error::new(d.span(), "ranges are inclusive: write `a..=b` or `a..=b step s`"));
             }
-            let (end, end_lit) = int(input)
-                .map_err(|e| syn::Error::new(e.span(), "expected the range's last value, a whole number"))?;
+            let (end, end_lit) =
+                int(input).map_err(|e| syn::Error::new(e.span(), "expected the range's last value, a whole number"))?;
             let mut last = end_lit.span();
             let mut text = format!("{start}..={end}");
             let mut step = 1;
             if input.peek(Ident) && input.fork().parse::<Ident>().is_ok_and(|i| i == "step") {
                 input.parse::<Ident>()?;
-                let (s, s_lit) = int(input)
-                    .map_err(|e| syn::Error::new(e.span(), "expected the range's step, a whole number"))?;
+                let (s, s_lit) =
+                    int(input).map_err(|e| syn::Error::new(e.span(), "expected the range's step, a whole number"))?;
                 step = s;
                 last = s_lit.span();
                 text = format!("{text} step {s}");
@@ -191,7 +192,10 @@ fn value(input: ParseStream, form: Form, spans: &mut Spans, depth: usize) -> syn
         let content;
         let bracket = syn::bracketed!(content in input);
         if form == Form::Pipeline {
-            return Err(syn::Error::new(bracket.span.join(), "a list of values declares several pipelines: use `relief_grid!`"));
+            return Err(syn::Error::new(
+                bracket.span.join(),
+                "a list of values declares several pipelines: use `relief_grid!`",
+            ));
         }
         let pos = spans.one(bracket.span.open());
         let mut items = Vec::new();

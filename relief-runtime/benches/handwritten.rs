@@ -44,7 +44,15 @@ fn main() {
     let (mg, mh) = (percentile(&gen_ms, 0.5), percentile(&hand_ms, 0.5));
     println!("adapter: {} ({})", g.adapter, g.driver);
     println!("scene rock_bump, {size}x{size}, {} frames each, {rounds} alternating rounds", rounds * frames);
-    println!("generated   linear(32)+binary(5): median {mg:.3} ms (p10 {:.3}, p90 {:.3})", percentile(&gen_ms, 0.1), percentile(&gen_ms, 0.9));
-    println!("hand-written linear 32 + binary 5: median {mh:.3} ms (p10 {:.3}, p90 {:.3})", percentile(&hand_ms, 0.1), percentile(&hand_ms, 0.9));
+    println!(
+        "generated   linear(32)+binary(5): median {mg:.3} ms (p10 {:.3}, p90 {:.3})",
+        percentile(&gen_ms, 0.1),
+        percentile(&gen_ms, 0.9)
+    );
+    println!(
+        "hand-written linear 32 + binary 5: median {mh:.3} ms (p10 {:.3}, p90 {:.3})",
+        percentile(&hand_ms, 0.1),
+        percentile(&hand_ms, 0.9)
+    );
     println!("ratio generated / hand-written: {:.4}", mg / mh);
 }

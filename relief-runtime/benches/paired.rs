@@ -51,7 +51,13 @@ fn main() {
     let scene = scene_from_arg(&scene_spec(scene)).unwrap_or_else(|e| panic!("{e:#}"));
     let mut prep = Prepared::new(&g, scene, size).unwrap_or_else(|e| panic!("{e:#}"));
     let p = pipeline.parse().unwrap_or_else(|e| panic!("{e}"));
-    println!("adapter: {} ({}); {pipeline} on {} at {size}², against {}", g.adapter, g.driver, prep.scene.name, relief_runtime::measure::BASELINE);
+    println!(
+        "adapter: {} ({}); {pipeline} on {} at {size}², against {}",
+        g.adapter,
+        g.driver,
+        prep.scene.name,
+        relief_runtime::measure::BASELINE
+    );
     let mut run = |label: &str| {
         let m = measure_paired(&g, &mut prep, &p, 3, pairs).unwrap_or_else(|e| panic!("{e:#}")).metrics;
         let r = Ratio::to_baseline(&m).expect("a paired measurement has a ratio");

@@ -168,7 +168,9 @@ pub enum HeightMapError {
     },
     /// The extension is none of `.png`, `.tga`, `.bmp`, `.jpg`/`.jpeg`, `.tif`/`.tiff`,
     /// `.webp`, `.exr`, `.npy` (case is ignored).
-    #[error("{path}: unsupported file type (expected .png, .tga, .bmp, .jpg, .jpeg, .tif, .tiff, .webp, .exr or .npy)")]
+    #[error(
+        "{path}: unsupported file type (expected .png, .tga, .bmp, .jpg, .jpeg, .tif, .tiff, .webp, .exr or .npy)"
+    )]
     Unsupported {
         /// The file.
         path: PathBuf,
@@ -257,17 +259,15 @@ impl HeightMap {
         if !path.exists() {
             return Err(HeightMapError::Missing { path: p() });
         }
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(|e| e.to_ascii_lowercase())
-            .unwrap_or_default();
+        let ext = path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).unwrap_or_default();
         let mut map = match ext.as_str() {
             "npy" => {
                 let bytes = std::fs::read(path).map_err(|source| HeightMapError::Io { path: p(), source })?;
                 HeightMap::from_npy_bytes(&bytes, options.channel, path)?
             }
-            "png" | "tga" | "bmp" | "jpg" | "jpeg" | "tif" | "tiff" | "webp" | "exr" => load_image(path, options.channel)?,
+            "png" | "tga" | "bmp" | "jpg" | "jpeg" | "tif" | "tiff" | "webp" | "exr" => {
+                load_image(path, options.channel)?
+            }
             _ => return Err(HeightMapError::Unsupported { path: p() }),
         };
         if options.depth {
@@ -283,11 +283,7 @@ impl HeightMap {
     /// `[h, w, c]` (then `channel` picks `c` = 0..3 as r, g, b, a; without a channel, `c` must
     /// be 1). Row 0 is v = 0, like image rows. Values must be finite and in [0, 1]; `depth`
     /// conversion is applied by [`HeightMap::load`], not here. `path` only names errors.
-    pub fn from_npy_bytes(
-        bytes: &[u8],
-        channel: Option<Channel>,
-        path: &Path,
-    ) -> Result<HeightMap, HeightMapError> {
+    pub fn from_npy_bytes(bytes: &[u8], channel: Option<Channel>, path: &Path) -> Result<HeightMap, HeightMapError> {
         let corrupt = |m: &str| HeightMapError::Corrupt { path: path.to_path_buf(), message: m.to_string() };
         let header = crate::io::npy::parse_npy_header(bytes).map_err(|m| corrupt(&m))?;
         let (h, w, c) = match header.shape.as_slice() {

@@ -7,19 +7,19 @@
 
 #![warn(missing_docs)]
 
-pub mod io;
-pub mod picture;
-pub mod results;
-pub mod timing;
-pub mod heightmap;
-pub mod maps;
-pub mod scene;
-pub mod reference;
 pub mod gpu;
-pub mod metrics;
-pub mod simd;
+pub mod heightmap;
+pub mod io;
+pub mod maps;
 pub mod measure;
+pub mod metrics;
+pub mod picture;
+pub mod reference;
+pub mod report;
+pub mod results;
+pub mod room;
+pub mod scene;
+pub mod simd;
 pub mod stability;
 pub mod sweep;
-pub mod report;
-pub mod room;
+pub mod timing;

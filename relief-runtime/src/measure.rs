@@ -6,13 +6,13 @@ use std::path::Path;
 
 use anyhow::Context;
 
-use crate::io;
 use crate::gpu::{self, Clock, Gpu, GpuHit, Program, RenderResult, Renderer, SceneTextures};
-use crate::metrics::{self, Metrics};
 use crate::heightmap::EdgeMode;
+use crate::io;
+use crate::metrics::{self, Metrics};
 use crate::reference::{clip_to_square, ray_levels, reference_hits, reference_hits_at_levels, RefHit, Sampling};
-use relief_dsl::spec::{Lod, Silhouette};
 use crate::scene::{ProbeRay, Scene};
+use relief_dsl::spec::{Lod, Silhouette};
 
 /// A scene on the device, with its probe rays and their exact first hits (computed once,
 /// shared by every pipeline measured on it).
@@ -58,7 +58,8 @@ impl Prepared {
         let mut on_device = scene.clone();
         on_device.height.data = textures.heights_on_device.clone();
         let rays = scene.rays(size);
-        let refs = reference_hits(&on_device, &rays, Sampling::Bilinear).with_context(|| format!("scene {}", scene.name))?;
+        let refs =
+            reference_hits(&on_device, &rays, Sampling::Bilinear).with_context(|| format!("scene {}", scene.name))?;
         Ok(Prepared { scene, on_device, textures, rays, refs, size, lod_refs: Default::default(), baseline: None })
     }
 
@@ -108,7 +109,13 @@ pub struct Measured {
 
 /// Builds the maps `pipeline` needs (once per scene), renders `frames` timed frames after
 /// `warmup`, probes every ray, and compares with the reference.
-pub fn measure(gpu: &Gpu, prep: &mut Prepared, pipeline: &relief_dsl::Pipeline, warmup: u32, frames: u32) -> anyhow::Result<Measured> {
+pub fn measure(
+    gpu: &Gpu,
+    prep: &mut Prepared,
+    pipeline: &relief_dsl::Pipeline,
+    warmup: u32,
+    frames: u32,
+) -> anyhow::Result<Measured> {
     measure_with(gpu, prep, pipeline, &relief_dsl::compose::Options::default(), warmup, frames)
 }
 
@@ -137,7 +144,13 @@ pub fn measure_with(
 /// frame times are the pipeline's blocks, and `frame_ratio_to_baseline` with its 95 %
 /// interval compares them with the baseline's blocks of the same pairs
 /// ([`crate::timing::paired_ratio`]).
-pub fn measure_paired(gpu: &Gpu, prep: &mut Prepared, pipeline: &relief_dsl::Pipeline, warmup: u32, pairs: u32) -> anyhow::Result<Measured> {
+pub fn measure_paired(
+    gpu: &Gpu,
+    prep: &mut Prepared,
+    pipeline: &relief_dsl::Pipeline,
+    warmup: u32,
+    pairs: u32,
+) -> anyhow::Result<Measured> {
     let cell = Cell::new(gpu, prep, pipeline, &relief_dsl::compose::Options::default())?;
     let clock = Clock::new(gpu)?;
     prep.baseline(gpu, &clock, warmup)?;
@@ -149,7 +162,14 @@ pub fn measure_paired(gpu: &Gpu, prep: &mut Prepared, pipeline: &relief_dsl::Pip
     let blocks = gpu::paired_blocks(gpu, &clock, &r, &base.renderer, [k, base.frames_per_block], pairs)?;
     let ratio = blocks.ratio();
     let f = r.target.read(gpu, blocks.a_ms.clone())?;
-    let frame = RenderResult { frame_ms: f.frame_ms, rgba: f.rgba, size: prep.size, depth: f.depth, frames_per_block: k, timestamp_period_ns: clock.period_ns };
+    let frame = RenderResult {
+        frame_ms: f.frame_ms,
+        rgba: f.rgba,
+        size: prep.size,
+        depth: f.depth,
+        frames_per_block: k,
+        timestamp_period_ns: clock.period_ns,
+    };
     let mut m = cell.metrics(gpu, prep);
     metrics::set_timing(&mut m, &frame.frame_ms);
     m.frames_per_block = k;
@@ -191,7 +211,12 @@ struct Cell {
 }
 
 impl Cell {
-    fn new(gpu: &Gpu, prep: &mut Prepared, pipeline: &relief_dsl::Pipeline, options: &relief_dsl::compose::Options) -> anyhow::Result<Cell> {
+    fn new(
+        gpu: &Gpu,
+        prep: &mut Prepared,
+        pipeline: &relief_dsl::Pipeline,
+        options: &relief_dsl::compose::Options,
+    ) -> anyhow::Result<Cell> {
         // The scene's level policy applies to a pipeline that names no lod; the metrics record
         // the pipeline as measured.
         let pipeline = prep.scene.pipeline_for(pipeline);
@@ -265,7 +290,15 @@ pub struct Comparison {
 /// Times pipelines `a` and `b` on `scene` at `size²` in `pairs` pairs of alternating blocks
 /// (after `warmup` untimed frames of each and the blocks that calibrate their lengths), and
 /// probes each once for the SIMD cost model. No reference is traced: this is timing only.
-pub fn compare(gpu: &Gpu, scene: &Scene, size: u32, a: &relief_dsl::Pipeline, b: &relief_dsl::Pipeline, warmup: u32, pairs: u32) -> anyhow::Result<Comparison> {
+pub fn compare(
+    gpu: &Gpu,
+    scene: &Scene,
+    size: u32,
+    a: &relief_dsl::Pipeline,
+    b: &relief_dsl::Pipeline,
+    warmup: u32,
+    pairs: u32,
+) -> anyhow::Result<Comparison> {
     let mut tex = SceneTextures::new(gpu, scene);
     let rays = scene.rays(size);
     let clock = Clock::new(gpu)?;
@@ -273,7 +306,10 @@ pub fn compare(gpu: &Gpu, scene: &Scene, size: u32, a: &relief_dsl::Pipeline, b:
     for p in [a, b] {
         let p = scene.pipeline_for(p);
         if p.silhouette == Silhouette::Clip && scene.edge != EdgeMode::Clamp {
-            anyhow::bail!("`{p}`: silhouette=clip needs a scene with clamp edges; scene `{}` repeats its height map", scene.name);
+            anyhow::bail!(
+                "`{p}`: silhouette=clip needs a scene with clamp edges; scene `{}` repeats its height map",
+                scene.name
+            );
         }
         let program = Program::new(&p)?;
         tex.add_maps_lod(gpu, scene, &p.required_maps(), p.lod)?;
@@ -285,7 +321,12 @@ pub fn compare(gpu: &Gpu, scene: &Scene, size: u32, a: &relief_dsl::Pipeline, b:
         sides.push((p.to_string(), r, k, crate::simd::simd_cost(&rays, &hits)));
     }
     let blocks = gpu::paired_blocks(gpu, &clock, &sides[0].1, &sides[1].1, [sides[0].2, sides[1].2], pairs)?;
-    Ok(Comparison { pipelines: [sides[0].0.clone(), sides[1].0.clone()], ratio: blocks.ratio(), blocks, cost: [sides[0].3, sides[1].3] })
+    Ok(Comparison {
+        pipelines: [sides[0].0.clone(), sides[1].0.clone()],
+        ratio: blocks.ratio(),
+        blocks,
+        cost: [sides[0].3, sides[1].3],
+    })
 }
 
 /// The NDC depth of the reference hit of every probe ray (one per covered pixel) against the

@@ -3,10 +3,10 @@
 //! Accuracy is measured on the probe's hits against the exact reference for the *same* rays;
 //! speed on the render entry's frame times.
 
-use relief_dsl::abi::ProbeHit;
 use crate::heightmap::{EdgeMode, HeightMap};
 use crate::reference::RefHit;
 use crate::scene::ProbeRay;
+use relief_dsl::abi::ProbeHit;
 
 pub use crate::results::Metrics;
 
@@ -100,7 +100,13 @@ pub struct Accuracy {
 impl Accuracy {
     /// Scores `hits` against `refs` for the same `rays`, on the surface the shader samples
     /// (`heights`, bilinear, with `edge`).
-    pub fn of(rays: &[ProbeRay], hits: &[ProbeHit], refs: &[Option<RefHit>], heights: &HeightMap, edge: EdgeMode) -> Accuracy {
+    pub fn of(
+        rays: &[ProbeRay],
+        hits: &[ProbeHit],
+        refs: &[Option<RefHit>],
+        heights: &HeightMap,
+        edge: EdgeMode,
+    ) -> Accuracy {
         Accuracy::of_levels(rays, hits, refs, std::slice::from_ref(heights), &[], edge)
     }
 
@@ -108,7 +114,14 @@ impl Accuracy {
     /// `chain` (level 0 for a ray past the end of `levels`), so that the surface a hit is
     /// scored against is the one its shader sampled. Distances in texels are in level-0
     /// texels throughout, so that they compare across levels.
-    pub fn of_levels(rays: &[ProbeRay], hits: &[ProbeHit], refs: &[Option<RefHit>], chain: &[HeightMap], levels: &[usize], edge: EdgeMode) -> Accuracy {
+    pub fn of_levels(
+        rays: &[ProbeRay],
+        hits: &[ProbeHit],
+        refs: &[Option<RefHit>],
+        chain: &[HeightMap],
+        levels: &[usize],
+        edge: EdgeMode,
+    ) -> Accuracy {
         let heights = &chain[0];
         let n = hits.len().min(rays.len()).min(refs.len());
         let texels = heights.width.max(heights.height) as f64;
@@ -159,14 +172,26 @@ impl Accuracy {
     }
 
     fn share(&self, count: usize) -> f64 {
-        if self.rays > 0 { count as f64 / self.rays as f64 } else { 0.0 }
+        if self.rays > 0 {
+            count as f64 / self.rays as f64
+        } else {
+            0.0
+        }
     }
     fn per_ray(&self, sum: f64) -> f64 {
-        if self.rays > 0 { sum / self.rays as f64 } else { 0.0 }
+        if self.rays > 0 {
+            sum / self.rays as f64
+        } else {
+            0.0
+        }
     }
     /// RMS of t − t_ref over the rays the reference hits.
     pub fn t_rms(&self) -> f64 {
-        if self.both > 0 { (self.t_sq_sum / self.both as f64).sqrt() } else { 0.0 }
+        if self.both > 0 {
+            (self.t_sq_sum / self.both as f64).sqrt()
+        } else {
+            0.0
+        }
     }
     /// `missed` as a share of all rays, in [0, 1]; 0 when there are no rays.
     pub fn missed_rate(&self) -> f64 {
@@ -188,12 +213,27 @@ impl Accuracy {
 
 /// The accuracy fields, from the probe's hits and the reference hits of the same rays, on
 /// the surface the shader samples (`heights`, bilinear, with `edge`).
-pub fn set_accuracy(m: &mut Metrics, rays: &[ProbeRay], hits: &[ProbeHit], refs: &[Option<RefHit>], heights: &HeightMap, edge: EdgeMode) {
+pub fn set_accuracy(
+    m: &mut Metrics,
+    rays: &[ProbeRay],
+    hits: &[ProbeHit],
+    refs: &[Option<RefHit>],
+    heights: &HeightMap,
+    edge: EdgeMode,
+) {
     set_accuracy_levels(m, rays, hits, refs, std::slice::from_ref(heights), &[], edge)
 }
 
 /// [`set_accuracy`] for hits that sampled mip levels ([`Accuracy::of_levels`]).
-pub fn set_accuracy_levels(m: &mut Metrics, rays: &[ProbeRay], hits: &[ProbeHit], refs: &[Option<RefHit>], chain: &[HeightMap], levels: &[usize], edge: EdgeMode) {
+pub fn set_accuracy_levels(
+    m: &mut Metrics,
+    rays: &[ProbeRay],
+    hits: &[ProbeHit],
+    refs: &[Option<RefHit>],
+    chain: &[HeightMap],
+    levels: &[usize],
+    edge: EdgeMode,
+) {
     let a = Accuracy::of_levels(rays, hits, refs, chain, levels, edge);
     m.mse_dissertation = a.mse_sum;
     m.mse_dissertation_mean = a.per_ray(a.mse_sum);

@@ -94,7 +94,15 @@ mod tests {
     fn one_error_has_one_colour_in_every_map() {
         // Three decades above 1e-6 is half the bar: pure red; 1e-6 and below black; 1 and
         // above yellow; no finite hit magenta.
-        let errors = [(0, 0, 1e-9), (1, 0, 1e-6), (2, 0, 1e-3), (3, 0, 1.0), (4, 0, 7.0), (5, 0, f64::INFINITY), (6, 0, f64::NAN)];
+        let errors = [
+            (0, 0, 1e-9),
+            (1, 0, 1e-6),
+            (2, 0, 1e-3),
+            (3, 0, 1.0),
+            (4, 0, 7.0),
+            (5, 0, f64::INFINITY),
+            (6, 0, f64::NAN),
+        ];
         let map = error_map(96, &errors);
         assert_eq!(colour(&map, 0), [0, 0, 0]);
         assert_eq!(colour(&map, 1), [0, 0, 0]);

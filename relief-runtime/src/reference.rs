@@ -162,13 +162,7 @@ impl Reference {
             Sampling::Bilinear => 0.5,
             Sampling::Nearest => 0.0,
         };
-        let ray = GridRay {
-            x0: origin[0] * w - off,
-            y0: origin[1] * h - off,
-            dx: dir[0] * w,
-            dy: dir[1] * h,
-            dz,
-        };
+        let ray = GridRay { x0: origin[0] * w - off, y0: origin[1] * h - off, dx: dir[0] * w, dy: dir[1] * h, dz };
         let t_end = -1.0 / dz;
         let top = if skip { self.pyramid.top() } else { 0 };
         let mut level = top;
@@ -306,8 +300,24 @@ impl GridRay {
     /// The cell just across the side(s) of the box `[x0, x1) × [y0, y1)` that the ray leaves
     /// by (`tx`, `ty`: when it leaves the box's x and y slabs).
     fn step(&self, cx: i64, cy: i64, tx: f64, ty: f64, [x0, x1, y0, y1]: [i64; 4]) -> (i64, i64) {
-        let nx = if tx <= ty { if self.dx > 0.0 { x1 } else { x0 - 1 } } else { cx };
-        let ny = if ty <= tx { if self.dy > 0.0 { y1 } else { y0 - 1 } } else { cy };
+        let nx = if tx <= ty {
+            if self.dx > 0.0 {
+                x1
+            } else {
+                x0 - 1
+            }
+        } else {
+            cx
+        };
+        let ny = if ty <= tx {
+            if self.dy > 0.0 {
+                y1
+            } else {
+                y0 - 1
+            }
+        } else {
+            cy
+        };
         (nx, ny)
     }
 }
@@ -355,11 +365,22 @@ pub fn clip_to_square(refs: &[Option<RefHit>], tiling: f64) -> Vec<Option<RefHit
 ///
 /// [`Camera::footprint_lambda`]: crate::scene::Camera::footprint_lambda
 /// [`footprint_level`]: crate::scene::camera::footprint_level
-pub fn ray_levels(scene: &Scene, rays: &[ProbeRay], lod: Lod, size: [usize; 2], levels: usize) -> Result<Vec<usize>, String> {
+pub fn ray_levels(
+    scene: &Scene,
+    rays: &[ProbeRay],
+    lod: Lod,
+    size: [usize; 2],
+    levels: usize,
+) -> Result<Vec<usize>, String> {
     Ok(match lod {
         Lod::Zero => vec![0; rays.len()],
         Lod::Level(k) if k as usize >= levels => {
-            return Err(format!("lod=level({k}): the height map ({}×{}) has only {levels} mip levels (0..={})", size[0], size[1], levels - 1))
+            return Err(format!(
+                "lod=level({k}): the height map ({}×{}) has only {levels} mip levels (0..={})",
+                size[0],
+                size[1],
+                levels - 1
+            ))
         }
         Lod::Level(k) => vec![k as usize; rays.len()],
         Lod::Auto => rays
@@ -395,6 +416,10 @@ pub fn reference_hits_at_levels(
 
 /// Exact first hits of `rays` on `scene`'s height map (its edge mode, the given sampling),
 /// in parallel and in input order.
-pub fn reference_hits(scene: &Scene, rays: &[ProbeRay], sampling: Sampling) -> Result<Vec<Option<RefHit>>, ReferenceError> {
+pub fn reference_hits(
+    scene: &Scene,
+    rays: &[ProbeRay],
+    sampling: Sampling,
+) -> Result<Vec<Option<RefHit>>, ReferenceError> {
     Reference::for_scene(scene, sampling).trace_all(rays)
 }

@@ -176,7 +176,6 @@ pub const COLUMNS: &[&str] = &[
     "cell_dir",
 ];
 
-
 /// The file rows are appended to, in a sweep folder.
 pub const JSONL: &str = "results.jsonl";
 
@@ -353,4 +352,3 @@ fn set_nan(m: &mut Metrics, field: &str) {
     };
     *f = f64::NAN;
 }
-

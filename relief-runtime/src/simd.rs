@@ -78,14 +78,27 @@ pub fn simd_cost(rays: &[ProbeRay], hits: &[ProbeHit]) -> SimdCost {
     let g32 = groups(rays, hits, 8, 4);
     let g64 = groups(rays, hits, 8, 8);
     if g32.is_empty() {
-        return SimdCost { simd32_steps: f64::NAN, simd64_steps: f64::NAN, simd32_fetches: f64::NAN, simd32_divergence: f64::NAN, groups32: 0, lanes32: f64::NAN };
+        return SimdCost {
+            simd32_steps: f64::NAN,
+            simd64_steps: f64::NAN,
+            simd32_fetches: f64::NAN,
+            simd32_divergence: f64::NAN,
+            groups32: 0,
+            lanes32: f64::NAN,
+        };
     }
     let mean = |gs: &[Group], f: &dyn Fn(&Group) -> f64| gs.iter().map(f).sum::<f64>() / gs.len() as f64;
     SimdCost {
         simd32_steps: mean(&g32, &|g| g.max_steps as f64),
         simd64_steps: mean(&g64, &|g| g.max_steps as f64),
         simd32_fetches: mean(&g32, &|g| g.max_fetches as f64),
-        simd32_divergence: mean(&g32, &|g| if g.sum_steps == 0 { 1.0 } else { g.max_steps as f64 * g.lanes as f64 / g.sum_steps as f64 }),
+        simd32_divergence: mean(&g32, &|g| {
+            if g.sum_steps == 0 {
+                1.0
+            } else {
+                g.max_steps as f64 * g.lanes as f64 / g.sum_steps as f64
+            }
+        }),
         groups32: g32.len(),
         lanes32: g32.iter().map(|g| g.lanes as f64).sum::<f64>() / (32 * g32.len()) as f64,
     }

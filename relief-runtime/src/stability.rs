@@ -27,8 +27,26 @@ pub const ANGLES: [f32; 7] = [0.0, 30.0, 60.0, 75.0, 85.0, 89.0, 89.9];
 /// procedural ones are generated at that size, the real ones box-filtered down from their
 /// native 256² or 128² by a whole factor (4 or 2; see [`crate::scene::builtin`]).
 pub const SCENES: [&str; 20] = [
-    "spikes", "walls", "boxes", "flat0", "flat1", "step", "checker", "seam", "lion", "self_shadow", "collage", "shapes", "rock_bump",
-    "rocks", "stones", "wall", "four", "saint", "bump", "dent",
+    "spikes",
+    "walls",
+    "boxes",
+    "flat0",
+    "flat1",
+    "step",
+    "checker",
+    "seam",
+    "lion",
+    "self_shadow",
+    "collage",
+    "shapes",
+    "rock_bump",
+    "rocks",
+    "stones",
+    "wall",
+    "four",
+    "saint",
+    "bump",
+    "dent",
 ];
 
 /// One method on one condition.
@@ -143,7 +161,14 @@ pub fn rays(scene: &Scene, n: u32, angle: f32) -> Vec<ProbeRay> {
 
 /// Scores one method's hits against the reference, with the metrics' own per-ray rules
 /// ([`crate::metrics::Accuracy`]).
-pub fn score(method: &str, scene: &Scene, angle: f32, rays: &[ProbeRay], hits: &[GpuHit], refs: &[Option<RefHit>]) -> Cell {
+pub fn score(
+    method: &str,
+    scene: &Scene,
+    angle: f32,
+    rays: &[ProbeRay],
+    hits: &[GpuHit],
+    refs: &[Option<RefHit>],
+) -> Cell {
     let a = crate::metrics::Accuracy::of(rays, hits, refs, &scene.height, scene.edge);
     Cell {
         method: method.to_string(),
@@ -184,7 +209,14 @@ pub fn methods() -> Vec<Pipeline> {
 }
 
 /// Runs the whole stability grid; `progress` is told each finished (scene, angle).
-pub fn run(gpu: &Gpu, size: u32, methods: &[Pipeline], scenes: &[&str], angles: &[f32], mut progress: impl FnMut(&str, f32)) -> anyhow::Result<Vec<Cell>> {
+pub fn run(
+    gpu: &Gpu,
+    size: u32,
+    methods: &[Pipeline],
+    scenes: &[&str],
+    angles: &[f32],
+    mut progress: impl FnMut(&str, f32),
+) -> anyhow::Result<Vec<Cell>> {
     let programs: Vec<(String, Program, Vec<relief_dsl::spec::MapReq>)> = methods
         .iter()
         .map(|p| Ok((p.to_string(), Program::new(p)?, p.required_maps())))
@@ -197,10 +229,12 @@ pub fn run(gpu: &Gpu, size: u32, methods: &[Pipeline], scenes: &[&str], angles: 
         on_device.height.data = tex.heights_on_device.clone();
         for &angle in angles {
             let rays = rays(&scene, size, angle);
-            let refs = reference_hits(&on_device, &rays, Sampling::Bilinear).with_context(|| format!("{name} at {angle}°"))?;
+            let refs =
+                reference_hits(&on_device, &rays, Sampling::Bilinear).with_context(|| format!("{name} at {angle}°"))?;
             for (text, program, maps) in &programs {
                 tex.add_maps(gpu, &scene, maps)?;
-                let hits = gpu::probe(gpu, program, &scene, &tex, &rays).with_context(|| format!("{text} on {name}"))?;
+                let hits =
+                    gpu::probe(gpu, program, &scene, &tex, &rays).with_context(|| format!("{text} on {name}"))?;
                 cells.push(score(text, &on_device, angle, &rays, &hits, &refs));
             }
             progress(name, angle);
@@ -249,10 +283,11 @@ pub fn worst_table(cells: &[Cell]) -> String {
         if !seen.insert(m) {
             continue;
         }
-        let worst = cells
-            .iter()
-            .filter(|c| c.method == m)
-            .max_by(|a, b| (a.missed_rate, a.ref_err_t_rms).partial_cmp(&(b.missed_rate, b.ref_err_t_rms)).unwrap_or(std::cmp::Ordering::Equal));
+        let worst = cells.iter().filter(|c| c.method == m).max_by(|a, b| {
+            (a.missed_rate, a.ref_err_t_rms)
+                .partial_cmp(&(b.missed_rate, b.ref_err_t_rms))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
         if let Some(c) = worst {
             let nan: usize = cells.iter().filter(|x| x.method == m).map(|x| x.nan_count).sum();
             let outside: usize = cells.iter().filter(|x| x.method == m).map(|x| x.outside_count).sum();

@@ -35,8 +35,8 @@ pub struct Ratio {
 /// 1e-4 there).
 pub fn t975(df: u32) -> f64 {
     const TABLE: [f64; 30] = [
-        12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101,
-        2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042,
+        12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160, 2.145, 2.131,
+        2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042,
     ];
     match df {
         0 => f64::INFINITY,
@@ -50,7 +50,9 @@ pub fn t975(df: u32) -> f64 {
 fn t975_expansion(nu: f64) -> f64 {
     let z: f64 = 1.959_963_985;
     let (z3, z5, z7) = (z.powi(3), z.powi(5), z.powi(7));
-    z + (z3 + z) / (4.0 * nu) + (5.0 * z5 + 16.0 * z3 + 3.0 * z) / (96.0 * nu * nu) + (3.0 * z7 + 19.0 * z5 + 17.0 * z3 - 15.0 * z) / (384.0 * nu.powi(3))
+    z + (z3 + z) / (4.0 * nu)
+        + (5.0 * z5 + 16.0 * z3 + 3.0 * z) / (96.0 * nu * nu)
+        + (3.0 * z7 + 19.0 * z5 + 17.0 * z3 - 15.0 * z) / (384.0 * nu.powi(3))
 }
 
 /// The ratio of A's to B's mean frame time from paired blocks: `a[i]` and `b[i]` are the
@@ -59,7 +61,11 @@ fn t975_expansion(nu: f64) -> f64 {
 /// below the timer's resolution reads 0) makes the whole estimate NaN: it is not dropped.
 pub fn paired_ratio(a: &[f64], b: &[f64]) -> Ratio {
     let n = a.len().min(b.len());
-    let logs: Vec<f64> = a.iter().zip(b).map(|(x, y)| if *x > 0.0 && *y > 0.0 && x.is_finite() && y.is_finite() { (x / y).ln() } else { f64::NAN }).collect();
+    let logs: Vec<f64> = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| if *x > 0.0 && *y > 0.0 && x.is_finite() && y.is_finite() { (x / y).ln() } else { f64::NAN })
+        .collect();
     let pairs = n as u32;
     if n == 0 {
         return Ratio { ratio: f64::NAN, lo: f64::NAN, hi: f64::NAN, pairs };
@@ -98,7 +104,11 @@ impl Ratio {
         let (va, vb) = (sa * sa, sb * sb);
         let se = (va + vb).sqrt();
         let dof = |p: u32| (p.max(2) - 1) as f64;
-        let nu = if va + vb > 0.0 { (va + vb).powi(2) / (va * va / dof(self.pairs) + vb * vb / dof(other.pairs)) } else { dof(pairs) };
+        let nu = if va + vb > 0.0 {
+            (va + vb).powi(2) / (va * va / dof(self.pairs) + vb * vb / dof(other.pairs))
+        } else {
+            dof(pairs)
+        };
         let h = t975(nu.floor().max(1.0) as u32) * se;
         Ratio { ratio, lo: ratio * (-h).exp(), hi: ratio * h.exp(), pairs }
     }
@@ -172,7 +182,12 @@ mod tests {
         // Two independent computations agree where both apply (the table's values are
         // rounded to three decimals).
         for df in [20u32, 25, 30] {
-            assert!((t975_expansion(df as f64) - t975(df)).abs() < 1.5e-3, "df {df}: {} vs {}", t975_expansion(df as f64), t975(df));
+            assert!(
+                (t975_expansion(df as f64) - t975(df)).abs() < 1.5e-3,
+                "df {df}: {} vs {}",
+                t975_expansion(df as f64),
+                t975(df)
+            );
         }
         assert!((t975(40) - 2.021).abs() < 1e-3 && (t975(60) - 2.000).abs() < 1e-3 && (t975(120) - 1.980).abs() < 1e-3);
         assert!((t975(1_000_000) - 1.960).abs() < 1e-3);

@@ -211,7 +211,16 @@ struct Pair<'a> {
 
 /// `min over every copy of every cell D of f(pair)`, starting from `init`.
 #[allow(clippy::too_many_arguments)]
-fn brute_min(m: &HeightMap, edge: EdgeMode, i: usize, j: usize, ax: Dir, ay: Dir, init: f64, f: &dyn Fn(&Pair) -> Option<f64>) -> f64 {
+fn brute_min(
+    m: &HeightMap,
+    edge: EdgeMode,
+    i: usize,
+    j: usize,
+    ax: Dir,
+    ay: Dir,
+    init: f64,
+    f: &dyn Fn(&Pair) -> Option<f64>,
+) -> f64 {
     let mut best = init;
     let xs = copies(i, m.width, edge, ax);
     let ys = copies(j, m.height, edge, ay);
@@ -285,7 +294,16 @@ fn brute_multi(m: &HeightMap, edge: EdgeMode, k: usize) -> Vec<f32> {
             let a = apex(&corner_heights(m, edge, i, j));
             let b = heights(a, k);
             for bk in b.iter().take(k) {
-                out.push(normal_z(f32_down(brute_min(m, edge, i, j, Dir::Both, Dir::Both, f64::INFINITY, &cone_of(*bk)))));
+                out.push(normal_z(f32_down(brute_min(
+                    m,
+                    edge,
+                    i,
+                    j,
+                    Dir::Both,
+                    Dir::Both,
+                    f64::INFINITY,
+                    &cone_of(*bk),
+                ))));
             }
             out.push(a);
         }
@@ -305,7 +323,9 @@ fn brute_piecewise(m: &HeightMap, edge: EdgeMode, k: usize) -> Vec<f32> {
                     f64::INFINITY
                 } else {
                     let (lo, hi) = (b[q], b[q + 1]);
-                    brute_min(m, edge, i, j, Dir::Both, Dir::Both, f64::INFINITY, &|p: &Pair| Some(piece_ratio(lo, hi, rho, &p.c)))
+                    brute_min(m, edge, i, j, Dir::Both, Dir::Both, f64::INFINITY, &|p: &Pair| {
+                        Some(piece_ratio(lo, hi, rho, &p.c))
+                    })
                 };
                 rho = if r.is_infinite() { f64::INFINITY } else { rho + f32_down(r) as f64 * (b[q + 1] - b[q]) };
                 out.push(normal_z(f32_down(r)));
@@ -330,7 +350,11 @@ fn cell_cone_matches_brute_force_bit_for_bit() {
     for (w, h) in SIZES {
         for (name, m) in suite(w, h) {
             for edge in EDGES {
-                assert_bits(&format!("cell_cone {name} {w}x{h} {edge:?}"), &cell_cone(&m, edge), &brute_cell_cone(&m, edge));
+                assert_bits(
+                    &format!("cell_cone {name} {w}x{h} {edge:?}"),
+                    &cell_cone(&m, edge),
+                    &brute_cell_cone(&m, edge),
+                );
             }
         }
     }
@@ -346,7 +370,11 @@ fn cell_quad_and_normal_match_brute_force_bit_for_bit() {
     for (w, h) in SIZES {
         for (name, m) in suite(w, h) {
             for edge in EDGES {
-                assert_bits(&format!("cell_quad_cone {name} {w}x{h} {edge:?}"), &cell_quad_cone(&m, edge), &brute_quad(&m, edge));
+                assert_bits(
+                    &format!("cell_quad_cone {name} {w}x{h} {edge:?}"),
+                    &cell_quad_cone(&m, edge),
+                    &brute_quad(&m, edge),
+                );
                 let n: Vec<f32> = brute_cell_cone(&m, edge).chunks(2).flat_map(|c| [normal_z(c[0]), c[1]]).collect();
                 assert_bits(&format!("cell_cone_normal {name} {w}x{h} {edge:?}"), &cell_cone_normal(&m, edge), &n);
             }
@@ -360,7 +388,11 @@ fn cell_multi_and_piecewise_match_brute_force_bit_for_bit() {
         for (name, m) in suite(w, h) {
             for edge in EDGES {
                 for k in [1, 3] {
-                    assert_bits(&format!("cell_multi_cone {name} {w}x{h} {edge:?} K={k}"), &cell_multi_cone(&m, edge, k), &brute_multi(&m, edge, k));
+                    assert_bits(
+                        &format!("cell_multi_cone {name} {w}x{h} {edge:?} K={k}"),
+                        &cell_multi_cone(&m, edge, k),
+                        &brute_multi(&m, edge, k),
+                    );
                     assert_bits(
                         &format!("cell_piecewise_cone {name} {w}x{h} {edge:?} K={k}"),
                         &cell_piecewise_cone(&m, edge, k),
@@ -377,13 +409,21 @@ fn cell_relaxed_cone_matches_brute_force_bit_for_bit() {
     for (w, h) in SIZES {
         for (name, m) in suite(w, h) {
             for edge in EDGES {
-                assert_bits(&format!("cell_relaxed_cone {name} {w}x{h} {edge:?}"), &cell_relaxed_cone(&m, edge), &brute_relaxed(&m, edge));
+                assert_bits(
+                    &format!("cell_relaxed_cone {name} {w}x{h} {edge:?}"),
+                    &cell_relaxed_cone(&m, edge),
+                    &brute_relaxed(&m, edge),
+                );
             }
         }
     }
     let m = smooth(64, 64, 8);
     for edge in EDGES {
-        assert_bits(&format!("cell_relaxed_cone smooth 64 {edge:?}"), &cell_relaxed_cone(&m, edge), &brute_relaxed(&m, edge));
+        assert_bits(
+            &format!("cell_relaxed_cone smooth 64 {edge:?}"),
+            &cell_relaxed_cone(&m, edge),
+            &brute_relaxed(&m, edge),
+        );
     }
 }
 
@@ -423,7 +463,12 @@ fn check_cone(what: &str, m: &HeightMap, edge: EdgeMode, i: usize, j: usize, ax:
 }
 
 fn dense_maps() -> Vec<(&'static str, HeightMap)> {
-    vec![("noise", noise(12, 12, 3)), ("smooth", smooth(16, 16, 6)), ("boxes", boxes(16, 14, 7)), ("coarse", coarse_noise(12, 10, 2))]
+    vec![
+        ("noise", noise(12, 12, 3)),
+        ("smooth", smooth(16, 16, 6)),
+        ("boxes", boxes(16, 14, 7)),
+        ("coarse", coarse_noise(12, 10, 2)),
+    ]
 }
 
 #[test]
@@ -438,12 +483,42 @@ fn cell_cones_hold_on_densely_sampled_surface() {
                 for i in 0..g.cw {
                     let c = j * g.cw + i;
                     let a = cone[2 * c + 1] as f64;
-                    check_cone(&format!("cell_cone {name} {edge:?}"), &m, edge, i, j, Dir::Both, Dir::Both, a, cone[2 * c] as f64);
+                    check_cone(
+                        &format!("cell_cone {name} {edge:?}"),
+                        &m,
+                        edge,
+                        i,
+                        j,
+                        Dir::Both,
+                        Dir::Both,
+                        a,
+                        cone[2 * c] as f64,
+                    );
                     for (q, (ax, ay)) in QUADRANTS.into_iter().enumerate() {
-                        check_cone(&format!("cell_quad_cone {name} {edge:?} q{q}"), &m, edge, i, j, ax, ay, quad[5 * c + 4] as f64, quad[5 * c + q] as f64);
+                        check_cone(
+                            &format!("cell_quad_cone {name} {edge:?} q{q}"),
+                            &m,
+                            edge,
+                            i,
+                            j,
+                            ax,
+                            ay,
+                            quad[5 * c + 4] as f64,
+                            quad[5 * c + q] as f64,
+                        );
                     }
                     let r = ratio_of(nrm[2 * c]) as f64;
-                    check_cone(&format!("cell_cone_normal {name} {edge:?}"), &m, edge, i, j, Dir::Both, Dir::Both, nrm[2 * c + 1] as f64, r);
+                    check_cone(
+                        &format!("cell_cone_normal {name} {edge:?}"),
+                        &m,
+                        edge,
+                        i,
+                        j,
+                        Dir::Both,
+                        Dir::Both,
+                        nrm[2 * c + 1] as f64,
+                        r,
+                    );
                 }
             }
         }
@@ -465,7 +540,17 @@ fn cell_multi_and_piecewise_cones_hold_on_densely_sampled_surface() {
                     let b = heights(a, k);
                     for q in 0..k {
                         let r = ratio_of(multi[(k + 1) * c + q]) as f64;
-                        check_cone(&format!("cell_multi_cone {name} {edge:?} k{q}"), &m, edge, i, j, Dir::Both, Dir::Both, b[q], r);
+                        check_cone(
+                            &format!("cell_multi_cone {name} {edge:?} k{q}"),
+                            &m,
+                            edge,
+                            i,
+                            j,
+                            Dir::Both,
+                            Dir::Both,
+                            b[q],
+                            r,
+                        );
                     }
                     // Piecewise: rebuild R(z) from the stored slopes, as a shader does.
                     let slopes: Vec<f64> = (0..k).map(|q| ratio_of(piece[(k + 1) * c + q]) as f64).collect();
@@ -486,7 +571,10 @@ fn cell_multi_and_piecewise_cones_hold_on_densely_sampled_surface() {
                         // No point of the solid dist <= R(z) lies below the surface: R(S(y)) <= dist.
                         let rr = radius(s.min(1.0));
                         if s > b[0] {
-                            assert!(rr <= d + TOL * (1.0 + d), "cell_piecewise_cone {name} {edge:?} ({i}, {j}): R({s}) = {rr} > dist {d}");
+                            assert!(
+                                rr <= d + TOL * (1.0 + d),
+                                "cell_piecewise_cone {name} {edge:?} ({i}, {j}): R({s}) = {rr} > dist {d}"
+                            );
                         }
                     });
                 }
@@ -505,7 +593,12 @@ fn relaxed_cell_cone_rays_cross_at_most_once_inside_the_cone() {
     let mut pierced = 0usize;
     let mut rays = 0usize;
     let mut wider = 0usize;
-    for (name, m) in [("smooth", smooth(32, 32, 3)), ("boxes", boxes(24, 24, 5)), ("noise", noise(16, 16, 9)), ("smooth2", smooth(24, 20, 11))] {
+    for (name, m) in [
+        ("smooth", smooth(32, 32, 3)),
+        ("boxes", boxes(24, 24, 5)),
+        ("noise", noise(16, 16, 9)),
+        ("smooth2", smooth(24, 20, 11)),
+    ] {
         for edge in EDGES {
             let g = CellGrid::new(m.width, m.height, edge);
             let rel = cell_relaxed_cone(&m, edge);
@@ -535,7 +628,8 @@ fn relaxed_cell_cone_rays_cross_at_most_once_inside_the_cone() {
                     while t < 1.0 {
                         let (x, y) = (x0 + du * t * w, y0 + dv * t * h);
                         let z = z0 - dip * t;
-                        if edge == EdgeMode::Clamp && !((-0.5..=w - 0.5).contains(&x) && (-0.5..=h - 0.5).contains(&y)) {
+                        if edge == EdgeMode::Clamp && !((-0.5..=w - 0.5).contains(&x) && (-0.5..=h - 0.5).contains(&y))
+                        {
                             break;
                         }
                         let d = ((gap(x, [cx0, cx1]) / w).powi(2) + (gap(y, [cy0, cy1]) / h).powi(2)).sqrt();
@@ -568,8 +662,13 @@ fn relaxed_cell_cone_rays_cross_at_most_once_inside_the_cone() {
         }
     }
     // The test must exercise relaxed cones that the surface actually pierces.
-    eprintln!("relaxed rays: {pierced} of {rays} went below the surface inside the cone; {wider} cells wider than cell_cone");
-    assert!(wider > 0 && pierced >= 100, "relaxed cones too narrow to test: wider {wider}, pierced {pierced} of {rays}");
+    eprintln!(
+        "relaxed rays: {pierced} of {rays} went below the surface inside the cone; {wider} cells wider than cell_cone"
+    );
+    assert!(
+        wider > 0 && pierced >= 100,
+        "relaxed cones too narrow to test: wider {wider}, pierced {pierced} of {rays}"
+    );
 }
 
 // ------------------------------------------------------------------------------------------
@@ -589,7 +688,13 @@ fn cell_kinds_build_list_and_round_safely() {
             let g = CellGrid::new(16, 12, edge);
             let map = maps::build(&m, kind, &p, edge).unwrap();
             assert_eq!((map.width, map.height, map.channels), (g.cw, g.ch, kind.channels(&p)), "{kind} {edge:?}");
-            for (format, sqrt) in [(Format::F16, false), (Format::F16, true), (Format::Unorm8, true), (Format::Unorm8, false), (Format::Unorm16, true)] {
+            for (format, sqrt) in [
+                (Format::F16, false),
+                (Format::F16, true),
+                (Format::Unorm8, true),
+                (Format::Unorm8, false),
+                (Format::Unorm16, true),
+            ] {
                 let enc = Encoding { format, sqrt, max_value: 1.0 };
                 let dec = maps::build_encoded(&m, kind, &p, edge, &enc).unwrap().base.decode();
                 for (n, (&v, &d)) in map.data.iter().zip(&dec.data).enumerate() {
@@ -602,7 +707,14 @@ fn cell_kinds_build_list_and_round_safely() {
             }
         }
     }
-    for name in ["cell_cone", "cell_quad_cone", "cell_relaxed_cone", "cell_cone_normal", "cell_multi_cone", "cell_piecewise_cone"] {
+    for name in [
+        "cell_cone",
+        "cell_quad_cone",
+        "cell_relaxed_cone",
+        "cell_cone_normal",
+        "cell_multi_cone",
+        "cell_piecewise_cone",
+    ] {
         assert!(name.parse::<MapKind>().unwrap().is_cell());
     }
 }
@@ -626,7 +738,10 @@ fn cell_of_uv_finds_the_cell_that_contains_the_point() {
                     }
                     EdgeMode::Clamp => a <= p && p <= b,
                 };
-                assert!(inside(x, x0, x1, w as f64) && inside(y, y0, y1, h as f64), "{edge:?} {w}x{h}: ({u}, {v}) -> ({i}, {j})");
+                assert!(
+                    inside(x, x0, x1, w as f64) && inside(y, y0, y1, h as f64),
+                    "{edge:?} {w}x{h}: ({u}, {v}) -> ({i}, {j})"
+                );
             }
         }
     }
@@ -675,7 +790,8 @@ fn distance_field_is_a_lower_bound_under_trilinear_filtering() {
             for k in 0..depth {
                 for y in 0..h {
                     for x in 0..w {
-                        let (u, v, z) = ((x as f64 + 0.5) / w as f64, (y as f64 + 0.5) / h as f64, (k as f64 + 0.5) / depth as f64);
+                        let (u, v, z) =
+                            ((x as f64 + 0.5) / w as f64, (y as f64 + 0.5) / h as f64, (k as f64 + 0.5) / depth as f64);
                         let d = sampled_distance(&samples, edge, u, v, z);
                         let s = f[(k * h + y) * w + x] as f64;
                         assert!(s <= d + TOL, "{name} {edge:?} voxel ({x}, {y}, {k}): stored {s} > sampled {d}");
@@ -686,13 +802,16 @@ fn distance_field_is_a_lower_bound_under_trilinear_filtering() {
             let idx = |i: i64, n: usize| edge.index(i, n);
             for _ in 0..1500 {
                 let (u, v, z) = (r.f(), r.f(), r.f());
-                let (fx, fy, fz) = (u * w as f64 - 0.5, v * h as f64 - 0.5, (z * depth as f64 - 0.5).clamp(0.0, depth as f64 - 1.0));
+                let (fx, fy, fz) =
+                    (u * w as f64 - 0.5, v * h as f64 - 0.5, (z * depth as f64 - 0.5).clamp(0.0, depth as f64 - 1.0));
                 let (x0, y0, z0) = (fx.floor(), fy.floor(), fz.floor().min(depth as f64 - 1.0));
                 let (tx, ty, tz) = (fx - x0, fy - y0, fz - z0);
                 let mut val = 0.0;
                 for c in 0..8 {
                     let (ox, oy, oz) = ((c & 1) as i64, ((c >> 1) & 1) as i64, (c >> 2) as i64);
-                    let wgt = (if ox == 1 { tx } else { 1.0 - tx }) * (if oy == 1 { ty } else { 1.0 - ty }) * (if oz == 1 { tz } else { 1.0 - tz });
+                    let wgt = (if ox == 1 { tx } else { 1.0 - tx })
+                        * (if oy == 1 { ty } else { 1.0 - ty })
+                        * (if oz == 1 { tz } else { 1.0 - tz });
                     let kz = ((z0 as i64 + oz) as usize).min(depth - 1);
                     val += wgt * f[(kz * h + idx(y0 as i64 + oy, h)) * w + idx(x0 as i64 + ox, w)] as f64;
                 }

@@ -19,7 +19,8 @@ fn gen_all_writes_five_files_per_combination() {
     let out = tmp("gen");
     let st = relief().args(["gen", "--all", "--out"]).arg(&out).status().unwrap();
     assert!(st.success());
-    let files: Vec<_> = std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    let files: Vec<_> =
+        std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
     assert_eq!(files.len(), relief_dsl::Pipeline::all_defaults().len() * 5);
     assert!(files.contains(&"linear_32__binary_5__shadow-soft_16.frag.glsl".to_string()));
     assert!(!files.iter().any(|f| f.ends_with(".tmp")));
@@ -30,7 +31,18 @@ fn gen_all_writes_five_files_per_combination() {
 fn render_writes_frame_error_metrics_and_hits() {
     let out = tmp("render");
     let o = relief()
-        .args(["render", "linear(8)+binary(3)", "--scene", "scene:step", "--size", "32", "--frames", "2", "--dump-hits", "--out"])
+        .args([
+            "render",
+            "linear(8)+binary(3)",
+            "--scene",
+            "scene:step",
+            "--size",
+            "32",
+            "--frames",
+            "2",
+            "--dump-hits",
+            "--out",
+        ])
         .arg(&out)
         .output()
         .unwrap();
@@ -39,9 +51,27 @@ fn render_writes_frame_error_metrics_and_hits() {
     assert_eq!(summary.lines().count(), 1, "{summary}");
     let m: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("metrics.json")).unwrap()).unwrap();
     for key in [
-        "pipeline", "scene", "size", "adapter", "frame_ms_median", "frame_ms_p10", "frame_ms_p90", "mse_dissertation",
-        "ref_err_t_rms", "ref_err_uv_texels_rms", "missed_rate", "nan_count", "avg_iterations", "avg_fetches", "frame_ms_mean",
-        "mse_dissertation_mean", "outside_count", "nonconverged_rate", "avg_coarse_steps", "avg_refine_steps", "false_hit_rate",
+        "pipeline",
+        "scene",
+        "size",
+        "adapter",
+        "frame_ms_median",
+        "frame_ms_p10",
+        "frame_ms_p90",
+        "mse_dissertation",
+        "ref_err_t_rms",
+        "ref_err_uv_texels_rms",
+        "missed_rate",
+        "nan_count",
+        "avg_iterations",
+        "avg_fetches",
+        "frame_ms_mean",
+        "mse_dissertation_mean",
+        "outside_count",
+        "nonconverged_rate",
+        "avg_coarse_steps",
+        "avg_refine_steps",
+        "false_hit_rate",
     ] {
         assert!(m.get(key).is_some(), "metrics.json lacks {key}");
     }
@@ -116,7 +146,10 @@ fn maps_writes_png_and_npy_from_a_scene_or_a_file() {
     assert_eq!((decoded.width(), decoded.height()), (16, 16));
     assert!(matches!(decoded, image::DynamicImage::ImageLuma16(_)));
     // Bad input: a kind that does not exist, a file that does not exist.
-    for args in [vec!["maps", "scene:step", "--kind", "cones", "--out", "/tmp/x.npy"], vec!["maps", "/no/such.png", "--kind", "cone", "--out", "/tmp/x.npy"]] {
+    for args in [
+        vec!["maps", "scene:step", "--kind", "cones", "--out", "/tmp/x.npy"],
+        vec!["maps", "/no/such.png", "--kind", "cone", "--out", "/tmp/x.npy"],
+    ] {
         let o = relief().args(&args).output().unwrap();
         assert!(!o.status.success());
         assert_eq!(String::from_utf8_lossy(&o.stderr).trim().lines().count(), 1);
@@ -132,7 +165,18 @@ fn render_writes_the_depth_of_the_hit() {
     let dir = std::env::temp_dir().join(format!("relief-depth-{}", std::process::id()));
     let depth_err = |pipeline: &str| -> f64 {
         let o = relief()
-            .args(["render", pipeline, "--scene", "scene:rocks", "--size", "64", "--frames", "1", "--write-depth", "--out"])
+            .args([
+                "render",
+                pipeline,
+                "--scene",
+                "scene:rocks",
+                "--size",
+                "64",
+                "--frames",
+                "1",
+                "--write-depth",
+                "--out",
+            ])
             .arg(&dir)
             .output()
             .unwrap();
@@ -150,7 +194,11 @@ fn render_writes_the_depth_of_the_hit() {
     assert_eq!(npy.len() % 4, 0);
     assert!(image::open(dir.join("depth.png")).unwrap().width() == 64);
     // Without the flag there is no depth.
-    let o = relief().args(["render", "linear(8)", "--scene", "scene:rocks", "--size", "32", "--frames", "1", "--out"]).arg(dir.join("plain")).output().unwrap();
+    let o = relief()
+        .args(["render", "linear(8)", "--scene", "scene:rocks", "--size", "32", "--frames", "1", "--out"])
+        .arg(dir.join("plain"))
+        .output()
+        .unwrap();
     assert!(o.status.success());
     let m: serde_json::Value = serde_json::from_slice(&std::fs::read(dir.join("plain/metrics.json")).unwrap()).unwrap();
     assert!(m.get("depth_err_max").is_none());
@@ -200,13 +248,19 @@ fn serve_answers_files_inside_its_folder_and_nothing_outside() {
     std::os::unix::fs::symlink("../outside", root.join("out-dir")).unwrap();
     std::os::unix::fs::symlink("index.html", root.join("in-link.html")).unwrap();
 
-    let mut child = relief().args(["serve", "--port", "0"]).arg(&root).stdout(std::process::Stdio::piped()).spawn().unwrap();
+    let mut child =
+        relief().args(["serve", "--port", "0"]).arg(&root).stdout(std::process::Stdio::piped()).spawn().unwrap();
     let stdout = child.stdout.take().unwrap();
     let _serving = Serving(child);
     let mut line = String::new();
     std::io::BufReader::new(stdout).read_line(&mut line).unwrap();
-    let url = line.split_whitespace().find(|w| w.starts_with("http://")).unwrap_or_else(|| panic!("no URL in {line:?}"));
-    let port: u16 = url.trim_start_matches("http://127.0.0.1:").trim_end_matches([';', '/']).parse().unwrap_or_else(|_| panic!("not 127.0.0.1: {url}"));
+    let url =
+        line.split_whitespace().find(|w| w.starts_with("http://")).unwrap_or_else(|| panic!("no URL in {line:?}"));
+    let port: u16 = url
+        .trim_start_matches("http://127.0.0.1:")
+        .trim_end_matches([';', '/'])
+        .parse()
+        .unwrap_or_else(|_| panic!("not 127.0.0.1: {url}"));
 
     let (code, head, body) = get(port, "/");
     assert_eq!((code, body.as_slice()), (200, b"<!DOCTYPE html><title>r</title>".as_slice()));
@@ -247,6 +301,9 @@ fn serve_answers_files_inside_its_folder_and_nothing_outside() {
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(err.trim().lines().count(), 1, "{err}");
-    assert!(err.starts_with("relief: error:") && err.contains(&format!("port {port}")) && err.contains("in use"), "{err}");
+    assert!(
+        err.starts_with("relief: error:") && err.contains(&format!("port {port}")) && err.contains("in use"),
+        "{err}"
+    );
     std::fs::remove_dir_all(&base).ok();
 }

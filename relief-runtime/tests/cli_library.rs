@@ -12,13 +12,23 @@ fn gen_library_writes_four_files_with_the_options() {
     let out = std::env::temp_dir().join(format!("relief-cli-library-{}", std::process::id()));
     std::fs::remove_dir_all(&out).ok();
     let o = relief()
-        .args(["gen", "linear(10)+binary(5)+shadow=soft(30)", "maxmip(20)", "--library", "--group", "3", "--binding", "7"])
+        .args([
+            "gen",
+            "linear(10)+binary(5)+shadow=soft(30)",
+            "maxmip(20)",
+            "--library",
+            "--group",
+            "3",
+            "--binding",
+            "7",
+        ])
         .args(["--prefix", "rock", "--import-path", "relief::NAME", "--edge", "clamp", "--out"])
         .arg(&out)
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let mut files: Vec<String> = std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    let mut files: Vec<String> =
+        std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
     files.sort();
     let stem = "linear_10__binary_5__shadow-soft_30";
     let mut expect: Vec<String> = ["glsl", "hlsl", "metal", "wgsl"]

@@ -39,7 +39,13 @@ fn random_rays(n: usize, depth: f32, seed: u64) -> Vec<ProbeRay> {
             let theta = (89.0 * next()).to_radians();
             let reach = theta.tan() * depth;
             let az = next() * std::f32::consts::TAU;
-            ProbeRay { origin: [u, v], dir: [reach * az.cos(), reach * az.sin(), -1.0], x: i as u32, y: 0, pixel_size: 0.0 }
+            ProbeRay {
+                origin: [u, v],
+                dir: [reach * az.cos(), reach * az.sin(), -1.0],
+                x: i as u32,
+                y: 0,
+                pixel_size: 0.0,
+            }
         })
         .collect()
 }
@@ -70,7 +76,8 @@ impl Probe {
     /// reference traces that level of the chain as the device stores it.
     fn at_level(label: &str, coarse: &HeightMap, k: u32, edge: EdgeMode, seed: u64) -> Probe {
         let f = 1usize << k;
-        let fine = HeightMap::from_fn(coarse.width * f, coarse.height * f, |x, y| coarse.data[(y / f) * coarse.width + x / f]);
+        let fine =
+            HeightMap::from_fn(coarse.width * f, coarse.height * f, |x, y| coarse.data[(y / f) * coarse.width + x / f]);
         let mut p = Probe::new(label, fine, edge, seed);
         let mut level = p.scene.clone();
         level.height = relief_runtime::maps::mips::height_chain(&p.scene.height)[k as usize].clone();
@@ -137,16 +144,36 @@ fn safe_conservative_methods_never_end_past_the_first_hit() {
     let g = Gpu::new().unwrap();
     let mut failures = vec![];
     for probe in probes() {
-        for method in ["csm(24)", "qcsm(24)", "cns(24)", "mcns(24, 3)", "pcns(24, 3)", "sphere(24)", "maxmip(64)", "csm(4)", "pcns(6, 4)"] {
+        for method in [
+            "csm(24)",
+            "qcsm(24)",
+            "cns(24)",
+            "mcns(24, 3)",
+            "pcns(24, 3)",
+            "sphere(24)",
+            "maxmip(64)",
+            "csm(4)",
+            "pcns(6, 4)",
+        ] {
             if probe.level.is_some() && method.starts_with("sphere") {
                 continue; // its 3D field has no form per level: refused under lod
             }
             let hits = probe.run(&g, method);
             let past = probe.past(&hits, |_| T_SLACK);
             let converged = hits.iter().filter(|h| h.converged == 1).count();
-            eprintln!("{method} on {}: {} of {} past the first hit, {converged} converged", probe.label, past.len(), hits.len());
+            eprintln!(
+                "{method} on {}: {} of {} past the first hit, {converged} converged",
+                probe.label,
+                past.len(),
+                hits.len()
+            );
             if !past.is_empty() {
-                failures.push(format!("{method} on {}: {} rays end past the first hit, e.g. (ray, t − t_ref) {:?}", probe.label, past.len(), &past[..past.len().min(3)]));
+                failures.push(format!(
+                    "{method} on {}: {} rays end past the first hit, e.g. (ray, t − t_ref) {:?}",
+                    probe.label,
+                    past.len(),
+                    &past[..past.len().min(3)]
+                ));
             }
         }
     }
@@ -175,7 +202,12 @@ fn safe_relaxed_methods_refine_to_the_first_hit() {
                 .collect();
             eprintln!("{method} on {}: {} rays off by more than half a texel", probe.label, bad.len());
             if !bad.is_empty() {
-                failures.push(format!("{method} on {}: {} rays off by more than half a texel, e.g. {:?}", probe.label, bad.len(), &bad[..bad.len().min(3)]));
+                failures.push(format!(
+                    "{method} on {}: {} rays off by more than half a texel, e.g. {:?}",
+                    probe.label,
+                    bad.len(),
+                    &bad[..bad.len().min(3)]
+                ));
             }
         }
     }
@@ -201,10 +233,11 @@ fn safe_cone_stepping_converges_with_more_steps() {
     // never make it worse, and on a smooth map most rays converge.
     let g = Gpu::new().unwrap();
     let probe = Probe::new("rock_bump", Scene::by_name("rock_bump", Some(64)).unwrap().height, EdgeMode::Repeat, 7);
-    let err = |hits: &[GpuHit]| -> f64 { hits.iter().zip(&probe.refs).map(|(h, r)| (r.unwrap().t - h.t as f64).abs()).sum::<f64>() };
+    let err = |hits: &[GpuHit]| -> f64 {
+        hits.iter().zip(&probe.refs).map(|(h, r)| (r.unwrap().t - h.t as f64).abs()).sum::<f64>()
+    };
     let (h8, h32) = (probe.run(&g, "cns(8)"), probe.run(&g, "cns(32)"));
     assert!(err(&h32) < err(&h8) * 0.5, "cns(32) error {} vs cns(8) {}", err(&h32), err(&h8));
     let converged = h32.iter().filter(|h| h.converged == 1).count();
     assert!(converged * 10 > h32.len() * 9, "cns(32): {converged} of {} converged", h32.len());
 }
-

@@ -51,7 +51,12 @@ fn coarse_only_linear_is_worse_than_refined_and_counts_its_work() {
     let scene = Scene::by_name("rock_bump", Some(128)).unwrap();
     let (coarse, hits_c) = measure(&g, "linear(8)", &scene, 64);
     let (refined, hits_r) = measure(&g, "linear(8)+binary(6)", &scene, 64);
-    assert!(refined.ref_err_t_rms < coarse.ref_err_t_rms / 4.0, "{} vs {}", refined.ref_err_t_rms, coarse.ref_err_t_rms);
+    assert!(
+        refined.ref_err_t_rms < coarse.ref_err_t_rms / 4.0,
+        "{} vs {}",
+        refined.ref_err_t_rms,
+        coarse.ref_err_t_rms
+    );
     // Binary adds exactly 6 refine passes and 6 fetches per ray, and leaves the coarse count
     // alone.
     for (c, r) in hits_c.iter().zip(&hits_r) {

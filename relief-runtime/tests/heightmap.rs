@@ -24,7 +24,9 @@ fn gray_png_8_and_16_bit() {
     assert_eq!((m.width, m.height), (5, 3));
     assert_eq!(m.data[2 * 5 + 4], (4 * 50 + 2) as f32 / 255.0);
 
-    let img16 = image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::from_fn(4, 4, |x, y| image::Luma([(x * 16000 + y * 7) as u16]));
+    let img16 = image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::from_fn(4, 4, |x, y| {
+        image::Luma([(x * 16000 + y * 7) as u16])
+    });
     let p16 = d.join("g16.png");
     img16.save(&p16).unwrap();
     let m = HeightMap::load(&p16, &LoadOptions::default()).unwrap();
@@ -114,7 +116,10 @@ fn raw_float_npy() {
     std::fs::write(&p, npy_bytes(&[2, 2, 3], &vals)).unwrap();
     let m = HeightMap::load(&p, &opts(Some(Channel::B), false)).unwrap();
     assert_eq!(m.data, vec![2.0 / 20.0, 5.0 / 20.0, 8.0 / 20.0, 11.0 / 20.0]);
-    assert!(matches!(HeightMap::load(&p, &opts(Some(Channel::A), false)).unwrap_err(), HeightMapError::MissingChannel { .. }));
+    assert!(matches!(
+        HeightMap::load(&p, &opts(Some(Channel::A), false)).unwrap_err(),
+        HeightMapError::MissingChannel { .. }
+    ));
 
     // NaN, out of range, zero size, too large (rejected from the header alone), truncated.
     let p = d.join("nan.npy");
@@ -187,7 +192,9 @@ fn tiff_8_and_16_bit() {
     assert_eq!((m.width, m.height), (6, 5));
     assert_eq!(m.data[4 * 6 + 5], (5 * 40 + 4 * 3) as f32 / 255.0);
 
-    let img16 = image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::from_fn(5, 4, |x, y| image::Luma([(x * 13001 + y * 11) as u16]));
+    let img16 = image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::from_fn(5, 4, |x, y| {
+        image::Luma([(x * 13001 + y * 11) as u16])
+    });
     let p16 = d.join("g16.tiff");
     img16.save(&p16).unwrap();
     let m = HeightMap::load(&p16, &LoadOptions::default()).unwrap();
@@ -195,7 +202,9 @@ fn tiff_8_and_16_bit() {
     assert_eq!(m.data[3 * 5 + 4], (4 * 13001 + 3 * 11) as f32 / 65535.0);
 
     // 16-bit RGBA: the alpha channel on request.
-    let rgba16 = image::ImageBuffer::<image::Rgba<u16>, Vec<u16>>::from_fn(3, 3, |x, y| image::Rgba([1000, 2000, 3000, (x * 20000 + y * 3) as u16]));
+    let rgba16 = image::ImageBuffer::<image::Rgba<u16>, Vec<u16>>::from_fn(3, 3, |x, y| {
+        image::Rgba([1000, 2000, 3000, (x * 20000 + y * 3) as u16])
+    });
     let p = d.join("rgba16.tif");
     rgba16.save(&p).unwrap();
     let m = HeightMap::load(&p, &opts(Some(Channel::A), false)).unwrap();
@@ -206,7 +215,9 @@ fn tiff_8_and_16_bit() {
 fn webp_8_bit_lossless() {
     let d = dir();
     // image's WebP encoder writes lossless WebP (VP8L): every value comes back.
-    let img = image::RgbaImage::from_fn(7, 5, |x, y| image::Rgba([(x * 30) as u8, (y * 50) as u8, 77, (x * 9 + y * 40) as u8]));
+    let img = image::RgbaImage::from_fn(7, 5, |x, y| {
+        image::Rgba([(x * 30) as u8, (y * 50) as u8, 77, (x * 9 + y * 40) as u8])
+    });
     let p = d.join("rgba.webp");
     img.save(&p).unwrap();
     let m = HeightMap::load(&p, &opts(Some(Channel::A), false)).unwrap();
@@ -232,5 +243,8 @@ fn the_unsupported_message_names_the_new_formats() {
     let p = d.join("map.gif");
     std::fs::write(&p, b"GIF89a").unwrap();
     let e = HeightMap::load(&p, &LoadOptions::default()).unwrap_err().to_string();
-    assert!(e.contains("unsupported file type") && e.contains(".jpg") && e.contains(".tiff") && e.contains(".webp"), "{e}");
+    assert!(
+        e.contains("unsupported file type") && e.contains(".jpg") && e.contains(".tiff") && e.contains(".webp"),
+        "{e}"
+    );
 }

@@ -24,7 +24,15 @@ fn measure(g: &Gpu, pipeline: &str, scene: Scene, size: u32) -> (Metrics, Vec<us
     let (levels, refs) = prep.refs_for(p.lod).unwrap();
     let (levels, refs) = (levels.to_vec(), refs.to_vec());
     let mut m = Metrics { pipeline: pipeline.into(), scene: prep.scene.name.clone(), size, ..Default::default() };
-    metrics::set_accuracy_levels(&mut m, &prep.rays, &hits, &refs, &prep.textures.height_levels, &levels, prep.scene.edge);
+    metrics::set_accuracy_levels(
+        &mut m,
+        &prep.rays,
+        &hits,
+        &refs,
+        &prep.textures.height_levels,
+        &levels,
+        prep.scene.edge,
+    );
     assert_eq!(m.nan_count, 0, "{pipeline}");
     (m, levels)
 }
@@ -43,10 +51,20 @@ fn lod_auto_meets_the_reference_of_the_footprint_level_on_real_maps() {
         let mut scene = Scene::by_name(name, None).unwrap();
         scene.edge = edge;
         let (m, levels) = measure(&g, "linear(400)+interval(8)+lod=auto", scene.clone(), 64);
-        eprintln!("{name} {edge:?}: t_rms {} levels {:?}..={:?}", m.ref_err_t_rms, levels.iter().min(), levels.iter().max());
+        eprintln!(
+            "{name} {edge:?}: t_rms {} levels {:?}..={:?}",
+            m.ref_err_t_rms,
+            levels.iter().min(),
+            levels.iter().max()
+        );
         // maxmip walks every cell of the level it samples: exact there too.
         let (mm, _) = measure(&g, "maxmip(128)+lod=auto", scene, 64);
-        assert!(mm.ref_err_t_rms < AGREE_T_RMS && mm.missed_rate == 0.0, "maxmip on {name} {edge:?}: t error {}, missed {}", mm.ref_err_t_rms, mm.missed_rate);
+        assert!(
+            mm.ref_err_t_rms < AGREE_T_RMS && mm.missed_rate == 0.0,
+            "maxmip on {name} {edge:?}: t error {}, missed {}",
+            mm.ref_err_t_rms,
+            mm.missed_rate
+        );
         // At 64² pixels a 256² map is minified: the footprint is above one texel, so the
         // rays sample levels above 0 (else the test would not test the levels).
         assert!(levels.iter().any(|&l| l >= 1), "{name}: all rays at level 0");
@@ -92,29 +110,61 @@ fn a_level_the_map_does_not_have_is_an_error() {
 fn safe_cone_methods_at_a_level_never_pass_the_first_hit_of_that_level() {
     let g = gpu();
     let boxes = Scene::from_height_map("boxes", relief_runtime::stability::boxes(64, 5));
-    let cases = [(Scene::by_name("rocks", None).unwrap(), "lod=auto"), (Scene::by_name("four", None).unwrap(), "lod=auto"), (boxes, "lod=level(2)")];
+    let cases = [
+        (Scene::by_name("rocks", None).unwrap(), "lod=auto"),
+        (Scene::by_name("four", None).unwrap(), "lod=auto"),
+        (boxes, "lod=level(2)"),
+    ];
     for (scene, lod) in cases {
         for edge in [EdgeMode::Repeat, EdgeMode::Clamp] {
             let mut scene = scene.clone();
             scene.edge = edge;
             scene.camera.angle_deg = 60.0;
             let mut prep = Prepared::new(&g, scene, 48).unwrap();
-            for method in ["csm(40)", "qcsm(40)", "cns(40)", "mcns(40, 2)", "pcns(40, 2)", "rcs(40)+interval(12)", "rcns(40)+interval(12)"] {
+            for method in [
+                "csm(40)",
+                "qcsm(40)",
+                "cns(40)",
+                "mcns(40, 2)",
+                "pcns(40, 2)",
+                "rcs(40)+interval(12)",
+                "rcns(40)+interval(12)",
+            ] {
                 let text = format!("{method}+{lod}");
                 let p: relief_dsl::Pipeline = text.parse().unwrap();
                 prep.textures.add_maps_lod(&g, &prep.scene, &p.required_maps(), p.lod).unwrap();
-                let hits = gpu::probe(&g, &Program::new(&p).unwrap_or_else(|e| panic!("{text}: {e}")), &prep.scene, &prep.textures, &prep.rays).unwrap();
+                let hits = gpu::probe(
+                    &g,
+                    &Program::new(&p).unwrap_or_else(|e| panic!("{text}: {e}")),
+                    &prep.scene,
+                    &prep.textures,
+                    &prep.rays,
+                )
+                .unwrap();
                 let (levels, refs) = prep.refs_for(p.lod).unwrap();
                 let (levels, refs) = (levels.to_vec(), refs.to_vec());
                 assert!(levels.iter().any(|&l| l >= 1), "{text}: every ray at level 0");
-                let a = metrics::Accuracy::of_levels(&prep.rays, &hits, &refs, &prep.textures.height_levels, &levels, edge);
+                let a =
+                    metrics::Accuracy::of_levels(&prep.rays, &hits, &refs, &prep.textures.height_levels, &levels, edge);
                 let name = &prep.scene.name;
                 assert_eq!(a.nan, 0, "{text} on {name} {edge:?}");
                 if method.starts_with('r') {
                     assert!(a.t_rms() < AGREE_T_RMS, "{text} on {name} {edge:?}: t error {}", a.t_rms());
                 } else {
-                    let bad: Vec<_> = hits.iter().zip(&refs).zip(&levels).filter_map(|((h, r), l)| r.filter(|r| h.t as f64 - r.t > 1e-5).map(|r| (h.t as f64 - r.t, *l))).collect();
-                    assert_eq!(a.past, 0, "{text} on {name} {edge:?}: {} of {} rays past the first hit: {:?}", a.past, a.rays, &bad[..bad.len().min(9)]);
+                    let bad: Vec<_> = hits
+                        .iter()
+                        .zip(&refs)
+                        .zip(&levels)
+                        .filter_map(|((h, r), l)| r.filter(|r| h.t as f64 - r.t > 1e-5).map(|r| (h.t as f64 - r.t, *l)))
+                        .collect();
+                    assert_eq!(
+                        a.past,
+                        0,
+                        "{text} on {name} {edge:?}: {} of {} rays past the first hit: {:?}",
+                        a.past,
+                        a.rays,
+                        &bad[..bad.len().min(9)]
+                    );
                 }
             }
         }
@@ -156,8 +206,16 @@ fn a_level_is_the_level_0_of_its_own_map() {
             let mut prep_small = Prepared::new(&g, small.clone(), 48).unwrap();
             prep.textures.add_maps_lod(&g, &prep.scene, &at_level.required_maps(), at_level.lod).unwrap();
             prep_small.textures.add_maps(&g, &prep_small.scene, &at_zero.required_maps()).unwrap();
-            let hits = gpu::probe(&g, &Program::new(&at_level).unwrap(), &prep.scene, &prep.textures, &prep.rays).unwrap();
-            let hits_small = gpu::probe(&g, &Program::new(&at_zero).unwrap(), &prep_small.scene, &prep_small.textures, &prep_small.rays).unwrap();
+            let hits =
+                gpu::probe(&g, &Program::new(&at_level).unwrap(), &prep.scene, &prep.textures, &prep.rays).unwrap();
+            let hits_small = gpu::probe(
+                &g,
+                &Program::new(&at_zero).unwrap(),
+                &prep_small.scene,
+                &prep_small.textures,
+                &prep_small.rays,
+            )
+            .unwrap();
             assert_eq!(hits.len(), hits_small.len());
             let worst = hits.iter().zip(&hits_small).map(|(a, b)| (a.t - b.t).abs()).fold(0.0f32, f32::max);
             eprintln!("{pipeline} {edge:?}: worst {worst}");

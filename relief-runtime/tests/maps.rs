@@ -3,17 +3,17 @@
 
 use proptest::prelude::*;
 use relief_runtime::heightmap::{EdgeMode, HeightMap};
-use relief_runtime::maps::cone::cone_ratios;
-use relief_runtime::maps::cone_normal::{normal_z, cone_normals, relaxed_cone_normals};
-use relief_runtime::maps::distance_field::distance_field;
 use relief_runtime::io::npy;
+use relief_runtime::maps::cone::cone_ratios;
+use relief_runtime::maps::cone_normal::{cone_normals, normal_z, relaxed_cone_normals};
+use relief_runtime::maps::distance_field::distance_field;
 use relief_runtime::maps::encode::{self, f32_down, Encoding, Format, Rounding};
-use relief_runtime::maps::{file, filter};
 use relief_runtime::maps::multi_cone::{cone_heights, piecewise_cone_normals, stacked_cone_normals};
 use relief_runtime::maps::quad_cone::quad_cone_ratios;
 use relief_runtime::maps::relaxed_cone::{exits, relaxed_cone_ratios};
 use relief_runtime::maps::search::texel_distance;
 use relief_runtime::maps::{self, Map, MapCache, MapKind, MapParams};
+use relief_runtime::maps::{file, filter};
 
 // ------------------------------------------------------------------------------------------
 // Test height maps
@@ -64,7 +64,15 @@ fn spikes(w: usize, h: usize) -> HeightMap {
 }
 
 fn wall(w: usize, h: usize) -> HeightMap {
-    HeightMap::from_fn(w, h, |x, y| if x == w / 3 { 1.0 } else if y == h / 2 { 0.5 } else { 0.0 })
+    HeightMap::from_fn(w, h, |x, y| {
+        if x == w / 3 {
+            1.0
+        } else if y == h / 2 {
+            0.5
+        } else {
+            0.0
+        }
+    })
 }
 
 fn step(w: usize, h: usize) -> HeightMap {
@@ -227,7 +235,12 @@ fn brute_piecewise(m: &HeightMap, edge: EdgeMode, k: usize) -> Vec<f32> {
                         if hq <= b[s] || dh <= 0.0 {
                             continue;
                         }
-                        let d = texel_distance(offset(px, qx, m.width, edge), offset(py, qy, m.height, edge), m.width, m.height);
+                        let d = texel_distance(
+                            offset(px, qx, m.width, edge),
+                            offset(py, qy, m.height, edge),
+                            m.width,
+                            m.height,
+                        );
                         best = best.min((d - radius).max(0.0) / dh);
                     }
                 }
@@ -250,7 +263,12 @@ fn brute_distance(m: &HeightMap, edge: EdgeMode, depth: usize) -> Vec<f64> {
     let ext = |i: usize, n: usize| -> (f64, f64, usize, usize) {
         match edge {
             EdgeMode::Repeat => (i as f64, i as f64 + 1.0, i, (i + 1) % n),
-            EdgeMode::Clamp => ((i as f64 - 1.0).max(-0.5), (i as f64).min(n as f64 - 0.5), i.saturating_sub(1).min(n - 1), i.min(n - 1)),
+            EdgeMode::Clamp => (
+                (i as f64 - 1.0).max(-0.5),
+                (i as f64).min(n as f64 - 0.5),
+                i.saturating_sub(1).min(n - 1),
+                i.min(n - 1),
+            ),
         }
     };
     // Gap from integer coordinate p to [a, b] (with repeat: the shorter way round).
@@ -273,7 +291,9 @@ fn brute_distance(m: &HeightMap, edge: EdgeMode, depth: usize) -> Vec<f64> {
                     let (y0, y1, ta, tb) = ext(j, h);
                     for i in 0..cw {
                         let (x0, x1, sa, sb) = ext(i, w);
-                        let top = [h_at(m, sa, ta), h_at(m, sb, ta), h_at(m, sa, tb), h_at(m, sb, tb)].into_iter().fold(0.0f32, f32::max);
+                        let top = [h_at(m, sa, ta), h_at(m, sb, ta), h_at(m, sa, tb), h_at(m, sb, tb)]
+                            .into_iter()
+                            .fold(0.0f32, f32::max);
                         let gx = gap(px as f64, x0, x1, w as f64) / w as f64;
                         let gy = gap(py as f64, y0, y1, h as f64) / h as f64;
                         let dz = (z - top as f64).max(0.0);
@@ -314,7 +334,11 @@ fn quad_cone_matches_brute_force_exactly() {
     for (w, h) in [(32, 32), (20, 36)] {
         for (name, m) in suite(w, h) {
             for edge in EDGES {
-                assert_same(&format!("quad {name} {w}x{h} {edge:?}"), &quad_cone_ratios(&m, edge), &brute_quad(&m, edge));
+                assert_same(
+                    &format!("quad {name} {w}x{h} {edge:?}"),
+                    &quad_cone_ratios(&m, edge),
+                    &brute_quad(&m, edge),
+                );
             }
         }
     }
@@ -385,8 +409,16 @@ fn multi_and_piecewise_cones_match_brute_force_exactly() {
     for (name, m) in suite(24, 24) {
         for edge in EDGES {
             for k in [1, 3] {
-                assert_same(&format!("stacked {name} k={k} {edge:?}"), &stacked_cone_normals(&m, edge, k), &brute_stacked(&m, edge, k));
-                assert_same(&format!("piecewise {name} k={k} {edge:?}"), &piecewise_cone_normals(&m, edge, k), &brute_piecewise(&m, edge, k));
+                assert_same(
+                    &format!("stacked {name} k={k} {edge:?}"),
+                    &stacked_cone_normals(&m, edge, k),
+                    &brute_stacked(&m, edge, k),
+                );
+                assert_same(
+                    &format!("piecewise {name} k={k} {edge:?}"),
+                    &piecewise_cone_normals(&m, edge, k),
+                    &brute_piecewise(&m, edge, k),
+                );
             }
         }
     }
@@ -477,7 +509,10 @@ fn encodings_round_toward_conservative() {
     let plain = Encoding { format: Format::Unorm8, sqrt: false, max_value: 1.0 };
     let sq = Encoding { format: Format::Unorm8, sqrt: true, max_value: 1.0 };
     let v = 0.0123;
-    assert!((v - sq.decode_code(sq.encode_value(v, Rounding::Down))) < (v - plain.decode_code(plain.encode_value(v, Rounding::Down))));
+    assert!(
+        (v - sq.decode_code(sq.encode_value(v, Rounding::Down)))
+            < (v - plain.decode_code(plain.encode_value(v, Rounding::Down)))
+    );
 }
 
 #[test]
@@ -495,7 +530,8 @@ fn min3x3_bounds_bilinear_filtering() {
         let g = |m: &Map, dx: i64, dy: i64| {
             m.get(EdgeMode::Repeat.index(x0 + dx, 16), EdgeMode::Repeat.index(y0 + dy, 16), 0, 0) as f64
         };
-        let bil = (g(&f, 0, 0) * (1.0 - fx) + g(&f, 1, 0) * fx) * (1.0 - fy) + (g(&f, 0, 1) * (1.0 - fx) + g(&f, 1, 1) * fx) * fy;
+        let bil = (g(&f, 0, 0) * (1.0 - fx) + g(&f, 1, 0) * fx) * (1.0 - fy)
+            + (g(&f, 0, 1) * (1.0 - fx) + g(&f, 1, 1) * fx) * fy;
         let narrowest = g(&cones, 0, 0).min(g(&cones, 1, 0)).min(g(&cones, 0, 1)).min(g(&cones, 1, 1));
         assert!(bil <= narrowest + 1e-6);
     }
@@ -520,7 +556,8 @@ fn files_round_trip() {
     let hdr = npy::parse_npy_header(&bytes).unwrap();
     assert_eq!(hdr.shape, vec![12, 20, 4]);
     assert_eq!(hdr.data_offset % 64, 0);
-    let back: Vec<f32> = bytes[hdr.data_offset..].chunks_exact(4).map(|b| f32::from_le_bytes(b.try_into().unwrap())).collect();
+    let back: Vec<f32> =
+        bytes[hdr.data_offset..].chunks_exact(4).map(|b| f32::from_le_bytes(b.try_into().unwrap())).collect();
     assert_same("npy", &back, &q.data);
     // .png 8 and 16 bit.
     for format in [Format::Unorm8, Format::Unorm16] {
@@ -559,7 +596,8 @@ fn cache_builds_each_key_once() {
     let p = MapParams::default();
     let cache = MapCache::with_dir(&dir);
     let a = cache.get(&m, MapKind::Cone, &p, EdgeMode::Repeat, &Encoding::F32).unwrap();
-    let b = cache.get(&m, MapKind::Cone, &MapParams { z_resolution: 3, ..p }, EdgeMode::Repeat, &Encoding::F32).unwrap();
+    let b =
+        cache.get(&m, MapKind::Cone, &MapParams { z_resolution: 3, ..p }, EdgeMode::Repeat, &Encoding::F32).unwrap();
     assert!(std::sync::Arc::ptr_eq(&a, &b), "irrelevant parameters must not split the cache");
     assert_eq!(cache.builds(), 1);
     cache.get(&m, MapKind::Cone, &p, EdgeMode::Clamp, &Encoding::F32).unwrap();
@@ -588,7 +626,14 @@ fn cache_builds_each_key_once() {
 /// corner `c` of the cell under a point `y` has `h_c <= h_p + |c - p| / r` (definition), and
 /// `|c - p| <= |y - x| + δ + |x - p|` (δ = cell diagonal), so the surface stays under the cone
 /// with apex height `h_p + (δ + |x - p|) / r` at `x` and ratio `r`.
-fn ray_never_pierces(m: &HeightMap, edge: EdgeMode, cones: &[f32], u: f64, v: f64, dir: (f64, f64)) -> Result<f64, String> {
+fn ray_never_pierces(
+    m: &HeightMap,
+    edge: EdgeMode,
+    cones: &[f32],
+    u: f64,
+    v: f64,
+    dir: (f64, f64),
+) -> Result<f64, String> {
     let (w, h) = (m.width as f64, m.height as f64);
     let delta = (1.0 / (w * w) + 1.0 / (h * h)).sqrt();
     let speed = (dir.0 * dir.0 + dir.1 * dir.1).sqrt();
@@ -692,7 +737,11 @@ fn map_kinds_and_requests_name_each_other() {
         let (k, p) = MapKind::of(r).unwrap_or_else(|| panic!("{r:?} has no kind"));
         assert_eq!(k.name(), r.name());
         assert_eq!(k.name().parse::<MapKind>().unwrap(), k);
-        if let MapReq::MultiCone(n) | MapReq::PiecewiseCone(n) | MapReq::CellMultiCone(n) | MapReq::CellPiecewiseCone(n) = r {
+        if let MapReq::MultiCone(n)
+        | MapReq::PiecewiseCone(n)
+        | MapReq::CellMultiCone(n)
+        | MapReq::CellPiecewiseCone(n) = r
+        {
             assert_eq!(p.cones, n);
         }
         seen.push(k);

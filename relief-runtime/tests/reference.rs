@@ -60,8 +60,7 @@ fn test_map(kind: u8, w: usize, h: usize, seed: u64) -> HeightMap {
         1 => {
             let (u, v) = (x as f32 / w as f32, y as f32 / h as f32);
             let tau = std::f32::consts::TAU;
-            (0.5 + 0.25 * (tau * 2.0 * u + phase).sin() + 0.2 * (tau * 3.0 * v).cos() * (tau * u).sin())
-                .clamp(0.0, 1.0)
+            (0.5 + 0.25 * (tau * 2.0 * u + phase).sin() + 0.2 * (tau * 3.0 * v).cos() * (tau * u).sin()).clamp(0.0, 1.0)
         }
         2 => {
             if rng.next() < 0.04 {
@@ -92,7 +91,10 @@ fn test_map(kind: u8, w: usize, h: usize, seed: u64) -> HeightMap {
 /// Checks one ray against the oracle. Returns true when the oracle missed a thin feature the
 /// reference found (allowed, counted by the caller).
 fn check(r: &Reference, o: [f64; 2], d: [f64; 3], sampling: Sampling) -> Result<bool, TestCaseError> {
-    let hit = r.first_hit(o, d).map_err(|e| TestCaseError::fail(e.to_string()))?.ok_or_else(|| TestCaseError::fail("reference found no hit"))?;
+    let hit = r
+        .first_hit(o, d)
+        .map_err(|e| TestCaseError::fail(e.to_string()))?
+        .ok_or_else(|| TestCaseError::fail("reference found no hit"))?;
     let t_o = oracle(r, o, d);
     let g = |t: f64| r.height_at(o[0] + t * d[0], o[1] + t * d[1]) - (1.0 + t * d[2]);
     // A nearest-texel wall hit lies on the boundary between two texels, where the sampled
@@ -287,5 +289,8 @@ fn a_traversal_that_does_not_finish_is_an_error_naming_the_ray() {
     assert!(r.first_hit(o, d).unwrap().is_some(), "with the default limit the ray hits");
     let err = r.with_pass_limit(3).first_hit(o, d).unwrap_err();
     let text = err.to_string();
-    assert!(text.contains("(0.125, 0.5)") && text.contains("(3, 0.25, -1)") && text.contains("3 traversal passes"), "{text}");
+    assert!(
+        text.contains("(0.125, 0.5)") && text.contains("(3, 0.25, -1)") && text.contains("3 traversal passes"),
+        "{text}"
+    );
 }

@@ -108,7 +108,10 @@ fn report_writes_tables_charts_strips_and_checks_conclusions() {
     assert!(md.contains("## Table 4.1: performance of linear search (Lion)"), "{md}");
     assert!(md.contains("## Table 4.2: performance of binary search after 5 and 10 linear steps (Lion)"));
     assert!(md.contains("## Table 4.15"));
-    assert!(md.contains("| # | pipeline | base | frame ms (median) | frame ms (mean) | diss ms (mean of 500) |"), "header");
+    assert!(
+        md.contains("| # | pipeline | base | frame ms (median) | frame ms (mean) | diss ms (mean of 500) |"),
+        "header"
+    );
     // The dissertation's numbers next to ours.
     let line = md.lines().find(|l| l.contains("| `linear(10)` |")).expect("linear(10) row");
     assert!(line.contains("0.00515373") && line.contains("0.5052") && line.contains("6.099"), "{line}");
@@ -118,7 +121,10 @@ fn report_writes_tables_charts_strips_and_checks_conclusions() {
     let missing = md.lines().find(|l| l.contains("| `linear(200)` |")).expect("linear(200) row");
     assert!(missing.contains("—") && missing.contains("0.00000997"));
     // Table 4.3's trend: frame time of the binary row relative to its paired linear-only row.
-    let t43 = md.lines().find(|l| l.contains("| `linear(5)+binary(2)` |") && l.contains("0.4910")).expect("Table 4.3 pair row");
+    let t43 = md
+        .lines()
+        .find(|l| l.contains("| `linear(5)+binary(2)` |") && l.contains("0.4910"))
+        .expect("Table 4.3 pair row");
     assert!(t43.contains("#5"), "paired with linear(40): {t43}");
     assert!(md.contains("device lost"));
 
@@ -224,7 +230,14 @@ fn report_on_a_real_sweep() {
     let s = report::write(Path::new(&dir)).expect("report");
     println!("{} rows, {} ok, {} failed, {} files", s.rows, s.ok, s.failed.len(), s.files.len());
     for c in &s.conclusions {
-        println!("{:5} {:14} {:?} {:14} | {}", c.table, c.ours_mse.as_str(), c.ours_ref.map(|v| v.as_str()), c.diss.as_str(), c.claim);
+        println!(
+            "{:5} {:14} {:?} {:14} | {}",
+            c.table,
+            c.ours_mse.as_str(),
+            c.ours_ref.map(|v| v.as_str()),
+            c.diss.as_str(),
+            c.claim
+        );
     }
     for w in &s.warnings {
         println!("warning: {w}");
@@ -269,7 +282,12 @@ fn conclusion<'a>(s: &'a report::ReportSummary, table: &str, claim_part: &str) -
 }
 
 /// The conclusion checked on the cone methods' `form` rows.
-fn conclusion_in_form<'a>(s: &'a report::ReportSummary, table: &str, claim_part: &str, form: &str) -> &'a report::Conclusion {
+fn conclusion_in_form<'a>(
+    s: &'a report::ReportSummary,
+    table: &str,
+    claim_part: &str,
+    form: &str,
+) -> &'a report::Conclusion {
     s.conclusions
         .iter()
         .find(|c| c.table == table && c.claim.contains(claim_part) && c.form == form)
@@ -285,7 +303,11 @@ fn md_row(md: &str, section: &str, pipeline: &str) -> (Vec<String>, Vec<String>)
     let sec = &rest[..end];
     let cells = |l: &str| l.trim().trim_matches('|').split(" | ").map(|c| c.trim().to_string()).collect::<Vec<_>>();
     let header = sec.lines().find(|l| l.starts_with("| # |")).map(cells).expect("header");
-    let row = sec.lines().find(|l| l.contains(&format!("| `{pipeline}` |"))).map(cells).unwrap_or_else(|| panic!("no row {pipeline}"));
+    let row = sec
+        .lines()
+        .find(|l| l.contains(&format!("| `{pipeline}` |")))
+        .map(cells)
+        .unwrap_or_else(|| panic!("no row {pipeline}"));
     (header, row)
 }
 
@@ -484,10 +506,16 @@ fn cone_comparisons_read_csm_with_nearest_filtering_like_the_others() {
         grids.iter().find(|g| g.name == name).unwrap().cells.iter().map(|(p, _)| p.to_string()).collect()
     };
     for n in steps {
-        assert!(cells("t4.11").contains(&format!("csm({n}, form=textbook, sample=nearest)+binary(5)")), "t4.11 csm({n}) nearest");
+        assert!(
+            cells("t4.11").contains(&format!("csm({n}, form=textbook, sample=nearest)+binary(5)")),
+            "t4.11 csm({n}) nearest"
+        );
     }
     for n in [5u32, 10, 15, 20, 25] {
-        assert!(cells("t4.9").contains(&format!("csm({n}, form=textbook, sample=nearest)+binary(5)")), "t4.9 csm({n}) nearest");
+        assert!(
+            cells("t4.9").contains(&format!("csm({n}, form=textbook, sample=nearest)+binary(5)")),
+            "t4.9 csm({n}) nearest"
+        );
     }
     for n in [5u32, 10, 15, 20, 25, 30, 40, 50] {
         assert!(cells("t4.6").contains(&format!("csm({n}, form=textbook, sample=min4)")), "t4.6 csm({n}) min4");
@@ -557,7 +585,11 @@ fn every_error_criterion_agrees_when_the_rms_is_the_root_of_the_mse() {
         let (dir, s) = report_of(&format!("agree{seed}"), &rows);
         for c in &s.conclusions {
             if let Some(v) = c.ours_ref {
-                assert_eq!(v, c.ours_mse, "seed {seed}, {} {}: mse {} | ref {}", c.table, c.claim, c.evidence_mse, c.evidence_ref);
+                assert_eq!(
+                    v, c.ours_mse,
+                    "seed {seed}, {} {}: mse {} | ref {}",
+                    c.table, c.claim, c.evidence_mse, c.evidence_ref
+                );
             }
         }
         let _ = std::fs::remove_dir_all(&dir);
@@ -572,7 +604,12 @@ fn thresholds_other_than_the_common_share_say_why() {
         let other_pct = text
             .split(|ch: char| !(ch.is_ascii_digit() || ch == '%' || ch == '.'))
             .any(|w| w.ends_with('%') && w != "75%");
-        let other = other_pct || text.contains('×') || text.contains("ρ") || text.contains("Spearman") || text.contains('[') || text.contains("every");
+        let other = other_pct
+            || text.contains('×')
+            || text.contains("ρ")
+            || text.contains("Spearman")
+            || text.contains('[')
+            || text.contains("every");
         if other {
             assert!(!c.why.trim().is_empty(), "{} '{}' has thresholds of its own and no reason", c.table, c.claim);
         }
@@ -654,7 +691,9 @@ fn the_dissertations_headline_claims_are_checked() {
         let mut rows = Vec::new();
         for n in [5u32, 10, 15, 20, 25, 30, 40, 50] {
             rows.push(rowm(&format!("csm({n}, form=textbook)"), |m| with_ms(m, 0.5)));
-            rows.push(rowm(&format!("csm({n}, form=textbook, sample=min4)"), |m| with_ms(m, if slower { 0.6 } else { 0.4 })));
+            rows.push(rowm(&format!("csm({n}, form=textbook, sample=min4)"), |m| {
+                with_ms(m, if slower { 0.6 } else { 0.4 })
+            }));
         }
         rows
     };
@@ -706,7 +745,8 @@ fn stability_table_is_html_and_strip_frames_are_captioned() {
     // Frame and error side by side, each a link to its full-size PNG.
     let cell = "cells/lion/linear_10";
     assert!(
-        html.contains(&format!("<a href=\"{cell}/frame.png\"><img src=\"{cell}/frame.png\"")) && html.contains(&format!("<a href=\"{cell}/error.png\"><img src=\"{cell}/error.png\"")),
+        html.contains(&format!("<a href=\"{cell}/frame.png\"><img src=\"{cell}/frame.png\""))
+            && html.contains(&format!("<a href=\"{cell}/error.png\"><img src=\"{cell}/error.png\"")),
         "frames shown and linked"
     );
     let md = std::fs::read_to_string(dir.join("tables.md")).unwrap();
@@ -721,7 +761,11 @@ fn stability_table_is_html_and_strip_frames_are_captioned() {
 fn answer_row(scene: &str, pipeline: &str, ms: f64, t: f64) -> Row {
     let mut r = row(pipeline, ms, t * t * 1024.0, t, 0.0);
     r.metrics.scene = scene.into();
-    r.cell_dir = format!("cells/{}/{}", scene.trim_start_matches("scene:").replace(['@', '=', ','], "_"), relief_dsl::spec::file_safe(pipeline));
+    r.cell_dir = format!(
+        "cells/{}/{}",
+        scene.trim_start_matches("scene:").replace(['@', '=', ','], "_"),
+        relief_dsl::spec::file_safe(pipeline)
+    );
     r
 }
 
@@ -771,7 +815,13 @@ fn the_answer_names_the_fastest_pipeline_at_each_accuracy_and_the_engine_familys
     let md = std::fs::read_to_string(dir.join("tables.md")).unwrap();
     let section = |title: &str| -> Vec<Vec<String>> {
         let start = md.find(title).unwrap_or_else(|| panic!("{title} missing from\n{md}"));
-        md[start..].lines().skip_while(|l| !l.starts_with("| accuracy")).skip(2).take_while(|l| l.starts_with('|')).map(md_line_cells).collect()
+        md[start..]
+            .lines()
+            .skip_while(|l| !l.starts_with("| accuracy"))
+            .skip(2)
+            .take_while(|l| l.starts_with('|'))
+            .map(md_line_cells)
+            .collect()
     };
     let own = section("### Fastest at each accuracy: rocks, 45°, 32²");
     assert_eq!(own.len(), 4, "{own:?}");
@@ -808,7 +858,12 @@ fn the_answer_names_the_fastest_pipeline_at_each_accuracy_and_the_engine_familys
     assert!(at("id=\"answer-table\"") < at("<section id=\"conclusions\""));
     let overview = &html[at("id=\"answer-table\"")..];
     let overview = &overview[..overview.find("</table>").unwrap()];
-    assert_eq!(overview.matches("<tr><td><a href=\"#answer-").count() + overview.matches("<tr class=\"unmeasured\"><td><a href=\"#answer-").count(), 2, "{overview}");
+    assert_eq!(
+        overview.matches("<tr><td><a href=\"#answer-").count()
+            + overview.matches("<tr class=\"unmeasured\"><td><a href=\"#answer-").count(),
+        2,
+        "{overview}"
+    );
     assert!(overview.contains("<code>csm(16)</code> 1.500 ms<span class=\"fam\">engine family: 1.33× the time (<code>linear_dynamic(1, 64)+binary(5)</code>)</span>"), "{overview}");
     // The scene's picture: its height map (at least 256 pixels) and the exact row's frame.
     let map = image::open(dir.join("report/scene_rocks.png")).expect("height map").to_luma8();
@@ -867,17 +922,31 @@ fn the_answer_ranks_by_paired_ratios_and_says_not_decided_where_the_interval_rea
     let md = std::fs::read_to_string(dir.join("tables.md")).unwrap();
     let section = |title: &str| -> Vec<Vec<String>> {
         let start = md.find(title).unwrap_or_else(|| panic!("{title} missing from\n{md}"));
-        md[start..].lines().skip_while(|l| !l.starts_with("| accuracy")).skip(2).take_while(|l| l.starts_with('|')).map(md_line_cells).collect()
+        md[start..]
+            .lines()
+            .skip_while(|l| !l.starts_with("| accuracy"))
+            .skip(2)
+            .take_while(|l| l.starts_with('|'))
+            .map(md_line_cells)
+            .collect()
     };
     let own = section("### Fastest at each accuracy: rocks, 45°, 32²");
     assert_eq!(own[0][10], "1× (the fastest is in the family)");
     // 1e-2: csm(16) by its ratio 1.10 (its median, 1.8 ms, is above the family's 1.5 ms).
-    assert_eq!((own[1][1].as_str(), own[1][2].as_str(), own[1][3].as_str()), ("`csm(16)`", "1.800", "1.100 [1.080, 1.120]"));
+    assert_eq!(
+        (own[1][1].as_str(), own[1][2].as_str(), own[1][3].as_str()),
+        ("`csm(16)`", "1.800", "1.100 [1.080, 1.120]")
+    );
     assert_eq!(own[1][6], "`linear_dynamic(1, 64)+binary(5)`");
     // 1.20 / 1.10 = 1.09; the log half-widths (0.0092 and 0.0125 in ln, over t(0.975, 19))
     // add in quadrature: the interval is about [1.06, 1.12], clear of 1.
     assert!(own[1][10].starts_with("1.09× [1.0") && !own[1][10].contains("not decided"), "{}", own[1][10]);
-    let bounds: Vec<f64> = own[1][10].trim_start_matches("1.09× [").trim_end_matches(']').split(", ").map(|x| x.parse().unwrap()).collect();
+    let bounds: Vec<f64> = own[1][10]
+        .trim_start_matches("1.09× [")
+        .trim_end_matches(']')
+        .split(", ")
+        .map(|x| x.parse().unwrap())
+        .collect();
     assert!(bounds[0] > 1.04 && bounds[0] < 1.08 && bounds[1] > 1.10 && bounds[1] < 1.14, "{bounds:?}");
     // 1e-3: qcsm(32) at 1.60 against the family's 1.65: 3 % apart with intervals of ±3 % and
     // ±6 %: not decided.
@@ -893,7 +962,10 @@ fn the_answer_ranks_by_paired_ratios_and_says_not_decided_where_the_interval_rea
     assert_eq!((a70[1][1].as_str(), a70[1][3].as_str()), ("`linear_dynamic(1, 64)+binary(5)`", "—"));
     assert_eq!(a70[0][1], "`linear_dynamic(1, 64)+binary(5)`");
     let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
-    assert!(html.contains("<code>csm(16)</code> 1.800 ms · 1.10× baseline<span class=\"fam\">engine family: 1.09× ["), "overview cell");
+    assert!(
+        html.contains("<code>csm(16)</code> 1.800 ms · 1.10× baseline<span class=\"fam\">engine family: 1.09× ["),
+        "overview cell"
+    );
     assert!(html.contains("<code>qcsm(32)</code> 2.000 ms · 1.60× baseline<span class=\"fam\">not told apart from 1 other: <code>linear_dynamic(1, 256)+interval(1)</code></span>"), "overview ties");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -908,7 +980,8 @@ fn the_page_is_self_contained_and_every_in_page_link_lands() {
     write_rows(&dir, &rows, true);
     std::fs::create_dir_all(dir.join("stability")).unwrap();
     std::fs::write(dir.join("stability/worst.md"), "| method | worst |\n|---|---|\n| `csm(5)` | lion |\n").unwrap();
-    std::fs::write(dir.join("stability/stability_nan_count.svg"), "<svg xmlns=\"http://www.w3.org/2000/svg\"/>").unwrap();
+    std::fs::write(dir.join("stability/stability_nan_count.svg"), "<svg xmlns=\"http://www.w3.org/2000/svg\"/>")
+        .unwrap();
     report::write(&dir).expect("report");
     let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
     for bad in ["src=\"http", "href=\"http", "src=\"//", "href=\"//", "@import", "url(http"] {
@@ -923,7 +996,13 @@ fn the_page_is_self_contained_and_every_in_page_link_lands() {
         assert!(!ids[..i].contains(id), "id `{id}` twice");
     }
     let links: Vec<String> = attr("href").into_iter().filter(|h| h.starts_with('#')).collect();
-    for want in ["#answer", "#answer-scene-rocks-angle-70-s32", "#conclusions", "#tables", "#table-4-1-performance-of-linear-search-lion"] {
+    for want in [
+        "#answer",
+        "#answer-scene-rocks-angle-70-s32",
+        "#conclusions",
+        "#tables",
+        "#table-4-1-performance-of-linear-search-lion",
+    ] {
         assert!(links.iter().any(|l| l == want), "no link {want}: {links:?}");
     }
     for l in &links {
@@ -948,7 +1027,9 @@ fn the_page_is_self_contained_and_every_in_page_link_lands() {
     assert!(html.contains("<span class=\"badge holds\">holds</span>"));
     // Stability: the heat maps before the folded per-method table.
     let stab = &html[html.find("<section id=\"stability\"").unwrap()..];
-    assert!(stab.find("stability/stability_nan_count.svg").unwrap() < stab.find("<details id=\"stability-worst\"").unwrap());
+    assert!(
+        stab.find("stability/stability_nan_count.svg").unwrap() < stab.find("<details id=\"stability-worst\"").unwrap()
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -992,7 +1073,10 @@ fn timing_criteria_read_the_paired_ratios_and_are_not_decided_when_the_intervals
     assert_eq!(conclusion(&s, "4.5", "lower error").model, None);
     let md = std::fs::read_to_string(dir.join("tables.md")).unwrap();
     let (h, row) = md_row(&md, "## Table 4.5", "linear(10)+interval(3)");
-    assert_eq!(row[col(&h, "frame ÷ baseline (95 %)")], format!("1.300 [{:.3}, {:.3}]", 1.3 * (-0.03f64).exp(), 1.3 * 0.03f64.exp()));
+    assert_eq!(
+        row[col(&h, "frame ÷ baseline (95 %)")],
+        format!("1.300 [{:.3}, {:.3}]", 1.3 * (-0.03f64).exp(), 1.3 * 0.03f64.exp())
+    );
     assert_eq!(row[col(&h, "simd32 fetches (model)")], "14.00");
     let _ = std::fs::remove_dir_all(&dir);
 
@@ -1038,14 +1122,24 @@ fn rows_from_several_folders_merge_and_each_adapters_timing_verdicts_sit_side_by
     let md = std::fs::read_to_string(out.join("tables.md")).unwrap();
     let sec = &md[md.find("## Timing conclusions per adapter").expect("per-adapter section")..];
     let header = sec.lines().find(|l| l.starts_with("| table |")).unwrap();
-    assert!(header.contains("GPU A (driver 1)") && header.contains("GPU B (driver 2)") && header.contains("model"), "{header}");
+    assert!(
+        header.contains("GPU A (driver 1)") && header.contains("GPU B (driver 2)") && header.contains("model"),
+        "{header}"
+    );
     let line = sec.lines().find(|l| l.contains("costs more frame time")).unwrap();
     let cells: Vec<&str> = line.trim_matches('|').split(" | ").map(str::trim).collect();
     assert!(cells[2].starts_with("holds") && cells[3].starts_with("does not hold"), "{line}");
     // Merged rows are written to the new folder, and the strips find A's images there.
     let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
     assert_eq!(csv.lines().count(), rows_a.len() + 12 + 1);
-    assert!(std::fs::read_dir(out.join("report")).unwrap().any(|e| e.unwrap().file_name().to_string_lossy().starts_with("strip_")), "strips from the merged folders' images");
+    assert!(
+        std::fs::read_dir(out.join("report")).unwrap().any(|e| e
+            .unwrap()
+            .file_name()
+            .to_string_lossy()
+            .starts_with("strip_")),
+        "strips from the merged folders' images"
+    );
     for d in [a, b, out] {
         let _ = std::fs::remove_dir_all(&d);
     }

@@ -6,7 +6,13 @@ use relief_runtime::results::{self, Row};
 fn row(pipeline: &str, t_rms: f64) -> Row {
     Row {
         grid: "g".into(),
-        metrics: Metrics { pipeline: pipeline.into(), scene: "scene:lion".into(), size: 16, ref_err_t_rms: t_rms, ..Default::default() },
+        metrics: Metrics {
+            pipeline: pipeline.into(),
+            scene: "scene:lion".into(),
+            size: 16,
+            ref_err_t_rms: t_rms,
+            ..Default::default()
+        },
         status: "ok".into(),
         ..Default::default()
     }

@@ -10,7 +10,9 @@ use relief_runtime::heightmap::HeightMap;
 use relief_runtime::room::accuracy::{reference_hits, room_accuracy};
 use relief_runtime::room::gpu::{probe_room, RoomProgram, RoomTextures};
 use relief_runtime::room::mesh::{render_geometry, wall_of_alpha, RoomMesh};
-use relief_runtime::room::{border_warnings, builtin, file::load_room_file, room_from_arg, PixelRay, Room, RoomRay, NEAR_FAR, WALLS};
+use relief_runtime::room::{
+    border_warnings, builtin, file::load_room_file, room_from_arg, PixelRay, Room, RoomRay, NEAR_FAR, WALLS,
+};
 use relief_runtime::scene::Scene;
 
 fn gpu() -> Gpu {
@@ -123,7 +125,10 @@ fn the_probe_selects_the_wall_a_cpu_ray_box_intersection_finds() {
         let o = [rng.range(-1.5, 3.5), rng.range(-1.0, 2.5), rng.range(0.2, 4.0)];
         let target = [rng.range(0.0, size[0]), rng.range(0.0, size[1]), 0.0];
         let w = [target[0] - o[0], target[1] - o[1], target[2] - o[2]];
-        let ray = RoomRay { origin: [o[0] as f32, o[1] as f32, o[2] as f32, 0.0], dir: [w[0] as f32, w[1] as f32, w[2] as f32, 0.0] };
+        let ray = RoomRay {
+            origin: [o[0] as f32, o[1] as f32, o[2] as f32, 0.0],
+            dir: [w[0] as f32, w[1] as f32, w[2] as f32, 0.0],
+        };
         // The f32 ray, widened, is the ray the probe traces.
         let o = [0, 1, 2].map(|i| ray.origin[i] as f64);
         let w = [0, 1, 2].map(|i| ray.dir[i] as f64);
@@ -143,7 +148,12 @@ fn the_probe_selects_the_wall_a_cpu_ray_box_intersection_finds() {
         assert_eq!(h.wall as usize, *wall, "ray {i}: {:?}", rays[i]);
         per_wall[*wall] += 1;
         // f32 arithmetic on coordinates of a few units: errors ~1e-6; 1e-4 is the goal.
-        assert!((h.u as f64 - uv[0]).abs() < 1e-4 && (h.v as f64 - uv[1]).abs() < 1e-4, "ray {i}: uv ({}, {}) vs {uv:?}", h.u, h.v);
+        assert!(
+            (h.u as f64 - uv[0]).abs() < 1e-4 && (h.v as f64 - uv[1]).abs() < 1e-4,
+            "ray {i}: uv ({}, {}) vs {uv:?}",
+            h.u,
+            h.v
+        );
         assert_eq!(h.t, 0.0);
     }
     assert!(per_wall.iter().all(|&n| n > 500), "every wall is hit by many rays: {per_wall:?}");
@@ -207,7 +217,8 @@ fn the_geometry_baseline_shows_the_walls_and_depths_of_the_cpu_reference() {
         inside[r.y as usize * n + r.x as usize] = true;
         let (x, y) = (r.x as i64, r.y as i64);
         // Silhouette: the reference's wall is drawn at this pixel or a neighbour.
-        let near_ids: Vec<Option<usize>> = (-1..=1).flat_map(|dy| (-1..=1).map(move |dx| (dx, dy))).map(|(dx, dy)| wall_at(x + dx, y + dy)).collect();
+        let near_ids: Vec<Option<usize>> =
+            (-1..=1).flat_map(|dy| (-1..=1).map(move |dx| (dx, dy))).map(|(dx, dy)| wall_at(x + dx, y + dy)).collect();
         if near_ids.contains(&Some(*wall)) {
             id_ok += 1;
         }
@@ -216,7 +227,9 @@ fn the_geometry_baseline_shows_the_walls_and_depths_of_the_cpu_reference() {
             let Some(rf) = rf else { continue };
             let wr = room.wall_ray(&r.ray);
             let p = room.wall_point(*wall, rf.u, rf.v, rf.z);
-            let expect = (p[0] - cam.x as f64) * forward.x as f64 + (p[1] - cam.y as f64) * forward.y as f64 + (p[2] - cam.z as f64) * forward.z as f64;
+            let expect = (p[0] - cam.x as f64) * forward.x as f64
+                + (p[1] - cam.y as f64) * forward.y as f64
+                + (p[2] - cam.z as f64) * forward.z as f64;
             let ndc = depth[r.y as usize * n + r.x as usize] as f64;
             let got = far * near / (far - ndc * (far - near));
             depth_n += 1;
@@ -229,7 +242,10 @@ fn the_geometry_baseline_shows_the_walls_and_depths_of_the_cpu_reference() {
     }
     // Nothing but the facade outside the window.
     let outside_walls = (0..n * n).filter(|&i| !inside[i] && wall_of_alpha(frames.rgba[4 * i + 3]).is_some()).count();
-    eprintln!("walls within a pixel {id_ok}/{}, depth {depth_ok}/{depth_n}, walls outside the window {outside_walls}", rays.len());
+    eprintln!(
+        "walls within a pixel {id_ok}/{}, depth {depth_ok}/{depth_n}, walls outside the window {outside_walls}",
+        rays.len()
+    );
     // Goals: 99 % of the window's pixels show the reference's wall within a pixel; 95 % of
     // the pixels away from silhouettes have the reference's depth; at most one pixel row
     // or column of walls leaks past the window's edge.
@@ -277,7 +293,8 @@ fn bad_room_files_give_one_line_errors_naming_key_and_file() {
     let e = load_room_file(&p, None).unwrap_err().to_string();
     assert!(!e.contains('\n') && e.contains("not valid TOML"), "{e}");
     // A good file: only what it names changes.
-    let p = write(&dir, "good.toml", "size = [3, 2, 4]\n[light]\ndirection = [0, 1, 1]\n[walls.back]\ndepth_scale = 0.3\n");
+    let p =
+        write(&dir, "good.toml", "size = [3, 2, 4]\n[light]\ndirection = [0, 1, 1]\n[walls.back]\ndepth_scale = 0.3\n");
     let r = load_room_file(&p, Some(16)).unwrap();
     assert_eq!(r.size, [3.0, 2.0, 4.0]);
     assert_eq!(r.walls[0].depth_scale, 0.3);
@@ -311,7 +328,11 @@ fn maps_not_at_height_1_on_their_border_are_warned_about() {
     let p = write(&dir, "low.toml", "[walls.floor]\nheight_map = \"low.png\"\n");
     let (_, warnings) = room_from_arg(Some(p.to_str().unwrap()), Some(16)).unwrap();
     assert_eq!(warnings.len(), 1, "{warnings:?}");
-    assert!(warnings[0].contains("floor") && warnings[0].contains(&format!("{} of its {}", n - 4, 4 * n - 4)), "{}", warnings[0]);
+    assert!(
+        warnings[0].contains("floor") && warnings[0].contains(&format!("{} of its {}", n - 4, 4 * n - 4)),
+        "{}",
+        warnings[0]
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -360,12 +381,26 @@ fn the_report_has_a_room_section_from_a_room_grid() {
 fn relief_room_writes_both_renders_and_the_metrics() {
     let out = std::env::temp_dir().join(format!("relief-room-cli-{}", std::process::id()));
     let run = |args: &[&str]| std::process::Command::new(env!("CARGO_BIN_EXE_relief")).args(args).output().unwrap();
-    let o = run(&["room", "linear(16)+binary(3)+shadow=soft(8)", "--size", "48", "--grid", "24", "--map-size", "16", "--frames", "2", "--out", out.to_str().unwrap()]);
+    let o = run(&[
+        "room",
+        "linear(16)+binary(3)+shadow=soft(8)",
+        "--size",
+        "48",
+        "--grid",
+        "24",
+        "--map-size",
+        "16",
+        "--frames",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     for f in ["frame.png", "baseline.png", "diff.png", "metrics.json"] {
         assert!(out.join(f).exists(), "{f}");
     }
-    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).unwrap()).unwrap();
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).unwrap()).unwrap();
     let (f, b) = (m["frame_ms_median"].as_f64().unwrap(), m["baseline_ms_median"].as_f64().unwrap());
     assert!(f > 0.0 && b > 0.0);
     assert!((m["ratio_interior_to_baseline"].as_f64().unwrap() - f / b).abs() < 1e-9);
@@ -397,7 +432,13 @@ fn a_safe_cone_pipeline_reads_each_walls_own_cone_map() {
     let hits = probe_room(&g, &prog, &room, &tex, &probe).unwrap();
     let heights: Vec<Vec<f32>> = tex.walls.iter().map(|t| t.heights_on_device.clone()).collect();
     let refs = reference_hits(&room, &heights, &rays).unwrap();
-    let past = hits.iter().zip(&refs).filter(|(h, (w, r))| h.wall as usize != *w || r.is_none_or(|r| h.t as f64 > r.t + relief_runtime::metrics::PAST_SLACK)).count();
+    let past = hits
+        .iter()
+        .zip(&refs)
+        .filter(|(h, (w, r))| {
+            h.wall as usize != *w || r.is_none_or(|r| h.t as f64 > r.t + relief_runtime::metrics::PAST_SLACK)
+        })
+        .count();
     assert_eq!(past, 0, "{past} of {} rays past the first hit or on another wall", rays.len());
 }
 
@@ -418,7 +459,9 @@ fn the_room_grid_resumes_where_it_stopped() {
     assert_eq!((again.measured, again.skipped), (0, sweep::variants().len()));
     // The kept rows are the first run's (its frame times, which a re-measure would not repeat;
     // JSON keeps them to the digit).
-    let key = |rows: &[sweep::RoomRow]| rows.iter().map(|r| (r.room.clone(), r.variant.clone(), r.frame_ms, r.baseline_ms)).collect::<Vec<_>>();
+    let key = |rows: &[sweep::RoomRow]| {
+        rows.iter().map(|r| (r.room.clone(), r.variant.clone(), r.frame_ms, r.baseline_ms)).collect::<Vec<_>>()
+    };
     assert_eq!(key(&again.rows), key(&first.rows));
     // Another frame size is other cells.
     let bigger = sweep::run(&rooms, &RoomSetup { size: 32, ..setup }, &dir).unwrap();

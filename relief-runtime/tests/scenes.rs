@@ -65,7 +65,15 @@ fn every_real_scene_loads_with_its_size_and_the_alpha_as_height() {
 #[test]
 fn the_depth_scales_are_the_samples_height_scales() {
     // The POM sample's own height scales (fraction of the width), from its README.
-    let want = [("rocks", 0.1), ("stones", 0.02), ("wall", 0.06), ("four", 0.2), ("saint", 0.08), ("bump", 0.2), ("dent", 0.2)];
+    let want = [
+        ("rocks", 0.1),
+        ("stones", 0.02),
+        ("wall", 0.06),
+        ("four", 0.2),
+        ("saint", 0.08),
+        ("bump", 0.2),
+        ("dent", 0.2),
+    ];
     for (name, d) in want {
         assert_eq!(Scene::by_name(name, None).unwrap().depth_scale, d, "{name}");
     }
@@ -178,7 +186,10 @@ fn the_shipped_scene_file_is_the_builtin_rocks() {
     assert_eq!(f.name, "rocks");
     assert_eq!(f.height, b.height);
     assert_eq!(f.normal, b.normal);
-    assert_eq!((f.depth_scale, f.tiling, f.edge, f.camera, f.light_dir), (b.depth_scale, b.tiling, b.edge, b.camera, b.light_dir));
+    assert_eq!(
+        (f.depth_scale, f.tiling, f.edge, f.camera, f.light_dir),
+        (b.depth_scale, b.tiling, b.edge, b.camera, b.light_dir)
+    );
 }
 
 #[test]
@@ -221,7 +232,10 @@ fov = 35
         }
     }
     assert_eq!((s.depth_scale, s.tiling, s.edge), (0.05, 2.0, EdgeMode::Clamp));
-    assert_eq!((s.camera.angle_deg, s.camera.azimuth_deg, s.camera.distance, s.camera.fov_deg), (60.0, 30.5, 4.0, 35.0));
+    assert_eq!(
+        (s.camera.angle_deg, s.camera.azimuth_deg, s.camera.distance, s.camera.fov_deg),
+        (60.0, 30.5, 4.0, 35.0)
+    );
     assert_eq!(s.camera.target, glam::Vec3::new(1.0, 1.0, 0.0), "the camera looks at the centre of the tiled quad");
     assert_eq!(s.light_dir, glam::Vec3::Z);
     let a = s.albedo.as_ref().unwrap();
@@ -229,18 +243,27 @@ fov = 35
     let n = s.normal.as_ref().unwrap();
     assert_eq!((n.width, n.height), (8, 4));
     assert!(n.data.iter().all(|v| v[1] < -0.99 && v[0].abs() < 0.01), "{:?}", n.data[0]);
-    std::fs::write(d.join("down.toml"), "normal_map = \"maps/n.png\"\nnormal_green = \"down\"\n[height_map]\npath = \"maps/h.png\"\n").unwrap();
+    std::fs::write(
+        d.join("down.toml"),
+        "normal_map = \"maps/n.png\"\nnormal_green = \"down\"\n[height_map]\npath = \"maps/h.png\"\n",
+    )
+    .unwrap();
     let down = load_scene_file(&d.join("down.toml")).unwrap();
     assert!(down.normal.unwrap().data.iter().all(|v| v[1] > 0.99));
     // The same height map through the loader directly.
-    let direct = HeightMap::load(d.join("maps/h.png"), &LoadOptions { channel: Some("g".parse().unwrap()), depth: true }).unwrap();
+    let direct =
+        HeightMap::load(d.join("maps/h.png"), &LoadOptions { channel: Some("g".parse().unwrap()), depth: true })
+            .unwrap();
     assert_eq!(direct, s.height);
     // Only the height map is required; the rest takes the defaults of a loaded file.
     std::fs::write(d.join("min.toml"), "[height_map]\npath = \"maps/h.png\"\n").unwrap();
     let m = load_scene_file(&d.join("min.toml")).unwrap();
     let plain = scene_from_arg(d.join("maps/h.png").to_str().unwrap()).unwrap();
     assert_eq!(m.name, "min");
-    assert_eq!((m.height, m.depth_scale, m.tiling, m.edge, m.camera), (plain.height, plain.depth_scale, plain.tiling, plain.edge, plain.camera));
+    assert_eq!(
+        (m.height, m.depth_scale, m.tiling, m.edge, m.camera),
+        (plain.height, plain.depth_scale, plain.tiling, plain.edge, plain.camera)
+    );
     // A .toml argument is a scene file.
     assert_eq!(scene_from_arg(d.join("s.toml").to_str().unwrap()).unwrap(), s);
     std::fs::remove_dir_all(&d).ok();
@@ -254,7 +277,12 @@ fn bad_scene_files_give_one_line_naming_the_file_and_the_key() {
     // (file text, the key the message must name, words it must contain)
     let cases: &[(&str, String, &str, &[&str])] = &[
         ("unknown", format!("depth_scal = 0.1\n{ok}"), "depth_scal", &["unknown key", "did you mean `depth_scale`"]),
-        ("unknown_nested", format!("{ok}[camera]\nangel = 3\n"), "camera.angel", &["unknown key", "did you mean `camera.angle`"]),
+        (
+            "unknown_nested",
+            format!("{ok}[camera]\nangel = 3\n"),
+            "camera.angel",
+            &["unknown key", "did you mean `camera.angle`"],
+        ),
         ("wrong_type", format!("tiling = \"two\"\n{ok}"), "tiling", &["expected number", "string"]),
         ("wrong_type_light", format!("light = [1, 2]\n{ok}"), "light", &["expected array of 3 numbers"]),
         ("missing_map", "[height_map]\npath = \"nope.png\"\n".into(), "height_map.path", &["nope.png", "not found"]),
@@ -310,7 +338,11 @@ fn render_takes_a_scene_file_and_the_overrides_change_what_is_recorded() {
     // A scene file next to a copy of a real map (paths are relative to the file).
     std::fs::copy(repo_file("scenes/tatarchuk/bump_NM_height.tga"), d.join("bump.tga")).unwrap();
     let file = d.join("bump.toml");
-    std::fs::write(&file, "depth_scale = 0.2\n[height_map]\npath = \"bump.tga\"\nchannel = \"a\"\n[camera]\nangle = 30\nazimuth = -90\n").unwrap();
+    std::fs::write(
+        &file,
+        "depth_scale = 0.2\n[height_map]\npath = \"bump.tga\"\nchannel = \"a\"\n[camera]\nangle = 30\nazimuth = -90\n",
+    )
+    .unwrap();
     let run = |out: &str, extra: &[&str]| {
         let out = d.join(out);
         let o = relief()
@@ -361,9 +393,18 @@ fn render_takes_a_scene_file_and_the_overrides_change_what_is_recorded() {
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(err.trim().lines().count(), 1, "{extra:?}: {err}");
     }
-    let o = relief().args(["render", "linear(8)", "--out"]).arg(d.join("x")).arg("--scene").arg(d.join("bad.toml")).output().unwrap();
+    let o = relief()
+        .args(["render", "linear(8)", "--out"])
+        .arg(d.join("x"))
+        .arg("--scene")
+        .arg(d.join("bad.toml"))
+        .output()
+        .unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("bad.toml") && err.contains("key `tilling`") && err.contains("did you mean `tiling`"), "{err}");
+    assert!(
+        err.contains("bad.toml") && err.contains("key `tilling`") && err.contains("did you mean `tiling`"),
+        "{err}"
+    );
     std::fs::remove_dir_all(&d).ok();
 }
 
@@ -376,10 +417,12 @@ fn a_scene_files_lod_applies_to_pipelines_that_name_none() {
     let d = tmpdir("lod-policy");
     std::fs::copy(repo_file("scenes/tatarchuk/dent_NM_height.tga"), d.join("dent.tga")).unwrap();
     let file = d.join("dent.toml");
-    std::fs::write(&file, "lod = \"auto\"\nedge = \"clamp\"\n[height_map]\npath = \"dent.tga\"\nchannel = \"a\"\n").unwrap();
+    std::fs::write(&file, "lod = \"auto\"\nedge = \"clamp\"\n[height_map]\npath = \"dent.tga\"\nchannel = \"a\"\n")
+        .unwrap();
     let scene = load_scene_file(&file).unwrap();
     assert_eq!(scene.lod, Some(relief_dsl::spec::Lod::Auto));
-    std::fs::write(d.join("l2.toml"), "lod = \"level(2)\"\n[height_map]\npath = \"dent.tga\"\nchannel = \"a\"\n").unwrap();
+    std::fs::write(d.join("l2.toml"), "lod = \"level(2)\"\n[height_map]\npath = \"dent.tga\"\nchannel = \"a\"\n")
+        .unwrap();
     assert_eq!(load_scene_file(&d.join("l2.toml")).unwrap().lod, Some(relief_dsl::spec::Lod::Level(2)));
 
     let g = relief_runtime::gpu::Gpu::new().unwrap();
@@ -390,7 +433,10 @@ fn a_scene_files_lod_applies_to_pipelines_that_name_none() {
     let by_scene = measure(&mut prep, "linear(64)+binary(5)");
     let explicit = measure(&mut prep, "linear(64)+binary(5)+lod=auto");
     assert_eq!(by_scene.pipeline, "linear(64)+binary(5)+lod=auto");
-    assert_eq!((by_scene.ref_err_t_rms, by_scene.mse_dissertation), (explicit.ref_err_t_rms, explicit.mse_dissertation));
+    assert_eq!(
+        (by_scene.ref_err_t_rms, by_scene.mse_dissertation),
+        (explicit.ref_err_t_rms, explicit.mse_dissertation)
+    );
     let own = measure(&mut prep, "linear(64)+binary(5)+lod=level(0)");
     assert_eq!(own.pipeline, "linear(64)+binary(5)+lod=level(0)");
     assert_ne!(own.ref_err_t_rms, by_scene.ref_err_t_rms, "the footprint level is not level 0 here");
@@ -399,7 +445,15 @@ fn a_scene_files_lod_applies_to_pipelines_that_name_none() {
     std::fs::write(&grid, "coarse: linear(8)\n").unwrap();
     let out = d.join("sweep");
     let sweep = || {
-        let o = relief().args(["sweep", "--grid"]).arg(&grid).arg("--scene").arg(&file).args(["--size", "32", "--frames", "1", "--out"]).arg(&out).output().unwrap();
+        let o = relief()
+            .args(["sweep", "--grid"])
+            .arg(&grid)
+            .arg("--scene")
+            .arg(&file)
+            .args(["--size", "32", "--frames", "1", "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         String::from_utf8_lossy(&o.stdout).to_string()
     };

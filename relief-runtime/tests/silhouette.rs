@@ -59,8 +59,15 @@ fn check(g: &Gpu, scene: Scene, pipeline: &str) {
         .collect();
     let judged = expected.iter().flatten().count();
     let outside = expected.iter().flatten().filter(|h| !**h).count();
-    assert!(judged as f64 >= 0.99 * expected.len() as f64, "{name}: too many ambiguous rays ({judged} of {})", expected.len());
-    assert!(outside as f64 >= 0.05 * judged as f64, "{name}: the view must show the outline ({outside} of {judged} rays leave the square)");
+    assert!(
+        judged as f64 >= 0.99 * expected.len() as f64,
+        "{name}: too many ambiguous rays ({judged} of {})",
+        expected.len()
+    );
+    assert!(
+        outside as f64 >= 0.05 * judged as f64,
+        "{name}: the view must show the outline ({outside} of {judged} rays leave the square)"
+    );
     assert!(outside < judged, "{name}: some rays must hit");
 
     let p: relief_dsl::Pipeline = format!("{pipeline}+silhouette=clip").parse().unwrap();
@@ -71,7 +78,19 @@ fn check(g: &Gpu, scene: Scene, pipeline: &str) {
     for (((r, h), e), rf) in prep.rays.iter().zip(&m.hits).zip(&expected).zip(&prep.refs) {
         let Some(hit) = *e else { continue };
         if (h.clipped == 0) != hit {
-            wrong_probe.push((r.x, r.y, h.clipped, h.t, h.u, h.v, h.converged, t_exit(r, tiling), rf.map(|x| (x.t, x.u, x.v, x.z)), r.origin, r.dir));
+            wrong_probe.push((
+                r.x,
+                r.y,
+                h.clipped,
+                h.t,
+                h.u,
+                h.v,
+                h.converged,
+                t_exit(r, tiling),
+                rf.map(|x| (x.t, x.u, x.v, x.z)),
+                r.origin,
+                r.dir,
+            ));
         }
         // A discarded pixel keeps the cleared depth 1.
         let drawn = depth[(r.y * size + r.x) as usize] < 1.0;
@@ -79,8 +98,18 @@ fn check(g: &Gpu, scene: Scene, pipeline: &str) {
             wrong_pixel.push((r.x, r.y, drawn));
         }
     }
-    assert!(wrong_probe.is_empty(), "{name} {pipeline}: probe clip flag disagrees on {} rays, first {:?}", wrong_probe.len(), &wrong_probe[..wrong_probe.len().min(5)]);
-    assert!(wrong_pixel.is_empty(), "{name} {pipeline}: rendered outline disagrees on {} pixels, first {:?}", wrong_pixel.len(), &wrong_pixel[..wrong_pixel.len().min(5)]);
+    assert!(
+        wrong_probe.is_empty(),
+        "{name} {pipeline}: probe clip flag disagrees on {} rays, first {:?}",
+        wrong_probe.len(),
+        &wrong_probe[..wrong_probe.len().min(5)]
+    );
+    assert!(
+        wrong_pixel.is_empty(),
+        "{name} {pipeline}: rendered outline disagrees on {} pixels, first {:?}",
+        wrong_pixel.len(),
+        &wrong_pixel[..wrong_pixel.len().min(5)]
+    );
     // The metrics see the same outline: no false hits beyond the ambiguous rays, and no more
     // misses than the search makes without the clip (a ray that leaves the square first no
     // longer has a hit to miss) plus the ambiguous rays.
@@ -92,8 +121,15 @@ fn check(g: &Gpu, scene: Scene, pipeline: &str) {
         m.metrics.missed_rate,
         unclipped.metrics.missed_rate
     );
-    assert!(m.metrics.false_hit_rate <= ambiguous, "{name} {pipeline}: false hits {} > ambiguous share {ambiguous}", m.metrics.false_hit_rate);
-    assert!(m.refs.iter().filter(|r| r.is_none()).count() >= outside, "the clipped reference has no hit where the ray leaves first");
+    assert!(
+        m.metrics.false_hit_rate <= ambiguous,
+        "{name} {pipeline}: false hits {} > ambiguous share {ambiguous}",
+        m.metrics.false_hit_rate
+    );
+    assert!(
+        m.refs.iter().filter(|r| r.is_none()).count() >= outside,
+        "the clipped reference has no hit where the ray leaves first"
+    );
 }
 
 #[test]

@@ -9,7 +9,11 @@ use relief_runtime::stability;
 fn every_method_stays_finite_and_inside_the_volume_at_every_angle() {
     let gpu = Gpu::new().unwrap();
     let methods = stability::methods();
-    assert_eq!(methods.len(), (17 + 7) * 4, "every implemented coarse × refine at default parameters, cone methods in both forms");
+    assert_eq!(
+        methods.len(),
+        (17 + 7) * 4,
+        "every implemented coarse × refine at default parameters, cone methods in both forms"
+    );
     let scenes = ["spikes", "flat1", "seam", "walls", "boxes", "rock_bump"];
     let cells = stability::run(&gpu, 16, &methods, &scenes, &stability::ANGLES, |_, _| {}).unwrap();
     assert_eq!(cells.len(), methods.len() * scenes.len() * stability::ANGLES.len());
@@ -17,17 +21,30 @@ fn every_method_stays_finite_and_inside_the_volume_at_every_angle() {
     // refinement after them.
     let safe = |m: &str| {
         let coarse = m.split('+').next().unwrap();
-        ["csm", "qcsm", "cns", "mcns", "pcns", "sphere", "maxmip"].iter().any(|n| coarse.starts_with(&format!("{n}("))) && !coarse.contains("textbook")
+        ["csm", "qcsm", "cns", "mcns", "pcns", "sphere", "maxmip"].iter().any(|n| coarse.starts_with(&format!("{n}(")))
+            && !coarse.contains("textbook")
     };
     let past: Vec<String> = cells
         .iter()
         .filter(|c| safe(&c.method) && c.past_count > 0)
-        .map(|c| format!("{} on {} at {}°: {} rays past the first hit (max t error {:.2e})", c.method, c.scene, c.angle, c.past_count, c.ref_err_t_max))
+        .map(|c| {
+            format!(
+                "{} on {} at {}°: {} rays past the first hit (max t error {:.2e})",
+                c.method, c.scene, c.angle, c.past_count, c.ref_err_t_max
+            )
+        })
         .collect();
     assert!(past.is_empty(), "{} cells:\n{}", past.len(), past.join("\n"));
     let bad: Vec<_> = cells.iter().filter(|c| c.nan_count > 0 || c.outside_count > 0).collect();
-    let list: Vec<String> =
-        bad.iter().map(|c| format!("{} on {} at {}°: {} NaN, {} outside (max t error {:.3})", c.method, c.scene, c.angle, c.nan_count, c.outside_count, c.ref_err_t_max)).collect();
+    let list: Vec<String> = bad
+        .iter()
+        .map(|c| {
+            format!(
+                "{} on {} at {}°: {} NaN, {} outside (max t error {:.3})",
+                c.method, c.scene, c.angle, c.nan_count, c.outside_count, c.ref_err_t_max
+            )
+        })
+        .collect();
     assert!(bad.is_empty(), "{} bad cells:\n{}", bad.len(), list.join("\n"));
 }
 
@@ -38,15 +55,30 @@ fn the_scores_see_what_they_measure() {
     use relief_runtime::gpu::GpuHit;
     let flat1 = stability::scene("flat1", 16).unwrap();
     let rays = stability::rays(&flat1, 4, 60.0);
-    let refs = relief_runtime::reference::reference_hits(&flat1, &rays, relief_runtime::reference::Sampling::Bilinear).unwrap();
+    let refs = relief_runtime::reference::reference_hits(&flat1, &rays, relief_runtime::reference::Sampling::Bilinear)
+        .unwrap();
     let at_entry: Vec<GpuHit> = rays
         .iter()
-        .map(|r| GpuHit { t: 0.0, u: r.origin[0], v: r.origin[1], z: 1.0, coarse_steps: 1, refine_steps: 0, fetches: 1, converged: 1, clipped: 0 })
+        .map(|r| GpuHit {
+            t: 0.0,
+            u: r.origin[0],
+            v: r.origin[1],
+            z: 1.0,
+            coarse_steps: 1,
+            refine_steps: 0,
+            fetches: 1,
+            converged: 1,
+            clipped: 0,
+        })
         .collect();
     let c = stability::score("entry", &flat1, 60.0, &rays, &at_entry, &refs);
-    assert_eq!((c.nan_count, c.outside_count, c.missed_rate, c.nonconverged_rate, c.above_surface_rate), (0, 0, 0.0, 0.0, 0.0));
+    assert_eq!(
+        (c.nan_count, c.outside_count, c.missed_rate, c.nonconverged_rate, c.above_surface_rate),
+        (0, 0, 0.0, 0.0, 0.0)
+    );
     let flat0 = stability::scene("flat0", 16).unwrap();
-    let refs0 = relief_runtime::reference::reference_hits(&flat0, &rays, relief_runtime::reference::Sampling::Bilinear).unwrap();
+    let refs0 = relief_runtime::reference::reference_hits(&flat0, &rays, relief_runtime::reference::Sampling::Bilinear)
+        .unwrap();
     let c = stability::score("entry", &flat0, 60.0, &rays, &at_entry, &refs0);
     assert_eq!((c.nonconverged_rate, c.above_surface_rate, c.missed_rate), (0.0, 1.0, 0.0));
     assert!((c.ref_err_t_max - 1.0).abs() < 1e-6);
@@ -80,7 +112,8 @@ fn a_broken_stage_is_caught_by_the_scores_and_the_metrics() {
     let scene = stability::scene("walls", 16).unwrap();
     let tex = SceneTextures::new(&g, &scene);
     let rays = stability::rays(&scene, 8, 45.0);
-    let refs = relief_runtime::reference::reference_hits(&scene, &rays, relief_runtime::reference::Sampling::Bilinear).unwrap();
+    let refs = relief_runtime::reference::reference_hits(&scene, &rays, relief_runtime::reference::Sampling::Bilinear)
+        .unwrap();
     let n = rays.len();
     let run = |program: &relief_runtime::gpu::Program| {
         let hits = gpu::probe(&g, program, &scene, &tex, &rays).unwrap();
@@ -117,6 +150,12 @@ fn one_texel_of_travel_is_horizontal_or_vertical_whichever_comes_first() {
     use relief_runtime::scene::ProbeRay;
     let ray = |dir: [f32; 3]| ProbeRay { origin: [0.5, 0.5], dir, x: 0, y: 0, pixel_size: 0.0 };
     assert!((one_texel_t(&ray([0.0, 0.0, -1.0]), 64.0) - 1.0 / 64.0).abs() < 1e-12);
-    assert!((one_texel_t(&ray([0.5, 0.0, -1.0]), 64.0) - 1.0 / 64.0).abs() < 1e-12, "steeper than 45°: the depth decides");
-    assert!((one_texel_t(&ray([3.0, 4.0, -1.0]), 64.0) - 1.0 / (64.0 * 5.0)).abs() < 1e-12, "grazing: the horizontal texel decides");
+    assert!(
+        (one_texel_t(&ray([0.5, 0.0, -1.0]), 64.0) - 1.0 / 64.0).abs() < 1e-12,
+        "steeper than 45°: the depth decides"
+    );
+    assert!(
+        (one_texel_t(&ray([3.0, 4.0, -1.0]), 64.0) - 1.0 / (64.0 * 5.0)).abs() < 1e-12,
+        "grazing: the horizontal texel decides"
+    );
 }

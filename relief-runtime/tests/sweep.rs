@@ -9,7 +9,8 @@ fn relief() -> Command {
     c
 }
 
-const GRID: &str = "# a small grid for the tests\ncoarse: [linear(4..=32 step 4), csm([4, 8])]\nrefine: [none, binary(3)]\n";
+const GRID: &str =
+    "# a small grid for the tests\ncoarse: [linear(4..=32 step 4), csm([4, 8])]\nrefine: [none, binary(3)]\n";
 
 fn rows(dir: &std::path::Path) -> Vec<serde_json::Value> {
     let text = std::fs::read_to_string(dir.join("results.jsonl")).unwrap_or_default();
@@ -25,7 +26,10 @@ fn sweep_survives_a_kill_and_resumes_without_losing_or_repeating_cells() {
     std::fs::write(&grid, GRID).unwrap();
     let out = dir.join("out");
     let args = |c: &mut Command| {
-        c.args(["sweep", "--grid"]).arg(&grid).args(["--scene", "scene:rock_bump", "--scene", "scene:step", "--size", "48", "--frames", "3", "--out"]).arg(&out);
+        c.args(["sweep", "--grid"])
+            .arg(&grid)
+            .args(["--scene", "scene:rock_bump", "--scene", "scene:step", "--size", "48", "--frames", "3", "--out"])
+            .arg(&out);
     };
     let cells = 20 * 2;
 
@@ -56,8 +60,10 @@ fn sweep_survives_a_kill_and_resumes_without_losing_or_repeating_cells() {
     assert!(summary.contains(&format!("{before} already done")), "{summary}");
     let all = rows(&out);
     assert_eq!(all.len(), cells);
-    let mut keys: Vec<(String, String)> =
-        all.iter().map(|r| (r["pipeline"].as_str().unwrap().to_string(), r["scene"].as_str().unwrap().to_string())).collect();
+    let mut keys: Vec<(String, String)> = all
+        .iter()
+        .map(|r| (r["pipeline"].as_str().unwrap().to_string(), r["scene"].as_str().unwrap().to_string()))
+        .collect();
     keys.sort();
     keys.dedup();
     assert_eq!(keys.len(), cells, "no cell measured twice");
@@ -148,8 +154,19 @@ fn cells_that_read_one_map_kind_with_different_parameters_match_their_solo_runs(
     for (i, coarse) in ["mcns(15, 2)", "mcns(15, 4)"].iter().enumerate() {
         let solo = sweep(&format!("solo{i}"), coarse);
         let together = both.iter().find(|r| r["pipeline"].as_str().unwrap().starts_with(coarse)).unwrap();
-        for col in ["mse_dissertation", "ref_err_t_rms", "ref_err_uv_texels_rms", "missed_rate", "avg_coarse_steps", "avg_fetches", "nonconverged_rate"] {
-            assert_eq!(together[col], solo[0][col], "{coarse}: `{col}` swept with the other cell differs from swept alone");
+        for col in [
+            "mse_dissertation",
+            "ref_err_t_rms",
+            "ref_err_uv_texels_rms",
+            "missed_rate",
+            "avg_coarse_steps",
+            "avg_fetches",
+            "nonconverged_rate",
+        ] {
+            assert_eq!(
+                together[col], solo[0][col],
+                "{coarse}: `{col}` swept with the other cell differs from swept alone"
+            );
         }
     }
     // The two cells read different maps: their results differ.
@@ -183,7 +200,12 @@ fn a_lod_auto_sweep_runs_on_every_main_scene() {
         assert!(r["ref_err_t_rms"].as_f64().is_some_and(f64::is_finite), "{r}");
     }
     for s in scenes {
-        let auto = all.iter().filter(|r| r["pipeline"].as_str().unwrap().ends_with("+lod=auto") && r["scene"].as_str().unwrap().ends_with(s)).count();
+        let auto = all
+            .iter()
+            .filter(|r| {
+                r["pipeline"].as_str().unwrap().ends_with("+lod=auto") && r["scene"].as_str().unwrap().ends_with(s)
+            })
+            .count();
         assert_eq!(auto, 6, "{s}");
     }
     let o = relief().arg("report").arg(&out).output().unwrap();
@@ -206,7 +228,10 @@ fn a_grid_swept_as_three_shards_and_merged_equals_the_grid_swept_whole() {
     std::fs::write(&grid, "coarse: [linear([4, 8]), csm(4)]\nrefine: [none, binary(2)]\n").unwrap();
     let sweep = |out: &std::path::Path, shard: Option<&str>| {
         let mut c = relief();
-        c.args(["sweep", "--grid"]).arg(&grid).args(["--scene", "scene:rock_bump", "--scene", "scene:step", "--size", "24", "--frames", "2", "--out"]).arg(out);
+        c.args(["sweep", "--grid"])
+            .arg(&grid)
+            .args(["--scene", "scene:rock_bump", "--scene", "scene:step", "--size", "24", "--frames", "2", "--out"])
+            .arg(out);
         if let Some(s) = shard {
             c.args(["--shard", s]);
         }
@@ -234,18 +259,30 @@ fn a_grid_swept_as_three_shards_and_merged_equals_the_grid_swept_whole() {
     let table = |path: std::path::PathBuf| -> Vec<std::collections::BTreeMap<String, String>> {
         let mut r = csv::Reader::from_path(&path).unwrap();
         let h = r.headers().unwrap().clone();
-        r.records().map(|rec| h.iter().zip(rec.unwrap().iter()).map(|(k, v)| (k.to_string(), v.to_string())).collect()).collect()
+        r.records()
+            .map(|rec| h.iter().zip(rec.unwrap().iter()).map(|(k, v)| (k.to_string(), v.to_string())).collect())
+            .collect()
     };
-    let timing = |c: &str| c.starts_with("frame_") || ["timing_pairs", "frames_per_block", "timestamp_period_ns", "cell_dir", "grid"].contains(&c);
+    let timing = |c: &str| {
+        c.starts_with("frame_")
+            || ["timing_pairs", "frames_per_block", "timestamp_period_ns", "cell_dir", "grid"].contains(&c)
+    };
     let key = |r: &std::collections::BTreeMap<String, String>| (r["pipeline"].clone(), r["scene"].clone());
     let mut whole = table(dir.join("whole_report/results.csv"));
     let mut parts = table(merged.join("results.csv"));
     whole.sort_by_key(key);
     parts.sort_by_key(key);
     assert_eq!(whole.len(), 12);
-    assert_eq!(parts.iter().map(key).collect::<Vec<_>>(), whole.iter().map(key).collect::<Vec<_>>(), "the same cells, none twice");
+    assert_eq!(
+        parts.iter().map(key).collect::<Vec<_>>(),
+        whole.iter().map(key).collect::<Vec<_>>(),
+        "the same cells, none twice"
+    );
     let columns: Vec<&String> = whole[0].keys().filter(|c| !timing(c)).collect();
-    assert!(columns.iter().any(|c| *c == "mse_dissertation") && columns.iter().any(|c| *c == "simd32_fetches"), "{columns:?}");
+    assert!(
+        columns.iter().any(|c| *c == "mse_dissertation") && columns.iter().any(|c| *c == "simd32_fetches"),
+        "{columns:?}"
+    );
     for (w, p) in whole.iter().zip(&parts) {
         for c in &columns {
             assert_eq!(w[*c], p[*c], "{c} of {:?}", key(w));
@@ -266,7 +303,14 @@ fn a_scene_with_a_view_is_the_scene_swept_at_that_view() {
     let grid = dir.join("g.grid");
     std::fs::write(&grid, "coarse: linear(8)\nrefine: binary(2)\n").unwrap();
     let sweep = |out: &str, args: &[&str]| {
-        let o = relief().args(["sweep", "--grid"]).arg(&grid).args(args).args(["--size", "32", "--frames", "1", "--out"]).arg(dir.join(out)).output().unwrap();
+        let o = relief()
+            .args(["sweep", "--grid"])
+            .arg(&grid)
+            .args(args)
+            .args(["--size", "32", "--frames", "1", "--out"])
+            .arg(dir.join(out))
+            .output()
+            .unwrap();
         (o.status.success(), String::from_utf8_lossy(&o.stderr).into_owned())
     };
     let (ok, err) = sweep("named", &["--scene", "step@angle=70"]);

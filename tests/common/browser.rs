@@ -100,17 +100,28 @@ pub fn run_page(p: &Page<'_>) -> serde_json::Value {
     let stdout = out.join().unwrap_or_default();
     let stderr = err.join().unwrap_or_default();
     let Some(status) = status else {
-        panic!("{}: the browser harness did not finish within {:?}\n{stdout}\n{stderr}", p.page, p.timeout + Duration::from_secs(60));
+        panic!(
+            "{}: the browser harness did not finish within {:?}\n{stdout}\n{stderr}",
+            p.page,
+            p.timeout + Duration::from_secs(60)
+        );
     };
-    let report: serde_json::Value = serde_json::from_str(stdout.trim())
-        .unwrap_or_else(|e| panic!("{}: the harness printed no JSON ({e}; exit {status}):\n{stdout}\n{stderr}", p.page));
+    let report: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap_or_else(|e| {
+        panic!("{}: the harness printed no JSON ({e}; exit {status}):\n{stdout}\n{stderr}", p.page)
+    });
     if !status.success() || report["ok"] != serde_json::Value::Bool(true) {
         let console: Vec<String> = report["console"]
             .as_array()
-            .map(|a| a.iter().map(|m| format!("  [{}] {}", m["type"].as_str().unwrap_or(""), m["text"].as_str().unwrap_or(""))).collect())
+            .map(|a| {
+                a.iter()
+                    .map(|m| format!("  [{}] {}", m["type"].as_str().unwrap_or(""), m["text"].as_str().unwrap_or("")))
+                    .collect()
+            })
             .unwrap_or_default();
-        let errors: Vec<String> =
-            report["errors"].as_array().map(|a| a.iter().map(|e| format!("  {}", e.as_str().unwrap_or(""))).collect()).unwrap_or_default();
+        let errors: Vec<String> = report["errors"]
+            .as_array()
+            .map(|a| a.iter().map(|e| format!("  {}", e.as_str().unwrap_or(""))).collect())
+            .unwrap_or_default();
         let mut result = report["result"].to_string();
         if result.len() > 4000 {
             result.truncate(4000);

@@ -193,7 +193,12 @@ fn frame<'a>(s: &'a Stage<'a>, k: usize, size: Val<'a, Vec3>) -> Frame<'a> {
     let f = FRAMES[k];
     let v = |c: [f64; 3]| s.vec3(s.vec2(size.x() * c[0] as f32, size.y() * c[1] as f32), size.z() * c[2] as f32);
     let n = f[3];
-    Frame { origin: v(f[0]), u_edge: v(f[1]), v_edge: v(f[2]), normal: s.vec3(s.vec2(n[0] as f32, n[1] as f32), n[2] as f32) }
+    Frame {
+        origin: v(f[0]),
+        u_edge: v(f[1]),
+        v_edge: v(f[2]),
+        normal: s.vec3(s.vec2(n[0] as f32, n[1] as f32), n[2] as f32),
+    }
 }
 
 fn room_param<'a>(s: &'a Stage<'a>, i: u32) -> Val<'a, Vec4> {
@@ -221,7 +226,12 @@ fn depth_scale<'a>(s: &'a Stage<'a>, k: usize) -> Val<'a, f32> {
 
 /// Amaro & Gustafsson 2022, eq. 1–4: per axis the plane the ray `cam + t·w` heads for, its t, and the
 /// nearest. Returns (wall index, t).
-fn select_wall<'a>(s: &'a Stage<'a>, cam: Val<'a, Vec3>, w: Val<'a, Vec3>, size: Val<'a, Vec3>) -> (Val<'a, u32>, Val<'a, f32>) {
+fn select_wall<'a>(
+    s: &'a Stage<'a>,
+    cam: Val<'a, Vec3>,
+    w: Val<'a, Vec3>,
+    size: Val<'a, Vec3>,
+) -> (Val<'a, u32>, Val<'a, f32>) {
     let zero = s.lit(0.0);
     let left = w.x().lt(0.0);
     let tx = s.select(left, zero - cam.x(), size.x() - cam.x()) / w.x();
@@ -243,7 +253,14 @@ fn select_wall<'a>(s: &'a Stage<'a>, cam: Val<'a, Vec3>, w: Val<'a, Vec3>, size:
 
 /// The world ray `cam + t·w`, met at `t_wall` on wall `k`, in the wall's normalized tangent
 /// space (Amaro & Gustafsson 2022, §2.4: "a view matrix transform … into each wall's space").
-fn wall_ray<'a>(s: &'a Stage<'a>, f: &Frame<'a>, scale: Val<'a, f32>, cam: Val<'a, Vec3>, w: Val<'a, Vec3>, t_wall: Val<'a, f32>) -> Ray<'a> {
+fn wall_ray<'a>(
+    s: &'a Stage<'a>,
+    f: &Frame<'a>,
+    scale: Val<'a, f32>,
+    cam: Val<'a, Vec3>,
+    w: Val<'a, Vec3>,
+    t_wall: Val<'a, f32>,
+) -> Ray<'a> {
     let x = cam + w * t_wall;
     let rel = x - f.origin;
     let uu = f.u_edge.dot(f.u_edge);
@@ -304,7 +321,12 @@ fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
                             binding: Some(Binding::BuiltIn(BuiltIn::Position { invariant: false })),
                             offset: 0,
                         },
-                        naga::StructMember { name: Some("world".into()), ty: v3, binding: Some(location(0)), offset: 16 },
+                        naga::StructMember {
+                            name: Some("world".into()),
+                            ty: v3,
+                            binding: Some(location(0)),
+                            offset: 16,
+                        },
                     ],
                     span: 32,
                 },
@@ -334,7 +356,14 @@ const GLASS: [f32; 3] = [0.72, 0.78, 0.84];
 /// over the samples, is added to the colour. Our reading of the paper's "paint the hit plane
 /// again and again at a known interval with a diminished intensity": a march along the view
 /// ray through the room's air, lit only where the window lets the sun in.
-fn scattering<'a>(s: &'a Stage<'a>, samples: u32, world: Val<'a, Vec3>, far: Val<'a, Vec3>, size: Val<'a, Vec3>, window_on: Val<'a, bool>) -> Val<'a, f32> {
+fn scattering<'a>(
+    s: &'a Stage<'a>,
+    samples: u32,
+    world: Val<'a, Vec3>,
+    far: Val<'a, Vec3>,
+    size: Val<'a, Vec3>,
+    window_on: Val<'a, bool>,
+) -> Val<'a, f32> {
     let sun = room_param(s, 3);
     let to_sun = sun.xyz();
     let sum = s.var::<f32>("scatter", 0.0);
@@ -397,7 +426,8 @@ fn fragment_entry(m: &ModuleCtx, walls: &[StageFns], options: &RoomOptions) -> n
                 None => s.lit(1.0),
             };
             let n = s.normal(hit.uv);
-            let n_world = (f.u_edge * (n.x() / uu.sqrt()) + f.v_edge * (n.y() / vv.sqrt()) + f.normal * n.z()).normalize();
+            let n_world =
+                (f.u_edge * (n.x() / uu.sqrt()) + f.v_edge * (n.y() / vv.sqrt()) + f.normal * n.z()).normalize();
             let albedo = s.sample("albedo_map", binding::ALBEDO, hit.uv, Filter::Linear).xyz();
             let diffuse = n_world.dot(to_light).max(0.0);
             color.set(albedo * (ambient * occlusion + (1.0 - ambient) * diffuse * visibility));
@@ -428,7 +458,8 @@ fn probe_entry(m: &ModuleCtx, walls: &[StageFns]) -> naga::EntryPoint {
     let rays = storage_array(m, "room_rays", ray_rec, ROOM_RAYS, false);
     let hits = storage_array(m, "room_hits", hit_rec, ROOM_HITS, true);
     let counters = super::probe_counters(m);
-    let s = m.function("probe_room", &[("id", m.ty(UVec3::inner()), Some(Binding::BuiltIn(BuiltIn::GlobalInvocationId)))]);
+    let s =
+        m.function("probe_room", &[("id", m.ty(UVec3::inner()), Some(Binding::BuiltIn(BuiltIn::GlobalInvocationId)))]);
     let index = s.arg::<UVec3>(0).x();
     let rays_ptr = s.global_ptr(rays);
     s.if_(index.ge(s.array_length(rays_ptr)), |s| s.ret());
@@ -471,7 +502,9 @@ fn probe_entry(m: &ModuleCtx, walls: &[StageFns]) -> naga::EntryPoint {
 /// The pipeline options the room entries do not implement, as errors: the room's entries set
 /// no sample level (`lod`), and a window has no quad square to clip to (`silhouette`).
 fn refuse_render_options(p: &Pipeline) -> Result<(), CompileError> {
-    let refuse = |what: String| Err(CompileError { stage: "room".into(), message: format!("{what} is not implemented for rooms yet") });
+    let refuse = |what: String| {
+        Err(CompileError { stage: "room".into(), message: format!("{what} is not implemented for rooms yet") })
+    };
     if p.lod != crate::spec::Lod::Zero {
         return refuse(format!("lod={}", p.lod));
     }
@@ -489,7 +522,8 @@ fn build(p: &Pipeline, options: &RoomOptions) -> Result<(Module, Vec<WallBinding
     let vs = vertex_entry(&m);
     let fs = fragment_entry(&m, &plain, options);
     let cs = probe_entry(&m, &counted);
-    let walls = m.wall_bindings.borrow().iter().map(|&(binding, wall, plain)| WallBinding { binding, wall, plain }).collect();
+    let walls =
+        m.wall_bindings.borrow().iter().map(|&(binding, wall, plain)| WallBinding { binding, wall, plain }).collect();
     let mut module = m.finish();
     module.entry_points.extend([vs, fs, cs]);
     Ok((module, walls))
@@ -504,7 +538,10 @@ pub fn build_room_module(p: &Pipeline, options: &RoomOptions) -> Result<Module, 
 /// Builds and validates the room module for `p`.
 pub fn compile_room(p: &Pipeline, options: &RoomOptions) -> Result<RoomCompiled, CompileError> {
     if options.scatter.is_some_and(|n| !(1..=4096).contains(&n)) {
-        return Err(CompileError { stage: "scatter".into(), message: format!("{} scattering samples: allowed 1..=4096", options.scatter.unwrap_or(0)) });
+        return Err(CompileError {
+            stage: "scatter".into(),
+            message: format!("{} scattering samples: allowed 1..=4096", options.scatter.unwrap_or(0)),
+        });
     }
     let (module, wall_bindings) = build(p, options)?;
     let info = super::validate(&module)?;

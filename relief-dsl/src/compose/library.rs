@@ -179,10 +179,9 @@ pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileErro
         let init = module
             .global_expressions
             .append(naga::Expression::Literal(naga::Literal::Bool(opts.edge_clamp)), naga::Span::UNDEFINED);
-        module.constants.append(
-            naga::Constant { name: Some(format!("{prefix}_edge_clamp")), ty, init },
-            naga::Span::UNDEFINED,
-        )
+        module
+            .constants
+            .append(naga::Constant { name: Some(format!("{prefix}_edge_clamp")), ty, init }, naga::Span::UNDEFINED)
     };
     m.edge_clamp_constant.set(Some(edge));
     let fns = build_stage_fns(&m, p, false)?;
@@ -198,7 +197,8 @@ pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileErro
 
     // relief_trace(uv, view_ts, depth_scale) -> ReliefHit
     {
-        let s = m.function("trace", &[("uv", vec2_ty, None), ("view_ts", vec3_ty, None), ("depth_scale", f32_ty, None)]);
+        let s =
+            m.function("trace", &[("uv", vec2_ty, None), ("view_ts", vec3_ty, None), ("depth_scale", f32_ty, None)]);
         let uv = s.arg::<Vec2>(0);
         let view = s.arg::<Vec3>(1).normalize();
         let depth_scale = s.arg::<f32>(2);
@@ -223,7 +223,10 @@ pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileErro
     // relief_shadow(hit, light_ts, depth_scale) -> f32: the light ray in the stages'
     // normalized space, as the render entry builds it.
     if let Some(shadow) = fns.shadow {
-        let s = m.function("shadow", &[("hit", public_hit, None), ("light_ts", vec3_ty, None), ("depth_scale", f32_ty, None)]);
+        let s = m.function(
+            "shadow",
+            &[("hit", public_hit, None), ("light_ts", vec3_ty, None), ("depth_scale", f32_ty, None)],
+        );
         let hv = stage_hit(&s, s.arg::<Vec4>(0).handle());
         let light = s.arg::<Vec3>(1).normalize();
         let depth_scale = s.arg::<f32>(2);
@@ -254,11 +257,7 @@ pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileErro
         .filter(|(h, t)| matches!(t.inner, TypeInner::Struct { .. }) && t.name.is_some() && *h != public_hit)
         .map(|(h, t)| {
             let old = t.name.as_deref().unwrap();
-            let new = if old == "Hit" {
-                format!("{camel}StageHit")
-            } else {
-                format!("{camel}{old}")
-            };
+            let new = if old == "Hit" { format!("{camel}StageHit") } else { format!("{camel}{old}") };
             (h, naga::Type { name: Some(new), inner: t.inner.clone() })
         })
         .collect();
@@ -285,7 +284,9 @@ pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileErro
         if !matches!(g.space, naga::AddressSpace::Handle) {
             return Err(CompileError {
                 stage: "library".into(),
-                message: format!("the stages read `{name}` (not a texture or sampler), which a library has no value for"),
+                message: format!(
+                    "the stages read `{name}` (not a texture or sampler), which a library has no value for"
+                ),
             });
         }
         order.push((rb.binding, h));
@@ -312,10 +313,16 @@ pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileErro
         let g = &mut module.global_variables[h];
         let old = g.name.clone().unwrap_or_default();
         let Some((base, mut what)) = resource_base(&old) else {
-            return Err(CompileError { stage: "library".into(), message: format!("no library name for the resource `{old}`") });
+            return Err(CompileError {
+                stage: "library".into(),
+                message: format!("no library name for the resource `{old}`"),
+            });
         };
         if loaded.contains(&h) && !sampled.contains(&h) {
-            what = format!("{}, read texel by texel (textureLoad) over its mip chain", what.split(", read").next().unwrap_or(""));
+            what = format!(
+                "{}, read texel by texel (textureLoad) over its mip chain",
+                what.split(", read").next().unwrap_or("")
+            );
         }
         let name = format!("{prefix}_{base}");
         let binding = u32::try_from(i).ok().and_then(|i| opts.binding.checked_add(i)).ok_or_else(|| CompileError {
@@ -329,7 +336,10 @@ pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileErro
             TypeInner::Image { dim: naga::ImageDimension::D3, .. } => ResourceKind::Texture3d,
             TypeInner::Sampler { comparison: false } => ResourceKind::Sampler,
             other => {
-                return Err(CompileError { stage: "library".into(), message: format!("resource `{old}` of unexpected type {other:?}") })
+                return Err(CompileError {
+                    stage: "library".into(),
+                    message: format!("resource `{old}` of unexpected type {other:?}"),
+                })
             }
         };
         bindings.push(LibraryBinding { name, group: opts.group, binding, kind, what });

@@ -20,9 +20,9 @@ use naga::{Binding, BuiltIn, Handle, Module, ShaderStage, TypeInner};
 
 use crate::abi::{binding, Param, ProbeHit, ProbeRay, PROBE_WORKGROUP};
 use crate::ir::{ModuleCtx, Stage, Ty, UVec3, Val, Vec2, Vec3, Vec4};
-use crate::CompileError;
 use crate::spec::{Pipeline, Silhouette, Slot, StageSpec};
 use crate::stage::{self, Bracket, Filter, Hit, Ray};
+use crate::CompileError;
 
 /// A compiled pipeline: the module and its validation info.
 pub struct Compiled {
@@ -165,7 +165,12 @@ pub(crate) fn location(n: u32) -> Binding {
 }
 
 /// An entry point of `stage` running `function` (`workgroup` is `[0; 3]` for render stages).
-pub(crate) fn entry_point(name: &str, stage: ShaderStage, function: naga::Function, workgroup: [u32; 3]) -> naga::EntryPoint {
+pub(crate) fn entry_point(
+    name: &str,
+    stage: ShaderStage,
+    function: naga::Function,
+    workgroup: [u32; 3],
+) -> naga::EntryPoint {
     naga::EntryPoint {
         name: name.into(),
         stage,
@@ -203,10 +208,7 @@ fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
             naga::Span::UNDEFINED,
         )
     };
-    let s = m.function(
-        "vs_main",
-        &[("vertex", m.ty(u32::inner()), Some(Binding::BuiltIn(BuiltIn::VertexIndex)))],
-    );
+    let s = m.function("vs_main", &[("vertex", m.ty(u32::inner()), Some(Binding::BuiltIn(BuiltIn::VertexIndex)))]);
     // Four vertices as a triangle strip: (0,0) (1,0) (0,1) (1,1), scaled to the quad's size.
     let i = s.arg::<u32>(0);
     let size = s.param::<Vec4>(Param::Quad).x();
@@ -250,7 +252,10 @@ fn lod_level_fn(m: &ModuleCtx, lod: crate::spec::Lod) -> Option<Handle<naga::Fun
     if lod == Lod::Zero {
         return None;
     }
-    let s = m.function("relief_lod_level", &[("entry", m.ty(Vec2::inner()), None), ("pixel_size", m.ty(f32::inner()), None)]);
+    let s = m.function(
+        "relief_lod_level",
+        &[("entry", m.ty(Vec2::inner()), None), ("pixel_size", m.ty(f32::inner()), None)],
+    );
     let entry = s.arg::<Vec2>(0);
     let delta = s.arg::<f32>(1);
     let last = s.height_map_levels() - 1.0;
@@ -275,7 +280,12 @@ fn lod_level_fn(m: &ModuleCtx, lod: crate::spec::Lod) -> Option<Handle<naga::Fun
 }
 
 /// Stores the pixel's level ([`lod_level_fn`]) in the stage-wide level, before tracing.
-fn set_sample_level<'a>(s: &'a Stage<'a>, lod: Option<Handle<naga::Function>>, entry: Val<'a, Vec2>, pixel_size: impl FnOnce() -> Val<'a, f32>) {
+fn set_sample_level<'a>(
+    s: &'a Stage<'a>,
+    lod: Option<Handle<naga::Function>>,
+    entry: Val<'a, Vec2>,
+    pixel_size: impl FnOnce() -> Val<'a, f32>,
+) {
     if let Some(f) = lod {
         let level = s.call(f, &[entry.handle(), pixel_size().handle()], true).unwrap();
         s.store(s.global_ptr(stage::sample_level_global(s.module())), level);
@@ -313,7 +323,12 @@ fn fragment_output_with_depth(m: &ModuleCtx) -> Handle<naga::Type> {
             inner: TypeInner::Struct {
                 members: vec![
                     naga::StructMember { name: Some("color".into()), ty: v4, binding: Some(location(0)), offset: 0 },
-                    naga::StructMember { name: Some("depth".into()), ty: f, binding: Some(Binding::BuiltIn(BuiltIn::FragDepth)), offset: 16 },
+                    naga::StructMember {
+                        name: Some("depth".into()),
+                        ty: f,
+                        binding: Some(Binding::BuiltIn(BuiltIn::FragDepth)),
+                        offset: 16,
+                    },
                 ],
                 span: 32,
             },
@@ -322,7 +337,13 @@ fn fragment_output_with_depth(m: &ModuleCtx) -> Handle<naga::Type> {
     )
 }
 
-fn fragment_entry(m: &ModuleCtx, fns: &StageFns, options: &Options, clip: bool, lod: Option<Handle<naga::Function>>) -> naga::EntryPoint {
+fn fragment_entry(
+    m: &ModuleCtx,
+    fns: &StageFns,
+    options: &Options,
+    clip: bool,
+    lod: Option<Handle<naga::Function>>,
+) -> naga::EntryPoint {
     let loc = location(0);
     let s = m.function("fs_main", &[("world", m.ty(Vec2::inner()), Some(loc))]);
     let world = s.arg::<Vec2>(0);
@@ -375,18 +396,21 @@ fn fragment_entry(m: &ModuleCtx, fns: &StageFns, options: &Options, clip: bool, 
     entry_point("fs_main", ShaderStage::Fragment, f, [0; 3])
 }
 
-pub(crate) fn storage_array(m: &ModuleCtx, name: &str, item: Handle<naga::Type>, binding: u32, write: bool) -> Handle<naga::GlobalVariable> {
+pub(crate) fn storage_array(
+    m: &ModuleCtx,
+    name: &str,
+    item: Handle<naga::Type>,
+    binding: u32,
+    write: bool,
+) -> Handle<naga::GlobalVariable> {
     m.global(name, |m| {
         let (stride, _) = match &m.module.borrow().types[item].inner {
             TypeInner::Struct { span, .. } => (*span, 0),
             _ => unreachable!("probe records are structs"),
         };
         let arr = m.ty(TypeInner::Array { base: item, size: naga::ArraySize::Dynamic, stride });
-        let access = if write {
-            naga::StorageAccess::LOAD | naga::StorageAccess::STORE
-        } else {
-            naga::StorageAccess::LOAD
-        };
+        let access =
+            if write { naga::StorageAccess::LOAD | naga::StorageAccess::STORE } else { naga::StorageAccess::LOAD };
         naga::GlobalVariable {
             name: Some(name.to_string()),
             space: naga::AddressSpace::Storage { access },
@@ -421,10 +445,7 @@ fn probe_entry(m: &ModuleCtx, fns: &StageFns, clip: bool, lod: Option<Handle<nag
     let hits = storage_array(m, "hits", hit_rec, binding::HITS, true);
     let counters = probe_counters(m);
 
-    let s = m.function(
-        "probe",
-        &[("id", m.ty(UVec3::inner()), Some(Binding::BuiltIn(BuiltIn::GlobalInvocationId)))],
-    );
+    let s = m.function("probe", &[("id", m.ty(UVec3::inner()), Some(Binding::BuiltIn(BuiltIn::GlobalInvocationId)))]);
     let index = s.arg::<UVec3>(0).x();
     let rays_ptr = s.global_ptr(rays);
     s.if_(index.ge(s.array_length(rays_ptr)), |s| s.ret());
@@ -508,12 +529,7 @@ pub fn validate(module: &Module) -> Result<naga::valid::ModuleInfo, CompileError
 
 /// Names of the resources the module declares (for tests and `required_maps` checks).
 pub fn declared_resources(module: &Module) -> Vec<String> {
-    module
-        .global_variables
-        .iter()
-        .filter(|(_, g)| g.binding.is_some())
-        .filter_map(|(_, g)| g.name.clone())
-        .collect()
+    module.global_variables.iter().filter(|(_, g)| g.binding.is_some()).filter_map(|(_, g)| g.name.clone()).collect()
 }
 
 #[cfg(test)]
@@ -551,7 +567,13 @@ mod tests {
             assert!(!src.contains("textureGather("), "{text}: a gather reads level 0 only");
         }
         // Every backend takes the level: SPIR-V and GLSL of the whole module.
-        for text in ["linear(32)+binary(5)+lod=auto", "csm(15, form=textbook, sample=min4)+lod=level(1)", "csm(15)+binary(5)+lod=auto", "rcs(15)+lod=auto", "maxmip(32)+lod=auto"] {
+        for text in [
+            "linear(32)+binary(5)+lod=auto",
+            "csm(15, form=textbook, sample=min4)+lod=level(1)",
+            "csm(15)+binary(5)+lod=auto",
+            "rcs(15)+lod=auto",
+            "maxmip(32)+lod=auto",
+        ] {
             let out = crate::emit::emit(&text.parse().unwrap()).unwrap_or_else(|e| panic!("{text}: {e}"));
             assert!(!out.spirv.is_empty() && out.glsl.len() == 3, "{text}");
         }
@@ -562,7 +584,9 @@ mod tests {
 
     #[test]
     fn methods_without_a_level_are_refused_by_name() {
-        for (text, stage) in [("sphere(32)+lod=level(1)", "sphere"), ("linear(8)+shadow=hard(sphere(8))+lod=auto", "hard")] {
+        for (text, stage) in
+            [("sphere(32)+lod=level(1)", "sphere"), ("linear(8)+shadow=hard(sphere(8))+lod=auto", "hard")]
+        {
             let e = wgsl(text).err().unwrap_or_else(|| panic!("{text} compiled"));
             let msg = e.to_string();
             assert!(msg.contains(&format!("`{stage}` does not support lod=")), "{text}: {msg}");

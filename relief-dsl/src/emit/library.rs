@@ -84,9 +84,17 @@ fn header(p: &Pipeline, lib: &Library, opts: &LibraryOptions, lang: Lang) -> Str
             .collect();
         format!("\n//     + resource arguments: {}", args.join(", "))
     };
-    let _ = writeln!(h, "// fn {pre}_trace(uv: vec2<f32>, view_ts: vec3<f32>, depth_scale: f32) -> {hit}{}", extra(&format!("{pre}_trace")));
+    let _ = writeln!(
+        h,
+        "// fn {pre}_trace(uv: vec2<f32>, view_ts: vec3<f32>, depth_scale: f32) -> {hit}{}",
+        extra(&format!("{pre}_trace"))
+    );
     if lib.has_shadow {
-        let _ = writeln!(h, "// fn {pre}_shadow(hit: {hit}, light_ts: vec3<f32>, depth_scale: f32) -> f32{}", extra(&format!("{pre}_shadow")));
+        let _ = writeln!(
+            h,
+            "// fn {pre}_shadow(hit: {hit}, light_ts: vec3<f32>, depth_scale: f32) -> f32{}",
+            extra(&format!("{pre}_shadow"))
+        );
     }
     if lib.has_ao {
         let _ = writeln!(h, "// fn {pre}_ao(hit: {hit}) -> f32{}", extra(&format!("{pre}_ao")));
@@ -95,8 +103,12 @@ fn header(p: &Pipeline, lib: &Library, opts: &LibraryOptions, lang: Lang) -> Str
     let _ = writeln!(h, "//   from the eye to the fragment (z < 0); light_ts: the normalized tangent-space direction");
     let _ = writeln!(h, "//   toward the light; depth_scale: the relief's depth in texture units.");
     let _ = writeln!(h, "//   hit.uv: where to shade; hit.height in [0, 1] (1 at the polygon); hit.t in [0, 1] along");
-    let _ = writeln!(h, "//   the ray from the polygon (0) to the floor (1); hit.depth_offset = t * depth_scale / -view_ts.z:");
-    let _ = writeln!(h, "//   the distance behind the polygon along the view ray, in texture units (pixel depth offset).");
+    let _ = writeln!(
+        h,
+        "//   the ray from the polygon (0) to the floor (1); hit.depth_offset = t * depth_scale / -view_ts.z:"
+    );
+    let _ =
+        writeln!(h, "//   the distance behind the polygon along the view ray, in texture units (pixel depth offset).");
     let _ = writeln!(
         h,
         "// Edge mode assumed by stages that address texels themselves: {} ({pre}_edge_clamp = {}).",
@@ -106,12 +118,20 @@ fn header(p: &Pipeline, lib: &Library, opts: &LibraryOptions, lang: Lang) -> Str
     let _ = writeln!(h, "//");
     match lang {
         Lang::Glsl => {
-            let _ = writeln!(h, "// Include after `#version 450`. Resources (combined image samplers; a texture takes the");
-            let _ = writeln!(h, "// sampler's filtering from the application; the sampler bindings below are unused in GLSL):");
+            let _ =
+                writeln!(h, "// Include after `#version 450`. Resources (combined image samplers; a texture takes the");
+            let _ = writeln!(
+                h,
+                "// sampler's filtering from the application; the sampler bindings below are unused in GLSL):"
+            );
         }
         Lang::Msl => {
-            let _ = writeln!(h, "// Resources (Metal has none global: each function above takes those it reads as extra");
-            let _ = writeln!(h, "// arguments after its own, in the order listed; the bindings are for the other languages):");
+            let _ =
+                writeln!(h, "// Resources (Metal has none global: each function above takes those it reads as extra");
+            let _ = writeln!(
+                h,
+                "// arguments after its own, in the order listed; the bindings are for the other languages):"
+            );
         }
         _ => {
             let _ = writeln!(h, "// Resources:");
@@ -149,11 +169,17 @@ fn with_caller(lib: &Library, prefix: &str) -> Result<(Module, naga::valid::Modu
     let shadow = find(&format!("{prefix}_shadow"));
     let ao = find(&format!("{prefix}_ao"));
     let vec2 = module.types.insert(
-        naga::Type { name: None, inner: naga::TypeInner::Vector { size: naga::VectorSize::Bi, scalar: naga::Scalar::F32 } },
+        naga::Type {
+            name: None,
+            inner: naga::TypeInner::Vector { size: naga::VectorSize::Bi, scalar: naga::Scalar::F32 },
+        },
         Span::UNDEFINED,
     );
     let vec3 = module.types.insert(
-        naga::Type { name: None, inner: naga::TypeInner::Vector { size: naga::VectorSize::Tri, scalar: naga::Scalar::F32 } },
+        naga::Type {
+            name: None,
+            inner: naga::TypeInner::Vector { size: naga::VectorSize::Tri, scalar: naga::Scalar::F32 },
+        },
         Span::UNDEFINED,
     );
     let loc = |location| naga::Binding::Location {
@@ -175,10 +201,14 @@ fn with_caller(lib: &Library, prefix: &str) -> Result<(Module, naga::valid::Modu
     let view = f.expressions.append(Expression::FunctionArgument(1), Span::UNDEFINED);
     let scale = f.expressions.append(Expression::Literal(naga::Literal::F32(0.1)), Span::UNDEFINED);
     let hit = f.expressions.append(Expression::CallResult(trace), Span::UNDEFINED);
-    f.body.push(Statement::Call { function: trace, arguments: vec![uv, view, scale], result: Some(hit) }, Span::UNDEFINED);
+    f.body.push(
+        Statement::Call { function: trace, arguments: vec![uv, view, scale], result: Some(hit) },
+        Span::UNDEFINED,
+    );
     if let Some(s) = shadow {
         let r = f.expressions.append(Expression::CallResult(s), Span::UNDEFINED);
-        f.body.push(Statement::Call { function: s, arguments: vec![hit, view, scale], result: Some(r) }, Span::UNDEFINED);
+        f.body
+            .push(Statement::Call { function: s, arguments: vec![hit, view, scale], result: Some(r) }, Span::UNDEFINED);
     }
     if let Some(a) = ao {
         let r = f.expressions.append(Expression::CallResult(a), Span::UNDEFINED);
@@ -198,12 +228,14 @@ fn glsl_text(lib: &Library, opts: &LibraryOptions) -> Result<String, CompileErro
     let (module, info) = with_caller(lib, &opts.prefix)?;
     let mut binding_map = glsl::BindingMap::default();
     for b in &lib.bindings {
-        let n = u8::try_from(b.binding)
-            .map_err(|_| err("glsl", format!("binding {} of `{}` does not fit GLSL's binding map (< 256)", b.binding, b.name)))?;
+        let n = u8::try_from(b.binding).map_err(|_| {
+            err("glsl", format!("binding {} of `{}` does not fit GLSL's binding map (< 256)", b.binding, b.name))
+        })?;
         binding_map.insert(naga::ResourceBinding { group: b.group, binding: b.binding }, n);
     }
     let options = glsl::Options { version: glsl::Version::Desktop(450), binding_map, ..glsl::Options::default() };
-    let pipeline = glsl::PipelineOptions { shader_stage: ShaderStage::Fragment, entry_point: "main".into(), multiview: None };
+    let pipeline =
+        glsl::PipelineOptions { shader_stage: ShaderStage::Fragment, entry_point: "main".into(), multiview: None };
     let mut out = String::new();
     glsl::Writer::new(&mut out, &module, &info, &options, &pipeline, Default::default())
         .map_err(|e| err("glsl", e))?
@@ -220,7 +252,8 @@ fn glsl_text(lib: &Library, opts: &LibraryOptions) -> Result<String, CompileErro
         for b in &lib.bindings {
             let naga_name = format!("_group_{}_binding_{}_fs", b.group, b.binding);
             if line.contains(&naga_name) && line.trim_start().starts_with("layout(") && line.contains(" uniform ") {
-                let decl = line.split_once(" uniform ").map(|(_, d)| d.replace(&naga_name, &b.name)).unwrap_or_default();
+                let decl =
+                    line.split_once(" uniform ").map(|(_, d)| d.replace(&naga_name, &b.name)).unwrap_or_default();
                 line = format!(
                     "#ifdef VULKAN\nlayout(set = {g}, binding = {n}) uniform {decl}\n#else\nlayout(binding = {n}) uniform {decl}\n#endif",
                     g = b.group,
@@ -392,7 +425,12 @@ fn has_word(text: &str, name: &str) -> bool {
 /// The public functions, the hit type and the resources came out of `target`'s writer with
 /// the names asked for: a writer renames a name its language reserves (naga prepends `gen_`
 /// or appends `_`), which would leave the user calling a function that does not exist.
-fn check_names_kept(lib: &Library, prefix: &str, target: super::limits::Target, body: &str) -> Result<(), CompileError> {
+fn check_names_kept(
+    lib: &Library,
+    prefix: &str,
+    target: super::limits::Target,
+    body: &str,
+) -> Result<(), CompileError> {
     let mut names = vec![format!("{prefix}_trace"), format!("{}Hit", crate::compose::library::camel(prefix))];
     if lib.has_shadow {
         names.push(format!("{prefix}_shadow"));
@@ -407,7 +445,10 @@ fn check_names_kept(lib: &Library, prefix: &str, target: super::limits::Target, 
         None => Ok(()),
         Some(n) => Err(CompileError {
             stage: format!("library {}", target.name()),
-            message: format!("prefix `{prefix}`: the {} writer renamed `{n}` (a name the language reserves); choose another prefix", target.name()),
+            message: format!(
+                "prefix `{prefix}`: the {} writer renamed `{n}` (a name the language reserves); choose another prefix",
+                target.name()
+            ),
         }),
     }
 }

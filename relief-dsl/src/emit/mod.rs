@@ -31,22 +31,13 @@ pub fn wgsl(c: &Compiled) -> Result<String, CompileError> {
 /// SPIR-V words of the module (Vulkan 1.1 target environment). Loops are statically
 /// bounded, so naga's forced loop bounding is off.
 pub fn spirv(c: &Compiled) -> Result<Vec<u32>, CompileError> {
-    let options = spv::Options {
-        lang_version: (1, 3),
-        force_loop_bounding: false,
-        ..spv::Options::default()
-    };
+    let options = spv::Options { lang_version: (1, 3), force_loop_bounding: false, ..spv::Options::default() };
     spv::write_vec(&c.module, &c.info, &options, None).map_err(|e| err("spir-v", e))
 }
 
 /// The GLSL binding map: every `(group 0, binding n)` resource at binding n.
 pub fn glsl_binding_map(c: &Compiled) -> glsl::BindingMap {
-    c.module
-        .global_variables
-        .iter()
-        .filter_map(|(_, g)| g.binding)
-        .map(|rb| (rb, rb.binding as u8))
-        .collect()
+    c.module.global_variables.iter().filter_map(|(_, g)| g.binding).map(|rb| (rb, rb.binding as u8)).collect()
 }
 
 /// GLSL 450 of one entry point.

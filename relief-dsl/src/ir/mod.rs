@@ -21,15 +21,14 @@ mod values;
 use std::cell::RefCell;
 
 use naga::{
-    Block, Expression, Function, FunctionArgument, FunctionResult, Handle, LocalVariable,
-    Module, Span, Statement,
+    Block, Expression, Function, FunctionArgument, FunctionResult, Handle, LocalVariable, Module, Span, Statement,
 };
 
+pub use ops::{Float, IntoSame, Ordered};
+pub(crate) use record::record;
+pub use record::Record;
 pub use types::{Mat4, Ty, UVec2, UVec3, Vec2, Vec3, Vec4};
 pub use values::{IntoVal, Val, Var};
-pub use ops::{Float, IntoSame, Ordered};
-pub use record::Record;
-pub(crate) use record::record;
 
 /// Module-wide state shared by every function being built: the module itself and the
 /// resources already declared in it.
@@ -99,10 +98,7 @@ impl ModuleCtx {
 
     /// Adds (or finds) a type.
     pub fn ty(&self, inner: naga::TypeInner) -> Handle<naga::Type> {
-        self.module
-            .borrow_mut()
-            .types
-            .insert(naga::Type { name: None, inner }, Span::UNDEFINED)
+        self.module.borrow_mut().types.insert(naga::Type { name: None, inner }, Span::UNDEFINED)
     }
 
     /// Adds (or finds) a named struct type from `(member name, member type)` pairs, laid out
@@ -123,17 +119,15 @@ impl ModuleCtx {
         }
         let span = max_align.round_up(offset);
         self.module.borrow_mut().types.insert(
-            naga::Type {
-                name: Some(name.to_string()),
-                inner: naga::TypeInner::Struct { members: out, span },
-            },
+            naga::Type { name: Some(name.to_string()), inner: naga::TypeInner::Struct { members: out, span } },
             Span::UNDEFINED,
         )
     }
 
     /// A struct type for one of the ABI's records ([`crate::abi`]).
     pub fn record_ty(&self, name: &str, members: &[(&str, crate::abi::Member)]) -> Handle<naga::Type> {
-        let members: Vec<(&str, naga::TypeInner)> = members.iter().map(|(n, m)| (*n, types::member_inner(*m))).collect();
+        let members: Vec<(&str, naga::TypeInner)> =
+            members.iter().map(|(n, m)| (*n, types::member_inner(*m))).collect();
         self.struct_ty(name, &members)
     }
 
@@ -191,11 +185,7 @@ impl ModuleCtx {
     }
 
     /// Starts a function with named, typed arguments (and optional bindings, for entry points).
-    pub fn function<'a>(
-        &'a self,
-        name: &str,
-        args: &[(&str, Handle<naga::Type>, Option<naga::Binding>)],
-    ) -> Stage<'a> {
+    pub fn function<'a>(&'a self, name: &str, args: &[(&str, Handle<naga::Type>, Option<naga::Binding>)]) -> Stage<'a> {
         let arguments = args
             .iter()
             .map(|(n, ty, binding)| FunctionArgument {
@@ -207,11 +197,7 @@ impl ModuleCtx {
         Stage {
             ctx: self,
             f: RefCell::new(FnState {
-                func: Function {
-                    name: Some(name.to_string()),
-                    arguments,
-                    ..Function::default()
-                },
+                func: Function { name: Some(name.to_string()), arguments, ..Function::default() },
                 blocks: vec![Block::new()],
                 emit_from: None,
                 loop_depth: 0,
@@ -307,7 +293,12 @@ impl<'a> Loop<'a> {
     }
 
     /// `if cond { then } else { otherwise }`, both branches still inside the loop.
-    pub fn if_else(&'a self, cond: Val<'a, bool>, then: impl FnOnce(&'a Loop<'a>), otherwise: impl FnOnce(&'a Loop<'a>)) {
+    pub fn if_else(
+        &'a self,
+        cond: Val<'a, bool>,
+        then: impl FnOnce(&'a Loop<'a>),
+        otherwise: impl FnOnce(&'a Loop<'a>),
+    ) {
         self.0.if_else(cond, |s| then(Loop::of(s)), |s| otherwise(Loop::of(s)))
     }
 }
@@ -390,10 +381,9 @@ impl<'a> Stage<'a> {
         let ty = self.ctx.ty(T::inner());
         let lv = {
             let mut f = self.f.borrow_mut();
-            f.func.local_variables.append(
-                LocalVariable { name: Some(name.to_string()), ty, init: None },
-                Span::UNDEFINED,
-            )
+            f.func
+                .local_variables
+                .append(LocalVariable { name: Some(name.to_string()), ty, init: None }, Span::UNDEFINED)
         };
         let ptr = self.expr(Expression::LocalVariable(lv));
         let var = Var::new(self, ptr);
@@ -451,31 +441,17 @@ impl<'a> Stage<'a> {
     }
 
     /// `if cond { then } else { otherwise }`.
-    pub fn if_else(
-        &'a self,
-        cond: Val<'a, bool>,
-        then: impl FnOnce(&'a Self),
-        otherwise: impl FnOnce(&'a Self),
-    ) {
+    pub fn if_else(&'a self, cond: Val<'a, bool>, then: impl FnOnce(&'a Self), otherwise: impl FnOnce(&'a Self)) {
         let accept = self.block(then);
         let reject = self.block(otherwise);
         self.stmt(Statement::If { condition: cond.handle(), accept, reject });
     }
 
     /// `cond ? a : b`, both sides evaluated.
-    pub fn select<T: Ty>(
-        &'a self,
-        cond: Val<'a, bool>,
-        a: impl IntoVal<'a, T>,
-        b: impl IntoVal<'a, T>,
-    ) -> Val<'a, T> {
+    pub fn select<T: Ty>(&'a self, cond: Val<'a, bool>, a: impl IntoVal<'a, T>, b: impl IntoVal<'a, T>) -> Val<'a, T> {
         let a = a.into_val(self);
         let b = b.into_val(self);
-        self.wrap(self.expr(Expression::Select {
-            condition: cond.handle(),
-            accept: a.handle(),
-            reject: b.handle(),
-        }))
+        self.wrap(self.expr(Expression::Select { condition: cond.handle(), accept: a.handle(), reject: b.handle() }))
     }
 
     /// Returns from the function (from anywhere in it).
@@ -506,18 +482,17 @@ impl<'a> Stage<'a> {
         args: &[Handle<Expression>],
         has_result: bool,
     ) -> Option<Handle<Expression>> {
-        let result = if has_result {
-            Some(self.expr(Expression::CallResult(function)))
-        } else {
-            None
-        };
+        let result = if has_result { Some(self.expr(Expression::CallResult(function))) } else { None };
         self.stmt(Statement::Call { function, arguments: args.to_vec(), result });
         result
     }
 
     /// Finishes the function: the body gets a final `return value`, and the function its
     /// result type.
-    pub(crate) fn finish(&self, result: Option<(Handle<naga::Type>, Option<naga::Binding>, Handle<Expression>)>) -> Function {
+    pub(crate) fn finish(
+        &self,
+        result: Option<(Handle<naga::Type>, Option<naga::Binding>, Handle<Expression>)>,
+    ) -> Function {
         match result {
             Some((ty, binding, value)) => {
                 self.stmt(Statement::Return { value: Some(value) });

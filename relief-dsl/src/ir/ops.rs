@@ -394,7 +394,13 @@ impl<'a> Val<'a, super::types::UVec3> {
 impl<'a> Val<'a, Vec3> {
     /// The cross product `self × o`.
     pub fn cross(self, o: Val<'a, Vec3>) -> Val<'a, Vec3> {
-        self.derive(Expression::Math { fun: MathFunction::Cross, arg: self.handle(), arg1: Some(o.handle()), arg2: None, arg3: None })
+        self.derive(Expression::Math {
+            fun: MathFunction::Cross,
+            arg: self.handle(),
+            arg1: Some(o.handle()),
+            arg2: None,
+            arg3: None,
+        })
     }
 }
 

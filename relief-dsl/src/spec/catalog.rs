@@ -48,8 +48,6 @@ impl ParamKind {
     }
 }
 
-
-
 /// One parameter of a method.
 #[derive(Clone, Debug)]
 pub struct ParamDef {
@@ -114,8 +112,9 @@ impl<'s> Args<'s> {
     /// The choice parameter `name` as its typed value.
     pub fn choice<C: Choice>(&self, name: &str) -> Result<C, CompileError> {
         match self.spec.get(name) {
-            Some(Value::Word(w)) => C::from_word(w)
-                .ok_or_else(|| self.error(format!("`{name}={w}` is not a choice this stage knows ({})", C::WORDS.join("|")))),
+            Some(Value::Word(w)) => C::from_word(w).ok_or_else(|| {
+                self.error(format!("`{name}={w}` is not a choice this stage knows ({})", C::WORDS.join("|")))
+            }),
             Some(other) => Err(self.error(format!("`{name}={other}` is not a word"))),
             None => Err(self.error(format!("no parameter `{name}`"))),
         }
@@ -300,10 +299,14 @@ fn refusal(def: &MethodDef, others: &[&MethodDef]) -> Option<String> {
     // The text form prints a stage from its name alone, so a name has the same parameters
     // in every slot that has it.
     let same_params = |m: &MethodDef| {
-        m.params.len() == def.params.len() && m.params.iter().zip(&def.params).all(|(a, b)| a.name == b.name && a.kind == b.kind)
+        m.params.len() == def.params.len()
+            && m.params.iter().zip(&def.params).all(|(a, b)| a.name == b.name && a.kind == b.kind)
     };
     let other = others.iter().find(|m| m.name == def.name && !same_params(m))?;
-    Some(format!("the {} method `{}` has other parameters; a name has the same parameters in every slot", other.slot, def.name))
+    Some(format!(
+        "the {} method `{}` has other parameters; a name has the same parameters in every slot",
+        other.slot, def.name
+    ))
 }
 
 /// Every method relief knows, in listing order: the built-in ones, then those added with
@@ -418,10 +421,15 @@ mod tests {
         wrong_slot.slot = Slot::Refine;
         refused(wrong_slot, "builder is a coarse stage");
         refused(
-            MethodDef::new("test_twice", "", coarse_linear()).param(ParamDef::steps("n", 4)).param(ParamDef::steps("n", 8)),
+            MethodDef::new("test_twice", "", coarse_linear())
+                .param(ParamDef::steps("n", 4))
+                .param(ParamDef::steps("n", 8)),
             "two parameters called `n`",
         );
-        refused(MethodDef::new("test_range", "", coarse_linear()).param(ParamDef::count("k", 1, 4, 5)), "default of `k`");
+        refused(
+            MethodDef::new("test_range", "", coarse_linear()).param(ParamDef::count("k", 1, 4, 5)),
+            "default of `k`",
+        );
         refused(MethodDef::new("test_steps", "", coarse_linear()).param(ParamDef::steps("n", 0)), "default of `n`");
         // `none` exists in every slot without parameters; a coarse `binary` would print with
         // the refine `binary`'s parameters.

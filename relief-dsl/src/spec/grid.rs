@@ -45,9 +45,9 @@
 use std::collections::HashSet;
 use std::str::FromStr;
 
+use super::options::{resolve_option, Lod, OptionKey, OptionValue, Silhouette};
 use super::parse::{err, parse_pattern, Form, ParseError};
 use super::resolve::{resolve_stage, RawArg, RawStage, RawValue};
-use super::options::{resolve_option, Lod, OptionKey, OptionValue, Silhouette};
 use super::{Pipeline, Slot, StageSpec};
 
 /// The most pipelines one grid may hold (and the most stages one stage pattern may expand
@@ -297,11 +297,7 @@ impl StagePattern {
             let mut values = Vec::new();
             a.value.expand(&mut values)?;
             if combos.len().saturating_mul(values.len()) > MAX_CELLS {
-                return Err(err(
-                    self.pos,
-                    &self.name,
-                    format!("the stage stands for more than {MAX_CELLS} stages"),
-                ));
+                return Err(err(self.pos, &self.name, format!("the stage stands for more than {MAX_CELLS} stages")));
             }
             let mut next = Vec::with_capacity(combos.len() * values.len());
             for c in &combos {
@@ -441,11 +437,7 @@ impl GridPattern {
         let lists = self.resolve_slots()?;
         let [c, r, s, a] = lists;
         let Some(coarse) = c else {
-            return Err(err(
-                self.end,
-                "",
-                "the grid has no coarse slot; add one such as `coarse: [linear(32)]`",
-            ));
+            return Err(err(self.end, "", "the grid has no coarse slot; add one such as `coarse: [linear(32)]`"));
         };
         let (r, s, a) = (r.unwrap_or_else(none), s.unwrap_or_else(none), a.unwrap_or_else(none));
         let total = [coarse.len(), r.len(), s.len(), a.len()].iter().try_fold(1usize, |acc, n| acc.checked_mul(*n));
@@ -473,10 +465,7 @@ mod tests {
             .unwrap();
         assert_eq!(g.name.as_deref(), Some("t"));
         assert_eq!(g.len(), 12);
-        assert_eq!(
-            texts(&g)[..4],
-            ["linear(5)", "linear(5)+binary(3)", "linear(5)+interval(3)", "linear(10)"]
-        );
+        assert_eq!(texts(&g)[..4], ["linear(5)", "linear(5)+binary(3)", "linear(5)+interval(3)", "linear(10)"]);
         assert_eq!(texts(&g)[11], "linear_dynamic(8, 32)+interval(3)");
     }
 
@@ -489,7 +478,10 @@ mod tests {
         assert_eq!(texts(&g)[0], "linear(8)+binary(1)+shadow=hard(4)");
         assert_eq!(texts(&g)[3], "linear(8)+binary(1)+shadow=soft(6)");
         let g: Grid = "coarse: linear_dynamic([4, 8], 16..=32 step 16)".parse().unwrap();
-        assert_eq!(texts(&g), ["linear_dynamic(4, 16)", "linear_dynamic(4, 32)", "linear_dynamic(8, 16)", "linear_dynamic(8, 32)"]);
+        assert_eq!(
+            texts(&g),
+            ["linear_dynamic(4, 16)", "linear_dynamic(4, 32)", "linear_dynamic(8, 16)", "linear_dynamic(8, 32)"]
+        );
         // Duplicates after resolution are kept once.
         let g: Grid = "coarse: [linear(32), linear, linear(steps=32)]".parse().unwrap();
         assert_eq!(g.len(), 1);

@@ -84,9 +84,9 @@ pub(crate) fn lex(input: &str, form: Form) -> Result<Vec<Token>, ParseError> {
                     i += 1;
                 }
                 let text: String = chars[start..i].iter().collect();
-                let n = text.parse::<u64>().map_err(|_| {
-                    err(start, &text, "not a whole number (parameters are whole numbers or names)")
-                })?;
+                let n = text
+                    .parse::<u64>()
+                    .map_err(|_| err(start, &text, "not a whole number (parameters are whole numbers or names)"))?;
                 out.push(Token { tok: Tok::Int(n), pos: start, text });
                 continue;
             }
@@ -143,9 +143,12 @@ mod tests {
         );
         // A grid's punctuation is an unexpected character in a pipeline, and `+` in a grid,
         // reported at the character (offsets count characters, not bytes).
-        for (input, form, pos) in
-            [("a[", Form::Pipeline, 1), ("a#", Form::Pipeline, 1), ("x:1", Form::Pipeline, 1), ("\"é\"+", Form::Grid, 3)]
-        {
+        for (input, form, pos) in [
+            ("a[", Form::Pipeline, 1),
+            ("a#", Form::Pipeline, 1),
+            ("x:1", Form::Pipeline, 1),
+            ("\"é\"+", Form::Grid, 3),
+        ] {
             let e = lex(input, form).unwrap_err();
             assert_eq!(e.pos, pos, "{input}");
             assert!(e.message.starts_with("unexpected character"), "{input}: {e}");

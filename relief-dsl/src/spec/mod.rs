@@ -50,8 +50,8 @@ use std::fmt;
 use std::str::FromStr;
 
 pub use catalog::{
-    catalog, method, no_maps, register, Args, Builder, Catalog, MethodDef, ParamDef, ParamKind, RegisterError, StageLayer, StageOr, Stages,
-    MAX_STEPS,
+    catalog, method, no_maps, register, Args, Builder, Catalog, MethodDef, ParamDef, ParamKind, RegisterError,
+    StageLayer, StageOr, Stages, MAX_STEPS,
 };
 pub use choice::{Choice, Form as ConeForm, SampleChoice, StartChoice};
 pub use grid::Grid;
@@ -157,10 +157,8 @@ impl StageSpec {
     /// Builds a spec from a method name and parameters given in order, checking them the
     /// same way the text form does.
     pub fn new(slot: Slot, name: &str, params: &[Value]) -> Result<Self, ParseError> {
-        let args: Vec<resolve::Arg> = params
-            .iter()
-            .map(|v| resolve::Arg { name: None, value: v.clone().into(), pos: 0 })
-            .collect();
+        let args: Vec<resolve::Arg> =
+            params.iter().map(|v| resolve::Arg { name: None, value: v.clone().into(), pos: 0 }).collect();
         resolve::resolve(slot, name, 0, args)
     }
 }
@@ -264,11 +262,7 @@ impl Pipeline {
     /// slots coarse, refine and shadow (ao `none`), in catalogue order.
     pub fn all_defaults() -> Vec<Pipeline> {
         let of = |slot: Slot| -> Vec<StageSpec> {
-            catalog()
-                .iter()
-                .filter(|m| m.slot == slot)
-                .map(|m| m.default_spec())
-                .collect()
+            catalog().iter().filter(|m| m.slot == slot).map(|m| m.default_spec()).collect()
         };
         let mut out = Vec::new();
         for c in of(Slot::Coarse) {

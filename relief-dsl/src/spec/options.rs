@@ -115,12 +115,8 @@ pub fn key_named(name: &str, pos: usize) -> Result<Key, ParseError> {
     if let Some(o) = OptionKey::ALL.iter().copied().find(|o| o.name() == name) {
         return Ok(Key::Option(o));
     }
-    let names: Vec<String> = Slot::ALL
-        .iter()
-        .map(|s| s.name())
-        .chain(OptionKey::ALL.iter().map(|o| o.name()))
-        .map(str::to_string)
-        .collect();
+    let names: Vec<String> =
+        Slot::ALL.iter().map(|s| s.name()).chain(OptionKey::ALL.iter().map(|o| o.name())).map(str::to_string).collect();
     let mut e = err(pos, name, format!("unknown slot or option `{name}`"));
     e.suggestion = nearest(name, names.iter().map(String::as_str)).map(str::to_string);
     e.expected = names;
@@ -170,7 +166,9 @@ pub fn resolve_option(key: OptionKey, raw: &RawStage) -> Result<OptionValue, Par
                         return Err(err(
                             raw.pos,
                             &raw.name,
-                            format!("`level` takes one parameter, the mip level: level(k) with k in 0..={MAX_LOD_LEVEL}"),
+                            format!(
+                                "`level` takes one parameter, the mip level: level(k) with k in 0..={MAX_LOD_LEVEL}"
+                            ),
                         ));
                     };
                     if let Some((n, npos)) = &a.name {
@@ -220,8 +218,18 @@ mod tests {
         for (text, canonical, lod, sil) in [
             ("linear(32)+binary(5)+lod=auto", "linear(32)+binary(5)+lod=auto", Lod::Auto, Silhouette::None),
             ("linear(32)+lod=zero", "linear(32)", Lod::Zero, Silhouette::None),
-            ("linear(32)+lod=level( 3 )+silhouette=clip", "linear(32)+lod=level(3)+silhouette=clip", Lod::Level(3), Silhouette::Clip),
-            ("linear(32)+silhouette=clip+lod=level(k=15)", "linear(32)+lod=level(15)+silhouette=clip", Lod::Level(15), Silhouette::Clip),
+            (
+                "linear(32)+lod=level( 3 )+silhouette=clip",
+                "linear(32)+lod=level(3)+silhouette=clip",
+                Lod::Level(3),
+                Silhouette::Clip,
+            ),
+            (
+                "linear(32)+silhouette=clip+lod=level(k=15)",
+                "linear(32)+lod=level(15)+silhouette=clip",
+                Lod::Level(15),
+                Silhouette::Clip,
+            ),
             ("linear(32)+lod=level(0)", "linear(32)+lod=level(0)", Lod::Level(0), Silhouette::None),
             ("coarse=linear(32)+silhouette=none", "linear(32)", Lod::Zero, Silhouette::None),
         ] {
@@ -256,7 +264,8 @@ mod tests {
 
     #[test]
     fn grids_take_options_as_axes() {
-        let g: Grid = "coarse: [linear(8), linear(16)]\nrefine: binary(5)\nlod: [zero, auto, level(1..=2)]".parse().unwrap();
+        let g: Grid =
+            "coarse: [linear(8), linear(16)]\nrefine: binary(5)\nlod: [zero, auto, level(1..=2)]".parse().unwrap();
         let texts: Vec<String> = g.iter().map(|p| p.to_string()).collect();
         assert_eq!(
             texts,

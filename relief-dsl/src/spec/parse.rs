@@ -12,8 +12,8 @@
 use std::fmt;
 
 use super::grid::{ArgPattern, GridPattern, OptionPattern, SlotPattern, StagePattern, ValuePattern};
-use super::options::{key_named, Key};
 use super::lex::{lex, Tok, Token};
+use super::options::{key_named, Key};
 use super::suggest::nearest;
 use super::Slot;
 
@@ -175,7 +175,11 @@ impl Parser {
     }
     /// Items up to `close`, separated by commas (a trailing comma is fine), the opening
     /// token already read.
-    fn list<T>(&mut self, close: Tok, mut item: impl FnMut(&mut Self) -> Result<T, ParseError>) -> Result<Vec<T>, ParseError> {
+    fn list<T>(
+        &mut self,
+        close: Tok,
+        mut item: impl FnMut(&mut Self) -> Result<T, ParseError>,
+    ) -> Result<Vec<T>, ParseError> {
         let mut items = Vec::new();
         loop {
             if self.eat(&close) {
@@ -301,11 +305,8 @@ impl Parser {
                     continue;
                 }
             };
-            let stages = if self.eat(&Tok::LBracket) {
-                self.list(Tok::RBracket, |p| p.stage(0))?
-            } else {
-                vec![self.stage(0)?]
-            };
+            let stages =
+                if self.eat(&Tok::LBracket) { self.list(Tok::RBracket, |p| p.stage(0))? } else { vec![self.stage(0)?] };
             self.pattern.slots.push(SlotPattern { slot, pos: t.pos, stages });
         }
         self.pattern.end = self.toks.last().map_or(0, |t| t.pos);

@@ -97,9 +97,8 @@ pub fn resolve_stage(slot: Slot, raw: RawStage) -> Result<StageSpec, ParseError>
     for a in raw.args.unwrap_or_default() {
         let value = match a.value {
             RawValue::Int(n) => {
-                let n = u32::try_from(n).map_err(|_| {
-                    err(a.pos, &a.text, format!("{n} is too large; step counts are 1..={MAX_STEPS}"))
-                })?;
+                let n = u32::try_from(n)
+                    .map_err(|_| err(a.pos, &a.text, format!("{n} is too large; step counts are 1..={MAX_STEPS}")))?;
                 ArgVal::Int(n)
             }
             // A bare word: a choice, or a stage with default parameters; the parameter it
@@ -123,11 +122,7 @@ pub(crate) fn resolve(slot: Slot, name: &str, pos: usize, args: Vec<Arg>) -> Res
     let Some(def) = method(slot, name) else {
         let names = method_names(slot);
         let mut e = match catalog().iter().find(|m| m.name == name) {
-            Some(other) => err(
-                pos,
-                name,
-                format!("`{name}` is a {} stage, not a {slot} stage", other.slot),
-            ),
+            Some(other) => err(pos, name, format!("`{name}` is a {} stage, not a {slot} stage", other.slot)),
             None => err(pos, name, format!("unknown {slot} stage `{name}`")),
         };
         e.suggestion = nearest(name, names.iter().map(String::as_str)).map(str::to_string);
@@ -176,11 +171,7 @@ pub(crate) fn resolve(slot: Slot, name: &str, pos: usize, args: Vec<Arg>) -> Res
         let pdef = &def.params[idx];
         let text = a.value.text();
         let bad = |what: &str| {
-            err(
-                a.pos,
-                &text,
-                format!("{what} for `{}` of `{name}`: expected {}", pdef.name, pdef.kind.describe()),
-            )
+            err(a.pos, &text, format!("{what} for `{}` of `{name}`: expected {}", pdef.name, pdef.kind.describe()))
         };
         let v = match (&pdef.kind, a.value) {
             (ParamKind::Steps, ArgVal::Int(n)) | (ParamKind::StageOr(_), ArgVal::Int(n)) => {
@@ -208,23 +199,21 @@ pub(crate) fn resolve(slot: Slot, name: &str, pos: usize, args: Vec<Arg>) -> Res
             }
             (ParamKind::Choice(words), ArgVal::Word(w)) => {
                 if !words.contains(&w.as_str()) {
-                    let mut e = err(
-                        a.pos,
-                        &w,
-                        format!("`{w}` is not a valid `{}` for `{name}`", pdef.name),
-                    );
+                    let mut e = err(a.pos, &w, format!("`{w}` is not a valid `{}` for `{name}`", pdef.name));
                     e.expected = words.iter().map(|s| s.to_string()).collect();
                     e.suggestion = nearest(&w, words.iter().copied()).map(str::to_string);
                     return Err(e);
                 }
                 Value::Word(w)
             }
-            (ParamKind::StageOr(inner), ArgVal::Word(w)) => {
-                normalize_nested(resolve(*inner, &w, a.pos, vec![])?)
-            }
+            (ParamKind::StageOr(inner), ArgVal::Word(w)) => normalize_nested(resolve(*inner, &w, a.pos, vec![])?),
             (ParamKind::StageOr(inner), ArgVal::Raw(raw)) => normalize_nested(resolve_stage(*inner, raw)?),
             (ParamKind::StageOr(inner), ArgVal::Spec(spec)) => {
-                let args = spec.params.into_iter().map(|(n, v)| Arg { name: Some((n, a.pos)), value: v.into(), pos: a.pos }).collect();
+                let args = spec
+                    .params
+                    .into_iter()
+                    .map(|(n, v)| Arg { name: Some((n, a.pos)), value: v.into(), pos: a.pos })
+                    .collect();
                 normalize_nested(resolve(*inner, &spec.name, a.pos, args)?)
             }
             (ParamKind::Steps, _) | (ParamKind::Count { .. }, _) => return Err(bad("not a whole number")),

@@ -119,7 +119,12 @@ pub(crate) fn coarse<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, spec: &StageSpec) -> R
 }
 
 /// Writes the refine stage `spec` into the current function.
-pub(crate) fn refine<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, b: Bracket<'a>, spec: &StageSpec) -> Result<Hit<'a>, CompileError> {
+pub(crate) fn refine<'a>(
+    s: &'a Stage<'a>,
+    ray: &Ray<'a>,
+    b: Bracket<'a>,
+    spec: &StageSpec,
+) -> Result<Hit<'a>, CompileError> {
     match builder(Slot::Refine, spec)? {
         Build::Refine(f) => f(s, ray, b, &Args::new(Slot::Refine, spec)),
         other => Err(wrong_slot(Slot::Refine, spec, other)),
@@ -127,7 +132,12 @@ pub(crate) fn refine<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, b: Bracket<'a>, spec: 
 }
 
 /// Writes the shadow stage `spec` into the current function.
-pub(crate) fn shadow<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, light: &Light<'a>, spec: &StageSpec) -> Result<Val<'a, f32>, CompileError> {
+pub(crate) fn shadow<'a>(
+    s: &'a Stage<'a>,
+    hit: &Hit<'a>,
+    light: &Light<'a>,
+    spec: &StageSpec,
+) -> Result<Val<'a, f32>, CompileError> {
     match builder(Slot::Shadow, spec)? {
         Build::Shadow(f) => f(s, hit, light, &Args::new(Slot::Shadow, spec)),
         other => Err(wrong_slot(Slot::Shadow, spec, other)),
@@ -248,7 +258,13 @@ fn texture(m: &crate::ir::ModuleCtx, name: &str, binding: u32, dim: ImageDimensi
     texture_of(m, name, binding, dim, false)
 }
 
-fn texture_of(m: &crate::ir::ModuleCtx, name: &str, binding: u32, dim: ImageDimension, arrayed: bool) -> naga::GlobalVariable {
+fn texture_of(
+    m: &crate::ir::ModuleCtx,
+    name: &str,
+    binding: u32,
+    dim: ImageDimension,
+    arrayed: bool,
+) -> naga::GlobalVariable {
     naga::GlobalVariable {
         name: Some(name.to_string()),
         space: naga::AddressSpace::Handle,
@@ -357,7 +373,12 @@ impl<'a> Stage<'a> {
     }
 
     /// A 2D sample at the stage-wide level ([`Stage::sample_level`]).
-    fn sample_2d(&'a self, tex: naga::Handle<naga::GlobalVariable>, uv: Val<'a, Vec2>, filter: Filter) -> Val<'a, Vec4> {
+    fn sample_2d(
+        &'a self,
+        tex: naga::Handle<naga::GlobalVariable>,
+        uv: Val<'a, Vec2>,
+        filter: Filter,
+    ) -> Val<'a, Vec4> {
         let level = match self.sample_level() {
             None => SampleLevel::Zero,
             Some(l) => SampleLevel::Exact(l.handle()),
@@ -394,7 +415,8 @@ impl<'a> Stage<'a> {
         let base = (uv * size - 0.5).floor();
         let texel = |dx: f32, dy: f32| -> Val<'a, f32> {
             let centre = (base + self.vec2(dx + 0.5, dy + 0.5)) / size;
-            self.image_sample(tex, centre.handle(), Filter::Nearest, false, SampleLevel::Exact(level.handle()), false).x()
+            self.image_sample(tex, centre.handle(), Filter::Nearest, false, SampleLevel::Exact(level.handle()), false)
+                .x()
         };
         let (a, b, c, d) = (texel(0.0, 1.0), texel(1.0, 1.0), texel(1.0, 0.0), texel(0.0, 0.0));
         self.vec4(self.vec3(self.vec2(a, b), c), d)
@@ -409,7 +431,8 @@ impl<'a> Stage<'a> {
         let image = self.expr(Expression::GlobalVariable(tex));
         let zero = self.lit_u32(0).handle();
         let size = self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::Size { level: Some(zero) } });
-        let size0: Val<'a, Vec2> = self.wrap(self.expr(Expression::As { expr: size, kind: ScalarKind::Float, convert: Some(4) }));
+        let size0: Val<'a, Vec2> =
+            self.wrap(self.expr(Expression::As { expr: size, kind: ScalarKind::Float, convert: Some(4) }));
         size0 * (-level).exp2()
     }
 
@@ -484,7 +507,8 @@ impl<'a> Stage<'a> {
             }
         };
         let name = map.texture_name();
-        let tex = self.module().global(&name, |m| texture_of(m, &name, map.binding(), ImageDimension::D2, layer.is_some()));
+        let tex =
+            self.module().global(&name, |m| texture_of(m, &name, map.binding(), ImageDimension::D2, layer.is_some()));
         if self.counting() {
             self.count(crate::ir::counter::FETCHES);
         }
@@ -515,7 +539,8 @@ impl<'a> Stage<'a> {
                 let tex = self.module().global("height_map", |m| texture_2d(m, "height_map", binding::HEIGHT));
                 let image = self.expr(Expression::GlobalVariable(tex));
                 let level = self.lit_u32(0).handle();
-                let size = self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::Size { level: Some(level) } });
+                let size =
+                    self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::Size { level: Some(level) } });
                 self.wrap(self.expr(Expression::As { expr: size, kind: ScalarKind::Float, convert: Some(4) }))
             }
             Some(l) => self.level_size("height_map", binding::HEIGHT, l),
@@ -549,7 +574,13 @@ impl<'a> Stage<'a> {
         };
         let image = self.expr(Expression::GlobalVariable(tex));
         let level = self.lit_u32(0);
-        self.wrap(self.expr(Expression::ImageLoad { image, coordinate: coords.handle(), array_index: None, sample: None, level: Some(level.handle()) }))
+        self.wrap(self.expr(Expression::ImageLoad {
+            image,
+            coordinate: coords.handle(),
+            array_index: None,
+            sample: None,
+            level: Some(level.handle()),
+        }))
     }
 
     /// The number of mip levels of the height map, as a float.

@@ -102,9 +102,7 @@ impl Gpu {
             let _ = tx.send(r);
         });
         self.wait()?;
-        rx.recv()
-            .map_err(|e| GpuError::Device(e.to_string()))?
-            .map_err(|e| GpuError::Device(e.to_string()))?;
+        rx.recv().map_err(|e| GpuError::Device(e.to_string()))?.map_err(|e| GpuError::Device(e.to_string()))?;
         let data = slice.get_mapped_range().map_err(|e| GpuError::Device(e.to_string()))?.to_vec();
         buffer.unmap();
         Ok(data)

@@ -9,15 +9,15 @@ mod probe;
 mod render;
 mod resources;
 
+pub use crate::maps::MapKey;
 pub use device::{Gpu, GpuError};
 pub use probe::{probe, GpuHit};
 pub use relief_dsl::abi::OUTSIDE_TOLERANCE;
 pub use render::{
-    draw_frame, paired_blocks, render, timed_frames, Clock, Frames, PairedBlocks, RenderResult, Renderer, Target, DEPTH_FORMAT, FORMAT, MAX_FRAMES_PER_BLOCK,
-    MIN_BLOCK_MS,
+    draw_frame, paired_blocks, render, timed_frames, Clock, Frames, PairedBlocks, RenderResult, Renderer, Target,
+    DEPTH_FORMAT, FORMAT, MAX_FRAMES_PER_BLOCK, MIN_BLOCK_MS,
 };
 pub use resources::{SceneTextures, AMBIENT, MAX_RATIO};
-pub use crate::maps::MapKey;
 
 use relief_dsl::compose::Compiled;
 
@@ -47,7 +47,10 @@ impl Program {
     }
 
     /// Compiles `p` with `options` (e.g. a fragment entry that writes depth).
-    pub fn new_with(p: &relief_dsl::Pipeline, options: &relief_dsl::compose::Options) -> Result<Program, relief_dsl::CompileError> {
+    pub fn new_with(
+        p: &relief_dsl::Pipeline,
+        options: &relief_dsl::compose::Options,
+    ) -> Result<Program, relief_dsl::CompileError> {
         let maps = p.required_maps();
         for (i, a) in maps.iter().enumerate() {
             if let Some(b) = maps[..i].iter().find(|b| b.binding() == a.binding()) {
@@ -80,7 +83,14 @@ impl Program {
     pub fn from_compiled(c: &Compiled) -> Result<Program, relief_dsl::CompileError> {
         let wgsl = relief_dsl::emit::wgsl(c)?;
         let used = |names: &[&str]| used_bindings(c, names);
-        Ok(Program { wgsl, render_bindings: used(&["vs_main", "fs_main"]), probe_bindings: used(&["probe"]), maps: vec![], writes_depth: false, map_levels: false })
+        Ok(Program {
+            wgsl,
+            render_bindings: used(&["vs_main", "fs_main"]),
+            probe_bindings: used(&["probe"]),
+            maps: vec![],
+            writes_depth: false,
+            map_levels: false,
+        })
     }
 }
 

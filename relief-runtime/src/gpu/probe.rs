@@ -10,7 +10,13 @@ use crate::scene::{ProbeRay, Scene};
 pub type GpuHit = relief_dsl::abi::ProbeHit;
 
 /// Runs the probe entry of `program` on `rays`; one hit per ray, in order.
-pub fn probe(gpu: &Gpu, program: &Program, scene: &Scene, tex: &SceneTextures, rays: &[ProbeRay]) -> Result<Vec<GpuHit>, GpuError> {
+pub fn probe(
+    gpu: &Gpu,
+    program: &Program,
+    scene: &Scene,
+    tex: &SceneTextures,
+    rays: &[ProbeRay],
+) -> Result<Vec<GpuHit>, GpuError> {
     if rays.is_empty() {
         return Ok(vec![]);
     }

@@ -72,7 +72,11 @@ impl Target {
     }
 
     /// A render pass into the target, cleared, with `ts`.
-    fn pass<'e>(&self, enc: &'e mut wgpu::CommandEncoder, ts: Option<wgpu::RenderPassTimestampWrites<'_>>) -> wgpu::RenderPass<'e> {
+    fn pass<'e>(
+        &self,
+        enc: &'e mut wgpu::CommandEncoder,
+        ts: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) -> wgpu::RenderPass<'e> {
         enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: None,
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -106,7 +110,10 @@ impl Target {
     pub fn read(&self, gpu: &Gpu, frame_ms: Vec<f64>) -> Result<Frames, GpuError> {
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         let pixels = Readback::new(gpu, &mut enc, &self.color, wgpu::TextureAspect::All, self.size);
-        let depth_pixels = self.depth.as_ref().map(|(t, _)| Readback::new(gpu, &mut enc, t, wgpu::TextureAspect::DepthOnly, self.size));
+        let depth_pixels = self
+            .depth
+            .as_ref()
+            .map(|(t, _)| Readback::new(gpu, &mut enc, t, wgpu::TextureAspect::DepthOnly, self.size));
         gpu.queue.submit([enc.finish()]);
         let rgba = pixels.read(gpu)?;
         let depth = match depth_pixels {
@@ -131,10 +138,24 @@ impl Clock {
     /// A clock on `gpu`; an adapter without timestamp queries is an error.
     pub fn new(gpu: &Gpu) -> Result<Clock, GpuError> {
         if !gpu.timestamps {
-            return Err(GpuError::Device(format!("the adapter {} has no timestamp queries, so frames cannot be timed", gpu.adapter)));
+            return Err(GpuError::Device(format!(
+                "the adapter {} has no timestamp queries, so frames cannot be timed",
+                gpu.adapter
+            )));
         }
-        let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor { label: Some("block time"), ty: wgpu::QueryType::Timestamp, count: 2 });
-        let buffer = |usage| gpu.device.create_buffer(&wgpu::BufferDescriptor { label: None, size: 16, usage, mapped_at_creation: false });
+        let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("block time"),
+            ty: wgpu::QueryType::Timestamp,
+            count: 2,
+        });
+        let buffer = |usage| {
+            gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: None,
+                size: 16,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
         Ok(Clock {
             queries,
             resolve: buffer(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
@@ -146,7 +167,13 @@ impl Clock {
     /// One timed block: `frames` (at least 1) frames drawn into `target` in one submission,
     /// a timestamp at the beginning of the first pass and one at the end of the last; waits
     /// for it and returns the block's device time in milliseconds.
-    pub fn block(&self, gpu: &Gpu, target: &Target, frames: u32, draw: &dyn Fn(&mut wgpu::RenderPass<'_>)) -> Result<f64, GpuError> {
+    pub fn block(
+        &self,
+        gpu: &Gpu,
+        target: &Target,
+        frames: u32,
+        draw: &dyn Fn(&mut wgpu::RenderPass<'_>),
+    ) -> Result<f64, GpuError> {
         let frames = frames.max(1);
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         for i in 0..frames {
@@ -169,7 +196,12 @@ impl Clock {
     /// one-frame blocks are timed, then blocks growing by the shortfall (×2 at least, with a
     /// quarter to spare) until one lasts long enough, up to [`MAX_FRAMES_PER_BLOCK`]. The
     /// blocks timed here are warm-up: their times are dropped.
-    pub fn calibrate(&self, gpu: &Gpu, target: &Target, draw: &dyn Fn(&mut wgpu::RenderPass<'_>)) -> Result<u32, GpuError> {
+    pub fn calibrate(
+        &self,
+        gpu: &Gpu,
+        target: &Target,
+        draw: &dyn Fn(&mut wgpu::RenderPass<'_>),
+    ) -> Result<u32, GpuError> {
         let mut k = 1u32;
         loop {
             let ms = self.block(gpu, target, k, draw)?;
@@ -196,7 +228,13 @@ const CLEAR: wgpu::Color = wgpu::Color { r: 0.02, g: 0.02, b: 0.03, a: 1.0 };
 impl Renderer {
     /// `program`'s render entry on `scene` (its textures and maps already in `tex`) at
     /// `size × size` pixels.
-    pub fn new(gpu: &Gpu, program: &Program, scene: &Scene, tex: &SceneTextures, size: u32) -> Result<Renderer, GpuError> {
+    pub fn new(
+        gpu: &Gpu,
+        program: &Program,
+        scene: &Scene,
+        tex: &SceneTextures,
+        size: u32,
+    ) -> Result<Renderer, GpuError> {
         let module = program.shader_module(gpu)?;
         let pipeline = gpu.checked(|| {
             gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -208,7 +246,10 @@ impl Renderer {
                     compilation_options: Default::default(),
                     buffers: &[],
                 },
-                primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleStrip, ..Default::default() },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleStrip,
+                    ..Default::default()
+                },
                 depth_stencil: program.writes_depth.then(|| wgpu::DepthStencilState {
                     format: DEPTH_FORMAT,
                     depth_write_enabled: Some(true),
@@ -228,7 +269,15 @@ impl Renderer {
             })
         })?;
         let params = SceneTextures::params(gpu, scene, 1.0, scene.camera.pixel_size(size));
-        let bind_group = tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), &program.render_bindings, &program.maps, program.map_levels, &params, &[])?;
+        let bind_group = tex.bind_group(
+            gpu,
+            &pipeline.get_bind_group_layout(0),
+            &program.render_bindings,
+            &program.maps,
+            program.map_levels,
+            &params,
+            &[],
+        )?;
         Ok(Renderer { pipeline, bind_group, target: Target::new(gpu, size, program.writes_depth, CLEAR) })
     }
 
@@ -254,14 +303,27 @@ pub fn render(
     let clock = Clock::new(gpu)?;
     let r = Renderer::new(gpu, program, scene, tex, size)?;
     let f = time_frames(gpu, &clock, &r.target, warmup, frames, &|pass| r.draw(pass))?;
-    Ok(RenderResult { frame_ms: f.frame_ms, rgba: f.rgba, size, depth: f.depth, frames_per_block: f.frames_per_block, timestamp_period_ns: f.timestamp_period_ns })
+    Ok(RenderResult {
+        frame_ms: f.frame_ms,
+        rgba: f.rgba,
+        size,
+        depth: f.depth,
+        frames_per_block: f.frames_per_block,
+        timestamp_period_ns: f.timestamp_period_ns,
+    })
 }
 
 /// One untimed headless frame into a `size²` RGBA8 target cleared to `clear` (and a `Depth32Float`
 /// depth cleared to 1 `with_depth`), read back: for headless programs that draw with their
 /// own pipelines (`examples/integrate.rs`). `draw` records the pass's pipeline, bind groups
 /// and draw calls; [`Frames::frame_ms`] is empty.
-pub fn draw_frame(gpu: &Gpu, size: u32, with_depth: bool, clear: wgpu::Color, draw: impl Fn(&mut wgpu::RenderPass<'_>)) -> Result<Frames, GpuError> {
+pub fn draw_frame(
+    gpu: &Gpu,
+    size: u32,
+    with_depth: bool,
+    clear: wgpu::Color,
+    draw: impl Fn(&mut wgpu::RenderPass<'_>),
+) -> Result<Frames, GpuError> {
     let target = Target::new(gpu, size, with_depth, clear);
     target.untimed(gpu, 1, &draw)?;
     target.read(gpu, Vec::new())
@@ -304,7 +366,14 @@ pub fn timed_frames(
     time_frames(gpu, &clock, &target, warmup, frames, &draw)
 }
 
-fn time_frames(gpu: &Gpu, clock: &Clock, target: &Target, warmup: u32, frames: u32, draw: &dyn Fn(&mut wgpu::RenderPass<'_>)) -> Result<Frames, GpuError> {
+fn time_frames(
+    gpu: &Gpu,
+    clock: &Clock,
+    target: &Target,
+    warmup: u32,
+    frames: u32,
+    draw: &dyn Fn(&mut wgpu::RenderPass<'_>),
+) -> Result<Frames, GpuError> {
     target.untimed(gpu, warmup, draw)?;
     let k = clock.calibrate(gpu, target, draw)?;
     let blocks = (frames.max(1) / k).max(1);
@@ -343,7 +412,14 @@ impl PairedBlocks {
 /// in odd ones, so that a steady drift falls on both alike (`crate::timing`). Each block
 /// holds `frames_per_block` frames of its pipeline (calibrate them with [`Clock::calibrate`]:
 /// those blocks are the warm-up, dropped); one more untimed block of each is drawn first.
-pub fn paired_blocks(gpu: &Gpu, clock: &Clock, a: &Renderer, b: &Renderer, frames_per_block: [u32; 2], pairs: u32) -> Result<PairedBlocks, GpuError> {
+pub fn paired_blocks(
+    gpu: &Gpu,
+    clock: &Clock,
+    a: &Renderer,
+    b: &Renderer,
+    frames_per_block: [u32; 2],
+    pairs: u32,
+) -> Result<PairedBlocks, GpuError> {
     let side = [a, b];
     let draws: [&dyn Fn(&mut wgpu::RenderPass<'_>); 2] = [&|p| a.draw(p), &|p| b.draw(p)];
     for i in 0..2 {
@@ -355,7 +431,11 @@ pub fn paired_blocks(gpu: &Gpu, clock: &Clock, a: &Renderer, b: &Renderer, frame
         for i in order {
             let k = frames_per_block[i].max(1);
             let ms = clock.block(gpu, &side[i].target, k, draws[i])? / k as f64;
-            if i == 0 { out.a_ms.push(ms) } else { out.b_ms.push(ms) }
+            if i == 0 {
+                out.a_ms.push(ms)
+            } else {
+                out.b_ms.push(ms)
+            }
         }
     }
     Ok(out)
@@ -371,7 +451,13 @@ struct Readback {
 
 impl Readback {
     /// Records the copy of `texture`'s `aspect` into `enc`; submit `enc` before [`Readback::read`].
-    fn new(gpu: &Gpu, enc: &mut wgpu::CommandEncoder, texture: &wgpu::Texture, aspect: wgpu::TextureAspect, size: u32) -> Readback {
+    fn new(
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        texture: &wgpu::Texture,
+        aspect: wgpu::TextureAspect,
+        size: u32,
+    ) -> Readback {
         let row = (size * 4).div_ceil(256) * 256;
         let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: None,

@@ -44,7 +44,12 @@ pub struct SceneTextures {
 }
 
 /// A 2D texture with the given mip levels (level 0 first), each `(width, height, bytes)`.
-fn texture(gpu: &Gpu, label: &str, levels: &[(usize, usize, Vec<u8>)], format: wgpu::TextureFormat) -> wgpu::TextureView {
+fn texture(
+    gpu: &Gpu,
+    label: &str,
+    levels: &[(usize, usize, Vec<u8>)],
+    format: wgpu::TextureFormat,
+) -> wgpu::TextureView {
     let (w, h, _) = levels[0];
     let bytes: Vec<u8> = levels.iter().flat_map(|(_, _, b)| b.iter().copied()).collect();
     let t = gpu.device.create_texture_with_data(
@@ -86,7 +91,9 @@ impl SceneTextures {
                 .collect();
             let levels: Vec<(usize, usize, Vec<u8>)> = rounded
                 .iter()
-                .map(|l| (l.width, l.height, l.data.iter().flat_map(|&x| half::f16::from_f32(x).to_le_bytes()).collect()))
+                .map(|l| {
+                    (l.width, l.height, l.data.iter().flat_map(|&x| half::f16::from_f32(x).to_le_bytes()).collect())
+                })
                 .collect();
             (texture(gpu, "height", &levels, wgpu::TextureFormat::R16Float), rounded)
         };
@@ -106,7 +113,12 @@ impl SceneTextures {
                 let bytes = l
                     .data
                     .chunks(3)
-                    .flat_map(|n| [n[0], n[1], n[2]].map(|c| ((c * 0.5 + 0.5).clamp(0.0, 1.0) * 255.0).round() as u8).into_iter().chain([255]))
+                    .flat_map(|n| {
+                        [n[0], n[1], n[2]]
+                            .map(|c| ((c * 0.5 + 0.5).clamp(0.0, 1.0) * 255.0).round() as u8)
+                            .into_iter()
+                            .chain([255])
+                    })
                     .collect();
                 (l.width, l.height, bytes)
             })
@@ -162,7 +174,13 @@ impl SceneTextures {
     /// and uploaded as the map's mip chain, so that a cone read at level k is the cone of
     /// level k's surface. Only maps with levels ([`MapReq::has_levels`]) are asked for here:
     /// the composer refuses the others under such a `lod`.
-    pub fn add_maps_lod(&mut self, gpu: &Gpu, scene: &Scene, reqs: &[MapReq], lod: relief_dsl::spec::Lod) -> Result<(), crate::maps::MapError> {
+    pub fn add_maps_lod(
+        &mut self,
+        gpu: &Gpu,
+        scene: &Scene,
+        reqs: &[MapReq],
+        lod: relief_dsl::spec::Lod,
+    ) -> Result<(), crate::maps::MapError> {
         if lod != relief_dsl::spec::Lod::Zero {
             let chain = crate::maps::mips::height_chain(&scene.height);
             for &req in reqs {
@@ -173,7 +191,10 @@ impl SceneTextures {
                 }
                 let view = if kind == MapKind::MaxMip {
                     // The pyramid of every level's cells, one layer each (see `upload_layers`).
-                    let pyramids = chain.iter().map(|h| crate::maps::build(h, kind, &params, scene.edge)).collect::<Result<Vec<_>, _>>()?;
+                    let pyramids = chain
+                        .iter()
+                        .map(|h| crate::maps::build(h, kind, &params, scene.edge))
+                        .collect::<Result<Vec<_>, _>>()?;
                     upload_layers(gpu, &pyramids)
                 } else if kind.is_cell() {
                     // Cell maps: every level's cells in one atlas (see `maps::cell::level_atlas`).
@@ -214,7 +235,9 @@ impl SceneTextures {
     /// The uploaded map a shader binding `b` of a program reading `reqs` takes.
     fn map_view(&self, b: u32, reqs: &[MapReq], levels: bool) -> Result<&wgpu::TextureView, super::GpuError> {
         let req = reqs.iter().find(|r| **r != MapReq::Normal && r.binding() == b).ok_or_else(|| {
-            super::GpuError::Pipeline(format!("the shader reads a map at binding {b}, which the pipeline's required maps do not name"))
+            super::GpuError::Pipeline(format!(
+                "the shader reads a map at binding {b}, which the pipeline's required maps do not name"
+            ))
         })?;
         let maps = if levels { &self.level_maps } else { &self.maps };
         MapKey::of(*req).and_then(|k| maps.get(&k)).ok_or_else(|| missing_map(b))
@@ -277,7 +300,9 @@ impl SceneTextures {
                     }
                 }
                 binding::NEAREST_SAMPLER => wgpu::BindingResource::Sampler(&self.nearest),
-                b if b > binding::ALBEDO && b < binding::NEAREST_OFFSET => wgpu::BindingResource::TextureView(self.map_view(b, reqs, map_levels)?),
+                b if b > binding::ALBEDO && b < binding::NEAREST_OFFSET => {
+                    wgpu::BindingResource::TextureView(self.map_view(b, reqs, map_levels)?)
+                }
                 other => match storage.iter().find(|(n, _)| *n == other) {
                     Some((_, buf)) => buf.as_entire_binding(),
                     None => {
@@ -289,7 +314,9 @@ impl SceneTextures {
             };
             entries.push(wgpu::BindGroupEntry { binding: b, resource });
         }
-        gpu.checked(|| gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout, entries: &entries }))
+        gpu.checked(|| {
+            gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout, entries: &entries })
+        })
     }
 }
 
@@ -326,7 +353,11 @@ fn upload_map(gpu: &Gpu, map: &crate::maps::Map, used: usize, ratio: bool) -> wg
         &gpu.queue,
         &wgpu::TextureDescriptor {
             label: Some("map"),
-            size: wgpu::Extent3d { width: map.width as u32, height: map.height as u32, depth_or_array_layers: map.depth as u32 },
+            size: wgpu::Extent3d {
+                width: map.width as u32,
+                height: map.height as u32,
+                depth_or_array_layers: map.depth as u32,
+            },
             mip_level_count: 1 + map.mips.len() as u32,
             sample_count: 1,
             dimension,
@@ -381,7 +412,10 @@ fn upload_layers(gpu: &Gpu, layers: &[crate::maps::Map]) -> wgpu::TextureView {
         wgpu::util::TextureDataOrder::LayerMajor,
         bytemuck::cast_slice(&data),
     );
-    t.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() })
+    t.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    })
 }
 
 /// Ambient light share in the render.

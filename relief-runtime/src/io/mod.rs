@@ -14,10 +14,7 @@ use relief_dsl::Pipeline;
 /// run never leaves a half-written file (`NAME.EXT.tmp` beside it, removed when the write
 /// fails).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    let tmp = path.with_extension(format!(
-        "{}.tmp",
-        path.extension().and_then(|e| e.to_str()).unwrap_or("")
-    ));
+    let tmp = path.with_extension(format!("{}.tmp", path.extension().and_then(|e| e.to_str()).unwrap_or("")));
     let result = std::fs::write(&tmp, bytes)
         .with_context(|| format!("cannot write {}", tmp.display()))
         .and_then(|()| std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display())));

@@ -14,7 +14,14 @@ pub fn write_rgba8(path: &Path, w: u32, h: u32, rgba: Vec<u8>) -> anyhow::Result
 
 /// Writes `w × h` pixels of `channels` (1 gray, 2 gray+alpha, 3 RGB, 4 RGBA) unsigned
 /// samples as PNG; `samples` holds little-endian `u16` when `sixteen_bit`, bytes otherwise.
-pub fn write_unorm(path: &Path, w: usize, h: usize, channels: usize, sixteen_bit: bool, samples: &[u8]) -> Result<(), String> {
+pub fn write_unorm(
+    path: &Path,
+    w: usize,
+    h: usize,
+    channels: usize,
+    sixteen_bit: bool,
+    samples: &[u8],
+) -> Result<(), String> {
     use image::ExtendedColorType as C;
     let color = match (sixteen_bit, channels) {
         (false, 1) => C::L8,
@@ -33,5 +40,6 @@ pub fn write_unorm(path: &Path, w: usize, h: usize, channels: usize, sixteen_bit
     } else {
         samples.to_vec()
     };
-    image::save_buffer_with_format(path, &bytes, w as u32, h as u32, color, image::ImageFormat::Png).map_err(|e| e.to_string())
+    image::save_buffer_with_format(path, &bytes, w as u32, h as u32, color, image::ImageFormat::Png)
+        .map_err(|e| e.to_string())
 }

@@ -41,7 +41,9 @@ pub fn write_map(path: &Path, map: &EncodedMap) -> Result<(), MapError> {
                 Format::Unorm8 => false,
                 Format::Unorm16 => true,
                 f => {
-                    return Err(bad(format!("{f:?} cannot be written as .png; use --encoding unorm8 or unorm16, or .exr/.npy")))
+                    return Err(bad(format!(
+                        "{f:?} cannot be written as .png; use --encoding unorm8 or unorm16, or .exr/.npy"
+                    )))
                 }
             };
             io::png::write_unorm(path, w, h, c, sixteen_bit, &map.bytes).map_err(bad)

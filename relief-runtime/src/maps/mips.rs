@@ -97,7 +97,8 @@ mod tests {
                 assert_eq!(chain[1].data[x * 2 + c], mean);
             }
             // The 2×1 level averages its pair: the mean of all eight texels.
-            let all: f32 = (0..4).flat_map(|x| (0..2).map(move |y| (x, y))).map(|(x, y)| at(x, y, c)).sum::<f32>() / 8.0;
+            let all: f32 =
+                (0..4).flat_map(|x| (0..2).map(move |y| (x, y))).map(|(x, y)| at(x, y, c)).sum::<f32>() / 8.0;
             assert_eq!(chain[2].data[c], all);
         }
         assert_eq!((chain[2].width, chain[2].height), (1, 1));

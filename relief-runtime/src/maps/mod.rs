@@ -17,8 +17,8 @@ pub mod file;
 pub mod filter;
 pub mod max_mip;
 pub mod mips;
-pub mod normal;
 pub mod multi_cone;
+pub mod normal;
 pub mod quad_cone;
 pub mod relaxed_cone;
 pub mod search;
@@ -118,9 +118,10 @@ impl MapKind {
         let kind = MapKind::ALL.into_iter().find(same)?;
         let d = MapParams::default();
         let params = match req {
-            MapReq::MultiCone(k) | MapReq::PiecewiseCone(k) | MapReq::CellMultiCone(k) | MapReq::CellPiecewiseCone(k) => {
-                MapParams { cones: k, ..d }
-            }
+            MapReq::MultiCone(k)
+            | MapReq::PiecewiseCone(k)
+            | MapReq::CellMultiCone(k)
+            | MapReq::CellPiecewiseCone(k) => MapParams { cones: k, ..d },
             _ => d,
         };
         Some((kind, params))
@@ -201,7 +202,12 @@ impl MapKind {
     pub fn is_ratio(self) -> bool {
         matches!(
             self,
-            MapKind::Cone | MapKind::QuadCone | MapKind::RelaxedCone | MapKind::CellCone | MapKind::CellQuadCone | MapKind::CellRelaxedCone
+            MapKind::Cone
+                | MapKind::QuadCone
+                | MapKind::RelaxedCone
+                | MapKind::CellCone
+                | MapKind::CellQuadCone
+                | MapKind::CellRelaxedCone
         )
     }
 }
@@ -216,10 +222,7 @@ impl std::str::FromStr for MapKind {
     type Err = MapError;
     fn from_str(s: &str) -> Result<Self, MapError> {
         let s = s.trim().to_ascii_lowercase().replace('-', "_");
-        MapKind::ALL
-            .into_iter()
-            .find(|k| k.name() == s)
-            .ok_or_else(|| MapError::UnknownKind(s.to_string()))
+        MapKind::ALL.into_iter().find(|k| k.name() == s).ok_or_else(|| MapError::UnknownKind(s.to_string()))
     }
 }
 
@@ -401,7 +404,14 @@ pub fn build(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode) 
             if !(1..=1024).contains(&d) {
                 return Err(MapError::Params { kind, message: format!("z_resolution = {d}, expected 1..=1024") });
             }
-            Map { width: w, height: h, depth: d, channels: 1, data: distance_field::distance_field(hm, edge, d), mips: Vec::new() }
+            Map {
+                width: w,
+                height: h,
+                depth: d,
+                channels: 1,
+                data: distance_field::distance_field(hm, edge, d),
+                mips: Vec::new(),
+            }
         }
         MapKind::CellCone
         | MapKind::CellQuadCone
@@ -426,7 +436,13 @@ pub fn build(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode) 
 
 /// Builds and encodes in one go (the form a GPU upload wants). Pyramid levels are encoded
 /// too, in [`EncodedBundle::mips`].
-pub fn build_encoded(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode, enc: &Encoding) -> Result<EncodedBundle, MapError> {
+pub fn build_encoded(
+    hm: &HeightMap,
+    kind: MapKind,
+    params: &MapParams,
+    edge: EdgeMode,
+    enc: &Encoding,
+) -> Result<EncodedBundle, MapError> {
     let map = build(hm, kind, params, edge)?;
     Ok(EncodedBundle::from_map(&map, kind, enc))
 }
@@ -479,7 +495,13 @@ pub(crate) struct CacheKey {
 impl CacheKey {
     /// The key of `kind` built from `hm`; hashes the whole height map and keeps only the
     /// parameters `kind` reads.
-    pub(crate) fn new(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode, encoding: &Encoding) -> CacheKey {
+    pub(crate) fn new(
+        hm: &HeightMap,
+        kind: MapKind,
+        params: &MapParams,
+        edge: EdgeMode,
+        encoding: &Encoding,
+    ) -> CacheKey {
         CacheKey { content: hm.content_hash(), kind, params: params.relevant(kind), edge, encoding: *encoding }
     }
 
@@ -520,7 +542,14 @@ impl MapCache {
     }
 
     /// The map for the key, built on a miss.
-    pub fn get(&self, hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode, enc: &Encoding) -> Result<Arc<EncodedBundle>, MapError> {
+    pub fn get(
+        &self,
+        hm: &HeightMap,
+        kind: MapKind,
+        params: &MapParams,
+        edge: EdgeMode,
+        enc: &Encoding,
+    ) -> Result<Arc<EncodedBundle>, MapError> {
         let key = CacheKey::new(hm, kind, params, edge, enc);
         if let Some(hit) = self.mem.lock().unwrap().get(&key) {
             return Ok(hit.clone());

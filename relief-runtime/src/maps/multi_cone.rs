@@ -82,7 +82,8 @@ impl Scorer for PieceScorer {
     #[inline]
     fn bound(&self, ox: i64, oy: i64, hmax: f32, _aux: f32) -> Option<f64> {
         let dh = (hmax as f64).min(self.hi) - self.lo;
-        (hmax as f64 > self.lo && dh > 0.0).then(|| (texel_distance(ox, oy, self.w, self.h) - self.radius).max(0.0) / dh)
+        (hmax as f64 > self.lo && dh > 0.0)
+            .then(|| (texel_distance(ox, oy, self.w, self.h) - self.radius).max(0.0) / dh)
     }
     #[inline]
     fn score(&self, sx: i64, sy: i64, hq: f32) -> Option<f64> {
@@ -93,7 +94,14 @@ impl Scorer for PieceScorer {
 
 /// The piecewise slopes `r_k` (f64, before rounding) of texel `(x, y)`; used by the generator
 /// and handy for checking.
-pub(crate) fn piecewise_slopes(tree: &MaxTree, map: &HeightMap, edge: EdgeMode, x: usize, y: usize, k_cones: usize) -> Vec<f64> {
+pub(crate) fn piecewise_slopes(
+    tree: &MaxTree,
+    map: &HeightMap,
+    edge: EdgeMode,
+    x: usize,
+    y: usize,
+    k_cones: usize,
+) -> Vec<f64> {
     let b = cone_heights(map.data[y * map.width + x], k_cones);
     let mut radius = 0.0f64;
     let mut out = Vec::with_capacity(k_cones);

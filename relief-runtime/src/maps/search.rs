@@ -154,7 +154,15 @@ impl MaxTree {
 
     /// As [`MaxTree::search_min`], also returning the texel that gave the minimum (the one
     /// passed in `start` if nothing beat it).
-    pub(crate) fn search_argmin<S: Scorer>(&self, px: usize, py: usize, ax: Axis, ay: Axis, s: &S, start: Best) -> Best {
+    pub(crate) fn search_argmin<S: Scorer>(
+        &self,
+        px: usize,
+        py: usize,
+        ax: Axis,
+        ay: Axis,
+        s: &S,
+        start: Best,
+    ) -> Best {
         let mut best = start;
         let top = self.levels.len() - 1;
         self.visit(top, 0, 0, px as i64, py as i64, ax, ay, s, &mut best);
@@ -162,7 +170,15 @@ impl MaxTree {
     }
 
     /// The score of texel `q` seen from `p` (a valid starting bound: it is a real candidate).
-    pub(crate) fn score_of<S: Scorer>(&self, px: usize, py: usize, q: (usize, usize), ax: Axis, ay: Axis, s: &S) -> Option<f64> {
+    pub(crate) fn score_of<S: Scorer>(
+        &self,
+        px: usize,
+        py: usize,
+        q: (usize, usize),
+        ax: Axis,
+        ay: Axis,
+        s: &S,
+    ) -> Option<f64> {
         let (w, h) = (self.w as i64, self.h as i64);
         let sx = ax.offset(px as i64, q.0 as i64, w)?;
         let sy = ay.offset(py as i64, q.1 as i64, h)?;
@@ -170,7 +186,18 @@ impl MaxTree {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn visit<S: Scorer>(&self, k: usize, i: usize, j: usize, px: i64, py: i64, ax: Axis, ay: Axis, s: &S, best: &mut Best) {
+    fn visit<S: Scorer>(
+        &self,
+        k: usize,
+        i: usize,
+        j: usize,
+        px: i64,
+        py: i64,
+        ax: Axis,
+        ay: Axis,
+        s: &S,
+        best: &mut Best,
+    ) {
         let (w, h) = (self.w as i64, self.h as i64);
         if k == 0 {
             let (Some(sx), Some(sy)) = (ax.offset(px, i as i64, w), ay.offset(py, j as i64, h)) else {
@@ -238,7 +265,13 @@ pub(crate) fn per_texel<const C: usize>(w: usize, h: usize, f: impl Fn(usize, us
 /// A quadtree pyramid over a `w0 × h0` grid: each level halves the size (rounding up) and a
 /// node is `combine` over its (up to four) children, starting from `empty`; the last level is
 /// 1 × 1. Level 0 is `data`.
-pub(crate) fn reduce_pyramid<T: Copy>(w0: usize, h0: usize, data: Vec<T>, empty: T, combine: fn(T, T) -> T) -> Vec<(usize, usize, Vec<T>)> {
+pub(crate) fn reduce_pyramid<T: Copy>(
+    w0: usize,
+    h0: usize,
+    data: Vec<T>,
+    empty: T,
+    combine: fn(T, T) -> T,
+) -> Vec<(usize, usize, Vec<T>)> {
     let mut levels = vec![(w0, h0, data)];
     loop {
         let (w, h, ref d) = *levels.last().unwrap();

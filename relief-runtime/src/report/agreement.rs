@@ -20,7 +20,11 @@ pub(crate) fn metric_agreement(data: &Data, tables: &[ReportTable]) -> TextTable
                 }
             }
         }
-        let name = if t.scene == "scene:lion" { format!("Table {}", t.id) } else { format!("Table {} ({})", t.id, short_scene(&t.scene)) };
+        let name = if t.scene == "scene:lion" {
+            format!("Table {}", t.id)
+        } else {
+            format!("Table {} ({})", t.id, short_scene(&t.scene))
+        };
         groups.push((name, v));
     }
     let multi_size = data.sizes().len() > 1;
@@ -30,7 +34,9 @@ pub(crate) fn metric_agreement(data: &Data, tables: &[ReportTable]) -> TextTable
             let v: Vec<_> = data
                 .rows
                 .iter()
-                .filter(|r| r.status == "ok" && r.metrics.scene == scene && r.metrics.size == size && data.is_indexed(r))
+                .filter(|r| {
+                    r.status == "ok" && r.metrics.scene == scene && r.metrics.size == size && data.is_indexed(r)
+                })
                 .collect();
             let place = if multi_size { group_label(&scene, size) } else { short_scene(&scene).to_string() };
             groups.push((format!("all rows, {place}"), v));

@@ -173,10 +173,9 @@ pub(crate) struct Answer {
 impl Answer {
     /// The fastest exact row (t error ≤ 1e-6 and no missed ray), else the most accurate.
     pub fn exact_or_best(&self) -> Option<&Cand> {
-        self.cands
-            .iter()
-            .find(|c| c.err <= 1e-6 && c.missed == 0.0)
-            .or_else(|| self.cands.iter().min_by(|a, b| a.err.total_cmp(&b.err).then(a.speed.rank().total_cmp(&b.speed.rank()))))
+        self.cands.iter().find(|c| c.err <= 1e-6 && c.missed == 0.0).or_else(|| {
+            self.cands.iter().min_by(|a, b| a.err.total_cmp(&b.err).then(a.speed.rank().total_cmp(&b.speed.rank())))
+        })
     }
 }
 
@@ -188,7 +187,8 @@ fn view_words(label: &str) -> (String, String) {
         _ => (label.to_string(), None),
     };
     let mut parts = Vec::new();
-    let angle = view.and_then(|v| v.angle).or_else(|| crate::scene::scene_from_arg(&base).ok().map(|s| s.camera.angle_deg));
+    let angle =
+        view.and_then(|v| v.angle).or_else(|| crate::scene::scene_from_arg(&base).ok().map(|s| s.camera.angle_deg));
     if let Some(a) = angle {
         parts.push(format!("{a}°"));
     }
@@ -214,7 +214,9 @@ pub(crate) fn build(data: &Data) -> Vec<Answer> {
             let rows: Vec<(&Row, Pipeline)> = data
                 .rows
                 .iter()
-                .filter(|r| r.status == "ok" && r.metrics.scene == scene && r.metrics.size == size && data.is_indexed(r))
+                .filter(|r| {
+                    r.status == "ok" && r.metrics.scene == scene && r.metrics.size == size && data.is_indexed(r)
+                })
                 .filter_map(|r| r.metrics.pipeline.parse::<Pipeline>().ok().filter(competes).map(|p| (r, p)))
                 .collect();
             let clock = clock_of(rows.iter().map(|(r, _)| *r));
@@ -222,7 +224,10 @@ pub(crate) fn build(data: &Data) -> Vec<Answer> {
             let mut not_finite = Vec::new();
             let mut adapters: Vec<String> = Vec::new();
             for (r, p) in rows {
-                let speed = Speed { ms: r.metrics.frame_ms_median, paired: if clock == Clock::Median { None } else { Ratio::to_baseline(&r.metrics) } };
+                let speed = Speed {
+                    ms: r.metrics.frame_ms_median,
+                    paired: if clock == Clock::Median { None } else { Ratio::to_baseline(&r.metrics) },
+                };
                 if !(speed.rank().is_finite() && r.metrics.ref_err_t_rms.is_finite()) {
                     not_finite.push(r.metrics.pipeline.clone());
                     continue;
@@ -250,7 +255,11 @@ pub(crate) fn build(data: &Data) -> Vec<Answer> {
                     let reached = |c: &&Cand| row_of(c).is_some_and(|r| (l.reached)(r));
                     let best = cands.iter().position(|c| reached(&c));
                     let ties = match best {
-                        Some(b) => (0..cands.len()).filter(|&i| i != b && reached(&&cands[i]) && undecided(&cands[i].speed.over(&cands[b].speed))).collect(),
+                        Some(b) => (0..cands.len())
+                            .filter(|&i| {
+                                i != b && reached(&&cands[i]) && undecided(&cands[i].speed.over(&cands[b].speed))
+                            })
+                            .collect(),
                         None => Vec::new(),
                     };
                     Pick { best, engine: cands.iter().position(|c| c.engine && reached(&c)), ties }
@@ -294,7 +303,9 @@ fn clock_of<'a>(rows: impl Iterator<Item = &'a Row>) -> Clock {
 /// A row's ratio to the baseline as the tables print it, `—` without one.
 fn fmt_paired(c: &Cand) -> String {
     match c.speed.paired {
-        Some(r) if r.lo.is_finite() && r.hi.is_finite() => format!("{} [{}, {}]", fmt_num(r.ratio, 3), fmt_num(r.lo, 3), fmt_num(r.hi, 3)),
+        Some(r) if r.lo.is_finite() && r.hi.is_finite() => {
+            format!("{} [{}, {}]", fmt_num(r.ratio, 3), fmt_num(r.lo, 3), fmt_num(r.hi, 3))
+        }
         Some(r) => fmt_num(r.ratio, 3),
         None => "—".into(),
     }
@@ -330,7 +341,8 @@ pub(crate) fn ties_cell(a: &Answer, pick: &Pick, most: usize) -> String {
     if pick.ties.is_empty() {
         return "—".into();
     }
-    let mut s = pick.ties.iter().take(most).map(|&i| format!("`{}`", a.cands[i].pipeline)).collect::<Vec<_>>().join(", ");
+    let mut s =
+        pick.ties.iter().take(most).map(|&i| format!("`{}`", a.cands[i].pipeline)).collect::<Vec<_>>().join(", ");
     if pick.ties.len() > most {
         s.push_str(&format!(" and {} more", pick.ties.len() - most));
     }
@@ -450,7 +462,13 @@ pub(crate) fn write_chart(a: &Answer, sub: &std::path::Path, warnings: &mut Vec<
     let mut key: Vec<Keyed> = numbered
         .iter()
         .enumerate()
-        .map(|(k, &i)| Keyed { number: k + 1, cand: i, on_all: all.contains(&i), on_family: fam.contains(&i), drawn: false })
+        .map(|(k, &i)| Keyed {
+            number: k + 1,
+            cand: i,
+            on_all: all.contains(&i),
+            on_family: fam.contains(&i),
+            drawn: false,
+        })
         .collect();
     let number = |i: usize| numbered.iter().position(|&j| j == i).map(|k| (k + 1).to_string()).unwrap_or_default();
     let pt = |i: usize, label: String| Pt { x: a.cands[i].speed.rank(), y: a.cands[i].err, label };
@@ -464,13 +482,27 @@ pub(crate) fn write_chart(a: &Answer, sub: &std::path::Path, warnings: &mut Vec<
         series.push(Series {
             name: "engine family".into(),
             // Numbered here only when the overall front does not number it already.
-            points: (0..a.cands.len()).filter(|&i| a.cands[i].engine).map(|i| pt(i, if fam.contains(&i) && !all.contains(&i) { number(i) } else { String::new() })).collect(),
+            points: (0..a.cands.len())
+                .filter(|&i| a.cands[i].engine)
+                .map(|i| pt(i, if fam.contains(&i) && !all.contains(&i) { number(i) } else { String::new() }))
+                .collect(),
             line: Line::None,
             faint: false,
         });
     }
-    series.push(Series { name: "Pareto front".into(), points: all.iter().map(|&i| pt(i, number(i))).collect(), line: Line::Step, faint: false });
-    let chart = svg_chart_axes(&format!("Frame time against t error: {}", a.title), a.clock.name(), "ref_err_t_rms", &series, true);
+    series.push(Series {
+        name: "Pareto front".into(),
+        points: all.iter().map(|&i| pt(i, number(i))).collect(),
+        line: Line::Step,
+        faint: false,
+    });
+    let chart = svg_chart_axes(
+        &format!("Frame time against t error: {}", a.title),
+        a.clock.name(),
+        "ref_err_t_rms",
+        &series,
+        true,
+    );
     let name = format!("answer_{}.svg", super::file_safe(&format!("{}_s{}", short_scene(&a.scene), a.size)));
     for k in key.iter_mut() {
         k.drawn = chart.labels.iter().any(|(text, _)| *text == k.number.to_string());
@@ -532,7 +564,8 @@ mod tests {
 
     #[test]
     fn the_engine_family_is_linear_dynamic_from_one_layer_with_interval_1_or_binary() {
-        let yes = ["linear_dynamic(1, 16)+binary(5)", "linear_dynamic(1, 256)+interval(1)", "linear_dynamic(1, 8)+binary(8)"];
+        let yes =
+            ["linear_dynamic(1, 16)+binary(5)", "linear_dynamic(1, 256)+interval(1)", "linear_dynamic(1, 8)+binary(8)"];
         let no = [
             "linear_dynamic(8, 32)+binary(5)",
             "linear_dynamic(1, 16)+interval(2)",

@@ -71,8 +71,11 @@ pub(crate) fn write_all(data: &Data, sub: &Path, warnings: &mut Vec<String>) -> 
         // One chart per size: points of different sizes are different measurements.
         let sizes = data.sizes();
         for &size in &sizes {
-            let scenes: Vec<String> =
-                data.scenes().into_iter().filter(|s| pipelines.iter().any(|p| data.ok(&p.to_string(), s, size).is_some())).collect();
+            let scenes: Vec<String> = data
+                .scenes()
+                .into_iter()
+                .filter(|s| pipelines.iter().any(|p| data.ok(&p.to_string(), s, size).is_some()))
+                .collect();
             if scenes.is_empty() {
                 continue;
             }
@@ -85,7 +88,11 @@ pub(crate) fn write_all(data: &Data, sub: &Path, warnings: &mut Vec<String>) -> 
                 let size_part = if sizes.len() > 1 { format!(" ({size}²)") } else { String::new() };
                 let chart_title = format!("{title}{size_part} — {}", metric.name());
                 let ChartSvg { svg, note: clamp_note, .. } = svg_chart(&chart_title, xlabel, metric.name(), &series);
-                let file = if sizes.len() > 1 { format!("{fig}_s{size}_{}.svg", metric.name()) } else { format!("{fig}_{}.svg", metric.name()) };
+                let file = if sizes.len() > 1 {
+                    format!("{fig}_s{size}_{}.svg", metric.name())
+                } else {
+                    format!("{fig}_{}.svg", metric.name())
+                };
                 if let Err(e) = std::fs::write(sub.join(&file), svg) {
                     warnings.push(format!("cannot write {}: {e}", sub.join(&file).display()));
                     continue;
@@ -93,7 +100,11 @@ pub(crate) fn write_all(data: &Data, sub: &Path, warnings: &mut Vec<String>) -> 
                 let scenes_text = scenes.iter().map(|s| short_scene(s)).collect::<Vec<_>>().join(", ");
                 let mut caption = format!(
                     "{}; y = {} (log scale); scene{} {scenes_text}; points labelled with {}.",
-                    if fig == "f4.5" { "x = refinement steps after linear(10)" } else { "x = mean frame time (the dissertation's measure)" },
+                    if fig == "f4.5" {
+                        "x = refinement steps after linear(10)"
+                    } else {
+                        "x = mean frame time (the dissertation's measure)"
+                    },
                     metric.name(),
                     if scenes.len() > 1 { "s" } else { "" },
                     if fig == "f4.5" { "refinement steps" } else { "coarse step counts" },
@@ -111,7 +122,9 @@ pub(crate) fn write_all(data: &Data, sub: &Path, warnings: &mut Vec<String>) -> 
                 out.push(Chart { figure: fig.into(), file, title: chart_title, caption });
             }
             if fig != "f4.5" {
-                if let Some(c) = model_chart(fig, title, data, &pipelines, &scenes, size, sizes.len() > 1, sub, warnings) {
+                if let Some(c) =
+                    model_chart(fig, title, data, &pipelines, &scenes, size, sizes.len() > 1, sub, warnings)
+                {
                     out.push(c);
                 }
             }
@@ -125,7 +138,17 @@ pub(crate) fn write_all(data: &Data, sub: &Path, warnings: &mut Vec<String>) -> 
 /// what a GPU whose time goes into fetches would spend, beside the chart against lavapipe's
 /// frame time.
 #[allow(clippy::too_many_arguments)]
-fn model_chart(fig: &str, title: &str, data: &Data, pipelines: &[Pipeline], scenes: &[String], size: u32, multi_size: bool, sub: &Path, warnings: &mut Vec<String>) -> Option<Chart> {
+fn model_chart(
+    fig: &str,
+    title: &str,
+    data: &Data,
+    pipelines: &[Pipeline],
+    scenes: &[String],
+    size: u32,
+    multi_size: bool,
+    sub: &Path,
+    warnings: &mut Vec<String>,
+) -> Option<Chart> {
     let metric = Metric::Mse;
     let (series, not_finite) = series_with(fig, data, pipelines, scenes, size, metric, |r| r.metrics.simd32_fetches);
     if series.iter().all(|s| s.points.is_empty()) {
@@ -133,8 +156,17 @@ fn model_chart(fig: &str, title: &str, data: &Data, pipelines: &[Pipeline], scen
     }
     let size_part = if multi_size { format!(" ({size}²)") } else { String::new() };
     let chart_title = format!("{title}{size_part} — {} against the model's simd32_fetches", metric.name());
-    let ChartSvg { svg, note: clamp_note, .. } = svg_chart(&chart_title, "simd32_fetches (model: largest fetch count of a 32-ray group)", metric.name(), &series);
-    let file = if multi_size { format!("{fig}_s{size}_model_simd32_fetches.svg") } else { format!("{fig}_model_simd32_fetches.svg") };
+    let ChartSvg { svg, note: clamp_note, .. } = svg_chart(
+        &chart_title,
+        "simd32_fetches (model: largest fetch count of a 32-ray group)",
+        metric.name(),
+        &series,
+    );
+    let file = if multi_size {
+        format!("{fig}_s{size}_model_simd32_fetches.svg")
+    } else {
+        format!("{fig}_model_simd32_fetches.svg")
+    };
     if let Err(e) = std::fs::write(sub.join(&file), svg) {
         warnings.push(format!("cannot write {}: {e}", sub.join(&file).display()));
         return None;
@@ -150,18 +182,36 @@ fn model_chart(fig: &str, title: &str, data: &Data, pipelines: &[Pipeline], scen
         caption.push_str(&n);
     }
     if !not_finite.is_empty() {
-        caption.push_str(&format!(" Not drawn, their error or model cost is not a finite number: {}.", not_finite.join(", ")));
+        caption.push_str(&format!(
+            " Not drawn, their error or model cost is not a finite number: {}.",
+            not_finite.join(", ")
+        ));
     }
     Some(Chart { figure: fig.into(), file, title: chart_title, caption })
 }
 
 /// The series of one figure at one size, and the points that could not be drawn.
-fn figure_series(fig: &str, data: &Data, pipelines: &[Pipeline], scenes: &[String], size: u32, metric: Metric) -> (Vec<Series>, Vec<String>) {
+fn figure_series(
+    fig: &str,
+    data: &Data,
+    pipelines: &[Pipeline],
+    scenes: &[String],
+    size: u32,
+    metric: Metric,
+) -> (Vec<Series>, Vec<String>) {
     series_with(fig, data, pipelines, scenes, size, metric, |r| r.metrics.frame_ms_mean)
 }
 
 /// [`figure_series`] with `x_of` in place of the mean frame time.
-fn series_with(fig: &str, data: &Data, pipelines: &[Pipeline], scenes: &[String], size: u32, metric: Metric, x_of: fn(&crate::results::Row) -> f64) -> (Vec<Series>, Vec<String>) {
+fn series_with(
+    fig: &str,
+    data: &Data,
+    pipelines: &[Pipeline],
+    scenes: &[String],
+    size: u32,
+    metric: Metric,
+    x_of: fn(&crate::results::Row) -> f64,
+) -> (Vec<Series>, Vec<String>) {
     let mut not_finite = Vec::new();
     let multi = scenes.len() > 1;
     let mut series: Vec<Series> = Vec::new();
@@ -188,7 +238,8 @@ fn series_with(fig: &str, data: &Data, pipelines: &[Pipeline], scenes: &[String]
                 "f4.11" => {
                     let n = stage_steps(&p.coarse);
                     let refine = if p.refine.is_none() { String::new() } else { format!("+{}", p.refine) };
-                    let name = format!("{}{refine}{}", p.coarse.name, if multi { format!(" @ {sc}") } else { String::new() });
+                    let name =
+                        format!("{}{refine}{}", p.coarse.name, if multi { format!(" @ {sc}") } else { String::new() });
                     (name, ms, n, n.to_string())
                 }
                 _ => {
@@ -215,7 +266,8 @@ fn series_with(fig: &str, data: &Data, pipelines: &[Pipeline], scenes: &[String]
     (series, not_finite)
 }
 
-const PALETTE: [&str; 10] = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22", "#7f7f7f"];
+const PALETTE: [&str; 10] =
+    ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22", "#7f7f7f"];
 
 pub(crate) fn esc(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
@@ -280,7 +332,13 @@ pub(crate) fn svg_chart_axes(title: &str, xlabel: &str, ylabel: &str, series: &[
             all.iter().filter(|p| p.y <= 0.0).count()
         )
     });
-    let ylo = if any_clamped { floor } else if min_pos.is_finite() { min_pos } else { floor };
+    let ylo = if any_clamped {
+        floor
+    } else if min_pos.is_finite() {
+        min_pos
+    } else {
+        floor
+    };
     let yhi = if max_y.is_finite() && max_y > 0.0 { max_y } else { floor * 10.0 };
     let mut d0 = ylo.log10().floor();
     let mut d1 = yhi.log10().ceil();
@@ -322,7 +380,8 @@ pub(crate) fn svg_chart_axes(title: &str, xlabel: &str, ylabel: &str, series: &[
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" font-size="12">"#
     );
     let _ = writeln!(s, r#"<rect x="0" y="0" width="{w}" height="{h}" fill="white"/>"#);
-    let _ = writeln!(s, r#"<text x="{}" y="24" text-anchor="middle" font-size="15">{}</text>"#, (l + r) / 2.0, esc(title));
+    let _ =
+        writeln!(s, r#"<text x="{}" y="24" text-anchor="middle" font-size="15">{}</text>"#, (l + r) / 2.0, esc(title));
     // Grid and y ticks.
     let decades = (d1 - d0) as i32;
     for k in 0..=decades {
@@ -421,7 +480,11 @@ pub(crate) fn svg_chart_axes(title: &str, xlabel: &str, ylabel: &str, series: &[
         match se.line {
             Line::Poly if pts.len() > 1 => {
                 let coords: Vec<String> = pts.iter().map(|p| format!("{:.1},{:.1}", sx(p.x), sy(p.y))).collect();
-                let _ = writeln!(s, r#"<polyline points="{}" fill="none" stroke="{color}" stroke-width="1.5"/>"#, coords.join(" "));
+                let _ = writeln!(
+                    s,
+                    r#"<polyline points="{}" fill="none" stroke="{color}" stroke-width="1.5"/>"#,
+                    coords.join(" ")
+                );
             }
             Line::Step if !pts.is_empty() => {
                 let mut d = format!("M{:.1},{:.1}", sx(pts[0].x), sy(pts[0].y));
@@ -450,7 +513,11 @@ pub(crate) fn svg_chart_axes(title: &str, xlabel: &str, ylabel: &str, series: &[
                     let rc = pl.rect;
                     if pl.leader {
                         let (ex, ey) = rc.nearest(want.px, want.py);
-                        let _ = writeln!(s, r#"<line x1="{:.1}" y1="{:.1}" x2="{ex:.1}" y2="{ey:.1}" stroke="{color}" stroke-width="0.7"/>"#, want.px, want.py);
+                        let _ = writeln!(
+                            s,
+                            r#"<line x1="{:.1}" y1="{:.1}" x2="{ex:.1}" y2="{ey:.1}" stroke="{color}" stroke-width="0.7"/>"#,
+                            want.px, want.py
+                        );
                     }
                     let _ = writeln!(
                         s,
@@ -470,7 +537,11 @@ pub(crate) fn svg_chart_axes(title: &str, xlabel: &str, ylabel: &str, series: &[
         let y = t + 10.0 + k as f64 * 18.0;
         let lx = r + 20.0;
         if *line != Line::None {
-            let _ = writeln!(s, r#"<line x1="{lx}" y1="{y}" x2="{}" y2="{y}" stroke="{color}" stroke-width="2"/>"#, lx + 22.0);
+            let _ = writeln!(
+                s,
+                r#"<line x1="{lx}" y1="{y}" x2="{}" y2="{y}" stroke="{color}" stroke-width="2"/>"#,
+                lx + 22.0
+            );
         }
         let _ = writeln!(s, r#"<circle cx="{}" cy="{y}" r="3.5" fill="{color}"/>"#, lx + 11.0);
         let _ = writeln!(s, r#"<text x="{}" y="{}">{}</text>"#, lx + 30.0, y + 4.0, esc(name));
@@ -492,7 +563,11 @@ mod tests {
     fn point_labels_never_overlap() {
         for log_x in [false, true] {
             let points: Vec<Pt> = (0..40)
-                .map(|i| Pt { x: 1.0 + (i % 7) as f64 * 0.01, y: 0.1 / (1.0 + (i / 7) as f64 * 0.05), label: format!("{}", i + 1) })
+                .map(|i| Pt {
+                    x: 1.0 + (i % 7) as f64 * 0.01,
+                    y: 0.1 / (1.0 + (i / 7) as f64 * 0.05),
+                    label: format!("{}", i + 1),
+                })
                 .collect();
             let far = vec![Pt { x: 500.0, y: 1e-8, label: "far".into() }];
             let series = vec![
@@ -509,7 +584,11 @@ mod tests {
             }
             let left_out = 41 - c.labels.len();
             if left_out > 0 {
-                assert!(c.note.as_deref().unwrap_or("").contains(&format!("{left_out} point label(s) left out")), "{:?}", c.note);
+                assert!(
+                    c.note.as_deref().unwrap_or("").contains(&format!("{left_out} point label(s) left out")),
+                    "{:?}",
+                    c.note
+                );
             }
         }
     }

@@ -107,7 +107,9 @@ impl Data {
         if scenes.iter().any(|s| s == "scene:lion") {
             return Some("scene:lion".into());
         }
-        scenes.into_iter().max_by_key(|s| self.rows.iter().filter(|r| &r.metrics.scene == s && r.status == "ok").count())
+        scenes
+            .into_iter()
+            .max_by_key(|s| self.rows.iter().filter(|r| &r.metrics.scene == s && r.status == "ok").count())
     }
 }
 

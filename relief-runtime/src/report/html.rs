@@ -105,10 +105,12 @@ pub(crate) fn md_block(md: &str, id_base: &str) -> String {
                 block.push(lines[i].trim());
                 i += 1;
             }
-            let is_sep = |s: &str| md_cells(s).iter().all(|c| !c.is_empty() && c.chars().all(|ch| ch == '-' || ch == ':'));
+            let is_sep =
+                |s: &str| md_cells(s).iter().all(|c| !c.is_empty() && c.chars().all(|ch| ch == '-' || ch == ':'));
             n += 1;
             let _ = writeln!(h, "<table class=\"sortable\" id=\"{id_base}-{n}\">");
-            let (head, body) = if block.len() >= 2 && is_sep(block[1]) { (Some(block[0]), &block[2..]) } else { (None, &block[..]) };
+            let (head, body) =
+                if block.len() >= 2 && is_sep(block[1]) { (Some(block[0]), &block[2..]) } else { (None, &block[..]) };
             if let Some(head) = head {
                 h.push_str("<thead><tr>");
                 for c in md_cells(head) {
@@ -143,7 +145,12 @@ pub(crate) fn folded(t: &TextTable, level: usize, open: bool, after: &str) -> St
     let id = anchor(&t.title);
     let lv = level.clamp(2, 6);
     let mut h = String::new();
-    let _ = writeln!(h, "<details id=\"{id}\"{}><summary><h{lv}>{}</h{lv}></summary>", if open { " open" } else { "" }, md_inline(&t.title));
+    let _ = writeln!(
+        h,
+        "<details id=\"{id}\"{}><summary><h{lv}>{}</h{lv}></summary>",
+        if open { " open" } else { "" },
+        md_inline(&t.title)
+    );
     for n in &t.notes {
         let _ = writeln!(h, "<p>{}</p>", md_inline(n));
     }
@@ -158,7 +165,8 @@ pub(crate) fn folded(t: &TextTable, level: usize, open: bool, after: &str) -> St
 
 /// The sections of the page, in order.
 pub(crate) fn sections(p: &mut Parts) -> Vec<Section> {
-    let mut v = vec![answer_section(p), conclusions_section(p), charts_section(p), tables_section(p), pareto_section(p)];
+    let mut v =
+        vec![answer_section(p), conclusions_section(p), charts_section(p), tables_section(p), pareto_section(p)];
     v.extend(stability_section(p));
     v.append(&mut p.extra);
     v.push(failed_section(p));
@@ -174,7 +182,8 @@ pub(crate) fn page(mut p: Parts) -> String {
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\
          <meta name=\"color-scheme\" content=\"light dark\"><title>relief report</title><link rel=\"icon\" href=\"data:,\"><style>{STYLE}</style></head><body>"
     );
-    let _ = writeln!(h, "<header><h1>relief report: which relief-mapping search is fastest at the accuracy you need?</h1>");
+    let _ =
+        writeln!(h, "<header><h1>relief report: which relief-mapping search is fastest at the accuracy you need?</h1>");
     let _ = writeln!(
         h,
         "<p class=\"lead\">{} rows ({} ok) on {} · Burger 2018, chapter 4, reproduced below the answer.</p>",
@@ -210,7 +219,11 @@ fn overview_cell(a: &Answer, k: usize) -> String {
     let c = &a.cands[b];
     let fam = match pick.engine {
         Some(e) if e == b => "the engine family's own".to_string(),
-        Some(e) => format!("engine family: {} the time (<code>{}</code>)", esc(&answer::ratio_cell(a, pick)), esc(&a.cands[e].pipeline)),
+        Some(e) => format!(
+            "engine family: {} the time (<code>{}</code>)",
+            esc(&answer::ratio_cell(a, pick)),
+            esc(&a.cands[e].pipeline)
+        ),
         None => esc(&answer::ratio_cell(a, pick)),
     };
     let ties = match pick.ties.len() {
@@ -257,7 +270,13 @@ fn answer_section(p: &Parts) -> Section {
     }
     h.push_str("</tr></thead><tbody>\n");
     for a in p.answers {
-        let _ = write!(h, "<tr{}><td><a href=\"#{}\">{}</a></td>", if a.engine_measured { "" } else { " class=\"unmeasured\"" }, a.id, esc(&a.title));
+        let _ = write!(
+            h,
+            "<tr{}><td><a href=\"#{}\">{}</a></td>",
+            if a.engine_measured { "" } else { " class=\"unmeasured\"" },
+            a.id,
+            esc(&a.title)
+        );
         for k in 0..levels.len() {
             h.push_str(&overview_cell(a, k));
         }
@@ -283,7 +302,12 @@ fn answer_section(p: &Parts) -> Section {
                 label: c.pipeline.clone(),
                 frame: Some(format!("{}/frame.png", c.cell_dir)).filter(|f| p.data.dir.join(f).is_file()),
                 error: Some(format!("{}/error.png", c.cell_dir)).filter(|f| p.data.dir.join(f).is_file()),
-                values: format!("{what}: {} · t error {} · missed {}", speed_words(c), fmt_sci(c.err), super::fmt_num(c.missed, 4)),
+                values: format!(
+                    "{what}: {} · t error {} · missed {}",
+                    speed_words(c),
+                    fmt_sci(c.err),
+                    super::fmt_num(c.missed, 4)
+                ),
             };
             h.push_str(&shot(&fr));
         }
@@ -331,7 +355,12 @@ pub(crate) fn shot(f: &Frame) -> String {
     for (img, what) in [(&f.frame, "frame"), (&f.error, "error")] {
         match img {
             Some(src) => {
-                let _ = write!(h, "<a href=\"{s}\"><img src=\"{s}\" alt=\"{what} of {}\" loading=\"lazy\"></a>", esc(&f.label), s = esc(src));
+                let _ = write!(
+                    h,
+                    "<a href=\"{s}\"><img src=\"{s}\" alt=\"{what} of {}\" loading=\"lazy\"></a>",
+                    esc(&f.label),
+                    s = esc(src)
+                );
             }
             None => {
                 let _ = write!(h, "<span class=\"noimg\">no {what} image</span>");
@@ -339,7 +368,8 @@ pub(crate) fn shot(f: &Frame) -> String {
         }
     }
     let num = f.number.map(|n| format!("#{n} ")).unwrap_or_default();
-    let _ = write!(h, "</div><figcaption>{num}<code>{}</code><br>{}</figcaption></figure>", esc(&f.label), esc(&f.values));
+    let _ =
+        write!(h, "</div><figcaption>{num}<code>{}</code><br>{}</figcaption></figure>", esc(&f.label), esc(&f.values));
     h
 }
 
@@ -429,7 +459,11 @@ fn pareto_section(p: &Parts) -> Section {
     for (i, f) in p.fronts.iter().enumerate() {
         let t = pareto::table(f);
         let after = match p.pareto_svgs.iter().find(|(j, _)| *j == i) {
-            Some((_, file)) => format!("<p><a href=\"{f}\"><img src=\"{f}\" alt=\"{}\" width=\"640\" loading=\"lazy\"></a></p>", esc(&t.title), f = esc(file)),
+            Some((_, file)) => format!(
+                "<p><a href=\"{f}\"><img src=\"{f}\" alt=\"{}\" width=\"640\" loading=\"lazy\"></a></p>",
+                esc(&t.title),
+                f = esc(file)
+            ),
             None => String::new(),
         };
         h.push_str(&folded(&t, 3, false, &after));
@@ -443,7 +477,11 @@ fn stability_section(p: &Parts) -> Option<Section> {
     let stab = p.data.dir.join("stability");
     let worst = std::fs::read_to_string(stab.join("worst.md")).ok()?;
     let mut h = String::from("<h2>Stability: where each method fails</h2>\n");
-    let csv = if stab.join("stability.csv").is_file() { "; the numbers are in <a href=\"stability/stability.csv\">stability.csv</a>" } else { "" };
+    let csv = if stab.join("stability.csv").is_file() {
+        "; the numbers are in <a href=\"stability/stability.csv\">stability.csv</a>"
+    } else {
+        ""
+    };
     let _ = writeln!(h, "<p>Heat maps of method × scene and angle{csv}.</p>");
     let mut maps: Vec<String> = std::fs::read_dir(&stab)
         .map(|rd| {
@@ -505,12 +543,22 @@ fn about_section(p: &Parts) -> Section {
         s.rows,
         s.ok,
         s.failed.len(),
-        if s.bad_lines.is_empty() { String::new() } else { format!(", {} unreadable lines skipped", s.bad_lines.len()) }
+        if s.bad_lines.is_empty() {
+            String::new()
+        } else {
+            format!(", {} unreadable lines skipped", s.bad_lines.len())
+        }
     );
     let _ = writeln!(
         h,
         "<li>Scenes: {}</li>",
-        esc(&p.data.scenes().iter().map(|x| format!("{} ({})", short_scene(x), crate::scene::scene_kind(x).label())).collect::<Vec<_>>().join(", "))
+        esc(&p
+            .data
+            .scenes()
+            .iter()
+            .map(|x| format!("{} ({})", short_scene(x), crate::scene::scene_kind(x).label()))
+            .collect::<Vec<_>>()
+            .join(", "))
     );
     let _ = writeln!(h, "<li>Sizes: {}</li>", esc(&p.data.distinct(|r| r.metrics.size.to_string()).join(", ")));
     let _ = writeln!(h, "<li>Adapters: {}</li>", esc(&p.data.distinct(|r| r.metrics.adapter.clone()).join("; ")));

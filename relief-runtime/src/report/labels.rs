@@ -148,7 +148,8 @@ mod tests {
         for _ in 0..50 {
             let n = 5 + (lcg(&mut s) * 60.0) as usize;
             let (cx, cy) = (bounds.x + lcg(&mut s) * bounds.w, bounds.y + lcg(&mut s) * bounds.h);
-            let pts: Vec<(f64, f64)> = (0..n).map(|_| (cx + (lcg(&mut s) - 0.5) * 40.0, cy + (lcg(&mut s) - 0.5) * 40.0)).collect();
+            let pts: Vec<(f64, f64)> =
+                (0..n).map(|_| (cx + (lcg(&mut s) - 0.5) * 40.0, cy + (lcg(&mut s) - 0.5) * 40.0)).collect();
             let obstacles: Vec<Rect> = pts.iter().map(|&(x, y)| Rect::around(x, y, 7.0, 7.0)).collect();
             let wants: Vec<Want> = pts
                 .iter()
@@ -169,7 +170,10 @@ mod tests {
         let p = place(&[Want { px: 100.0, py: 100.0, w, h }], &[], bounds)[0].unwrap();
         assert!(!p.leader);
         // Up and to the right of the point, not covering it, within a few pixels.
-        assert!(p.rect.x > 100.0 && p.rect.x < 104.0 && p.rect.y + p.rect.h < 100.0 && p.rect.y + p.rect.h > 94.0, "{p:?}");
+        assert!(
+            p.rect.x > 100.0 && p.rect.x < 104.0 && p.rect.y + p.rect.h < 100.0 && p.rect.y + p.rect.h > 94.0,
+            "{p:?}"
+        );
         // No room at all: not placed, rather than drawn over the obstacle.
         let full = [bounds];
         assert_eq!(place(&[Want { px: 100.0, py: 100.0, w, h }], &full, bounds), vec![None]);

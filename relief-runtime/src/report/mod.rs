@@ -109,7 +109,8 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary>
     let mut adapters = data::by_adapter(all_rows.clone());
     let primary = if adapters.is_empty() { Vec::new() } else { adapters.remove(0).1 };
     let data = Data::from_rows(dir, primary, bad_lines);
-    let others: Vec<(String, Data)> = adapters.into_iter().map(|(a, rows)| (a, Data::from_rows(dir, rows, Vec::new()))).collect();
+    let others: Vec<(String, Data)> =
+        adapters.into_iter().map(|(a, rows)| (a, Data::from_rows(dir, rows, Vec::new()))).collect();
     let mut room_rows = None;
     for d in dirs {
         if let Some(rr) = crate::room::sweep::read_rows(d)? {
@@ -147,7 +148,10 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary>
             .collect(),
         bad_lines: data.bad_lines.clone(),
         sources: dirs.to_vec(),
-        adapters: std::iter::once(&data).chain(others.iter().map(|(_, d)| d)).filter_map(|d| d.rows.first().map(|r| r.metrics.adapter.clone())).collect(),
+        adapters: std::iter::once(&data)
+            .chain(others.iter().map(|(_, d)| d))
+            .filter_map(|d| d.rows.first().map(|r| r.metrics.adapter.clone()))
+            .collect(),
         ..Default::default()
     };
     if !dirs.iter().any(|d| same_dir(d, dir)) {
@@ -169,7 +173,8 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary>
     let pareto_svgs = pareto::write_svgs(&fronts, &sub, &mut summary.warnings);
     let answers = answer::build(&data);
     let answer_charts: Vec<_> = answers.iter().map(|a| answer::write_chart(a, &sub, &mut summary.warnings)).collect();
-    let scene_maps: Vec<_> = answers.iter().map(|a| answer::write_height_map(&a.scene, &sub, &mut summary.warnings)).collect();
+    let scene_maps: Vec<_> =
+        answers.iter().map(|a| answer::write_height_map(&a.scene, &sub, &mut summary.warnings)).collect();
 
     // tables.md
     let mut md = String::new();
@@ -228,7 +233,11 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary>
         extra: per_adapter
             .iter()
             .map(|t| html::Section { id: "adapters".into(), nav: "Per adapter".into(), html: t.to_html(2) })
-            .chain(room_rows.iter().map(|rr| html::Section { id: "rooms".into(), nav: "Rooms".into(), html: rooms::to_html(rr) }))
+            .chain(room_rows.iter().map(|rr| html::Section {
+                id: "rooms".into(),
+                nav: "Rooms".into(),
+                html: rooms::to_html(rr),
+            }))
             .collect(),
     });
     write_file(&dir.join("index.html"), page.as_bytes(), &mut summary.files)?;
@@ -252,7 +261,11 @@ fn write_rooms_only(dir: &Path, rows: &[crate::room::sweep::RoomRow]) -> anyhow:
         dir: dir.to_path_buf(),
         rows: rows.len(),
         ok: rows.iter().filter(|r| r.status == "ok").count(),
-        failed: rows.iter().filter(|r| r.status != "ok").map(|r| (r.pipeline.clone(), r.room.clone(), r.error.clone())).collect(),
+        failed: rows
+            .iter()
+            .filter(|r| r.status != "ok")
+            .map(|r| (r.pipeline.clone(), r.room.clone(), r.error.clone()))
+            .collect(),
         ..Default::default()
     };
     let md = format!("# relief report: rooms\n\n{}", rooms::to_markdown(rows));
@@ -272,7 +285,8 @@ fn remove_stale(sub: &Path) {
     for e in rd.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
         let ours = ((name.starts_with("strip_") || name.starts_with("scene_")) && name.ends_with(".png"))
-            || ((name.starts_with('f') || name.starts_with("pareto_") || name.starts_with("answer_")) && name.ends_with(".svg"));
+            || ((name.starts_with('f') || name.starts_with("pareto_") || name.starts_with("answer_"))
+                && name.ends_with(".svg"));
         if ours {
             let _ = std::fs::remove_file(e.path());
         }
@@ -297,12 +311,27 @@ fn overview_md(data: &Data, s: &ReportSummary) -> String {
     let mut md = String::new();
     let _ = writeln!(md, "Sweep folder: `{}`  ", data.dir.display());
     if s.sources.len() > 1 || s.sources.first().is_some_and(|d| !same_dir(d, &data.dir)) {
-        let _ = writeln!(md, "Merged from: {}  ", s.sources.iter().map(|d| format!("`{}`", d.display())).collect::<Vec<_>>().join(", "));
+        let _ = writeln!(
+            md,
+            "Merged from: {}  ",
+            s.sources.iter().map(|d| format!("`{}`", d.display())).collect::<Vec<_>>().join(", ")
+        );
     }
     if s.adapters.len() > 1 {
         let _ = writeln!(md, "Adapters kept apart: {} (tables, charts and conclusions: the first; timing conclusions of each side by side)  ", s.adapters.join("; "));
     }
-    let _ = writeln!(md, "Rows: {} ({} ok, {} failed{})  ", s.rows, s.ok, s.failed.len(), if s.bad_lines.is_empty() { String::new() } else { format!(", {} unreadable lines skipped", s.bad_lines.len()) });
+    let _ = writeln!(
+        md,
+        "Rows: {} ({} ok, {} failed{})  ",
+        s.rows,
+        s.ok,
+        s.failed.len(),
+        if s.bad_lines.is_empty() {
+            String::new()
+        } else {
+            format!(", {} unreadable lines skipped", s.bad_lines.len())
+        }
+    );
     let _ = writeln!(md, "Scenes: {}  ", data.scenes().iter().map(|x| short_scene(x)).collect::<Vec<_>>().join(", "));
     let _ = writeln!(md, "Sizes: {}  ", data.distinct(|r| r.metrics.size.to_string()).join(", "));
     let _ = writeln!(md, "Adapters: {}  ", data.distinct(|r| r.metrics.adapter.clone()).join("; "));

@@ -99,7 +99,10 @@ pub(crate) fn table(f: &Front) -> TextTable {
     TextTable {
         title: format!("Pareto front, scene {}, by {}", front_place(f), f.metric.name()),
         notes,
-        header: ["budget, mean frame ms", "least-error method", f.metric.name(), "its mean frame ms"].iter().map(|s| s.to_string()).collect(),
+        header: ["budget, mean frame ms", "least-error method", f.metric.name(), "its mean frame ms"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect(),
         rows,
     }
 }
@@ -125,7 +128,11 @@ pub(crate) fn write_svgs(fronts: &[Front], sub: &Path, warnings: &mut Vec<String
         ];
         let title = format!("Pareto front, scene {} — {}", front_place(f), f.metric.name());
         let svg = svg_chart(&title, "frame time, mean (ms)", f.metric.name(), &series).svg;
-        let place = if f.multi_size { format!("{}_s{}", short_scene(&f.scene), f.size) } else { short_scene(&f.scene).to_string() };
+        let place = if f.multi_size {
+            format!("{}_s{}", short_scene(&f.scene), f.size)
+        } else {
+            short_scene(&f.scene).to_string()
+        };
         let name = format!("pareto_{}_{}.svg", super::file_safe(&place), f.metric.name());
         match std::fs::write(sub.join(&name), svg) {
             Ok(()) => out.push((i, format!("report/{name}"))),

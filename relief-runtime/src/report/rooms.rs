@@ -71,7 +71,11 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
             }
             t.rows.push(vec![
                 r.variant.clone(),
-                format!("{}{}", r.pipeline, if r.scatter > 0 { format!(" + scatter({})", r.scatter) } else { String::new() }),
+                format!(
+                    "{}{}",
+                    r.pipeline,
+                    if r.scatter > 0 { format!(" + scatter({})", r.scatter) } else { String::new() }
+                ),
                 fmt_ms(r.frame_ms),
                 fmt_ms(r.baseline_ms),
                 fmt_num(r.ratio, 3),
@@ -83,13 +87,19 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
             ]);
         }
         for r in mine.iter().filter(|r| r.status == "ok" && r.variant == "+ POM") {
-            let walls: Vec<String> = r.per_wall.iter().map(|w| format!("{} {} / {}", w.wall, fmt_sci(w.t_err_rms), fmt_pct(Some(100.0 * w.missed_rate)))).collect();
+            let walls: Vec<String> = r
+                .per_wall
+                .iter()
+                .map(|w| format!("{} {} / {}", w.wall, fmt_sci(w.t_err_rms), fmt_pct(Some(100.0 * w.missed_rate))))
+                .collect();
             if !walls.is_empty() {
                 t.notes.push(format!("Per wall with POM (t err rms / missed, against the exact first hit on each wall's bilinear surface): {}.", walls.join(", ")));
             }
         }
         // The paper's ordering, checked on our frame times.
-        let ms = |label: &str| mine.iter().find(|r| r.variant == label && r.status == "ok").map(|r| (r.frame_ms, r.baseline_ms));
+        let ms = |label: &str| {
+            mine.iter().find(|r| r.variant == label && r.status == "ok").map(|r| (r.frame_ms, r.baseline_ms))
+        };
         if let Some((pom, geo)) = ms("+ POM") {
             let holds = pom < geo;
             t.notes.push(format!(
@@ -98,7 +108,10 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
                 if holds { "holds" } else { "does not hold" }
             ));
         }
-        let order: Vec<f64> = ["interior mapping alone", "+ POM", "+ soft shadows", "+ scattering"].iter().filter_map(|l| ms(l).map(|x| x.0)).collect();
+        let order: Vec<f64> = ["interior mapping alone", "+ POM", "+ soft shadows", "+ scattering"]
+            .iter()
+            .filter_map(|l| ms(l).map(|x| x.0))
+            .collect();
         if order.len() == 4 {
             let rising = order.windows(2).all(|w| w[0] <= w[1]);
             t.notes.push(format!(
@@ -123,7 +136,8 @@ pub(crate) fn to_markdown(rows: &[RoomRow]) -> String {
 
 /// The section in HTML.
 pub(crate) fn to_html(rows: &[RoomRow]) -> String {
-    let mut h = String::from("<h2 id=\"rooms\">Rooms: interior mapping against real geometry (Amaro & Gustafsson 2022)</h2>\n");
+    let mut h =
+        String::from("<h2 id=\"rooms\">Rooms: interior mapping against real geometry (Amaro & Gustafsson 2022)</h2>\n");
     for t in tables(rows) {
         h.push_str(&t.to_html(3));
     }

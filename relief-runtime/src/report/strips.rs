@@ -95,7 +95,9 @@ pub(crate) fn write_all(data: &Data, tables: &[ReportTable], sub: &Path, warning
             };
             let f = load("frame.png", warnings);
             let er = load("error.png", warnings);
-            let rel = |name: &str, present: bool| present.then(|| format!("{}/{name}", row.map(|r| r.cell_dir.as_str()).unwrap_or("")));
+            let rel = |name: &str, present: bool| {
+                present.then(|| format!("{}/{name}", row.map(|r| r.cell_dir.as_str()).unwrap_or("")))
+            };
             frames.push(Frame {
                 number: Some(i + 1),
                 label: e.label.clone(),
@@ -131,7 +133,13 @@ pub(crate) fn write_all(data: &Data, tables: &[ReportTable], sub: &Path, warning
         let name = format!("strip_{}.png", super::file_safe(&t.key));
         let path = sub.join(&name);
         match canvas.save(&path) {
-            Ok(()) => out.push(Strip { key: t.key.clone(), file: format!("report/{name}"), rows: labels, with_images, frames }),
+            Ok(()) => out.push(Strip {
+                key: t.key.clone(),
+                file: format!("report/{name}"),
+                rows: labels,
+                with_images,
+                frames,
+            }),
             Err(e) => warnings.push(format!("cannot write {}: {e}", path.display())),
         }
     }

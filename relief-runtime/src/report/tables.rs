@@ -6,8 +6,8 @@ use relief_dsl::Pipeline;
 
 use super::diss::{Diss, DissRow};
 use super::{fmt_ms, fmt_num, fmt_pct, fmt_sci, ours, short_scene, Data, TextTable, DASH};
-use crate::sweep::grids;
 use crate::results::Row;
+use crate::sweep::grids;
 use crate::sweep::scene_label;
 
 /// One table of the report: a dissertation table on one scene.
@@ -86,7 +86,11 @@ pub(crate) fn build(data: &Data, diss: &Diss) -> Vec<ReportTable> {
             }
         }
         for (scene, size) in groups {
-            let mut key = if scene == "scene:lion" { name.clone() } else { format!("{name}-{}", super::file_safe(short_scene(&scene))) };
+            let mut key = if scene == "scene:lion" {
+                name.clone()
+            } else {
+                format!("{name}-{}", super::file_safe(short_scene(&scene)))
+            };
             if let (true, Some(z)) = (multi_size, size) {
                 key.push_str(&format!("-s{z}"));
             }
@@ -97,7 +101,12 @@ pub(crate) fn build(data: &Data, diss: &Diss) -> Vec<ReportTable> {
                 size,
                 entries: entries_template
                     .iter()
-                    .map(|e| Entry { pipeline: e.pipeline.clone(), label: e.label.clone(), diss: e.diss.clone(), base: e.base })
+                    .map(|e| Entry {
+                        pipeline: e.pipeline.clone(),
+                        label: e.label.clone(),
+                        diss: e.diss.clone(),
+                        base: e.base,
+                    })
                     .collect(),
                 table: TextTable::default(),
             };
@@ -118,7 +127,12 @@ fn entries(id: &str, pipelines: &[Pipeline], diss: &Diss) -> Vec<Entry> {
         match found {
             Some(i) => {
                 used[i] = true;
-                out.push(Entry { pipeline: Some(pipelines[i].clone()), label: pipelines[i].to_string(), diss: Some(d.clone()), base: 0 });
+                out.push(Entry {
+                    pipeline: Some(pipelines[i].clone()),
+                    label: pipelines[i].to_string(),
+                    diss: Some(d.clone()),
+                    base: 0,
+                });
             }
             None => out.push(Entry { pipeline: None, label: describe(d), diss: Some(d.clone()), base: 0 }),
         }
@@ -191,7 +205,11 @@ fn base_of(id: &str, entries: &[Entry], i: usize) -> usize {
             stage.name = name.to_string();
             // Keep only the steps: the reference method's other parameters are its defaults.
             let steps = super::stage_steps(stage);
-            if let Ok(s) = StageSpec::new(if slot == "coarse" { relief_dsl::Slot::Coarse } else { relief_dsl::Slot::Refine }, name, &[relief_dsl::spec::Value::Int(steps)]) {
+            if let Ok(s) = StageSpec::new(
+                if slot == "coarse" { relief_dsl::Slot::Coarse } else { relief_dsl::Slot::Refine },
+                name,
+                &[relief_dsl::spec::Value::Int(steps)],
+            ) {
                 *stage = s;
             }
             if let Some(j) = find(&q) {

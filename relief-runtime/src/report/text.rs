@@ -112,14 +112,15 @@ impl TextTable {
         for r in &self.rows {
             h.push_str("<tr>");
             for c in r {
-                let badge = [("holds", "holds"), ("does not hold", "fails"), ("not measured", "nm")]
-                    .into_iter()
-                    .find(|(v, _)| c.starts_with(v) && c[v.len()..].chars().next().is_none_or(|ch| !ch.is_alphanumeric()));
+                let badge = [("holds", "holds"), ("does not hold", "fails"), ("not measured", "nm")].into_iter().find(
+                    |(v, _)| c.starts_with(v) && c[v.len()..].chars().next().is_none_or(|ch| !ch.is_alphanumeric()),
+                );
                 match badge {
                     Some((v, class)) => {
                         let rest = c[v.len()..].trim_start();
                         let td = if class == "nm" { String::new() } else { format!(" class=\"{class}\"") };
-                        let _ = write!(h, "<td{td}><span class=\"badge {class}\">{v}</span>{}</td>", html::md_inline(rest));
+                        let _ =
+                            write!(h, "<td{td}><span class=\"badge {class}\">{v}</span>{}</td>", html::md_inline(rest));
                     }
                     None if c == "error" => {
                         let _ = write!(h, "<td class=\"err\">error</td>");
@@ -138,7 +139,8 @@ impl TextTable {
 
 /// An HTML id from a title.
 pub(crate) fn anchor(title: &str) -> String {
-    let mut s: String = title.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '-' }).collect();
+    let mut s: String =
+        title.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '-' }).collect();
     while s.contains("--") {
         s = s.replace("--", "-");
     }

@@ -37,7 +37,11 @@ pub struct WallAccuracy {
 }
 
 /// The exact hits of `rays` (per ray: the host's wall and the reference hit on it).
-pub fn reference_hits(room: &Room, heights: &[Vec<f32>], rays: &[PixelRay]) -> Result<Vec<(usize, Option<crate::reference::RefHit>)>, ReferenceError> {
+pub fn reference_hits(
+    room: &Room,
+    heights: &[Vec<f32>],
+    rays: &[PixelRay],
+) -> Result<Vec<(usize, Option<crate::reference::RefHit>)>, ReferenceError> {
     use rayon::prelude::*;
     let refs: Vec<Reference> = (0..WALLS)
         .map(|k| {
@@ -55,8 +59,14 @@ pub fn reference_hits(room: &Room, heights: &[Vec<f32>], rays: &[PixelRay]) -> R
 
 /// Per-wall accuracy of `hits` (the probe's, one per ray of `rays`) against `refs`
 /// ([`reference_hits`]).
-pub fn room_accuracy(room: &Room, rays: &[PixelRay], hits: &[RoomHit], refs: &[(usize, Option<crate::reference::RefHit>)]) -> Vec<WallAccuracy> {
-    let mut acc: Vec<WallAccuracy> = WALL_NAMES.iter().map(|n| WallAccuracy { wall: n.to_string(), ..Default::default() }).collect();
+pub fn room_accuracy(
+    room: &Room,
+    rays: &[PixelRay],
+    hits: &[RoomHit],
+    refs: &[(usize, Option<crate::reference::RefHit>)],
+) -> Vec<WallAccuracy> {
+    let mut acc: Vec<WallAccuracy> =
+        WALL_NAMES.iter().map(|n| WallAccuracy { wall: n.to_string(), ..Default::default() }).collect();
     let mut sq = [0.0f64; WALLS];
     let mut compared = [0usize; WALLS];
     for ((r, h), (k, rf)) in rays.iter().zip(hits).zip(refs) {

@@ -99,7 +99,10 @@ fn tinted(m: &HeightMap, base: [f32; 3]) -> Rgba8Image {
         .iter()
         .flat_map(|&h| {
             let k = 0.55 + 0.45 * h;
-            [base[0], base[1], base[2]].map(|c| (c * k * 255.0).round().clamp(0.0, 255.0) as u8).into_iter().chain([255])
+            [base[0], base[1], base[2]]
+                .map(|c| (c * k * 255.0).round().clamp(0.0, 255.0) as u8)
+                .into_iter()
+                .chain([255])
         })
         .collect();
     Rgba8Image { width: m.width, height: m.height, rgba }

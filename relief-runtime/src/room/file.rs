@@ -79,7 +79,9 @@ fn check_keys(t: &toml::Table) -> Result<(), (String, String)> {
     if let Some(toml::Value::Table(walls)) = t.get("walls") {
         for k in walls.keys() {
             if !WALL_NAMES.contains(&k.as_str()) {
-                let near = relief_dsl::spec::suggest::nearest(k, WALL_NAMES.iter().copied()).map(|n| format!(" (did you mean `{n}`?)")).unwrap_or_default();
+                let near = relief_dsl::spec::suggest::nearest(k, WALL_NAMES.iter().copied())
+                    .map(|n| format!(" (did you mean `{n}`?)"))
+                    .unwrap_or_default();
                 return Err((format!("walls.{k}"), format!("unknown wall{near}; walls: {}", WALL_NAMES.join(", "))));
             }
         }
@@ -97,7 +99,11 @@ fn vec3(v: &toml::Value) -> Vec3 {
 
 /// Reads a room file (see the module docs); `map_size` overrides the file's `map_size`.
 pub fn load_room_file(path: &Path, map_size: Option<usize>) -> Result<Room, SceneFileError> {
-    let err = |key: Option<&str>, message: String| SceneFileError { path: path.to_path_buf(), key: key.map(str::to_string), message };
+    let err = |key: Option<&str>, message: String| SceneFileError {
+        path: path.to_path_buf(),
+        key: key.map(str::to_string),
+        message,
+    };
     if !path.exists() {
         return Err(err(None, "file not found".into()));
     }
@@ -148,7 +154,8 @@ fn build(path: &Path, t: &toml::Table, map_size: Option<usize>) -> Result<Room, 
     }
     if let Some(v) = t.get("window") {
         let p = dir.join(v.as_str().unwrap_or_default());
-        room.window = Some(HeightMap::load(&p, &LoadOptions::default()).map_err(|e| ("window".to_string(), e.to_string()))?);
+        room.window =
+            Some(HeightMap::load(&p, &LoadOptions::default()).map_err(|e| ("window".to_string(), e.to_string()))?);
     }
     if let Some(c) = t.get("camera").and_then(|v| v.as_table()) {
         if let Some(v) = c.get("position") {
@@ -171,11 +178,16 @@ fn build(path: &Path, t: &toml::Table, map_size: Option<usize>) -> Result<Room, 
             (None, Some(d)) => {
                 let d = vec3(d);
                 if !(d.is_finite() && d.length() > 1e-6) {
-                    return Err(("light.direction".into(), format!("{:?}: must be a finite, non-zero direction", d.to_array())));
+                    return Err((
+                        "light.direction".into(),
+                        format!("{:?}: must be a finite, non-zero direction", d.to_array()),
+                    ));
                 }
                 room.light = RoomLight::Directional(d.normalize());
             }
-            (None, None) => return Err(("light".into(), "needs `point = [x, y, z]` or `direction = [x, y, z]`".into())),
+            (None, None) => {
+                return Err(("light".into(), "needs `point = [x, y, z]` or `direction = [x, y, z]`".into()))
+            }
         }
     }
     if let Some(ws) = t.get("walls").and_then(|v| v.as_table()) {
@@ -187,11 +199,17 @@ fn build(path: &Path, t: &toml::Table, map_size: Option<usize>) -> Result<Room, 
             let depth = match spec.get("white").and_then(|v| v.as_str()) {
                 None | Some("height") => false,
                 Some("depth") => true,
-                Some(o) => return Err((key("white"), format!("`{o}`: expected `height` (white is the top) or `depth` (white is deep)"))),
+                Some(o) => {
+                    return Err((
+                        key("white"),
+                        format!("`{o}`: expected `height` (white is the top) or `depth` (white is deep)"),
+                    ))
+                }
             };
             if let Some(v) = spec.get("height_map") {
                 let p = dir.join(v.as_str().unwrap_or_default());
-                wall.height = HeightMap::load(&p, &LoadOptions { channel: None, depth }).map_err(|e| (key("height_map"), e.to_string()))?;
+                wall.height = HeightMap::load(&p, &LoadOptions { channel: None, depth })
+                    .map_err(|e| (key("height_map"), e.to_string()))?;
                 // A given height map does not match the procedural albedo: neutral grey unless given.
                 wall.albedo = None;
             } else if spec.contains_key("white") {

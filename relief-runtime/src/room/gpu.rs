@@ -3,13 +3,15 @@
 //! room probe (`probe_room`).
 
 use relief_dsl::abi::{binding, Params, PROBE_WORKGROUP};
-use relief_dsl::compose::interior::{compile_room, RoomOptions, RoomParams, WallBinding, ROOM_HITS, ROOM_PARAMS, ROOM_RAYS, WINDOW_MAP};
+use relief_dsl::compose::interior::{
+    compile_room, RoomOptions, RoomParams, WallBinding, ROOM_HITS, ROOM_PARAMS, ROOM_RAYS, WINDOW_MAP,
+};
 use relief_dsl::spec::MapReq;
 use relief_dsl::{CompileError, Pipeline};
 use wgpu::util::DeviceExt;
 
-use crate::gpu::{timed_frames, Frames, FORMAT};
 use super::{Room, RoomHit, RoomLight, RoomRay, WALLS};
+use crate::gpu::{timed_frames, Frames, FORMAT};
 use crate::gpu::{Gpu, GpuError, MapKey, SceneTextures};
 
 /// A pipeline compiled as a room module, with the bindings each entry reads.
@@ -55,7 +57,12 @@ impl RoomProgram {
     }
 
     fn shader(&self, gpu: &Gpu) -> Result<wgpu::ShaderModule, GpuError> {
-        gpu.checked(|| gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("room"), source: wgpu::ShaderSource::Wgsl(self.wgsl.as_str().into()) }))
+        gpu.checked(|| {
+            gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("room"),
+                source: wgpu::ShaderSource::Wgsl(self.wgsl.as_str().into()),
+            })
+        })
     }
 }
 
@@ -119,22 +126,32 @@ pub fn room_params(room: &Room, aspect: f32) -> (Params, RoomParams) {
         pixel_up: [0.0; 4],
     };
     let window = if room.window.is_some() { 1.0 } else { 0.0 };
-    let rp = RoomParams { size: [room.size[0], room.size[1], room.size[2], window], depth_a: [d[0], d[1], d[2], d[3]], depth_b: [d[4], kind, 0.0, 0.0],
+    let rp = RoomParams {
+        size: [room.size[0], room.size[1], room.size[2], window],
+        depth_a: [d[0], d[1], d[2], d[3]],
+        depth_b: [d[4], kind, 0.0, 0.0],
         sun: [room.sun.x, room.sun.y, room.sun.z, room.sun_intensity],
     };
     (params, rp)
 }
 
 fn uniform(gpu: &Gpu, label: &str, bytes: &[u8]) -> wgpu::Buffer {
-    gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: bytes, usage: wgpu::BufferUsages::UNIFORM })
+    gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytes,
+        usage: wgpu::BufferUsages::UNIFORM,
+    })
 }
 
 fn map_view<'t>(t: &'t SceneTextures, b: u32, maps: &[MapReq]) -> Result<&'t wgpu::TextureView, GpuError> {
-    let req = maps
-        .iter()
-        .find(|r| **r != MapReq::Normal && r.binding() == b)
-        .ok_or_else(|| GpuError::Pipeline(format!("the room shader reads a map at binding {b}, which the pipeline's required maps do not name")))?;
-    MapKey::of(*req).and_then(|k| t.maps.get(&k)).ok_or_else(|| GpuError::Pipeline(format!("the map at binding {b} was not built")))
+    let req = maps.iter().find(|r| **r != MapReq::Normal && r.binding() == b).ok_or_else(|| {
+        GpuError::Pipeline(format!(
+            "the room shader reads a map at binding {b}, which the pipeline's required maps do not name"
+        ))
+    })?;
+    MapKey::of(*req)
+        .and_then(|k| t.maps.get(&k))
+        .ok_or_else(|| GpuError::Pipeline(format!("the map at binding {b} was not built")))
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -170,27 +187,51 @@ fn bind_group(
                 binding::NEAREST_SAMPLER => wgpu::BindingResource::Sampler(&shared.nearest),
                 other => match storage.iter().find(|(n, _)| *n == other) {
                     Some((_, buf)) => buf.as_entire_binding(),
-                    None => return Err(GpuError::Pipeline(format!("the room shader reads binding {other}, which the room runtime does not provide"))),
+                    None => {
+                        return Err(GpuError::Pipeline(format!(
+                            "the room shader reads binding {other}, which the room runtime does not provide"
+                        )))
+                    }
                 },
             }
         };
         entries.push(wgpu::BindGroupEntry { binding: b, resource });
     }
-    gpu.checked(|| gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("room"), layout, entries: &entries }))
+    gpu.checked(|| {
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("room"), layout, entries: &entries })
+    })
 }
 
 /// Renders the room with interior mapping: `frames` timed frames after `warmup`, `size²`.
-pub fn render_interior(gpu: &Gpu, prog: &RoomProgram, room: &Room, tex: &RoomTextures, size: u32, warmup: u32, frames: u32) -> Result<Frames, GpuError> {
+pub fn render_interior(
+    gpu: &Gpu,
+    prog: &RoomProgram,
+    room: &Room,
+    tex: &RoomTextures,
+    size: u32,
+    warmup: u32,
+    frames: u32,
+) -> Result<Frames, GpuError> {
     let module = prog.shader(gpu)?;
     let pipeline = gpu.checked(|| {
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("room interior"),
             layout: None,
-            vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_room"), compilation_options: Default::default(), buffers: &[] },
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_room"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
             primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleStrip, ..Default::default() },
             depth_stencil: None,
             multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some("fs_room"), compilation_options: Default::default(), targets: &[Some(FORMAT.into())] }),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_room"),
+                compilation_options: Default::default(),
+                targets: &[Some(FORMAT.into())],
+            }),
             multiview_mask: None,
             cache: None,
         })
@@ -207,7 +248,13 @@ pub fn render_interior(gpu: &Gpu, prog: &RoomProgram, room: &Room, tex: &RoomTex
 }
 
 /// Runs `probe_room` on `rays`: per ray the wall met and the hit in its tangent space.
-pub fn probe_room(gpu: &Gpu, prog: &RoomProgram, room: &Room, tex: &RoomTextures, rays: &[RoomRay]) -> Result<Vec<RoomHit>, GpuError> {
+pub fn probe_room(
+    gpu: &Gpu,
+    prog: &RoomProgram,
+    room: &Room,
+    tex: &RoomTextures,
+    rays: &[RoomRay],
+) -> Result<Vec<RoomHit>, GpuError> {
     if rays.is_empty() {
         return Ok(vec![]);
     }
@@ -222,14 +269,37 @@ pub fn probe_room(gpu: &Gpu, prog: &RoomProgram, room: &Room, tex: &RoomTextures
             cache: None,
         })
     })?;
-    let ray_buf = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("room rays"), contents: bytemuck::cast_slice(rays), usage: wgpu::BufferUsages::STORAGE });
+    let ray_buf = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("room rays"),
+        contents: bytemuck::cast_slice(rays),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
     let bytes = rays.len() as u64 * std::mem::size_of::<RoomHit>() as u64;
-    let hit_buf = gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some("room hits"), size: bytes, usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC, mapped_at_creation: false });
-    let read = gpu.device.create_buffer(&wgpu::BufferDescriptor { label: None, size: bytes, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+    let hit_buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("room hits"),
+        size: bytes,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let read = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: bytes,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
     let (p, r) = room_params(room, 1.0);
     let pb = uniform(gpu, "params", bytemuck::bytes_of(&p));
     let rb = uniform(gpu, "room", bytemuck::bytes_of(&r));
-    let bg = bind_group(gpu, &pipeline.get_bind_group_layout(0), &prog.probe_bindings, prog, tex, &pb, &rb, &[(ROOM_RAYS, &ray_buf), (ROOM_HITS, &hit_buf)])?;
+    let bg = bind_group(
+        gpu,
+        &pipeline.get_bind_group_layout(0),
+        &prog.probe_bindings,
+        prog,
+        tex,
+        &pb,
+        &rb,
+        &[(ROOM_RAYS, &ray_buf), (ROOM_HITS, &hit_buf)],
+    )?;
     let groups = (rays.len() as u32).div_ceil(PROBE_WORKGROUP);
     if groups > 65535 {
         return Err(GpuError::Device(format!("{} rays are more than one probe dispatch takes", rays.len())));

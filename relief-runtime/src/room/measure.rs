@@ -58,7 +58,12 @@ impl RoomMeasure {
     /// RMS t error over all walls (weighted by rays).
     pub fn t_err_rms(&self) -> f64 {
         let n = self.rays();
-        let sq: f64 = self.per_wall.iter().filter(|w| w.rays > 0 && w.t_err_rms.is_finite()).map(|w| w.t_err_rms * w.t_err_rms * w.rays as f64).sum();
+        let sq: f64 = self
+            .per_wall
+            .iter()
+            .filter(|w| w.rays > 0 && w.t_err_rms.is_finite())
+            .map(|w| w.t_err_rms * w.t_err_rms * w.rays as f64)
+            .sum();
         if n == 0 {
             f64::NAN
         } else {
@@ -69,7 +74,13 @@ impl RoomMeasure {
 
 /// Renders and probes `room` with pipeline `p` (and `options`), renders the baseline, and
 /// compares the probe's hits with the exact reference.
-pub fn measure_room(gpu: &Gpu, room: &Room, p: &Pipeline, options: &RoomOptions, setup: &RoomSetup) -> anyhow::Result<RoomMeasure> {
+pub fn measure_room(
+    gpu: &Gpu,
+    room: &Room,
+    p: &Pipeline,
+    options: &RoomOptions,
+    setup: &RoomSetup,
+) -> anyhow::Result<RoomMeasure> {
     let prog = RoomProgram::new_with(p, options).map_err(|e| anyhow::anyhow!("pipeline `{p}`: {e}"))?;
     let tex = RoomTextures::new(gpu, room, &prog.maps)?;
     let interior = render_interior(gpu, &prog, room, &tex, setup.size, setup.warmup, setup.frames)?;
@@ -110,7 +121,12 @@ pub fn write_images(dir: &std::path::Path, size: u32, m: &RoomMeasure) -> anyhow
         })
         .collect();
     let px = (size as f64) * (size as f64);
-    let mean = frame.chunks(4).zip(base.chunks(4)).map(|(p, q)| (0..3).map(|i| (p[i] as f64 - q[i] as f64).abs()).sum::<f64>() / 3.0).sum::<f64>() / px;
+    let mean = frame
+        .chunks(4)
+        .zip(base.chunks(4))
+        .map(|(p, q)| (0..3).map(|i| (p[i] as f64 - q[i] as f64).abs()).sum::<f64>() / 3.0)
+        .sum::<f64>()
+        / px;
     crate::io::png::write_rgba8(&dir.join("frame.png"), size, size, frame)?;
     crate::io::png::write_rgba8(&dir.join("baseline.png"), size, size, base)?;
     crate::io::png::write_rgba8(&dir.join("diff.png"), size, size, diff)?;

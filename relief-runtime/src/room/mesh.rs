@@ -10,8 +10,8 @@
 
 use wgpu::util::DeviceExt;
 
-use crate::gpu::{timed_frames, Frames, DEPTH_FORMAT, FORMAT};
 use super::{Room, RoomLight, WALLS};
+use crate::gpu::{timed_frames, Frames, DEPTH_FORMAT, FORMAT};
 use crate::gpu::{Gpu, GpuError};
 use crate::heightmap::EdgeMode;
 
@@ -93,7 +93,12 @@ impl RoomMesh {
                         }
                         None => [180, 170, 160].map(srgb_to_linear),
                     };
-                    vertices.push(Vertex { pos: p.map(|c| c as f32), normal: normal.map(|c| c as f32), color, wall: k as f32 });
+                    vertices.push(Vertex {
+                        pos: p.map(|c| c as f32),
+                        normal: normal.map(|c| c as f32),
+                        color,
+                        wall: k as f32,
+                    });
                 }
             }
             for j in 0..n as u32 - 1 {
@@ -154,8 +159,20 @@ struct MeshParams {
 }
 
 /// Renders the baseline: `frames` timed frames after `warmup`, `size²`, with a depth buffer.
-pub fn render_geometry(gpu: &Gpu, room: &Room, mesh: &RoomMesh, size: u32, warmup: u32, frames: u32) -> Result<Frames, GpuError> {
-    let module = gpu.checked(|| gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("room mesh"), source: wgpu::ShaderSource::Wgsl(SHADER.into()) }))?;
+pub fn render_geometry(
+    gpu: &Gpu,
+    room: &Room,
+    mesh: &RoomMesh,
+    size: u32,
+    warmup: u32,
+    frames: u32,
+) -> Result<Frames, GpuError> {
+    let module = gpu.checked(|| {
+        gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("room mesh"),
+            source: wgpu::ShaderSource::Wgsl(SHADER.into()),
+        })
+    })?;
     let attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32];
     let pipeline = gpu.checked(|| {
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -165,9 +182,17 @@ pub fn render_geometry(gpu: &Gpu, room: &Room, mesh: &RoomMesh, size: u32, warmu
                 module: &module,
                 entry_point: Some("vs_mesh"),
                 compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout { array_stride: std::mem::size_of::<Vertex>() as u64, step_mode: wgpu::VertexStepMode::Vertex, attributes: &attrs })],
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<Vertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &attrs,
+                })],
             },
-            primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleList, cull_mode: None, ..Default::default() },
+            primitive: wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                cull_mode: None,
+                ..Default::default()
+            },
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
                 depth_write_enabled: Some(true),
@@ -176,7 +201,12 @@ pub fn render_geometry(gpu: &Gpu, room: &Room, mesh: &RoomMesh, size: u32, warmu
                 bias: Default::default(),
             }),
             multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some("fs_mesh"), compilation_options: Default::default(), targets: &[Some(FORMAT.into())] }),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_mesh"),
+                compilation_options: Default::default(),
+                targets: &[Some(FORMAT.into())],
+            }),
             multiview_mask: None,
             cache: None,
         })
@@ -193,9 +223,21 @@ pub fn render_geometry(gpu: &Gpu, room: &Room, mesh: &RoomMesh, size: u32, warmu
         // The pass's clear colour (linear, as wgpu's clear values are), alpha 0: no wall.
         clear: [c.r as f32, c.g as f32, c.b as f32, 0.0],
     };
-    let pb = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("mesh params"), contents: bytemuck::bytes_of(&params), usage: wgpu::BufferUsages::UNIFORM });
-    let vb = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("mesh vertices"), contents: bytemuck::cast_slice(&mesh.vertices), usage: wgpu::BufferUsages::VERTEX });
-    let ib = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("mesh indices"), contents: bytemuck::cast_slice(&mesh.indices), usage: wgpu::BufferUsages::INDEX });
+    let pb = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("mesh params"),
+        contents: bytemuck::bytes_of(&params),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let vb = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("mesh vertices"),
+        contents: bytemuck::cast_slice(&mesh.vertices),
+        usage: wgpu::BufferUsages::VERTEX,
+    });
+    let ib = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("mesh indices"),
+        contents: bytemuck::cast_slice(&mesh.indices),
+        usage: wgpu::BufferUsages::INDEX,
+    });
     let bg = gpu.checked(|| {
         gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("room mesh"),

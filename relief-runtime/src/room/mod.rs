@@ -85,7 +85,8 @@ impl RoomCamera {
     }
     /// Projection × view, wgpu clip conventions; `aspect` = width / height.
     pub fn view_proj(&self, aspect: f32) -> Mat4 {
-        Mat4::perspective_rh(self.fov_deg.to_radians(), aspect, NEAR_FAR.0, NEAR_FAR.1) * Mat4::look_at_rh(self.position, self.target, Vec3::Y)
+        Mat4::perspective_rh(self.fov_deg.to_radians(), aspect, NEAR_FAR.0, NEAR_FAR.1)
+            * Mat4::look_at_rh(self.position, self.target, Vec3::Y)
     }
     /// The world direction (unit) through pixel `(x, y)` of a `size²` frame (row 0 at the
     /// top), through the pixel's centre.
@@ -243,23 +244,36 @@ impl Room {
         }
         for (k, w) in self.walls.iter().enumerate() {
             if !(w.depth_scale.is_finite() && w.depth_scale > 0.0) {
-                return Err((format!("walls.{}.depth_scale", WALL_NAMES[k]), format!("{}: must be a positive number", w.depth_scale)));
+                return Err((
+                    format!("walls.{}.depth_scale", WALL_NAMES[k]),
+                    format!("{}: must be a positive number", w.depth_scale),
+                ));
             }
         }
         if !(self.camera.position.is_finite() && self.camera.position.z > 0.0) {
-            return Err(("camera.position".into(), format!("{:?}: the camera must be in front of the window (z > 0)", self.camera.position.to_array())));
+            return Err((
+                "camera.position".into(),
+                format!("{:?}: the camera must be in front of the window (z > 0)", self.camera.position.to_array()),
+            ));
         }
         if !(self.camera.fov_deg > 0.0 && self.camera.fov_deg < 180.0) {
             return Err(("camera.fov".into(), format!("{}: must lie in (0, 180) degrees", self.camera.fov_deg)));
         }
         if let RoomLight::Point(p) = self.light {
-            let inside = p.x > 0.0 && p.x < self.size[0] && p.y > 0.0 && p.y < self.size[1] && p.z < 0.0 && p.z > -self.size[2];
+            let inside =
+                p.x > 0.0 && p.x < self.size[0] && p.y > 0.0 && p.y < self.size[1] && p.z < 0.0 && p.z > -self.size[2];
             if !inside {
-                return Err(("light.point".into(), format!("{:?}: a point light must lie inside the room", p.to_array())));
+                return Err((
+                    "light.point".into(),
+                    format!("{:?}: a point light must lie inside the room", p.to_array()),
+                ));
             }
         }
         if !(self.sun.is_finite() && self.sun.z > 0.0) {
-            return Err(("sun".into(), format!("{:?}: the sun must lie in front of the window (z > 0)", self.sun.to_array())));
+            return Err((
+                "sun".into(),
+                format!("{:?}: the sun must lie in front of the window (z > 0)", self.sun.to_array()),
+            ));
         }
         if !(self.sun_intensity.is_finite() && self.sun_intensity >= 0.0) {
             return Err(("sun_intensity".into(), format!("{}: must be a number >= 0", self.sun_intensity)));
@@ -312,7 +326,9 @@ pub fn room_from_arg(arg: Option<&str>, map_size: Option<usize>) -> Result<(Room
     let room = match arg {
         None => builtin::room("default", map_size)?,
         Some(a) if a.starts_with("room:") => builtin::room(&a["room:".len()..], map_size)?,
-        Some(a) if a.ends_with(".toml") => file::load_room_file(std::path::Path::new(a), map_size).map_err(|e| e.to_string())?,
+        Some(a) if a.ends_with(".toml") => {
+            file::load_room_file(std::path::Path::new(a), map_size).map_err(|e| e.to_string())?
+        }
         Some(a) => builtin::room(a, map_size).map_err(|e| format!("{e}; or give a room file (`.toml`)"))?,
     };
     let warnings = border_warnings(&room);

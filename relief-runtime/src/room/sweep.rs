@@ -136,7 +136,9 @@ pub struct RoomSweep {
 pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> anyhow::Result<RoomSweep> {
     std::fs::create_dir_all(out)?;
     let earlier = read_rows(out)?.unwrap_or_default();
-    let same_cell = |r: &RoomRow, room: &str, variant: &str| r.room == room && r.variant == variant && r.size == setup.size && r.grid == setup.grid;
+    let same_cell = |r: &RoomRow, room: &str, variant: &str| {
+        r.room == room && r.variant == variant && r.size == setup.size && r.grid == setup.grid
+    };
     let gpu = Gpu::new()?;
     // Failed cells are measured again: only ok rows are kept.
     let mut rows: Vec<RoomRow> = earlier.into_iter().filter(|r| r.status == "ok").collect();
@@ -164,7 +166,9 @@ pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> anyhow::Result<Ro
                 ..Default::default()
             };
             let dir = out.join("rooms").join(folder(&room.name)).join(folder(v.label));
-            match measure_room(&gpu, &room, &p, &RoomOptions { scatter: v.scatter }, setup).and_then(|m| Ok((write_images(&dir, setup.size, &m)?, m))) {
+            match measure_room(&gpu, &room, &p, &RoomOptions { scatter: v.scatter }, setup)
+                .and_then(|m| Ok((write_images(&dir, setup.size, &m)?, m)))
+            {
                 Ok((diff, m)) => {
                     row.frame_ms = m.frame_ms;
                     row.baseline_ms = m.baseline_ms;
@@ -180,7 +184,8 @@ pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> anyhow::Result<Ro
                 }
             }
             rows.push(row);
-            let text: String = rows.iter().map(|r| serde_json::to_string(r).map(|s| s + "\n")).collect::<Result<_, _>>()?;
+            let text: String =
+                rows.iter().map(|r| serde_json::to_string(r).map(|s| s + "\n")).collect::<Result<_, _>>()?;
             crate::io::write_atomic(&rows_path(out), text.as_bytes())?;
         }
     }

@@ -163,7 +163,10 @@ mod tests {
                         // truncation is ~1000 times below the 1e-3 a whole pixel shows at 75°,
                         // and the f32 formula leaves ~1e-5; 1e-3 in log2 (0.07 %) is a margin
                         // that a wrong axis, factor 2 or missing term (≥ 1e-2) exceeds.
-                        assert!((lambda - brute).abs() < 1e-3, "angle {angle} az {azimuth} size {size:?} pixel ({px}, {py}): {lambda} vs {brute}");
+                        assert!(
+                            (lambda - brute).abs() < 1e-3,
+                            "angle {angle} az {azimuth} size {size:?} pixel ({px}, {py}): {lambda} vs {brute}"
+                        );
                         let tie = (brute - brute.floor() - 0.5).abs() < 1e-2;
                         if !tie {
                             let want = (brute.round().max(0.0) as usize).min(7);

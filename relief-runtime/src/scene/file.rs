@@ -111,7 +111,11 @@ struct CameraSpec {
 
 /// Reads a scene file (see the module docs).
 pub fn load_scene_file(path: &Path) -> Result<Scene, SceneFileError> {
-    let err = |key: Option<&str>, message: String| SceneFileError { path: path.to_path_buf(), key: key.map(str::to_string), message };
+    let err = |key: Option<&str>, message: String| SceneFileError {
+        path: path.to_path_buf(),
+        key: key.map(str::to_string),
+        message,
+    };
     if !path.exists() {
         return Err(err(None, "file not found".into()));
     }
@@ -122,16 +126,25 @@ pub fn load_scene_file(path: &Path) -> Result<Scene, SceneFileError> {
         err(None, format!("not valid TOML{at}: {}", e.message().trim().replace('\n', " ")))
     })?;
     check_keys(&table).map_err(|(k, m)| err(Some(&k), m))?;
-    let spec: FileSpec = FileSpec::deserialize(toml::Value::Table(table)).map_err(|e| err(None, e.message().trim().replace('\n', " ")))?;
+    let spec: FileSpec = FileSpec::deserialize(toml::Value::Table(table))
+        .map_err(|e| err(None, e.message().trim().replace('\n', " ")))?;
     build(path, spec).map_err(|(k, m)| err(Some(k), m))
 }
 
 /// Checks the scene file's keys ([`KEYS`], [`check_toml_keys`]) and the two it requires.
 fn check_keys(t: &toml::Table) -> Result<(), (String, String)> {
     match t.get("height_map") {
-        None => return Err(("height_map".into(), "missing (a scene file needs `[height_map]` with `path = \"...\"`)".into())),
+        None => {
+            return Err((
+                "height_map".into(),
+                "missing (a scene file needs `[height_map]` with `path = \"...\"`)".into(),
+            ))
+        }
         Some(toml::Value::Table(h)) if !h.contains_key("path") => {
-            return Err(("height_map.path".into(), "missing (the height map's file, relative to the scene file)".into()))
+            return Err((
+                "height_map.path".into(),
+                "missing (the height map's file, relative to the scene file)".into(),
+            ))
         }
         _ => {}
     }
@@ -143,7 +156,12 @@ fn check_keys(t: &toml::Table) -> Result<(), (String, String)> {
 /// a room file maps a wall's name to `*`): an unknown key is named with the nearest known one
 /// beside it, a wrong type with what it found. Recurses into tables. Scene and room files
 /// share it.
-pub(crate) fn check_toml_keys(t: &toml::Table, prefix: &str, keys: &[(&str, &str)], pattern: &dyn Fn(&str) -> String) -> Result<(), (String, String)> {
+pub(crate) fn check_toml_keys(
+    t: &toml::Table,
+    prefix: &str,
+    keys: &[(&str, &str)],
+    pattern: &dyn Fn(&str) -> String,
+) -> Result<(), (String, String)> {
     for (k, v) in t {
         let full = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
         let Some((_, ty)) = keys.iter().find(|(n, _)| *n == pattern(&full)) else {
@@ -153,7 +171,8 @@ pub(crate) fn check_toml_keys(t: &toml::Table, prefix: &str, keys: &[(&str, &str
                 .iter()
                 .filter_map(|(n, _)| {
                     let (parent, last) = n.rsplit_once('.').unwrap_or(("", n));
-                    (parent == here).then(|| if prefix.is_empty() { last.to_string() } else { format!("{prefix}.{last}") })
+                    (parent == here)
+                        .then(|| if prefix.is_empty() { last.to_string() } else { format!("{prefix}.{last}") })
                 })
                 .collect();
             let near = relief_dsl::spec::suggest::nearest(&full, siblings.iter().map(|s| s.as_str()))
@@ -195,12 +214,20 @@ fn build(path: &Path, f: FileSpec) -> Result<Scene, KeyError> {
     let dir = path.parent().unwrap_or(Path::new("."));
     let channel = match f.height_map.channel.as_deref() {
         None | Some("luma") => None,
-        Some(c) => Some(c.parse::<Channel>().map_err(|_| ("height_map.channel", format!("`{c}` is not a channel (expected r, g, b, a or luma)")))?),
+        Some(c) => Some(
+            c.parse::<Channel>()
+                .map_err(|_| ("height_map.channel", format!("`{c}` is not a channel (expected r, g, b, a or luma)")))?,
+        ),
     };
     let depth = match f.height_map.white.as_deref() {
         None | Some("height") => false,
         Some("depth") => true,
-        Some(o) => return Err(("height_map.white", format!("`{o}`: expected `height` (white is the top) or `depth` (white is deep)"))),
+        Some(o) => {
+            return Err((
+                "height_map.white",
+                format!("`{o}`: expected `height` (white is the top) or `depth` (white is deep)"),
+            ))
+        }
     };
     let lod = match f.lod.as_deref() {
         None => None,
@@ -213,8 +240,12 @@ fn build(path: &Path, f: FileSpec) -> Result<Scene, KeyError> {
         ),
     };
     let hpath = dir.join(&f.height_map.path);
-    let hm = HeightMap::load(&hpath, &LoadOptions { channel, depth }).map_err(|e| ("height_map.path", e.to_string()))?;
-    let name = f.name.clone().unwrap_or_else(|| path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default());
+    let hm =
+        HeightMap::load(&hpath, &LoadOptions { channel, depth }).map_err(|e| ("height_map.path", e.to_string()))?;
+    let name = f
+        .name
+        .clone()
+        .unwrap_or_else(|| path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default());
     let mut s = Scene::from_height_map(name, hm);
     s.lod = lod;
     if let Some(d) = f.depth_scale {
@@ -268,7 +299,12 @@ fn build(path: &Path, f: FileSpec) -> Result<Scene, KeyError> {
     let green_up = match f.normal_green.as_deref() {
         None | Some("up") => true,
         Some("down") => false,
-        Some(o) => return Err(("normal_green", format!("`{o}`: expected `up` (green towards the image's top, −v) or `down` (+v)"))),
+        Some(o) => {
+            return Err((
+                "normal_green",
+                format!("`{o}`: expected `up` (green towards the image's top, −v) or `down` (+v)"),
+            ))
+        }
     };
     if let Some(n) = &f.normal_map {
         s.normal = Some(load_normal_map(&dir.join(n), green_up).map_err(|m| ("normal_map", m))?);

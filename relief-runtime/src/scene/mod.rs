@@ -39,8 +39,8 @@ pub mod procedural;
 
 pub use builtin::{scene_kind, SceneKind, REAL_SCENES};
 pub use camera::Camera;
-pub use procedural::{checker, collage, lion, rock_bump, self_shadow, shapes, spikes, step, walls};
 pub use file::{load_scene_file, Overrides, SceneFileError};
+pub use procedural::{checker, collage, lion, rock_bump, self_shadow, shapes, spikes, step, walls};
 
 /// Side of the procedural height maps when no size is asked for.
 pub const DEFAULT_SIZE: usize = 256;

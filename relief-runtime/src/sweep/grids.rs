@@ -122,9 +122,7 @@ pub fn parse_grid_file(text: &str) -> Result<Vec<Pipeline>, ParseError> {
 }
 
 fn description(text: &str) -> String {
-    text.lines()
-        .find_map(|l| l.trim().strip_prefix('#').map(|d| d.trim().to_string()))
-        .unwrap_or_default()
+    text.lines().find_map(|l| l.trim().strip_prefix('#').map(|d| d.trim().to_string())).unwrap_or_default()
 }
 
 fn named(name: &str, text: &str, scenes: Option<&[String]>) -> NamedGrid {

@@ -19,11 +19,11 @@ pub mod grids;
 use std::collections::{HashMap, HashSet};
 use std::path::PathBuf;
 
-use anyhow::Context;
 use crate::gpu::Gpu;
 use crate::measure::{measure_paired, write_images, Prepared};
 use crate::results::{self, Metrics, Row};
 use crate::scene::{scene_from_arg, Overrides, Scene};
+use anyhow::Context;
 pub use grids::NamedGrid;
 
 /// What `relief sweep` measures.
@@ -66,7 +66,13 @@ pub fn shard_of(cells: &[(String, String)], n: u32) -> Vec<u32> {
     let mut keys: Vec<&(String, String)> = cells.iter().collect();
     keys.sort_by(|a, b| (&a.1, &a.0).cmp(&(&b.1, &b.0)));
     keys.dedup();
-    cells.iter().map(|c| (keys.binary_search_by(|k| (&k.1, &k.0).cmp(&(&c.1, &c.0))).expect("every key is listed") as u32 % n.max(1)) + 1).collect()
+    cells
+        .iter()
+        .map(|c| {
+            (keys.binary_search_by(|k| (&k.1, &k.0).cmp(&(&c.1, &c.0))).expect("every key is listed") as u32 % n.max(1))
+                + 1
+        })
+        .collect()
 }
 
 /// Parses `K/N` (1 ≤ K ≤ N): the shard a sweep measures.
@@ -101,7 +107,8 @@ fn key(pipeline: &str, scene: &str, size: u32) -> (String, String, u32) {
 
 /// Runs the sweep.
 pub fn run(opts: &Options) -> anyhow::Result<Summary> {
-    std::fs::create_dir_all(&opts.out).with_context(|| format!("cannot create output folder {}", opts.out.display()))?;
+    std::fs::create_dir_all(&opts.out)
+        .with_context(|| format!("cannot create output folder {}", opts.out.display()))?;
     let mut rows = results::read_for_append(&opts.out)?;
     let label = |arg: &str| scene_label(arg) + &opts.overrides.suffix();
     let done: HashSet<_> = rows.iter().map(|r| key(&r.metrics.pipeline, &r.metrics.scene, r.metrics.size)).collect();
@@ -109,7 +116,9 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
     // scene's lod policy applied), so that is what resuming compares.
     let mut scenes: HashMap<String, Result<Scene, String>> = HashMap::new();
     for (_, s) in &opts.grid.cells {
-        scenes.entry(s.clone()).or_insert_with(|| scene_from_arg(&scene_spec(s)).map(|sc| opts.overrides.apply(sc)).map_err(|e| format!("{e:#}")));
+        scenes.entry(s.clone()).or_insert_with(|| {
+            scene_from_arg(&scene_spec(s)).map(|sc| opts.overrides.apply(sc)).map_err(|e| format!("{e:#}"))
+        });
     }
     let measured_as = |p: &relief_dsl::Pipeline, s: &str| match &scenes[s] {
         Ok(sc) => sc.pipeline_for(p),
@@ -118,12 +127,17 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
     let mine: Vec<_> = match opts.shard {
         None => opts.grid.cells.clone(),
         Some((k, n)) => {
-            let keys: Vec<(String, String)> = opts.grid.cells.iter().map(|(p, s)| (measured_as(p, s).to_string(), label(s))).collect();
+            let keys: Vec<(String, String)> =
+                opts.grid.cells.iter().map(|(p, s)| (measured_as(p, s).to_string(), label(s))).collect();
             let shards = shard_of(&keys, n);
             opts.grid.cells.iter().zip(shards).filter(|(_, s)| *s == k).map(|(c, _)| c.clone()).collect()
         }
     };
-    let todo: Vec<_> = mine.iter().filter(|(p, s)| !done.contains(&key(&measured_as(p, s).to_string(), &label(s), opts.size))).cloned().collect();
+    let todo: Vec<_> = mine
+        .iter()
+        .filter(|(p, s)| !done.contains(&key(&measured_as(p, s).to_string(), &label(s), opts.size)))
+        .cloned()
+        .collect();
     opts.overrides.check().map_err(anyhow::Error::msg)?;
     check_views(&opts.grid, &opts.overrides)?;
     let mut summary = Summary { skipped: mine.len() - todo.len(), cells: mine.len(), ..Default::default() };
@@ -171,7 +185,11 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
                     Ok(r) => r,
                     Err(panic) => Err(anyhow::anyhow!(
                         "panicked: {}",
-                        panic.downcast_ref::<String>().cloned().or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string())).unwrap_or_default()
+                        panic
+                            .downcast_ref::<String>()
+                            .cloned()
+                            .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                            .unwrap_or_default()
                     )),
                 }
             }
@@ -184,7 +202,13 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
                 summary.measured += 1;
             }
             Err(e) => {
-                row.metrics = Metrics { pipeline: text.clone(), scene: label(&scene_arg), size: opts.size, adapter: format!("{} ({})", gpu.adapter, gpu.driver), ..Default::default() };
+                row.metrics = Metrics {
+                    pipeline: text.clone(),
+                    scene: label(&scene_arg),
+                    size: opts.size,
+                    adapter: format!("{} ({})", gpu.adapter, gpu.driver),
+                    ..Default::default()
+                };
                 row.status = "error".into();
                 row.error = e.chain().map(|c| c.to_string()).collect::<Vec<_>>().join(": ");
                 summary.failed += 1;

@@ -72,7 +72,8 @@ pub(super) fn cell_at<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> C
         let to = s.select(v.ge(0.0), c + 1.0 - x, c - x);
         s.select(v.abs().lt(1e-12), s.lit(NO_EXIT), to / v)
     };
-    let exit = (t + exit_along(cell.x(), x.x(), speed.x()).min(exit_along(cell.y(), x.y(), speed.y()))).min(ray.t_max());
+    let exit =
+        (t + exit_along(cell.x(), x.x(), speed.x()).min(exit_along(cell.y(), x.y(), speed.y()))).min(ray.t_max());
     Cell { size, cell, corners, apex, index, dist: dist.named("dist"), exit: exit.named("exit") }
 }
 
@@ -91,7 +92,13 @@ pub(super) fn ahead<'a>(s: &'a Stage<'a>, speed: Val<'a, Vec2>) -> Val<'a, Vec2>
 /// One pass of a safe march at `t` in cell `c`: the cone step to `cone` when it leaves the
 /// cell (never past the floor); otherwise the cell's patch decides: its first hit, or the
 /// cell's exit. Returns whether the patch was hit (`t` is then the hit).
-fn step_or_meet<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, c: &Cell<'a>, t: Var<'a, f32>, cone: Val<'a, f32>) -> Val<'a, bool> {
+fn step_or_meet<'a>(
+    s: &'a Stage<'a>,
+    ray: &Ray<'a>,
+    c: &Cell<'a>,
+    t: Var<'a, f32>,
+    cone: Val<'a, f32>,
+) -> Val<'a, bool> {
     let hit = s.var("patch_hit", false);
     s.if_else(
         cone.ge(c.exit),

@@ -91,7 +91,9 @@ fn by_form(s: &StageSpec, textbook: MapReq, safe: MapReq) -> Vec<MapReq> {
 fn only_textbook(stage: &str, what: &str) -> CompileError {
     CompileError {
         stage: format!("coarse {stage}"),
-        message: format!("`{what}` applies to `form=textbook` only: the safe form reads the cone of the cell under the ray point"),
+        message: format!(
+            "`{what}` applies to `form=textbook` only: the safe form reads the cone of the cell under the ray point"
+        ),
     }
 }
 
@@ -400,7 +402,11 @@ pub(crate) fn mcns_def() -> MethodDef {
 pub fn pcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: Form) -> Bracket<'a> {
     let speed = ray.dir.xy().length();
     let fall = -ray.dir.z();
-    let leave = move |s: &'a Stage<'a>, p: Val<'a, Vec3>, base: Val<'a, f32>, offset: Val<'a, f32>, cones: Vec<Val<'a, f32>>| {
+    let leave = move |s: &'a Stage<'a>,
+                      p: Val<'a, Vec3>,
+                      base: Val<'a, f32>,
+                      offset: Val<'a, f32>,
+                      cones: Vec<Val<'a, f32>>| {
         let piece = (1.0 - base) / k as f32;
         let slopes: Vec<Val<'a, f32>> = cones.into_iter().map(ratio_of).collect();
         // The region's radius at each b_j, less the point's distance to the region's axis.

@@ -19,8 +19,12 @@ pub fn linear<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
 
 /// `linear(steps)`: [`linear`] in the catalogue.
 pub(crate) fn linear_def() -> MethodDef {
-    MethodDef::new("linear", "linear search (Burger Algorithm 1)", Build::Coarse(|s, ray, a| Ok(linear(s, ray, a.int("steps")?))))
-        .param(ParamDef::steps("steps", 32))
+    MethodDef::new(
+        "linear",
+        "linear search (Burger Algorithm 1)",
+        Build::Coarse(|s, ray, a| Ok(linear(s, ray, a.int("steps")?))),
+    )
+    .param(ParamDef::steps("steps", 32))
 }
 
 /// The bracket from one step before `t` to `t`, never starting before the entry: when the

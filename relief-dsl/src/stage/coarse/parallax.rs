@@ -22,7 +22,11 @@ pub fn none<'a>(s: &'a Stage<'a>, _ray: &Ray<'a>) -> Bracket<'a> {
 
 /// `none`: [`none`] in the catalogue.
 pub(crate) fn none_def() -> MethodDef {
-    MethodDef::new("none", "plain texture mapping: the hit is the entry point", Build::Coarse(|s, ray, _| Ok(none(s, ray))))
+    MethodDef::new(
+        "none",
+        "plain texture mapping: the hit is the entry point",
+        Build::Coarse(|s, ray, _| Ok(none(s, ray))),
+    )
 }
 
 /// Parallax mapping (Kaneko et al. 2001; Burger eq. 2.3): the surface is taken to be the
@@ -34,7 +38,11 @@ pub fn parallax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>) -> Bracket<'a> {
 
 /// `parallax`: [`parallax`] in the catalogue.
 pub(crate) fn parallax_def() -> MethodDef {
-    MethodDef::new("parallax", "parallax mapping (Kaneko et al. 2001; Burger eq. 2.3-2.5)", Build::Coarse(|s, ray, _| Ok(parallax(s, ray))))
+    MethodDef::new(
+        "parallax",
+        "parallax mapping (Kaneko et al. 2001; Burger eq. 2.3-2.5)",
+        Build::Coarse(|s, ray, _| Ok(parallax(s, ray))),
+    )
 }
 
 /// Parallax with offset limiting (Welsh 2004; survey §4.1.3, Burger eq. 2.6): the offset is

@@ -21,6 +21,10 @@ pub fn binary<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, b: Bracket<'a>, steps: u32) -
 
 /// `binary(steps)`: [`binary`] in the catalogue.
 pub(crate) fn binary_def() -> MethodDef {
-    MethodDef::new("binary", "binary search (Burger Algorithm 2)", Build::Refine(|s, ray, b, a| Ok(binary(s, ray, b, a.int("steps")?))))
-        .param(ParamDef::steps("steps", 5))
+    MethodDef::new(
+        "binary",
+        "binary search (Burger Algorithm 2)",
+        Build::Refine(|s, ray, b, a| Ok(binary(s, ray, b, a.int("steps")?))),
+    )
+    .param(ParamDef::steps("steps", 5))
 }

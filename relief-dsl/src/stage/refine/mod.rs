@@ -10,7 +10,11 @@ use crate::stage::{Build, Hit};
 
 /// `none`: no refinement, the hit is the bracket's far end (the coarse search's answer).
 fn none_def() -> MethodDef {
-    MethodDef::new("none", "no refinement: the hit is the bracket's far end", Build::Refine(|_, ray, b, _| Ok(Hit::at(ray, b.below))))
+    MethodDef::new(
+        "none",
+        "no refinement: the hit is the bracket's far end",
+        Build::Refine(|_, ray, b, _| Ok(Hit::at(ray, b.below))),
+    )
 }
 
 /// The built-in refine methods, in listing order.

@@ -40,7 +40,10 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<()> {
     let g = Gpu::new()?;
     let c = compare(&g, &scene, a.size, &pa, &pb, 3, a.pairs)?;
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
-    println!("scene {}, {}², adapter {} ({}), timer tick {} ns", scene.name, a.size, g.adapter, g.driver, c.blocks.timestamp_period_ns);
+    println!(
+        "scene {}, {}², adapter {} ({}), timer tick {} ns",
+        scene.name, a.size, g.adapter, g.driver, c.blocks.timestamp_period_ns
+    );
     for (i, name) in ["A", "B"].iter().enumerate() {
         let (ms, k) = (if i == 0 { &c.blocks.a_ms } else { &c.blocks.b_ms }, c.blocks.frames_per_block[i]);
         let s = &c.cost[i];

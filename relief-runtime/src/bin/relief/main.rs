@@ -67,7 +67,8 @@ pub struct OverrideArgs {
 impl OverrideArgs {
     /// The overrides, checked ([`Overrides::check`]).
     pub fn checked(&self) -> anyhow::Result<Overrides> {
-        let o = Overrides { depth_scale: self.depth_scale, tiling: self.tiling, angle: self.angle, azimuth: self.azimuth };
+        let o =
+            Overrides { depth_scale: self.depth_scale, tiling: self.tiling, angle: self.angle, azimuth: self.azimuth };
         o.check().map_err(anyhow::Error::msg)?;
         Ok(o)
     }
@@ -78,7 +79,12 @@ fn main() {
         Ok(cli) => cli,
         Err(e) => {
             use clap::error::ErrorKind;
-            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand) {
+            if matches!(
+                e.kind(),
+                ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            ) {
                 e.exit();
             }
             // One line: clap's first line of the error, without the usage that follows.

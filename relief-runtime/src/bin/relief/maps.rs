@@ -10,9 +10,9 @@
 //! The output format follows the extension of `FILE`: `.png` (unorm8 → 8 bit, unorm16 → 16
 //! bit), `.exr` (f32/f16), `.npy` (float32, the decoded values). See [`relief_runtime::maps::encode`] and [`relief_runtime::maps::file`].
 
+use anyhow::{bail, Context};
 use relief_runtime::heightmap::{Channel, EdgeMode, HeightMap, LoadOptions};
 use relief_runtime::maps::{self, encode, MapKind, MapParams};
-use anyhow::{bail, Context};
 use std::path::PathBuf;
 
 /// Arguments of `relief maps`.

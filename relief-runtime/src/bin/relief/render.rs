@@ -6,8 +6,8 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 
-use relief_runtime::io::write_atomic;
 use relief_runtime::gpu::Gpu;
+use relief_runtime::io::write_atomic;
 use relief_runtime::measure::{measure_with, write_images, Prepared};
 use relief_runtime::scene::file::camera_json;
 use relief_runtime::scene::{scene_from_arg, scene_spec};
@@ -62,7 +62,8 @@ fn write_depth(out: &std::path::Path, size: u32, depth: &[f32]) -> anyhow::Resul
 
 /// Runs `relief render`.
 pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
-    let pipeline: relief_dsl::Pipeline = a.pipeline.parse().map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", a.pipeline))?;
+    let pipeline: relief_dsl::Pipeline =
+        a.pipeline.parse().map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", a.pipeline))?;
     if a.size == 0 || a.size > 8192 {
         anyhow::bail!("--size {} is out of range: allowed 1..=8192", a.size);
     }

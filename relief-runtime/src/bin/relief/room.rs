@@ -44,7 +44,8 @@ pub struct RoomArgs {
 
 /// Runs `relief room`.
 pub fn run(a: &RoomArgs) -> anyhow::Result<()> {
-    let pipeline: relief_dsl::Pipeline = a.pipeline.parse().map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", a.pipeline))?;
+    let pipeline: relief_dsl::Pipeline =
+        a.pipeline.parse().map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", a.pipeline))?;
     if a.size == 0 || a.size > 8192 {
         anyhow::bail!("--size {} is out of range: allowed 1..=8192", a.size);
     }
@@ -99,7 +100,8 @@ pub fn run(a: &RoomArgs) -> anyhow::Result<()> {
         "warnings": warnings,
     });
     write_atomic(&a.out.join("metrics.json"), serde_json::to_string_pretty(&json)?.as_bytes())?;
-    let walls: Vec<String> = m.per_wall.iter().map(|w| format!("{} {:.1e}/{:.2}%", w.wall, w.t_err_rms, 100.0 * w.missed_rate)).collect();
+    let walls: Vec<String> =
+        m.per_wall.iter().map(|w| format!("{} {:.1e}/{:.2}%", w.wall, w.t_err_rms, 100.0 * w.missed_rate)).collect();
     println!(
         "{pipeline}{} in {} at {}²: interior {:.3} ms, geometry ({}² per wall, {} triangles) {:.3} ms, ratio {:.2}; t err rms/missed per wall: {} → {}",
         a.scatter.map(|n| format!(" + scatter({n})")).unwrap_or_default(),

@@ -38,7 +38,11 @@ pub fn run(a: &ServeArgs) -> anyhow::Result<()> {
         anyhow::bail!("cannot serve {}: not a folder", a.dir.display());
     }
     let listener = TcpListener::bind((a.bind, a.port)).map_err(|e| match e.kind() {
-        std::io::ErrorKind::AddrInUse => anyhow::anyhow!("port {} on {} is in use (choose another with --port, or --port 0 for a free one)", a.port, a.bind),
+        std::io::ErrorKind::AddrInUse => anyhow::anyhow!(
+            "port {} on {} is in use (choose another with --port, or --port 0 for a free one)",
+            a.port,
+            a.bind
+        ),
         _ => anyhow::anyhow!("cannot listen on {}:{}: {e}", a.bind, a.port),
     })?;
     let addr = listener.local_addr()?;
@@ -46,7 +50,11 @@ pub fn run(a: &ServeArgs) -> anyhow::Result<()> {
     let page = if root.join("index.html").is_file() { "" } else { " (no index.html there yet)" };
     println!("serving {} at http://{host}:{}/{page}; Ctrl-C stops", root.display(), addr.port());
     if !addr.ip().is_loopback() {
-        eprintln!("relief: warning: listening on {}: other machines can read every file in {}", addr.ip(), root.display());
+        eprintln!(
+            "relief: warning: listening on {}: other machines can read every file in {}",
+            addr.ip(),
+            root.display()
+        );
     }
     std::io::stdout().flush()?;
     for stream in listener.incoming() {
@@ -152,7 +160,9 @@ fn media_type(file: &Path) -> &'static str {
         Some("jpg" | "jpeg") => "image/jpeg",
         Some("webp") => "image/webp",
         Some("csv") => "text/csv; charset=utf-8",
-        Some("md" | "txt" | "jsonl" | "wgsl" | "glsl" | "vert" | "frag" | "comp" | "toml") => "text/plain; charset=utf-8",
+        Some("md" | "txt" | "jsonl" | "wgsl" | "glsl" | "vert" | "frag" | "comp" | "toml") => {
+            "text/plain; charset=utf-8"
+        }
         _ => "application/octet-stream",
     }
 }

@@ -25,10 +25,12 @@ pub fn run(a: &StabilityArgs) -> anyhow::Result<()> {
     if a.size == 0 || a.size > 1024 {
         anyhow::bail!("--size {} is out of range: allowed 1..=1024", a.size);
     }
-    std::fs::create_dir_all(&a.out).map_err(|e| anyhow::anyhow!("cannot create output folder {}: {e}", a.out.display()))?;
+    std::fs::create_dir_all(&a.out)
+        .map_err(|e| anyhow::anyhow!("cannot create output folder {}: {e}", a.out.display()))?;
     let gpu = Gpu::new()?;
     let methods = stability::methods();
-    let scenes: Vec<&str> = if a.scene.is_empty() { stability::SCENES.to_vec() } else { a.scene.iter().map(String::as_str).collect() };
+    let scenes: Vec<&str> =
+        if a.scene.is_empty() { stability::SCENES.to_vec() } else { a.scene.iter().map(String::as_str).collect() };
     let total = (scenes.len() * stability::ANGLES.len()) as u64;
     let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
         indicatif::ProgressBar::new(total)

@@ -95,8 +95,14 @@ fn run_rooms(a: &SweepArgs) -> anyhow::Result<()> {
     if o.angle.is_some() || o.azimuth.is_some() || o.depth_scale.is_some() || o.tiling.is_some() {
         anyhow::bail!("--angle, --azimuth, --depth-scale and --tiling are not implemented for the room grid (set the camera and depth scales in a room file)");
     }
-    let rooms: Vec<String> = if a.scene.is_empty() { sweep::DEFAULT_ROOMS.iter().map(|s| s.to_string()).collect() } else { a.scene.clone() };
-    let setup = relief_runtime::room::measure::RoomSetup { size: a.size, grid: relief_runtime::room::mesh::DEFAULT_GRID, warmup: 3, frames: a.frames };
+    let rooms: Vec<String> =
+        if a.scene.is_empty() { sweep::DEFAULT_ROOMS.iter().map(|s| s.to_string()).collect() } else { a.scene.clone() };
+    let setup = relief_runtime::room::measure::RoomSetup {
+        size: a.size,
+        grid: relief_runtime::room::mesh::DEFAULT_GRID,
+        warmup: 3,
+        frames: a.frames,
+    };
     let start = std::time::Instant::now();
     let s = sweep::run(&rooms, &setup, &a.out)?;
     let failed = s.rows.iter().filter(|r| r.status != "ok").count();

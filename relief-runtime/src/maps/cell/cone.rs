@@ -63,8 +63,12 @@ pub fn cell_cone(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
 }
 
 /// The `(x, y)` directions of the four quadrants, in channel order.
-pub const QUADRANTS: [(Dir, Dir); 4] =
-    [(Dir::Forward, Dir::Forward), (Dir::Backward, Dir::Forward), (Dir::Backward, Dir::Backward), (Dir::Forward, Dir::Backward)];
+pub const QUADRANTS: [(Dir, Dir); 4] = [
+    (Dir::Forward, Dir::Forward),
+    (Dir::Backward, Dir::Forward),
+    (Dir::Backward, Dir::Backward),
+    (Dir::Forward, Dir::Backward),
+];
 
 /// `cell_quad_cone`: `[R_{+u+v}, R_{-u+v}, R_{-u-v}, R_{+u-v}, A_C]` per cell.
 pub fn cell_quad_cone(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {

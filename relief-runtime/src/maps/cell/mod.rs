@@ -201,7 +201,15 @@ pub struct Corner {
 /// coordinates (`dx = [D.x0, D.x1]`, `cx = [C.x0, C.x1]`, same for y) and `D`'s corner
 /// heights `[h00, h10, h01, h11]`. `w`, `h`: the map's texel counts (cell units → texture units).
 #[inline]
-pub(crate) fn corners_seen_from(dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2], hd: &[f32; 4], w: usize, h: usize) -> [Corner; 4] {
+pub(crate) fn corners_seen_from(
+    dx: [f64; 2],
+    dy: [f64; 2],
+    cx: [f64; 2],
+    cy: [f64; 2],
+    hd: &[f32; 4],
+    w: usize,
+    h: usize,
+) -> [Corner; 4] {
     let gx = [gap(dx[0], cx[0], cx[1]) / w as f64, gap(dx[1], cx[0], cx[1]) / w as f64];
     let gy = [gap(dy[0], cy[0], cy[1]) / h as f64, gap(dy[1], cy[0], cy[1]) / h as f64];
     [
@@ -405,12 +413,33 @@ pub trait CellScorer: Sync {
     /// constraint. `dx`, `dy`: `D`'s extent (texel-centre units, relative for repeat),
     /// `cx`, `cy`: `C`'s.
     #[allow(clippy::too_many_arguments)]
-    fn leaf(&self, d: usize, corners: &[Corner; 4], dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2], sx: Side, sy: Side) -> Option<f64>;
+    fn leaf(
+        &self,
+        d: usize,
+        corners: &[Corner; 4],
+        dx: [f64; 2],
+        dy: [f64; 2],
+        cx: [f64; 2],
+        cy: [f64; 2],
+        sx: Side,
+        sy: Side,
+    ) -> Option<f64>;
     /// [`CellScorer::leaf`] when it is below `best`, else `None` (what the search uses; a
     /// scorer may override it with a faster equivalent).
     #[allow(clippy::too_many_arguments)]
     #[inline]
-    fn leaf_below(&self, d: usize, corners: &[Corner; 4], dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2], sx: Side, sy: Side, best: f64) -> Option<f64> {
+    fn leaf_below(
+        &self,
+        d: usize,
+        corners: &[Corner; 4],
+        dx: [f64; 2],
+        dy: [f64; 2],
+        cx: [f64; 2],
+        cy: [f64; 2],
+        sx: Side,
+        sy: Side,
+        best: f64,
+    ) -> Option<f64> {
         self.leaf(d, corners, dx, dy, cx, cy, sx, sy).filter(|&v| v < best)
     }
 }
@@ -424,7 +453,12 @@ pub type CellFlags = dyn Fn(&[f32; 4]) -> u8;
 /// addresses them (the rows above level k are `Σ_{j<k}` of the levels' cell rows). Texels
 /// right of a narrower level are 0 and never read. An error if a level's cell grid is not
 /// the one that addressing assumes (`h_k` rows, `h_k + 1` under clamp).
-pub fn level_atlas(chain: &[HeightMap], kind: crate::maps::MapKind, params: &crate::maps::MapParams, edge: EdgeMode) -> Result<crate::maps::Map, crate::maps::MapError> {
+pub fn level_atlas(
+    chain: &[HeightMap],
+    kind: crate::maps::MapKind,
+    params: &crate::maps::MapParams,
+    edge: EdgeMode,
+) -> Result<crate::maps::Map, crate::maps::MapError> {
     let levels = chain.iter().map(|h| crate::maps::build(h, kind, params, edge)).collect::<Result<Vec<_>, _>>()?;
     let border = (edge == EdgeMode::Clamp) as usize;
     for (h, m) in chain.iter().zip(&levels) {
@@ -503,7 +537,15 @@ impl CellTree {
     /// `(ax, ay)`, starting from `best` (and its binding cell, a plane position, see
     /// [`CellTree::leaf_below_at`]). Returns the minimum and the plane position of the cell that
     /// gave it.
-    pub fn search<S: CellScorer>(&self, ci: usize, cj: usize, ax: Dir, ay: Dir, s: &S, start: (f64, Option<(i64, i64)>)) -> (f64, Option<(i64, i64)>) {
+    pub fn search<S: CellScorer>(
+        &self,
+        ci: usize,
+        cj: usize,
+        ax: Dir,
+        ay: Dir,
+        s: &S,
+        start: (f64, Option<(i64, i64)>),
+    ) -> (f64, Option<(i64, i64)>) {
         let mut best = start;
         let top = self.levels.len() - 1;
         let q = Query { xa: self.axis_query(ci, ax, true), ya: self.axis_query(cj, ay, false), ci, cj, ax, ay };
@@ -526,7 +568,16 @@ impl CellTree {
     fn axis_query(&self, c: usize, dir: Dir, is_x: bool) -> AxisQuery {
         let (n, cn) = if is_x { (self.grid.w, self.grid.cw) } else { (self.grid.h, self.grid.ch) };
         let (_, _, c0, c1) = axis_extent(c, n, self.grid.edge);
-        AxisQuery { repeat: self.grid.edge == EdgeMode::Repeat, n: n as i64, cn: cn as i64, c: c as i64, dir, c0, c1, scale: 1.0 / n as f64 }
+        AxisQuery {
+            repeat: self.grid.edge == EdgeMode::Repeat,
+            n: n as i64,
+            cn: cn as i64,
+            c: c as i64,
+            dir,
+            c0,
+            c1,
+            scale: 1.0 / n as f64,
+        }
     }
 
     /// The score of the cell at plane position `(px, py)` (repeat: any integers, the cell is
@@ -534,7 +585,17 @@ impl CellTree {
     /// `None`.
     #[allow(clippy::too_many_arguments)]
     #[inline]
-    pub fn leaf_below_at<S: CellScorer>(&self, px: i64, py: i64, ci: usize, cj: usize, ax: Dir, ay: Dir, s: &S, best: f64) -> Option<f64> {
+    pub fn leaf_below_at<S: CellScorer>(
+        &self,
+        px: i64,
+        py: i64,
+        ci: usize,
+        cj: usize,
+        ax: Dir,
+        ay: Dir,
+        s: &S,
+        best: f64,
+    ) -> Option<f64> {
         let x = self.axis_leaf(px, ci, self.grid.cw, self.grid.w, ax, true)?;
         let y = self.axis_leaf(py, cj, self.grid.ch, self.grid.h, ay, false)?;
         let d = y.0 * self.grid.cw + x.0;
@@ -544,7 +605,15 @@ impl CellTree {
 
     /// One axis of a leaf: storage index, D extent, C extent, side.
     #[allow(clippy::type_complexity)]
-    fn axis_leaf(&self, p: i64, c: usize, cn: usize, n: usize, dir: Dir, is_x: bool) -> Option<(usize, [f64; 2], [f64; 2], Side)> {
+    fn axis_leaf(
+        &self,
+        p: i64,
+        c: usize,
+        cn: usize,
+        n: usize,
+        dir: Dir,
+        is_x: bool,
+    ) -> Option<(usize, [f64; 2], [f64; 2], Side)> {
         match self.grid.edge {
             EdgeMode::Repeat => {
                 let k = p - c as i64;
@@ -594,7 +663,17 @@ impl CellTree {
     /// children whose bound reaches `best` are dropped, the others visited nearest bound
     /// first (at level 1 the children are cells and are scored).
     #[allow(clippy::too_many_arguments)]
-    fn visit<S: CellScorer>(&self, k: usize, i: usize, j: usize, mx: i64, my: i64, q: &Query, s: &S, best: &mut (f64, Option<(i64, i64)>)) {
+    fn visit<S: CellScorer>(
+        &self,
+        k: usize,
+        i: usize,
+        j: usize,
+        mx: i64,
+        my: i64,
+        q: &Query,
+        s: &S,
+        best: &mut (f64, Option<(i64, i64)>),
+    ) {
         let (cw, ch) = (self.grid.cw, self.grid.ch);
         let (lw, lh, ref ld) = self.levels[k - 1];
         let lf: &[u8] = if self.flags.is_empty() { &[] } else { &self.flags[k - 1] };
@@ -658,7 +737,16 @@ impl CellTree {
     /// The search seeded with the 8 neighbours of `C` and `prev` (updated to the binding
     /// cell's plane position).
     #[allow(clippy::too_many_arguments)]
-    pub fn seeded<S: CellScorer>(&self, ci: usize, cj: usize, ax: Dir, ay: Dir, s: &S, init: f64, prev: &mut Option<(i64, i64)>) -> f64 {
+    pub fn seeded<S: CellScorer>(
+        &self,
+        ci: usize,
+        cj: usize,
+        ax: Dir,
+        ay: Dir,
+        s: &S,
+        init: f64,
+        prev: &mut Option<(i64, i64)>,
+    ) -> f64 {
         let mut best: (f64, Option<(i64, i64)>) = (init, None);
         let try_at = |px: i64, py: i64, best: &mut (f64, Option<(i64, i64)>)| {
             if let Some(v) = self.leaf_below_at(px, py, ci, cj, ax, ay, s, best.0) {
@@ -803,12 +891,33 @@ impl CellScorer for PieceScorer {
         (b * (1.0 - 1e-9) < best).then_some(b)
     }
     #[inline]
-    fn leaf(&self, _d: usize, c: &[Corner; 4], _dx: [f64; 2], _dy: [f64; 2], _cx: [f64; 2], _cy: [f64; 2], _sx: Side, _sy: Side) -> Option<f64> {
+    fn leaf(
+        &self,
+        _d: usize,
+        c: &[Corner; 4],
+        _dx: [f64; 2],
+        _dy: [f64; 2],
+        _cx: [f64; 2],
+        _cy: [f64; 2],
+        _sx: Side,
+        _sy: Side,
+    ) -> Option<f64> {
         let r = piece_ratio(self.lo, self.hi, self.rho, c);
         (r < f64::INFINITY).then_some(r)
     }
     #[inline]
-    fn leaf_below(&self, _d: usize, c: &[Corner; 4], _dx: [f64; 2], _dy: [f64; 2], _cx: [f64; 2], _cy: [f64; 2], _sx: Side, _sy: Side, best: f64) -> Option<f64> {
+    fn leaf_below(
+        &self,
+        _d: usize,
+        c: &[Corner; 4],
+        _dx: [f64; 2],
+        _dy: [f64; 2],
+        _cx: [f64; 2],
+        _cy: [f64; 2],
+        _sx: Side,
+        _sy: Side,
+        best: f64,
+    ) -> Option<f64> {
         piece_ratio_below(self.lo, self.hi, self.rho, c, best)
     }
 }

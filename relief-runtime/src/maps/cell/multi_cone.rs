@@ -46,7 +46,13 @@ pub fn heights(a: f32, k_cones: usize) -> Vec<f64> {
 }
 
 /// The stacked cones' ratios of cell `(i, j)` (f64, before rounding), searched with `tree`.
-pub(crate) fn stacked_ratios(tree: &CellTree, i: usize, j: usize, k_cones: usize, prev: &mut [Option<(i64, i64)>]) -> Vec<f64> {
+pub(crate) fn stacked_ratios(
+    tree: &CellTree,
+    i: usize,
+    j: usize,
+    k_cones: usize,
+    prev: &mut [Option<(i64, i64)>],
+) -> Vec<f64> {
     let a = super::apex(&tree.corners_of(j * tree.grid.cw + i));
     let b = heights(a, k_cones);
     (0..k_cones)
@@ -63,7 +69,13 @@ pub fn cell_multi_cone(map: &HeightMap, edge: EdgeMode, k_cones: usize) -> Vec<f
 }
 
 /// The piecewise slopes of cell `(i, j)` (f64, before rounding), searched with `tree`.
-pub(crate) fn piecewise_slopes(tree: &CellTree, i: usize, j: usize, k_cones: usize, prev: &mut [Option<(i64, i64)>]) -> Vec<f64> {
+pub(crate) fn piecewise_slopes(
+    tree: &CellTree,
+    i: usize,
+    j: usize,
+    k_cones: usize,
+    prev: &mut [Option<(i64, i64)>],
+) -> Vec<f64> {
     let a = super::apex(&tree.corners_of(j * tree.grid.cw + i));
     let b = heights(a, k_cones);
     let mut rho = 0.0f64;

@@ -68,7 +68,7 @@
 //! needs `∂S/∂X = 0`) holds only rising cells and is skipped. Otherwise the conservative
 //! bound `d_min / (h_max − A_C)` prunes as for `cell_cone`.
 
-use super::{Corner, CellScorer, CellTree, Dir, PieceScorer, Side};
+use super::{CellScorer, CellTree, Corner, Dir, PieceScorer, Side};
 use crate::heightmap::{EdgeMode, HeightMap};
 use crate::maps::encode::f32_down;
 
@@ -154,7 +154,17 @@ impl CellScorer for RelaxedScorer<'_> {
         self.rise(hmax, flags, sx, sy).and_then(|dh| super::prune_ratio(d2, dh, best))
     }
     #[inline]
-    fn leaf(&self, d: usize, c: &[Corner; 4], dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2], _sx: Side, _sy: Side) -> Option<f64> {
+    fn leaf(
+        &self,
+        d: usize,
+        c: &[Corner; 4],
+        dx: [f64; 2],
+        dy: [f64; 2],
+        cx: [f64; 2],
+        cy: [f64; 2],
+        _sx: Side,
+        _sy: Side,
+    ) -> Option<f64> {
         let r = super::piece_ratio(self.apex, f64::INFINITY, 0.0, c);
         if r == f64::INFINITY || rising(&self.tree.corners_of(d), dx, dy, cx, cy) {
             return None;
@@ -162,7 +172,18 @@ impl CellScorer for RelaxedScorer<'_> {
         Some(r)
     }
     #[inline]
-    fn leaf_below(&self, d: usize, c: &[Corner; 4], dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2], _sx: Side, _sy: Side, best: f64) -> Option<f64> {
+    fn leaf_below(
+        &self,
+        d: usize,
+        c: &[Corner; 4],
+        dx: [f64; 2],
+        dy: [f64; 2],
+        cx: [f64; 2],
+        cy: [f64; 2],
+        _sx: Side,
+        _sy: Side,
+        best: f64,
+    ) -> Option<f64> {
         let r = super::piece_ratio_below(self.apex, f64::INFINITY, 0.0, c, best)?;
         // The corner heights are f32 values widened to f64: narrowing them back is exact
         // (and saves the lookup of `d`'s corners).

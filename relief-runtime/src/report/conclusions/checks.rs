@@ -6,7 +6,9 @@ use std::collections::BTreeMap;
 
 use relief_dsl::Pipeline;
 
-use super::{and, figure_points, Dec, g, method_variant, pareto_front, share, share_dec, slower, spearman_at_least, Check};
+use super::{
+    and, figure_points, g, method_variant, pareto_front, share, share_dec, slower, spearman_at_least, Check, Dec,
+};
 
 /// The common share: a criterion over several cells holds when at least 75% of the
 /// measured cells agree, so one odd or noisy cell in four does not decide it. The same for

@@ -29,8 +29,8 @@ mod checks;
 
 use super::diss::{Diss, DissRow};
 use super::stats::spearman;
-use crate::timing::Ratio;
 use super::{short_scene, Data, Metric, TextTable, DASH};
+use crate::timing::Ratio;
 
 /// Whether a conclusion holds in a set of numbers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -373,10 +373,17 @@ type Outcome = Result<(Dec, String), String>;
 /// has one, all to one baseline; as mean frame times otherwise (ratios of different
 /// baselines, or rows timed alone, do not compare).
 fn time_clock(data: &Data, scene: &str) -> Clock {
-    let rows: Vec<&crate::results::Row> = data.rows.iter().filter(|r| r.metrics.scene == scene && r.status == "ok").collect();
+    let rows: Vec<&crate::results::Row> =
+        data.rows.iter().filter(|r| r.metrics.scene == scene && r.status == "ok").collect();
     let base = rows.first().map(|r| r.metrics.baseline.clone()).unwrap_or_default();
-    let paired = !rows.is_empty() && !base.is_empty() && rows.iter().all(|r| r.metrics.frame_ratio_to_baseline.is_some() && r.metrics.baseline == base);
-    if paired { Clock::Ratio } else { Clock::Mean }
+    let paired = !rows.is_empty()
+        && !base.is_empty()
+        && rows.iter().all(|r| r.metrics.frame_ratio_to_baseline.is_some() && r.metrics.baseline == base);
+    if paired {
+        Clock::Ratio
+    } else {
+        Clock::Mean
+    }
 }
 
 /// Whether `a` is slower than `factor` × `b` in `table`: decided when the interval of
@@ -427,7 +434,13 @@ fn spearman_at_least(x: &[f64], y: &[Ratio], need: f64) -> Result<(Dec, String),
         .collect();
     rhos.sort_by(f64::total_cmp);
     let (lo, hi) = (rhos[50], rhos[1949]);
-    let dec = if lo >= need { Some(true) } else if hi < need { Some(false) } else { None };
+    let dec = if lo >= need {
+        Some(true)
+    } else if hi < need {
+        Some(false)
+    } else {
+        None
+    };
     Ok((dec, format!("ρ = {rho:.2} [{lo:.2}, {hi:.2}] (95 %) over {} step counts", x.len())))
 }
 
@@ -457,7 +470,15 @@ fn verdict(o: &Outcome) -> (Verdict, String) {
 /// the rest of the report stays readable.
 /// Also says whether the criterion read a cone method (whose form `textbook` chose) and
 /// whether it read frame time. With `model`, frame time is the SIMD cost model's.
-fn run_ours(c: &Check, data: &Data, scene: &str, metric: Metric, textbook: bool, lod: Lod, model: bool) -> (Verdict, String, bool, bool) {
+fn run_ours(
+    c: &Check,
+    data: &Data,
+    scene: &str,
+    metric: Metric,
+    textbook: bool,
+    lod: Lod,
+    model: bool,
+) -> (Verdict, String, bool, bool) {
     let src = Ours::new(data, scene, metric, textbook, lod, model);
     let out = (c.run)(&src);
     let (cone, time) = (src.read_cone.get(), src.read_time.get());
@@ -495,7 +516,8 @@ pub(crate) fn check_at(data: &Data, diss: &Diss, scene: &str, lod: Lod) -> Vec<C
     for c in &checks::checks() {
         let (dv, de) = verdict(&(c.run)(&theirs));
         for textbook in [false, true] {
-            let (ours_mse, evidence_mse, cone, reads_time) = run_ours(c, data, &scene, Metric::Mse, textbook, lod, false);
+            let (ours_mse, evidence_mse, cone, reads_time) =
+                run_ours(c, data, &scene, Metric::Mse, textbook, lod, false);
             if textbook && !cone {
                 break;
             }
@@ -613,7 +635,13 @@ fn share_dec(flags: &[Option<Dec>], need: f64, min: usize, what: &str) -> Outcom
     let yes = measured.iter().filter(|d| **d == Some(true)).count();
     let open = measured.iter().filter(|d| d.is_none()).count();
     let reach = |k: usize| k as f64 >= need * n - 1e-9;
-    let dec = if reach(yes) { Some(true) } else if !reach(yes + open) { Some(false) } else { None };
+    let dec = if reach(yes) {
+        Some(true)
+    } else if !reach(yes + open) {
+        Some(false)
+    } else {
+        None
+    };
     let open_text = if open > 0 { format!(" ({open} not decided)") } else { String::new() };
     Ok((dec, format!("{yes}/{} {what}{open_text}", measured.len())))
 }
@@ -624,7 +652,8 @@ fn share_dec(flags: &[Option<Dec>], need: f64, min: usize, what: &str) -> Outcom
 /// The conclusions as a table.
 pub(crate) fn table(cs: &[Conclusion]) -> TextTable {
     let scene = cs.first().map(|c| short_scene(&c.scene).to_string()).unwrap_or_default();
-    let cell = |v: Verdict, e: &str| if e.is_empty() { v.as_str().to_string() } else { format!("{} ({e})", v.as_str()) };
+    let cell =
+        |v: Verdict, e: &str| if e.is_empty() { v.as_str().to_string() } else { format!("{} ({e})", v.as_str()) };
     TextTable {
         title: "Conclusions".into(),
         notes: vec![format!(
@@ -683,7 +712,8 @@ pub(crate) fn by_adapter(adapters: &[(String, Vec<Conclusion>)]) -> Option<TextT
     if adapters.len() < 2 {
         return None;
     }
-    let cell = |v: Verdict, e: &str| if e.is_empty() { v.as_str().to_string() } else { format!("{} ({e})", v.as_str()) };
+    let cell =
+        |v: Verdict, e: &str| if e.is_empty() { v.as_str().to_string() } else { format!("{} ({e})", v.as_str()) };
     let mut header = vec!["table".to_string(), "conclusion".to_string()];
     header.extend(adapters.iter().map(|(a, _)| a.clone()));
     header.push("model (simd32_fetches)".into());
@@ -731,7 +761,12 @@ pub(crate) fn summary_lines(cs: &[Conclusion]) -> Vec<String> {
     for (label, r) in [("by mse_dissertation_mean", false), ("by ref_err_t_rms", true)] {
         for v in [Verdict::Holds, Verdict::DoesNotHold, Verdict::NotDecided, Verdict::NotMeasured] {
             let l = by(v, r);
-            out.push(format!("**{} {label}** ({}): {}", capitalize(v.as_str()), l.len(), if l.is_empty() { DASH.to_string() } else { l.join("; ") }));
+            out.push(format!(
+                "**{} {label}** ({}): {}",
+                capitalize(v.as_str()),
+                l.len(),
+                if l.is_empty() { DASH.to_string() } else { l.join("; ") }
+            ));
         }
     }
     out
@@ -753,7 +788,11 @@ pub(crate) fn lod_markdown(data: &Data, diss: &Diss) -> Option<String> {
     let scenes: Vec<String> = data
         .scenes()
         .into_iter()
-        .filter(|s| data.rows.iter().any(|r| &r.metrics.scene == s && r.metrics.pipeline.parse::<Pipeline>().is_ok_and(|p| p.lod == Lod::Auto)))
+        .filter(|s| {
+            data.rows.iter().any(|r| {
+                &r.metrics.scene == s && r.metrics.pipeline.parse::<Pipeline>().is_ok_and(|p| p.lod == Lod::Auto)
+            })
+        })
         .collect();
     if scenes.is_empty() {
         return None;
