@@ -26,19 +26,35 @@ fn rust_files(dir: &Path) -> Vec<PathBuf> {
 /// The top-level modules a source text names through `crate::`, outside `//` comments.
 fn named_modules(text: &str) -> Vec<String> {
     let mut out = Vec::new();
-    for line in text.lines().take_while(|l| l.trim() != "#[cfg(test)]") {
-        let code = line.split("//").next().unwrap_or("");
-        let mut rest = code;
-        while let Some(i) = rest.find("crate::") {
-            rest = &rest[i + "crate::".len()..];
-            if let Some(group) = rest.strip_prefix('{') {
-                let end = group.find('}').unwrap_or(group.len());
-                for item in group[..end].split(',') {
-                    let name: String = item.trim().chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
-                    out.push(name);
+    // The code of all lines joined, so that a `crate::{…}` group that rustfmt splits over
+    // several lines is read whole.
+    let code: String = text
+        .lines()
+        .take_while(|l| l.trim() != "#[cfg(test)]")
+        .map(|l| l.split("//").next().unwrap_or(""))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let ident = |s: &str| -> String { s.trim().chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect() };
+    let mut rest = code.as_str();
+    while let Some(i) = rest.find("crate::") {
+        rest = &rest[i + "crate::".len()..];
+        let Some(group) = rest.strip_prefix('{') else {
+            out.push(ident(rest));
+            continue;
+        };
+        // The group's top-level items: the first name of each, nested groups skipped.
+        let (mut depth, mut start) = (0, true);
+        for (k, c) in group.char_indices() {
+            match c {
+                '{' => depth += 1,
+                '}' if depth == 0 => break,
+                '}' => depth -= 1,
+                ',' if depth == 0 => start = true,
+                _ if start && !c.is_whitespace() => {
+                    out.push(ident(&group[k..]));
+                    start = false;
                 }
-            } else {
-                out.push(rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect());
+                _ => {}
             }
         }
     }
@@ -113,6 +129,8 @@ fn relief_runtime_imports_point_down() {
 fn the_checker_sees_a_back_edge() {
     assert_eq!(named_modules("use crate::stage::{self, Build};"), ["stage"]);
     assert_eq!(named_modules("use crate::{ir::Stage, spec};  // crate::emit"), ["ir", "spec"]);
+    // A group split over lines, with a nested group, as rustfmt writes it.
+    assert_eq!(named_modules("use crate::{\n    ir::{Stage, Val},\n    spec,\n};"), ["ir", "spec"]);
     assert_eq!(named_modules("let a = crate::abi::X;\n#[cfg(test)]\nmod tests { use crate::emit; }"), ["abi"]);
     // On a tree: a back edge and a module in no layer.
     let dir = std::env::temp_dir().join(format!("relief-layers-{}", std::process::id()));
