@@ -269,6 +269,13 @@ fn serve_answers_files_inside_its_folder_and_nothing_outside() {
     assert_eq!(code, 200);
     assert!(head.contains("Content-Type: image/svg+xml"), "{head}");
     assert_eq!(get(port, "/in-link.html").0, 200, "a link inside the folder is served");
+    // A folder with a page: its URL gains the `/` its relative links need.
+    std::fs::create_dir_all(root.join("sub")).unwrap();
+    std::fs::write(root.join("sub/index.html"), "sub page").unwrap();
+    let (code, head, _) = get(port, "/sub?x=1");
+    assert_eq!(code, 301);
+    assert!(head.contains("\r\nLocation: /sub/\r\n"), "{head}");
+    assert_eq!(get(port, "/sub/").2, b"sub page");
     let (code, _, body) = http(port, "HEAD /index.html HTTP/1.1\r\n\r\n");
     assert_eq!((code, body.len()), (200, 0));
 

@@ -99,17 +99,31 @@ fn answer(stream: TcpStream, root: &Path) -> std::io::Result<()> {
         _ => return status(&mut out, 405, "Method Not Allowed", false),
     };
     match resolve(root, target) {
-        Some(file) => send_file(&mut out, &file, head_only),
+        Some(Found::File(file)) => send_file(&mut out, &file, head_only),
+        Some(Found::Folder) => {
+            // A folder's page links relative to the folder: its URL must end with `/`.
+            let path = target.split(['?', '#']).next().unwrap_or("/");
+            write!(out, "HTTP/1.1 301 Moved Permanently\r\nLocation: {path}/\r\nContent-Length: 0\r\nConnection: close\r\n\r\n")?;
+            out.flush()
+        }
         None => status(&mut out, 404, "Not Found", head_only),
     }
+}
+
+/// What a request names inside the served folder.
+enum Found {
+    /// A plain file inside it.
+    File(PathBuf),
+    /// A folder inside it with an `index.html`, named without the trailing `/`.
+    Folder,
 }
 
 /// The file inside `root` that request target `target` names, or None (404): the target's
 /// path is percent-decoded, must be relative to `/` with only plain names (no `..`, no `.`
 /// games, no second leading `/`, no drive or backslash), and its canonical path, links
 /// followed, must still lie inside `root` and be a plain file. A folder means its
-/// `index.html`.
-fn resolve(root: &Path, target: &str) -> Option<PathBuf> {
+/// `index.html` (asked for without its trailing `/`: [`Found::Folder`]).
+fn resolve(root: &Path, target: &str) -> Option<Found> {
     let path = target.split(['?', '#']).next()?;
     let rel = percent_decode(path.strip_prefix('/')?)?;
     if rel.contains('\\') || rel.contains('\0') || rel.starts_with('/') {
@@ -124,10 +138,14 @@ fn resolve(root: &Path, target: &str) -> Option<PathBuf> {
         }
     }
     let mut real = std::fs::canonicalize(&file).ok()?;
-    if real.is_dir() {
+    let folder = real.is_dir();
+    if folder {
         real = std::fs::canonicalize(real.join("index.html")).ok()?;
     }
-    (real.starts_with(root) && real.is_file()).then_some(real)
+    if !(real.starts_with(root) && real.is_file()) {
+        return None;
+    }
+    Some(if folder && !path.ends_with('/') { Found::Folder } else { Found::File(real) })
 }
 
 /// `%XX` escapes decoded; None when an escape is malformed or the result is not UTF-8.
