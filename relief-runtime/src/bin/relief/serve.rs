@@ -103,7 +103,10 @@ fn answer(stream: TcpStream, root: &Path) -> std::io::Result<()> {
         Some(Found::Folder) => {
             // A folder's page links relative to the folder: its URL must end with `/`.
             let path = target.split(['?', '#']).next().unwrap_or("/");
-            write!(out, "HTTP/1.1 301 Moved Permanently\r\nLocation: {path}/\r\nContent-Length: 0\r\nConnection: close\r\n\r\n")?;
+            write!(
+                out,
+                "HTTP/1.1 301 Moved Permanently\r\nLocation: {path}/\r\nContent-Length: 0\r\nConnection: close\r\n\r\n"
+            )?;
             out.flush()
         }
         None => status(&mut out, 404, "Not Found", head_only),
