@@ -41,17 +41,19 @@ pub mod binding {
     pub const MAX_MIP: u32 = 13;
     /// Distance field, `texture_3d<f32>` (r), z slices from the bottom (0) to the top (1).
     pub const DISTANCE_FIELD: u32 = 14;
-    /// Cell cone ratio map (r), one texel per bilinear cell, read with `textureLoad`.
+    /// Cell cone ratio and apex (rg), one texel per bilinear cell, read with `textureLoad`
+    /// (the cell maps carry their apex after the cones where it fits:
+    /// [`super::cell_apex_on_device`]).
     pub const CELL_CONE: u32 = 15;
-    /// Cell quad cone ratios (rgba).
+    /// Cell quad cone ratios (rgba; the apex does not fit).
     pub const CELL_QUAD_CONE: u32 = 16;
-    /// Cell relaxed cone ratio (r).
+    /// Cell relaxed cone ratio and apex (rg).
     pub const CELL_RELAXED_CONE: u32 = 17;
-    /// Cell cone normal, `n_z` (r).
+    /// Cell cone normal, `n_z`, and apex (rg).
     pub const CELL_CONE_NORMAL: u32 = 18;
-    /// Cell stacked cones, `n_z` per cone (rgba, K ≤ 4 channels used).
+    /// Cell stacked cones, `n_z` per cone, then the apex where K ≤ 3 (rgba).
     pub const CELL_MULTI_CONE: u32 = 19;
-    /// Cell piecewise cone slopes as `n_z` (rgba, K ≤ 4 channels used).
+    /// Cell piecewise cone slopes as `n_z`, then the apex where K ≤ 3 (rgba).
     pub const CELL_PIECEWISE_CONE: u32 = 20;
     /// A 2D map read with nearest filtering is bound a second time at its binding plus this
     /// offset (`cone_map_nearest` at 38 for `cone_map` at 6): GLSL combines a texture with one
@@ -273,3 +275,15 @@ impl ProbeHit {
 /// rounding of a t summed in f32 over up to 128 steps of at most the volume's depth is below
 /// 128 · 2⁻²⁴ ≈ 7.6e-6, so 1e-5 separates rounding from a search that left the volume.
 pub const OUTSIDE_TOLERANCE: f64 = 1e-5;
+
+/// The channels of one map texel on the device (an `Rgba32Float` texel).
+pub const TEXEL_CHANNELS: usize = 4;
+
+/// Whether a cell map of `channels` channels (its cones, then the apex `A_C`, the highest
+/// corner of the cell) is uploaded with its apex: where the apex fits in the texel beside the
+/// cones. A safe cone step then reads the apex with the cone in one load and gathers the
+/// cell's corners only where it meets the cell's patch; a map without it (the quad cone, K = 4
+/// stacked or piecewise cones) has its apex taken from the gathered corners.
+pub fn cell_apex_on_device(channels: usize) -> bool {
+    channels <= TEXEL_CHANNELS
+}

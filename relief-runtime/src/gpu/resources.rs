@@ -199,7 +199,7 @@ impl SceneTextures {
                 } else if kind.is_cell() {
                     // Cell maps: every level's cells in one atlas (see `maps::cell::level_atlas`).
                     let atlas = crate::maps::cell::level_atlas(&chain, kind, &params, scene.edge)?;
-                    upload_map(gpu, &atlas, atlas.channels - 1, kind.is_ratio())
+                    upload_map(gpu, &atlas, cell_channels_uploaded(atlas.channels), kind.is_ratio())
                 } else {
                     if !req.has_levels() {
                         return Err(crate::maps::MapError::Params {
@@ -225,7 +225,7 @@ impl SceneTextures {
                 continue;
             }
             let map = crate::maps::build(&scene.height, kind, &params, scene.edge)?;
-            let used = if kind.is_cell() { map.channels - 1 } else { map.channels };
+            let used = if kind.is_cell() { cell_channels_uploaded(map.channels) } else { map.channels };
             let view = upload_map(gpu, &map, used, kind.is_ratio());
             self.maps.insert(key, view);
         }
@@ -324,26 +324,44 @@ fn missing_map(b: u32) -> super::GpuError {
     super::GpuError::Pipeline(format!("the shader reads the map at binding {b}, which was not built (call add_maps_lod with the pipeline's required_maps and lod)"))
 }
 
+/// The channels of a cell map that go to the device: all of them (the cones, then the apex)
+/// where the apex fits in the texel ([`relief_dsl::abi::cell_apex_on_device`]), else the
+/// cones only (the shader then takes the apex from the cell's gathered corners).
+fn cell_channels_uploaded(channels: usize) -> usize {
+    if relief_dsl::abi::cell_apex_on_device(channels) {
+        channels
+    } else {
+        channels - 1
+    }
+}
+
 /// The largest cone ratio uploaded (a cone 89.99° wide).
 pub const MAX_RATIO: f32 = 1.0e4;
 
-/// Uploads the first `used` channels of a map as R32Float (one channel) or Rgba32Float (2 to
-/// 4 channels, padded), 2D or 3D, with its pyramid levels (max-mip) as mip levels.
+/// Uploads the first `used` channels of a map as R32Float (one channel), Rg32Float (two: a
+/// cell map's cone and apex, half the bytes of a padded texel) or Rgba32Float (3 or 4
+/// channels, padded), 2D or 3D, with its pyramid levels (max-mip) as mip levels.
 fn upload_map(gpu: &Gpu, map: &crate::maps::Map, used: usize, ratio: bool) -> wgpu::TextureView {
     assert!((1..=4).contains(&used) && used <= map.channels, "a map uploads 1 to 4 of its channels");
     let fix = |x: f32| if ratio { x.min(MAX_RATIO) } else { x };
+    // Channels per stored texel: no format holds three 32-bit floats.
+    let stored = if used == 3 { 4 } else { used };
     let texels = |m: &crate::maps::Map| -> Vec<f32> {
-        let mut out = Vec::with_capacity(m.data.len() / m.channels * if used == 1 { 1 } else { 4 });
+        let mut out = Vec::with_capacity(m.data.len() / m.channels * stored);
         for texel in m.data.chunks(m.channels) {
-            if used == 1 {
-                out.push(fix(texel[0]));
+            if stored < 4 {
+                out.extend(texel[..stored].iter().map(|&x| fix(x)));
             } else {
                 out.extend((0..4).map(|c| if c < used { fix(texel[c]) } else { 0.0 }));
             }
         }
         out
     };
-    let format = if used == 1 { wgpu::TextureFormat::R32Float } else { wgpu::TextureFormat::Rgba32Float };
+    let format = match stored {
+        1 => wgpu::TextureFormat::R32Float,
+        2 => wgpu::TextureFormat::Rg32Float,
+        _ => wgpu::TextureFormat::Rgba32Float,
+    };
     let mut data = texels(map);
     for level in &map.mips {
         data.extend(texels(level));

@@ -13,10 +13,17 @@
 //! march meets C's patch exactly (a quadratic in t) and either stops at the hit or moves to
 //! where the ray leaves C. So every pass leaves a cell or ends the search, none stalls, and
 //! the search never ends past the first intersection.
+//!
+//! A pass that leaves its cell by the cone step needs only the cone and `A_C`, which the cell
+//! map carries in one texel where they fit ([`crate::abi::cell_apex_on_device`]); the four
+//! corners are gathered only in a pass that meets the patch. So a pass costs one fetch, two
+//! where it meets a patch (a map without the apex gathers the corners every pass, as the
+//! patch's pass then reuses them).
 
 use crate::ir::{Stage, Val, Var, Vec2, Vec3, Vec4};
 use crate::spec::MapReq;
 use crate::stage::{Bracket, Ray};
+use std::cell::Cell as Kept;
 
 /// How far ahead along the ray (in cells) the cell of a point on a cell boundary is picked:
 /// the cell the ray is entering, not the one it leaves.
@@ -30,16 +37,14 @@ const AHEAD_CELLS: f32 = 1e-4;
 const NO_EXIT: f32 = 1e30;
 
 /// The bilinear cell a ray point is in (or entering), with what the safe cone steps need.
-#[derive(Clone, Copy)]
 pub(super) struct Cell<'a> {
     /// The height map's size in texels (queried once per cell).
     pub size: Val<'a, Vec2>,
     /// The cell's lower-left texel-centre coordinates (`floor(X)`).
     pub cell: Val<'a, Vec2>,
-    /// Corner heights in gather order: `(i, j+1), (i+1, j+1), (i+1, j), (i, j)`.
-    pub corners: Val<'a, Vec4>,
-    /// `A_C`, the highest corner: the apex of the cell's cones.
-    pub apex: Val<'a, f32>,
+    /// The corners gathered in the pass's own block ([`Cell::keep_corners`]), for every later
+    /// use in the pass; `None` until then.
+    kept: Kept<Option<Val<'a, Vec4>>>,
     /// Where the cell's cones are stored in a cell map (whole texel coordinates).
     pub index: Val<'a, Vec2>,
     /// Horizontal distance (texture units) from the point to the square the stored cone
@@ -55,9 +60,6 @@ pub(super) fn cell_at<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> C
     let speed = ray.dir.xy() * size;
     let x = ray.origin * size - 0.5 + speed * t;
     let cell = (x + ahead(s, speed)).floor().named("cell");
-    // The four corners in one gather at the cell's centre.
-    let corners = s.height_gather((cell + 1.0) / size).named("corners");
-    let apex = corners.x().max(corners.y()).max(corners.z().max(corners.w())).named("apex");
     // Storage: repeat wraps the N cells; clamp stores N + 1 (two half-texel border strips),
     // cell i + 1 covering X in [max(i, -1/2), min(i + 1, N - 1/2)].
     let clamp = s.edge_is_clamp();
@@ -74,7 +76,7 @@ pub(super) fn cell_at<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> C
     };
     let exit =
         (t + exit_along(cell.x(), x.x(), speed.x()).min(exit_along(cell.y(), x.y(), speed.y()))).min(ray.t_max());
-    Cell { size, cell, corners, apex, index, dist: dist.named("dist"), exit: exit.named("exit") }
+    Cell { size, cell, kept: Kept::new(None), index, dist: dist.named("dist"), exit: exit.named("exit") }
 }
 
 fn sign<'a>(s: &'a Stage<'a>, v: Val<'a, f32>) -> Val<'a, f32> {
@@ -115,8 +117,40 @@ fn step_or_meet<'a>(
 impl<'a> Cell<'a> {
     /// Channel values of the cell's entry in the cell map `map` (one load, no filtering: a
     /// blend of two cells' cones is neither cell's cone).
-    pub fn cones(&self, s: &'a Stage<'a>, map: MapReq) -> Val<'a, Vec4> {
+    fn cones(&self, s: &'a Stage<'a>, map: MapReq) -> Val<'a, Vec4> {
         s.cell_map_texel(map, self.index)
+    }
+
+    /// The cell's entry in `map` and its apex `A_C`: the channel after the cones where the
+    /// map carries it on the device, else the highest of the corners, gathered and kept for
+    /// the pass (call in the pass's own block).
+    pub fn cones_and_apex(&self, s: &'a Stage<'a>, map: MapReq) -> (Val<'a, Vec4>, Val<'a, f32>) {
+        let texel = self.cones(s, map);
+        let n = cell_map_channels(map);
+        let apex = if crate::abi::cell_apex_on_device(n) {
+            [texel.x(), texel.y(), texel.z(), texel.w()][n - 1]
+        } else {
+            let c = self.keep_corners(s);
+            c.x().max(c.y()).max(c.z().max(c.w()))
+        };
+        (texel, apex.named("apex"))
+    }
+
+    /// The four corner heights in gather order `(i, j+1), (i+1, j+1), (i+1, j), (i, j)`,
+    /// gathered in `s` and kept for the rest of the pass: `s` must be the pass's own block
+    /// (a value made inside a branch does not exist after it).
+    pub fn keep_corners(&self, s: &'a Stage<'a>) -> Val<'a, Vec4> {
+        let c = self.corners(s);
+        self.kept.set(Some(c));
+        c
+    }
+
+    /// The corners kept for the pass, or a gather in `s` (at the cell's centre) not kept.
+    fn corners(&self, s: &'a Stage<'a>) -> Val<'a, Vec4> {
+        match self.kept.get() {
+            Some(c) => c,
+            None => s.height_gather((self.cell + 1.0) / self.size).named("corners"),
+        }
     }
 
     /// The height above the cone's apex that a step may descend through: the point's height
@@ -125,10 +159,10 @@ impl<'a> Cell<'a> {
         (p_z - apex - self.dist / ratio.max(1e-7)).max(0.0)
     }
 
-    /// The bilinear surface at `p` (within the cell), from the corners.
-    pub fn height(&self, ray: &Ray<'a>, t: Val<'a, f32>) -> Val<'a, f32> {
+    /// The bilinear surface at `p` (within the cell), from the corners kept for the pass.
+    pub fn height(&self, s: &'a Stage<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> Val<'a, f32> {
         let f = fraction(ray, self.size, self.cell, t);
-        let c = self.corners;
+        let c = self.keep_corners(s);
         let (h01, h11, h10, h00) = (c.x(), c.y(), c.z(), c.w());
         let bottom = h00 + (h10 - h00) * f.x();
         let top = h01 + (h11 - h01) * f.x();
@@ -137,7 +171,17 @@ impl<'a> Cell<'a> {
 
     /// The first t in `[from, exit]` where the ray meets the cell's patch, or -1.
     pub fn patch_root(&self, s: &'a Stage<'a>, ray: &Ray<'a>, from: Val<'a, f32>) -> Val<'a, f32> {
-        patch_root(s, ray, self.size, self.cell, self.corners, from, self.exit)
+        patch_root(s, ray, self.size, self.cell, self.corners(s), from, self.exit)
+    }
+}
+
+/// The channels of a cell map: its cones, then the apex (relief-runtime's `MapKind::channels`
+/// of the cell kinds).
+fn cell_map_channels(map: MapReq) -> usize {
+    match map {
+        MapReq::CellQuadCone => 5,
+        MapReq::CellMultiCone(k) | MapReq::CellPiecewiseCone(k) => k as usize + 1,
+        _ => 2,
     }
 }
 
@@ -228,7 +272,7 @@ pub(super) fn relaxed_march<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, ste
         l.break_if(found.get());
         let c = cell_at(l, ray, t.get());
         let p = ray.at(t);
-        found.set(c.height(ray, t.get()).ge(p.z()) | t.ge(ray.t_max()));
+        found.set(c.height(l, ray, t.get()).ge(p.z()) | t.ge(ray.t_max()));
         l.break_if(found.get());
         let cone = t.get() + step(l, p, &c);
         t_prev.set(t);

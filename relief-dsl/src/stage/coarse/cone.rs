@@ -157,8 +157,9 @@ fn ratio<'a>(s: &'a Stage<'a>, uv: Val<'a, crate::ir::Vec2>, sample: ConeSample)
 pub fn csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form, sample: ConeSample) -> Bracket<'a> {
     match form {
         Form::Safe => safe_march(s, ray, steps, |s, p, c| {
-            let r = c.cones(s, MapReq::CellCone).x().named("r");
-            cone_step(ray, r, c.clearance(p.z(), c.apex, r))
+            let (cone, apex) = c.cones_and_apex(s, MapReq::CellCone);
+            let r = cone.x().named("r");
+            cone_step(ray, r, c.clearance(p.z(), apex, r))
         }),
         Form::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let r = ratio(s, p.xy(), sample).named("r");
@@ -209,8 +210,9 @@ fn quadrant<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, q: Val<'a, crate::ir::Vec4>) ->
 pub fn qcsm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form) -> Bracket<'a> {
     match form {
         Form::Safe => safe_march(s, ray, steps, |s, p, c| {
-            let r = quadrant(s, ray, c.cones(s, MapReq::CellQuadCone)).named("r");
-            cone_step(ray, r, c.clearance(p.z(), c.apex, r))
+            let (cones, apex) = c.cones_and_apex(s, MapReq::CellQuadCone);
+            let r = quadrant(s, ray, cones).named("r");
+            cone_step(ray, r, c.clearance(p.z(), apex, r))
         }),
         Form::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let r = quadrant(s, ray, s.map(MapReq::QuadCone, p.xy(), Filter::Nearest)).named("r");
@@ -248,8 +250,9 @@ pub enum RelaxedStart {
 pub fn rcs<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form, start: RelaxedStart) -> Bracket<'a> {
     match form {
         Form::Safe => relaxed_march(s, ray, steps, |s, p, c| {
-            let r = c.cones(s, MapReq::CellRelaxedCone).x().named("r");
-            cone_step(ray, r, c.clearance(p.z(), c.apex, r))
+            let (cone, apex) = c.cones_and_apex(s, MapReq::CellRelaxedCone);
+            let r = cone.x().named("r");
+            cone_step(ray, r, c.clearance(p.z(), apex, r))
         }),
         Form::Textbook => {
             let m = textbook_march(s, ray, steps, |s, p, h| {
@@ -295,8 +298,9 @@ fn build_rcs<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a
 pub fn cns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form) -> Bracket<'a> {
     match form {
         Form::Safe => safe_march(s, ray, steps, |s, p, c| {
-            let n_z = c.cones(s, MapReq::CellConeNormal).x().named("n_z");
-            cone_normal_step(ray, n_z, c.clearance(p.z(), c.apex, ratio_of(n_z)))
+            let (cone, apex) = c.cones_and_apex(s, MapReq::CellConeNormal);
+            let n_z = cone.x().named("n_z");
+            cone_normal_step(ray, n_z, c.clearance(p.z(), apex, ratio_of(n_z)))
         }),
         Form::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let n_z = s.map(MapReq::ConeNormal, p.xy(), Filter::Nearest).x().named("n_z");
@@ -323,8 +327,9 @@ pub(crate) fn cns_def() -> MethodDef {
 pub fn rcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form) -> Bracket<'a> {
     match form {
         Form::Safe => relaxed_march(s, ray, steps, |s, p, c| {
-            let r = c.cones(s, MapReq::CellRelaxedCone).x();
-            cone_normal_step(ray, normal_of(r).named("n_z"), c.clearance(p.z(), c.apex, r))
+            let (cone, apex) = c.cones_and_apex(s, MapReq::CellRelaxedCone);
+            let r = cone.x();
+            cone_normal_step(ray, normal_of(r).named("n_z"), c.clearance(p.z(), apex, r))
         }),
         Form::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let n_z = s.map(MapReq::RelaxedConeNormal, p.xy(), Filter::Nearest).x().named("n_z");
@@ -370,7 +375,8 @@ pub fn mcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: Form)
     };
     match form {
         Form::Safe => safe_march(s, ray, steps, |s, p, c| {
-            longest(p, c.apex, channels(c.cones(s, MapReq::CellMultiCone(k)), k), Some(c))
+            let (cones, apex) = c.cones_and_apex(s, MapReq::CellMultiCone(k));
+            longest(p, apex, channels(cones, k), Some(c))
         }),
         Form::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             longest(p, h, channels(s.map(MapReq::MultiCone(k), p.xy(), Filter::Nearest), k), None)
@@ -425,7 +431,8 @@ pub fn pcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: Form)
     };
     match form {
         Form::Safe => safe_march(s, ray, steps, |s, p, c| {
-            leave(s, p, c.apex, c.dist, channels(c.cones(s, MapReq::CellPiecewiseCone(k)), k))
+            let (cones, apex) = c.cones_and_apex(s, MapReq::CellPiecewiseCone(k));
+            leave(s, p, apex, c.dist, channels(cones, k))
         }),
         Form::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             leave(s, p, h, s.lit(0.0), channels(s.map(MapReq::PiecewiseCone(k), p.xy(), Filter::Nearest), k))
