@@ -227,22 +227,10 @@ impl Reference {
         if tb < ta {
             return None;
         }
-        let e = self.edge;
-        let h00 = self.map.texel(cx, cy, e) as f64;
-        let h10 = self.map.texel(cx + 1, cy, e) as f64;
-        let h01 = self.map.texel(cx, cy + 1, e) as f64;
-        let h11 = self.map.texel(cx + 1, cy + 1, e) as f64;
-        // Local coordinates at the interval start; s = t - ta.
-        let fx = ray.x0 + ta * ray.dx - cx as f64;
-        let fy = ray.y0 + ta * ray.dy - cy as f64;
-        let (ax, ay, k) = (h10 - h00, h01 - h00, h00 - h10 - h01 + h11);
-        // g(s) = h(s) - z(s) = a + b s + c s²
-        let a = h00 + ax * fx + ay * fy + k * fx * fy - ray.z(ta);
+        let [a, b, c] = gap(&self.map, self.edge, ray, cx, cy, ta);
         if a >= 0.0 {
             return Some(ta);
         }
-        let b = ax * ray.dx + ay * ray.dy + k * (fx * ray.dy + fy * ray.dx) - ray.dz;
-        let c = k * ray.dx * ray.dy;
         let len = tb - ta;
         // Roots without cancellation: q = -(b + sign(b)·√D)/2, roots q/c and a/q.
         let disc = b * b - 4.0 * a * c;
@@ -272,6 +260,61 @@ impl Reference {
         let th = (hh - 1.0) / ray.dz; // where the ray's height drops to the texel's
         (th <= tb).then_some(th)
     }
+}
+
+/// The gap between cell (cx, cy)'s bilinear patch and the ray from `ta` on, as the
+/// coefficients of g(s) = h(s) − z(s) = a + b·s + c·s² with s = t − ta (Method, step 1).
+fn gap(map: &HeightMap, edge: EdgeMode, ray: &GridRay, cx: i64, cy: i64, ta: f64) -> [f64; 3] {
+    let h00 = map.texel(cx, cy, edge) as f64;
+    let h10 = map.texel(cx + 1, cy, edge) as f64;
+    let h01 = map.texel(cx, cy + 1, edge) as f64;
+    let h11 = map.texel(cx + 1, cy + 1, edge) as f64;
+    // Local coordinates at the interval start.
+    let fx = ray.x0 + ta * ray.dx - cx as f64;
+    let fy = ray.y0 + ta * ray.dy - cy as f64;
+    let (ax, ay, k) = (h10 - h00, h01 - h00, h00 - h10 - h01 + h11);
+    let a = h00 + ax * fx + ay * fy + k * fx * fy - ray.z(ta);
+    let b = ax * ray.dx + ay * ray.dy + k * (fx * ray.dy + fy * ray.dx) - ray.dz;
+    let c = k * ray.dx * ray.dy;
+    [a, b, c]
+}
+
+/// Whether the ray `(origin, 1) + t·dir` is above `map`'s bilinear surface (between texel
+/// centres, with `edge`) by more than `slack` in height somewhere in [t0, t1]: after a first
+/// hit at t0, whether the ray comes back out of the surface before t1 — a search that
+/// reports t1 has jumped over geometry. Exact: the cells the ray crosses are visited in
+/// order, and in each the gap h − z, a quadratic in t, is minimised over the ray's part in
+/// it (the ends, and the vertex where the quadratic opens upwards).
+pub fn rises_above(map: &HeightMap, edge: EdgeMode, origin: [f64; 2], dir: [f64; 3], t0: f64, t1: f64, slack: f64) -> bool {
+    if !(t0.is_finite() && t1.is_finite() && t1 > t0) {
+        return false;
+    }
+    let (w, h) = (map.width as f64, map.height as f64);
+    let ray = GridRay { x0: origin[0] * w - 0.5, y0: origin[1] * h - 0.5, dx: dir[0] * w, dy: dir[1] * h, dz: dir[2] };
+    let mut cx = (ray.x0 + t0 * ray.dx).floor() as i64;
+    let mut cy = (ray.y0 + t0 * ray.dy).floor() as i64;
+    let mut t = t0;
+    // The ray crosses at most this many cell sides between t0 and t1.
+    let cells = ((t1 - t0) * (ray.dx.abs() + ray.dy.abs())).ceil() as u64 + 4;
+    for _ in 0..cells {
+        let (tx, ty) = (ray.exit_x(cx, cx + 1), ray.exit_y(cy, cy + 1));
+        let tb = tx.min(ty).min(t1);
+        let [a, b, c] = gap(map, edge, &ray, cx, cy, t);
+        let len = (tb - t).max(0.0);
+        let mut lowest = a.min(a + b * len + c * len * len);
+        if c > 0.0 && (0.0..len).contains(&(-b / (2.0 * c))) {
+            lowest = lowest.min(a - b * b / (4.0 * c));
+        }
+        if lowest < -slack {
+            return true;
+        }
+        if tb >= t1 {
+            return false;
+        }
+        (cx, cy) = ray.step(cx, cy, tx, ty, [cx, cx + 1, cy, cy + 1]);
+        t = t.max(tb);
+    }
+    false
 }
 
 /// The ray in grid coordinates (texel or cell units) and its height.

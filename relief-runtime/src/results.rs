@@ -47,8 +47,30 @@ pub struct Metrics {
     pub ref_err_t_rms: f64,
     /// RMS distance between hit and reference hit in texels.
     pub ref_err_uv_texels_rms: f64,
+    /// Median of |t − t_ref| over the rays the reference hits (nearest rank).
+    #[serde(default)]
+    pub ref_err_t_median: f64,
+    /// 90th percentile of |t − t_ref| over the same rays.
+    #[serde(default)]
+    pub ref_err_t_p90: f64,
+    /// 99th percentile of |t − t_ref| over the same rays.
+    #[serde(default)]
+    pub ref_err_t_p99: f64,
+    /// The share of `mse_dissertation` that the worst 1 % of the rays carry
+    /// ([`crate::metrics::worst_share`]); NaN when the MSE is 0.
+    #[serde(default)]
+    pub mse_worst1_share: f64,
+    /// Share of rays that jumped over geometry: the reported hit lies beyond a point where
+    /// the ray, after the exact first hit, is back above the surface it sampled
+    /// ([`crate::metrics::Accuracy::skipped`]); resolution-independent.
+    #[serde(default)]
+    pub skipped_rate: f64,
     /// Share of rays whose hit lies beyond the true first hit by more than one texel of
-    /// travel ([`crate::metrics::one_texel_t`]), or that report no (finite) hit.
+    /// travel ([`crate::metrics::one_texel_t`]), or that report no (finite) hit. Says
+    /// nothing of skipped geometry at high resolution (see `skipped_rate`).
+    #[serde(default)]
+    pub past_rate: f64,
+    /// The old name of `past_rate`, written beside it for one release (the same value).
     pub missed_rate: f64,
     /// Share of rays the pipeline reports a hit for where the reference has none (with
     /// `silhouette=clip`: a hit kept inside the square where the true first hit lies
@@ -153,6 +175,12 @@ pub const COLUMNS: &[&str] = &[
     "mse_dissertation_mean",
     "ref_err_t_rms",
     "ref_err_uv_texels_rms",
+    "ref_err_t_median",
+    "ref_err_t_p90",
+    "ref_err_t_p99",
+    "mse_worst1_share",
+    "skipped_rate",
+    "past_rate",
     "missed_rate",
     "false_hit_rate",
     "nan_count",
@@ -287,6 +315,13 @@ pub fn parse_row(line: &str) -> anyhow::Result<Row> {
     let serde_json::Value::Object(obj) = v else {
         anyhow::bail!("not a JSON object");
     };
+    let mut obj = obj;
+    // A row written before `past_rate` had the name: `missed_rate` is the same measure.
+    if !obj.contains_key("past_rate") {
+        if let Some(v) = obj.get("missed_rate").cloned() {
+            obj.insert("past_rate".into(), v);
+        }
+    }
     let mut base = serde_json::to_value(Row::default())?;
     let mut nulls = Vec::new();
     // Fields that older rows lack: not recorded, so NaN (shown as such),
@@ -324,6 +359,12 @@ const LATER_FIELDS: &[&str] = &[
     "simd32_fetches",
     "simd32_divergence",
     "timestamp_period_ns",
+    "ref_err_t_median",
+    "ref_err_t_p90",
+    "ref_err_t_p99",
+    "mse_worst1_share",
+    "skipped_rate",
+    "past_rate",
 ];
 
 fn set_nan(m: &mut Metrics, field: &str) {
@@ -340,6 +381,12 @@ fn set_nan(m: &mut Metrics, field: &str) {
         "ref_err_t_rms" => &mut m.ref_err_t_rms,
         "ref_err_uv_texels_rms" => &mut m.ref_err_uv_texels_rms,
         "missed_rate" => &mut m.missed_rate,
+        "past_rate" => &mut m.past_rate,
+        "skipped_rate" => &mut m.skipped_rate,
+        "ref_err_t_median" => &mut m.ref_err_t_median,
+        "ref_err_t_p90" => &mut m.ref_err_t_p90,
+        "ref_err_t_p99" => &mut m.ref_err_t_p99,
+        "mse_worst1_share" => &mut m.mse_worst1_share,
         "false_hit_rate" => &mut m.false_hit_rate,
         "avg_iterations" => &mut m.avg_iterations,
         "avg_fetches" => &mut m.avg_fetches,

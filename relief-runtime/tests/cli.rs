@@ -51,27 +51,10 @@ fn render_writes_frame_error_metrics_and_hits() {
     assert_eq!(summary.lines().count(), 1, "{summary}");
     let m: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("metrics.json")).unwrap()).unwrap();
     for key in [
-        "pipeline",
-        "scene",
-        "size",
-        "adapter",
-        "frame_ms_median",
-        "frame_ms_p10",
-        "frame_ms_p90",
-        "mse_dissertation",
-        "ref_err_t_rms",
-        "ref_err_uv_texels_rms",
-        "missed_rate",
-        "nan_count",
-        "avg_iterations",
-        "avg_fetches",
-        "frame_ms_mean",
-        "mse_dissertation_mean",
-        "outside_count",
-        "nonconverged_rate",
-        "avg_coarse_steps",
-        "avg_refine_steps",
-        "false_hit_rate",
+        "pipeline", "scene", "size", "adapter", "frame_ms_median", "frame_ms_p10", "frame_ms_p90", "mse_dissertation",
+        "ref_err_t_rms", "ref_err_uv_texels_rms", "missed_rate", "past_rate", "skipped_rate", "ref_err_t_median", "ref_err_t_p90",
+        "ref_err_t_p99", "mse_worst1_share", "nan_count", "avg_iterations", "avg_fetches", "frame_ms_mean",
+        "mse_dissertation_mean", "outside_count", "nonconverged_rate", "avg_coarse_steps", "avg_refine_steps", "false_hit_rate",
     ] {
         assert!(m.get(key).is_some(), "metrics.json lacks {key}");
     }
@@ -81,10 +64,23 @@ fn render_writes_frame_error_metrics_and_hits() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next().unwrap(),
-        "x,y,origin_u,origin_v,dir_x,dir_y,dir_z,t,u,v,z,t_ref,u_ref,v_ref,coarse_steps,refine_steps,fetches,converged,clipped"
+        "x,y,origin_u,origin_v,dir_x,dir_y,dir_z,t,u,v,z,t_ref,u_ref,v_ref,coarse_steps,refine_steps,fetches,converged,clipped,height_at_hit,level,coarse_step_texels"
     );
     let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
     assert!(rows.len() > 32 * 32 / 2);
+    // The new columns: lod=zero samples level 0; linear(8) steps 1/8 in t, |dir.xy|/8 in u, v,
+    // times the map's side in texels; the mean of (height at hit − z)² is the metrics' MSE.
+    let step = relief_runtime::scene::Scene::by_name("step", None).unwrap();
+    let texels = step.height.width.max(step.height.height) as f64;
+    let mut sq = 0.0;
+    for r in &rows {
+        assert_eq!(r[20], 0.0);
+        let want = (r[4] * r[4] + r[5] * r[5]).sqrt() * texels / 8.0;
+        assert!((r[21] - want).abs() < 1e-5 * want.max(1.0), "step {} texels, want {want}", r[21]);
+        sq += (r[19] - r[10]).powi(2);
+    }
+    let mse = m["mse_dissertation_mean"].as_f64().unwrap();
+    assert!((sq / rows.len() as f64 - mse).abs() <= 1e-6 * mse.max(1e-12), "{} vs {mse}", sq / rows.len() as f64);
     // The documented ray: the point at t is (origin + t·dir.xy, 1 + t·dir.z), the hit's z.
     for r in &rows {
         let (t, z, dz) = (r[7], r[10], r[6]);

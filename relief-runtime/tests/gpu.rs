@@ -39,7 +39,7 @@ fn dissertation_reference_configuration_matches_the_exact_reference_on_smooth_sc
         // coarser bilinear weights (8-bit fractions move heights by ~1e-3 of a texel step,
         // i.e. ~1e-5 in t at these slopes) but fails for any stage or ray mismatch.
         assert!(m.ref_err_t_rms < 1e-4, "{name}: t error {}", m.ref_err_t_rms);
-        assert!(m.missed_rate < 0.01, "{name}: missed {}", m.missed_rate);
+        assert!(m.past_rate < 0.01, "{name}: missed {}", m.past_rate);
         assert!(m.ref_err_uv_texels_rms < 0.5, "{name}: uv error {} texels", m.ref_err_uv_texels_rms);
         assert!(hits.iter().all(|h| h.fetches > 0 && h.coarse_steps > 0 && h.refine_steps == 8 && h.converged == 1));
     }

@@ -14,7 +14,7 @@ fn fresh_dir(name: &str) -> PathBuf {
     d
 }
 
-fn row(pipeline: &str, ms: f64, mse: f64, ref_t: f64, missed: f64) -> Row {
+fn row(pipeline: &str, ms: f64, mse: f64, ref_t: f64, skipped: f64) -> Row {
     Row {
         grid: "test".into(),
         metrics: Metrics {
@@ -30,7 +30,9 @@ fn row(pipeline: &str, ms: f64, mse: f64, ref_t: f64, missed: f64) -> Row {
             mse_dissertation_mean: mse / 1024.0,
             ref_err_t_rms: ref_t,
             ref_err_uv_texels_rms: ref_t * 10.0,
-            missed_rate: missed,
+            skipped_rate: skipped,
+            past_rate: skipped,
+            missed_rate: skipped,
             nan_count: 0,
             avg_iterations: 3.0,
             avg_fetches: 3.0,
@@ -151,7 +153,7 @@ fn report_writes_tables_charts_strips_and_checks_conclusions() {
     }
 
     // Charts: Figure 4.8 with each metric, SVG with lines.
-    for m in ["mse_dissertation_mean", "ref_err_t_rms", "missed_rate"] {
+    for m in ["mse_dissertation_mean", "ref_err_t_rms", "skipped_rate"] {
         let p = dir.join("report").join(format!("f4.8_{m}.svg"));
         let svg = std::fs::read_to_string(&p).unwrap_or_else(|_| panic!("{} written", p.display()));
         assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
@@ -732,9 +734,9 @@ fn stability_table_is_html_and_strip_frames_are_captioned() {
     assert!(!stab.contains("|---|"));
     // The per-method table is folded.
     assert!(stab.contains("<details id=\"stability-worst\"><summary>"), "{stab}");
-    // Each frame of Table 4.1's strip carries its pipeline, frame time, t error and missed share.
+    // Each frame of Table 4.1's strip carries its pipeline, frame time, t error and share of rays that skipped geometry.
     let expect = format!(
-        "<figcaption>#2 <code>linear(10)</code><br>{:.3} ms (median; mean {:.3}) · t error {:.3e} (RMS) · missed {:.4} · MSE mean {:.3e} · 32²</figcaption>",
+        "<figcaption>#2 <code>linear(10)</code><br>{:.3} ms (median; mean {:.3}) · t error {:.3e} (RMS) · skipped {:.4} · MSE mean {:.3e} · 32²</figcaption>",
         0.5,
         0.5,
         0.05,

@@ -116,10 +116,10 @@ fn check(g: &Gpu, scene: Scene, pipeline: &str) {
     let ambiguous = (expected.len() - judged) as f64 / expected.len() as f64;
     let unclipped = measure_with(g, &mut prep, &pipeline.parse().unwrap(), &Options::default(), 0, 1).unwrap();
     assert!(
-        m.metrics.missed_rate <= unclipped.metrics.missed_rate + ambiguous,
+        m.metrics.past_rate <= unclipped.metrics.past_rate + ambiguous,
         "{name} {pipeline}: missed {} > {} without the clip + ambiguous share {ambiguous}",
-        m.metrics.missed_rate,
-        unclipped.metrics.missed_rate
+        m.metrics.past_rate,
+        unclipped.metrics.past_rate
     );
     assert!(
         m.metrics.false_hit_rate <= ambiguous,

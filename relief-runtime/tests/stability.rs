@@ -159,3 +159,104 @@ fn one_texel_of_travel_is_horizontal_or_vertical_whichever_comes_first() {
         "grazing: the horizontal texel decides"
     );
 }
+
+/// A 16 × 16 map, floor at 0, one texel (8, 8) at height 1: along texel row 8 the bilinear
+/// surface is the tent h = 1 − |x − 8| in cell coordinates (x = 16u − 0.5), 0 elsewhere.
+fn pillar(edge: relief_runtime::heightmap::EdgeMode) -> relief_runtime::scene::Scene {
+    use relief_runtime::heightmap::HeightMap;
+    let hm = HeightMap::from_fn(16, 16, |x, y| if (x, y) == (8, 8) { 1.0 } else { 0.0 });
+    let mut s = relief_runtime::scene::Scene::from_height_map("pillar", hm);
+    s.edge = edge;
+    s
+}
+
+/// The ray along texel row 8 from u = 0.25 (x = 3.5) with dir (0.5, 0, −1): x = 3.5 + 8t,
+/// z = 1 − t. It meets the pillar's front face (h = x − 7) where 1 − t = 8t − 3.5, at t = 1/2;
+/// it is below the back face (h = 9 − x) until 1 − t = 5.5 − 8t, t = 9/14, and above the
+/// surface from there until it reaches the floor at t = 1.
+fn over_the_pillar() -> relief_runtime::scene::ProbeRay {
+    relief_runtime::scene::ProbeRay { origin: [0.25, 8.5 / 16.0], dir: [0.5, 0.0, -1.0], x: 0, y: 0, pixel_size: 0.0 }
+}
+
+#[test]
+fn skipped_rate_counts_a_ray_that_linear_search_carries_over_a_one_texel_pillar() {
+    use relief_runtime::gpu::{self, Program, SceneTextures};
+    use relief_runtime::heightmap::EdgeMode;
+    use relief_runtime::metrics::Accuracy;
+    let g = Gpu::new().unwrap();
+    for edge in [EdgeMode::Repeat, EdgeMode::Clamp] {
+        let scene = pillar(edge);
+        let tex = SceneTextures::new(&g, &scene);
+        let rays = vec![over_the_pillar()];
+        let refs = relief_runtime::reference::reference_hits(&scene, &rays, relief_runtime::reference::Sampling::Bilinear).unwrap();
+        assert!((refs[0].unwrap().t - 0.5).abs() < 1e-9, "{edge:?}: the exact hit is on the front face at t = 1/2: {refs:?}");
+        // linear(3) samples t = 1/3 (x = 6.17, h = 0), 2/3 (x = 8.83, h = 0.17 < z = 0.33) and
+        // 1 (the floor): it steps over the pillar.
+        let hits = gpu::probe(&g, &Program::new(&"linear(3)".parse().unwrap()).unwrap(), &scene, &tex, &rays).unwrap();
+        assert!(hits[0].t as f64 > 9.0 / 14.0 + 0.1, "{edge:?}: linear(3) should end past the pillar: {:?}", hits[0]);
+        let a = Accuracy::of(&rays, &hits, &refs, &scene.height, edge);
+        assert_eq!((a.skipped, a.missed), (1, 1), "{edge:?}: jumped over the pillar, and past it: {a:?}");
+        // Ending on the back face before t = 9/14 (still inside the pillar) skipped nothing.
+        let inside = relief_runtime::gpu::GpuHit { t: 0.6, u: 0.25 + 0.3, v: 8.5 / 16.0, z: 0.4, ..hits[0] };
+        let a = Accuracy::of(&rays, &[inside], &refs, &scene.height, edge);
+        assert_eq!((a.skipped, a.missed), (0, 1), "{edge:?}: inside the pillar, past but not skipped: {a:?}");
+    }
+}
+
+#[test]
+fn a_hit_three_texels_past_a_flat_floor_is_past_but_not_skipped() {
+    use relief_runtime::heightmap::{EdgeMode, HeightMap};
+    use relief_runtime::metrics::{one_texel_t, Accuracy};
+    for edge in [EdgeMode::Repeat, EdgeMode::Clamp] {
+        let floor = HeightMap::from_fn(16, 16, |_, _| 0.5);
+        let ray = relief_runtime::scene::ProbeRay { origin: [0.25, 0.5], dir: [0.5, 0.0, -1.0], x: 0, y: 0, pixel_size: 0.0 };
+        // The exact hit: z = 1 − t = 0.5 at t = 1/2. One texel of travel is 1/16 in t (the
+        // depth's 1/16 comes before the 1/8 a texel across takes), so 3 texels is t = 11/16.
+        assert_eq!(one_texel_t(&ray, 16.0), 1.0 / 16.0);
+        let exact = relief_runtime::reference::RefHit { t: 0.5, u: 0.5, v: 0.5, z: 0.5 };
+        let t = 0.5 + 3.0 / 16.0;
+        let hit = relief_runtime::gpu::GpuHit {
+            t,
+            u: 0.25 + 0.5 * t,
+            v: 0.5,
+            z: 1.0 - t,
+            coarse_steps: 1,
+            refine_steps: 0,
+            fetches: 1,
+            converged: 1,
+            clipped: 0,
+        };
+        let a = Accuracy::of(&[ray], &[hit], &[Some(exact)], &floor, edge);
+        assert_eq!((a.skipped, a.missed, a.past), (0, 1, 1), "{edge:?}: {a:?}");
+        let mut m = relief_runtime::metrics::Metrics::default();
+        relief_runtime::metrics::set_accuracy(&mut m, &[ray], &[hit], &[Some(exact)], &floor, edge);
+        assert_eq!((m.skipped_rate, m.past_rate, m.missed_rate), (0.0, 1.0, 1.0), "the old name is the same measure");
+    }
+}
+
+#[test]
+fn robust_statistics_match_a_hand_computed_list() {
+    use relief_runtime::heightmap::{EdgeMode, HeightMap};
+    // 101 rays onto a flat floor at 0.5 (exact hit t = 1/2), hit i ending i/1000 past it:
+    // |t − t_ref| = i/1000, and the height error is the same i/1000 (z = 1 − t).
+    let floor = HeightMap::from_fn(16, 16, |_, _| 0.5);
+    let rays: Vec<_> =
+        (0..101).map(|i| relief_runtime::scene::ProbeRay { origin: [i as f32 / 101.0, 0.5], dir: [0.5, 0.0, -1.0], x: i, y: 0, pixel_size: 0.0 }).collect();
+    let refs: Vec<_> = rays.iter().map(|r| Some(relief_runtime::reference::RefHit { t: 0.5, u: r.origin[0] as f64 + 0.25, v: 0.5, z: 0.5 })).collect();
+    let hits: Vec<_> = (0..101)
+        .map(|i| {
+            let t = 0.5 + i as f32 / 1000.0;
+            relief_runtime::gpu::GpuHit { t, u: rays[i].origin[0] + 0.5 * t, v: 0.5, z: 1.0 - t, coarse_steps: 1, refine_steps: 0, fetches: 1, converged: 1, clipped: 0 }
+        })
+        .collect();
+    let mut m = relief_runtime::metrics::Metrics::default();
+    relief_runtime::metrics::set_accuracy(&mut m, &rays, &hits, &refs, &floor, EdgeMode::Repeat);
+    // Nearest rank on 101 sorted values: the median is the 51st (0.050), p90 the 91st
+    // (0.090), p99 the 100th (0.099).
+    for (got, want, what) in [(m.ref_err_t_median, 0.050, "median"), (m.ref_err_t_p90, 0.090, "p90"), (m.ref_err_t_p99, 0.099, "p99")] {
+        assert!((got - want).abs() < 1e-6, "{what}: {got} (want {want})");
+    }
+    // The worst 1 % is ⌈1.01⌉ = 2 rays: (0.100² + 0.099²) / Σ (i/1000)² = 0.019801 / 0.33835.
+    let share = 0.019801 / 0.33835;
+    assert!((m.mse_worst1_share - share).abs() < 1e-4 * share, "worst 1 %: {} (want {share})", m.mse_worst1_share);
+}

@@ -6,7 +6,7 @@ use super::tables::ReportTable;
 use super::text::{fmt_num, TextTable, DASH};
 
 /// How differently the metrics rank the rows of each table: Kendall's τ between
-/// `mse_dissertation_mean` and `ref_err_t_rms` / `missed_rate`, and the pairs the first two
+/// `mse_dissertation_mean` and `ref_err_t_rms` / `skipped_rate`, and the pairs the first two
 /// order most differently.
 pub(crate) fn metric_agreement(data: &Data, tables: &[ReportTable]) -> TextTable {
     let mut rows = Vec::new();
@@ -48,9 +48,9 @@ pub(crate) fn metric_agreement(data: &Data, tables: &[ReportTable]) -> TextTable
             continue;
         }
         let col = |m: Metric| finite.iter().map(|r| m.of(r)).collect::<Vec<f64>>();
-        let (mse, rft, mis) = (col(Metric::Mse), col(Metric::RefT), col(Metric::Missed));
+        let (mse, rft, skip) = (col(Metric::Mse), col(Metric::RefT), col(Metric::Skipped));
         let k1 = kendall(&mse, &rft);
-        let k2 = kendall(&mse, &mis);
+        let k2 = kendall(&mse, &skip);
         // The pair the two metrics disagree on most (product of the log ratios).
         let mut worst: Option<(f64, usize, usize)> = None;
         for i in 0..finite.len() {
@@ -95,9 +95,9 @@ pub(crate) fn metric_agreement(data: &Data, tables: &[ReportTable]) -> TextTable
         notes: vec!["Kendall's τ between `mse_dissertation_mean` and the other metrics over each table's ok rows (1 = same order, \
             −1 = reversed, — = no spread), the number of pairs `mse_dissertation_mean` and `ref_err_t_rms` order oppositely, \
             and the most striking such pair. `mse_dissertation_mean` does not penalise rays that skip a feature and land on \
-            a wrong but consistent surface point; `ref_err_t_rms` and `missed_rate` do."
+            a wrong but consistent surface point; `ref_err_t_rms` and `skipped_rate` do."
             .into()],
-        header: ["rows of", "n", "τ(mse, ref_err_t_rms)", "opposite pairs", "τ(mse, missed_rate)", "largest disagreement"]
+        header: ["rows of", "n", "τ(mse, ref_err_t_rms)", "opposite pairs", "τ(mse, skipped_rate)", "largest disagreement"]
             .iter()
             .map(|s| s.to_string())
             .collect(),

@@ -132,7 +132,8 @@ pub(crate) struct Cand {
     pub pipeline: String,
     pub speed: Speed,
     pub err: f64,
-    pub missed: f64,
+    /// `skipped_rate`: rays that jumped over geometry.
+    pub skipped: f64,
     pub engine: bool,
     pub cell_dir: String,
 }
@@ -171,9 +172,9 @@ pub(crate) struct Answer {
 }
 
 impl Answer {
-    /// The fastest exact row (t error ≤ 1e-6 and no missed ray), else the most accurate.
+    /// The fastest exact row (t error ≤ 1e-6 and no ray that skipped geometry), else the most accurate.
     pub fn exact_or_best(&self) -> Option<&Cand> {
-        self.cands.iter().find(|c| c.err <= 1e-6 && c.missed == 0.0).or_else(|| {
+        self.cands.iter().find(|c| c.err <= 1e-6 && c.skipped == 0.0).or_else(|| {
             self.cands.iter().min_by(|a, b| a.err.total_cmp(&b.err).then(a.speed.rank().total_cmp(&b.speed.rank())))
         })
     }
@@ -239,7 +240,7 @@ pub(crate) fn build(data: &Data) -> Vec<Answer> {
                     pipeline: r.metrics.pipeline.clone(),
                     speed,
                     err: r.metrics.ref_err_t_rms,
-                    missed: r.metrics.missed_rate,
+                    skipped: r.metrics.skipped_rate,
                     engine: is_engine_family(&p),
                     cell_dir: r.cell_dir.clone(),
                 });
@@ -356,7 +357,7 @@ pub(crate) fn table(a: &Answer) -> TextTable {
         let best = match pick.best {
             Some(i) => {
                 let c = &a.cands[i];
-                [format!("`{}`", c.pipeline), fmt_ms(c.speed.ms), fmt_paired(c), fmt_sci(c.err), fmt_num(c.missed, 4)]
+                [format!("`{}`", c.pipeline), fmt_ms(c.speed.ms), fmt_paired(c), fmt_sci(c.err), fmt_num(c.skipped, 4)]
             }
             None => ["unreachable".into(), String::new(), String::new(), String::new(), String::new()],
         };
@@ -398,7 +399,7 @@ pub(crate) fn table(a: &Answer) -> TextTable {
             SPEED_NAME,
             RATIO_NAME,
             "ref_err_t_rms",
-            "missed_rate",
+            "skipped_rate",
             "fastest of the engine family",
             SPEED_NAME,
             RATIO_NAME,

@@ -209,23 +209,23 @@ pub(crate) fn stage_steps(s: &StageSpec) -> u32 {
 pub(crate) enum Metric {
     Mse,
     RefT,
-    Missed,
+    Skipped,
 }
 
 impl Metric {
-    pub const ALL: [Metric; 3] = [Metric::Mse, Metric::RefT, Metric::Missed];
+    pub const ALL: [Metric; 3] = [Metric::Mse, Metric::RefT, Metric::Skipped];
     pub fn name(self) -> &'static str {
         match self {
             Metric::Mse => "mse_dissertation_mean",
             Metric::RefT => "ref_err_t_rms",
-            Metric::Missed => "missed_rate",
+            Metric::Skipped => "skipped_rate",
         }
     }
     pub fn of(self, r: &Row) -> f64 {
         match self {
             Metric::Mse => r.metrics.mse_dissertation_mean,
             Metric::RefT => r.metrics.ref_err_t_rms,
-            Metric::Missed => r.metrics.missed_rate,
+            Metric::Skipped => r.metrics.skipped_rate,
         }
     }
 }

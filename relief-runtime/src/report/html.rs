@@ -296,17 +296,17 @@ fn answer_section(p: &Parts) -> Section {
             );
         }
         if let Some(c) = a.exact_or_best() {
-            let what = if c.err <= 1e-6 && c.missed == 0.0 { "exact" } else { "most accurate measured" };
+            let what = if c.err <= 1e-6 && c.skipped == 0.0 { "exact" } else { "most accurate measured" };
             let fr = Frame {
                 number: None,
                 label: c.pipeline.clone(),
                 frame: Some(format!("{}/frame.png", c.cell_dir)).filter(|f| p.data.dir.join(f).is_file()),
                 error: Some(format!("{}/error.png", c.cell_dir)).filter(|f| p.data.dir.join(f).is_file()),
                 values: format!(
-                    "{what}: {} · t error {} · missed {}",
+                    "{what}: {} · t error {} · skipped {}",
                     speed_words(c),
                     fmt_sci(c.err),
-                    super::fmt_num(c.missed, 4)
+                    super::fmt_num(c.skipped, 4)
                 ),
             };
             h.push_str(&shot(&fr));

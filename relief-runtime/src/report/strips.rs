@@ -36,7 +36,7 @@ pub(crate) struct Frame {
     /// The frame and error images, relative to the sweep folder, when they exist.
     pub frame: Option<String>,
     pub error: Option<String>,
-    /// `0.512 ms (median) · t error 1.2e-3 · missed 0.0100 · …`, or why there are no values.
+    /// `0.512 ms (median) · t error 1.2e-3 · skipped 0.0100 · …`, or why there are no values.
     pub values: String,
 }
 
@@ -59,11 +59,11 @@ pub(crate) fn caption_values(r: Option<&crate::results::Row>) -> String {
             let m = &r.metrics;
             let nan = if m.nan_count > 0 { format!(" · {} non-finite hits", m.nan_count) } else { String::new() };
             format!(
-                "{} ms (median; mean {}) · t error {} (RMS) · missed {} · MSE mean {} · {}²{nan}",
+                "{} ms (median; mean {}) · t error {} (RMS) · skipped {} · MSE mean {} · {}²{nan}",
                 fmt_ms(m.frame_ms_median),
                 fmt_ms(m.frame_ms_mean),
                 fmt_sci(m.ref_err_t_rms),
-                fmt_num(m.missed_rate, 4),
+                fmt_num(m.skipped_rate, 4),
                 fmt_sci(m.mse_dissertation_mean),
                 m.size,
             )

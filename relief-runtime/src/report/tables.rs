@@ -245,7 +245,7 @@ fn ratio_pct(v: f64, base: f64) -> Option<f64> {
 /// so they sit next to our mean and the trend columns use the mean. The dissertation's
 /// "avg steps" counts the coarse search only (Table 4.11's csm(5)+binary(5) shows 2.016 as
 /// Table 4.8's csm(5) does), so it sits next to our coarse steps.
-pub(crate) const HEADER: [&str; 26] = [
+pub(crate) const HEADER: [&str; 32] = [
     "#",
     "pipeline",
     "base",
@@ -268,11 +268,61 @@ pub(crate) const HEADER: [&str; 26] = [
     "diss MSE % base",
     "ref_err_t_rms",
     "ref_t % base",
-    "missed_rate",
+    "|t err| median",
+    "|t err| p90",
+    "|t err| p99",
+    "MSE share of worst 1 %",
+    "K = 3N²·MSE",
+    "skipped_rate",
+    "past_rate",
     "nan_count",
     "outside_count",
     "nonconverged_rate",
 ];
+
+/// N of a pipeline that is linear search alone (`linear(N)`, no refinement): the searches
+/// whose error K = 3N²·MSE describes.
+pub(crate) fn linear_steps(p: &Pipeline) -> Option<u32> {
+    (p.coarse.name == "linear" && p.refine.is_none()).then(|| p.coarse.int("steps"))
+}
+
+/// K = 3N²·MSE: a linear search of N steps ends within one step (1/N in t) past the first
+/// hit, uniformly if the surface is smooth on the step's scale, so its mean squared height
+/// error is E[(1 + s)²]/(3N²) with s the surface's slope along the ray per unit of the ray's
+/// descent; K is then the constant E[(1 + s)²]. While steps still cross features K rises
+/// with N (the pre-asymptotic regime); once they are small against every feature it is flat.
+pub(crate) fn k_linear(n: u32, mse_mean: f64) -> f64 {
+    3.0 * (n as f64).powi(2) * mse_mean
+}
+
+/// K grows by more than this from one N to the next (in the largest two N of a table)
+/// before the report calls the table pre-asymptotic: the goal's margin, not a fit.
+pub(crate) const K_RISING: f64 = 1.2;
+
+/// The note for a table whose linear-search rows' K = 3N²·MSE ([`k_linear`]) is still
+/// rising at its largest two N (by more than [`K_RISING`]×): its MSE falls slower than
+/// 1/N², and a slope read from it belongs to the view, not the method.
+fn regime_note(t: &ReportTable, data: &Data) -> Option<String> {
+    let mut ks: Vec<(u32, f64)> = (0..t.entries.len())
+        .filter_map(|i| {
+            let n = linear_steps(t.entries[i].pipeline.as_ref()?)?;
+            let r = t.row(data, i).filter(|r| r.status == "ok")?;
+            let k = k_linear(n, r.metrics.mse_dissertation_mean);
+            k.is_finite().then_some((n, k))
+        })
+        .collect();
+    ks.sort_by_key(|&(n, _)| n);
+    ks.dedup_by_key(|&mut (n, _)| n);
+    let [.., (n1, k1), (n2, k2)] = ks[..] else { return None };
+    (k2 > K_RISING * k1).then(|| {
+        format!(
+            "Pre-asymptotic: K = 3N²·MSE of linear search still rises from {} at N = {n1} to {} at N = {n2}, so the MSE falls slower than 1/N² here \
+             (steps still cross features); a 1/N² slope is reached only once K is flat.",
+            fmt_num(k1, 3),
+            fmt_num(k2, 3)
+        )
+    })
+}
 
 fn render(t: &ReportTable, data: &Data, description: &str, multi_size: bool) -> TextTable {
     let mut title = description.to_string();
@@ -311,6 +361,9 @@ fn render(t: &ReportTable, data: &Data, description: &str, multi_size: bool) -> 
     }
     if !source_notes.is_empty() {
         notes.push(format!("Notes on the dissertation's rows: {}.", source_notes.join(" / ")));
+    }
+    if let Some(note) = regime_note(t, data) {
+        notes.push(note);
     }
     let mut rows = Vec::new();
     for (i, e) in t.entries.iter().enumerate() {
@@ -354,7 +407,16 @@ fn render(t: &ReportTable, data: &Data, description: &str, multi_size: bool) -> 
             diss_rel(DissRow::mse_f),
             ours(r, |r| fmt_sci(r.metrics.ref_err_t_rms)),
             rel(|r| r.metrics.ref_err_t_rms),
-            ours(r, |r| fmt_num(r.metrics.missed_rate, 4)),
+            ours(r, |r| fmt_sci(r.metrics.ref_err_t_median)),
+            ours(r, |r| fmt_sci(r.metrics.ref_err_t_p90)),
+            ours(r, |r| fmt_sci(r.metrics.ref_err_t_p99)),
+            ours(r, |r| fmt_num(r.metrics.mse_worst1_share, 3)),
+            match e.pipeline.as_ref().and_then(linear_steps) {
+                Some(n) => ours(r, |r| fmt_num(k_linear(n, r.metrics.mse_dissertation_mean), 3)),
+                None => DASH.into(),
+            },
+            ours(r, |r| fmt_num(r.metrics.skipped_rate, 4)),
+            ours(r, |r| fmt_num(r.metrics.past_rate, 4)),
             ours(r, |r| r.metrics.nan_count.to_string()),
             ours(r, |r| r.metrics.outside_count.to_string()),
             ours(r, |r| fmt_num(r.metrics.nonconverged_rate, 4)),
@@ -397,8 +459,13 @@ stays near 0.4–0.55 for N = 5…200, so it does not grow with the pixel count)
 compared with `mse_dissertation_mean`, and the conclusions use the mean. A hit that is NaN or \
 infinite counts as an error in the metrics, never as a skipped ray, and `nan_count` shows how many \
 there were. `ref_err_t_rms` is the RMS error of the hit's ray parameter t against the exact \
-reference; `missed_rate` the share of rays whose hit lies more than one texel of travel beyond the \
-true first hit, or that miss; `outside_count` hits outside the volume before any clamp; \
+reference, and `|t err|` its median, 90th and 99th percentile over the rays; `MSE share of worst 1 %` \
+how much of the MSE the worst 1 % of the rays carry (near 1: a few rays carry the error, and an RMS or \
+mean alone misleads); `K = 3N²·MSE` for linear search alone (flat once the MSE falls as 1/N²); \
+`skipped_rate` the share of rays that jumped over geometry (after the exact first hit the ray comes \
+back above the surface before the reported hit); `past_rate` the share whose hit lies more than one \
+texel of travel beyond the true first hit, or that miss (on a large map a linear step spans several \
+texels, so this counts rays that skipped nothing); `outside_count` hits outside the volume before any clamp; \
 `nonconverged_rate` the share of rays whose coarse search found no crossing. Absolute times and MSE \
 sums depend on the hardware and the pixel count, so compare the `% base` trend columns: each row \
 relative to its base row (`base` names it by `#`). `—` = not measured / not printed, `NaN` = not \

@@ -78,6 +78,8 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     if let Some(depth) = &measured.frame.depth {
         write_depth(&a.out, a.size, depth)?;
     }
+    // The level each ray sampled (none under lod=zero), for hits.csv.
+    let levels = prep.refs_for(measured.lod)?.0.to_vec();
     let (m, rays, hits, refs) = (&measured.metrics, &prep.rays, &measured.hits, &measured.refs);
     // The metrics, then the scene's parameters as measured (with the overrides applied).
     let mut json = serde_json::to_value(m)?;
@@ -88,13 +90,24 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     json["camera"] = camera_json(&s.camera);
     write_atomic(&a.out.join("metrics.json"), serde_json::to_string_pretty(&json)?.as_bytes())?;
     if a.dump_hits {
+        let measured_pipeline: relief_dsl::Pipeline = m.pipeline.parse().map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", m.pipeline))?;
+        let chain: &[relief_runtime::heightmap::HeightMap] =
+            if measured.lod == relief_dsl::spec::Lod::Zero { std::slice::from_ref(&prep.on_device.height) } else { &prep.textures.height_levels };
+        let texels = chain[0].width.max(chain[0].height) as f64;
         let mut csv = Vec::new();
-        writeln!(csv, "x,y,origin_u,origin_v,dir_x,dir_y,dir_z,t,u,v,z,t_ref,u_ref,v_ref,coarse_steps,refine_steps,fetches,converged,clipped")?;
-        for ((r, h), rf) in rays.iter().zip(hits).zip(refs) {
+        writeln!(
+            csv,
+            "x,y,origin_u,origin_v,dir_x,dir_y,dir_z,t,u,v,z,t_ref,u_ref,v_ref,coarse_steps,refine_steps,fetches,converged,clipped,height_at_hit,level,coarse_step_texels"
+        )?;
+        for (i, ((r, h), rf)) in rays.iter().zip(hits).zip(refs).enumerate() {
             let (tr, ur, vr) = rf.map(|x| (x.t.to_string(), x.u.to_string(), x.v.to_string())).unwrap_or_default();
+            let level = levels.get(i).copied().unwrap_or(0);
+            let height = chain[level].bilinear(h.u as f64, h.v as f64, prep.scene.edge);
+            let height = if height.is_finite() { height.to_string() } else { String::new() };
+            let step = relief_runtime::metrics::coarse_step_texels(&measured_pipeline, r, prep.scene.depth_scale, texels).map(|s| s.to_string()).unwrap_or_default();
             writeln!(
                 csv,
-                "{},{},{},{},{},{},{},{},{},{},{},{tr},{ur},{vr},{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{},{tr},{ur},{vr},{},{},{},{},{},{height},{level},{step}",
                 r.x,
                 r.y,
                 r.origin[0],
@@ -116,7 +129,7 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
         write_atomic(&a.out.join("hits.csv"), &csv)?;
     }
     println!(
-        "{} on {} at {}²: frame {:.3} ms (p10 {:.3}, p90 {:.3}), mse {:.3e}, t err rms {:.2e}, missed {:.2}%, NaN {}, {:.1} iterations, {:.1} fetches → {}",
+        "{} on {} at {}²: frame {:.3} ms (p10 {:.3}, p90 {:.3}), mse {:.3e}, t err rms {:.2e}, skipped {:.2}%, past {:.2}%, NaN {}, {:.1} iterations, {:.1} fetches → {}",
         m.pipeline,
         m.scene,
         m.size,
@@ -125,7 +138,8 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
         m.frame_ms_p90,
         m.mse_dissertation,
         m.ref_err_t_rms,
-        100.0 * m.missed_rate,
+        100.0 * m.skipped_rate,
+        100.0 * m.past_rate,
         m.nan_count,
         m.avg_iterations,
         m.avg_fetches,
