@@ -106,6 +106,7 @@ fn bad_input_gives_one_line_and_a_failure() {
         vec!["gen", "linear(5)", "--out", "/proc/relief-cannot-write-here"],
         vec!["gen", "--no-such-flag"],
         vec!["render", "linear(8)"],
+        vec!["render", "linear(8)", "--scene", "scene:step", "--view", "disertation", "--out", "/tmp/relief-x"],
         vec!["sweep", "--grid", "no_such_grid", "--out", "/tmp/relief-x"],
         vec!["report", "/tmp/relief-no-such-sweep-folder"],
         vec!["serve", "/tmp/relief-no-such-report-folder"],

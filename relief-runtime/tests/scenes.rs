@@ -572,3 +572,49 @@ fn the_stability_matrix_holds_the_real_scenes_box_filtered_to_64() {
     let bad: Vec<_> = cells.iter().filter(|c| c.nan_count > 0 || c.outside_count > 0).collect();
     assert!(bad.is_empty(), "{} bad cells, e.g. {:?}", bad.len(), &bad[..bad.len().min(3)]);
 }
+
+/// The dissertation's view (the Steep Parallax demo's: depth scale 0.05, the quad 20° from
+/// facing the eye, 25° field of view, lod=auto), by name in a scene argument, as an override
+/// and in a scene file; its probe rays against the camera's geometry.
+#[test]
+fn the_dissertation_view_sets_depth_camera_and_lod() {
+    use relief_dsl::spec::Lod;
+    use relief_runtime::scene::{scene_from_arg, Overrides, View};
+    let s = scene_from_arg("scene:rocks@view=dissertation").unwrap();
+    assert_eq!((s.depth_scale, s.camera.angle_deg, s.camera.fov_deg, s.lod), (0.05, 20.0, 25.0, Some(Lod::Auto)));
+    let plain = scene_from_arg("scene:rocks").unwrap();
+    assert_eq!((s.camera.azimuth_deg, s.camera.distance), (plain.camera.azimuth_deg, plain.camera.distance), "the rest of the camera is the scene's");
+    let o = Overrides { view: Some(View::Dissertation), ..Default::default() };
+    assert_eq!(o.suffix(), "@view=dissertation");
+    let by_flag = o.apply(plain.clone());
+    assert_eq!((by_flag.depth_scale, by_flag.camera.angle_deg, by_flag.camera.fov_deg, by_flag.lod), (0.05, 20.0, 25.0, Some(Lod::Auto)));
+    assert_eq!(by_flag.name, s.name);
+    // A pipeline that names no lod is measured at the footprint level.
+    assert_eq!(s.pipeline_for(&"linear(8)".parse().unwrap()).lod, Lod::Auto);
+    // The rays of a 65² frame: the centre pixel looks along the camera's axis, 20° from the
+    // normal; the centre column's top and bottom pixel centres are 2·atan((1 − 1/65)·tan 12.5°)
+    // apart. A probe ray's unscaled view direction is (d.x, d.y, d.z · depth_scale).
+    let size = 65;
+    let rays = s.rays(size);
+    assert_eq!(rays.len(), (size * size) as usize, "at 25° the quad fills the frame");
+    let view = |x: u32, y: u32| {
+        let r = rays.iter().find(|r| (r.x, r.y) == (x, y)).unwrap();
+        glam::DVec3::new(r.dir[0] as f64, r.dir[1] as f64, r.dir[2] as f64 * s.depth_scale as f64).normalize()
+    };
+    let centre = view(32, 32);
+    assert!((centre.z.abs().acos().to_degrees() - 20.0).abs() < 1e-3, "centre ray {}° from the normal", centre.z.abs().acos().to_degrees());
+    let want = 2.0 * ((1.0 - 1.0 / size as f64) * 12.5f64.to_radians().tan()).atan();
+    let got = view(32, 0).dot(view(32, size - 1)).clamp(-1.0, 1.0).acos();
+    assert!((got - want).abs() < 1e-4, "vertical field of view between pixel centres: {}° (want {}°)", got.to_degrees(), want.to_degrees());
+    // In a scene file, as defaults the file's own keys override.
+    let d = tmpdir("view");
+    std::fs::create_dir_all(&d).unwrap();
+    image::GrayImage::from_fn(8, 8, |x, _| image::Luma([(x * 30) as u8])).save(d.join("h.png")).unwrap();
+    std::fs::write(d.join("v.toml"), "view = \"dissertation\"\n[height_map]\npath = \"h.png\"\n[camera]\nangle = 30\n").unwrap();
+    let f = relief_runtime::scene::load_scene_file(&d.join("v.toml")).unwrap();
+    assert_eq!((f.depth_scale, f.camera.angle_deg, f.camera.fov_deg, f.lod), (0.05, 30.0, 25.0, Some(Lod::Auto)));
+    std::fs::write(d.join("bad.toml"), "view = \"disertation\"\n[height_map]\npath = \"h.png\"\n").unwrap();
+    let e = relief_runtime::scene::load_scene_file(&d.join("bad.toml")).unwrap_err().to_string();
+    assert!(e.contains("key `view`") && e.contains("did you mean `dissertation`?") && !e.contains('\n'), "{e}");
+    assert!(scene_from_arg("scene:rocks@view=nope").is_err());
+}

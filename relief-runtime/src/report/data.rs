@@ -40,9 +40,15 @@ impl Data {
     }
 
     /// The row of `pipeline` (canonical text) on `scene` (label, `scene:NAME`) at `size`,
-    /// any status.
+    /// any status. On a scene at a named view (`scene:rocks@view=dissertation`) a pipeline
+    /// that names no `lod` was measured under the view's, and is found under that name.
     pub fn get(&self, pipeline: &str, scene: &str, size: u32) -> Option<&Row> {
-        self.index.get(&(pipeline.to_string(), scene.to_string(), size)).and_then(|&i| self.rows.get(i))
+        let find = |p: &str| self.index.get(&(p.to_string(), scene.to_string(), size)).and_then(|&i| self.rows.get(i));
+        find(pipeline).or_else(|| {
+            let view = crate::scene::view::of_label(scene)?;
+            let p: relief_dsl::Pipeline = pipeline.parse().ok()?;
+            (p.lod == relief_dsl::spec::Lod::Zero).then(|| find(&p.with_lod(view.lod()).to_string())).flatten()
+        })
     }
 
     /// The same, only if it succeeded.

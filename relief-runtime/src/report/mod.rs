@@ -206,6 +206,9 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary>
     if let Some(lod) = conclusions::lod_markdown(&data, &diss) {
         md.push_str(&lod);
     }
+    if let Some(views) = conclusions::view_markdown(&data, &diss) {
+        md.push_str(&views);
+    }
     if let Some(rr) = &room_rows {
         md.push_str(&rooms::to_markdown(rr));
     }

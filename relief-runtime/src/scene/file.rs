@@ -10,6 +10,7 @@
 //! normal_map = "rocks_NM_height.tga"  # optional, RGB = tangent-space normal (2·rgb/255 − 1)
 //! normal_green = "up"            # up: green points to the image's top, −v (default); down: +v
 //! lod = "auto"                   # sampling level policy: zero | auto | level(k), for pipelines that name none
+//! view = "dissertation"          # a named view (crate::scene::view): its depth scale, camera angle and fov, lod; keys given win
 //!
 //! [height_map]
 //! path = "tatarchuk/rocks_NM_height.tga"   # relative to this file
@@ -27,7 +28,7 @@
 //! [`Scene::from_height_map`] and [`Camera::default_for`]. The camera keys map one to one onto
 //! [`Camera`]'s fields (`angle_deg`, `azimuth_deg`, `distance`, `fov_deg`); `tiling` is applied
 //! first ([`Scene::with_tiling`] re-centres the camera and scales the default distance), then
-//! the camera keys.
+//! the named `view`, then `depth_scale`, `lod` and the camera keys.
 //!
 //! Errors are one line naming the file and the key: an unknown key (with the nearest known
 //! one), a value of the wrong type, a bad value, a missing file. Unknown keys and types are
@@ -39,7 +40,7 @@ use glam::Vec3;
 use serde::Deserialize;
 
 use crate::heightmap::{Channel, EdgeMode, HeightMap, LoadOptions};
-use crate::scene::{Camera, NormalMap, Rgba8Image, Scene};
+use crate::scene::{Camera, NormalMap, Rgba8Image, Scene, View};
 
 /// The keys of a scene file with the type each holds: `number`, `string`, `table` or
 /// `array of 3 numbers`.
@@ -62,6 +63,7 @@ pub const KEYS: &[(&str, &str)] = &[
     ("normal_map", "string"),
     ("normal_green", "string"),
     ("lod", "string"),
+    ("view", "string"),
 ];
 
 /// Why a scene file could not be read. Displays as one line: `FILE: key `KEY`: MESSAGE`.
@@ -90,6 +92,7 @@ struct FileSpec {
     normal_map: Option<String>,
     normal_green: Option<String>,
     lod: Option<String>,
+    view: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -248,17 +251,23 @@ fn build(path: &Path, f: FileSpec) -> Result<Scene, KeyError> {
         .unwrap_or_else(|| path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default());
     let mut s = Scene::from_height_map(name, hm);
     s.lod = lod;
-    if let Some(d) = f.depth_scale {
-        if !(d.is_finite() && d > 0.0) {
-            return Err(("depth_scale", format!("{d}: must be a positive number")));
-        }
-        s.depth_scale = d;
-    }
     if let Some(t) = f.tiling {
         if !(t.is_finite() && t > 0.0) {
             return Err(("tiling", format!("{t}: must be a positive number")));
         }
         s = s.with_tiling(t);
+    }
+    if let Some(v) = &f.view {
+        View::parse(v).map_err(|m| ("view", m))?.apply(&mut s);
+        if lod.is_some() {
+            s.lod = lod;
+        }
+    }
+    if let Some(d) = f.depth_scale {
+        if !(d.is_finite() && d > 0.0) {
+            return Err(("depth_scale", format!("{d}: must be a positive number")));
+        }
+        s.depth_scale = d;
     }
     s.edge = match f.edge.as_deref() {
         None | Some("repeat") => EdgeMode::Repeat,
@@ -361,9 +370,13 @@ pub fn load_normal_map(path: &Path, green_up: bool) -> Result<NormalMap, String>
     Ok(NormalMap { width, height, data: rgb_to_normals(img.as_raw(), green_up) })
 }
 
-/// Command-line overrides of a scene (`--depth-scale`, `--tiling`, `--angle`, `--azimuth`).
+/// Command-line overrides of a scene (`--view`, `--depth-scale`, `--tiling`, `--angle`,
+/// `--azimuth`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Overrides {
+    /// `--view`: a named view ([`View`]), applied before the other overrides (which win).
+    /// `None`: the scene's own.
+    pub view: Option<View>,
     /// `--depth-scale`: the relief depth in texture units, > 0. `None`: keep the scene's.
     pub depth_scale: Option<f32>,
     /// `--tiling`: repeats across the quad, > 0; re-centres the camera. `None`: keep it.
@@ -403,15 +416,20 @@ impl Overrides {
     /// The suffix a scene's name gets when overridden, e.g. `@depth_scale=0.05,angle=60`
     /// (empty without overrides), so that results on an overridden scene keep their own name.
     pub fn suffix(&self) -> String {
-        let parts: Vec<String> = [
+        let view = self.view.map(|v| format!("view={}", v.name()));
+        let parts: Vec<String> = view
+            .into_iter()
+            .chain(
+                [
             ("depth_scale", self.depth_scale),
             ("tiling", self.tiling),
             ("angle", self.angle),
             ("azimuth", self.azimuth),
-        ]
-        .iter()
-        .filter_map(|(k, v)| v.map(|v| format!("{k}={v}")))
-        .collect();
+                ]
+                .iter()
+                .filter_map(|(k, v)| v.map(|v| format!("{k}={v}"))),
+            )
+            .collect();
         if parts.is_empty() {
             String::new()
         } else {
@@ -426,13 +444,19 @@ impl Overrides {
         let mut o = Overrides::default();
         for part in text.split(',') {
             let (k, v) = part.split_once('=').ok_or_else(|| format!("`{part}` is not KEY=VALUE"))?;
+            if k.trim() == "view" {
+                if o.view.replace(View::parse(v.trim())?).is_some() {
+                    return Err("`view` is given twice".into());
+                }
+                continue;
+            }
             let v: f32 = v.trim().parse().map_err(|_| format!("`{part}`: `{v}` is not a number"))?;
             let slot = match k.trim() {
                 "depth_scale" => &mut o.depth_scale,
                 "tiling" => &mut o.tiling,
                 "angle" => &mut o.angle,
                 "azimuth" => &mut o.azimuth,
-                other => return Err(format!("`{other}` is not a view key (depth_scale, tiling, angle, azimuth)")),
+                other => return Err(format!("`{other}` is not a view key (view, depth_scale, tiling, angle, azimuth)")),
             };
             if slot.replace(v).is_some() {
                 return Err(format!("`{}` is given twice", k.trim()));
@@ -441,24 +465,31 @@ impl Overrides {
         Ok(o)
     }
 
-    /// The keys both `self` and `other` set (`angle`, …), for refusing one that would
-    /// silently replace the other.
+    /// The keys both `self` and `other` set (`angle`, …; a named view sets `depth_scale` and
+    /// `angle`), for refusing one that would silently replace the other.
     pub fn shared_keys(&self, other: &Overrides) -> Vec<&'static str> {
+        // A named view sets the depth scale and the angle too.
+        let depth = |o: &Overrides| o.depth_scale.is_some() || o.view.is_some();
+        let angle = |o: &Overrides| o.angle.is_some() || o.view.is_some();
         let pairs = [
-            ("depth_scale", self.depth_scale.is_some() && other.depth_scale.is_some()),
+            ("view", self.view.is_some() && other.view.is_some()),
+            ("depth_scale", depth(self) && depth(other)),
             ("tiling", self.tiling.is_some() && other.tiling.is_some()),
-            ("angle", self.angle.is_some() && other.angle.is_some()),
+            ("angle", angle(self) && angle(other)),
             ("azimuth", self.azimuth.is_some() && other.azimuth.is_some()),
         ];
         pairs.iter().filter(|(_, both)| *both).map(|(k, _)| *k).collect()
     }
 
-    /// Applies the overrides: tiling first (with [`Scene::with_tiling`]), then depth scale,
-    /// angle and azimuth; appends [`Overrides::suffix`] to the name. Call [`Overrides::check`]
-    /// first.
+    /// Applies the overrides: tiling first (with [`Scene::with_tiling`]), then the named view,
+    /// then depth scale, angle and azimuth; appends [`Overrides::suffix`] to the name. Call
+    /// [`Overrides::check`] first.
     pub fn apply(&self, mut s: Scene) -> Scene {
         if let Some(t) = self.tiling {
             s = s.with_tiling(t);
+        }
+        if let Some(v) = self.view {
+            v.apply(&mut s);
         }
         if let Some(d) = self.depth_scale {
             s.depth_scale = d;
@@ -481,7 +512,7 @@ impl Overrides {
 /// with the error.
 pub fn split_view(arg: &str) -> Option<(&str, Result<Overrides, String>)> {
     let (base, view) = arg.rsplit_once('@')?;
-    let keys = ["depth_scale=", "tiling=", "angle=", "azimuth="];
+    let keys = ["view=", "depth_scale=", "tiling=", "angle=", "azimuth="];
     if base.is_empty() || !view.split(',').all(|p| keys.iter().any(|k| p.trim_start().starts_with(k))) {
         return None;
     }

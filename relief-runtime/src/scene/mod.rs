@@ -36,11 +36,13 @@ pub mod builtin;
 pub mod camera;
 pub mod file;
 pub mod procedural;
+pub mod view;
 
 pub use builtin::{scene_kind, SceneKind, REAL_SCENES};
 pub use camera::Camera;
 pub use file::{load_scene_file, Overrides, SceneFileError};
 pub use procedural::{checker, collage, lion, rock_bump, self_shadow, shapes, spikes, step, walls};
+pub use view::View;
 
 /// Side of the procedural height maps when no size is asked for.
 pub const DEFAULT_SIZE: usize = 256;

@@ -73,7 +73,7 @@ pub fn default_scenes(name: &str) -> Vec<String> {
         "f4.5" => &["rocks", "self_shadow", "rock_bump"],
         "f4.7" => &f47,
         // Lion as the tables have it, and the real maps that stand for Rock Bump and Shapes.
-        "lod" | "frontier" => &["lion", "rocks", "four"],
+        "lod" | "frontier" | DISSERTATION_VIEW => &["lion", "rocks", "four"],
         _ => &["lion"],
     };
     v.iter().map(|s| s.to_string()).collect()
@@ -85,8 +85,51 @@ pub fn default_scenes(name: &str) -> Vec<String> {
 pub fn default_views(name: &str) -> &'static [&'static str] {
     match name {
         "frontier" => &["", "@angle=70"],
+        DISSERTATION_VIEW => &["@view=dissertation"],
         _ => &[""],
     }
+}
+
+/// The grid that repeats some of the dissertation's tables at the dissertation's own view
+/// ([`crate::scene::View::Dissertation`]: depth scale 0.05, 20° from the normal, 25° field
+/// of view, `lod=auto`), on Lion and the two real maps.
+pub const DISSERTATION_VIEW: &str = "dissertation-view";
+
+/// The tables [`DISSERTATION_VIEW`] repeats: linear search (4.1), binary (4.2) and interval
+/// refinement (4.4), linear against cone step mapping (4.7), cone against quad cone (4.8).
+pub const DISSERTATION_VIEW_TABLES: [&str; 5] = ["t4.1", "t4.2", "t4.4", "t4.7", "t4.8"];
+
+/// [`DISSERTATION_VIEW`]: the cells of [`DISSERTATION_VIEW_TABLES`], each (pipeline, scene)
+/// once, every scene at the dissertation's view. The safe cone forms read per-cell maps,
+/// which have no mip chain, so under the view's `lod=auto` they are left out (the textbook
+/// forms, which the dissertation measured, stay).
+fn dissertation_view(scenes: Option<&[String]>) -> NamedGrid {
+    let scenes = scenes.map(|s| s.to_vec()).unwrap_or_else(|| default_scenes(DISSERTATION_VIEW));
+    let mut cells: Vec<(Pipeline, String)> = Vec::new();
+    for t in DISSERTATION_VIEW_TABLES {
+        let text = FILES.iter().find(|(n, _)| *n == t).map(|(_, text)| *text).expect("a built-in table");
+        let pipelines = parse_grid_file(text).unwrap_or_else(|e| panic!("built-in grid {t}: {e}"));
+        for p in pipelines.into_iter().filter(|p| !reads_cell_maps(p)) {
+            for s in &scenes {
+                for v in default_views(DISSERTATION_VIEW) {
+                    let c = (p.clone(), format!("{s}{v}"));
+                    if !cells.contains(&c) {
+                        cells.push(c);
+                    }
+                }
+            }
+        }
+    }
+    NamedGrid {
+        name: DISSERTATION_VIEW.into(),
+        description: "Tables 4.1, 4.2, 4.4, 4.7 and 4.8 at the dissertation's view (depth scale 0.05, 20°, 25° field of view, lod=auto)".into(),
+        cells,
+    }
+}
+
+/// Whether a pipeline's coarse search is a cone method in its safe form (per-cell maps).
+fn reads_cell_maps(p: &Pipeline) -> bool {
+    p.coarse.params.iter().any(|(k, v)| k == "form" && v.to_string() == "safe")
 }
 
 /// Parses a grid file's text: one or more grids separated by `---` lines, as their union.
@@ -140,7 +183,8 @@ fn named(name: &str, text: &str, scenes: Option<&[String]>) -> NamedGrid {
 }
 
 /// Every built-in grid of the dissertation, then `dissertation`: all of them, each
-/// (pipeline, scene) once; then relief's own grids (`lod`, `frontier`).
+/// (pipeline, scene) once; then `dissertation-view` ([`DISSERTATION_VIEW`]) and relief's
+/// own grids (`lod`, `frontier`).
 pub fn builtin(scenes: Option<&[String]>) -> Vec<NamedGrid> {
     let mut all: Vec<NamedGrid> = FILES.iter().map(|(n, t)| named(n, t, scenes)).collect();
     let mut union: Vec<(Pipeline, String)> = Vec::new();
@@ -156,13 +200,14 @@ pub fn builtin(scenes: Option<&[String]>) -> Vec<NamedGrid> {
         description: "every table and figure of Burger 2018 chapter 4, duplicate cells measured once".into(),
         cells: union,
     });
+    all.push(dissertation_view(scenes));
     all.extend(EXTRA_FILES.iter().map(|(n, t)| named(n, t, scenes)));
     all
 }
 
 /// The names of the built-in grids.
 pub fn names() -> Vec<&'static str> {
-    FILES.iter().map(|(n, _)| *n).chain(["dissertation"]).chain(EXTRA_FILES.iter().map(|(n, _)| *n)).collect()
+    FILES.iter().map(|(n, _)| *n).chain(["dissertation", DISSERTATION_VIEW]).chain(EXTRA_FILES.iter().map(|(n, _)| *n)).collect()
 }
 
 /// A grid by built-in name, or from a grid file.
@@ -191,7 +236,7 @@ mod tests {
     #[test]
     fn every_builtin_grid_parses_and_the_union_has_no_duplicates() {
         let all = builtin(None);
-        assert_eq!(all.len(), FILES.len() + 1 + EXTRA_FILES.len());
+        assert_eq!(all.len(), FILES.len() + 2 + EXTRA_FILES.len());
         let diss = &all[FILES.len()];
         assert_eq!(diss.name, "dissertation");
         let sum: usize = all[..FILES.len()].iter().map(|g| g.cells.len()).sum();
@@ -244,6 +289,29 @@ mod tests {
         // Not part of the dissertation's union.
         let diss = all.iter().find(|g| g.name == "dissertation").unwrap();
         assert!(!diss.cells.iter().any(|(_, s)| s.contains('@')));
+    }
+
+    #[test]
+    fn dissertation_view_repeats_five_tables_at_the_dissertations_view() {
+        let g = load(DISSERTATION_VIEW, None).unwrap();
+        let mut pipelines: Vec<String> = Vec::new();
+        for (p, _) in &g.cells {
+            if !pipelines.contains(&p.to_string()) {
+                pipelines.push(p.to_string());
+            }
+        }
+        // Table 4.1's 13 linear searches (4.7's ten among them), 4.2's and 4.4's 2 × 6
+        // refinements, 4.7's ten and 4.8's five more textbook csm, 4.8's five qcsm.
+        assert_eq!(pipelines.len(), 13 + 12 + 12 + 10 + 5, "{pipelines:?}");
+        assert_eq!(g.cells.len(), pipelines.len() * 3);
+        let cones: Vec<&String> = pipelines.iter().filter(|p| p.starts_with("csm(") || p.starts_with("qcsm(")).collect();
+        assert_eq!(cones.len(), 15);
+        assert!(cones.iter().all(|p| p.contains("textbook")), "only textbook cone forms (lod=auto): {cones:?}");
+        for s in ["lion", "rocks", "four"] {
+            assert_eq!(g.cells.iter().filter(|(_, c)| *c == format!("{s}@view=dissertation")).count(), pipelines.len());
+        }
+        // The scene's lod applies: no cell names its own.
+        assert!(g.cells.iter().all(|(p, _)| p.lod == relief_dsl::spec::Lod::Zero));
     }
 
     #[test]

@@ -50,6 +50,10 @@ enum Command {
 /// every scene).
 #[derive(clap::Args, Debug)]
 pub struct OverrideArgs {
+    /// A named view, applied before the other overrides: `dissertation` (the Steep Parallax
+    /// demo's: depth scale 0.05, 20° from the normal, 25° field of view, lod=auto).
+    #[arg(long, value_parser = |s: &str| relief_runtime::scene::View::parse(s))]
+    pub view: Option<relief_runtime::scene::View>,
     /// View angle from the surface normal, in degrees (overrides the scene's camera).
     #[arg(long)]
     pub angle: Option<f32>,
@@ -67,8 +71,7 @@ pub struct OverrideArgs {
 impl OverrideArgs {
     /// The overrides, checked ([`Overrides::check`]).
     pub fn checked(&self) -> anyhow::Result<Overrides> {
-        let o =
-            Overrides { depth_scale: self.depth_scale, tiling: self.tiling, angle: self.angle, azimuth: self.azimuth };
+        let o = Overrides { view: self.view, depth_scale: self.depth_scale, tiling: self.tiling, angle: self.angle, azimuth: self.azimuth };
         o.check().map_err(anyhow::Error::msg)?;
         Ok(o)
     }

@@ -92,8 +92,8 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
 fn run_rooms(a: &SweepArgs) -> anyhow::Result<()> {
     use relief_runtime::room::sweep;
     let o = &a.overrides;
-    if o.angle.is_some() || o.azimuth.is_some() || o.depth_scale.is_some() || o.tiling.is_some() {
-        anyhow::bail!("--angle, --azimuth, --depth-scale and --tiling are not implemented for the room grid (set the camera and depth scales in a room file)");
+    if o.view.is_some() || o.angle.is_some() || o.azimuth.is_some() || o.depth_scale.is_some() || o.tiling.is_some() {
+        anyhow::bail!("--view, --angle, --azimuth, --depth-scale and --tiling are not implemented for the room grid (set the camera and depth scales in a room file)");
     }
     let rooms: Vec<String> =
         if a.scene.is_empty() { sweep::DEFAULT_ROOMS.iter().map(|s| s.to_string()).collect() } else { a.scene.clone() };

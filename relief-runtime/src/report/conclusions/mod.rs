@@ -788,6 +788,7 @@ pub(crate) fn lod_markdown(data: &Data, diss: &Diss) -> Option<String> {
     let scenes: Vec<String> = data
         .scenes()
         .into_iter()
+        .filter(|s| crate::scene::view::of_label(s).is_none())
         .filter(|s| {
             data.rows.iter().any(|r| {
                 &r.metrics.scene == s && r.metrics.pipeline.parse::<Pipeline>().is_ok_and(|p| p.lod == Lod::Auto)
@@ -822,6 +823,57 @@ pub(crate) fn lod_markdown(data: &Data, diss: &Diss) -> Option<String> {
             }
             let claim = if z.form.is_empty() { z.claim.clone() } else { format!("{} (`form={}`)", z.claim, z.form) };
             t.rows.push(vec![z.table.clone(), claim, short_scene(scene).to_string(), v(z), v(a)]);
+        }
+    }
+    Some(t.to_markdown(2))
+}
+
+/// The conclusions of the tables grid `dissertation-view` repeats, on each scene at its own
+/// view and at the dissertation's (`scene@view=dissertation`), side by side, with the
+/// verdicts that change marked; `None` when no scene has rows at the dissertation's view.
+/// Verdicts are `mse / ref_err_t_rms` (frame-time criteria have one).
+pub(crate) fn view_markdown(data: &Data, diss: &Diss) -> Option<String> {
+    use crate::scene::View;
+    let view = View::Dissertation;
+    let suffix = format!("@view={}", view.name());
+    let pairs: Vec<(String, String)> = data
+        .scenes()
+        .into_iter()
+        .filter_map(|s| s.strip_suffix(&suffix).map(|base| (base.to_string(), s.clone())))
+        .collect();
+    if pairs.is_empty() {
+        return None;
+    }
+    let tables: Vec<String> = crate::sweep::grids::DISSERTATION_VIEW_TABLES.iter().map(|t| t.trim_start_matches('t').to_string()).collect();
+    let mut t = TextTable {
+        title: "Conclusions at the dissertation's view".into(),
+        notes: vec![format!(
+            "The criteria of Tables {} (grid `dissertation-view`) on each scene at its own view and at the dissertation's \
+             (depth scale {}, {}° from the normal, {}° field of view, `lod={}`), each scored against the exact hit on the surface \
+             it sampled. Verdicts: `mse_dissertation_mean / ref_err_t_rms`; `changes` marks a verdict that differs between the views.",
+            tables.join(", "),
+            view.depth_scale(),
+            view.angle_deg(),
+            view.fov_deg(),
+            view.lod()
+        )],
+        header: ["table", "claim", "scene", "own view", "dissertation's view", "changes"].iter().map(|s| s.to_string()).collect(),
+        ..Default::default()
+    };
+    let v = |c: &Conclusion| match c.ours_ref {
+        Some(r) => format!("{} / {}", c.ours_mse, r),
+        None => c.ours_mse.to_string(),
+    };
+    for (base, at_view) in &pairs {
+        let own = check_at(data, diss, base, Lod::Zero);
+        let theirs = check_at(data, diss, at_view, Lod::Zero);
+        for (o, d) in own.iter().zip(&theirs) {
+            if !tables.contains(&o.table) || (o.ours_mse == Verdict::NotMeasured && d.ours_mse == Verdict::NotMeasured) {
+                continue;
+            }
+            let claim = if o.form.is_empty() { o.claim.clone() } else { format!("{} (`form={}`)", o.claim, o.form) };
+            let changes = if v(o) != v(d) { "changes" } else { "" };
+            t.rows.push(vec![o.table.clone(), claim, short_scene(base).to_string(), v(o), v(d), changes.into()]);
         }
     }
     Some(t.to_markdown(2))
