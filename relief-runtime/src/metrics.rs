@@ -328,7 +328,12 @@ pub fn set_accuracy_levels(
 /// `linear(N)` steps 1/N in t; `linear_dynamic(min, max)` 1/n with n = ⌊mix(max, min,
 /// cos θ)⌋ (at least 1), θ the view ray's angle from the normal, computed as the probe
 /// computes it from the ray and the scene's `depth_scale`. `None` for any other search.
-pub fn coarse_step_texels(pipeline: &relief_dsl::Pipeline, ray: &ProbeRay, depth_scale: f32, texels: f64) -> Option<f64> {
+pub fn coarse_step_texels(
+    pipeline: &relief_dsl::Pipeline,
+    ray: &ProbeRay,
+    depth_scale: f32,
+    texels: f64,
+) -> Option<f64> {
     let c = &pipeline.coarse;
     let n = match c.name.as_str() {
         "linear" => c.int("steps") as f64,

@@ -285,7 +285,15 @@ fn gap(map: &HeightMap, edge: EdgeMode, ray: &GridRay, cx: i64, cy: i64, ta: f64
 /// reports t1 has jumped over geometry. Exact: the cells the ray crosses are visited in
 /// order, and in each the gap h − z, a quadratic in t, is minimised over the ray's part in
 /// it (the ends, and the vertex where the quadratic opens upwards).
-pub fn rises_above(map: &HeightMap, edge: EdgeMode, origin: [f64; 2], dir: [f64; 3], t0: f64, t1: f64, slack: f64) -> bool {
+pub fn rises_above(
+    map: &HeightMap,
+    edge: EdgeMode,
+    origin: [f64; 2],
+    dir: [f64; 3],
+    t0: f64,
+    t1: f64,
+    slack: f64,
+) -> bool {
     if !(t0.is_finite() && t1.is_finite() && t1 > t0) {
         return false;
     }

@@ -51,10 +51,33 @@ fn render_writes_frame_error_metrics_and_hits() {
     assert_eq!(summary.lines().count(), 1, "{summary}");
     let m: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("metrics.json")).unwrap()).unwrap();
     for key in [
-        "pipeline", "scene", "size", "adapter", "frame_ms_median", "frame_ms_p10", "frame_ms_p90", "mse_dissertation",
-        "ref_err_t_rms", "ref_err_uv_texels_rms", "missed_rate", "past_rate", "skipped_rate", "ref_err_t_median", "ref_err_t_p90",
-        "ref_err_t_p99", "mse_worst1_share", "nan_count", "avg_iterations", "avg_fetches", "frame_ms_mean",
-        "mse_dissertation_mean", "outside_count", "nonconverged_rate", "avg_coarse_steps", "avg_refine_steps", "false_hit_rate",
+        "pipeline",
+        "scene",
+        "size",
+        "adapter",
+        "frame_ms_median",
+        "frame_ms_p10",
+        "frame_ms_p90",
+        "mse_dissertation",
+        "ref_err_t_rms",
+        "ref_err_uv_texels_rms",
+        "missed_rate",
+        "past_rate",
+        "skipped_rate",
+        "ref_err_t_median",
+        "ref_err_t_p90",
+        "ref_err_t_p99",
+        "mse_worst1_share",
+        "nan_count",
+        "avg_iterations",
+        "avg_fetches",
+        "frame_ms_mean",
+        "mse_dissertation_mean",
+        "outside_count",
+        "nonconverged_rate",
+        "avg_coarse_steps",
+        "avg_refine_steps",
+        "false_hit_rate",
     ] {
         assert!(m.get(key).is_some(), "metrics.json lacks {key}");
     }

@@ -59,7 +59,12 @@ fn lod_auto_meets_the_reference_of_the_footprint_level_on_real_maps() {
         );
         // maxmip walks every cell of the level it samples: exact there too.
         let (mm, _) = measure(&g, "maxmip(128)+lod=auto", scene, 64);
-        assert!(mm.ref_err_t_rms < AGREE_T_RMS && mm.past_rate == 0.0, "maxmip on {name} {edge:?}: t error {}, missed {}", mm.ref_err_t_rms, mm.past_rate);
+        assert!(
+            mm.ref_err_t_rms < AGREE_T_RMS && mm.past_rate == 0.0,
+            "maxmip on {name} {edge:?}: t error {}, missed {}",
+            mm.ref_err_t_rms,
+            mm.past_rate
+        );
         // At 64² pixels a 256² map is minified: the footprint is above one texel, so the
         // rays sample levels above 0 (else the test would not test the levels).
         assert!(levels.iter().any(|&l| l >= 1), "{name}: all rays at level 0");

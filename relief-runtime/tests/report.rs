@@ -1164,12 +1164,18 @@ fn the_report_shows_verdicts_at_both_views_and_the_pre_asymptotic_note() {
     report::write(&dir).expect("report");
     let md = std::fs::read_to_string(dir.join("tables.md")).unwrap();
     let section = &md[md.find("Conclusions at the dissertation's view").expect("the views section")..];
-    let line = section.lines().find(|l| l.contains("More linear steps lower the error.")).expect("Table 4.1's error claim");
+    let line =
+        section.lines().find(|l| l.contains("More linear steps lower the error.")).expect("Table 4.1's error claim");
     assert!(line.contains("| holds / holds | does not hold / does not hold | changes |"), "{line}");
     // The table at the dissertation's view is found under the view's lod (the rows say
     // `+lod=auto`), and its K rises: 3N²·N²·1e-4 from N = 30 to 40.
     let at_view = &md[md.find("scene lion@view=dissertation").expect("Table 4.1 at the view")..];
-    assert!(at_view.contains("Pre-asymptotic: K = 3N²·MSE of linear search still rises"), "{}", &at_view[..at_view.len().min(2000)]);
-    let own = &md[md.find("# Table 4.1").or_else(|| md.find("Table 4.1")).unwrap()..md.find("scene lion@view=dissertation").unwrap()];
+    assert!(
+        at_view.contains("Pre-asymptotic: K = 3N²·MSE of linear search still rises"),
+        "{}",
+        &at_view[..at_view.len().min(2000)]
+    );
+    let own = &md[md.find("# Table 4.1").or_else(|| md.find("Table 4.1")).unwrap()
+        ..md.find("scene lion@view=dissertation").unwrap()];
     assert!(!own.contains("Pre-asymptotic"), "K = 3 at every N on the own view: no note");
 }

@@ -583,11 +583,18 @@ fn the_dissertation_view_sets_depth_camera_and_lod() {
     let s = scene_from_arg("scene:rocks@view=dissertation").unwrap();
     assert_eq!((s.depth_scale, s.camera.angle_deg, s.camera.fov_deg, s.lod), (0.05, 20.0, 25.0, Some(Lod::Auto)));
     let plain = scene_from_arg("scene:rocks").unwrap();
-    assert_eq!((s.camera.azimuth_deg, s.camera.distance), (plain.camera.azimuth_deg, plain.camera.distance), "the rest of the camera is the scene's");
+    assert_eq!(
+        (s.camera.azimuth_deg, s.camera.distance),
+        (plain.camera.azimuth_deg, plain.camera.distance),
+        "the rest of the camera is the scene's"
+    );
     let o = Overrides { view: Some(View::Dissertation), ..Default::default() };
     assert_eq!(o.suffix(), "@view=dissertation");
     let by_flag = o.apply(plain.clone());
-    assert_eq!((by_flag.depth_scale, by_flag.camera.angle_deg, by_flag.camera.fov_deg, by_flag.lod), (0.05, 20.0, 25.0, Some(Lod::Auto)));
+    assert_eq!(
+        (by_flag.depth_scale, by_flag.camera.angle_deg, by_flag.camera.fov_deg, by_flag.lod),
+        (0.05, 20.0, 25.0, Some(Lod::Auto))
+    );
     assert_eq!(by_flag.name, s.name);
     // A pipeline that names no lod is measured at the footprint level.
     assert_eq!(s.pipeline_for(&"linear(8)".parse().unwrap()).lod, Lod::Auto);
@@ -602,15 +609,25 @@ fn the_dissertation_view_sets_depth_camera_and_lod() {
         glam::DVec3::new(r.dir[0] as f64, r.dir[1] as f64, r.dir[2] as f64 * s.depth_scale as f64).normalize()
     };
     let centre = view(32, 32);
-    assert!((centre.z.abs().acos().to_degrees() - 20.0).abs() < 1e-3, "centre ray {}° from the normal", centre.z.abs().acos().to_degrees());
+    assert!(
+        (centre.z.abs().acos().to_degrees() - 20.0).abs() < 1e-3,
+        "centre ray {}° from the normal",
+        centre.z.abs().acos().to_degrees()
+    );
     let want = 2.0 * ((1.0 - 1.0 / size as f64) * 12.5f64.to_radians().tan()).atan();
     let got = view(32, 0).dot(view(32, size - 1)).clamp(-1.0, 1.0).acos();
-    assert!((got - want).abs() < 1e-4, "vertical field of view between pixel centres: {}° (want {}°)", got.to_degrees(), want.to_degrees());
+    assert!(
+        (got - want).abs() < 1e-4,
+        "vertical field of view between pixel centres: {}° (want {}°)",
+        got.to_degrees(),
+        want.to_degrees()
+    );
     // In a scene file, as defaults the file's own keys override.
     let d = tmpdir("view");
     std::fs::create_dir_all(&d).unwrap();
     image::GrayImage::from_fn(8, 8, |x, _| image::Luma([(x * 30) as u8])).save(d.join("h.png")).unwrap();
-    std::fs::write(d.join("v.toml"), "view = \"dissertation\"\n[height_map]\npath = \"h.png\"\n[camera]\nangle = 30\n").unwrap();
+    std::fs::write(d.join("v.toml"), "view = \"dissertation\"\n[height_map]\npath = \"h.png\"\n[camera]\nangle = 30\n")
+        .unwrap();
     let f = relief_runtime::scene::load_scene_file(&d.join("v.toml")).unwrap();
     assert_eq!((f.depth_scale, f.camera.angle_deg, f.camera.fov_deg, f.lod), (0.05, 30.0, 25.0, Some(Lod::Auto)));
     std::fs::write(d.join("bad.toml"), "view = \"disertation\"\n[height_map]\npath = \"h.png\"\n").unwrap();

@@ -188,8 +188,13 @@ fn skipped_rate_counts_a_ray_that_linear_search_carries_over_a_one_texel_pillar(
         let scene = pillar(edge);
         let tex = SceneTextures::new(&g, &scene);
         let rays = vec![over_the_pillar()];
-        let refs = relief_runtime::reference::reference_hits(&scene, &rays, relief_runtime::reference::Sampling::Bilinear).unwrap();
-        assert!((refs[0].unwrap().t - 0.5).abs() < 1e-9, "{edge:?}: the exact hit is on the front face at t = 1/2: {refs:?}");
+        let refs =
+            relief_runtime::reference::reference_hits(&scene, &rays, relief_runtime::reference::Sampling::Bilinear)
+                .unwrap();
+        assert!(
+            (refs[0].unwrap().t - 0.5).abs() < 1e-9,
+            "{edge:?}: the exact hit is on the front face at t = 1/2: {refs:?}"
+        );
         // linear(3) samples t = 1/3 (x = 6.17, h = 0), 2/3 (x = 8.83, h = 0.17 < z = 0.33) and
         // 1 (the floor): it steps over the pillar.
         let hits = gpu::probe(&g, &Program::new(&"linear(3)".parse().unwrap()).unwrap(), &scene, &tex, &rays).unwrap();
@@ -209,7 +214,8 @@ fn a_hit_three_texels_past_a_flat_floor_is_past_but_not_skipped() {
     use relief_runtime::metrics::{one_texel_t, Accuracy};
     for edge in [EdgeMode::Repeat, EdgeMode::Clamp] {
         let floor = HeightMap::from_fn(16, 16, |_, _| 0.5);
-        let ray = relief_runtime::scene::ProbeRay { origin: [0.25, 0.5], dir: [0.5, 0.0, -1.0], x: 0, y: 0, pixel_size: 0.0 };
+        let ray =
+            relief_runtime::scene::ProbeRay { origin: [0.25, 0.5], dir: [0.5, 0.0, -1.0], x: 0, y: 0, pixel_size: 0.0 };
         // The exact hit: z = 1 − t = 0.5 at t = 1/2. One texel of travel is 1/16 in t (the
         // depth's 1/16 comes before the 1/8 a texel across takes), so 3 texels is t = 11/16.
         assert_eq!(one_texel_t(&ray, 16.0), 1.0 / 16.0);
@@ -240,20 +246,42 @@ fn robust_statistics_match_a_hand_computed_list() {
     // 101 rays onto a flat floor at 0.5 (exact hit t = 1/2), hit i ending i/1000 past it:
     // |t − t_ref| = i/1000, and the height error is the same i/1000 (z = 1 − t).
     let floor = HeightMap::from_fn(16, 16, |_, _| 0.5);
-    let rays: Vec<_> =
-        (0..101).map(|i| relief_runtime::scene::ProbeRay { origin: [i as f32 / 101.0, 0.5], dir: [0.5, 0.0, -1.0], x: i, y: 0, pixel_size: 0.0 }).collect();
-    let refs: Vec<_> = rays.iter().map(|r| Some(relief_runtime::reference::RefHit { t: 0.5, u: r.origin[0] as f64 + 0.25, v: 0.5, z: 0.5 })).collect();
+    let rays: Vec<_> = (0..101)
+        .map(|i| relief_runtime::scene::ProbeRay {
+            origin: [i as f32 / 101.0, 0.5],
+            dir: [0.5, 0.0, -1.0],
+            x: i,
+            y: 0,
+            pixel_size: 0.0,
+        })
+        .collect();
+    let refs: Vec<_> = rays
+        .iter()
+        .map(|r| Some(relief_runtime::reference::RefHit { t: 0.5, u: r.origin[0] as f64 + 0.25, v: 0.5, z: 0.5 }))
+        .collect();
     let hits: Vec<_> = (0..101)
         .map(|i| {
             let t = 0.5 + i as f32 / 1000.0;
-            relief_runtime::gpu::GpuHit { t, u: rays[i].origin[0] + 0.5 * t, v: 0.5, z: 1.0 - t, coarse_steps: 1, refine_steps: 0, fetches: 1, converged: 1, clipped: 0 }
+            relief_runtime::gpu::GpuHit {
+                t,
+                u: rays[i].origin[0] + 0.5 * t,
+                v: 0.5,
+                z: 1.0 - t,
+                coarse_steps: 1,
+                refine_steps: 0,
+                fetches: 1,
+                converged: 1,
+                clipped: 0,
+            }
         })
         .collect();
     let mut m = relief_runtime::metrics::Metrics::default();
     relief_runtime::metrics::set_accuracy(&mut m, &rays, &hits, &refs, &floor, EdgeMode::Repeat);
     // Nearest rank on 101 sorted values: the median is the 51st (0.050), p90 the 91st
     // (0.090), p99 the 100th (0.099).
-    for (got, want, what) in [(m.ref_err_t_median, 0.050, "median"), (m.ref_err_t_p90, 0.090, "p90"), (m.ref_err_t_p99, 0.099, "p99")] {
+    for (got, want, what) in
+        [(m.ref_err_t_median, 0.050, "median"), (m.ref_err_t_p90, 0.090, "p90"), (m.ref_err_t_p99, 0.099, "p99")]
+    {
         assert!((got - want).abs() < 1e-6, "{what}: {got} (want {want})");
     }
     // The worst 1 % is ⌈1.01⌉ = 2 rays: (0.100² + 0.099²) / Σ (i/1000)² = 0.019801 / 0.33835.

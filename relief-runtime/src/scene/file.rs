@@ -421,10 +421,10 @@ impl Overrides {
             .into_iter()
             .chain(
                 [
-            ("depth_scale", self.depth_scale),
-            ("tiling", self.tiling),
-            ("angle", self.angle),
-            ("azimuth", self.azimuth),
+                    ("depth_scale", self.depth_scale),
+                    ("tiling", self.tiling),
+                    ("angle", self.angle),
+                    ("azimuth", self.azimuth),
                 ]
                 .iter()
                 .filter_map(|(k, v)| v.map(|v| format!("{k}={v}"))),
@@ -456,7 +456,9 @@ impl Overrides {
                 "tiling" => &mut o.tiling,
                 "angle" => &mut o.angle,
                 "azimuth" => &mut o.azimuth,
-                other => return Err(format!("`{other}` is not a view key (view, depth_scale, tiling, angle, azimuth)")),
+                other => {
+                    return Err(format!("`{other}` is not a view key (view, depth_scale, tiling, angle, azimuth)"))
+                }
             };
             if slot.replace(v).is_some() {
                 return Err(format!("`{}` is given twice", k.trim()));

@@ -34,7 +34,9 @@ impl View {
             return Ok(*v);
         }
         let names: Vec<&str> = View::ALL.iter().map(|v| v.name()).collect();
-        let near = relief_dsl::spec::suggest::nearest(name, names.iter().copied()).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
+        let near = relief_dsl::spec::suggest::nearest(name, names.iter().copied())
+            .map(|n| format!("; did you mean `{n}`?"))
+            .unwrap_or_default();
         Err(format!("`{name}` is not a named view (views: {}{near})", names.join(", ")))
     }
 

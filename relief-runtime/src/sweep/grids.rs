@@ -207,7 +207,12 @@ pub fn builtin(scenes: Option<&[String]>) -> Vec<NamedGrid> {
 
 /// The names of the built-in grids.
 pub fn names() -> Vec<&'static str> {
-    FILES.iter().map(|(n, _)| *n).chain(["dissertation", DISSERTATION_VIEW]).chain(EXTRA_FILES.iter().map(|(n, _)| *n)).collect()
+    FILES
+        .iter()
+        .map(|(n, _)| *n)
+        .chain(["dissertation", DISSERTATION_VIEW])
+        .chain(EXTRA_FILES.iter().map(|(n, _)| *n))
+        .collect()
 }
 
 /// A grid by built-in name, or from a grid file.
@@ -304,7 +309,8 @@ mod tests {
         // refinements, 4.7's ten and 4.8's five more textbook csm, 4.8's five qcsm.
         assert_eq!(pipelines.len(), 13 + 12 + 12 + 10 + 5, "{pipelines:?}");
         assert_eq!(g.cells.len(), pipelines.len() * 3);
-        let cones: Vec<&String> = pipelines.iter().filter(|p| p.starts_with("csm(") || p.starts_with("qcsm(")).collect();
+        let cones: Vec<&String> =
+            pipelines.iter().filter(|p| p.starts_with("csm(") || p.starts_with("qcsm(")).collect();
         assert_eq!(cones.len(), 15);
         assert!(cones.iter().all(|p| p.contains("textbook")), "only textbook cone forms (lod=auto): {cones:?}");
         for s in ["lion", "rocks", "four"] {

@@ -71,7 +71,13 @@ pub struct OverrideArgs {
 impl OverrideArgs {
     /// The overrides, checked ([`Overrides::check`]).
     pub fn checked(&self) -> anyhow::Result<Overrides> {
-        let o = Overrides { view: self.view, depth_scale: self.depth_scale, tiling: self.tiling, angle: self.angle, azimuth: self.azimuth };
+        let o = Overrides {
+            view: self.view,
+            depth_scale: self.depth_scale,
+            tiling: self.tiling,
+            angle: self.angle,
+            azimuth: self.azimuth,
+        };
         o.check().map_err(anyhow::Error::msg)?;
         Ok(o)
     }

@@ -844,7 +844,8 @@ pub(crate) fn view_markdown(data: &Data, diss: &Diss) -> Option<String> {
     if pairs.is_empty() {
         return None;
     }
-    let tables: Vec<String> = crate::sweep::grids::DISSERTATION_VIEW_TABLES.iter().map(|t| t.trim_start_matches('t').to_string()).collect();
+    let tables: Vec<String> =
+        crate::sweep::grids::DISSERTATION_VIEW_TABLES.iter().map(|t| t.trim_start_matches('t').to_string()).collect();
     let mut t = TextTable {
         title: "Conclusions at the dissertation's view".into(),
         notes: vec![format!(
@@ -868,7 +869,8 @@ pub(crate) fn view_markdown(data: &Data, diss: &Diss) -> Option<String> {
         let own = check_at(data, diss, base, Lod::Zero);
         let theirs = check_at(data, diss, at_view, Lod::Zero);
         for (o, d) in own.iter().zip(&theirs) {
-            if !tables.contains(&o.table) || (o.ours_mse == Verdict::NotMeasured && d.ours_mse == Verdict::NotMeasured) {
+            if !tables.contains(&o.table) || (o.ours_mse == Verdict::NotMeasured && d.ours_mse == Verdict::NotMeasured)
+            {
                 continue;
             }
             let claim = if o.form.is_empty() { o.claim.clone() } else { format!("{} (`form={}`)", o.claim, o.form) };
