@@ -259,6 +259,7 @@ impl HeightMap {
         if !path.exists() {
             return Err(HeightMapError::Missing { path: p() });
         }
+        crate::io::check_regular(path).map_err(|source| HeightMapError::Io { path: p(), source })?;
         let ext = path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).unwrap_or_default();
         let mut map = match ext.as_str() {
             "npy" => {

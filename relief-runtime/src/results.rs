@@ -225,7 +225,7 @@ pub struct ReadRows {
 /// a results row ([`parse_row`]). A missing file gives no rows.
 pub fn read(dir: &Path) -> anyhow::Result<ReadRows> {
     let path = dir.join(JSONL);
-    let text = match std::fs::read(&path) {
+    let text = match crate::io::read_regular(&path) {
         Ok(b) => String::from_utf8_lossy(&b).into_owned(),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => String::new(),
         Err(e) => return Err(anyhow::anyhow!("cannot read {}: {e}", path.display())),

@@ -334,3 +334,5 @@ fn serve_answers_files_inside_its_folder_and_nothing_outside() {
     );
     std::fs::remove_dir_all(&base).ok();
 }
+#[path = "cli/hostile.rs"]
+mod hostile;

@@ -292,22 +292,40 @@ impl StagePattern {
         let Some(args) = &self.args else {
             return Ok(vec![RawStage { name: self.name.clone(), pos: self.pos, args: None }]);
         };
-        let mut combos: Vec<Vec<RawArg>> = vec![vec![]];
+        // Each argument's values first, the count checked before any combination is built;
+        // then each combination is built once (an odometer over the value lists, the last
+        // argument fastest), so the work is linear in the size of the result.
+        let mut per_arg = Vec::with_capacity(args.len());
+        let mut count: usize = 1;
         for a in args {
             let mut values = Vec::new();
             a.value.expand(&mut values)?;
-            if combos.len().saturating_mul(values.len()) > MAX_CELLS {
+            count = count.saturating_mul(values.len());
+            if count > MAX_CELLS {
                 return Err(err(self.pos, &self.name, format!("the stage stands for more than {MAX_CELLS} stages")));
             }
-            let mut next = Vec::with_capacity(combos.len() * values.len());
-            for c in &combos {
-                for (value, pos, text) in &values {
-                    let mut c = c.clone();
-                    c.push(RawArg { name: a.name.clone(), value: value.clone(), pos: *pos, text: text.clone() });
-                    next.push(c);
+            per_arg.push(values);
+        }
+        let mut combos: Vec<Vec<RawArg>> = Vec::with_capacity(count);
+        let mut digits = vec![0usize; args.len()];
+        for _ in 0..count {
+            let combo = args
+                .iter()
+                .zip(&per_arg)
+                .zip(&digits)
+                .map(|((a, values), &d)| {
+                    let (value, pos, text) = &values[d];
+                    RawArg { name: a.name.clone(), value: value.clone(), pos: *pos, text: text.clone() }
+                })
+                .collect();
+            combos.push(combo);
+            for (d, values) in digits.iter_mut().zip(&per_arg).rev() {
+                *d += 1;
+                if *d < values.len() {
+                    break;
                 }
+                *d = 0;
             }
-            combos = next;
         }
         Ok(combos
             .into_iter()

@@ -39,6 +39,7 @@
 
 mod catalog;
 mod choice;
+mod echo;
 pub mod grid;
 mod lex;
 pub mod options;
@@ -54,6 +55,7 @@ pub use catalog::{
     StageLayer, StageOr, Stages, MAX_STEPS,
 };
 pub use choice::{Choice, Form as ConeForm, SampleChoice, StartChoice};
+pub use echo::{echo, one_line, ECHO_MAX, LINE_MAX};
 pub use grid::Grid;
 pub use options::{Lod, OptionKey, Silhouette, MAX_LOD_LEVEL};
 pub use parse::ParseError;

@@ -71,7 +71,7 @@ impl fmt::Display for ParseError {
             None => write!(f, "at {}", self.pos)?,
         }
         if !self.token.is_empty() {
-            write!(f, " (`{}`)", self.token)?;
+            write!(f, " (`{}`)", super::echo(&self.token))?;
         }
         write!(f, ": {}", self.message)?;
         if !self.expected.is_empty() {

@@ -10,6 +10,59 @@ use std::path::Path;
 use anyhow::Context;
 use relief_dsl::Pipeline;
 
+/// Refuses a path that names anything but a regular file (a FIFO, a directory, a device, a
+/// socket), before it is opened. Opening a FIFO for reading blocks until some writer opens
+/// it, so a reader that simply opened every path it was given could hang forever; a
+/// directory or a device would fail late or read without end. Symbolic links are followed.
+/// The error is an [`std::io::Error`] of kind `InvalidInput` whose message names what the
+/// path is, so callers format it as they do any other read error.
+pub fn check_regular(path: &Path) -> std::io::Result<()> {
+    let meta = std::fs::metadata(path)?;
+    if meta.is_file() {
+        return Ok(());
+    }
+    let what = if meta.is_dir() { "a directory" } else { special_kind(&meta) };
+    Err(std::io::Error::new(std::io::ErrorKind::InvalidInput, format!("not a regular file ({what})")))
+}
+
+#[cfg(unix)]
+fn special_kind(meta: &std::fs::Metadata) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    let t = meta.file_type();
+    if t.is_fifo() {
+        "a FIFO"
+    } else if t.is_socket() {
+        "a socket"
+    } else if t.is_char_device() || t.is_block_device() {
+        "a device"
+    } else {
+        "a special file"
+    }
+}
+
+#[cfg(not(unix))]
+fn special_kind(_: &std::fs::Metadata) -> &'static str {
+    "a special file"
+}
+
+/// [`std::fs::read`] of a regular file only ([`check_regular`] first).
+pub fn read_regular(path: &Path) -> std::io::Result<Vec<u8>> {
+    check_regular(path)?;
+    std::fs::read(path)
+}
+
+/// [`std::fs::read_to_string`] of a regular file only ([`check_regular`] first).
+pub fn read_regular_to_string(path: &Path) -> std::io::Result<String> {
+    check_regular(path)?;
+    std::fs::read_to_string(path)
+}
+
+/// [`image::open`] of a regular file only ([`check_regular`] first); the error names the path.
+pub fn open_image(path: &Path) -> Result<image::DynamicImage, String> {
+    check_regular(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    image::open(path).map_err(|e| format!("{}: {e}", path.display()))
+}
+
 /// Writes `bytes` to `path` through a temporary file and a rename, so that an interrupted
 /// run never leaves a half-written file (`NAME.EXT.tmp` beside it, removed when the write
 /// fails).

@@ -572,7 +572,7 @@ impl MapCache {
             return None;
         }
         let path = self.dir.as_ref()?.join(format!("{}.npy", key.file_stem()));
-        let bytes = std::fs::read(path).ok()?;
+        let bytes = crate::io::read_regular(&path).ok()?;
         let hdr = crate::io::npy::parse_npy_header(&bytes).ok()?;
         if hdr.item_size != 4 {
             return None;

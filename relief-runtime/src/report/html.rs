@@ -475,7 +475,7 @@ fn pareto_section(p: &Parts) -> Section {
 /// per-method table folded.
 fn stability_section(p: &Parts) -> Option<Section> {
     let stab = p.data.dir.join("stability");
-    let worst = std::fs::read_to_string(stab.join("worst.md")).ok()?;
+    let worst = crate::io::read_regular_to_string(&stab.join("worst.md")).ok()?;
     let mut h = String::from("<h2>Stability: where each method fails</h2>\n");
     let csv = if stab.join("stability.csv").is_file() {
         "; the numbers are in <a href=\"stability/stability.csv\">stability.csv</a>"

@@ -85,10 +85,10 @@ pub(crate) fn write_all(data: &Data, tables: &[ReportTable], sub: &Path, warning
                 if !path.exists() {
                     return None;
                 }
-                match image::open(&path) {
+                match crate::io::open_image(&path) {
                     Ok(img) => Some(scale(&img.to_rgba8())),
                     Err(err) => {
-                        warnings.push(format!("cannot read {}: {err}", path.display()));
+                        warnings.push(format!("cannot read picture {err}"));
                         None
                     }
                 }

@@ -107,7 +107,7 @@ pub fn load_room_file(path: &Path, map_size: Option<usize>) -> Result<Room, Scen
     if !path.exists() {
         return Err(err(None, "file not found".into()));
     }
-    let text = std::fs::read_to_string(path).map_err(|e| err(None, format!("cannot read: {e}")))?;
+    let text = crate::io::read_regular_to_string(path).map_err(|e| err(None, format!("cannot read: {e}")))?;
     let t: toml::Table = text.parse().map_err(|e: toml::de::Error| {
         let line = e.span().map(|s| text[..s.start.min(text.len())].lines().count().max(1));
         let at = line.map(|l| format!(" at line {l}")).unwrap_or_default();
@@ -236,6 +236,6 @@ fn load_albedo(path: &Path) -> Result<Rgba8Image, String> {
     if !path.exists() {
         return Err(format!("{}: file not found", path.display()));
     }
-    let img = image::open(path).map_err(|e| format!("{}: {e}", path.display()))?.to_rgba8();
+    let img = crate::io::open_image(path)?.to_rgba8();
     Ok(Rgba8Image { width: img.width() as usize, height: img.height() as usize, rgba: img.into_raw() })
 }

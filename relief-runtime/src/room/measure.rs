@@ -81,7 +81,8 @@ pub fn measure_room(
     options: &RoomOptions,
     setup: &RoomSetup,
 ) -> anyhow::Result<RoomMeasure> {
-    let prog = RoomProgram::new_with(p, options).map_err(|e| anyhow::anyhow!("pipeline `{p}`: {e}"))?;
+    let prog = RoomProgram::new_with(p, options)
+        .map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", relief_dsl::spec::echo(&p.to_string())))?;
     let tex = RoomTextures::new(gpu, room, &prog.maps)?;
     let interior = render_interior(gpu, &prog, room, &tex, setup.size, setup.warmup, setup.frames)?;
     let mesh = RoomMesh::new(room, setup.grid);

@@ -109,7 +109,8 @@ pub fn read_rows(dir: &Path) -> anyhow::Result<Option<Vec<RoomRow>>> {
     if !p.exists() {
         return Ok(None);
     }
-    let text = std::fs::read_to_string(&p)?;
+    let text =
+        crate::io::read_regular_to_string(&p).map_err(|e| anyhow::anyhow!("cannot read {}: {e}", p.display()))?;
     let mut out = Vec::new();
     for (i, line) in text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty()) {
         out.push(serde_json::from_str(line).map_err(|e| anyhow::anyhow!("{}: line {}: {e}", p.display(), i + 1))?);

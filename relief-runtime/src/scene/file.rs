@@ -122,7 +122,7 @@ pub fn load_scene_file(path: &Path) -> Result<Scene, SceneFileError> {
     if !path.exists() {
         return Err(err(None, "file not found".into()));
     }
-    let text = std::fs::read_to_string(path).map_err(|e| err(None, format!("cannot read: {e}")))?;
+    let text = crate::io::read_regular_to_string(path).map_err(|e| err(None, format!("cannot read: {e}")))?;
     let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
         let line = e.span().map(|s| text[..s.start.min(text.len())].lines().count().max(1));
         let at = line.map(|l| format!(" at line {l}")).unwrap_or_default();
@@ -341,7 +341,7 @@ fn open_rgba(path: &Path) -> Result<image::RgbaImage, String> {
     if !path.exists() {
         return Err(format!("{}: file not found", path.display()));
     }
-    let img = image::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let img = crate::io::open_image(path)?;
     Ok(img.to_rgba8())
 }
 

@@ -6,6 +6,7 @@
 //! 4.3, for instance, pairs a linear-only half with a linear + binary half). The first
 //! comment line describes the grid.
 
+use relief_dsl::spec::grid::MAX_CELLS;
 use relief_dsl::spec::suggest::nearest;
 use relief_dsl::spec::{Grid, ParseError};
 use relief_dsl::Pipeline;
@@ -135,6 +136,7 @@ fn reads_cell_maps(p: &Pipeline) -> bool {
 /// Parses a grid file's text: one or more grids separated by `---` lines, as their union.
 pub fn parse_grid_file(text: &str) -> Result<Vec<Pipeline>, ParseError> {
     let mut out: Vec<Pipeline> = Vec::new();
+    let mut seen = std::collections::HashSet::new();
     let mut line_offset = 0;
     let mut block = String::new();
     let mut blocks = Vec::new();
@@ -156,9 +158,19 @@ pub fn parse_grid_file(text: &str) -> Result<Vec<Pipeline>, ParseError> {
             e
         })?;
         for p in grid {
-            if !out.contains(&p) {
+            if seen.insert(p.clone()) {
                 out.push(p);
             }
+        }
+        if out.len() > MAX_CELLS {
+            return Err(ParseError {
+                pos: 0,
+                line_column: Some((u32::try_from(offset + 1).unwrap_or(u32::MAX), 1)),
+                token: String::new(),
+                message: format!("the grid file has more than {MAX_CELLS} pipelines"),
+                expected: vec![],
+                suggestion: None,
+            });
         }
     }
     Ok(out)
@@ -226,10 +238,18 @@ pub fn load(arg: &str, scenes: Option<&[String]>) -> anyhow::Result<NamedGrid> {
         let near = nearest(arg, names.iter().copied()).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
         anyhow::bail!("no grid `{arg}`: not a built-in grid ({}{near}) and no such file", names.join(", "));
     }
-    let text = std::fs::read_to_string(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let text = crate::io::read_regular_to_string(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     let pipelines = parse_grid_file(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     let scenes = scenes.map(|s| s.to_vec()).unwrap_or_else(|| vec!["lion".to_string()]);
     let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("grid").to_string();
+    if pipelines.len().saturating_mul(scenes.len()) > MAX_CELLS {
+        anyhow::bail!(
+            "{}: {} pipelines on {} scenes make more than {MAX_CELLS} cells; split the grid (sweep --shard K/N shares one out)",
+            path.display(),
+            pipelines.len(),
+            scenes.len()
+        );
+    }
     let cells = pipelines.into_iter().flat_map(|p| scenes.iter().map(move |s| (p.clone(), s.clone()))).collect();
     Ok(NamedGrid { name, description: description(&text), cells })
 }

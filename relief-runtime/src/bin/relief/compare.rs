@@ -27,7 +27,9 @@ pub struct CompareArgs {
 
 /// Runs `relief compare`.
 pub fn run(a: &CompareArgs) -> anyhow::Result<()> {
-    let parse = |t: &str| t.parse::<relief_dsl::Pipeline>().map_err(|e| anyhow::anyhow!("pipeline `{t}`: {e}"));
+    let parse = |t: &str| {
+        t.parse::<relief_dsl::Pipeline>().map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", relief_dsl::spec::echo(t)))
+    };
     let (pa, pb) = (parse(&a.a)?, parse(&a.b)?);
     if a.size == 0 || a.size > 8192 {
         anyhow::bail!("--size {} is out of range: allowed 1..=8192", a.size);

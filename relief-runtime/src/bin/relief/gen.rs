@@ -96,7 +96,9 @@ pub fn run(args: &GenArgs) -> anyhow::Result<()> {
     } else {
         args.pipelines
             .iter()
-            .map(|t| t.parse::<Pipeline>().map_err(|e| anyhow::anyhow!("pipeline `{t}`: {e}")))
+            .map(|t| {
+                t.parse::<Pipeline>().map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", relief_dsl::spec::echo(t)))
+            })
             .collect::<Result<_, _>>()?
     };
     let Some(out) = &args.out else {

@@ -104,7 +104,10 @@ fn main() {
                 .map(|l| l.trim())
                 .collect();
             let message = message.join(" ");
-            eprintln!("relief: error: {} (relief --help lists the commands)", message.trim_start_matches("error: "));
+            eprintln!(
+                "relief: error: {} (relief --help lists the commands)",
+                relief_dsl::spec::one_line(message.trim_start_matches("error: "))
+            );
             std::process::exit(2);
         }
     };
@@ -120,9 +123,18 @@ fn main() {
         Command::Serve(a) => serve::run(a),
     };
     if let Err(e) = result {
-        // One line: the error and its causes.
-        let chain: Vec<String> = e.chain().map(|c| c.to_string()).collect();
-        eprintln!("relief: error: {}", chain.join(": "));
+        // One line: the error and its causes (a cause its error already quotes is not
+        // repeated), control characters escaped and the length bounded.
+        let mut line = String::new();
+        for cause in e.chain().map(|c| c.to_string()) {
+            if !line.contains(&cause) {
+                if !line.is_empty() {
+                    line.push_str(": ");
+                }
+                line.push_str(&cause);
+            }
+        }
+        eprintln!("relief: error: {}", relief_dsl::spec::one_line(&line));
         std::process::exit(1);
     }
 }

@@ -45,7 +45,7 @@ pub struct RoomArgs {
 /// Runs `relief room`.
 pub fn run(a: &RoomArgs) -> anyhow::Result<()> {
     let pipeline: relief_dsl::Pipeline =
-        a.pipeline.parse().map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", a.pipeline))?;
+        a.pipeline.parse().map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", relief_dsl::spec::echo(&a.pipeline)))?;
     if a.size == 0 || a.size > 8192 {
         anyhow::bail!("--size {} is out of range: allowed 1..=8192", a.size);
     }
