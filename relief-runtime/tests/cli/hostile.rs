@@ -163,3 +163,17 @@ fn long_parameter_lists_and_large_grids_do_not_stall() {
     assert!(!d.join("huge").exists());
     std::fs::remove_dir_all(&d).ok();
 }
+
+/// A count that leaves nothing to measure is refused up front with its range, before any
+/// scene is read (`render --frames 0` printed a frame time from no frame).
+#[test]
+fn render_refuses_zero_frames_with_the_range() {
+    let d = scratch("frames");
+    assert_refused(
+        &d,
+        &["render", "linear(8)", "--scene", "scene:step", "--frames", "0", "--out", "o"],
+        "allowed 1..=100000",
+    );
+    assert!(!d.join("o").exists());
+    std::fs::remove_dir_all(&d).ok();
+}

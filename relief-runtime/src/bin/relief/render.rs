@@ -67,6 +67,9 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     if a.size == 0 || a.size > 8192 {
         anyhow::bail!("--size {} is out of range: allowed 1..=8192", a.size);
     }
+    if a.frames == 0 || a.frames > 100_000 {
+        anyhow::bail!("--frames {} is out of range: allowed 1..=100000 (a frame time needs a timed frame)", a.frames);
+    }
     let overrides = a.overrides.checked()?;
     let scene = overrides.apply(scene_from_arg(&scene_spec(&a.scene))?);
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create output folder {}", a.out.display()))?;
