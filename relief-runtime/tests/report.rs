@@ -1175,6 +1175,12 @@ fn the_report_shows_verdicts_at_both_views_and_the_pre_asymptotic_note() {
         "{}",
         &at_view[..at_view.len().min(2000)]
     );
+    assert!(
+        at_view.contains(
+            "Avg coarse steps: the stand-in takes 0.00·N on average over these rows, the dissertation's Lion 0.6"
+        ),
+        "Lion's step note"
+    );
     let own = &md[md.find("# Table 4.1").or_else(|| md.find("Table 4.1")).unwrap()
         ..md.find("scene lion@view=dissertation").unwrap()];
     assert!(!own.contains("Pre-asymptotic"), "K = 3 at every N on the own view: no note");
