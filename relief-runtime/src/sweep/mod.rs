@@ -15,6 +15,7 @@
 //! share of the cells ([`shard_of`]); the report merges the shards' folders.
 
 pub mod grids;
+mod progress;
 
 use std::collections::{HashMap, HashSet};
 use std::path::PathBuf;
@@ -25,6 +26,7 @@ use crate::results::{self, Metrics, Row};
 use crate::scene::{scene_from_arg, Overrides, Scene};
 use anyhow::Context;
 pub use grids::NamedGrid;
+use progress::Progress;
 
 /// What `relief sweep` measures.
 pub struct Options {
@@ -146,16 +148,7 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
         return Ok(summary);
     }
     let gpu = Gpu::new()?;
-    let bar = if opts.progress {
-        let b = indicatif::ProgressBar::new(todo.len() as u64);
-        b.set_style(
-            indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} cells, ETA {eta} | {msg}")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        b
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
+    let mut bar = Progress::new(todo.len() as u64, opts.progress);
     let mut prepared: HashMap<String, Result<Prepared, String>> = HashMap::new();
     for (pipeline, scene_arg) in todo {
         let pipeline = measured_as(&pipeline, &scene_arg);
@@ -217,9 +210,9 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
         results::append(&opts.out, &row)?;
         rows.push(row);
         results::write_csv(&opts.out, &rows)?;
-        bar.inc(1);
+        bar.inc();
     }
-    bar.finish_and_clear();
+    bar.finish();
     Ok(summary)
 }
 
