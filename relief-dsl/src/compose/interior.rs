@@ -202,13 +202,8 @@ fn frame<'a>(s: &'a Stage<'a>, k: usize, size: Val<'a, Vec3>) -> Frame<'a> {
 }
 
 fn room_param<'a>(s: &'a Stage<'a>, i: u32) -> Val<'a, Vec4> {
-    let g = s.module().global("room", |m| naga::GlobalVariable {
-        name: Some("room".into()),
-        space: naga::AddressSpace::Uniform,
-        binding: Some(naga::ResourceBinding { group: 0, binding: ROOM_PARAMS }),
-        ty: m.record_ty("RoomParams", RoomParams::MEMBERS),
-        init: None,
-        memory_decorations: Default::default(),
+    let g = s.module().declare("room", naga::AddressSpace::Uniform, Some(ROOM_PARAMS), |m| {
+        m.record_ty("RoomParams", RoomParams::MEMBERS)
     });
     s.load(s.member_ptr(s.global_ptr(g), i))
 }

@@ -225,7 +225,7 @@ fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
 /// render entry's from `Params::pixel_right.w`, the probe's from its ray record,
 /// `ProbeRay::pixel_size`). `None` under `lod=zero`. Both entry points
 /// call this one function and store its result in the stage-wide level
-/// ([`stage::SAMPLE_LEVEL`]) before they trace; the probe's rays are the render's pixels, so
+/// ([`stage::sampling::SAMPLE_LEVEL`]) before they trace; the probe's rays are the render's pixels, so
 /// the probe finds the level of the pixel the ray belongs to.
 ///
 /// `lod=level(k)` is `min(k, levels − 1)`. For `lod=auto` the level is derived from the
@@ -403,22 +403,13 @@ pub(crate) fn storage_array(
     binding: u32,
     write: bool,
 ) -> Handle<naga::GlobalVariable> {
-    m.global(name, |m| {
+    let access = if write { naga::StorageAccess::LOAD | naga::StorageAccess::STORE } else { naga::StorageAccess::LOAD };
+    m.declare(name, naga::AddressSpace::Storage { access }, Some(binding), |m| {
         let (stride, _) = match &m.module.borrow().types[item].inner {
             TypeInner::Struct { span, .. } => (*span, 0),
             _ => unreachable!("probe records are structs"),
         };
-        let arr = m.ty(TypeInner::Array { base: item, size: naga::ArraySize::Dynamic, stride });
-        let access =
-            if write { naga::StorageAccess::LOAD | naga::StorageAccess::STORE } else { naga::StorageAccess::LOAD };
-        naga::GlobalVariable {
-            name: Some(name.to_string()),
-            space: naga::AddressSpace::Storage { access },
-            binding: Some(naga::ResourceBinding { group: 0, binding }),
-            ty: arr,
-            init: None,
-            memory_decorations: Default::default(),
-        }
+        m.ty(TypeInner::Array { base: item, size: naga::ArraySize::Dynamic, stride })
     })
 }
 
@@ -426,16 +417,7 @@ pub(crate) fn storage_array(
 /// stage functions increment; an entry zeroes them per ray and stores them in its hit.
 pub(crate) fn probe_counters(m: &ModuleCtx) -> [Handle<naga::GlobalVariable>; 3] {
     use crate::ir::counter;
-    [counter::COARSE_STEPS, counter::REFINE_STEPS, counter::FETCHES].map(|name| {
-        m.global(name, |m| naga::GlobalVariable {
-            name: Some(name.into()),
-            space: naga::AddressSpace::Private,
-            binding: None,
-            ty: m.ty(u32::inner()),
-            init: None,
-            memory_decorations: Default::default(),
-        })
-    })
+    [counter::COARSE_STEPS, counter::REFINE_STEPS, counter::FETCHES].map(|name| m.private::<u32>(name))
 }
 
 fn probe_entry(m: &ModuleCtx, fns: &StageFns, clip: bool, lod: Option<Handle<naga::Function>>) -> naga::EntryPoint {

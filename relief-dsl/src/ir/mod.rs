@@ -170,6 +170,32 @@ impl ModuleCtx {
         h
     }
 
+    /// The global `name` in `space` (bound at group 0, `binding`, when it has one), declared
+    /// with the type `ty` makes the first time it is asked for: the one place a
+    /// `naga::GlobalVariable` is written, so that a stage or entry asks for a global by what
+    /// it is.
+    pub(crate) fn declare(
+        &self,
+        name: &str,
+        space: naga::AddressSpace,
+        binding: Option<u32>,
+        ty: impl FnOnce(&ModuleCtx) -> Handle<naga::Type>,
+    ) -> Handle<naga::GlobalVariable> {
+        self.global(name, |m| naga::GlobalVariable {
+            name: Some(name.to_string()),
+            space,
+            binding: binding.map(|binding| naga::ResourceBinding { group: 0, binding }),
+            ty: ty(m),
+            init: None,
+            memory_decorations: Default::default(),
+        })
+    }
+
+    /// The private (per-invocation) global `name` of type `T`, declared on first use.
+    pub(crate) fn private<T: Ty>(&self, name: &str) -> Handle<naga::GlobalVariable> {
+        self.declare(name, naga::AddressSpace::Private, None, |m| m.ty(T::inner()))
+    }
+
     /// The global already declared under `name`, if any.
     pub(crate) fn find_global(&self, name: &str) -> Option<Handle<naga::GlobalVariable>> {
         self.globals.borrow().iter().find(|(n, _)| n == name).map(|(_, h)| *h)
@@ -461,14 +487,7 @@ impl<'a> Stage<'a> {
 
     /// Adds one to the private counter `name` (probe variant only).
     pub(crate) fn count(&'a self, name: &str) {
-        let g = self.ctx.global(name, |m| naga::GlobalVariable {
-            name: Some(name.to_string()),
-            space: naga::AddressSpace::Private,
-            binding: None,
-            ty: m.ty(u32::inner()),
-            init: None,
-            memory_decorations: Default::default(),
-        });
+        let g = self.ctx.private::<u32>(name);
         let ptr = self.expr(Expression::GlobalVariable(g));
         let v: Val<'a, u32> = self.wrap(self.expr(Expression::Load { pointer: ptr }));
         let next = v + 1u32;

@@ -7,6 +7,10 @@ use naga::{Expression, Handle, Literal, Statement};
 use super::{Stage, Ty};
 
 /// A value of shader type `T` inside the function being built. `Copy`, like a handle.
+///
+/// `#[must_use]`: a value built and never read is most likely a step of the algorithm
+/// forgotten (an update meant for a variable, a result not returned).
+#[must_use = "a value that is built and never read does nothing in the shader"]
 pub struct Val<'a, T: Ty> {
     s: &'a Stage<'a>,
     h: Handle<Expression>,
@@ -86,6 +90,7 @@ impl<'a> Stage<'a> {
 }
 
 /// A function-local variable of type `T`.
+#[must_use = "a variable that is declared and never read or stored does nothing in the shader"]
 pub struct Var<'a, T: Ty> {
     s: &'a Stage<'a>,
     ptr: Handle<Expression>,

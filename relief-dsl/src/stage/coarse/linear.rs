@@ -77,20 +77,8 @@ pub const VIEW_DISTANCE: &str = "view_distance";
 /// The distance from the camera to the fragment, as the entry point stored it (see
 /// [`VIEW_DISTANCE`]).
 fn view_distance<'a>(s: &'a Stage<'a>) -> Val<'a, f32> {
-    let g = s.module().global(VIEW_DISTANCE, |m| private_f32(m, VIEW_DISTANCE));
+    let g = s.module().private::<f32>(VIEW_DISTANCE);
     s.load(s.global_ptr(g))
-}
-
-/// A private `f32` global named `name`.
-pub(crate) fn private_f32(m: &crate::ir::ModuleCtx, name: &str) -> naga::GlobalVariable {
-    naga::GlobalVariable {
-        name: Some(name.into()),
-        space: naga::AddressSpace::Private,
-        binding: None,
-        ty: m.ty(naga::TypeInner::Scalar(naga::Scalar::F32)),
-        init: None,
-        memory_decorations: Default::default(),
-    }
 }
 
 /// Linear search with the layer count of the dynamic layer resolution of Amaro &

@@ -1,0 +1,357 @@
+//! How stages read the maps: textures and samplers declared on first use, 2D samples at the
+//! pipeline's level (`lod`), gathers, texel loads, the 3D distance field, the height map's
+//! size and levels, the `Params` fields and the edge mode, with the probe's fetch count and
+//! lavapipe's level work-arounds. Stage bodies call these and never write a sample by hand.
+
+use naga::{Expression, ImageClass, ImageDimension, SampleLevel, ScalarKind, TypeInner};
+
+use crate::abi::{binding, Param, Params};
+use crate::ir::{Stage, Val, Vec2, Vec3, Vec4};
+use crate::spec::MapReq;
+
+/// How a stage samples a map: bilinear between texel centres, or the nearest texel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Filter {
+    /// Bilinear between texel centres.
+    Linear,
+    /// The nearest texel.
+    Nearest,
+}
+
+/// The sampled float texture `name` of dimension `dim` (`arrayed`: an array of layers) at
+/// `binding`, declared on first use.
+fn texture_of(
+    m: &crate::ir::ModuleCtx,
+    name: &str,
+    binding: u32,
+    dim: ImageDimension,
+    arrayed: bool,
+) -> naga::Handle<naga::GlobalVariable> {
+    m.declare(name, naga::AddressSpace::Handle, Some(binding), |m| {
+        m.ty(TypeInner::Image { dim, arrayed, class: ImageClass::Sampled { kind: ScalarKind::Float, multi: false } })
+    })
+}
+
+/// The 2D float texture `name` at `binding`, declared on first use.
+fn texture_2d(m: &crate::ir::ModuleCtx, name: &str, binding: u32) -> naga::Handle<naga::GlobalVariable> {
+    texture_of(m, name, binding, ImageDimension::D2, false)
+}
+
+/// The private global that holds the mip level every 2D sample is taken at when the
+/// pipeline's `lod` is not zero (a whole number as `f32`); the entry points store it before
+/// they trace ([`crate::compose`]).
+pub(crate) const SAMPLE_LEVEL: &str = "relief_sample_level";
+
+/// The private `f32` global [`SAMPLE_LEVEL`].
+pub(crate) fn sample_level_global(m: &crate::ir::ModuleCtx) -> naga::Handle<naga::GlobalVariable> {
+    m.private::<f32>(SAMPLE_LEVEL)
+}
+
+impl<'a> Stage<'a> {
+    /// The level 2D samples are taken at: `None` under `lod=zero` (level 0, the explicit
+    /// `SampleLevel::Zero` of every sample before the option), else the stage-wide level in
+    /// [`SAMPLE_LEVEL`]. Stage bodies never see it: every sampling method below reads it.
+    pub(crate) fn sample_level(&'a self) -> Option<Val<'a, f32>> {
+        if self.module().lod.get() == crate::spec::Lod::Zero {
+            return None;
+        }
+        let g = sample_level_global(self.module());
+        Some(self.load(self.global_ptr(g)))
+    }
+
+    /// Notes that a stage reads `what`, which has no level, under a `lod` other than zero:
+    /// the composer reports it as an error naming the stage ([`crate::compose`]).
+    pub(crate) fn no_level(&'a self, what: &str) {
+        if self.module().lod.get() != crate::spec::Lod::Zero {
+            self.module().lod_unsupported.borrow_mut().push(what.to_string());
+        }
+    }
+
+    /// The sampler of `filter` (declared on first use).
+    pub(crate) fn sampler_global(&'a self, filter: Filter) -> naga::Handle<naga::GlobalVariable> {
+        let (sname, sbind) = match filter {
+            Filter::Linear => ("linear_sampler", binding::LINEAR_SAMPLER),
+            Filter::Nearest => ("nearest_sampler", binding::NEAREST_SAMPLER),
+        };
+        self.module()
+            .declare(sname, naga::AddressSpace::Handle, Some(sbind), |m| m.ty(TypeInner::Sampler { comparison: false }))
+    }
+
+    /// One `textureSample*` of `tex` through the sampler of `filter`; `counted`: it counts
+    /// one fetch in the probe variant (a gather at a level counts its four samples once).
+    pub(crate) fn image_sample(
+        &'a self,
+        tex: naga::Handle<naga::GlobalVariable>,
+        coordinate: naga::Handle<Expression>,
+        filter: Filter,
+        gather: bool,
+        level: SampleLevel,
+        counted: bool,
+    ) -> Val<'a, Vec4> {
+        // The sampler is declared before the counter is touched, as it always was, so that
+        // globals keep their order in the emitted module.
+        let smp = self.sampler_global(filter);
+        if counted && self.counting() {
+            self.count(crate::ir::counter::FETCHES);
+        }
+        let image = self.expr(Expression::GlobalVariable(tex));
+        let sampler = self.expr(Expression::GlobalVariable(smp));
+        self.wrap(self.expr(Expression::ImageSample {
+            image,
+            sampler,
+            gather: gather.then_some(naga::SwizzleComponent::X),
+            coordinate,
+            array_index: None,
+            offset: None,
+            level,
+            depth_ref: None,
+            clamp_to_edge: false,
+        }))
+    }
+
+    /// A 2D sample at the stage-wide level ([`Stage::sample_level`]).
+    pub(crate) fn sample_2d(
+        &'a self,
+        tex: naga::Handle<naga::GlobalVariable>,
+        uv: Val<'a, Vec2>,
+        filter: Filter,
+    ) -> Val<'a, Vec4> {
+        let level = match self.sample_level() {
+            None => SampleLevel::Zero,
+            Some(l) => SampleLevel::Exact(l.handle()),
+        };
+        self.image_sample(tex, uv.handle(), filter, false, level, true)
+    }
+
+    /// The first channel of the four texels a bilinear sample of the map `name` (bound at
+    /// `map_binding`) at `uv` blends, in gather order, at the stage-wide level.
+    ///
+    /// WGSL's `textureGather` has no level argument (it reads level 0), so at a level other
+    /// than zero the four texels are read one by one: with `(w, h)` the level's size, the
+    /// lower-left texel is `(i, j) = floor(uv·(w, h) − ½)`, and each of `(i, j+1), (i+1, j+1),
+    /// (i+1, j), (i, j)` is a nearest sample at its texel centre on that level, so the
+    /// sampler applies the edge mode exactly as the bilinear sample does. The level's size
+    /// comes from [`Stage::level_size`], not from `textureDimensions` at the level: the level
+    /// differs between neighbouring rays under `lod=auto`, and lavapipe answers
+    /// `textureDimensions` at such a level with another lane's level (measured: safe CSM rays
+    /// ended up to 0.46 in t past the first hit where neighbouring pixels sampled different
+    /// levels, while the same rays at one fixed level were exact; `textureLoad` at such a
+    /// level is right). The probe counts the four as one fetch, the one gather they stand
+    /// for, so that fetch counts compare across levels.
+    pub(crate) fn gather_2d(&'a self, name: &str, map_binding: u32, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
+        let Some(level) = self.sample_level() else {
+            let tex = texture_2d(self.module(), name, map_binding);
+            return self.image_sample(tex, uv.handle(), Filter::Linear, true, SampleLevel::Zero, true);
+        };
+        if self.counting() {
+            self.count(crate::ir::counter::FETCHES);
+        }
+        let nearest = format!("{name}_nearest");
+        let tex = texture_2d(self.module(), &nearest, map_binding + binding::NEAREST_OFFSET);
+        let size = self.level_size(name, map_binding, level);
+        let base = (uv * size - 0.5).floor();
+        let texel = |dx: f32, dy: f32| -> Val<'a, f32> {
+            let centre = (base + self.vec2(dx + 0.5, dy + 0.5)) / size;
+            self.image_sample(tex, centre.handle(), Filter::Nearest, false, SampleLevel::Exact(level.handle()), false)
+                .x()
+        };
+        let (a, b, c, d) = (texel(0.0, 1.0), texel(1.0, 1.0), texel(1.0, 0.0), texel(0.0, 0.0));
+        self.vec4(self.vec3(self.vec2(a, b), c), d)
+    }
+
+    /// The size in texels of level `level` of the map `name` (as floats): level 0's size
+    /// halved `level` times, exact because every level of relief's chains is half the one
+    /// before (`maps::mips` stops before an odd side). Not `textureDimensions` at the level,
+    /// which lavapipe gets wrong when the level differs between lanes (see [`Stage::gather_2d`]).
+    pub(crate) fn level_size(&'a self, name: &str, map_binding: u32, level: Val<'a, f32>) -> Val<'a, Vec2> {
+        let tex = texture_2d(self.module(), name, map_binding);
+        let image = self.expr(Expression::GlobalVariable(tex));
+        let zero = self.lit_u32(0).handle();
+        let size = self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::Size { level: Some(zero) } });
+        let size0: Val<'a, Vec2> =
+            self.wrap(self.expr(Expression::As { expr: size, kind: ScalarKind::Float, convert: Some(4) }));
+        size0 * (-level).exp2()
+    }
+
+    /// Samples the 2D map `map` (bound at `map_binding`) at `uv`, level 0 (explicit, so
+    /// sampling is valid in any control flow). Counts one fetch in the probe variant.
+    ///
+    /// A map read with nearest filtering is declared a second time, as `NAME_nearest` at
+    /// binding [`binding::NEAREST_OFFSET`] + its binding (the runtime binds the same texture
+    /// to both): GLSL combines textures with samplers, and one texture read through two
+    /// samplers has no GLSL form.
+    pub(crate) fn sample(&'a self, map: &str, map_binding: u32, uv: Val<'a, Vec2>, filter: Filter) -> Val<'a, Vec4> {
+        let (name, b) = match filter {
+            Filter::Linear => (map.to_string(), map_binding),
+            Filter::Nearest => (format!("{map}_nearest"), map_binding + binding::NEAREST_OFFSET),
+        };
+        let tex = texture_2d(self.module(), &name, b);
+        self.sample_2d(tex, uv, filter)
+    }
+
+    /// Samples a precomputed map (all channels).
+    pub fn map(&'a self, map: MapReq, uv: Val<'a, Vec2>, filter: Filter) -> Val<'a, Vec4> {
+        self.no_level_map(map);
+        self.sample(&map.texture_name(), map.binding(), uv, filter)
+    }
+
+    /// The smallest of the four texels around `uv` in the map's first channel (one gather):
+    /// what a bilinear sample at `uv` can never undercut.
+    pub fn map_min4(&'a self, map: MapReq, uv: Val<'a, Vec2>) -> Val<'a, f32> {
+        let g = self.map_gather(map, uv);
+        g.x().min(g.y()).min(g.z().min(g.w()))
+    }
+
+    /// The first channel of the four texels a bilinear sample at `uv` blends (one gather), in
+    /// gather order: `(i, j+1), (i+1, j+1), (i+1, j), (i, j)` with `(i, j)` the lower-left
+    /// texel.
+    pub fn map_gather(&'a self, map: MapReq, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
+        self.no_level_map(map);
+        self.gather_2d(&map.texture_name(), map.binding(), uv)
+    }
+
+    /// The four heights a bilinear sample at `uv` blends (see [`Stage::map_gather`]), at the
+    /// stage-wide level.
+    pub fn height_gather(&'a self, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
+        self.gather_2d("height_map", binding::HEIGHT, uv)
+    }
+
+    /// Only maps with a mip chain of their own level's data ([`MapReq::has_levels`]) may be
+    /// read at a level: every other map is built over level 0 of the height map (cells, the
+    /// max-mip pyramid), so reading it at another level would mix two surfaces; it is
+    /// refused under a `lod` other than zero.
+    pub(crate) fn no_level_map(&'a self, map: MapReq) {
+        if !map.has_levels() {
+            self.no_level(map.name());
+        }
+    }
+
+    /// The texel `coords` of mip level `level` of a map (no filtering).
+    ///
+    /// Under a `lod` other than zero only the max-mip pyramid has a form per level: the
+    /// runtime uploads the pyramid of every level of the height map's chain as the layers of
+    /// one array texture (layer k: the pyramid over level k's cells, its level j in the
+    /// top-left of mip j), so the read takes layer k, the stage-wide level, and the
+    /// pyramid's level `level` as the mip (`textureLoad` at a lane-varying mip is right on
+    /// lavapipe; `textureDimensions` is not, see the private `gather_2d`). Any other map is
+    /// refused there: its texels are level-0 cells.
+    pub fn map_texel(&'a self, map: MapReq, coords: Val<'a, crate::ir::UVec2>, level: Val<'a, u32>) -> Val<'a, Vec4> {
+        let layer = match self.sample_level() {
+            Some(l) if map == MapReq::MaxMip => Some(l.to_u32()),
+            _ => {
+                self.no_level(map.name());
+                None
+            }
+        };
+        let name = map.texture_name();
+        let tex = texture_of(self.module(), &name, map.binding(), ImageDimension::D2, layer.is_some());
+        if self.counting() {
+            self.count(crate::ir::counter::FETCHES);
+        }
+        let image = self.expr(Expression::GlobalVariable(tex));
+        self.wrap(self.expr(Expression::ImageLoad {
+            image,
+            coordinate: coords.handle(),
+            array_index: layer.map(|l| l.handle()),
+            sample: None,
+            level: Some(level.handle()),
+        }))
+    }
+
+    /// Samples the 3D distance field at `(u, v, height)`, trilinear.
+    pub fn distance(&'a self, p: Val<'a, Vec3>) -> Val<'a, f32> {
+        let map = MapReq::DistanceField;
+        let name = map.texture_name();
+        self.no_level(map.name());
+        let tex = texture_of(self.module(), &name, map.binding(), ImageDimension::D3, false);
+        self.image_sample(tex, p.handle(), Filter::Linear, false, SampleLevel::Zero, true).x()
+    }
+
+    /// The size of level 0 of the height map in texels, as floats (its users address level-0
+    /// cells, and read maps that [`Stage::map_texel`] refuses at another level).
+    pub fn height_map_size(&'a self) -> Val<'a, Vec2> {
+        match self.sample_level() {
+            None => {
+                let tex = texture_2d(self.module(), "height_map", binding::HEIGHT);
+                let image = self.expr(Expression::GlobalVariable(tex));
+                let level = self.lit_u32(0).handle();
+                let size =
+                    self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::Size { level: Some(level) } });
+                self.wrap(self.expr(Expression::As { expr: size, kind: ScalarKind::Float, convert: Some(4) }))
+            }
+            Some(l) => self.level_size("height_map", binding::HEIGHT, l),
+        }
+    }
+
+    /// The entry of cell `index` in the cell map `map` (one load, no filtering), for the cells
+    /// of the level the stage samples.
+    ///
+    /// Under a `lod` other than zero the runtime uploads a cell map as an atlas of the cell
+    /// maps of every level of the height map's chain, stacked by rows from level 0 down, each
+    /// at the left edge (cells of a level: `w_k × h_k` under repeat, `(w_k + 1) × (h_k + 1)`
+    /// under clamp, see `stage::coarse::cell`). Every level of the chain is half the one
+    /// before (the chain stops before an odd side), so the rows above level k number
+    /// `Σ_{j<k} h_j = 2·h_0 − 2·h_k`, plus k under clamp: the cell's row is offset by that.
+    pub fn cell_map_texel(&'a self, map: MapReq, index: Val<'a, Vec2>) -> Val<'a, Vec4> {
+        let name = map.texture_name();
+        let tex = texture_2d(self.module(), &name, map.binding());
+        if self.counting() {
+            self.count(crate::ir::counter::FETCHES);
+        }
+        let coords = match self.sample_level() {
+            None => index.to_u32(),
+            Some(l) => {
+                let hk = self.level_size("height_map", binding::HEIGHT, l).y();
+                let h0 = hk * l.exp2();
+                let borders = self.select(self.edge_is_clamp(), l, self.lit(0.0));
+                let rows = h0 * 2.0 - hk * 2.0 + borders;
+                self.vec2(index.x(), index.y() + rows).to_u32()
+            }
+        };
+        let image = self.expr(Expression::GlobalVariable(tex));
+        let level = self.lit_u32(0);
+        self.wrap(self.expr(Expression::ImageLoad {
+            image,
+            coordinate: coords.handle(),
+            array_index: None,
+            sample: None,
+            level: Some(level.handle()),
+        }))
+    }
+
+    /// The number of mip levels of the height map, as a float.
+    pub(crate) fn height_map_levels(&'a self) -> Val<'a, f32> {
+        let tex = texture_2d(self.module(), "height_map", binding::HEIGHT);
+        let image = self.expr(Expression::GlobalVariable(tex));
+        let n = self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::NumLevels });
+        self.wrap(self.expr(Expression::As { expr: n, kind: ScalarKind::Float, convert: Some(4) }))
+    }
+
+    /// GETHEIGHT of the algorithm boxes: the height map at `uv`, bilinear.
+    pub fn height(&'a self, uv: Val<'a, Vec2>) -> Val<'a, f32> {
+        self.sample("height_map", binding::HEIGHT, uv, Filter::Linear).x()
+    }
+
+    /// The member `p` of the `Params` uniform block ([`crate::abi::Params`]).
+    pub(crate) fn param<T: crate::ir::Ty>(&'a self, p: Param) -> Val<'a, T> {
+        let g = self.module().declare("params", naga::AddressSpace::Uniform, Some(binding::PARAMS), |m| {
+            m.record_ty("Params", Params::MEMBERS)
+        });
+        self.load(self.member_ptr(self.global_ptr(g), p.index()))
+    }
+
+    /// Whether the scene's edge mode is clamp (`params.quad.y` is 1), for stages that address
+    /// texels themselves.
+    pub fn edge_is_clamp(&'a self) -> Val<'a, bool> {
+        if let Some(c) = self.module().edge_clamp_constant.get() {
+            return self.wrap(self.expr(Expression::Constant(c)));
+        }
+        self.param::<Vec4>(Param::Quad).y().gt(0.5)
+    }
+
+    /// The tangent-space normal at `uv`, from the normal map (stored `n * 0.5 + 0.5`).
+    pub fn normal(&'a self, uv: Val<'a, Vec2>) -> Val<'a, Vec3> {
+        let n = self.sample("normal_map", binding::NORMAL, uv, Filter::Linear).xyz();
+        (n * 2.0 - 1.0).normalize()
+    }
+}
