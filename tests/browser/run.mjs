@@ -174,8 +174,9 @@ async function main() {
   }
   const consoleErrors = out.console.filter((m) => m.type === 'error');
   out.ok = !out.timed_out && out.errors.length === 0 && consoleErrors.length === 0 && !(out.result && out.result.ok === false);
-  process.stdout.write(JSON.stringify(out) + '\n');
-  process.exit(out.ok ? 0 : 1);
+  // Exit once the whole report is written: a pipe takes 64 KiB at a time, and an exit
+  // before it drains would cut a large result short.
+  process.stdout.write(JSON.stringify(out) + '\n', () => process.exit(out.ok ? 0 : 1));
 }
 
 main();

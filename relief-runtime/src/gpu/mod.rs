@@ -17,7 +17,10 @@ pub use render::{
     draw_frame, paired_blocks, render, timed_frames, Clock, Frames, PairedBlocks, RenderResult, Renderer, Target,
     DEPTH_FORMAT, FORMAT, MAX_FRAMES_PER_BLOCK, MIN_BLOCK_MS,
 };
-pub use resources::{SceneTextures, AMBIENT, MAX_RATIO};
+pub use resources::{
+    binding_source, map_upload, map_upload_of, params_for, scene_uploads, SceneTextures, SceneUploads, Source, Upload,
+    AMBIENT, MAX_RATIO,
+};
 
 use relief_dsl::compose::Compiled;
 

@@ -43,31 +43,208 @@ pub struct SceneTextures {
     pub height_levels: Vec<crate::heightmap::HeightMap>,
 }
 
-/// A 2D texture with the given mip levels (level 0 first), each `(width, height, bytes)`.
-fn texture(
-    gpu: &Gpu,
-    label: &str,
-    levels: &[(usize, usize, Vec<u8>)],
-    format: wgpu::TextureFormat,
-) -> wgpu::TextureView {
-    let (w, h, _) = levels[0];
-    let bytes: Vec<u8> = levels.iter().flat_map(|(_, _, b)| b.iter().copied()).collect();
+/// A texture's contents in the layout the runtime uploads them: its size, format and
+/// dimension, and the bytes of each mip level (all slices or layers of a level together),
+/// level 0 first. The device upload and the report's browser data ([`crate::report`]) both
+/// take their bytes from here, so the two cannot differ.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Upload {
+    /// Width of level 0, texels.
+    pub width: u32,
+    /// Height of level 0, texels.
+    pub height: u32,
+    /// Slices (3D) or layers (2D array) of level 0; 1 for a plain 2D texture.
+    pub depth: u32,
+    /// The texel format.
+    pub format: wgpu::TextureFormat,
+    /// 2D or 3D.
+    pub dimension: wgpu::TextureDimension,
+    /// The view: 2D, 2D array or 3D.
+    pub view: wgpu::TextureViewDimension,
+    /// The bytes of each mip level, level 0 first, rows tightly packed.
+    pub levels: Vec<Vec<u8>>,
+}
+
+impl Upload {
+    /// A 2D texture from `(width, height, bytes)` levels, level 0 first.
+    fn d2(levels: Vec<(usize, usize, Vec<u8>)>, format: wgpu::TextureFormat) -> Upload {
+        let (w, h, _) = levels[0];
+        Upload {
+            width: w as u32,
+            height: h as u32,
+            depth: 1,
+            format,
+            dimension: wgpu::TextureDimension::D2,
+            view: wgpu::TextureViewDimension::D2,
+            levels: levels.into_iter().map(|(_, _, b)| b).collect(),
+        }
+    }
+}
+
+/// Uploads `u` as a texture and returns its view.
+fn texture(gpu: &Gpu, label: &str, u: &Upload) -> wgpu::TextureView {
+    let bytes: Vec<u8> = u.levels.concat();
     let t = gpu.device.create_texture_with_data(
         &gpu.queue,
         &wgpu::TextureDescriptor {
             label: Some(label),
-            size: wgpu::Extent3d { width: w as u32, height: h as u32, depth_or_array_layers: 1 },
-            mip_level_count: levels.len() as u32,
+            size: wgpu::Extent3d { width: u.width, height: u.height, depth_or_array_layers: u.depth },
+            mip_level_count: u.levels.len() as u32,
             sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
+            dimension: u.dimension,
+            format: u.format,
             usage: wgpu::TextureUsages::TEXTURE_BINDING,
             view_formats: &[],
         },
         wgpu::util::TextureDataOrder::LayerMajor,
         &bytes,
     );
-    t.create_view(&Default::default())
+    t.create_view(&wgpu::TextureViewDescriptor { dimension: Some(u.view), ..Default::default() })
+}
+
+/// The scene's own textures in their upload layouts ([`scene_uploads`]).
+pub struct SceneUploads {
+    /// The height map with its mip chain (`R32Float`, or `R16Float` without `float32`).
+    pub height: Upload,
+    /// The normal map with its mip chain, `Rgba8Unorm`.
+    pub normal: Upload,
+    /// The albedo with its mip chain, `Rgba8UnormSrgb`.
+    pub albedo: Upload,
+    /// The height chain as stored (level 0 first): f32, or rounded to f16.
+    pub height_levels: Vec<crate::heightmap::HeightMap>,
+}
+
+/// The scene's height, normal and albedo textures as [`SceneTextures::new`] uploads them:
+/// heights in `R32Float` when `float32` (32-bit float textures can be filtered), else
+/// rounded to `R16Float`.
+pub fn scene_uploads(scene: &Scene, float32: bool) -> SceneUploads {
+    let chain = crate::maps::mips::height_chain(&scene.height);
+    let (height, height_levels) = if float32 {
+        let levels: Vec<(usize, usize, Vec<u8>)> =
+            chain.iter().map(|l| (l.width, l.height, bytemuck::cast_slice(&l.data).to_vec())).collect();
+        (Upload::d2(levels, wgpu::TextureFormat::R32Float), chain)
+    } else {
+        let rounded: Vec<crate::heightmap::HeightMap> = chain
+            .iter()
+            .map(|l| {
+                let data = l.data.iter().map(|&x| half::f16::from_f32(x).to_f32()).collect();
+                crate::heightmap::HeightMap::new(l.width, l.height, data)
+            })
+            .collect();
+        let levels: Vec<(usize, usize, Vec<u8>)> = rounded
+            .iter()
+            .map(|l| (l.width, l.height, l.data.iter().flat_map(|&x| half::f16::from_f32(x).to_le_bytes()).collect()))
+            .collect();
+        (Upload::d2(levels, wgpu::TextureFormat::R16Float), rounded)
+    };
+    let normals: Vec<[f32; 3]> = match &scene.normal {
+        Some(n) => n.data.clone(),
+        None => normal::derived_normals(&scene.height, scene.depth_scale, scene.edge),
+    };
+    let (nw, nh) = match &scene.normal {
+        Some(n) => (n.width, n.height),
+        None => (scene.height.width, scene.height.height),
+    };
+    let flat: Vec<f32> = normals.iter().flat_map(|n| *n).collect();
+    let nlevels: Vec<(usize, usize, Vec<u8>)> = crate::maps::mips::box_chain(nw, nh, 3, &flat)
+        .into_iter()
+        .map(|l| {
+            let bytes = l
+                .data
+                .chunks(3)
+                .flat_map(|n| {
+                    [n[0], n[1], n[2]]
+                        .map(|c| ((c * 0.5 + 0.5).clamp(0.0, 1.0) * 255.0).round() as u8)
+                        .into_iter()
+                        .chain([255])
+                })
+                .collect();
+            (l.width, l.height, bytes)
+        })
+        .collect();
+    let normal = Upload::d2(nlevels, wgpu::TextureFormat::Rgba8Unorm);
+    let albedo = match &scene.albedo {
+        Some(a) => {
+            let f: Vec<f32> = a.rgba.iter().map(|&b| b as f32).collect();
+            let levels: Vec<(usize, usize, Vec<u8>)> = crate::maps::mips::box_chain(a.width, a.height, 4, &f)
+                .into_iter()
+                .map(|l| (l.width, l.height, l.data.iter().map(|&x| x.round().clamp(0.0, 255.0) as u8).collect()))
+                .collect();
+            Upload::d2(levels, wgpu::TextureFormat::Rgba8UnormSrgb)
+        }
+        None => Upload::d2(vec![(1, 1, vec![180, 170, 160, 255])], wgpu::TextureFormat::Rgba8UnormSrgb),
+    };
+    SceneUploads { height, normal, albedo, height_levels }
+}
+
+/// What a binding of group 0 takes ([`binding_source`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Source {
+    /// The `Params` uniform buffer.
+    Params,
+    /// The height map.
+    Height,
+    /// The normal map.
+    Normal,
+    /// The albedo.
+    Albedo,
+    /// The linear sampler.
+    Linear,
+    /// The nearest sampler.
+    Nearest,
+    /// The acceleration map of this request (level 0, or its per-level chain).
+    Map(MapReq),
+    /// A storage buffer the caller gives (the probe's rays and hits).
+    Storage(u32),
+}
+
+/// What binding `b` of a program reading the maps `reqs` takes: the one table of bindings
+/// that the device's bind groups and the report's browser data both follow. A map binding
+/// no request names is an error.
+pub fn binding_source(b: u32, reqs: &[MapReq]) -> Result<Source, super::GpuError> {
+    let map = |base: u32| {
+        reqs.iter().copied().find(|r| *r != MapReq::Normal && r.binding() == base).map(Source::Map).ok_or_else(|| {
+            super::GpuError::Pipeline(format!(
+                "the shader reads a map at binding {base}, which the pipeline's required maps do not name"
+            ))
+        })
+    };
+    Ok(match b {
+        binding::PARAMS => Source::Params,
+        binding::HEIGHT => Source::Height,
+        binding::NORMAL => Source::Normal,
+        binding::ALBEDO => Source::Albedo,
+        binding::LINEAR_SAMPLER => Source::Linear,
+        binding::NEAREST_SAMPLER => Source::Nearest,
+        b if (binding::NEAREST_OFFSET..binding::RAYS).contains(&b) => match b - binding::NEAREST_OFFSET {
+            binding::HEIGHT => Source::Height,
+            binding::NORMAL => Source::Normal,
+            binding::ALBEDO => Source::Albedo,
+            base => map(base)?,
+        },
+        b if b > binding::ALBEDO && b < binding::NEAREST_OFFSET => map(b)?,
+        other => Source::Storage(other),
+    })
+}
+
+/// The `Params` block for a scene seen at `aspect`, in a frame whose pixels have size
+/// `pixel_size` on the image plane at unit distance ([`Camera::pixel_size`]; the probe
+/// passes 0, its rays carry their own).
+///
+/// [`Camera::pixel_size`]: crate::scene::Camera::pixel_size
+pub fn params_for(scene: &Scene, aspect: f32, pixel_size: f32) -> Params {
+    let (_, right, up) = scene.camera.basis();
+    let cam = scene.camera.camera_position();
+    let l = scene.light_dir.normalize();
+    let clamp = if scene.edge == EdgeMode::Clamp { 1.0 } else { 0.0 };
+    Params {
+        view_proj: scene.camera.view_proj(aspect).to_cols_array(),
+        camera: [cam.x, cam.y, cam.z, scene.depth_scale],
+        light: [l.x, l.y, l.z, AMBIENT],
+        quad: [scene.tiling, clamp, 0.0, 0.0],
+        pixel_right: [right.x, right.y, right.z, pixel_size],
+        pixel_up: [up.x, up.y, up.z, 0.0],
+    }
 }
 
 impl SceneTextures {
@@ -76,65 +253,11 @@ impl SceneTextures {
     /// filter of [`crate::maps::mips`] (level 0 is what every pipeline under `lod=zero`
     /// samples; the other levels are what `lod=level(k)` and `lod=auto` sample).
     pub fn new(gpu: &Gpu, scene: &Scene) -> SceneTextures {
-        let chain = crate::maps::mips::height_chain(&scene.height);
-        let (height, height_levels) = if gpu.float32_filterable {
-            let levels: Vec<(usize, usize, Vec<u8>)> =
-                chain.iter().map(|l| (l.width, l.height, bytemuck::cast_slice(&l.data).to_vec())).collect();
-            (texture(gpu, "height", &levels, wgpu::TextureFormat::R32Float), chain)
-        } else {
-            let rounded: Vec<crate::heightmap::HeightMap> = chain
-                .iter()
-                .map(|l| {
-                    let data = l.data.iter().map(|&x| half::f16::from_f32(x).to_f32()).collect();
-                    crate::heightmap::HeightMap::new(l.width, l.height, data)
-                })
-                .collect();
-            let levels: Vec<(usize, usize, Vec<u8>)> = rounded
-                .iter()
-                .map(|l| {
-                    (l.width, l.height, l.data.iter().flat_map(|&x| half::f16::from_f32(x).to_le_bytes()).collect())
-                })
-                .collect();
-            (texture(gpu, "height", &levels, wgpu::TextureFormat::R16Float), rounded)
-        };
+        let u = scene_uploads(scene, gpu.float32_filterable);
+        let (height, normal, albedo) =
+            (texture(gpu, "height", &u.height), texture(gpu, "normal", &u.normal), texture(gpu, "albedo", &u.albedo));
+        let height_levels = u.height_levels;
         let heights_on_device = height_levels[0].data.clone();
-        let normals: Vec<[f32; 3]> = match &scene.normal {
-            Some(n) => n.data.clone(),
-            None => normal::derived_normals(&scene.height, scene.depth_scale, scene.edge),
-        };
-        let (nw, nh) = match &scene.normal {
-            Some(n) => (n.width, n.height),
-            None => (scene.height.width, scene.height.height),
-        };
-        let flat: Vec<f32> = normals.iter().flat_map(|n| *n).collect();
-        let nlevels: Vec<(usize, usize, Vec<u8>)> = crate::maps::mips::box_chain(nw, nh, 3, &flat)
-            .into_iter()
-            .map(|l| {
-                let bytes = l
-                    .data
-                    .chunks(3)
-                    .flat_map(|n| {
-                        [n[0], n[1], n[2]]
-                            .map(|c| ((c * 0.5 + 0.5).clamp(0.0, 1.0) * 255.0).round() as u8)
-                            .into_iter()
-                            .chain([255])
-                    })
-                    .collect();
-                (l.width, l.height, bytes)
-            })
-            .collect();
-        let normal = texture(gpu, "normal", &nlevels, wgpu::TextureFormat::Rgba8Unorm);
-        let albedo = match &scene.albedo {
-            Some(a) => {
-                let f: Vec<f32> = a.rgba.iter().map(|&b| b as f32).collect();
-                let levels: Vec<(usize, usize, Vec<u8>)> = crate::maps::mips::box_chain(a.width, a.height, 4, &f)
-                    .into_iter()
-                    .map(|l| (l.width, l.height, l.data.iter().map(|&x| x.round().clamp(0.0, 255.0) as u8).collect()))
-                    .collect();
-                texture(gpu, "albedo", &levels, wgpu::TextureFormat::Rgba8UnormSrgb)
-            }
-            None => texture(gpu, "albedo", &[(1, 1, vec![180, 170, 160, 255])], wgpu::TextureFormat::Rgba8UnormSrgb),
-        };
         let address = match scene.edge {
             EdgeMode::Repeat => wgpu::AddressMode::Repeat,
             EdgeMode::Clamp => wgpu::AddressMode::ClampToEdge,
@@ -224,23 +347,16 @@ impl SceneTextures {
             if self.maps.contains_key(&key) {
                 continue;
             }
-            let map = crate::maps::build(&scene.height, kind, &params, scene.edge)?;
-            let used = if kind.is_cell() { cell_channels_uploaded(map.channels) } else { map.channels };
-            let view = upload_map(gpu, &map, used, kind.is_ratio());
+            let view = texture(gpu, "map", &map_upload_of(scene, key)?);
             self.maps.insert(key, view);
         }
         Ok(())
     }
 
-    /// The uploaded map a shader binding `b` of a program reading `reqs` takes.
-    fn map_view(&self, b: u32, reqs: &[MapReq], levels: bool) -> Result<&wgpu::TextureView, super::GpuError> {
-        let req = reqs.iter().find(|r| **r != MapReq::Normal && r.binding() == b).ok_or_else(|| {
-            super::GpuError::Pipeline(format!(
-                "the shader reads a map at binding {b}, which the pipeline's required maps do not name"
-            ))
-        })?;
+    /// The uploaded map of `req` (with its per-level chain when `levels`).
+    fn map_view(&self, req: MapReq, levels: bool) -> Result<&wgpu::TextureView, super::GpuError> {
         let maps = if levels { &self.level_maps } else { &self.maps };
-        MapKey::of(*req).and_then(|k| maps.get(&k)).ok_or_else(|| missing_map(b))
+        MapKey::of(req).and_then(|k| maps.get(&k)).ok_or_else(|| missing_map(req.binding()))
     }
 
     /// The params uniform buffer for a scene seen at `aspect`, in a frame whose pixels have
@@ -249,18 +365,7 @@ impl SceneTextures {
     ///
     /// [`Camera::pixel_size`]: crate::scene::Camera::pixel_size
     pub fn params(gpu: &Gpu, scene: &Scene, aspect: f32, pixel_size: f32) -> wgpu::Buffer {
-        let (_, right, up) = scene.camera.basis();
-        let cam = scene.camera.camera_position();
-        let l = scene.light_dir.normalize();
-        let clamp = if scene.edge == EdgeMode::Clamp { 1.0 } else { 0.0 };
-        let params = Params {
-            view_proj: scene.camera.view_proj(aspect).to_cols_array(),
-            camera: [cam.x, cam.y, cam.z, scene.depth_scale],
-            light: [l.x, l.y, l.z, AMBIENT],
-            quad: [scene.tiling, clamp, 0.0, 0.0],
-            pixel_right: [right.x, right.y, right.z, pixel_size],
-            pixel_up: [up.x, up.y, up.z, 0.0],
-        };
+        let params = params_for(scene, aspect, pixel_size);
         gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("params"),
             contents: bytemuck::bytes_of(&params),
@@ -284,26 +389,15 @@ impl SceneTextures {
     ) -> Result<wgpu::BindGroup, super::GpuError> {
         let mut entries = Vec::new();
         for &b in bindings {
-            let resource = match b {
-                binding::PARAMS => params.as_entire_binding(),
-                binding::HEIGHT => wgpu::BindingResource::TextureView(&self.height),
-                binding::NORMAL => wgpu::BindingResource::TextureView(&self.normal),
-                binding::ALBEDO => wgpu::BindingResource::TextureView(&self.albedo),
-                binding::LINEAR_SAMPLER => wgpu::BindingResource::Sampler(&self.linear),
-                b if (binding::NEAREST_OFFSET..binding::RAYS).contains(&b) => {
-                    let base = b - binding::NEAREST_OFFSET;
-                    match base {
-                        binding::HEIGHT => wgpu::BindingResource::TextureView(&self.height),
-                        binding::NORMAL => wgpu::BindingResource::TextureView(&self.normal),
-                        binding::ALBEDO => wgpu::BindingResource::TextureView(&self.albedo),
-                        _ => wgpu::BindingResource::TextureView(self.map_view(base, reqs, map_levels)?),
-                    }
-                }
-                binding::NEAREST_SAMPLER => wgpu::BindingResource::Sampler(&self.nearest),
-                b if b > binding::ALBEDO && b < binding::NEAREST_OFFSET => {
-                    wgpu::BindingResource::TextureView(self.map_view(b, reqs, map_levels)?)
-                }
-                other => match storage.iter().find(|(n, _)| *n == other) {
+            let resource = match binding_source(b, reqs)? {
+                Source::Params => params.as_entire_binding(),
+                Source::Height => wgpu::BindingResource::TextureView(&self.height),
+                Source::Normal => wgpu::BindingResource::TextureView(&self.normal),
+                Source::Albedo => wgpu::BindingResource::TextureView(&self.albedo),
+                Source::Linear => wgpu::BindingResource::Sampler(&self.linear),
+                Source::Nearest => wgpu::BindingResource::Sampler(&self.nearest),
+                Source::Map(req) => wgpu::BindingResource::TextureView(self.map_view(req, map_levels)?),
+                Source::Storage(other) => match storage.iter().find(|(n, _)| *n == other) {
                     Some((_, buf)) => buf.as_entire_binding(),
                     None => {
                         return Err(super::GpuError::Pipeline(format!(
@@ -324,6 +418,9 @@ fn missing_map(b: u32) -> super::GpuError {
     super::GpuError::Pipeline(format!("the shader reads the map at binding {b}, which was not built (call add_maps_lod with the pipeline's required_maps and lod)"))
 }
 
+/// The largest cone ratio uploaded (a cone 89.99° wide).
+pub const MAX_RATIO: f32 = 1.0e4;
+
 /// The channels of a cell map that go to the device: all of them (the cones, then the apex)
 /// where the apex fits in the texel ([`relief_dsl::abi::cell_apex_on_device`]), else the
 /// cones only (the shader then takes the apex from the cell's gathered corners).
@@ -335,19 +432,17 @@ fn cell_channels_uploaded(channels: usize) -> usize {
     }
 }
 
-/// The largest cone ratio uploaded (a cone 89.99° wide).
-pub const MAX_RATIO: f32 = 1.0e4;
-
-/// Uploads the first `used` channels of a map as R32Float (one channel), Rg32Float (two: a
-/// cell map's cone and apex, half the bytes of a padded texel) or Rgba32Float (3 or 4
-/// channels, padded), 2D or 3D, with its pyramid levels (max-mip) as mip levels.
-fn upload_map(gpu: &Gpu, map: &crate::maps::Map, used: usize, ratio: bool) -> wgpu::TextureView {
+/// The first `used` channels of a map as R32Float (one channel), Rg32Float (two: a cell
+/// map's cone and apex, half the bytes of a padded texel) or Rgba32Float (3 or 4 channels,
+/// padded), 2D or 3D, with its pyramid levels (max-mip) as mip levels; cone ratios (`ratio`)
+/// clamped to [`MAX_RATIO`]: the layout [`SceneTextures::add_maps`] uploads.
+pub fn map_upload(map: &crate::maps::Map, used: usize, ratio: bool) -> Upload {
     assert!((1..=4).contains(&used) && used <= map.channels, "a map uploads 1 to 4 of its channels");
     let fix = |x: f32| if ratio { x.min(MAX_RATIO) } else { x };
     // Channels per stored texel: no format holds three 32-bit floats.
     let stored = if used == 3 { 4 } else { used };
-    let texels = |m: &crate::maps::Map| -> Vec<f32> {
-        let mut out = Vec::with_capacity(m.data.len() / m.channels * stored);
+    let texels = |m: &crate::maps::Map| -> Vec<u8> {
+        let mut out: Vec<f32> = Vec::with_capacity(m.data.len() / m.channels * stored);
         for texel in m.data.chunks(m.channels) {
             if stored < 4 {
                 out.extend(texel[..stored].iter().map(|&x| fix(x)));
@@ -355,38 +450,40 @@ fn upload_map(gpu: &Gpu, map: &crate::maps::Map, used: usize, ratio: bool) -> wg
                 out.extend((0..4).map(|c| if c < used { fix(texel[c]) } else { 0.0 }));
             }
         }
-        out
+        bytemuck::cast_slice(&out).to_vec()
     };
     let format = match stored {
         1 => wgpu::TextureFormat::R32Float,
         2 => wgpu::TextureFormat::Rg32Float,
         _ => wgpu::TextureFormat::Rgba32Float,
     };
-    let mut data = texels(map);
-    for level in &map.mips {
-        data.extend(texels(level));
+    let (dimension, view) = if map.depth > 1 {
+        (wgpu::TextureDimension::D3, wgpu::TextureViewDimension::D3)
+    } else {
+        (wgpu::TextureDimension::D2, wgpu::TextureViewDimension::D2)
+    };
+    let levels = std::iter::once(map).chain(&map.mips).map(texels).collect();
+    Upload {
+        width: map.width as u32,
+        height: map.height as u32,
+        depth: map.depth as u32,
+        format,
+        dimension,
+        view,
+        levels,
     }
-    let dimension = if map.depth > 1 { wgpu::TextureDimension::D3 } else { wgpu::TextureDimension::D2 };
-    let t = gpu.device.create_texture_with_data(
-        &gpu.queue,
-        &wgpu::TextureDescriptor {
-            label: Some("map"),
-            size: wgpu::Extent3d {
-                width: map.width as u32,
-                height: map.height as u32,
-                depth_or_array_layers: map.depth as u32,
-            },
-            mip_level_count: 1 + map.mips.len() as u32,
-            sample_count: 1,
-            dimension,
-            format,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        },
-        wgpu::util::TextureDataOrder::LayerMajor,
-        bytemuck::cast_slice(&data),
-    );
-    t.create_view(&Default::default())
+}
+
+/// The layout of a map kind as [`SceneTextures::add_maps`] uploads it at level 0: the map
+/// of `key` built on `scene`'s heights.
+pub fn map_upload_of(scene: &Scene, key: MapKey) -> Result<Upload, crate::maps::MapError> {
+    let map = crate::maps::build(&scene.height, key.kind, &key.params, scene.edge)?;
+    let used = if key.kind.is_cell() { cell_channels_uploaded(map.channels) } else { map.channels };
+    Ok(map_upload(&map, used, key.kind.is_ratio()))
+}
+
+fn upload_map(gpu: &Gpu, map: &crate::maps::Map, used: usize, ratio: bool) -> wgpu::TextureView {
+    texture(gpu, "map", &map_upload(map, used, ratio))
 }
 
 /// One-channel pyramids (`layers[k]`: a [`crate::maps::Map`] whose `mips` are its coarser

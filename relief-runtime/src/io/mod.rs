@@ -1,6 +1,7 @@
 //! File I/O in one place (a leaf: it imports nothing else of this crate): atomic writes,
 //! shader files, and the image and array formats ([`npy`], [`png`], [`exr`]).
 
+pub mod base64;
 pub mod exr;
 pub mod npy;
 pub mod png;

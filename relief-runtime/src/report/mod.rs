@@ -20,6 +20,7 @@
 
 mod agreement;
 mod answer;
+mod browser;
 mod charts;
 mod conclusions;
 mod data;
@@ -219,6 +220,16 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary>
     let pmd = pareto::to_markdown(&fronts, &pareto_svgs);
     write_file(&dir.join("pareto.md"), pmd.as_bytes(), &mut summary.files)?;
 
+    // browser/: what the live section and the measure button need.
+    let shipped = {
+        let datas: Vec<&Data> = std::iter::once(&data).chain(others.iter().map(|(_, d)| d)).collect();
+        browser::write(&datas, dir)
+    };
+    if let Err(e) = &shipped {
+        summary.warnings.push(format!("no browser data: {e:#}"));
+    }
+    let live = browser::section(&shipped);
+
     // index.html
     let page = html::page(html::Parts {
         data: &data,
@@ -233,9 +244,12 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary>
         strips: &strips,
         fronts: &fronts,
         pareto_svgs: &pareto_svgs,
-        extra: per_adapter
-            .iter()
-            .map(|t| html::Section { id: "adapters".into(), nav: "Per adapter".into(), html: t.to_html(2) })
+        extra: std::iter::once(live)
+            .chain(per_adapter.iter().map(|t| html::Section {
+                id: "adapters".into(),
+                nav: "Per adapter".into(),
+                html: t.to_html(2),
+            }))
             .chain(room_rows.iter().map(|rr| html::Section {
                 id: "rooms".into(),
                 nav: "Rooms".into(),
@@ -253,6 +267,9 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary>
     let mut maps: Vec<&String> = scene_maps.iter().flatten().collect();
     maps.dedup();
     summary.files.extend(maps.into_iter().map(|m| dir.join(m)));
+    if let Ok(w) = shipped {
+        summary.files.extend(w.files);
+    }
     summary.conclusions = conclusions;
     Ok(summary)
 }

@@ -1,0 +1,403 @@
+//! What a browser needs to draw and measure the sweep's pipelines with WebGPU, written beside
+//! `index.html` under `browser/` as script files, so that the page works from `file://`
+//! with no server:
+//!
+//! - `browser/manifest.js`: the `Params` layout (from the ABI's member list), the binding
+//!   numbers, every measured pipeline (its files, the source of each binding its render and
+//!   probe entries read), every scene (camera, depth scale, tiling, edge mode, light, the
+//!   `Params` of the measured view, its textures, maps and probe rays) and every ok row;
+//! - `browser/wgsl/STEM.js`: a pipeline's module as `relief gen` writes it (render pair and
+//!   probe entry);
+//! - `browser/scenes/SCENE/NAME.js`: the height, normal and albedo textures and the
+//!   acceleration maps, in the layouts the runtime uploads ([`crate::gpu::scene_uploads`],
+//!   [`crate::gpu::map_upload`]);
+//! - `browser/scenes/SCENE/probe_SIZE.js`: the probe rays of the measured view (the ABI's
+//!   32-byte records; every `stride`-th ray of [`Scene::rays`]) and their exact first hits on
+//!   the heights as the device stores them (t, u, v, z as f32; NaN where none).
+//!
+//! A data file sets `window.RELIEF_DATA[NAME] = { meta, b64 }`; the manifest sets
+//! `window.RELIEF_MANIFEST`. The page's script (`web/live.js`) loads files on demand.
+//!
+//! Pipelines under a `lod` other than zero read per-level maps, which are not shipped; they
+//! are listed as set aside. Heights ship as `R32Float`: the page needs WebGPU's
+//! `float32-filterable`.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use relief_dsl::abi::{binding, Member, Params};
+use relief_dsl::spec::Lod;
+use serde_json::{json, Value};
+
+use crate::gpu::{self, Program, Source, Upload};
+use crate::heightmap::EdgeMode;
+use crate::maps::MapKey;
+use crate::reference::{reference_hits, Sampling};
+use crate::scene::{scene_from_arg, Scene};
+
+use super::Data;
+
+/// The exact pipeline the page draws its |t − t_exact| view against (a max-mip traversal
+/// with enough steps to finish every ray, Tevs, Ihrke & Seidel 2008).
+pub const EXACT: &str = "maxmip(96)";
+
+/// The most probe rays shipped per scene and size: above it every `stride`-th ray.
+pub const MAX_PROBE_RAYS: usize = 65536;
+
+/// The stride of the shipped probe rays for `n` rays ([`MAX_PROBE_RAYS`]).
+pub fn probe_stride(n: usize) -> usize {
+    n.div_ceil(MAX_PROBE_RAYS).max(1)
+}
+
+/// What [`write`] wrote.
+#[derive(Debug, Default)]
+pub(crate) struct Written {
+    /// Every file, the manifest first.
+    pub files: Vec<PathBuf>,
+    /// Pipelines and scenes not shipped, with why.
+    pub set_aside: Vec<String>,
+    /// Pipelines shipped (the exact one included).
+    pub pipelines: usize,
+}
+
+/// The `Params` members with their WGSL uniform-buffer offsets and sizes: `(name, type,
+/// offset, size)`, and the block's size.
+pub fn params_layout() -> (Vec<(&'static str, &'static str, usize, usize)>, usize) {
+    let mut off = 0usize;
+    let mut out = Vec::new();
+    let mut align_max = 1;
+    for &(name, m) in Params::MEMBERS {
+        let (ty, size, align) = match m {
+            Member::F32 => ("f32", 4, 4),
+            Member::U32 => ("u32", 4, 4),
+            Member::Vec2 => ("vec2<f32>", 8, 8),
+            Member::Vec3 => ("vec3<f32>", 12, 16),
+            Member::Vec4 => ("vec4<f32>", 16, 16),
+            Member::Mat4 => ("mat4x4<f32>", 64, 16),
+        };
+        off = off.next_multiple_of(align);
+        align_max = align_max.max(align);
+        out.push((name, ty, off, size));
+        off += size;
+    }
+    (out, off.next_multiple_of(align_max))
+}
+
+/// A map's name in the browser data (kind and the parameters that matter to it).
+fn map_slug(k: MapKey) -> String {
+    format!("{}_{}_{}", k.kind.name(), k.params.cones, k.params.z_resolution)
+}
+
+/// A scene label as a folder name.
+fn scene_slug(label: &str) -> String {
+    super::file_safe(label.strip_prefix("scene:").unwrap_or(label))
+}
+
+fn format_name(f: wgpu::TextureFormat) -> &'static str {
+    match f {
+        wgpu::TextureFormat::R32Float => "r32float",
+        wgpu::TextureFormat::R16Float => "r16float",
+        wgpu::TextureFormat::Rgba8Unorm => "rgba8unorm",
+        wgpu::TextureFormat::Rgba8UnormSrgb => "rgba8unorm-srgb",
+        wgpu::TextureFormat::Rg32Float => "rg32float",
+        wgpu::TextureFormat::Rgba32Float => "rgba32float",
+        other => unreachable!("no upload has format {other:?}"),
+    }
+}
+
+fn source_json(s: Source) -> Value {
+    match s {
+        Source::Params => json!("params"),
+        Source::Height => json!("height"),
+        Source::Normal => json!("normal"),
+        Source::Albedo => json!("albedo"),
+        Source::Linear => json!("linear"),
+        Source::Nearest => json!("nearest"),
+        Source::Map(req) => json!(format!("map:{}", MapKey::of(req).map(map_slug).unwrap_or_default())),
+        Source::Storage(binding::RAYS) => json!("rays"),
+        Source::Storage(binding::HITS) => json!("hits"),
+        Source::Storage(b) => json!(format!("storage:{b}")),
+    }
+}
+
+/// One data file: `window.RELIEF_DATA[name] = { meta, b64 }`.
+fn data_file(dir: &Path, name: &str, meta: Value, bytes: &[u8], files: &mut Vec<PathBuf>) -> anyhow::Result<()> {
+    let path = dir.join(format!("{name}.js"));
+    if let Some(parent) = path.parent() {
+        std::fs::create_dir_all(parent)?;
+    }
+    let body = json!({ "meta": meta, "b64": crate::io::base64::encode(bytes) });
+    let text = format!("(window.RELIEF_DATA = window.RELIEF_DATA || {{}})[{}] = {};\n", json!(name), body);
+    crate::io::write_atomic(&path, text.as_bytes())?;
+    files.push(path);
+    Ok(())
+}
+
+fn texture_file(dir: &Path, name: &str, u: &Upload, files: &mut Vec<PathBuf>) -> anyhow::Result<()> {
+    let dimension = if u.dimension == wgpu::TextureDimension::D3 { "3d" } else { "2d" };
+    let view = match u.view {
+        wgpu::TextureViewDimension::D3 => "3d",
+        wgpu::TextureViewDimension::D2Array => "2d-array",
+        _ => "2d",
+    };
+    let meta = json!({
+        "width": u.width, "height": u.height, "depth": u.depth, "format": format_name(u.format),
+        "dimension": dimension, "view": view, "levels": u.levels.iter().map(Vec::len).collect::<Vec<_>>(),
+    });
+    data_file(dir, name, meta, &u.levels.concat(), files)
+}
+
+/// A pipeline the page can draw: its module and bindings.
+struct Shipped {
+    text: String,
+    stem: String,
+    program: Program,
+}
+
+fn ship(text: &str) -> Result<Shipped, String> {
+    let p: relief_dsl::Pipeline = text.parse().map_err(|e| format!("`{text}`: {e}"))?;
+    if p.lod != Lod::Zero {
+        return Err(format!("`{text}`: lod={} reads per-level maps, which the browser data does not ship", p.lod));
+    }
+    let program = Program::new(&p).map_err(|e| format!("`{text}`: {e}"))?;
+    Ok(Shipped { text: p.to_string(), stem: p.file_stem(), program })
+}
+
+fn bindings_json(b: &[u32], program: &Program) -> Result<Value, String> {
+    b.iter()
+        .map(|&n| gpu::binding_source(n, &program.maps).map(|s| json!([n, source_json(s)])).map_err(|e| e.to_string()))
+        .collect::<Result<Vec<_>, _>>()
+        .map(Value::Array)
+}
+
+/// Writes the browser data of the rows of `datas` (every adapter's) into `dir/browser/`.
+pub(crate) fn write(datas: &[&Data], dir: &Path) -> anyhow::Result<Written> {
+    let out = dir.join("browser");
+    if out.is_dir() {
+        std::fs::remove_dir_all(&out).map_err(|e| anyhow::anyhow!("cannot clear {}: {e}", out.display()))?;
+    }
+    std::fs::create_dir_all(&out)?;
+    let mut w = Written::default();
+    let mut files = Vec::new();
+
+    // The pipelines: every ok row's, and the exact one.
+    let mut pipelines: BTreeMap<String, Shipped> = BTreeMap::new();
+    let mut scenes: BTreeMap<String, Vec<u32>> = BTreeMap::new();
+    let mut rows = Vec::new();
+    for d in datas {
+        for r in d.rows.iter().filter(|r| r.status == "ok" && d.is_indexed(r)) {
+            let m = &r.metrics;
+            if !pipelines.contains_key(&m.pipeline) {
+                match ship(&m.pipeline) {
+                    Ok(s) => {
+                        pipelines.insert(m.pipeline.clone(), s);
+                    }
+                    Err(e) => {
+                        if !w.set_aside.contains(&e) {
+                            w.set_aside.push(e);
+                        }
+                        continue;
+                    }
+                }
+            }
+            let sizes = scenes.entry(m.scene.clone()).or_default();
+            if !sizes.contains(&m.size) {
+                sizes.push(m.size);
+            }
+            rows.push(json!({
+                "pipeline": m.pipeline, "scene": m.scene, "size": m.size, "adapter": m.adapter,
+                "frame_ms_median": finite(m.frame_ms_median), "frame_ratio_to_baseline": m.frame_ratio_to_baseline,
+                "ref_err_t_rms": finite(m.ref_err_t_rms), "avg_fetches": finite(m.avg_fetches), "cell_dir": r.cell_dir,
+            }));
+        }
+    }
+    let exact = ship(EXACT).map_err(anyhow::Error::msg)?;
+    pipelines.entry(exact.text.clone()).or_insert(exact);
+
+    let mut pjson = Vec::new();
+    for s in pipelines.values() {
+        let wgsl = relief_dsl::emit::emit(&s.text.parse()?)?.wgsl;
+        data_file(&out, &format!("wgsl/{}", s.stem), json!({ "pipeline": s.text }), wgsl.as_bytes(), &mut files)?;
+        let render = bindings_json(&s.program.render_bindings, &s.program).map_err(anyhow::Error::msg)?;
+        let probe = bindings_json(&s.program.probe_bindings, &s.program).map_err(anyhow::Error::msg)?;
+        let maps: Vec<String> = s.program.maps.iter().filter_map(|r| MapKey::of(*r)).map(map_slug).collect();
+        pjson.push(json!({
+            "pipeline": s.text, "wgsl": format!("wgsl/{}", s.stem), "render_bindings": render, "probe_bindings": probe,
+            "maps": maps, "writes_depth": s.program.writes_depth,
+        }));
+    }
+
+    let mut sjson = Vec::new();
+    for (label, sizes) in &scenes {
+        let scene = match scene_from_arg(label) {
+            Ok(s) => s,
+            Err(e) => {
+                w.set_aside.push(format!("scene {label}: {e}"));
+                continue;
+            }
+        };
+        sjson.push(write_scene(&out, label, &scene, sizes, pipelines.values(), &mut files)?);
+    }
+    let (members, size) = params_layout();
+    let manifest = json!({
+        "params": { "size": size, "members": members.iter().map(|(n, t, o, s)| json!({ "name": n, "type": t, "offset": o, "size": s })).collect::<Vec<_>>() },
+        "bindings": { "params": binding::PARAMS, "height": binding::HEIGHT, "linear": binding::LINEAR_SAMPLER, "nearest": binding::NEAREST_SAMPLER,
+                      "normal": binding::NORMAL, "albedo": binding::ALBEDO, "nearest_offset": binding::NEAREST_OFFSET, "rays": binding::RAYS, "hits": binding::HITS },
+        "probe_workgroup": relief_dsl::abi::PROBE_WORKGROUP,
+        "ray_bytes": std::mem::size_of::<relief_dsl::abi::ProbeRay>(),
+        "hit_bytes": std::mem::size_of::<relief_dsl::abi::ProbeHit>(),
+        "ambient": gpu::AMBIENT,
+        "clear": [0.02, 0.02, 0.03, 1.0],
+        "frame_format": "rgba8unorm-srgb",
+        "min_block_ms": gpu::MIN_BLOCK_MS,
+        "max_frames_per_block": gpu::MAX_FRAMES_PER_BLOCK,
+        "exact": EXACT,
+        "pipelines": pjson,
+        "scenes": sjson,
+        "rows": rows,
+        "set_aside": w.set_aside,
+        "relief_version": env!("CARGO_PKG_VERSION"),
+    });
+    let path = out.join("manifest.js");
+    crate::io::write_atomic(&path, format!("window.RELIEF_MANIFEST = {manifest};\n").as_bytes())?;
+    w.files.push(path);
+    w.files.extend(files);
+    w.pipelines = pipelines.len();
+    Ok(w)
+}
+
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
+
+/// One scene's textures, maps and probe data, and its manifest entry.
+fn write_scene<'a>(
+    out: &Path,
+    label: &str,
+    scene: &Scene,
+    sizes: &[u32],
+    pipelines: impl Iterator<Item = &'a Shipped>,
+    files: &mut Vec<PathBuf>,
+) -> anyhow::Result<Value> {
+    let slug = scene_slug(label);
+    let base = format!("scenes/{slug}");
+    let u = gpu::scene_uploads(scene, true);
+    texture_file(out, &format!("{base}/height"), &u.height, files)?;
+    texture_file(out, &format!("{base}/normal"), &u.normal, files)?;
+    texture_file(out, &format!("{base}/albedo"), &u.albedo, files)?;
+    let mut keys: Vec<MapKey> = Vec::new();
+    for p in pipelines {
+        for k in p.program.maps.iter().filter_map(|r| MapKey::of(*r)) {
+            if !keys.contains(&k) {
+                keys.push(k);
+            }
+        }
+    }
+    let mut maps = serde_json::Map::new();
+    for k in keys {
+        let name = format!("{base}/map_{}", map_slug(k));
+        texture_file(out, &name, &gpu::map_upload_of(scene, k)?, files)?;
+        maps.insert(map_slug(k), json!(name));
+    }
+    let mut on_device = scene.clone();
+    on_device.height.data = u.height_levels[0].data.clone();
+    let mut probes = serde_json::Map::new();
+    let mut measured = serde_json::Map::new();
+    for &size in sizes {
+        let all = scene.rays(size);
+        let stride = probe_stride(all.len());
+        let rays: Vec<_> = all.iter().step_by(stride).copied().collect();
+        let refs =
+            reference_hits(&on_device, &rays, Sampling::Bilinear).map_err(|e| anyhow::anyhow!("scene {label}: {e}"))?;
+        let mut bytes: Vec<u8> = bytemuck::cast_slice(&rays).to_vec();
+        for h in &refs {
+            let v = match h {
+                Some(h) => [h.t, h.u, h.v, h.z].map(|x| x as f32),
+                None => [f32::NAN; 4],
+            };
+            bytes.extend_from_slice(bytemuck::cast_slice(&v));
+        }
+        let name = format!("{base}/probe_{size}");
+        data_file(
+            out,
+            &name,
+            json!({ "rays": rays.len(), "all_rays": all.len(), "stride": stride, "refs": "t u v z, f32, NaN where none" }),
+            &bytes,
+            files,
+        )?;
+        probes.insert(size.to_string(), json!(name));
+        let p = gpu::params_for(scene, 1.0, scene.camera.pixel_size(size));
+        measured.insert(size.to_string(), json!(bytemuck::cast_slice::<Params, f32>(&[p])));
+    }
+    let c = &scene.camera;
+    Ok(json!({
+        "label": label, "slug": slug,
+        "camera": { "angle_deg": c.angle_deg, "azimuth_deg": c.azimuth_deg, "distance": c.distance, "fov_deg": c.fov_deg, "target": [c.target.x, c.target.y, c.target.z] },
+        "depth_scale": scene.depth_scale, "tiling": scene.tiling, "edge": if scene.edge == EdgeMode::Clamp { "clamp" } else { "repeat" },
+        "light_dir": [scene.light_dir.x, scene.light_dir.y, scene.light_dir.z],
+        "height_size": [scene.height.width, scene.height.height],
+        "textures": { "height": format!("{base}/height"), "normal": format!("{base}/normal"), "albedo": format!("{base}/albedo") },
+        "maps": maps, "probe": probes, "params_measured": measured, "sizes": sizes,
+    }))
+}
+
+/// The page's live section: two pipelines side by side and the measure button (their
+/// script is `web/live.js`), or why there is no browser data.
+pub(crate) fn section(w: &anyhow::Result<Written>) -> super::html::Section {
+    use super::html::esc;
+    let mut h = String::from("<h2>Live: the pipelines on your GPU</h2>\n");
+    match w {
+        Err(e) => {
+            let _ = writeln!(h, "<p>No browser data was written: {}</p>", esc(&format!("{e:#}")));
+        }
+        Ok(w) => {
+            h.push_str(LIVE_HTML);
+            if !w.set_aside.is_empty() {
+                let _ = writeln!(h, "<p>Not in the browser data: {}.</p>", esc(&w.set_aside.join("; ")));
+            }
+            let _ = writeln!(h, "<script src=\"browser/manifest.js\"></script>\n<script>{LIVE_SCRIPT}</script>");
+        }
+    }
+    super::html::Section { id: "live".into(), nav: "Live".into(), html: h }
+}
+
+/// The live section's script.
+const LIVE_SCRIPT: &str = include_str!("../../web/live.js");
+/// The live section's controls.
+const LIVE_HTML: &str = include_str!("../../web/live.html");
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_params_layout_is_the_abi_struct() {
+        let (members, size) = params_layout();
+        assert_eq!(size, std::mem::size_of::<Params>());
+        // Every member at its field's offset in the #[repr(C)] struct.
+        let p = Params::default();
+        let base = &p as *const Params as usize;
+        let fields = [
+            &p.view_proj as *const _ as usize,
+            &p.camera as *const _ as usize,
+            &p.light as *const _ as usize,
+            &p.quad as *const _ as usize,
+            &p.pixel_right as *const _ as usize,
+            &p.pixel_up as *const _ as usize,
+        ];
+        assert_eq!(members.len(), fields.len());
+        for ((name, _, off, _), f) in members.iter().zip(fields) {
+            assert_eq!(*off, f - base, "{name}");
+        }
+    }
+
+    #[test]
+    fn probe_strides_keep_at_most_the_cap() {
+        for n in [0, 1, 4096, MAX_PROBE_RAYS, MAX_PROBE_RAYS + 1, 262_144] {
+            let s = probe_stride(n);
+            assert!(n.div_ceil(s) <= MAX_PROBE_RAYS, "{n}");
+            assert!(s == 1 || n.div_ceil(s - 1) > MAX_PROBE_RAYS, "{n}: stride {s} is larger than needed");
+        }
+    }
+}
