@@ -10,7 +10,7 @@
 
 (function () {
   var M = window.RELIEF_MANIFEST;
-  var root = document.getElementById("live");
+  var root = document.getElementById("live-view");
   var statusEl = document.getElementById("live-status");
   function say(t) { if (statusEl) statusEl.textContent = t; }
 
