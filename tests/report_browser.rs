@@ -66,11 +66,24 @@ fn the_report_page_answers_above_the_fold_and_its_tables_and_links_work() {
 fn the_live_section_draws_the_sweeps_frames_in_chromium() {
     let dir = std::env::temp_dir().join(format!("relief-live-page-{}", std::process::id()));
     std::fs::remove_dir_all(&dir).ok();
-    let grid = grids::parse_grid_file("coarse: [linear(16), csm(16)]\nrefine: binary(5)\n---\ncoarse: linear_dynamic(1, 32)\nrefine: interval(1)\n").unwrap();
-    let cells: Vec<_> = ["rocks", "lion"].iter().flat_map(|s| grid.iter().map(move |p| (p.clone(), s.to_string()))).collect();
+    let grid = grids::parse_grid_file(
+        "coarse: [linear(16), csm(16)]\nrefine: binary(5)\n---\ncoarse: linear_dynamic(1, 32)\nrefine: interval(1)\n",
+    )
+    .unwrap();
+    let cells: Vec<_> =
+        ["rocks", "lion"].iter().flat_map(|s| grid.iter().map(move |p| (p.clone(), s.to_string()))).collect();
     assert_eq!(cells.len(), 6);
     let grid = NamedGrid { name: "live".into(), description: "the live section test".into(), cells };
-    let opts = sweep::Options { grid, size: 64, frames: 2, warmup: 1, out: dir.clone(), progress: false, overrides: Default::default(), shard: None };
+    let opts = sweep::Options {
+        grid,
+        size: 64,
+        frames: 2,
+        warmup: 1,
+        out: dir.clone(),
+        progress: false,
+        overrides: Default::default(),
+        shard: None,
+    };
     assert_eq!(sweep::run(&opts).expect("sweep").failed, 0);
     relief::runtime::report::write(&dir).expect("report");
 
@@ -89,7 +102,8 @@ fn the_live_section_draws_the_sweeps_frames_in_chromium() {
     for f in frames {
         let name = format!("{} on {}", f["pipeline"], f["scene"]);
         let got = relief::runtime::io::base64::decode(f["rgba"].as_str().unwrap()).unwrap();
-        let want = image::open(dir.join(f["cell_dir"].as_str().unwrap()).join("frame.png")).unwrap().to_rgba8().into_raw();
+        let want =
+            image::open(dir.join(f["cell_dir"].as_str().unwrap()).join("frame.png")).unwrap().to_rgba8().into_raw();
         assert_eq!(got.len(), want.len(), "{name}");
         let (mut sum, mut off, mut n) = (0u64, 0usize, 0usize);
         for (a, b) in got.chunks(4).zip(want.chunks(4)) {
@@ -100,12 +114,18 @@ fn the_live_section_draws_the_sweeps_frames_in_chromium() {
         }
         let mad = sum as f64 / (3 * n) as f64 / 255.0;
         let share = off as f64 / n as f64;
-        eprintln!("{name}: mean |browser − lavapipe| {:.3}/255, {:.2} % of pixels off by more than 8", mad * 255.0, share * 100.0);
+        eprintln!(
+            "{name}: mean |browser − lavapipe| {:.3}/255, {:.2} % of pixels off by more than 8",
+            mad * 255.0,
+            share * 100.0
+        );
         if f["scene"] == "scene:rocks" {
             assert!(mad <= 1.0 / 255.0, "{name}: mean absolute difference {:.3}/255", mad * 255.0);
             assert!(share <= 0.01, "{name}: {:.2} % of pixels off by more than 8", share * 100.0);
         } else if mad > 1.0 / 255.0 || share > 0.01 {
-            eprintln!("{name}: misses the goals (mean absolute difference ≤ 1/255, ≤ 1 % of pixels off by more than 8)");
+            eprintln!(
+                "{name}: misses the goals (mean absolute difference ≤ 1/255, ≤ 1 % of pixels off by more than 8)"
+            );
         }
     }
     std::fs::remove_dir_all(&dir).ok();
