@@ -67,3 +67,68 @@ fn tint_compiles_every_module_of_gen_all() {
     assert_eq!(r["pipelines"].as_u64(), Some(2 * n.div_ceil(10) as u64), "{r}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A user's fragment shader around a library, in WGSL or GLSL ES 3.00: trace, then shadow
+/// and ao when the pipeline has them, every field of the hit used.
+fn user_fragment(lib: &relief::dsl::emit::LibraryForms, es: bool) -> String {
+    let hit_ty = if es { "ReliefHit hit" } else { "let hit" };
+    let mut s = String::new();
+    if es {
+        // Uniforms, not varyings: the page links with a vertex shader that writes none.
+        s += "uniform vec2 u_uv;\nuniform vec3 u_view;\nout vec4 o_color;\nvoid main() {\n";
+        s += "    vec2 uv = u_uv; vec3 view = u_view;\n    float shade = 1.0;\n";
+    } else {
+        s += "@fragment fn user_main(@location(0) uv: vec2<f32>, @location(1) view: vec3<f32>) -> @location(0) vec4<f32> {\n";
+        s += "    var shade = 1.0;\n";
+    }
+    s += &format!("    {hit_ty} = relief_trace(uv, normalize(view), 0.08);\n");
+    if lib.has_shadow {
+        s += &format!("    shade *= relief_shadow(hit, normalize(vec3(0.3, 0.2, 0.9)), 0.08);\n");
+    }
+    if lib.has_ao {
+        s += "    shade *= relief_ao(hit);\n";
+    }
+    if es {
+        s += "    o_color = vec4(hit.uv, hit.height + hit.t + hit.depth_offset, shade);\n}\n";
+    } else {
+        s += "    return vec4(hit.uv, hit.height + hit.t + hit.depth_offset, shade);\n}\n";
+    }
+    s
+}
+
+/// Every library of `relief gen --all --library` (the pipelines a library can express)
+/// compiles in Chromium: its WGSL form in Tint, inside a user fragment shader, and its GLSL
+/// ES form (where GLSL ES 3.00 can express it) in ANGLE, after `#version 300 es` as
+/// three.js's `ShaderMaterial` puts it, compiled and linked.
+#[test]
+fn tint_and_angle_compile_every_library_of_gen_all() {
+    use relief::dsl::emit::{library_forms, Form, LibraryOptions};
+    let dir = temp_dir("libraries");
+    let mut wgsl = Vec::new();
+    let mut es = Vec::new();
+    let pipelines: Vec<Pipeline> = Pipeline::all_defaults().into_iter().filter(|p| relief::dsl::compose::library::inexpressible(p).is_none()).collect();
+    assert!(pipelines.len() >= 300, "only {} pipelines have a library", pipelines.len());
+    for p in &pipelines {
+        // GLSL ES 3.00 has no textureGather: those pipelines are refused in that form.
+        let with_es = relief::dsl::emit::inexpressible_in(p, Form::GlslEs).is_none();
+        let wanted: &[Form] = if with_es { &[Form::Wgsl, Form::GlslEs] } else { &[Form::Wgsl] };
+        let lib = library_forms(p, &LibraryOptions::default(), wanted).unwrap_or_else(|e| panic!("{p}: {e}"));
+        let stem = p.file_stem();
+        let w = format!("{stem}.user.wgsl");
+        write(&dir, &w, &format!("{}\n{}", lib.files[0].text, user_fragment(&lib, false)));
+        wgsl.push(serde_json::json!({ "file": w, "entries": [] }));
+        if !with_es {
+            continue;
+        }
+        let g = format!("{stem}.user.es.frag");
+        write(&dir, &g, &format!("#version 300 es\nprecision highp float;\nprecision highp int;\n{}\n{}", lib.files[1].text, user_fragment(&lib, true)));
+        es.push(g);
+    }
+    let n = pipelines.len() as u64;
+    let es_count = es.len() as u64;
+    let r = compile_in_chromium(&dir, serde_json::json!({ "wgsl": wgsl, "glsl_es": es }));
+    assert_eq!(r["wgsl"].as_u64(), Some(n), "{r}");
+    assert_eq!(r["glsl_es"].as_u64(), Some(es_count), "{r}");
+    assert!(es_count > 0, "no GLSL ES library");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -398,3 +398,315 @@ fn the_largest_accepted_options_compile_and_one_past_is_refused() {
         assert!(!e.contains('\n'), "{e}");
     }
 }
+
+// ---- The engine forms (`relief gen --library --target …`) ----
+
+use emit::{Form, LibraryForms};
+
+fn forms(p: &Pipeline, opts: &LibraryOptions, forms: &[Form]) -> LibraryForms {
+    emit::library_forms(p, opts, forms).unwrap_or_else(|e| panic!("{p}: {e}"))
+}
+
+fn file<'a>(lib: &'a LibraryForms, suffix: &str) -> &'a str {
+    lib.files.iter().find(|f| f.name.ends_with(suffix)).map(|f| f.text.as_str()).unwrap_or_else(|| panic!("no `{suffix}` file"))
+}
+
+/// The pipelines the engine forms are checked on: every coarse stage family at least once,
+/// shadow and ao stages, the 3D distance field, maxmip's texel walk.
+fn engine_pipelines() -> Vec<Pipeline> {
+    let mut all: Vec<Pipeline> = Pipeline::all_defaults().into_iter().filter(|p| p.coarse.name != "linear_distance").step_by(9).collect();
+    for extra in [
+        "linear(16)+binary(5)+shadow=soft(10)",
+        "rcs(15)+binary(5)+ao=cone_normal",
+        "cns(10)+shadow=hard(rcs(8, start=bracket))+ao=cone_ratio",
+        "sphere(20)+secant(3)+shadow=hard(sphere(10))",
+        "maxmip(32)+binary(4)+shadow=soft_cone(10)",
+    ] {
+        all.push(extra.parse().unwrap_or_else(|e| panic!("{extra}: {e}")));
+    }
+    all
+}
+
+/// The WGSL library with `--import-path` is a `naga_oil` composable module: a user material
+/// that `#import`s it composes through naga_oil's Composer (what Bevy used up to 0.16) into a
+/// module naga validates, with the library's resources at the group and bindings asked for.
+#[test]
+fn wgsl_import_path_composes_with_naga_oil() {
+    use naga_oil::compose::{ComposableModuleDescriptor, Composer, NagaModuleDescriptor};
+    for p in engine_pipelines() {
+        let path = format!("relief::{}", p.file_stem().replace('-', "_"));
+        let opts = LibraryOptions { group: 2, binding: 3, import_path: Some(path.clone()), ..LibraryOptions::default() };
+        let lib = forms(&p, &opts, &[Form::Wgsl]);
+        let text = file(&lib, ".lib.wgsl");
+        let mut composer = Composer::default();
+        let added = composer.add_composable_module(ComposableModuleDescriptor { source: text, file_path: "relief.lib.wgsl", ..Default::default() });
+        if let Err(e) = added {
+            panic!("{p}: naga_oil refused the library: {}", e.emit_to_string(&composer));
+        }
+        let mut user = format!(
+            "#import {path} as relief\n\
+             @fragment fn user_main(@location(0) uv: vec2<f32>, @location(1) view: vec3<f32>) -> @location(0) vec4<f32> {{\n\
+             let hit = relief::relief_trace(uv, normalize(view), {DEPTH});\n    var shade = 1.0;\n"
+        );
+        if lib.has_shadow {
+            user += &format!("    shade *= relief::relief_shadow(hit, normalize(vec3(0.3, 0.2, 0.9)), {DEPTH});\n");
+        }
+        if lib.has_ao {
+            user += "    shade *= relief::relief_ao(hit);\n";
+        }
+        user += "    return vec4(hit.uv, hit.height + hit.t + hit.depth_offset, shade);\n}\n";
+        let module = match composer.make_naga_module(NagaModuleDescriptor { source: &user, file_path: "user.wgsl", ..Default::default() }) {
+            Ok(m) => m,
+            Err(e) => panic!("{p}: naga_oil could not compose a user module with the library: {}", e.emit_to_string(&composer)),
+        };
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default())
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{p}: the composed module does not validate: {e:?}"));
+        let mut bound: Vec<(u32, u32)> = module.global_variables.iter().filter_map(|(_, g)| g.binding.map(|b| (b.group, b.binding))).collect();
+        bound.sort();
+        let expect: Vec<(u32, u32)> = (3..3 + lib.bindings.len() as u32).map(|b| (2, b)).collect();
+        assert_eq!(bound, expect, "{p}: the composed module's resources");
+    }
+}
+
+/// The WESL form is a module a user module `import`s; the `wesl` crate compiles the pair to
+/// WGSL that naga validates.
+#[test]
+fn wesl_module_is_imported_by_a_user_module() {
+    use wesl::{VirtualResolver, Wesl};
+    for p in engine_pipelines() {
+        let lib = forms(&p, &LibraryOptions::default(), &[Form::Wesl]);
+        let f = &lib.files[0];
+        let module = f.name.strip_suffix(".wesl").expect("a .wesl file");
+        assert_eq!(module, emit::library::wesl_module_name(&p.file_stem()));
+        let mut names = vec!["relief_trace".to_string()];
+        if lib.has_shadow {
+            names.push("relief_shadow".into());
+        }
+        if lib.has_ao {
+            names.push("relief_ao".into());
+        }
+        let mut user = format!(
+            "import package::{module}::{{{}}};\n\
+             @fragment fn user_main(@location(0) uv: vec2<f32>, @location(1) view: vec3<f32>) -> @location(0) vec4<f32> {{\n\
+             let hit = relief_trace(uv, normalize(view), {DEPTH});\n    var shade = 1.0;\n",
+            names.join(", ")
+        );
+        if lib.has_shadow {
+            user += &format!("    shade *= relief_shadow(hit, normalize(vec3(0.3, 0.2, 0.9)), {DEPTH});\n");
+        }
+        if lib.has_ao {
+            user += "    shade *= relief_ao(hit);\n";
+        }
+        user += "    return vec4(hit.uv, hit.height + hit.t + hit.depth_offset, shade);\n}\n";
+        let mut resolver = VirtualResolver::new();
+        resolver.add_module(format!("package::{module}").parse().unwrap(), f.text.clone().into());
+        resolver.add_module("package::user".parse().unwrap(), user.into());
+        let compiler = Wesl::new("").set_custom_resolver(resolver);
+        let wgsl = compiler
+            .compile(&"package::user".parse().unwrap())
+            .unwrap_or_else(|e| panic!("{p}: the wesl crate could not compile a module importing the library: {e}"))
+            .to_string();
+        let m = naga_wgsl(&wgsl, &format!("WGSL that wesl made from the WESL library of {p}"));
+        assert_eq!(m.entry_points.len(), 1, "{p}");
+        assert_eq!(
+            m.global_variables.len(),
+            lib.bindings.len(),
+            "{p}: every resource of the library is in the compiled module"
+        );
+    }
+}
+
+/// GLSL ES 3.00 (WebGL2): a fragment shader as three.js's `ShaderMaterial` with GLSL3 makes
+/// it (`#version 300 es`, precision lines, the library, the user's main) passes glslang's ES
+/// profile; the uniforms carry no binding (WebGL binds by name).
+#[test]
+fn glsl_es_libraries_pass_the_es_profile() {
+    let glslang = tool("glslangValidator");
+    let dir = std::env::temp_dir().join(format!("relief-library-es-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut refused = 0;
+    for p in pipelines() {
+        if let Some(why) = emit::inexpressible_in(&p, Form::GlslEs) {
+            // Refused with a one-line error, never written.
+            let e = emit::library_forms(&p, &LibraryOptions::default(), &[Form::GlslEs]).unwrap_err().to_string();
+            assert!(e.contains("textureGather") && why.contains("textureGather") && !e.contains('\n'), "{p}: {e}");
+            refused += 1;
+            continue;
+        }
+        let lib = forms(&p, &LibraryOptions::default(), &[Form::GlslEs]);
+        let text = file(&lib, ".lib.es.glsl");
+        let code: String = text.lines().filter(|l| !l.starts_with("//")).collect();
+        assert!(!code.contains("#version") && !code.contains("layout("), "{p}: an ES 3.00 include has no #version and no binding");
+        for b in lib.bindings.iter().filter(|b| b.kind != ResourceKind::Sampler) {
+            assert!(text.contains(&format!(" {};", b.name)), "{p}: uniform {}", b.name);
+        }
+        let mut s = String::from("#version 300 es\nprecision highp float;\nprecision highp int;\n");
+        s += text;
+        s += "in vec2 v_uv;\nin vec3 v_view;\nout vec4 o_color;\n";
+        s += &format!("void main() {{\n    ReliefHit hit = relief_trace(v_uv, normalize(v_view), {DEPTH});\n    float shade = 1.0;\n");
+        if lib.has_shadow {
+            s += &format!("    shade *= relief_shadow(hit, normalize(vec3(0.3, 0.2, 0.9)), {DEPTH});\n");
+        }
+        if lib.has_ao {
+            s += "    shade *= relief_ao(hit);\n";
+        }
+        s += "    o_color = vec4(hit.uv, hit.height + hit.t + hit.depth_offset, shade);\n}\n";
+        let frag = dir.join(format!("{}.es.frag", p.file_stem()));
+        std::fs::write(&frag, s).unwrap();
+        run(Command::new(glslang).args(["-S", "frag"]).arg(&frag), &format!("glslangValidator (ES 3.00 profile) on the GLSL ES library of {p}"));
+    }
+    assert!(refused < pipelines().len(), "every pipeline refused");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The Unity form: a shader as Shader Graph generates one around a Custom Function node
+/// (texture properties `_Name` with `sampler_Name`, built into `UnityTexture2D`s; samplers
+/// from sampler states) calls `Relief_float` and `Relief_half`; glslang's HLSL front end
+/// compiles it against the repository's stub of Unity's declarations
+/// (`tests/stubs/unity_shader_graph.hlsl`, a stub), and spirv-val accepts the result.
+#[test]
+fn unity_custom_function_compiles_against_the_unity_stub() {
+    let glslang = tool("glslangValidator");
+    let spirv_val = tool("spirv-val");
+    let stub = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/stubs/unity_shader_graph.hlsl");
+    let dir = std::env::temp_dir().join(format!("relief-library-unity-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for p in engine_pipelines() {
+        let lib = forms(&p, &LibraryOptions::default(), &[Form::Unity]);
+        let text = file(&lib, ".unity.hlsl");
+        let mut s = format!("{}\n{text}\n", std::fs::read_to_string(&stub).unwrap());
+        let mut args = vec!["uv".to_string(), "view".into(), DEPTH.into()];
+        if lib.has_shadow {
+            args.push("normalize(float3(0.3, 0.2, 0.9))".into());
+        }
+        for b in &lib.bindings {
+            let base = camel(b.name.strip_prefix("relief_").unwrap());
+            match b.kind {
+                ResourceKind::Texture2d => {
+                    s += &format!("TEXTURE2D(_{base}); SAMPLER(sampler_{base}); float4 _{base}_TexelSize;\n");
+                    args.push(format!("UnityBuildTexture2DStructNoScale(_{base})"));
+                }
+                ResourceKind::Texture3d => {
+                    s += &format!("TEXTURE3D(_{base}); SAMPLER(sampler_{base});\n");
+                    args.push(format!("UnityBuildTexture3DStruct(_{base})"));
+                }
+                ResourceKind::Sampler => {
+                    s += &format!("SAMPLER(SamplerState_{base});\n");
+                    args.push(format!("UnityBuildSamplerStateStruct(SamplerState_{base})"));
+                }
+            }
+        }
+        let outs = 3 + usize::from(lib.has_shadow) + usize::from(lib.has_ao);
+        s += "float4 frag(float2 uv : TEXCOORD0, float3 view : TEXCOORD1) : SV_Target {\n    float o[5]; half h[5];\n";
+        let f_out: Vec<String> = (0..outs).map(|i| format!("o[{i}]")).collect();
+        let h_out: Vec<String> = (0..outs).map(|i| format!("h[{i}]")).collect();
+        // HitUV is a 2-vector: give it a variable of its own.
+        s += "    float2 uv_f; half2 uv_h;\n";
+        let call = |name: &str, uvv: &str, rest: &[String], cast: &str| {
+            let a: Vec<String> = args.iter().map(|a| if cast.is_empty() || a.starts_with("Unity") { a.clone() } else { format!("({cast})({a})") }).collect();
+            format!("    {name}({}, {uvv}, {});\n", a.join(", "), rest[1..].join(", "))
+        };
+        s += &call("Relief_float", "uv_f", &f_out, "");
+        s += &call("Relief_half", "uv_h", &h_out, "");
+        s += "    return float4(uv_f + (float2)uv_h, o[1] + o[2] + (float)h[1] + (float)h[2], 1.0);\n}\n";
+        let src = dir.join(format!("{}.unity.frag.hlsl", p.file_stem()));
+        std::fs::write(&src, s).unwrap();
+        let spv = dir.join(format!("{}.unity.spv", p.file_stem()));
+        run(
+            Command::new(glslang).args(["-D", "-V", "-S", "frag", "-e", "frag", "-o"]).arg(&spv).arg(&src),
+            &format!("glslangValidator -D (Unity stub) on the Unity library of {p}"),
+        );
+        run(Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv), &format!("spirv-val on the Unity library of {p}"));
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The Unreal form: the Custom node's code, pasted into a function whose parameters are the
+/// node's inputs as Unreal's material translator declares them (a Texture Object `Name` as
+/// `Texture2D Name, SamplerState NameSampler`, additional outputs `inout`), after the include
+/// file and the repository's stub of the view's shared samplers
+/// (`tests/stubs/unreal_material.hlsl`, a stub), compiles with glslang's HLSL front end and
+/// passes spirv-val.
+#[test]
+fn unreal_custom_node_compiles_against_the_unreal_stub() {
+    let glslang = tool("glslangValidator");
+    let spirv_val = tool("spirv-val");
+    let stub = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/stubs/unreal_material.hlsl");
+    let dir = std::env::temp_dir().join(format!("relief-library-unreal-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for edge_clamp in [false, true] {
+        for p in engine_pipelines() {
+            let lib = forms(&p, &LibraryOptions { edge_clamp, ..LibraryOptions::default() }, &[Form::Unreal]);
+            let include = file(&lib, ".ush");
+            let node = file(&lib, ".custom.hlsl");
+            let sampler = if edge_clamp { "Clamped" } else { "Wrapped" };
+            if lib.bindings.iter().any(|b| b.kind == ResourceKind::Sampler) {
+                assert!(node.contains(&format!("View.Shared")) && node.contains(&format!("{sampler}Sampler")), "{p}: the node's samplers follow the edge mode");
+            }
+            let mut params = vec!["FMaterialPixelParameters Parameters".to_string(), "float2 UV".into(), "float3 ViewTS".into(), "float DepthScale".into()];
+            let mut args = vec!["Parameters".to_string(), "uv".into(), "view".into(), DEPTH.into()];
+            let mut globals = String::new();
+            if lib.has_shadow {
+                params.push("float3 LightTS".into());
+                args.push("normalize(float3(0.3, 0.2, 0.9))".into());
+            }
+            for b in lib.bindings.iter().filter(|b| b.kind != ResourceKind::Sampler) {
+                let name = camel(b.name.strip_prefix("relief_").unwrap());
+                let ty = if b.kind == ResourceKind::Texture3d { "Texture3D" } else { "Texture2D" };
+                params.push(format!("{ty} {name}"));
+                params.push(format!("SamplerState {name}Sampler"));
+                globals += &format!("{ty} Material_{name}; SamplerState Material_{name}Sampler;\n");
+                args.push(format!("Material_{name}"));
+                args.push(format!("Material_{name}Sampler"));
+            }
+            let mut outs = Vec::new();
+            if lib.has_shadow {
+                outs.push("Shadow");
+            }
+            if lib.has_ao {
+                outs.push("AO");
+            }
+            for o in &outs {
+                params.push(format!("inout float {o}"));
+                args.push(format!("extra_{o}"));
+            }
+            let mut s = format!("{}\nstruct FMaterialPixelParameters {{ float4 SvPosition; }};\n{include}\n{globals}", std::fs::read_to_string(&stub).unwrap());
+            s += &format!("float4 CustomExpression0({})\n{{\n{node}}}\n", params.join(", "));
+            s += "float4 frag(float4 pos : SV_Position, float2 uv : TEXCOORD0, float3 view : TEXCOORD1) : SV_Target {\n";
+            s += "    FMaterialPixelParameters Parameters; Parameters.SvPosition = pos;\n";
+            for o in &outs {
+                s += &format!("    float extra_{o} = 0.0;\n");
+            }
+            s += &format!("    float4 r = CustomExpression0({});\n", args.join(", "));
+            s += &format!("    return r{};\n}}\n", outs.iter().map(|o| format!(" * extra_{o}")).collect::<String>());
+            let src = dir.join(format!("{}.{edge_clamp}.unreal.hlsl", p.file_stem()));
+            std::fs::write(&src, s).unwrap();
+            let spv = dir.join(format!("{}.{edge_clamp}.unreal.spv", p.file_stem()));
+            run(
+                Command::new(glslang).args(["-D", "-V", "-S", "frag", "-e", "frag", "-o"]).arg(&spv).arg(&src),
+                &format!("glslangValidator -D (Unreal stub) on the Unreal library of {p}"),
+            );
+            run(Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv), &format!("spirv-val on the Unreal library of {p}"));
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Bad input is a one-line error naming it: an unknown target (with the nearest name), a
+/// prefix that WebGL reserves in the GLSL ES form only.
+#[test]
+fn engine_forms_refuse_bad_input_in_one_line() {
+    let e = Form::from_name("glsles").unwrap_err().to_string();
+    assert!(e.contains("unknown target `glsles`") && e.contains("did you mean `glsl-es`?") && !e.contains('\n'), "{e}");
+    let p: Pipeline = "linear(8)+binary(3)".parse().unwrap();
+    let opts = LibraryOptions { prefix: "webgl".into(), ..LibraryOptions::default() };
+    let e = emit::library_forms(&p, &opts, &[Form::GlslEs]).unwrap_err().to_string();
+    assert!(e.contains("prefix `webgl`") && e.contains("WebGL") && !e.contains('\n'), "{e}");
+    assert!(emit::library_forms(&p, &opts, &[Form::Wgsl, Form::Glsl, Form::Unity]).is_ok(), "`webgl` is a fine prefix outside WebGL");
+    let q: Pipeline = "linear_distance+binary(5)".parse().unwrap();
+    for form in Form::ALL {
+        let e = emit::library_forms(&q, &LibraryOptions::default(), &[form]).unwrap_err().to_string();
+        assert!(e.contains("linear_distance") && !e.contains('\n'), "{form:?}: {e}");
+    }
+}

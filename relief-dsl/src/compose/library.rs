@@ -151,24 +151,35 @@ fn resource_base(name: &str) -> Option<(String, String)> {
     Some((if nearest { format!("{base}_nearest") } else { base.to_string() }, what))
 }
 
-/// Builds and validates the library module of `p`.
-pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileError> {
+/// Why a library cannot express `p`, if it cannot: the render options a library has no
+/// place for (`lod`, `silhouette`) and stages that read what the library interface does not
+/// take (`linear_distance`'s camera distance). `relief gen --all --library` skips these.
+pub fn inexpressible(p: &Pipeline) -> Option<String> {
     if p.lod != crate::spec::Lod::Zero {
         // The stages would read a level that only relief's own entry points set.
-        return Err(CompileError {
-            stage: "library".into(),
-            message: format!("the library output does not support lod={} yet (its functions sample level 0)", p.lod),
-        });
+        return Some(format!("the library output does not support lod={} yet (its functions sample level 0)", p.lod));
     }
     if p.silhouette != crate::spec::Silhouette::None {
         // A library has no fragment to discard; the caller knows its quad's square.
-        return Err(CompileError {
-            stage: "library".into(),
-            message: format!(
-                "silhouette={} is an option of relief's own render entry; in a library, discard where `hit.uv` leaves your quad's texture square yourself",
-                p.silhouette
-            ),
-        });
+        return Some(format!(
+            "silhouette={} is an option of relief's own render entry; in a library, discard where `hit.uv` leaves your quad's texture square yourself",
+            p.silhouette
+        ));
+    }
+    let m = ModuleCtx::new();
+    if build_stage_fns(&m, p, false).is_ok() {
+        let module = m.module.borrow();
+        if module.global_variables.iter().any(|(_, g)| g.name.as_deref() == Some(crate::stage::coarse::linear::VIEW_DISTANCE)) {
+            return Some("`linear_distance` reads the distance from the camera to the fragment (Amaro & Gustafsson 2022, §2.1.3), which the library interface (`P_trace(uv, view_ts, depth_scale)`) does not take: not implemented for libraries (`linear_dynamic` needs no distance)".into());
+        }
+    }
+    None
+}
+
+/// Builds and validates the library module of `p`.
+pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileError> {
+    if let Some(why) = inexpressible(p) {
+        return Err(CompileError { stage: "library".into(), message: why });
     }
     check_prefix(&opts.prefix)?;
     let prefix = opts.prefix.as_str();
@@ -269,12 +280,6 @@ pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileErro
     let mut order: Vec<(u32, Handle<naga::GlobalVariable>)> = Vec::new();
     for (h, g) in module.global_variables.iter() {
         let name = g.name.as_deref().unwrap_or("");
-        if name == crate::stage::coarse::linear::VIEW_DISTANCE {
-            return Err(CompileError {
-                stage: "library".into(),
-                message: "`linear_distance` reads the distance from the camera to the fragment (Amaro & Gustafsson 2022, §2.1.3), which the library interface (`P_trace(uv, view_ts, depth_scale)`) does not take: not implemented for libraries (`linear_dynamic` needs no distance)".into(),
-            });
-        }
         let Some(rb) = g.binding else {
             return Err(CompileError {
                 stage: "library".into(),

@@ -47,19 +47,21 @@ pub struct LibraryFiles {
     pub has_ao: bool,
 }
 
-fn err(target: &str, e: impl std::fmt::Debug) -> CompileError {
+pub(crate) fn err(target: &str, e: impl std::fmt::Debug) -> CompileError {
     CompileError { stage: format!("emit library {target}"), message: format!("{e:?}") }
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
-enum Lang {
+pub(crate) enum Lang {
     Wgsl,
     Glsl,
+    GlslEs,
     Hlsl,
     Msl,
 }
 
-fn header(p: &Pipeline, lib: &Library, opts: &LibraryOptions, lang: Lang) -> String {
+/// The header comment of a library file in `lang`.
+pub(crate) fn header_lines(p: &Pipeline, lib: &Library, opts: &LibraryOptions, lang: Lang) -> String {
     let pre = &opts.prefix;
     let hit = format!("{}Hit", crate::compose::library::camel(pre));
     let mut h = String::new();
@@ -125,6 +127,11 @@ fn header(p: &Pipeline, lib: &Library, opts: &LibraryOptions, lang: Lang) -> Str
                 "// sampler's filtering from the application; the sampler bindings below are unused in GLSL):"
             );
         }
+        Lang::GlslEs => {
+            let _ = writeln!(h, "// GLSL ES 3.00 (WebGL2): put after `#version 300 es` (three.js and Babylon.js add it). Resources:");
+            let _ = writeln!(h, "// sampler uniforms, bound by name (ES 3.00 has no binding qualifiers); a texture takes the");
+            let _ = writeln!(h, "// sampler's filtering from the application; the samplers below have no uniform in GLSL ES:");
+        }
         Lang::Msl => {
             let _ =
                 writeln!(h, "// Resources (Metal has none global: each function above takes those it reads as extra");
@@ -139,9 +146,9 @@ fn header(p: &Pipeline, lib: &Library, opts: &LibraryOptions, lang: Lang) -> Str
     }
     for b in &lib.bindings {
         let ty = match (lang, b.kind) {
-            (Lang::Glsl, ResourceKind::Sampler) => "(none in GLSL)",
-            (Lang::Glsl, ResourceKind::Texture2d) => "sampler2D",
-            (Lang::Glsl, ResourceKind::Texture3d) => "sampler3D",
+            (Lang::Glsl | Lang::GlslEs, ResourceKind::Sampler) => "(none in GLSL)",
+            (Lang::Glsl | Lang::GlslEs, ResourceKind::Texture2d) => "sampler2D",
+            (Lang::Glsl | Lang::GlslEs, ResourceKind::Texture3d) => "sampler3D",
             (Lang::Hlsl, ResourceKind::Sampler) => "SamplerState",
             (Lang::Hlsl, ResourceKind::Texture2d) => "Texture2D<float4>",
             (Lang::Hlsl, ResourceKind::Texture3d) => "Texture3D<float4>",
@@ -152,7 +159,11 @@ fn header(p: &Pipeline, lib: &Library, opts: &LibraryOptions, lang: Lang) -> Str
             (_, ResourceKind::Texture2d) => "texture_2d<f32>",
             (_, ResourceKind::Texture3d) => "texture_3d<f32>",
         };
-        let _ = writeln!(h, "//   group {} binding {}: {} {ty} — {}", b.group, b.binding, b.name, b.what);
+        if lang == Lang::GlslEs {
+            let _ = writeln!(h, "//   uniform {} {ty} — {}", b.name, b.what);
+        } else {
+            let _ = writeln!(h, "//   group {} binding {}: {} {ty} — {}", b.group, b.binding, b.name, b.what);
+        }
     }
     h.push('\n');
     h
@@ -224,7 +235,9 @@ fn wgsl_text(lib: &Library) -> Result<String, CompileError> {
     wgsl::write_string(&lib.module, &lib.info, wgsl::WriterFlags::empty()).map_err(|e| err("wgsl", e))
 }
 
-fn glsl_text(lib: &Library, opts: &LibraryOptions) -> Result<String, CompileError> {
+/// GLSL of the library: an include file for GLSL 450 (`es == false`) or GLSL ES 3.00 for
+/// WebGL2 (`es == true`, whose uniforms carry no binding: WebGL binds them by name).
+fn glsl_text(lib: &Library, opts: &LibraryOptions, es: bool) -> Result<String, CompileError> {
     let (module, info) = with_caller(lib, &opts.prefix)?;
     let mut binding_map = glsl::BindingMap::default();
     for b in &lib.bindings {
@@ -233,9 +246,9 @@ fn glsl_text(lib: &Library, opts: &LibraryOptions) -> Result<String, CompileErro
         })?;
         binding_map.insert(naga::ResourceBinding { group: b.group, binding: b.binding }, n);
     }
-    let options = glsl::Options { version: glsl::Version::Desktop(450), binding_map, ..glsl::Options::default() };
-    let pipeline =
-        glsl::PipelineOptions { shader_stage: ShaderStage::Fragment, entry_point: "main".into(), multiview: None };
+    let version = if es { glsl::Version::Embedded { version: 300, is_webgl: true } } else { glsl::Version::Desktop(450) };
+    let options = glsl::Options { version, binding_map, ..glsl::Options::default() };
+    let pipeline = glsl::PipelineOptions { shader_stage: ShaderStage::Fragment, entry_point: "main".into(), multiview: None };
     let mut out = String::new();
     glsl::Writer::new(&mut out, &module, &info, &options, &pipeline, Default::default())
         .map_err(|e| err("glsl", e))?
@@ -309,7 +322,7 @@ fn hlsl_text(lib: &Library) -> Result<String, CompileError> {
 /// naga 30's HLSL backend writes a level-0 sample as `t.SampleLevelZero(s, uv)`, which
 /// glslang's HLSL front end rejects (no matching overloaded function): the library writes
 /// the classic `t.SampleLevel(s, uv, 0.0)`, which every HLSL compiler takes.
-fn sample_level_zero(line: &str) -> String {
+pub(crate) fn sample_level_zero(line: &str) -> String {
     const BAD: &str = ".SampleLevelZero(";
     let mut out = String::new();
     let mut rest = line;
@@ -347,44 +360,228 @@ fn msl_text(lib: &Library) -> Result<String, CompileError> {
     Ok(text)
 }
 
-/// Builds the library of `p` and writes it in the four languages. The options are checked
-/// against every language's limits first ([`super::limits`]), and the names as written
-/// against what was asked for, so a file that would not compile, or whose functions a
-/// writer renamed, is an error instead.
+/// One form of a library: what `relief gen --library --target NAME` writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Form {
+    /// `NAME.lib.wgsl`: WGSL to concatenate, or to import through `naga_oil` with
+    /// [`LibraryOptions::import_path`].
+    Wgsl,
+    /// `NAME_ident.wesl` (the stem with `-` as `_`, a WESL module name): the same module as a
+    /// WESL module to `import`.
+    Wesl,
+    /// `NAME.lib.glsl`: a GLSL 450 include file.
+    Glsl,
+    /// `NAME.lib.es.glsl`: GLSL ES 3.00 for WebGL2 (three.js, Babylon.js `ShaderMaterial`).
+    GlslEs,
+    /// `NAME.lib.hlsl`: HLSL, shader model 5.1, resources at registers.
+    Hlsl,
+    /// `NAME.lib.metal`: MSL, resources as arguments.
+    Msl,
+    /// `NAME.unity.hlsl`: a Custom Function file for Unity's Shader Graph.
+    Unity,
+    /// `NAME.ush` and `NAME.custom.hlsl`: an include file and a Custom node's code for Unreal.
+    Unreal,
+}
+
+impl Form {
+    /// Every form, in the order of `--target`'s list.
+    pub const ALL: [Form; 8] = [Form::Wgsl, Form::Wesl, Form::Glsl, Form::GlslEs, Form::Hlsl, Form::Msl, Form::Unity, Form::Unreal];
+    /// The forms written when no `--target` is named.
+    pub const DEFAULT: [Form; 4] = [Form::Wgsl, Form::Glsl, Form::Hlsl, Form::Msl];
+
+    /// The name `--target` takes.
+    pub fn name(self) -> &'static str {
+        match self {
+            Form::Wgsl => "wgsl",
+            Form::Wesl => "wesl",
+            Form::Glsl => "glsl",
+            Form::GlslEs => "glsl-es",
+            Form::Hlsl => "hlsl",
+            Form::Msl => "msl",
+            Form::Unity => "unity",
+            Form::Unreal => "unreal",
+        }
+    }
+
+    /// The form named `name`; an unknown name is a one-line error with the valid names and the
+    /// nearest one.
+    pub fn from_name(name: &str) -> Result<Form, CompileError> {
+        if let Some(f) = Form::ALL.into_iter().find(|f| f.name() == name) {
+            return Ok(f);
+        }
+        let names: Vec<&str> = Form::ALL.iter().map(|f| f.name()).collect();
+        let near = names.iter().copied().min_by_key(|n| strsim::levenshtein(n, name)).filter(|n| strsim::levenshtein(n, name) <= 2);
+        Err(CompileError {
+            stage: "library".into(),
+            message: format!(
+                "unknown target `{name}`; expected one of: {}{}",
+                names.join(", "),
+                near.map(|n| format!("; did you mean `{n}`?")).unwrap_or_default()
+            ),
+        })
+    }
+
+    /// The language whose limits the form is held to.
+    pub fn target(self) -> super::limits::Target {
+        use super::limits::Target;
+        match self {
+            Form::Wgsl | Form::Wesl => Target::Wgsl,
+            Form::Glsl => Target::Glsl,
+            Form::GlslEs => Target::GlslEs,
+            Form::Hlsl | Form::Unity | Form::Unreal => Target::Hlsl,
+            Form::Msl => Target::Msl,
+        }
+    }
+}
+
+/// One file of a library.
+#[derive(Clone, Debug)]
+pub struct LibraryFile {
+    /// The form it belongs to.
+    pub form: Form,
+    /// Its file name (`NAME.lib.wgsl`).
+    pub name: String,
+    /// Its text.
+    pub text: String,
+}
+
+/// The files of one pipeline's library in the forms asked for.
+#[derive(Clone, Debug)]
+pub struct LibraryForms {
+    /// The files, in the order of the forms asked for.
+    pub files: Vec<LibraryFile>,
+    /// The resources, in binding order.
+    pub bindings: Vec<LibraryBinding>,
+    /// Whether `P_shadow` exists.
+    pub has_shadow: bool,
+    /// Whether `P_ao` exists.
+    pub has_ao: bool,
+}
+
+impl LibraryForms {
+    /// The text of the file `name`.
+    pub fn text(&self, name: &str) -> Option<&str> {
+        self.files.iter().find(|f| f.name == name).map(|f| f.text.as_str())
+    }
+}
+
+/// Builds the library of `p` and writes it in the four default languages
+/// ([`library_forms`] with [`Form::DEFAULT`]).
 pub fn library(p: &Pipeline, opts: &LibraryOptions) -> Result<LibraryFiles, CompileError> {
+    let forms = library_forms(p, opts, &Form::DEFAULT)?;
+    let mut texts = forms.files.into_iter().map(|f| f.text);
+    let mut next = || texts.next().unwrap_or_default();
+    let (wgsl, glsl, hlsl, msl) = (next(), next(), next(), next());
+    Ok(LibraryFiles { wgsl, glsl, hlsl, msl, bindings: forms.bindings, has_shadow: forms.has_shadow, has_ao: forms.has_ao })
+}
+
+/// Builds the library of `p` and writes it in each of `forms`. The options are checked
+/// against every form's language limits first ([`super::limits`]), and the names as written
+/// against what was asked for, so a file that would not compile, or whose functions a writer
+/// renamed, is an error instead.
+pub fn library_forms(p: &Pipeline, opts: &LibraryOptions, forms: &[Form]) -> Result<LibraryForms, CompileError> {
     use super::limits::{self, Target};
-    limits::check_all(&Target::LIBRARY, &opts.prefix, opts.group, opts.binding)?;
+    let targets: Vec<Target> = forms.iter().map(|f| f.target()).collect();
+    limits::check_all(&targets, &opts.prefix, opts.group, opts.binding)?;
     let lib = crate::compose::library::build(p, opts)?;
     let last = lib.bindings.last().map_or(opts.binding, |b| b.binding);
-    limits::check_all(&Target::LIBRARY, &opts.prefix, opts.group, last)?;
+    limits::check_all(&targets, &opts.prefix, opts.group, last)?;
     check_name_lengths(&lib, &opts.prefix)?;
-    let mut wgsl = String::new();
-    if let Some(path) = &opts.import_path {
-        let ok = path.split("::").all(|seg| {
-            seg.chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
-                && seg.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
-        });
-        if !ok {
-            return Err(err("wgsl", format!("import path `{path}` is not `::`-separated identifiers")));
+    let stem = p.file_stem();
+    let mut files = Vec::new();
+    for &form in forms {
+        let mut add = |name: String, body: &str, text: String| -> Result<(), CompileError> {
+            check_names_kept(&lib, &opts.prefix, form.target(), body)?;
+            files.push(LibraryFile { form, name, text });
+            Ok(())
+        };
+        match form {
+            Form::Wgsl => {
+                let body = wgsl_text(&lib)?;
+                let mut text = String::new();
+                if let Some(path) = &opts.import_path {
+                    check_import_path(path)?;
+                    let _ = writeln!(text, "#define_import_path {path}\n");
+                }
+                text += &header_lines(p, &lib, opts, Lang::Wgsl);
+                text += &body;
+                add(format!("{stem}.lib.wgsl"), &body, text)?;
+            }
+            Form::Wesl => {
+                let body = wgsl_text(&lib)?;
+                let module = wesl_module_name(&stem);
+                let mut text = header_lines(p, &lib, opts, Lang::Wgsl);
+                let _ = writeln!(text, "// As a WESL module: `import package::{module}::{{{pre}_trace, {camel}Hit}};` with this file at the\n// package's root.\n", pre = opts.prefix, camel = crate::compose::library::camel(&opts.prefix));
+                text += &body;
+                add(format!("{module}.wesl"), &body, text)?;
+            }
+            Form::Glsl => {
+                let body = glsl_text(&lib, opts, false)?;
+                add(format!("{stem}.lib.glsl"), &body, header_lines(p, &lib, opts, Lang::Glsl) + &body)?;
+            }
+            Form::GlslEs => {
+                if let Some(why) = glsl_es_refusal(&lib) {
+                    return Err(CompileError { stage: "library GLSL ES".into(), message: why });
+                }
+                let body = glsl_text(&lib, opts, true)?;
+                add(format!("{stem}.lib.es.glsl"), &body, header_lines(p, &lib, opts, Lang::GlslEs) + &body)?;
+            }
+            Form::Hlsl => {
+                let body = hlsl_text(&lib)?;
+                add(format!("{stem}.lib.hlsl"), &body, header_lines(p, &lib, opts, Lang::Hlsl) + &body)?;
+            }
+            Form::Msl => {
+                let body = msl_text(&lib)?;
+                add(format!("{stem}.lib.metal"), &body, header_lines(p, &lib, opts, Lang::Msl) + &body)?;
+            }
+            Form::Unity => {
+                let text = super::engines::unity(p, &lib, opts)?;
+                add(format!("{stem}.unity.hlsl"), &text, text.clone())?;
+            }
+            Form::Unreal => {
+                let (include, node) = super::engines::unreal(p, &lib, opts)?;
+                add(format!("{stem}.ush"), &include, include.clone())?;
+                files.push(LibraryFile { form, name: format!("{stem}.custom.hlsl"), text: node });
+            }
         }
-        let _ = writeln!(wgsl, "#define_import_path {path}\n");
     }
-    let bodies = [
-        (Target::Wgsl, wgsl_text(&lib)?),
-        (Target::Glsl, glsl_text(&lib, opts)?),
-        (Target::Hlsl, hlsl_text(&lib)?),
-        (Target::Msl, msl_text(&lib)?),
-    ];
-    for (target, body) in &bodies {
-        check_names_kept(&lib, &opts.prefix, *target, body)?;
+    Ok(LibraryForms { files, bindings: lib.bindings, has_shadow: lib.has_shadow, has_ao: lib.has_ao })
+}
+
+/// Why `p`'s library cannot be written in `form`, if it cannot (besides what no library can
+/// express, [`crate::compose::library::inexpressible`]): GLSL ES 3.00 has no `textureGather`
+/// (OpenGL ES 3.1 added it), which the stages that read four texels at once use.
+/// `relief gen --all --library` skips such a pipeline in that form.
+pub fn inexpressible_in(p: &Pipeline, form: Form) -> Option<String> {
+    if form != Form::GlslEs {
+        return None;
     }
-    let [(_, w), (_, g), (_, h), (_, m)] = bodies;
-    wgsl.push_str(&header(p, &lib, opts, Lang::Wgsl));
-    wgsl.push_str(&w);
-    let glsl = header(p, &lib, opts, Lang::Glsl) + &g;
-    let hlsl = header(p, &lib, opts, Lang::Hlsl) + &h;
-    let msl = header(p, &lib, opts, Lang::Msl) + &m;
-    Ok(LibraryFiles { wgsl, glsl, hlsl, msl, bindings: lib.bindings, has_shadow: lib.has_shadow, has_ao: lib.has_ao })
+    crate::compose::library::build(p, &LibraryOptions::default()).ok().and_then(|lib| glsl_es_refusal(&lib))
+}
+
+fn glsl_es_refusal(lib: &Library) -> Option<String> {
+    let gathers = lib.module.functions.iter().any(|(_, f)| {
+        f.expressions.iter().any(|(_, e)| matches!(e, Expression::ImageSample { gather: Some(_), .. }))
+    });
+    gathers.then(|| "GLSL ES 3.00 (WebGL2) has no textureGather, which a stage of this pipeline uses (sample=gather or a min4 read): not expressible as glsl-es".to_string())
+}
+
+/// The WESL module name of a pipeline's file stem: WESL names modules by identifiers, so
+/// `-` becomes `_` (`linear_10__binary_5__shadow-soft_30` → `linear_10__binary_5__shadow_soft_30`).
+pub fn wesl_module_name(stem: &str) -> String {
+    stem.replace('-', "_")
+}
+
+fn check_import_path(path: &str) -> Result<(), CompileError> {
+    let ok = path.split("::").all(|seg| {
+        seg.chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+            && seg.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+    });
+    if ok {
+        Ok(())
+    } else {
+        Err(err("wgsl", format!("import path `{path}` is not `::`-separated identifiers")))
+    }
 }
 
 /// The module's names may add at most [`super::limits::LONGEST_SUFFIX`] characters to the
@@ -439,7 +636,7 @@ fn check_names_kept(
         names.push(format!("{prefix}_ao"));
     }
     // GLSL keeps no sampler (a texture is combined with its sampler).
-    let glsl = target == super::limits::Target::Glsl;
+    let glsl = matches!(target, super::limits::Target::Glsl | super::limits::Target::GlslEs);
     names.extend(lib.bindings.iter().filter(|b| !(glsl && b.kind == ResourceKind::Sampler)).map(|b| b.name.clone()));
     match names.iter().find(|n| !has_word(body, n)) {
         None => Ok(()),

@@ -10,6 +10,7 @@
 //! | --- | --- | --- | --- | --- |
 //! | WGSL | `__`, `_naga` (WGSL, naga) | — | ≤ 3 | ≤ 999 |
 //! | GLSL | `gl_` (GLSL 4.50 §3.7), `_group`, `_immediates_binding_` (naga) | 1024 (glslang) | `set` ≤ 62 | ≤ 79 |
+//! | GLSL ES 3.00 | `gl_` (GLSL ES 3.00 §3.8), `webgl_`, `_webgl_` (WebGL 2), naga's as GLSL | 1024 (WebGL 2) | — | — |
 //! | HLSL | `naga_`, `LoadedStorageValueFrom`, `__dynamic_buffer_offsets` (naga) | 1024 (glslang) | `space` ≤ 255 | — |
 //! | MSL | `clamped_lod_e`, `ray_query_get_intersection`, `naga_query_…` (naga) | — | — | — |
 //!
@@ -20,6 +21,9 @@
 //!   (`name too long`). The OpenGL branch of the file binds each `sampler2D` at its binding,
 //!   which must be below `GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS`: OpenGL 4.5 guarantees 80 (and
 //!   glslang checks against that value).
+//! - GLSL ES 3.00 has no binding qualifiers: WebGL binds sampler uniforms by name, so no
+//!   group or binding limit applies. WebGL 2 refuses identifiers that start with `webgl_` or
+//!   `_webgl_` and names longer than 1024 characters.
 //! - HLSL: naga writes a register space as an 8-bit number (`space1000` would come out as
 //!   `space232`), so groups go up to 255; names are limited like GLSL's when compiled by
 //!   glslang's HLSL front end.
@@ -45,6 +49,8 @@ pub enum Target {
     Wgsl,
     /// GLSL 450 include file (`NAME.lib.glsl`).
     Glsl,
+    /// GLSL ES 3.00 for WebGL2 (`NAME.lib.es.glsl`).
+    GlslEs,
     /// HLSL, shader model 5.1 (`NAME.lib.hlsl`).
     Hlsl,
     /// Metal Shading Language (`NAME.lib.metal`).
@@ -60,6 +66,7 @@ impl Target {
         match self {
             Target::Wgsl => "WGSL",
             Target::Glsl => "GLSL",
+            Target::GlslEs => "GLSL ES",
             Target::Hlsl => "HLSL",
             Target::Msl => "MSL",
         }
@@ -105,6 +112,18 @@ pub fn limits(target: Target) -> Limits {
             max_name: Some((1024, "glslang")),
             max_group: Some((62, "glslang (`set` below 63)")),
             max_binding: Some((79, "OpenGL 4.5's guaranteed GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS (80)")),
+        },
+        Target::GlslEs => Limits {
+            reserved_prefixes: &[
+                ("gl_", "GLSL ES"),
+                ("webgl_", "WebGL"),
+                ("_webgl_", "WebGL"),
+                ("_group", "naga's GLSL writer"),
+                ("_immediates_binding_", "naga's GLSL writer"),
+            ],
+            max_name: Some((1024, "WebGL 2")),
+            max_group: None,
+            max_binding: None,
         },
         Target::Hlsl => Limits {
             reserved_prefixes: &[

@@ -75,6 +75,7 @@ pub fn emit(p: &crate::spec::Pipeline) -> Result<Outputs, CompileError> {
     all(&crate::compose::compile(p)?)
 }
 
+pub mod engines;
 pub mod library;
 pub mod limits;
-pub use library::{library, LibraryBinding, LibraryFiles, LibraryOptions, ResourceKind};
+pub use library::{inexpressible_in, library, library_forms, Form, LibraryBinding, LibraryFile, LibraryFiles, LibraryForms, LibraryOptions, ResourceKind};

@@ -10,7 +10,7 @@ mod render;
 mod resources;
 
 pub use crate::maps::MapKey;
-pub use device::{Gpu, GpuError};
+pub use device::{adapters, choose, Gpu, GpuError, ADAPTER_VAR};
 pub use probe::{probe, GpuHit};
 pub use relief_dsl::abi::OUTSIDE_TOLERANCE;
 pub use render::{

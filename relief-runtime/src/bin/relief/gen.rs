@@ -3,6 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context};
+use relief_dsl::emit::Form;
 use relief_dsl::spec::{catalog, Pipeline, Slot};
 
 /// Arguments of `relief gen`.
@@ -20,9 +21,15 @@ pub struct GenArgs {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Write the stages as functions for your own shader instead of whole modules:
-    /// `NAME.lib.wgsl`, `NAME.lib.glsl`, `NAME.lib.hlsl`, `NAME.lib.metal`.
+    /// `NAME.lib.wgsl`, `NAME.lib.glsl`, `NAME.lib.hlsl`, `NAME.lib.metal` (or the forms
+    /// --target names).
     #[arg(long)]
     pub library: bool,
+    /// With --library: the forms to write, comma-separated or repeated: wgsl, wesl, glsl,
+    /// glsl-es (WebGL2), hlsl, msl, unity (Shader Graph Custom Function), unreal (include +
+    /// Custom node code), or all (default: wgsl,glsl,hlsl,msl).
+    #[arg(long, value_delimiter = ',', requires = "library")]
+    pub target: Vec<String>,
     /// With --library: the bind group (descriptor set, register space) of the resources.
     #[arg(long, default_value_t = 0, requires = "library")]
     pub group: u32,
@@ -66,8 +73,25 @@ pub fn listing() -> String {
     s
 }
 
-/// Writes the four library files of `p` into `out`; returns the file stem.
-pub fn write_library(p: &Pipeline, args: &GenArgs, out: &Path) -> anyhow::Result<String> {
+/// The forms `--target` names (every form for `all`, the default four when none).
+pub fn forms(args: &GenArgs) -> anyhow::Result<Vec<Form>> {
+    if args.target.is_empty() {
+        return Ok(Form::DEFAULT.to_vec());
+    }
+    let mut forms = Vec::new();
+    for name in &args.target {
+        let named = if name == "all" { Form::ALL.to_vec() } else { vec![Form::from_name(name.trim()).map_err(|e| anyhow::anyhow!("--target: {}", e.message))?] };
+        for f in named {
+            if !forms.contains(&f) {
+                forms.push(f);
+            }
+        }
+    }
+    Ok(forms)
+}
+
+/// Writes the library files of `p` in `forms` into `out`; returns their names.
+pub fn write_library(p: &Pipeline, args: &GenArgs, forms: &[Form], out: &Path) -> anyhow::Result<Vec<String>> {
     let stem = p.file_stem();
     let opts = relief_dsl::emit::LibraryOptions {
         prefix: args.prefix.clone(),
@@ -76,11 +100,11 @@ pub fn write_library(p: &Pipeline, args: &GenArgs, out: &Path) -> anyhow::Result
         edge_clamp: args.edge == "clamp",
         import_path: args.import_path.as_ref().map(|t| t.replace("NAME", &stem.replace('-', "_"))),
     };
-    let lib = relief_dsl::emit::library(p, &opts).with_context(|| format!("pipeline {p}"))?;
-    for (ext, text) in [("wgsl", &lib.wgsl), ("glsl", &lib.glsl), ("hlsl", &lib.hlsl), ("metal", &lib.msl)] {
-        relief_runtime::io::write_atomic(&out.join(format!("{stem}.lib.{ext}")), text.as_bytes())?;
+    let lib = relief_dsl::emit::library_forms(p, &opts, forms).with_context(|| format!("pipeline {p}"))?;
+    for f in &lib.files {
+        relief_runtime::io::write_atomic(&out.join(&f.name), f.text.as_bytes())?;
     }
-    Ok(stem)
+    Ok(lib.files.into_iter().map(|f| f.name).collect())
 }
 
 /// Runs `relief gen`.
@@ -106,14 +130,38 @@ pub fn run(args: &GenArgs) -> anyhow::Result<()> {
     };
     std::fs::create_dir_all(out).with_context(|| format!("cannot create output folder {}", out.display()))?;
     if args.library {
+        let forms = forms(args)?;
+        let mut written = 0;
+        let mut files = 0;
+        let mut skipped = Vec::new();
         for p in &pipelines {
-            write_library(p, args, out)?;
+            // With --all, a pipeline no library can express is skipped and listed; a named one
+            // is an error.
+            if let Some(why) = relief_dsl::compose::library::inexpressible(p).filter(|_| args.all) {
+                skipped.push(format!("{p}: {why}"));
+                continue;
+            }
+            let mut here = forms.clone();
+            if args.all {
+                here.retain(|f| match relief_dsl::emit::inexpressible_in(p, *f) {
+                    Some(why) => {
+                        skipped.push(format!("{p} as {}: {why}", f.name()));
+                        false
+                    }
+                    None => true,
+                });
+            }
+            files += write_library(p, args, &here, out)?.len();
+            written += 1;
         }
-        println!(
-            "wrote {} pipeline(s) × 4 library files (.lib.wgsl .lib.glsl .lib.hlsl .lib.metal) to {}",
-            pipelines.len(),
-            out.display()
-        );
+        let names: Vec<&str> = forms.iter().map(|f| f.name()).collect();
+        println!("wrote {written} pipeline(s) as libraries ({}): {files} files to {}", names.join(", "), out.display());
+        if !skipped.is_empty() {
+            println!("skipped {} pipeline(s) or form(s) that a library cannot express:", skipped.len());
+            for s in &skipped {
+                println!("  {s}");
+            }
+        }
         return Ok(());
     }
     for p in &pipelines {

@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use relief_runtime::scene::Overrides;
+mod adapters;
 mod compare;
 mod gen;
 mod maps;
@@ -18,10 +19,16 @@ mod sweep;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// The GPU adapter to use: a substring of its name, any case (`relief adapters` lists
+    /// them; default: the RELIEF_ADAPTER variable, else a hardware GPU before a software one).
+    #[arg(long, global = true, value_name = "SUBSTRING")]
+    adapter: Option<String>,
 }
 
 #[derive(Subcommand)]
 enum Command {
+    /// The GPU adapters wgpu sees (name, backend, device type) and the one relief uses.
+    Adapters,
     /// Write WGSL, SPIR-V and GLSL for pipelines (`relief gen 'linear(10)+binary(5)' --out DIR`).
     Gen(gen::GenArgs),
     /// Build an acceleration map from a height map.
@@ -111,7 +118,12 @@ fn main() {
             std::process::exit(2);
         }
     };
+    if let Some(a) = &cli.adapter {
+        // Read by every command that opens a device (`Gpu::new`); set before any thread starts.
+        std::env::set_var(relief_runtime::gpu::ADAPTER_VAR, a);
+    }
     let result = match &cli.command {
+        Command::Adapters => adapters::run(),
         Command::Gen(a) => gen::run(a),
         Command::Maps(a) => maps::run(a),
         Command::Render(a) => render::run(a),
