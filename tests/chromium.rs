@@ -106,7 +106,10 @@ fn tint_and_angle_compile_every_library_of_gen_all() {
     let dir = temp_dir("libraries");
     let mut wgsl = Vec::new();
     let mut es = Vec::new();
-    let pipelines: Vec<Pipeline> = Pipeline::all_defaults().into_iter().filter(|p| relief::dsl::compose::library::inexpressible(p).is_none()).collect();
+    let pipelines: Vec<Pipeline> = Pipeline::all_defaults()
+        .into_iter()
+        .filter(|p| relief::dsl::compose::library::inexpressible(p).is_none())
+        .collect();
     assert!(pipelines.len() >= 300, "only {} pipelines have a library", pipelines.len());
     for p in &pipelines {
         // GLSL ES 3.00 has no textureGather: those pipelines are refused in that form.
@@ -121,7 +124,15 @@ fn tint_and_angle_compile_every_library_of_gen_all() {
             continue;
         }
         let g = format!("{stem}.user.es.frag");
-        write(&dir, &g, &format!("#version 300 es\nprecision highp float;\nprecision highp int;\n{}\n{}", lib.files[1].text, user_fragment(&lib, true)));
+        write(
+            &dir,
+            &g,
+            &format!(
+                "#version 300 es\nprecision highp float;\nprecision highp int;\n{}\n{}",
+                lib.files[1].text,
+                user_fragment(&lib, true)
+            ),
+        );
         es.push(g);
     }
     let n = pipelines.len() as u64;

@@ -408,13 +408,18 @@ fn forms(p: &Pipeline, opts: &LibraryOptions, forms: &[Form]) -> LibraryForms {
 }
 
 fn file<'a>(lib: &'a LibraryForms, suffix: &str) -> &'a str {
-    lib.files.iter().find(|f| f.name.ends_with(suffix)).map(|f| f.text.as_str()).unwrap_or_else(|| panic!("no `{suffix}` file"))
+    lib.files
+        .iter()
+        .find(|f| f.name.ends_with(suffix))
+        .map(|f| f.text.as_str())
+        .unwrap_or_else(|| panic!("no `{suffix}` file"))
 }
 
 /// The pipelines the engine forms are checked on: every coarse stage family at least once,
 /// shadow and ao stages, the 3D distance field, maxmip's texel walk.
 fn engine_pipelines() -> Vec<Pipeline> {
-    let mut all: Vec<Pipeline> = Pipeline::all_defaults().into_iter().filter(|p| p.coarse.name != "linear_distance").step_by(9).collect();
+    let mut all: Vec<Pipeline> =
+        Pipeline::all_defaults().into_iter().filter(|p| p.coarse.name != "linear_distance").step_by(9).collect();
     for extra in [
         "linear(16)+binary(5)+shadow=soft(10)",
         "rcs(15)+binary(5)+ao=cone_normal",
@@ -435,11 +440,16 @@ fn wgsl_import_path_composes_with_naga_oil() {
     use naga_oil::compose::{ComposableModuleDescriptor, Composer, NagaModuleDescriptor};
     for p in engine_pipelines() {
         let path = format!("relief::{}", p.file_stem().replace('-', "_"));
-        let opts = LibraryOptions { group: 2, binding: 3, import_path: Some(path.clone()), ..LibraryOptions::default() };
+        let opts =
+            LibraryOptions { group: 2, binding: 3, import_path: Some(path.clone()), ..LibraryOptions::default() };
         let lib = forms(&p, &opts, &[Form::Wgsl]);
         let text = file(&lib, ".lib.wgsl");
         let mut composer = Composer::default();
-        let added = composer.add_composable_module(ComposableModuleDescriptor { source: text, file_path: "relief.lib.wgsl", ..Default::default() });
+        let added = composer.add_composable_module(ComposableModuleDescriptor {
+            source: text,
+            file_path: "relief.lib.wgsl",
+            ..Default::default()
+        });
         if let Err(e) = added {
             panic!("{p}: naga_oil refused the library: {}", e.emit_to_string(&composer));
         }
@@ -455,14 +465,22 @@ fn wgsl_import_path_composes_with_naga_oil() {
             user += "    shade *= relief::relief_ao(hit);\n";
         }
         user += "    return vec4(hit.uv, hit.height + hit.t + hit.depth_offset, shade);\n}\n";
-        let module = match composer.make_naga_module(NagaModuleDescriptor { source: &user, file_path: "user.wgsl", ..Default::default() }) {
+        let module = match composer.make_naga_module(NagaModuleDescriptor {
+            source: &user,
+            file_path: "user.wgsl",
+            ..Default::default()
+        }) {
             Ok(m) => m,
-            Err(e) => panic!("{p}: naga_oil could not compose a user module with the library: {}", e.emit_to_string(&composer)),
+            Err(e) => panic!(
+                "{p}: naga_oil could not compose a user module with the library: {}",
+                e.emit_to_string(&composer)
+            ),
         };
         naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default())
             .validate(&module)
             .unwrap_or_else(|e| panic!("{p}: the composed module does not validate: {e:?}"));
-        let mut bound: Vec<(u32, u32)> = module.global_variables.iter().filter_map(|(_, g)| g.binding.map(|b| (b.group, b.binding))).collect();
+        let mut bound: Vec<(u32, u32)> =
+            module.global_variables.iter().filter_map(|(_, g)| g.binding.map(|b| (b.group, b.binding))).collect();
         bound.sort();
         let expect: Vec<(u32, u32)> = (3..3 + lib.bindings.len() as u32).map(|b| (2, b)).collect();
         assert_eq!(bound, expect, "{p}: the composed module's resources");
@@ -537,7 +555,10 @@ fn glsl_es_libraries_pass_the_es_profile() {
         let lib = forms(&p, &LibraryOptions::default(), &[Form::GlslEs]);
         let text = file(&lib, ".lib.es.glsl");
         let code: String = text.lines().filter(|l| !l.starts_with("//")).collect();
-        assert!(!code.contains("#version") && !code.contains("layout("), "{p}: an ES 3.00 include has no #version and no binding");
+        assert!(
+            !code.contains("#version") && !code.contains("layout("),
+            "{p}: an ES 3.00 include has no #version and no binding"
+        );
         for b in lib.bindings.iter().filter(|b| b.kind != ResourceKind::Sampler) {
             assert!(text.contains(&format!(" {};", b.name)), "{p}: uniform {}", b.name);
         }
@@ -554,7 +575,10 @@ fn glsl_es_libraries_pass_the_es_profile() {
         s += "    o_color = vec4(hit.uv, hit.height + hit.t + hit.depth_offset, shade);\n}\n";
         let frag = dir.join(format!("{}.es.frag", p.file_stem()));
         std::fs::write(&frag, s).unwrap();
-        run(Command::new(glslang).args(["-S", "frag"]).arg(&frag), &format!("glslangValidator (ES 3.00 profile) on the GLSL ES library of {p}"));
+        run(
+            Command::new(glslang).args(["-S", "frag"]).arg(&frag),
+            &format!("glslangValidator (ES 3.00 profile) on the GLSL ES library of {p}"),
+        );
     }
     assert!(refused < pipelines().len(), "every pipeline refused");
     std::fs::remove_dir_all(&dir).ok();
@@ -604,7 +628,10 @@ fn unity_custom_function_compiles_against_the_unity_stub() {
         // HitUV is a 2-vector: give it a variable of its own.
         s += "    float2 uv_f; half2 uv_h;\n";
         let call = |name: &str, uvv: &str, rest: &[String], cast: &str| {
-            let a: Vec<String> = args.iter().map(|a| if cast.is_empty() || a.starts_with("Unity") { a.clone() } else { format!("({cast})({a})") }).collect();
+            let a: Vec<String> = args
+                .iter()
+                .map(|a| if cast.is_empty() || a.starts_with("Unity") { a.clone() } else { format!("({cast})({a})") })
+                .collect();
             format!("    {name}({}, {uvv}, {});\n", a.join(", "), rest[1..].join(", "))
         };
         s += &call("Relief_float", "uv_f", &f_out, "");
@@ -617,7 +644,10 @@ fn unity_custom_function_compiles_against_the_unity_stub() {
             Command::new(glslang).args(["-D", "-V", "-S", "frag", "-e", "frag", "-o"]).arg(&spv).arg(&src),
             &format!("glslangValidator -D (Unity stub) on the Unity library of {p}"),
         );
-        run(Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv), &format!("spirv-val on the Unity library of {p}"));
+        run(
+            Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv),
+            &format!("spirv-val on the Unity library of {p}"),
+        );
     }
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -642,9 +672,17 @@ fn unreal_custom_node_compiles_against_the_unreal_stub() {
             let node = file(&lib, ".custom.hlsl");
             let sampler = if edge_clamp { "Clamped" } else { "Wrapped" };
             if lib.bindings.iter().any(|b| b.kind == ResourceKind::Sampler) {
-                assert!(node.contains(&format!("View.Shared")) && node.contains(&format!("{sampler}Sampler")), "{p}: the node's samplers follow the edge mode");
+                assert!(
+                    node.contains(&format!("View.Shared")) && node.contains(&format!("{sampler}Sampler")),
+                    "{p}: the node's samplers follow the edge mode"
+                );
             }
-            let mut params = vec!["FMaterialPixelParameters Parameters".to_string(), "float2 UV".into(), "float3 ViewTS".into(), "float DepthScale".into()];
+            let mut params = vec![
+                "FMaterialPixelParameters Parameters".to_string(),
+                "float2 UV".into(),
+                "float3 ViewTS".into(),
+                "float DepthScale".into(),
+            ];
             let mut args = vec!["Parameters".to_string(), "uv".into(), "view".into(), DEPTH.into()];
             let mut globals = String::new();
             if lib.has_shadow {
@@ -671,9 +709,13 @@ fn unreal_custom_node_compiles_against_the_unreal_stub() {
                 params.push(format!("inout float {o}"));
                 args.push(format!("extra_{o}"));
             }
-            let mut s = format!("{}\nstruct FMaterialPixelParameters {{ float4 SvPosition; }};\n{include}\n{globals}", std::fs::read_to_string(&stub).unwrap());
+            let mut s = format!(
+                "{}\nstruct FMaterialPixelParameters {{ float4 SvPosition; }};\n{include}\n{globals}",
+                std::fs::read_to_string(&stub).unwrap()
+            );
             s += &format!("float4 CustomExpression0({})\n{{\n{node}}}\n", params.join(", "));
-            s += "float4 frag(float4 pos : SV_Position, float2 uv : TEXCOORD0, float3 view : TEXCOORD1) : SV_Target {\n";
+            s +=
+                "float4 frag(float4 pos : SV_Position, float2 uv : TEXCOORD0, float3 view : TEXCOORD1) : SV_Target {\n";
             s += "    FMaterialPixelParameters Parameters; Parameters.SvPosition = pos;\n";
             for o in &outs {
                 s += &format!("    float extra_{o} = 0.0;\n");
@@ -687,7 +729,10 @@ fn unreal_custom_node_compiles_against_the_unreal_stub() {
                 Command::new(glslang).args(["-D", "-V", "-S", "frag", "-e", "frag", "-o"]).arg(&spv).arg(&src),
                 &format!("glslangValidator -D (Unreal stub) on the Unreal library of {p}"),
             );
-            run(Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv), &format!("spirv-val on the Unreal library of {p}"));
+            run(
+                Command::new(spirv_val).args(["--target-env", "vulkan1.0"]).arg(&spv),
+                &format!("spirv-val on the Unreal library of {p}"),
+            );
         }
     }
     std::fs::remove_dir_all(&dir).ok();
@@ -703,7 +748,10 @@ fn engine_forms_refuse_bad_input_in_one_line() {
     let opts = LibraryOptions { prefix: "webgl".into(), ..LibraryOptions::default() };
     let e = emit::library_forms(&p, &opts, &[Form::GlslEs]).unwrap_err().to_string();
     assert!(e.contains("prefix `webgl`") && e.contains("WebGL") && !e.contains('\n'), "{e}");
-    assert!(emit::library_forms(&p, &opts, &[Form::Wgsl, Form::Glsl, Form::Unity]).is_ok(), "`webgl` is a fine prefix outside WebGL");
+    assert!(
+        emit::library_forms(&p, &opts, &[Form::Wgsl, Form::Glsl, Form::Unity]).is_ok(),
+        "`webgl` is a fine prefix outside WebGL"
+    );
     let q: Pipeline = "linear_distance+binary(5)".parse().unwrap();
     for form in Form::ALL {
         let e = emit::library_forms(&q, &LibraryOptions::default(), &[form]).unwrap_err().to_string();

@@ -60,9 +60,23 @@ fn library_options_without_library_are_an_error() {
 fn target_picks_the_forms_and_all_library_skips_what_it_cannot_express() {
     let out = std::env::temp_dir().join(format!("relief-cli-targets-{}", std::process::id()));
     std::fs::remove_dir_all(&out).ok();
-    let o = relief().args(["gen", "linear(20)+binary(5)+shadow=soft(8)", "--library", "--target", "wesl,glsl-es", "--target", "unity,unreal", "--out"]).arg(&out).output().unwrap();
+    let o = relief()
+        .args([
+            "gen",
+            "linear(20)+binary(5)+shadow=soft(8)",
+            "--library",
+            "--target",
+            "wesl,glsl-es",
+            "--target",
+            "unity,unreal",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let mut files: Vec<String> = std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    let mut files: Vec<String> =
+        std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
     files.sort();
     let stem = "linear_20__binary_5__shadow-soft_8";
     let mut expect = vec![
@@ -75,7 +89,12 @@ fn target_picks_the_forms_and_all_library_skips_what_it_cannot_express() {
     expect.sort();
     assert_eq!(files, expect);
     let unity = std::fs::read_to_string(out.join(format!("{stem}.unity.hlsl"))).unwrap();
-    assert!(unity.contains("void Relief_float(") && unity.contains("void Relief_half(") && unity.contains("UnityTexture2D Height"), "{unity}");
+    assert!(
+        unity.contains("void Relief_float(")
+            && unity.contains("void Relief_half(")
+            && unity.contains("UnityTexture2D Height"),
+        "{unity}"
+    );
     std::fs::remove_dir_all(&out).ok();
 
     // --all --library: every expressible default pipeline written, the others listed, exit 0.
@@ -94,9 +113,25 @@ fn target_picks_the_forms_and_all_library_skips_what_it_cannot_express() {
 #[test]
 fn an_unknown_target_or_an_inexpressible_pipeline_is_one_line() {
     for (args, says) in [
-        (vec!["gen", "linear(10)", "--library", "--target", "unreel", "--out", "/tmp/relief-x"], "unknown target `unreel`"),
+        (
+            vec!["gen", "linear(10)", "--library", "--target", "unreel", "--out", "/tmp/relief-x"],
+            "unknown target `unreel`",
+        ),
         (vec!["gen", "linear_distance+binary(5)", "--library", "--out", "/tmp/relief-x"], "linear_distance"),
-        (vec!["gen", "linear(10)", "--library", "--target", "glsl-es", "--prefix", "webgl", "--out", "/tmp/relief-x"], "prefix `webgl`"),
+        (
+            vec![
+                "gen",
+                "linear(10)",
+                "--library",
+                "--target",
+                "glsl-es",
+                "--prefix",
+                "webgl",
+                "--out",
+                "/tmp/relief-x",
+            ],
+            "prefix `webgl`",
+        ),
     ] {
         let o = relief().args(&args).output().unwrap();
         assert!(!o.status.success(), "{args:?}");

@@ -169,7 +169,11 @@ pub fn inexpressible(p: &Pipeline) -> Option<String> {
     let m = ModuleCtx::new();
     if build_stage_fns(&m, p, false).is_ok() {
         let module = m.module.borrow();
-        if module.global_variables.iter().any(|(_, g)| g.name.as_deref() == Some(crate::stage::coarse::linear::VIEW_DISTANCE)) {
+        if module
+            .global_variables
+            .iter()
+            .any(|(_, g)| g.name.as_deref() == Some(crate::stage::coarse::linear::VIEW_DISTANCE))
+        {
             return Some("`linear_distance` reads the distance from the camera to the fragment (Amaro & Gustafsson 2022, §2.1.3), which the library interface (`P_trace(uv, view_ts, depth_scale)`) does not take: not implemented for libraries (`linear_dynamic` needs no distance)".into());
         }
     }

@@ -32,7 +32,8 @@ use crate::CompileError;
 /// trailing arguments of the functions that read it, in binding order; callers pass theirs on.
 pub(crate) fn resources_as_arguments(lib: &Library) -> Result<(Module, naga::valid::ModuleInfo), CompileError> {
     let mut module = lib.module.clone();
-    let by_name = |name: &str| module.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some(name)).map(|(h, _)| h);
+    let by_name =
+        |name: &str| module.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some(name)).map(|(h, _)| h);
     let order: Vec<Handle<naga::GlobalVariable>> = lib.bindings.iter().filter_map(|b| by_name(&b.name)).collect();
     if order.len() != module.global_variables.len() {
         return Err(err("hlsl arguments", "a global of the library is no listed resource"));
@@ -43,7 +44,8 @@ pub(crate) fn resources_as_arguments(lib: &Library) -> Result<(Module, naga::val
         .iter()
         .map(|(fh, _)| (fh, order.iter().copied().filter(|g| !lib.info[fh][*g].is_empty()).collect()))
         .collect();
-    let used = |fh: Handle<naga::Function>| uses.iter().find(|(h, _)| *h == fh).map(|(_, u)| u.clone()).unwrap_or_default();
+    let used =
+        |fh: Handle<naga::Function>| uses.iter().find(|(h, _)| *h == fh).map(|(_, u)| u.clone()).unwrap_or_default();
     for (fh, f) in module.functions.iter_mut() {
         let mine = used(fh);
         let base = f.arguments.len() as u32;
@@ -54,7 +56,9 @@ pub(crate) fn resources_as_arguments(lib: &Library) -> Result<(Module, naga::val
         let index = |g: Handle<naga::GlobalVariable>| mine.iter().position(|m| *m == g).map(|i| base + i as u32);
         for (_, e) in f.expressions.iter_mut() {
             if let Expression::GlobalVariable(g) = *e {
-                *e = Expression::FunctionArgument(index(g).ok_or_else(|| err("hlsl arguments", "a resource read outside its function's uses"))?);
+                *e = Expression::FunctionArgument(
+                    index(g).ok_or_else(|| err("hlsl arguments", "a resource read outside its function's uses"))?,
+                );
             }
         }
         // The arguments callers pass on: one expression per resource, appended once.
@@ -136,7 +140,10 @@ fn reads(lib: &Library, function: &str) -> Vec<usize> {
 }
 
 fn include_guard(prefix: &str, stem: &str, what: &str) -> String {
-    format!("{prefix}_{stem}_{what}").chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_uppercase() } else { '_' }).collect()
+    format!("{prefix}_{stem}_{what}")
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_uppercase() } else { '_' })
+        .collect()
 }
 
 /// `NAME.unity.hlsl`: the Custom Function file for Unity's Shader Graph (File mode).
@@ -152,7 +159,8 @@ pub fn unity(p: &Pipeline, lib: &Library, opts: &LibraryOptions) -> Result<Strin
     let _ = writeln!(s, "// Custom Function node: Type File, this file as Source, Name `{node}` (Shader Graph calls");
     let _ = writeln!(s, "// `{node}_float` or `{node}_half` by the node's precision). Inputs, in order:");
     let _ = writeln!(s, "//   UV (Vector 2): the texture coordinate; ViewTS (Vector 3): the normalized tangent-space");
-    let _ = writeln!(s, "//   direction from the camera to the fragment (z < 0); DepthScale (Float): the relief's depth");
+    let _ =
+        writeln!(s, "//   direction from the camera to the fragment (z < 0); DepthScale (Float): the relief's depth");
     let _ = writeln!(s, "//   in texture units;");
     if lib.has_shadow {
         let _ = writeln!(s, "//   LightTS (Vector 3): the normalized tangent-space direction toward the light;");
@@ -163,12 +171,16 @@ pub fn unity(p: &Pipeline, lib: &Library, opts: &LibraryOptions) -> Result<Strin
     }
     let _ = writeln!(s, "// Outputs: HitUV (Vector 2): where to shade; HitHeight (Float): the height there (1 at the");
     let _ = writeln!(s, "//   polygon); DepthOffset (Float): the distance behind the polygon along the view ray, in");
-    let _ = writeln!(s, "//   texture units (pixel depth offset){}.", match (lib.has_shadow, lib.has_ao) {
-        (true, true) => "; Shadow (Float): the light's visibility; AO (Float): ambient occlusion",
-        (true, false) => "; Shadow (Float): the light's visibility",
-        (false, true) => "; AO (Float): ambient occlusion",
-        (false, false) => "",
-    });
+    let _ = writeln!(
+        s,
+        "//   texture units (pixel depth offset){}.",
+        match (lib.has_shadow, lib.has_ao) {
+            (true, true) => "; Shadow (Float): the light's visibility; AO (Float): ambient occlusion",
+            (true, false) => "; Shadow (Float): the light's visibility",
+            (false, true) => "; AO (Float): ambient occlusion",
+            (false, false) => "",
+        }
+    );
     let _ = writeln!(
         s,
         "// Edge mode assumed by stages that address texels themselves: {}; set the textures' wrap mode to match.",
@@ -190,7 +202,8 @@ pub fn unity(p: &Pipeline, lib: &Library, opts: &LibraryOptions) -> Result<Strin
         let _ = writeln!(s, "    {node}Hit hit = {};", call("trace", "(float2)UV, (float3)ViewTS, (float)DepthScale"));
         let _ = writeln!(s, "    HitUV = ({scalar}2)hit.uv;\n    HitHeight = ({scalar})hit.height;\n    DepthOffset = ({scalar})hit.depth_offset;");
         if lib.has_shadow {
-            let _ = writeln!(s, "    Shadow = ({scalar}){};", call("shadow", "hit, (float3)LightTS, (float)DepthScale"));
+            let _ =
+                writeln!(s, "    Shadow = ({scalar}){};", call("shadow", "hit, (float3)LightTS, (float)DepthScale"));
         }
         if lib.has_ao {
             let _ = writeln!(s, "    AO = ({scalar}){};", call("ao", "hit"));
@@ -217,7 +230,11 @@ fn unity_params(lib: &Library, pre: &str, scalar: &str) -> Vec<String> {
     for b in &lib.bindings {
         params.push(format!("{} {}", unity_type(b.kind).0, input_name(pre, &b.name)));
     }
-    params.extend([format!("out {scalar}2 HitUV"), format!("out {scalar} HitHeight"), format!("out {scalar} DepthOffset")]);
+    params.extend([
+        format!("out {scalar}2 HitUV"),
+        format!("out {scalar} HitHeight"),
+        format!("out {scalar} DepthOffset"),
+    ]);
     if lib.has_shadow {
         params.push(format!("out {scalar} Shadow"));
     }
@@ -247,15 +264,19 @@ pub fn unreal(p: &Pipeline, lib: &Library, opts: &LibraryOptions) -> Result<(Str
 
     let wrap = if opts.edge_clamp { "Clamped" } else { "Wrapped" };
     let mut node = String::new();
-    let _ = writeln!(node, "// Code of an Unreal Custom material expression for the pipeline `{p}` (relief gen --library");
-    let _ = writeln!(node, "// --target unreal). Include File Paths: the virtual path of `{stem}.ush` in your project.");
+    let _ =
+        writeln!(node, "// Code of an Unreal Custom material expression for the pipeline `{p}` (relief gen --library");
+    let _ =
+        writeln!(node, "// --target unreal). Include File Paths: the virtual path of `{stem}.ush` in your project.");
     let _ = writeln!(node, "// Output Type: Float 4 = (hit uv, hit height, pixel depth offset in texture units).");
-    let _ = writeln!(node, "// Inputs: UV (float2), ViewTS (float3: normalized tangent-space direction from the camera,");
+    let _ =
+        writeln!(node, "// Inputs: UV (float2), ViewTS (float3: normalized tangent-space direction from the camera,");
     let _ = write!(node, "// z < 0), DepthScale (float: the relief's depth in texture units)");
     if lib.has_shadow {
         let _ = write!(node, ", LightTS (float3: toward the light)");
     }
-    let textures: Vec<&crate::compose::library::LibraryBinding> = lib.bindings.iter().filter(|b| b.kind != ResourceKind::Sampler).collect();
+    let textures: Vec<&crate::compose::library::LibraryBinding> =
+        lib.bindings.iter().filter(|b| b.kind != ResourceKind::Sampler).collect();
     for b in &textures {
         let _ = write!(node, ",\n//   {} (Texture Object: {})", input_name(pre, &b.name), b.what);
     }
@@ -263,11 +284,17 @@ pub fn unreal(p: &Pipeline, lib: &Library, opts: &LibraryOptions) -> Result<(Str
     match (lib.has_shadow, lib.has_ao) {
         (false, false) => {}
         (shadow, ao) => {
-            let names: Vec<&str> = [("Shadow", shadow), ("AO", ao)].into_iter().filter(|(_, on)| *on).map(|(n, _)| n).collect();
+            let names: Vec<&str> =
+                [("Shadow", shadow), ("AO", ao)].into_iter().filter(|(_, on)| *on).map(|(n, _)| n).collect();
             let _ = writeln!(node, "// Additional Outputs (Float 1): {}.", names.join(", "));
         }
     }
-    let _ = writeln!(node, "// Samplers: the view's shared {} samplers (edge mode {}).", wrap.to_lowercase(), if opts.edge_clamp { "clamp" } else { "repeat" });
+    let _ = writeln!(
+        node,
+        "// Samplers: the view's shared {} samplers (edge mode {}).",
+        wrap.to_lowercase(),
+        if opts.edge_clamp { "clamp" } else { "repeat" }
+    );
     let call = |f: &str, own: &str| -> String {
         let mut args = vec![own.to_string()];
         for i in reads(lib, &format!("{pre}_{f}")) {

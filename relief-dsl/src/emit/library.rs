@@ -128,9 +128,18 @@ pub(crate) fn header_lines(p: &Pipeline, lib: &Library, opts: &LibraryOptions, l
             );
         }
         Lang::GlslEs => {
-            let _ = writeln!(h, "// GLSL ES 3.00 (WebGL2): put after `#version 300 es` (three.js and Babylon.js add it). Resources:");
-            let _ = writeln!(h, "// sampler uniforms, bound by name (ES 3.00 has no binding qualifiers); a texture takes the");
-            let _ = writeln!(h, "// sampler's filtering from the application; the samplers below have no uniform in GLSL ES:");
+            let _ = writeln!(
+                h,
+                "// GLSL ES 3.00 (WebGL2): put after `#version 300 es` (three.js and Babylon.js add it). Resources:"
+            );
+            let _ = writeln!(
+                h,
+                "// sampler uniforms, bound by name (ES 3.00 has no binding qualifiers); a texture takes the"
+            );
+            let _ = writeln!(
+                h,
+                "// sampler's filtering from the application; the samplers below have no uniform in GLSL ES:"
+            );
         }
         Lang::Msl => {
             let _ =
@@ -246,9 +255,11 @@ fn glsl_text(lib: &Library, opts: &LibraryOptions, es: bool) -> Result<String, C
         })?;
         binding_map.insert(naga::ResourceBinding { group: b.group, binding: b.binding }, n);
     }
-    let version = if es { glsl::Version::Embedded { version: 300, is_webgl: true } } else { glsl::Version::Desktop(450) };
+    let version =
+        if es { glsl::Version::Embedded { version: 300, is_webgl: true } } else { glsl::Version::Desktop(450) };
     let options = glsl::Options { version, binding_map, ..glsl::Options::default() };
-    let pipeline = glsl::PipelineOptions { shader_stage: ShaderStage::Fragment, entry_point: "main".into(), multiview: None };
+    let pipeline =
+        glsl::PipelineOptions { shader_stage: ShaderStage::Fragment, entry_point: "main".into(), multiview: None };
     let mut out = String::new();
     glsl::Writer::new(&mut out, &module, &info, &options, &pipeline, Default::default())
         .map_err(|e| err("glsl", e))?
@@ -385,7 +396,8 @@ pub enum Form {
 
 impl Form {
     /// Every form, in the order of `--target`'s list.
-    pub const ALL: [Form; 8] = [Form::Wgsl, Form::Wesl, Form::Glsl, Form::GlslEs, Form::Hlsl, Form::Msl, Form::Unity, Form::Unreal];
+    pub const ALL: [Form; 8] =
+        [Form::Wgsl, Form::Wesl, Form::Glsl, Form::GlslEs, Form::Hlsl, Form::Msl, Form::Unity, Form::Unreal];
     /// The forms written when no `--target` is named.
     pub const DEFAULT: [Form; 4] = [Form::Wgsl, Form::Glsl, Form::Hlsl, Form::Msl];
 
@@ -410,7 +422,11 @@ impl Form {
             return Ok(f);
         }
         let names: Vec<&str> = Form::ALL.iter().map(|f| f.name()).collect();
-        let near = names.iter().copied().min_by_key(|n| strsim::levenshtein(n, name)).filter(|n| strsim::levenshtein(n, name) <= 2);
+        let near = names
+            .iter()
+            .copied()
+            .min_by_key(|n| strsim::levenshtein(n, name))
+            .filter(|n| strsim::levenshtein(n, name) <= 2);
         Err(CompileError {
             stage: "library".into(),
             message: format!(
@@ -472,7 +488,15 @@ pub fn library(p: &Pipeline, opts: &LibraryOptions) -> Result<LibraryFiles, Comp
     let mut texts = forms.files.into_iter().map(|f| f.text);
     let mut next = || texts.next().unwrap_or_default();
     let (wgsl, glsl, hlsl, msl) = (next(), next(), next(), next());
-    Ok(LibraryFiles { wgsl, glsl, hlsl, msl, bindings: forms.bindings, has_shadow: forms.has_shadow, has_ao: forms.has_ao })
+    Ok(LibraryFiles {
+        wgsl,
+        glsl,
+        hlsl,
+        msl,
+        bindings: forms.bindings,
+        has_shadow: forms.has_shadow,
+        has_ao: forms.has_ao,
+    })
 }
 
 /// Builds the library of `p` and writes it in each of `forms`. The options are checked
@@ -560,9 +584,10 @@ pub fn inexpressible_in(p: &Pipeline, form: Form) -> Option<String> {
 }
 
 fn glsl_es_refusal(lib: &Library) -> Option<String> {
-    let gathers = lib.module.functions.iter().any(|(_, f)| {
-        f.expressions.iter().any(|(_, e)| matches!(e, Expression::ImageSample { gather: Some(_), .. }))
-    });
+    let gathers =
+        lib.module.functions.iter().any(|(_, f)| {
+            f.expressions.iter().any(|(_, e)| matches!(e, Expression::ImageSample { gather: Some(_), .. }))
+        });
     gathers.then(|| "GLSL ES 3.00 (WebGL2) has no textureGather, which a stage of this pipeline uses (sample=gather or a min4 read): not expressible as glsl-es".to_string())
 }
 

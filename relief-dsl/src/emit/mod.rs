@@ -78,4 +78,7 @@ pub fn emit(p: &crate::spec::Pipeline) -> Result<Outputs, CompileError> {
 pub mod engines;
 pub mod library;
 pub mod limits;
-pub use library::{inexpressible_in, library, library_forms, Form, LibraryBinding, LibraryFile, LibraryFiles, LibraryForms, LibraryOptions, ResourceKind};
+pub use library::{
+    inexpressible_in, library, library_forms, Form, LibraryBinding, LibraryFile, LibraryFiles, LibraryForms,
+    LibraryOptions, ResourceKind,
+};

@@ -84,7 +84,13 @@ fn preference(t: wgpu::DeviceType) -> u8 {
 /// type (a discrete GPU, an integrated one, a virtual one, any other, a CPU device last), the
 /// first of equals (wgpu lists Vulkan before GL).
 pub fn choose(infos: &[wgpu::AdapterInfo], wanted: Option<&str>) -> Result<usize, GpuError> {
-    let list = || infos.iter().map(|i| format!("{} ({:?}, {:?})", i.name, i.backend, i.device_type)).collect::<Vec<_>>().join("; ");
+    let list = || {
+        infos
+            .iter()
+            .map(|i| format!("{} ({:?}, {:?})", i.name, i.backend, i.device_type))
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
     match wanted {
         Some(w) => {
             let lower = w.to_lowercase();
@@ -93,7 +99,9 @@ pub fn choose(infos: &[wgpu::AdapterInfo], wanted: Option<&str>) -> Result<usize
                 seen: if infos.is_empty() { "none".into() } else { list() },
             })
         }
-        None => (0..infos.len()).min_by_key(|&i| preference(infos[i].device_type)).ok_or_else(|| GpuError::NoAdapter("wgpu sees none".into())),
+        None => (0..infos.len())
+            .min_by_key(|&i| preference(infos[i].device_type))
+            .ok_or_else(|| GpuError::NoAdapter("wgpu sees none".into())),
     }
 }
 
@@ -205,11 +213,20 @@ mod tests {
         ];
         assert_eq!(choose(&seen, None).unwrap(), 3, "a discrete GPU first");
         assert_eq!(choose(&seen[..3], None).unwrap(), 1, "then an integrated one");
-        assert_eq!(choose(&[seen[0].clone(), seen[2].clone()], None).unwrap(), 0, "the first of equals: Vulkan before GL");
+        assert_eq!(
+            choose(&[seen[0].clone(), seen[2].clone()], None).unwrap(),
+            0,
+            "the first of equals: Vulkan before GL"
+        );
         assert_eq!(choose(&seen, Some("LLVMPIPE")).unwrap(), 0, "any case, the first match");
         assert_eq!(choose(&seen, Some("uhd")).unwrap(), 1);
         let e = choose(&seen, Some("radeon")).unwrap_err().to_string();
-        assert!(e.contains("no adapter matches `radeon`") && e.contains("NVIDIA GeForce RTX 4070 (Vulkan, DiscreteGpu)") && !e.contains('\n'), "{e}");
+        assert!(
+            e.contains("no adapter matches `radeon`")
+                && e.contains("NVIDIA GeForce RTX 4070 (Vulkan, DiscreteGpu)")
+                && !e.contains('\n'),
+            "{e}"
+        );
         assert!(choose(&[], None).is_err());
     }
 }

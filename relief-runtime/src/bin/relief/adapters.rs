@@ -19,7 +19,9 @@ pub fn run() -> anyhow::Result<()> {
     }
     match (chosen, wanted) {
         (Some(_), Some(w)) => println!("* the adapter matching `{w}` ({ADAPTER_VAR} / --adapter)"),
-        (Some(_), None) => println!("* the adapter used (hardware preferred; pick another with --adapter SUBSTRING or {ADAPTER_VAR})"),
+        (Some(_), None) => {
+            println!("* the adapter used (hardware preferred; pick another with --adapter SUBSTRING or {ADAPTER_VAR})")
+        }
         (None, Some(w)) => anyhow::bail!("no adapter matches `{w}` (--adapter / {ADAPTER_VAR})"),
         (None, None) => {}
     }

@@ -80,7 +80,11 @@ pub fn forms(args: &GenArgs) -> anyhow::Result<Vec<Form>> {
     }
     let mut forms = Vec::new();
     for name in &args.target {
-        let named = if name == "all" { Form::ALL.to_vec() } else { vec![Form::from_name(name.trim()).map_err(|e| anyhow::anyhow!("--target: {}", e.message))?] };
+        let named = if name == "all" {
+            Form::ALL.to_vec()
+        } else {
+            vec![Form::from_name(name.trim()).map_err(|e| anyhow::anyhow!("--target: {}", e.message))?]
+        };
         for f in named {
             if !forms.contains(&f) {
                 forms.push(f);
