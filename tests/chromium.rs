@@ -83,7 +83,7 @@ fn user_fragment(lib: &relief::dsl::emit::LibraryForms, es: bool) -> String {
     }
     s += &format!("    {hit_ty} = relief_trace(uv, normalize(view), 0.08);\n");
     if lib.has_shadow {
-        s += &format!("    shade *= relief_shadow(hit, normalize(vec3(0.3, 0.2, 0.9)), 0.08);\n");
+        s += "    shade *= relief_shadow(hit, normalize(vec3(0.3, 0.2, 0.9)), 0.08);\n";
     }
     if lib.has_ao {
         s += "    shade *= relief_ao(hit);\n";

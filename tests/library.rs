@@ -673,7 +673,7 @@ fn unreal_custom_node_compiles_against_the_unreal_stub() {
             let sampler = if edge_clamp { "Clamped" } else { "Wrapped" };
             if lib.bindings.iter().any(|b| b.kind == ResourceKind::Sampler) {
                 assert!(
-                    node.contains(&format!("View.Shared")) && node.contains(&format!("{sampler}Sampler")),
+                    node.contains("View.Shared") && node.contains(&format!("{sampler}Sampler")),
                     "{p}: the node's samplers follow the edge mode"
                 );
             }
