@@ -94,6 +94,12 @@ pub(super) fn ahead<'a>(s: &'a Stage<'a>, speed: Val<'a, Vec2>) -> Val<'a, Vec2>
 /// One pass of a safe march at `t` in cell `c`: the cone step to `cone` when it leaves the
 /// cell (never past the floor); otherwise the cell's patch decides: its first hit, or the
 /// cell's exit. Returns whether the patch was hit (`t` is then the hit).
+///
+/// Why: the cell's cone keeps the surface below it only from the cell's highest corner up, so
+/// from a point below that corner (or under a narrow cone) the cone step is zero or tiny and
+/// a march of cone steps alone would stall there; the patch's exact quadratic either finds
+/// the hit or proves the ray above the patch to the cell's exit, so every pass leaves its
+/// cell or ends the search.
 fn step_or_meet<'a>(
     s: &'a Stage<'a>,
     ray: &Ray<'a>,
@@ -242,40 +248,63 @@ pub(super) fn patch_root<'a>(
 pub(super) trait CellStep<'a>: Fn(&'a Stage<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32> {}
 impl<'a, F: Fn(&'a Stage<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32>> CellStep<'a> for F {}
 
-/// The march of the `form=safe` conservative cone methods: from the entry, `step(p, cell)`
-/// (a cone step from the cell's apex, never past the surface) while it leaves the cell;
-/// otherwise the cell's patch decides: the hit, or the cell's exit. Returns the bracket
-/// `[hit, hit]`, or, out of steps, the point reached (above the surface everywhere before it).
+/// The march of the `form=safe` conservative cone methods (the method's step rule is
+/// `step(p, cell)`, a cone step from the cell's apex), one pass per cell left:
+///
+/// 1. stop if the search is over;
+/// 2. find the cell of the ray point at t, where the ray leaves it and how far the method's
+///    cone lets it advance;
+/// 3. advance: by the cone step where it leaves the cell, else to the cell's patch's first
+///    hit or to the cell's exit ([`step_or_meet`]: what the safe form adds so that a pass
+///    never stalls and never passes the surface between texel centres);
+/// 4. the search is over at a hit on the patch, or on the floor (no height is below 0).
+///
+/// Returns the bracket `[hit, hit]`, or, out of steps, the point reached (above the surface
+/// everywhere before it).
 pub(super) fn safe_march<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, step: impl CellStep<'a>) -> Bracket<'a> {
     let t = s.var("t", 0.0);
     let found = s.var("found", false);
     s.repeat(steps, |l| {
+        // 1. Over?
         l.break_if(found.get());
+        // 2. The cell, its exit, and the cone step.
         let c = cell_at(l, ray, t.get());
         let cone = t.get() + step(l, ray.at(t), &c);
-        // Reaching the floor is a hit too (no height is below 0).
-        found.set(step_or_meet(l, ray, &c, t, cone) | t.ge(ray.t_max()));
+        // 3. Advance: the cone step, or the patch's answer.
+        let patch_hit = step_or_meet(l, ray, &c, t, cone);
+        // 4. A hit on the patch or the floor ends the search.
+        found.set(patch_hit | t.ge(ray.t_max()));
     });
     Bracket::searched(t.get(), t.get(), found.get())
 }
 
-/// The march of the `form=safe` relaxed cone methods: `step(p, cell)` is a relaxed cone step,
-/// after which the ray may be under the surface (it crossed it once, inside the cone: the
-/// cell relaxed cone's guarantee), and the bracket `[previous point, point]` holds the first
-/// crossing. A step that stays in the cell is replaced by the patch's exact answer, as in
-/// [`safe_march`].
+/// The march of the `form=safe` relaxed cone methods (`step(p, cell)` is a relaxed cone step:
+/// after it the ray may be under the surface, having crossed it once inside the cone, the cell
+/// relaxed cone's guarantee), one pass per point visited:
+///
+/// 1. stop if the search is over;
+/// 2. find the cell of the ray point at t; if the point is at or below the cell's patch (or
+///    on the floor), the search is over: the first crossing lies in `[previous point, t]`;
+/// 3. take the relaxed cone step from t, remembering t as the previous point;
+/// 4. where that step would stay in the cell, the patch decides instead ([`step_or_meet`], as
+///    in [`safe_march`]): at a hit on the patch the search is over with the bracket
+///    `[hit, hit]`, else the ray moves on to the cell's exit.
 pub(super) fn relaxed_march<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, step: impl CellStep<'a>) -> Bracket<'a> {
     let t = s.var("t", 0.0);
     let t_prev = s.var("t_prev", 0.0);
     let found = s.var("found", false);
     s.repeat(steps, |l| {
+        // 1. Over?
         l.break_if(found.get());
+        // 2. The cell; under its patch (or at the floor), the bracket is found.
         let c = cell_at(l, ray, t.get());
         let p = ray.at(t);
         found.set(c.height(l, ray, t.get()).ge(p.z()) | t.ge(ray.t_max()));
         l.break_if(found.get());
+        // 3. The relaxed cone step.
         let cone = t.get() + step(l, p, &c);
         t_prev.set(t);
+        // 4. Or the patch's answer where the step stays in the cell.
         let hit = step_or_meet(l, ray, &c, t, cone);
         l.if_(hit, |_| {
             t_prev.set(t);

@@ -156,17 +156,21 @@ fn ratio<'a>(s: &'a Stage<'a>, uv: Val<'a, crate::ir::Vec2>, sample: ConeSample)
 /// side of the conservative cone below.
 pub fn csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form, sample: ConeSample) -> Bracket<'a> {
     match form {
-        Form::Safe => safe_march(s, ray, steps, |s, p, c| {
-            let (cone, apex) = c.cones_and_apex(s, MapReq::CellCone);
-            let r = cone.x().named("r");
-            cone_step(ray, r, c.clearance(p.z(), apex, r))
-        }),
+        Form::Safe => safe_march(s, ray, steps, |s, p, c| cell_cone_step(s, ray, p, c)),
         Form::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let r = ratio(s, p.xy(), sample).named("r");
             cone_step(ray, r, p.z() - h)
         })
         .conservative(),
     }
+}
+
+/// The safe CSM step from the ray point `p` in cell `c`: the cone step from the cell's apex on
+/// its cone in the cell cone map (how far, in t, the ray stays above the surface).
+pub(super) fn cell_cone_step<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, p: Val<'a, Vec3>, c: &Cell<'a>) -> Val<'a, f32> {
+    let (cone, apex) = c.cones_and_apex(s, MapReq::CellCone);
+    let r = cone.x().named("r");
+    cone_step(ray, r, c.clearance(p.z(), apex, r))
 }
 
 /// `csm(steps, form, sample)`: [`csm`] in the catalogue.

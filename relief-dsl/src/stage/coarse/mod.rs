@@ -6,6 +6,7 @@ pub(crate) mod cone;
 pub(crate) mod linear;
 pub(crate) mod maxmip;
 pub(crate) mod parallax;
+pub(crate) mod relax;
 pub(crate) mod sphere;
 
 use crate::spec::MethodDef;
@@ -30,5 +31,7 @@ pub(crate) fn methods() -> Vec<MethodDef> {
         cone::pcns_def(),
         sphere::sphere_def(),
         maxmip::maxmip_def(),
+        relax::csm_relax_def(),
+        relax::sphere_relax_def(),
     ]
 }

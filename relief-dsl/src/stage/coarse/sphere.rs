@@ -1,6 +1,6 @@
 //! Sphere tracing a distance field.
 
-use crate::ir::Stage;
+use crate::ir::{Stage, Val, Vec3};
 use crate::spec::{MapReq, MethodDef, ParamDef};
 use crate::stage::{Bracket, Build, Ray};
 
@@ -14,8 +14,12 @@ use crate::stage::{Bracket, Build, Ray};
 /// gap exactly ([`super::cell::safe_march`]), so the search neither stalls nor passes the
 /// first hit.
 pub fn sphere<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
-    let speed = ray.dir.length();
-    super::cell::safe_march(s, ray, steps, |s, p, _| s.distance(p) / speed)
+    super::cell::safe_march(s, ray, steps, |s, p, _| sphere_step(s, ray, p))
+}
+
+/// The sphere-tracing step from the ray point `p`: the field's distance, in t.
+pub(super) fn sphere_step<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, p: Val<'a, Vec3>) -> Val<'a, f32> {
+    s.distance(p) / ray.dir.length()
 }
 
 /// `sphere(steps)`: [`sphere`] in the catalogue.
