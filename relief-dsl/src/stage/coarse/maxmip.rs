@@ -18,7 +18,8 @@ use crate::stage::{Bracket, Build, Ray};
 ///
 /// 1. find the node of the current level the ray is in, its maximum, where the ray leaves
 ///    it (`exit`) and where it comes down to the maximum (`down`);
-/// 2. if the ray stays above the maximum through the node, skip the node and climb a level;
+/// 2. if the ray stays above the maximum through the node, skip the node, and climb a level
+///    where it also leaves the node's parent;
 /// 3. else, above the finest level, descend into the node at `down`;
 /// 4. else (one cell) meet the cell's bilinear patch between `down` and `exit`: the hit, or
 ///    on to the exit.
@@ -52,10 +53,12 @@ pub fn maxmip<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
         let exit_y = s.select(speed.y().ge(0.0), (node.y() + 1.0) * span - x.y(), node.y() * span - x.y()) / speed.y();
         let exit = t + exit_x.abs().min(exit_y.abs()).min(ray.t_max() - t);
         let down = ((node_max - 1.0) / fall).max(t);
-        // 2. Above the node's maximum all through it: skip the node, climb.
+        // 2. Above the node's maximum all through it: skip the node, and climb where the ray
+        //    leaves the parent node too ([`leaves_parent`]).
         l.if_(!down.lt(exit), |l| {
             t.set(exit);
-            level.set((level + 1.0).min(top));
+            let up = leaves_parent(l, node, speed, exit_x.abs().le(exit_y.abs()));
+            level.set(l.select(up, (level + 1.0).min(top), level.get()));
             l.continue_();
         });
         // 3. Below it, on a coarser level: descend.
@@ -73,6 +76,25 @@ pub fn maxmip<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     // known to be above the surface up to where the traversal stopped.
     let end = t.get().min(ray.t_max());
     Bracket::searched(end, end, hit | t.ge(ray.t_max()))
+}
+
+/// Whether a ray leaving `node` (whole node coordinates at its level) through its side along x
+/// (`by_x`, else along y), moving `speed`, also leaves the node's parent at the next level up:
+/// the neighbour it enters has another parent. Why: climbing inside the same parent fetches
+/// the parent's maximum, which the ray was already below when it descended into this node, so
+/// the pass after would only descend again; staying at the level skips that pair of passes. The
+/// choice of level changes only how far a pass may skip, never the guarantee (every node's
+/// maximum bounds the surface under it).
+fn leaves_parent<'a>(
+    s: &'a Stage<'a>,
+    node: Val<'a, Vec2>,
+    speed: Val<'a, Vec2>,
+    by_x: Val<'a, bool>,
+) -> Val<'a, bool> {
+    // A node's parity along an axis: 0 for the lower child of its parent, 1 for the upper.
+    let parity = node - 2.0 * (node / 2.0).floor();
+    let leaves = |odd: Val<'a, f32>, v: Val<'a, f32>| s.select(v.ge(0.0), odd.gt(0.5), odd.lt(0.5));
+    s.select(by_x, leaves(parity.x(), speed.x()), leaves(parity.y(), speed.y()))
 }
 
 /// `maxmip(steps)`: [`maxmip`] in the catalogue.
