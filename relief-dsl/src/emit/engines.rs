@@ -4,7 +4,7 @@
 //! Neither engine lets a material function read global textures that the library declares:
 //! Shader Graph hands a Custom Function its textures as `UnityTexture2D` /
 //! `UnitySamplerState` arguments, and Unreal hands a Custom node its texture objects as
-//! `Texture2D` arguments. Both forms therefore start from [`resources_as_arguments`]: the
+//! `Texture2D` arguments. Both forms therefore start from `resources_as_arguments`: the
 //! library module with every texture and sampler turned into a function argument (the
 //! convention naga's MSL backend follows), written by naga's HLSL backend. Each public
 //! function takes, after its own arguments, the resources it reads in binding order.
