@@ -54,6 +54,8 @@ pub(crate) fn err(target: &str, e: impl std::fmt::Debug) -> CompileError {
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Lang {
     Wgsl,
+    /// WGSL with the resources as trailing arguments (three.js TSL's `wgslFn`).
+    WgslArgs,
     Glsl,
     GlslEs,
     Hlsl,
@@ -70,20 +72,33 @@ pub(crate) fn header_lines(p: &Pipeline, lib: &Library, opts: &LibraryOptions, l
     let _ = writeln!(h, "// struct {hit} {{ uv: vec2<f32>, height: f32, t: f32, depth_offset: f32 }}");
     // Metal takes each resource a function reads as an extra argument, in the order of the
     // module's globals (naga's MSL convention).
+    // The TSL form takes them in binding order ([`super::engines::resources_as_arguments`]).
     let extra = |name: &str| -> String {
-        if lang != Lang::Msl {
+        if lang != Lang::Msl && lang != Lang::WgslArgs {
             return String::new();
         }
         let Some((fh, _)) = lib.module.functions.iter().find(|(_, f)| f.name.as_deref() == Some(name)) else {
             return String::new();
         };
-        let args: Vec<String> = lib
-            .module
-            .global_variables
-            .iter()
-            .filter(|(g, _)| !lib.info[fh][*g].is_empty())
-            .filter_map(|(_, g)| g.name.clone())
-            .collect();
+        let reads = |g: &str| {
+            lib.module
+                .global_variables
+                .iter()
+                .any(|(h, gv)| gv.name.as_deref() == Some(g) && !lib.info[fh][h].is_empty())
+        };
+        let args: Vec<String> = if lang == Lang::WgslArgs {
+            lib.bindings.iter().filter(|b| reads(&b.name)).map(|b| b.name.clone()).collect()
+        } else {
+            lib.module
+                .global_variables
+                .iter()
+                .filter(|(g, _)| !lib.info[fh][*g].is_empty())
+                .filter_map(|(_, g)| g.name.clone())
+                .collect()
+        };
+        if args.is_empty() && lang == Lang::WgslArgs {
+            return String::new();
+        }
         format!("\n//     + resource arguments: {}", args.join(", "))
     };
     let _ = writeln!(
@@ -140,6 +155,17 @@ pub(crate) fn header_lines(p: &Pipeline, lib: &Library, opts: &LibraryOptions, l
                 h,
                 "// sampler's filtering from the application; the samplers below have no uniform in GLSL ES:"
             );
+        }
+        Lang::WgslArgs => {
+            let _ = writeln!(
+                h,
+                "// three.js TSL (`wgsl(this)` as an include of your `wgslFn`): no resource is global; each function"
+            );
+            let _ = writeln!(
+                h,
+                "// above takes those it reads as extra arguments after its own, in the order listed (the group and"
+            );
+            let _ = writeln!(h, "// binding numbers are for the other forms; TSL binds what you pass):");
         }
         Lang::Msl => {
             let _ =
@@ -242,6 +268,14 @@ fn with_caller(lib: &Library, prefix: &str) -> Result<(Module, naga::valid::Modu
 
 fn wgsl_text(lib: &Library) -> Result<String, CompileError> {
     wgsl::write_string(&lib.module, &lib.info, wgsl::WriterFlags::empty()).map_err(|e| err("wgsl", e))
+}
+
+/// WGSL of the library with every texture and sampler a trailing argument of the functions
+/// that read it, in binding order: three.js's node system declares the bindings itself, so a
+/// `wgslFn` can only hand the library the textures it was given as arguments.
+fn wgsl_args_text(lib: &Library) -> Result<String, CompileError> {
+    let (module, info) = super::engines::resources_as_arguments(lib)?;
+    wgsl::write_string(&module, &info, wgsl::WriterFlags::empty()).map_err(|e| err("tsl", e))
 }
 
 /// GLSL of the library: an include file for GLSL 450 (`es == false`) or GLSL ES 3.00 for
@@ -384,6 +418,9 @@ pub enum Form {
     Glsl,
     /// `NAME.lib.es.glsl`: GLSL ES 3.00 for WebGL2 (three.js, Babylon.js `ShaderMaterial`).
     GlslEs,
+    /// `NAME.tsl.wgsl`: WGSL with the resources as function arguments, for three.js's
+    /// WebGPU renderer (TSL `wgsl` / `wgslFn`).
+    Tsl,
     /// `NAME.lib.hlsl`: HLSL, shader model 5.1, resources at registers.
     Hlsl,
     /// `NAME.lib.metal`: MSL, resources as arguments.
@@ -396,8 +433,8 @@ pub enum Form {
 
 impl Form {
     /// Every form, in the order of `--target`'s list.
-    pub const ALL: [Form; 8] =
-        [Form::Wgsl, Form::Wesl, Form::Glsl, Form::GlslEs, Form::Hlsl, Form::Msl, Form::Unity, Form::Unreal];
+    pub const ALL: [Form; 9] =
+        [Form::Wgsl, Form::Wesl, Form::Glsl, Form::GlslEs, Form::Tsl, Form::Hlsl, Form::Msl, Form::Unity, Form::Unreal];
     /// The forms written when no `--target` is named.
     pub const DEFAULT: [Form; 4] = [Form::Wgsl, Form::Glsl, Form::Hlsl, Form::Msl];
 
@@ -408,6 +445,7 @@ impl Form {
             Form::Wesl => "wesl",
             Form::Glsl => "glsl",
             Form::GlslEs => "glsl-es",
+            Form::Tsl => "tsl",
             Form::Hlsl => "hlsl",
             Form::Msl => "msl",
             Form::Unity => "unity",
@@ -441,7 +479,7 @@ impl Form {
     pub fn target(self) -> super::limits::Target {
         use super::limits::Target;
         match self {
-            Form::Wgsl | Form::Wesl => Target::Wgsl,
+            Form::Wgsl | Form::Wesl | Form::Tsl => Target::Wgsl,
             Form::Glsl => Target::Glsl,
             Form::GlslEs => Target::GlslEs,
             Form::Hlsl | Form::Unity | Form::Unreal => Target::Hlsl,
@@ -549,6 +587,10 @@ pub fn library_forms(p: &Pipeline, opts: &LibraryOptions, forms: &[Form]) -> Res
                 }
                 let body = glsl_text(&lib, opts, true)?;
                 add(format!("{stem}.lib.es.glsl"), &body, header_lines(p, &lib, opts, Lang::GlslEs) + &body)?;
+            }
+            Form::Tsl => {
+                let body = wgsl_args_text(&lib)?;
+                add(format!("{stem}.tsl.wgsl"), &body, header_lines(p, &lib, opts, Lang::WgslArgs) + &body)?;
             }
             Form::Hlsl => {
                 let body = hlsl_text(&lib)?;

@@ -26,7 +26,7 @@ pub struct GenArgs {
     #[arg(long)]
     pub library: bool,
     /// With --library: the forms to write, comma-separated or repeated: wgsl, wesl, glsl,
-    /// glsl-es (WebGL2), hlsl, msl, unity (Shader Graph Custom Function), unreal (include +
+    /// glsl-es (WebGL2), tsl (three.js WebGPU: WGSL with resources as arguments), hlsl, msl, unity (Shader Graph Custom Function), unreal (include +
     /// Custom node code), or all (default: wgsl,glsl,hlsl,msl).
     #[arg(long, value_delimiter = ',', requires = "library")]
     pub target: Vec<String>,

@@ -1,0 +1,260 @@
+//! three.js as a client of relief's libraries, in a real browser: headless Chromium
+//! (SwiftShader) draws the relief quad with three.js (`tests/browser/pages/threejs.html`,
+//! npm `three` pinned by `tests/browser/package-lock.json`) twice per pipeline:
+//!
+//! - WebGL2: the `glsl-es` library in a `ShaderMaterial` (GLSL3), compiled by ANGLE;
+//! - WebGPU: the `tsl` library (WGSL with the resources as arguments) included by a TSL
+//!   `wgslFn`, on three's `WebGPURenderer`, compiled by Tint.
+//!
+//! Each picture is compared with `relief render`'s frame (the render entry relief composes
+//! itself, drawn by wgpu here) for the same scene, camera and pipeline. The page gets what
+//! relief's own render uses: the textures in the layouts the runtime uploads (heights,
+//! normals, albedo with their mip chains, the acceleration maps), the same filters and edge
+//! mode, the scene's `view_proj`, eye, light and ambient share; the material shades as the
+//! render entry does and writes sRGB like relief's `Rgba8UnormSrgb` target.
+//!
+//! The goal (the bar of `tests/integrate.rs`): a mean absolute difference of at most 1 of
+//! 255 per channel and at most 1 % of the pixels differing by more than 8 in a channel.
+
+#[path = "common/browser.rs"]
+mod browser;
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use browser::{run_page, Page};
+use relief::dsl::emit::{inexpressible_in, library_forms, Form, LibraryOptions};
+use relief::runtime::gpu::{self, Gpu, MapKey, Program, SceneTextures, Upload};
+use relief::runtime::heightmap::EdgeMode;
+use relief::runtime::scene::Scene;
+use relief::Pipeline;
+use serde_json::{json, Value};
+
+/// The frame's side, pixels.
+const SIZE: u32 = 128;
+
+/// The pipelines and scenes drawn: a linear search with binary refinement and a soft shadow
+/// on a real height map, a safe cone method on a rough procedural surface, and the max-mip
+/// traversal on one-texel walls and pillars with clamped edges.
+const CASES: [(&str, &str, EdgeMode); 3] = [
+    ("linear(32)+binary(5)+shadow=soft(16)", "lion", EdgeMode::Repeat),
+    ("csm(64)", "rock_bump", EdgeMode::Repeat),
+    ("maxmip(96)", "shapes", EdgeMode::Clamp),
+];
+
+fn relief_render(g: &Gpu, p: &Pipeline, scene: &Scene) -> Vec<u8> {
+    let program = Program::new(p).unwrap();
+    let mut tex = SceneTextures::new(g, scene);
+    tex.add_maps(g, scene, &p.required_maps()).unwrap();
+    gpu::render(g, &program, scene, &tex, SIZE, 0, 1).unwrap().rgba
+}
+
+/// Writes an upload's levels as raw files `NAME_L{k}.bin` and returns its manifest entry.
+fn write_upload(dir: &Path, name: &str, u: &Upload) -> Value {
+    assert_eq!(u.depth, 1, "{name}: the page draws 2D textures only");
+    let levels: Vec<Value> = u
+        .levels
+        .iter()
+        .enumerate()
+        .map(|(k, bytes)| {
+            let file = format!("{name}_L{k}.bin");
+            std::fs::write(dir.join(&file), bytes).unwrap();
+            json!({ "file": file, "width": (u.width >> k).max(1), "height": (u.height >> k).max(1) })
+        })
+        .collect();
+    json!({ "format": format!("{:?}", u.format), "levels": levels })
+}
+
+/// One case's folder: its textures and its manifest entry (libraries, camera, bindings).
+fn write_case(dir: &Path, i: usize, p: &Pipeline, scene: &Scene, float32: bool) -> Value {
+    let sub = format!("case{i}");
+    let cdir = dir.join(&sub);
+    std::fs::create_dir_all(&cdir).unwrap();
+    let u = gpu::scene_uploads(scene, float32);
+    let mut textures = serde_json::Map::new();
+    textures.insert("height".into(), write_upload(&cdir, "height", &u.height));
+    textures.insert("normal".into(), write_upload(&cdir, "normal", &u.normal));
+    textures.insert("albedo".into(), write_upload(&cdir, "albedo", &u.albedo));
+    let reqs = p.required_maps();
+    for req in &reqs {
+        let Some(key) = MapKey::of(*req) else { continue };
+        let name = format!("map_{}", req.name());
+        textures.insert(name.clone(), write_upload(&cdir, &name, &gpu::map_upload_of(scene, key).unwrap()));
+    }
+    let opts = LibraryOptions { edge_clamp: scene.edge == EdgeMode::Clamp, ..Default::default() };
+    let with_es = inexpressible_in(p, Form::GlslEs).is_none();
+    let forms: &[Form] = if with_es { &[Form::Tsl, Form::GlslEs] } else { &[Form::Tsl] };
+    let lib = library_forms(p, &opts, forms).unwrap_or_else(|e| panic!("{p}: {e}"));
+    // What each of the library's resources takes, as `examples/integrate.rs` binds them.
+    let bindings: Vec<Value> = lib
+        .bindings
+        .iter()
+        .map(|b| {
+            let base = b.name.strip_prefix("relief_").unwrap_or(&b.name);
+            let nearest = base == "sampler_nearest" || base.ends_with("_nearest");
+            let source = match base {
+                "sampler" | "sampler_nearest" => "height".to_string(),
+                "height" | "height_nearest" => "height".to_string(),
+                other => {
+                    let map = other.strip_suffix("_nearest").unwrap_or(other);
+                    assert!(reqs.iter().any(|r| r.name() == map), "{p}: the library reads `{}`", b.name);
+                    format!("map_{map}")
+                }
+            };
+            let kind = if base.starts_with("sampler") { "sampler" } else { "texture" };
+            json!({ "name": b.name, "kind": kind, "source": source, "filter": if nearest { "nearest" } else { "linear" } })
+        })
+        .collect();
+    let eye = scene.camera.camera_position();
+    let l = scene.light_dir.normalize();
+    json!({
+        "pipeline": p.to_string(),
+        "scene": scene.name,
+        "dir": sub,
+        "tsl": lib.files[0].text,
+        "glsl_es": if with_es { json!(lib.files[1].text) } else { Value::Null },
+        "has_shadow": lib.has_shadow,
+        "has_ao": lib.has_ao,
+        "view_proj": scene.camera.view_proj(1.0).to_cols_array(),
+        "eye": [eye.x, eye.y, eye.z, scene.depth_scale],
+        "light": [l.x, l.y, l.z, gpu::AMBIENT],
+        "tiling": scene.tiling,
+        "edge": if scene.edge == EdgeMode::Clamp { "clamp" } else { "repeat" },
+        "textures": textures,
+        "bindings": bindings,
+    })
+}
+
+/// Mean absolute difference per channel (of 255) and the share of pixels with a channel off
+/// by more than 8, over rgb.
+fn compare(a: &[u8], b: &[u8]) -> (f64, f64) {
+    assert_eq!(a.len(), b.len());
+    let (mut sum, mut n, mut big) = (0u64, 0u64, 0u64);
+    for (pa, pb) in a.chunks(4).zip(b.chunks(4)) {
+        let mut worst = 0;
+        for c in 0..3 {
+            let d = (pa[c] as i32 - pb[c] as i32).unsigned_abs();
+            sum += d as u64;
+            n += 1;
+            worst = worst.max(d);
+        }
+        if worst > 8 {
+            big += 1;
+        }
+    }
+    (sum as f64 / n as f64, big as f64 / (a.len() / 4) as f64)
+}
+
+/// The page's pictures come back as hex (RGBA8, top row first).
+fn from_hex(s: &str) -> Vec<u8> {
+    assert!(s.len().is_multiple_of(2) && s.is_ascii(), "a picture's hex has an odd length or stray characters");
+    (0..s.len()).step_by(2).map(|i| u8::from_str_radix(&s[i..i + 2], 16).expect("a picture's hex")).collect()
+}
+
+fn temp_dir() -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("relief-threejs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn threejs_draws_relief_renders_frame_in_webgl2_and_webgpu() {
+    let g = Gpu::new().unwrap();
+    let dir = temp_dir();
+    let mut cases = Vec::new();
+    let mut references = Vec::new();
+    for (i, (pipe, scene, edge)) in CASES.iter().enumerate() {
+        let p: Pipeline = pipe.parse().unwrap();
+        let mut scene = Scene::by_name(scene, Some(64)).unwrap();
+        scene.edge = *edge;
+        cases.push(write_case(&dir, i, &p, &scene, g.float32_filterable));
+        references.push(relief_render(&g, &p, &scene));
+    }
+    std::fs::write(dir.join("manifest.json"), json!({ "size": SIZE, "cases": cases }).to_string()).unwrap();
+    let mut page = Page::new("pages/threejs.html");
+    page.mounts.push(("data", &dir));
+    page.size = (SIZE, SIZE);
+    page.timeout = Duration::from_secs(120);
+    let r = run_page(&page);
+    let keep = std::env::var_os("RELIEF_THREEJS_KEEP").is_some();
+    let mut failures = Vec::new();
+    let mut drawn = 0;
+    for (i, (pipe, scene, _)) in CASES.iter().enumerate() {
+        for api in ["webgl2", "webgpu"] {
+            let pic = &r["cases"][i][api];
+            if pic.is_null() {
+                // Only where the form cannot express the pipeline (no textureGather in ES 3.00).
+                let p: Pipeline = pipe.parse().unwrap();
+                assert!(
+                    api == "webgl2" && inexpressible_in(&p, Form::GlslEs).is_some(),
+                    "{pipe}: no {api} picture: {}",
+                    r["cases"][i]
+                );
+                println!("{pipe} on {scene}, {api}: not drawn (the glsl-es form cannot express it)");
+                continue;
+            }
+            let rgba = from_hex(pic["rgba"].as_str().unwrap_or_else(|| panic!("{pipe} {api}: {pic}")));
+            assert_eq!(rgba.len(), (SIZE * SIZE * 4) as usize, "{pipe} {api}: picture size");
+            let (mad, share) = compare(&rgba, &references[i]);
+            println!(
+                "{pipe} on {scene}, {api} (three.js): mean |difference| {mad:.4} of 255, {:.3} % of pixels off by more than 8",
+                share * 100.0
+            );
+            let lit = rgba.chunks(4).filter(|px| px[0] > 20 || px[1] > 20 || px[2] > 20).count();
+            if mad > 1.0 || share > 0.01 || lit <= (SIZE * SIZE / 3) as usize || keep {
+                for (what, px) in [("threejs", &rgba), ("relief", &references[i])] {
+                    let file = dir.join(format!("case{i}_{api}_{what}.png"));
+                    relief::runtime::io::png::write_rgba8(&file, SIZE, SIZE, px.clone()).unwrap();
+                }
+            }
+            if mad > 1.0 || share > 0.01 {
+                failures.push(format!(
+                    "{pipe} on {scene}, {api}: mean |difference| {mad:.4}, {:.3} % off by > 8 (pictures in {})",
+                    share * 100.0,
+                    dir.display()
+                ));
+            }
+            assert!(lit > (SIZE * SIZE / 3) as usize, "{pipe} {api}: only {lit} lit pixels");
+            drawn += 1;
+        }
+    }
+    assert!(failures.is_empty(), "three.js's pictures differ from relief render's:\n{}", failures.join("\n"));
+    assert!(drawn > CASES.len(), "only {drawn} pictures drawn");
+    if !keep {
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}
+
+/// Every library of `relief gen --all --library` in the `tsl` form is WGSL that naga parses
+/// and validates, and no texture or sampler in it is a global: three.js's node system binds
+/// only what a `wgslFn` is passed.
+#[test]
+fn every_tsl_library_is_valid_wgsl_with_no_global_resource() {
+    let pipelines: Vec<Pipeline> = Pipeline::all_defaults()
+        .into_iter()
+        .filter(|p| relief::dsl::compose::library::inexpressible(p).is_none())
+        .collect();
+    assert!(pipelines.len() >= 300, "only {} pipelines have a library", pipelines.len());
+    for p in &pipelines {
+        let lib = library_forms(p, &LibraryOptions::default(), &[Form::Tsl]).unwrap_or_else(|e| panic!("{p}: {e}"));
+        let text = &lib.files[0].text;
+        assert!(lib.files[0].name.ends_with(".tsl.wgsl"), "{p}: {}", lib.files[0].name);
+        let module = naga::front::wgsl::parse_str(text).unwrap_or_else(|e| panic!("{p}: {}", e.emit_to_string(text)));
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{p}: {e:?}"));
+        assert!(module.global_variables.is_empty(), "{p}: the tsl form declares a global resource");
+        assert!(!text.contains("@group"), "{p}: the tsl form has a binding attribute");
+        // Each resource is an argument of the trace function, as the header lists it.
+        let trace = module.functions.iter().find(|(_, f)| f.name.as_deref() == Some("relief_trace")).unwrap().1;
+        assert!(trace.arguments.len() >= 3, "{p}: relief_trace takes uv, view and depth first");
+        let listed = text
+            .lines()
+            .skip_while(|l| !l.starts_with("// fn relief_trace("))
+            .nth(1)
+            .and_then(|l| l.split("resource arguments: ").nth(1))
+            .map(|l| l.split(", ").count())
+            .unwrap_or(0);
+        assert_eq!(trace.arguments.len(), 3 + listed, "{p}: relief_trace's resource arguments and its header");
+    }
+}
