@@ -590,3 +590,6 @@ impl<'a> Stage<'a> {
         self.stmt(Statement::Kill);
     }
 }
+
+#[cfg(test)]
+mod tests;
