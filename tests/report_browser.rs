@@ -62,8 +62,15 @@ fn the_report_page_answers_above_the_fold_and_its_tables_and_links_work() {
 /// `lion` (one-texel walls) the same is measured and printed, not asserted: two of its three
 /// pipelines miss the goals (docs/browser.md), with the runtime's own Params block as well as
 /// the page's. The page's Params for the measured view are the runtime's.
+///
+/// The same page then runs the measure button's work (every cell timed and probed on
+/// SwiftShader) and `report::add` scores its raw hits with the sweep's scoring: each cell's
+/// RMS t error equals the native sweep's within 1e-4 (the issue's goal: the same WGSL on
+/// the same rays and the same stored heights, so only the devices' filtering and float
+/// rounding can differ), its frame times are positive, and the report has two adapters.
+/// Adding the same adapter again is refused; with `replace` its rows are replaced.
 #[test]
-fn the_live_section_draws_the_sweeps_frames_in_chromium() {
+fn the_live_section_draws_and_measures_the_sweep_in_chromium() {
     let dir = std::env::temp_dir().join(format!("relief-live-page-{}", std::process::id()));
     std::fs::remove_dir_all(&dir).ok();
     let grid = grids::parse_grid_file(
@@ -89,7 +96,8 @@ fn the_live_section_draws_the_sweeps_frames_in_chromium() {
 
     let mut page = Page::new("pages/live.html");
     page.mounts.push(("sweep", &dir));
-    page.timeout = Duration::from_secs(240);
+    page.timeout = Duration::from_secs(400);
+    page.query.push(("measure", "1".into()));
     // RELIEF_LIVE_RUST_PARAMS=1 draws with the runtime's Params block instead of the page's.
     if std::env::var("RELIEF_LIVE_RUST_PARAMS").is_ok() {
         page.query.push(("rust_params", "1".into()));
@@ -128,5 +136,102 @@ fn the_live_section_draws_the_sweeps_frames_in_chromium() {
             );
         }
     }
+
+    // The measure button's file, added to the sweep.
+    let results = &r["results"];
+    assert_eq!(results["format"], "relief-browser-results", "{}", results["format"]);
+    let file = dir.join("browser-results.json");
+    std::fs::write(&file, serde_json::to_vec(results).unwrap()).unwrap();
+    let added = relief::runtime::report::add(&dir, std::slice::from_ref(&file), false).expect("add");
+    assert_eq!(added.len(), 1);
+    assert_eq!(added[0].rows, 6, "{:?}", added[0].set_aside);
+    assert!(added[0].set_aside.is_empty(), "{:?}", added[0].set_aside);
+    let adapter = added[0].adapter.clone();
+    let rows = relief::runtime::results::read(&dir).unwrap().rows;
+    assert_eq!(rows.len(), 12);
+    eprintln!("| pipeline | scene | lavapipe frame ms | browser frame ms | lavapipe ref_err_t_rms | browser ref_err_t_rms | |Δ| |");
+    for b in rows.iter().filter(|r| r.metrics.adapter == adapter) {
+        let m = &b.metrics;
+        let n = rows
+            .iter()
+            .find(|r| {
+                r.metrics.adapter != adapter
+                    && (&r.metrics.pipeline, &r.metrics.scene, r.metrics.size) == (&m.pipeline, &m.scene, m.size)
+            })
+            .expect("the native row");
+        let d = (m.ref_err_t_rms - n.metrics.ref_err_t_rms).abs();
+        eprintln!(
+            "| {} | {} | {:.4} | {:.4} | {:.4e} | {:.4e} | {:.2e} |",
+            m.pipeline,
+            m.scene,
+            n.metrics.frame_ms_median,
+            m.frame_ms_median,
+            n.metrics.ref_err_t_rms,
+            m.ref_err_t_rms,
+            d
+        );
+        assert!(
+            d <= 1e-4,
+            "{} on {}: RMS t error {} in the browser, {} native",
+            m.pipeline,
+            m.scene,
+            m.ref_err_t_rms,
+            n.metrics.ref_err_t_rms
+        );
+        assert!(m.frame_ms_median > 0.0 && m.frame_ms_p10 > 0.0, "{} on {}: frame times {m:?}", m.pipeline, m.scene);
+        assert!(m.ref_err_t_rms.is_finite() && m.avg_fetches > 0.0, "{m:?}");
+    }
+    let report = relief::runtime::report::write(&dir).expect("report");
+    assert_eq!(report.adapters.len(), 2, "{:?}", report.adapters);
+    assert!(report.adapters.contains(&adapter), "{:?}", report.adapters);
+    let tables = std::fs::read_to_string(dir.join("tables.md")).unwrap();
+    assert!(tables.contains("Per adapter: frame time and accuracy"), "no per-adapter table");
+    assert!(tables.contains(&format!("{adapter}: frame ms (median)")), "no column set for {adapter}");
+    // Again: refused; with replace, the six rows are replaced.
+    let again = relief::runtime::report::add(&dir, std::slice::from_ref(&file), false).unwrap_err().to_string();
+    assert!(again.contains("already holds 6 rows") && again.contains("--replace") && !again.contains('\n'), "{again}");
+    let replaced = relief::runtime::report::add(&dir, std::slice::from_ref(&file), true).expect("replace");
+    assert_eq!((replaced[0].rows, replaced[0].replaced), (6, 6));
+    assert_eq!(relief::runtime::results::read(&dir).unwrap().rows.len(), 12);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `report::add` on files that are not a browser's results: each a one-line error naming
+/// the problem; a well-formed row of a cell the sweep does not have is set aside and listed.
+#[test]
+fn adding_what_is_not_a_browser_results_file_is_a_one_line_error() {
+    let dir = std::env::temp_dir().join(format!("relief-add-bad-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("in.json");
+    let add = |text: &str| {
+        std::fs::write(&file, text).unwrap();
+        relief::runtime::report::add(&dir, std::slice::from_ref(&file), false)
+    };
+    let cases = [
+        ("pipeline,scene\nlinear(8),rocks\n", "is not a relief browser results file (not JSON"),
+        (
+            r#"{"format": "relief-results", "version": 1}"#,
+            "its format is `relief-results`, expected `relief-browser-results`",
+        ),
+        (r#"[1, 2]"#, "it has no `format` field"),
+        (
+            r#"{"format": "relief-browser-results", "version": 2}"#,
+            "relief-browser-results version 2, this relief reads version 1",
+        ),
+        (r#"{"format": "relief-browser-results", "version": 1, "adapter": "x"}"#, "not relief-browser-results rows"),
+    ];
+    for (text, want) in cases {
+        let e = format!("{:#}", add(text).expect_err(text));
+        assert!(e.contains(want), "{text}: {e}");
+        assert!(!e.contains('\n'), "{text}: {e}");
+    }
+    let one = r#"{"format": "relief-browser-results", "version": 1, "relief_version": "0", "adapter": "Some GPU",
+        "timer": "wall-clock", "rows": [{"pipeline": "linear(8)", "scene": "scene:rocks", "size": 64, "frame_ms": [1.0],
+        "frames_per_block": 2, "probe_rays": 1, "probe_stride": 1, "hits_b64": ""}]}"#;
+    let added = add(one).expect("a well-formed file");
+    assert_eq!(added[0].rows, 0);
+    assert_eq!(added[0].adapter, "Some GPU (WebGPU, wall-clock)");
+    assert_eq!(added[0].set_aside, vec!["`linear(8)` on scene:rocks at 64²: not in the sweep".to_string()]);
     std::fs::remove_dir_all(&dir).ok();
 }

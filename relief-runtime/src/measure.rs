@@ -7,7 +7,7 @@ use std::path::Path;
 use anyhow::Context;
 
 use crate::gpu::{self, Clock, Gpu, GpuHit, Program, RenderResult, Renderer, SceneTextures};
-use crate::heightmap::EdgeMode;
+use crate::heightmap::{EdgeMode, HeightMap};
 use crate::io;
 use crate::metrics::{self, Metrics};
 use crate::reference::{clip_to_square, ray_levels, reference_hits, reference_hits_at_levels, RefHit, Sampling};
@@ -207,7 +207,6 @@ impl Prepared {
 struct Cell {
     pipeline: relief_dsl::Pipeline,
     program: Program,
-    clip: bool,
 }
 
 impl Cell {
@@ -220,8 +219,7 @@ impl Cell {
         // The scene's level policy applies to a pipeline that names no lod; the metrics record
         // the pipeline as measured.
         let pipeline = prep.scene.pipeline_for(pipeline);
-        let clip = pipeline.silhouette == Silhouette::Clip;
-        if clip && prep.scene.edge != EdgeMode::Clamp {
+        if pipeline.silhouette == Silhouette::Clip && prep.scene.edge != EdgeMode::Clamp {
             anyhow::bail!(
                 "silhouette=clip needs a scene with clamp edges; scene `{}` repeats its height map (set `edge = \"clamp\"` in a scene file)",
                 prep.scene.name
@@ -231,7 +229,7 @@ impl Cell {
         // Checked before the GPU runs: a level the map does not have is an error.
         prep.refs_for(pipeline.lod)?;
         prep.textures.add_maps_lod(gpu, &prep.scene, &pipeline.required_maps(), pipeline.lod)?;
-        Ok(Cell { pipeline, program, clip })
+        Ok(Cell { pipeline, program })
     }
 
     /// The row's naming fields.
@@ -245,34 +243,88 @@ impl Cell {
         }
     }
 
-    /// Probes every ray and scores the hits (accuracy, the SIMD cost model, depth).
+    /// Probes every ray and scores the hits ([`score`]; and the depth buffer).
     fn finish(self, gpu: &Gpu, prep: &mut Prepared, mut m: Metrics, frame: RenderResult) -> anyhow::Result<Measured> {
         let pipeline = &self.pipeline;
         let hits = gpu::probe(gpu, &self.program, &prep.scene, &prep.textures, &prep.rays)?;
-        let edge = prep.scene.edge;
-        let (levels, refs) = match pipeline.lod {
-            Lod::Zero => (Vec::new(), prep.refs.clone()),
-            lod => {
-                let (l, r) = prep.refs_for(lod)?;
-                (l.to_vec(), r.to_vec())
-            }
+        let levels = match pipeline.lod {
+            Lod::Zero => Vec::new(),
+            lod => prep.refs_for(lod)?.0.to_vec(),
         };
-        let refs = if self.clip { clip_to_square(&refs, prep.scene.tiling as f64) } else { refs };
-        if pipeline.lod == Lod::Zero {
-            metrics::set_accuracy(&mut m, &prep.rays, &hits, &refs, &prep.on_device.height, edge);
-        } else {
-            metrics::set_accuracy_levels(&mut m, &prep.rays, &hits, &refs, &prep.textures.height_levels, &levels, edge);
-        }
-        let cost = crate::simd::simd_cost(&prep.rays, &hits);
-        m.simd32_steps = cost.simd32_steps;
-        m.simd64_steps = cost.simd64_steps;
-        m.simd32_fetches = cost.simd32_fetches;
-        m.simd32_divergence = cost.simd32_divergence;
+        let chain = match pipeline.lod {
+            Lod::Zero => std::slice::from_ref(&prep.on_device.height),
+            _ => &prep.textures.height_levels[..],
+        };
+        let reference = Reference {
+            rays: &prep.rays,
+            refs: prep.refs_at(pipeline.lod),
+            chain,
+            levels: &levels,
+            edge: prep.scene.edge,
+            tiling: prep.scene.tiling as f64,
+            whole_frame: true,
+        };
+        let refs = score(&mut m, pipeline, &reference, &hits)?;
         if let Some(depth) = &frame.depth {
             m.depth_err_max = Some(depth_errors(prep, &refs, depth).into_iter().fold(0.0, f64::max));
         }
         Ok(Measured { metrics: m, frame, hits, refs, lod: pipeline.lod })
     }
+}
+
+/// What a pipeline's raw probe hits are scored against ([`score`]).
+pub struct Reference<'a> {
+    /// The probe rays, in the order of the hits.
+    pub rays: &'a [ProbeRay],
+    /// The exact first hit of each ray (same index) on the surface it samples; `None`
+    /// where the reference finds none.
+    pub refs: &'a [Option<RefHit>],
+    /// The height levels as the device stores them, level 0 first (one level for a
+    /// pipeline under `lod=zero`).
+    pub chain: &'a [HeightMap],
+    /// The level each ray samples (empty: level 0 for every ray).
+    pub levels: &'a [usize],
+    /// The scene's edge mode.
+    pub edge: EdgeMode,
+    /// The scene's tiling: the square `silhouette=clip` keeps hits in is [0, tiling]².
+    pub tiling: f64,
+    /// Whether `rays` are every ray of the frame. The SIMD cost model groups neighbouring
+    /// pixels, so on a subsample (every k-th ray) its fields are NaN (not measured).
+    pub whole_frame: bool,
+}
+
+/// Scores a pipeline's raw probe hits against the reference: the accuracy fields of `m`
+/// ([`metrics::set_accuracy_levels`], the rules of [`metrics::Accuracy`]) and the SIMD cost
+/// model ([`crate::simd::simd_cost`]). The one scoring of the sweep, `relief render` and
+/// the hits a browser measured (`relief report --add`). Returns the reference hits scored
+/// against: `reference.refs`, clipped to the quad's square for `silhouette=clip`.
+///
+/// Hits and rays of different counts are an error: scoring the shorter list would hide
+/// the rays without a hit.
+pub fn score(
+    m: &mut Metrics,
+    pipeline: &relief_dsl::Pipeline,
+    reference: &Reference<'_>,
+    hits: &[GpuHit],
+) -> anyhow::Result<Vec<Option<RefHit>>> {
+    let r = reference;
+    if hits.len() != r.rays.len() || r.refs.len() != r.rays.len() {
+        anyhow::bail!(
+            "`{pipeline}`: {} probe hits and {} reference hits for {} rays",
+            hits.len(),
+            r.refs.len(),
+            r.rays.len()
+        );
+    }
+    let refs = if pipeline.silhouette == Silhouette::Clip { clip_to_square(r.refs, r.tiling) } else { r.refs.to_vec() };
+    metrics::set_accuracy_levels(m, r.rays, hits, &refs, r.chain, r.levels, r.edge);
+    let cost = crate::simd::simd_cost(r.rays, hits);
+    let whole = |x: f64| if r.whole_frame { x } else { f64::NAN };
+    m.simd32_steps = whole(cost.simd32_steps);
+    m.simd64_steps = whole(cost.simd64_steps);
+    m.simd32_fetches = whole(cost.simd32_fetches);
+    m.simd32_divergence = whole(cost.simd32_divergence);
+    Ok(refs)
 }
 
 /// What [`compare`] measured: two pipelines timed in alternating blocks on one scene.

@@ -33,8 +33,8 @@ use serde_json::{json, Value};
 use crate::gpu::{self, Program, Source, Upload};
 use crate::heightmap::EdgeMode;
 use crate::maps::MapKey;
-use crate::reference::{reference_hits, Sampling};
-use crate::scene::{scene_from_arg, Scene};
+use crate::reference::{reference_hits, RefHit, Sampling};
+use crate::scene::{scene_from_arg, ProbeRay, Scene};
 
 use super::Data;
 
@@ -271,6 +271,37 @@ fn finite(x: f64) -> Option<f64> {
     x.is_finite().then_some(x)
 }
 
+/// `scene` with its heights as the device stores them (level 0 of `uploads`, the surface
+/// the probe hits are scored on).
+pub(crate) fn on_device(scene: &Scene, uploads: &gpu::SceneUploads) -> Scene {
+    let mut s = scene.clone();
+    s.height.data = uploads.height_levels[0].data.clone();
+    s
+}
+
+/// The probe rays the browser data ships for one scene and size, with their exact hits.
+pub(crate) struct ProbeSet {
+    /// Every `stride`-th ray of [`Scene::rays`].
+    pub rays: Vec<ProbeRay>,
+    /// How many rays the whole frame has.
+    pub all: usize,
+    /// [`probe_stride`] of `all`.
+    pub stride: usize,
+    /// The exact first hit of each of `rays` on the heights as stored ([`on_device`]).
+    pub refs: Vec<Option<RefHit>>,
+}
+
+/// The shipped probe rays of `on_device` (a scene from [`on_device`], labelled `label`) at
+/// `size²` and their exact hits: what the page probes and what `--add` scores it against.
+pub(crate) fn probe_set(label: &str, on_device: &Scene, size: u32) -> anyhow::Result<ProbeSet> {
+    let all = on_device.rays(size);
+    let stride = probe_stride(all.len());
+    let rays: Vec<ProbeRay> = all.iter().step_by(stride).copied().collect();
+    let refs =
+        reference_hits(on_device, &rays, Sampling::Bilinear).map_err(|e| anyhow::anyhow!("scene {label}: {e}"))?;
+    Ok(ProbeSet { rays, all: all.len(), stride, refs })
+}
+
 /// One scene's textures, maps and probe data, and its manifest entry.
 fn write_scene<'a>(
     out: &Path,
@@ -300,16 +331,11 @@ fn write_scene<'a>(
         texture_file(out, &name, &gpu::map_upload_of(scene, k)?, files)?;
         maps.insert(map_slug(k), json!(name));
     }
-    let mut on_device = scene.clone();
-    on_device.height.data = u.height_levels[0].data.clone();
+    let on_device = on_device(scene, &u);
     let mut probes = serde_json::Map::new();
     let mut measured = serde_json::Map::new();
     for &size in sizes {
-        let all = scene.rays(size);
-        let stride = probe_stride(all.len());
-        let rays: Vec<_> = all.iter().step_by(stride).copied().collect();
-        let refs =
-            reference_hits(&on_device, &rays, Sampling::Bilinear).map_err(|e| anyhow::anyhow!("scene {label}: {e}"))?;
+        let ProbeSet { rays, all, stride, refs } = probe_set(label, &on_device, size)?;
         let mut bytes: Vec<u8> = bytemuck::cast_slice(&rays).to_vec();
         for h in &refs {
             let v = match h {
@@ -322,7 +348,7 @@ fn write_scene<'a>(
         data_file(
             out,
             &name,
-            json!({ "rays": rays.len(), "all_rays": all.len(), "stride": stride, "refs": "t u v z, f32, NaN where none" }),
+            json!({ "rays": rays.len(), "all_rays": all, "stride": stride, "refs": "t u v z, f32, NaN where none" }),
             &bytes,
             files,
         )?;

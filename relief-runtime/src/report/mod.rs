@@ -15,9 +15,14 @@
 //!
 //! [`write_many`] merges the result folders of several sweeps (the shards of one grid, the
 //! same grid on several machines) into one report. Rows are kept apart per adapter: the
-//! tables, charts and conclusions show the adapter with the most ok rows, and a table puts
-//! the timing conclusions of every adapter side by side.
+//! tables, charts and conclusions show the adapter with the most ok rows; one table gives
+//! every cell with one column set per adapter (frame time, its ratio to the fastest on that
+//! adapter, RMS t error; `adapters`), another the timing conclusions of every adapter side
+//! by side. `relief report DIR --add FILE` adds a browser's measurements as an adapter
+//! (`add`).
 
+mod adapters;
+mod add;
 mod agreement;
 mod answer;
 mod browser;
@@ -39,6 +44,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 
+pub use add::{add, Added};
 pub use conclusions::{Conclusion, Verdict};
 pub(crate) use data::{group_label, short_scene, stage_steps, Data, Metric};
 pub(crate) use text::{anchor, file_safe, fmt_ms, fmt_num, fmt_pct, fmt_sci, ours, TextTable, DASH};
@@ -167,6 +173,12 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary>
         v.extend(others.iter().map(|(a, d)| (a.clone(), conclusions::check(d, &diss))));
         conclusions::by_adapter(&v)
     };
+    let added: Vec<Added> = dirs.iter().flat_map(|d| add::log(d)).collect();
+    let per_adapter_cells = {
+        let mut v = vec![(summary.adapters.first().cloned().unwrap_or_default(), &data)];
+        v.extend(others.iter().map(|(a, d)| (a.clone(), d)));
+        adapters::table(&v, &added)
+    };
     let agreement = agreement::metric_agreement(&data, &tables);
     let charts = charts::write_all(&data, &sub, &mut summary.warnings);
     let strips = strips::write_all(&data, &tables, &sub, &mut summary.warnings);
@@ -201,6 +213,9 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary>
         let _ = writeln!(md, "![{}](report/{})  \n{}\n", c.title, c.file, c.caption);
     }
     md.push_str(&conclusions::to_markdown(&conclusions, &agreement));
+    if let Some(t) = &per_adapter_cells {
+        md.push_str(&t.to_markdown(2));
+    }
     if let Some(t) = &per_adapter {
         md.push_str(&t.to_markdown(2));
     }
@@ -245,10 +260,10 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary>
         fronts: &fronts,
         pareto_svgs: &pareto_svgs,
         extra: std::iter::once(live)
-            .chain(per_adapter.iter().map(|t| html::Section {
+            .chain((per_adapter_cells.is_some() || per_adapter.is_some()).then(|| html::Section {
                 id: "adapters".into(),
                 nav: "Per adapter".into(),
-                html: t.to_html(2),
+                html: per_adapter_cells.iter().chain(&per_adapter).map(|t| t.to_html(2)).collect(),
             }))
             .chain(room_rows.iter().map(|rr| html::Section {
                 id: "rooms".into(),

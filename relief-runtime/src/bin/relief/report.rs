@@ -15,11 +15,43 @@ pub struct ReportArgs {
     /// Where the report goes (default: the first folder).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Browser results files (the live section's "measure on this GPU" button) to add to
+    /// the one sweep folder first: their raw probe hits are scored as the sweep scores its
+    /// own, and the rows go into its results.jsonl under the browser's adapter
+    /// (docs/browser.md).
+    #[arg(long, num_args = 1.., value_name = "FILE")]
+    pub add: Vec<PathBuf>,
+    /// With --add: replace the rows an earlier add recorded under the same adapter (without
+    /// it, adding an adapter that already has rows is refused).
+    #[arg(long, requires = "add")]
+    pub replace: bool,
 }
 
 /// Runs `relief report`.
 pub fn run(a: &ReportArgs) -> anyhow::Result<()> {
     let out = a.out.clone().unwrap_or_else(|| a.dirs[0].clone());
+    if !a.add.is_empty() {
+        if a.dirs.len() != 1 {
+            anyhow::bail!("--add adds to one sweep folder; {} were given", a.dirs.len());
+        }
+        for added in report::add(&a.dirs[0], &a.add, a.replace)? {
+            println!(
+                "{}: {} rows added under `{}`{}{}",
+                added.file,
+                added.rows,
+                added.adapter,
+                if added.replaced > 0 { format!(" ({} earlier rows replaced)", added.replaced) } else { String::new() },
+                if added.set_aside.is_empty() {
+                    String::new()
+                } else {
+                    format!("; {} set aside", added.set_aside.len())
+                }
+            );
+            for s in &added.set_aside {
+                println!("  set aside: {s}");
+            }
+        }
+    }
     let s = report::write_many(&a.dirs, &out)?;
     let (holds, fails, unmeasured, open) = s.verdict_counts();
     println!(
