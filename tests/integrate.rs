@@ -7,6 +7,8 @@
 //! other side of a texel edge or of a step). The goal stated here: a mean absolute difference
 //! of at most 1 (of 255) per channel, and at most 1 % of the pixels differing by more than 8.
 
+#[path = "common/frames.rs"]
+mod frames;
 #[path = "../examples/integrate.rs"]
 #[allow(dead_code)]
 mod integrate;
@@ -36,22 +38,7 @@ fn the_integration_example_matches_relief_render() {
         let frame = integrate::run(&p, &scene, size).unwrap();
         let ours = frame.rgba;
         let theirs = relief_render(&p, &scene, size);
-        assert_eq!(ours.len(), theirs.len());
-        let (mut sum, mut n, mut big) = (0u64, 0u64, 0u64);
-        for (px_a, px_b) in ours.chunks(4).zip(theirs.chunks(4)) {
-            let mut worst = 0;
-            for c in 0..3 {
-                let d = (px_a[c] as i32 - px_b[c] as i32).unsigned_abs();
-                sum += d as u64;
-                n += 1;
-                worst = worst.max(d);
-            }
-            if worst > 8 {
-                big += 1;
-            }
-        }
-        let mean = sum as f64 / n as f64;
-        let share = big as f64 / (size * size) as f64;
+        let (mean, share) = frames::frame_difference(&ours, &theirs);
         println!(
             "{pipe} on {}: mean |difference| {mean:.4} of 255, {:.3} % of pixels off by more than 8",
             scene.name,

@@ -5,6 +5,8 @@
 
 #[path = "common/browser.rs"]
 mod browser;
+#[path = "common/frames.rs"]
+mod frames;
 
 use std::time::Duration;
 
@@ -112,16 +114,8 @@ fn the_live_section_draws_and_measures_the_sweep_in_chromium() {
         let got = relief::runtime::io::base64::decode(f["rgba"].as_str().unwrap()).unwrap();
         let want =
             image::open(dir.join(f["cell_dir"].as_str().unwrap()).join("frame.png")).unwrap().to_rgba8().into_raw();
-        assert_eq!(got.len(), want.len(), "{name}");
-        let (mut sum, mut off, mut n) = (0u64, 0usize, 0usize);
-        for (a, b) in got.chunks(4).zip(want.chunks(4)) {
-            let d: Vec<u32> = (0..3).map(|c| (a[c] as i32 - b[c] as i32).unsigned_abs()).collect();
-            sum += d.iter().map(|&x| x as u64).sum::<u64>();
-            off += (d.iter().max().copied().unwrap_or(0) > 8) as usize;
-            n += 1;
-        }
-        let mad = sum as f64 / (3 * n) as f64 / 255.0;
-        let share = off as f64 / n as f64;
+        let (mad, share) = frames::frame_difference(&got, &want);
+        let mad = mad / 255.0;
         eprintln!(
             "{name}: mean |browser − lavapipe| {:.3}/255, {:.2} % of pixels off by more than 8",
             mad * 255.0,

@@ -18,6 +18,8 @@
 
 #[path = "common/browser.rs"]
 mod browser;
+#[path = "common/frames.rs"]
+mod frames;
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -125,26 +127,6 @@ fn write_case(dir: &Path, i: usize, p: &Pipeline, scene: &Scene, float32: bool) 
     })
 }
 
-/// Mean absolute difference per channel (of 255) and the share of pixels with a channel off
-/// by more than 8, over rgb.
-fn compare(a: &[u8], b: &[u8]) -> (f64, f64) {
-    assert_eq!(a.len(), b.len());
-    let (mut sum, mut n, mut big) = (0u64, 0u64, 0u64);
-    for (pa, pb) in a.chunks(4).zip(b.chunks(4)) {
-        let mut worst = 0;
-        for c in 0..3 {
-            let d = (pa[c] as i32 - pb[c] as i32).unsigned_abs();
-            sum += d as u64;
-            n += 1;
-            worst = worst.max(d);
-        }
-        if worst > 8 {
-            big += 1;
-        }
-    }
-    (sum as f64 / n as f64, big as f64 / (a.len() / 4) as f64)
-}
-
 /// The page's pictures come back as hex (RGBA8, top row first).
 fn from_hex(s: &str) -> Vec<u8> {
     assert!(s.len().is_multiple_of(2) && s.is_ascii(), "a picture's hex has an odd length or stray characters");
@@ -195,7 +177,7 @@ fn threejs_draws_relief_renders_frame_in_webgl2_and_webgpu() {
             }
             let rgba = from_hex(pic["rgba"].as_str().unwrap_or_else(|| panic!("{pipe} {api}: {pic}")));
             assert_eq!(rgba.len(), (SIZE * SIZE * 4) as usize, "{pipe} {api}: picture size");
-            let (mad, share) = compare(&rgba, &references[i]);
+            let (mad, share) = frames::frame_difference(&rgba, &references[i]);
             println!(
                 "{pipe} on {scene}, {api} (three.js): mean |difference| {mad:.4} of 255, {:.3} % of pixels off by more than 8",
                 share * 100.0
@@ -230,11 +212,7 @@ fn threejs_draws_relief_renders_frame_in_webgl2_and_webgpu() {
 /// only what a `wgslFn` is passed.
 #[test]
 fn every_tsl_library_is_valid_wgsl_with_no_global_resource() {
-    let pipelines: Vec<Pipeline> = Pipeline::all_defaults()
-        .into_iter()
-        .filter(|p| relief::dsl::compose::library::inexpressible(p).is_none())
-        .collect();
-    assert!(pipelines.len() >= 300, "only {} pipelines have a library", pipelines.len());
+    let pipelines = frames::library_pipelines();
     for p in &pipelines {
         let lib = library_forms(p, &LibraryOptions::default(), &[Form::Tsl]).unwrap_or_else(|e| panic!("{p}: {e}"));
         let text = &lib.files[0].text;
