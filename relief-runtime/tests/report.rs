@@ -826,7 +826,7 @@ fn the_answer_names_the_fastest_pipeline_at_each_accuracy_and_the_engine_familys
             .collect()
     };
     let own = section("### Fastest at each accuracy: rocks, 45°, 32²");
-    assert_eq!(own.len(), 4, "{own:?}");
+    assert_eq!(own.len(), 5, "{own:?}");
     // Level 3e-2: the family's linear_dynamic(1, 16)+binary(5) is the fastest of all.
     assert_eq!(own[0][1], "`linear_dynamic(1, 16)+binary(5)`");
     assert_eq!(own[0][10], "1× (the fastest is in the family)");
@@ -884,6 +884,65 @@ fn the_answer_names_the_fastest_pipeline_at_each_accuracy_and_the_engine_familys
     let key = &key[..key.find("</ol>").unwrap()];
     assert!(key.contains("<code>csm(64)</code> 3.000 ms"), "{key}");
     assert!(!key.contains("no room"), "{key}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The last level, "skips no geometry", is `skipped_rate` exactly 0: the fastest row there is
+/// chosen among those only, whatever their t error, and a family whose every row skips some
+/// geometry is "unreachable" there.
+#[test]
+fn the_skips_no_geometry_level_keeps_only_rows_with_skipped_rate_zero() {
+    let rocks = "scene:rocks";
+    // (pipeline, ms, t error, skipped_rate)
+    let cells = [
+        // The fastest row, and in the family, but one ray in a hundred skips geometry.
+        ("linear_dynamic(1, 16)+binary(5)", 1.0, 2e-2, 1e-2),
+        ("linear_dynamic(1, 256)+interval(1)", 6.0, 5e-4, 1e-4),
+        // Faster than csm(16) and more accurate, but it skips: not chosen.
+        ("rcs(8)+binary(5)", 1.2, 4e-3, 1e-2),
+        // No share measured: a NaN never reaches the level.
+        ("linear(8)+binary(5)", 0.5, 3e-2, f64::NAN),
+        // The fastest that skips nothing, with a larger t error than rcs(8)'s.
+        ("csm(16)", 1.5, 8e-3, 0.0),
+        ("csm(64)", 3.0, 3e-8, 0.0),
+    ];
+    let rows: Vec<Row> = cells
+        .iter()
+        .map(|&(p, ms, t, skipped)| {
+            let mut r = answer_row(rocks, p, ms, t);
+            r.metrics.skipped_rate = skipped;
+            r
+        })
+        .collect();
+    let dir = fresh_dir("answer-skips");
+    write_rows(&dir, &rows, false);
+    report::write(&dir).expect("report");
+    let md = std::fs::read_to_string(dir.join("tables.md")).unwrap();
+    let start = md.find("### Fastest at each accuracy: rocks, 45°, 32²").expect("the answer's table");
+    let table: Vec<Vec<String>> = md[start..]
+        .lines()
+        .skip_while(|l| !l.starts_with("| accuracy"))
+        .skip(2)
+        .take_while(|l| l.starts_with('|'))
+        .map(md_line_cells)
+        .collect();
+    assert_eq!(table.len(), 5, "{table:?}");
+    let last = &table[4];
+    assert_eq!(last[0], "skips no geometry (skipped_rate = 0)", "placed last and named");
+    assert_eq!((last[1].as_str(), last[2].as_str()), ("`csm(16)`", "1.500"));
+    assert_eq!(last[6], "unreachable", "every family row skips some geometry");
+    assert_eq!(last[10], "family unreachable");
+    // The RMS levels still take the skipping rows: at 1e-2 rcs(8)+binary(5) is the fastest.
+    assert_eq!(table[1][1], "`rcs(8)+binary(5)`");
+    // The page's overview has the level as its last column.
+    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    let overview = &html[html.find("id=\"answer-table\"").expect("overview")..];
+    let overview = &overview[..overview.find("</table>").unwrap()];
+    assert!(overview.contains("<th>skips no geometry (skipped_rate = 0)</th></tr>"), "{overview}");
+    assert!(
+        overview.contains("<td><code>csm(16)</code> 1.500 ms<span class=\"fam\">family unreachable</span></td></tr>"),
+        "{overview}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

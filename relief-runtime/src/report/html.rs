@@ -255,7 +255,8 @@ fn answer_section(p: &Parts) -> Section {
     let _ = writeln!(
         h,
         "<p>For each scene and view: the fastest measured pipeline whose RMS t error (<code>ref_err_t_rms</code>) is at most \
-         each level, and the engine family's ({}) fastest there as a multiple of its time (<i>unreachable</i>: none of the \
+         each level, or, in the last column, that skips no geometry (no ray steps over a surface it should have hit: \
+         <code>skipped_rate</code> exactly 0, whatever its t error), and the engine family's ({}) fastest there as a multiple of its time (<i>unreachable</i>: none of the \
          family's rows gets there; <i>not measured</i>: no row of it here).</p>\
          <details class=\"how\"><summary>How speed is compared</summary><p>Where the sweep timed every row against one \
          baseline in alternating blocks, “fastest” ranks by that paired ratio (<code>× baseline</code>); the family's multiple \
