@@ -27,9 +27,29 @@ pub fn percentile(xs: &[f64], q: f64) -> f64 {
 /// nothing of skipped geometry: a linear step on a large map spans several texels), and the
 /// cone tests use the same measure.
 pub fn one_texel_t(ray: &ProbeRay, texels: f64) -> f64 {
-    let horizontal = ((ray.dir[0] as f64).powi(2) + (ray.dir[1] as f64).powi(2)).sqrt();
-    let vertical = (ray.dir[2] as f64).abs();
-    1.0 / (texels * horizontal.max(vertical))
+    one_texel_t_along(ray.dir.map(f64::from), texels)
+}
+
+/// [`one_texel_t`] for a ray direction `dir` in f64 (a room wall's ray, for one).
+pub fn one_texel_t_along(dir: [f64; 3], texels: f64) -> f64 {
+    let horizontal = (dir[0] * dir[0] + dir[1] * dir[1]).sqrt();
+    1.0 / (texels * horizontal.max(dir[2].abs()))
+}
+
+/// Whether a hit at `t` on the ray `(origin, 1) + t·dir` is past the exact first hit at
+/// `t_ref` by more than one texel of travel ([`one_texel_t_along`]) on a map `texels`
+/// texels a side: what `past_rate` counts.
+pub fn is_past(dir: [f64; 3], texels: f64, t_ref: f64, t: f64) -> bool {
+    t - t_ref > one_texel_t_along(dir, texels)
+}
+
+/// Whether the ray `(origin, 1) + t·dir`, after its exact first hit at `t_ref`, comes back
+/// above `level`'s bilinear surface before `t` ([`rises_above`] with [`SKIP_SLACK`]),
+/// looked at only up to the floor (below it no surface lies under the ray): a hit at `t`
+/// jumped over geometry, what `skipped_rate` counts.
+pub fn is_skipped(level: &HeightMap, edge: EdgeMode, origin: [f64; 2], dir: [f64; 3], t_ref: f64, t: f64) -> bool {
+    let t_floor = 1.0 / -dir[2];
+    rises_above(level, edge, origin, dir, t_ref, t.min(t_floor), SKIP_SLACK)
 }
 
 /// Fills the frame-time fields from per-frame milliseconds.
@@ -188,10 +208,11 @@ impl Accuracy {
                     a.t_abs.push(dt.abs());
                     let (du, dv) = (h.u as f64 - rh.u, h.v as f64 - rh.v);
                     a.uv_texels_sq_sum += (du * du + dv * dv) * texels * texels;
-                    if no_hit || dt > one_texel_t(r, texels) {
+                    let dir = r.dir.map(f64::from);
+                    if no_hit || is_past(dir, texels, rh.t, h.t as f64) {
                         a.missed += 1;
                     }
-                    if no_hit || jumped(r, rh.t, h.t as f64, level, edge) {
+                    if no_hit || is_skipped(level, edge, r.origin.map(f64::from), dir, rh.t, h.t as f64) {
                         a.skipped += 1;
                     }
                     a.past += (dt > PAST_SLACK) as usize;
@@ -254,15 +275,6 @@ impl Accuracy {
     pub fn above_surface_rate(&self) -> f64 {
         self.share(self.above_surface)
     }
-}
-
-/// Whether the ray `r` after its exact first hit at `t_ref` comes back above `level`'s
-/// bilinear surface before `t` ([`rises_above`] with [`SKIP_SLACK`]), looked at only up to
-/// the floor (below it no surface lies under the ray).
-fn jumped(r: &ProbeRay, t_ref: f64, t: f64, level: &HeightMap, edge: EdgeMode) -> bool {
-    let dir = [r.dir[0] as f64, r.dir[1] as f64, r.dir[2] as f64];
-    let t_floor = 1.0 / -dir[2];
-    rises_above(level, edge, [r.origin[0] as f64, r.origin[1] as f64], dir, t_ref, t.min(t_floor), SKIP_SLACK)
 }
 
 /// The sum of the ⌈`fraction` · n⌉ largest of `terms` (n of them) over the sum of all; NaN

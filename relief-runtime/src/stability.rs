@@ -64,8 +64,15 @@ pub struct Cell {
     pub nan_count: usize,
     /// Finite hits whose raw t lies outside the volume ([`GpuHit::outside`]).
     pub outside_count: usize,
+    /// Share of rays that jumped over geometry: after the exact first hit the ray is back
+    /// above the surface before its reported hit, or the hit is NaN
+    /// ([`crate::metrics::is_skipped`]; the results' `skipped_rate`).
+    pub skipped_rate: f64,
     /// Share of rays whose hit is more than one texel of travel past the exact first hit, or
-    /// NaN ([`crate::metrics::one_texel_t`]).
+    /// NaN ([`crate::metrics::is_past`]; the results' `past_rate`). On a fine map a coarse
+    /// step spans several texels, so this counts rays that skipped nothing.
+    pub past_rate: f64,
+    /// The old name of `past_rate`, written beside it (the same value) for one release.
     pub missed_rate: f64,
     /// Share of rays whose coarse search ran out of steps before it found the surface.
     pub nonconverged_rate: f64,
@@ -177,6 +184,8 @@ pub fn score(
         rays: a.rays,
         nan_count: a.nan,
         outside_count: a.outside,
+        skipped_rate: a.skipped_rate(),
+        past_rate: a.missed_rate(),
         missed_rate: a.missed_rate(),
         nonconverged_rate: a.nonconverged_rate(),
         above_surface_rate: a.above_surface_rate(),
@@ -255,10 +264,11 @@ pub fn write(out: &Path, cells: &[Cell]) -> anyhow::Result<()> {
         w.serialize(c)?;
     }
     crate::io::write_atomic(&out.join("stability.csv"), &w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))?)?;
-    let metrics: [(&str, CellMetric); 7] = [
+    let metrics: [(&str, CellMetric); 8] = [
         ("nan_count", |c| c.nan_count as f64),
         ("outside_count", |c| c.outside_count as f64),
-        ("missed_rate", |c| c.missed_rate),
+        ("skipped_rate", |c| c.skipped_rate),
+        ("past_rate", |c| c.past_rate),
         ("nonconverged_rate", |c| c.nonconverged_rate),
         ("above_surface_rate", |c| c.above_surface_rate),
         ("ref_err_t_max", |c| c.ref_err_t_max),
@@ -271,10 +281,10 @@ pub fn write(out: &Path, cells: &[Cell]) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The worst condition of each method, by missed rate then RMS error.
+/// The worst condition of each method, by skipped rate, then past rate, then RMS error.
 pub fn worst_table(cells: &[Cell]) -> String {
     let mut s = String::from(
-        "| method | worst condition | missed rate | non-converged | ends above surface | max t error | NaN | outside |\n|---|---|---|---|---|---|---|---|\n",
+        "| method | worst condition | skipped rate | past rate | non-converged | ends above surface | max t error | NaN | outside |\n|---|---|---|---|---|---|---|---|---|\n",
     );
     let mut methods: Vec<&str> = cells.iter().map(|c| c.method.as_str()).collect();
     methods.dedup();
@@ -284,8 +294,8 @@ pub fn worst_table(cells: &[Cell]) -> String {
             continue;
         }
         let worst = cells.iter().filter(|c| c.method == m).max_by(|a, b| {
-            (a.missed_rate, a.ref_err_t_rms)
-                .partial_cmp(&(b.missed_rate, b.ref_err_t_rms))
+            (a.skipped_rate, a.past_rate, a.ref_err_t_rms)
+                .partial_cmp(&(b.skipped_rate, b.past_rate, b.ref_err_t_rms))
                 .unwrap_or(std::cmp::Ordering::Equal)
         });
         if let Some(c) = worst {
@@ -293,10 +303,11 @@ pub fn worst_table(cells: &[Cell]) -> String {
             let outside: usize = cells.iter().filter(|x| x.method == m).map(|x| x.outside_count).sum();
             let _ = writeln!(
                 s,
-                "| `{m}` | {} at {}° | {:.1}% | {:.1}% | {:.1}% | {:.3} | {nan} | {outside} |",
+                "| `{m}` | {} at {}° | {:.2}% | {:.1}% | {:.1}% | {:.1}% | {:.3} | {nan} | {outside} |",
                 c.scene.trim_start_matches("scene:"),
                 c.angle,
-                100.0 * c.missed_rate,
+                100.0 * c.skipped_rate,
+                100.0 * c.past_rate,
                 100.0 * c.nonconverged_rate,
                 100.0 * c.above_surface_rate,
                 c.ref_err_t_max

@@ -203,6 +203,8 @@ fn skipped_rate_counts_a_ray_that_linear_search_carries_over_a_one_texel_pillar(
         assert!(hits[0].t as f64 > 9.0 / 14.0 + 0.1, "{edge:?}: linear(3) should end past the pillar: {:?}", hits[0]);
         let a = Accuracy::of(&rays, &hits, &refs, &scene.height, edge);
         assert_eq!((a.skipped, a.missed), (1, 1), "{edge:?}: jumped over the pillar, and past it: {a:?}");
+        let c = stability::score("linear(3)", &scene, 45.0, &rays, &hits, &refs);
+        assert_eq!((c.skipped_rate, c.past_rate), (1.0, 1.0), "{edge:?}: {c:?}");
         // Ending on the back face before t = 9/14 (still inside the pillar) skipped nothing.
         let inside = relief_runtime::gpu::GpuHit { t: 0.6, u: 0.25 + 0.3, v: 8.5 / 16.0, z: 0.4, ..hits[0] };
         let a = Accuracy::of(&rays, &[inside], &refs, &scene.height, edge);
@@ -239,7 +241,37 @@ fn a_hit_three_texels_past_a_flat_floor_is_past_but_not_skipped() {
         let mut m = relief_runtime::metrics::Metrics::default();
         relief_runtime::metrics::set_accuracy(&mut m, &[ray], &[hit], &[Some(exact)], &floor, edge);
         assert_eq!((m.skipped_rate, m.past_rate, m.missed_rate), (0.0, 1.0, 1.0), "the old name is the same measure");
+        // `relief stability` scores it with the same rules.
+        let mut scene = relief_runtime::scene::Scene::from_height_map("floor", floor.clone());
+        scene.edge = edge;
+        let c = stability::score("late", &scene, 45.0, &[ray], &[hit], &[Some(exact)]);
+        assert_eq!((c.skipped_rate, c.past_rate, c.missed_rate), (0.0, 1.0, 1.0), "{edge:?}: {c:?}");
     }
+}
+
+/// `worst.md` picks each method's worst condition by skipped rate first: a condition where
+/// every ray ends a little past the hit is not worse than one where some jumped geometry.
+#[test]
+fn the_worst_condition_is_the_one_that_skipped_geometry() {
+    let cell = |scene: &str, skipped: f64, past: f64| stability::Cell {
+        method: "linear(8)".into(),
+        scene: scene.into(),
+        angle: 60.0,
+        rays: 100,
+        nan_count: 0,
+        outside_count: 0,
+        skipped_rate: skipped,
+        past_rate: past,
+        missed_rate: past,
+        nonconverged_rate: 0.0,
+        above_surface_rate: 0.0,
+        past_count: 0,
+        ref_err_t_max: 0.1,
+        ref_err_t_rms: 0.01,
+    };
+    let md = stability::worst_table(&[cell("flat1", 0.0, 0.9), cell("spikes", 0.05, 0.3)]);
+    assert!(md.contains("| skipped rate | past rate |"), "{md}");
+    assert!(md.contains("| `linear(8)` | spikes at 60° | 5.00% | 30.0% |"), "{md}");
 }
 
 #[test]

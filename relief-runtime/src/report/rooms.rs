@@ -24,6 +24,11 @@ fn seed(variant: &str) -> (&'static str, &'static str) {
 /// The paper's baseline (real geometry, 320² grids per wall).
 const PAPER_BASELINE: (&str, &str) = ("92%", "141 W");
 
+/// A share as a percentage; a dash where the row does not hold it (NaN).
+fn rate(x: f64) -> String {
+    fmt_pct(Some(100.0 * x))
+}
+
 /// The room tables: one per room.
 pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
     let mut rooms: Vec<&str> = Vec::new();
@@ -44,7 +49,8 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
                 "real geometry ms",
                 "interior / geometry",
                 "t err rms",
-                "missed",
+                "skipped",
+                "past",
                 "mean |Δ| vs geometry",
                 "paper: GPU util.",
                 "paper: power",
@@ -80,7 +86,8 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
                 fmt_ms(r.baseline_ms),
                 fmt_num(r.ratio, 3),
                 fmt_sci(r.t_err_rms),
-                fmt_pct(Some(100.0 * r.missed_rate)),
+                rate(r.skipped_rate),
+                rate(r.past_rate),
                 fmt_num(r.mean_abs_diff, 2),
                 util.into(),
                 power.into(),
@@ -90,10 +97,12 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
             let walls: Vec<String> = r
                 .per_wall
                 .iter()
-                .map(|w| format!("{} {} / {}", w.wall, fmt_sci(w.t_err_rms), fmt_pct(Some(100.0 * w.missed_rate))))
+                .map(|w| {
+                    format!("{} {} / {} / {}", w.wall, fmt_sci(w.t_err_rms), rate(w.skipped_rate), rate(w.past_rate))
+                })
                 .collect();
             if !walls.is_empty() {
-                t.notes.push(format!("Per wall with POM (t err rms / missed, against the exact first hit on each wall's bilinear surface): {}.", walls.join(", ")));
+                t.notes.push(format!("Per wall with POM (t err rms / skipped / past, against the exact first hit on each wall's bilinear surface): {}.", walls.join(", ")));
             }
         }
         // The paper's ordering, checked on our frame times.

@@ -9,13 +9,6 @@ use super::{PixelRay, Room, RoomHit, WALLS, WALL_NAMES};
 use crate::heightmap::{EdgeMode, HeightMap};
 use crate::reference::{Reference, ReferenceError, Sampling};
 
-/// A hit further than this past the exact first hit, in t, has passed geometry: one texel of
-/// travel ([`crate::metrics::one_texel_t`]'s definition, for the wall's map).
-fn one_texel_t(dir: [f64; 3], texels: f64) -> f64 {
-    let horizontal = (dir[0] * dir[0] + dir[1] * dir[1]).sqrt();
-    1.0 / (texels * horizontal.max(dir[2].abs()))
-}
-
 /// Accuracy on one wall.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct WallAccuracy {
@@ -29,10 +22,21 @@ pub struct WallAccuracy {
     pub t_err_rms: f64,
     /// Largest |t − t_ref|.
     pub t_err_max: f64,
-    /// Rays whose hit lies more than one texel of travel past the exact first hit (or is
-    /// not finite).
+    /// Rays that jumped over geometry: after the exact first hit the ray is back above the
+    /// wall's surface before its reported hit ([`crate::metrics::is_skipped`], the sweep's
+    /// `skipped_rate` rule), or the hit is not finite, or on another wall.
+    pub skipped: usize,
+    /// `skipped / rays`.
+    pub skipped_rate: f64,
+    /// Rays whose hit lies more than one texel of travel past the exact first hit
+    /// ([`crate::metrics::is_past`], the sweep's `past_rate` rule), or is not finite, or
+    /// on another wall.
+    pub past: usize,
+    /// `past / rays`.
+    pub past_rate: f64,
+    /// The old name of `past`, kept beside it (the same count) for one release.
     pub missed: usize,
-    /// `missed / rays`.
+    /// The old name of `past_rate`, kept beside it (the same value) for one release.
     pub missed_rate: f64,
 }
 
@@ -58,13 +62,21 @@ pub fn reference_hits(
 }
 
 /// Per-wall accuracy of `hits` (the probe's, one per ray of `rays`) against `refs`
-/// ([`reference_hits`]).
+/// ([`reference_hits`] on the same `heights`, each wall's heights as the device stores them).
 pub fn room_accuracy(
     room: &Room,
+    heights: &[Vec<f32>],
     rays: &[PixelRay],
     hits: &[RoomHit],
     refs: &[(usize, Option<crate::reference::RefHit>)],
 ) -> Vec<WallAccuracy> {
+    use crate::metrics::{is_past, is_skipped};
+    let maps: Vec<HeightMap> = (0..WALLS)
+        .map(|k| {
+            let m = &room.walls[k].height;
+            HeightMap::new(m.width, m.height, heights[k].clone())
+        })
+        .collect();
     let mut acc: Vec<WallAccuracy> =
         WALL_NAMES.iter().map(|n| WallAccuracy { wall: n.to_string(), ..Default::default() }).collect();
     let mut sq = [0.0f64; WALLS];
@@ -74,15 +86,21 @@ pub fn room_accuracy(
         a.rays += 1;
         if h.wall as usize != *k {
             a.wall_mismatch += 1;
-            a.missed += 1;
+            a.past += 1;
+            a.skipped += 1;
             continue;
         }
         let Some(rf) = rf else { continue };
         let wr = room.wall_ray(&r.ray);
         let t = h.t as f64;
         let err = if t.is_finite() { (t - rf.t).abs() } else { f64::INFINITY };
-        if !t.is_finite() || t > rf.t + one_texel_t(wr.dir, room.walls[*k].height.width as f64) {
-            a.missed += 1;
+        let map = &maps[*k];
+        let texels = map.width.max(map.height) as f64;
+        if !t.is_finite() || is_past(wr.dir, texels, rf.t, t) {
+            a.past += 1;
+        }
+        if !t.is_finite() || is_skipped(map, EdgeMode::Clamp, wr.origin, wr.dir, rf.t, t) {
+            a.skipped += 1;
         }
         if err.is_finite() {
             sq[*k] += err * err;
@@ -95,7 +113,9 @@ pub fn room_accuracy(
     for k in 0..WALLS {
         let a = &mut acc[k];
         a.t_err_rms = if compared[k] > 0 { (sq[k] / compared[k] as f64).sqrt() } else { f64::NAN };
-        a.missed_rate = if a.rays > 0 { a.missed as f64 / a.rays as f64 } else { f64::NAN };
+        let rate = |n: usize| if a.rays > 0 { n as f64 / a.rays as f64 } else { f64::NAN };
+        (a.skipped_rate, a.past_rate) = (rate(a.skipped), rate(a.past));
+        (a.missed, a.missed_rate) = (a.past, a.past_rate);
     }
     acc
 }

@@ -45,15 +45,22 @@ impl RoomMeasure {
     pub fn rays(&self) -> usize {
         self.per_wall.iter().map(|w| w.rays).sum()
     }
-    /// Share of rays that missed (past the first hit by more than a texel of travel, or on
-    /// the wrong wall), over all walls.
-    pub fn missed_rate(&self) -> f64 {
+    fn share(&self, count: impl Fn(&WallAccuracy) -> usize) -> f64 {
         let n = self.rays();
         if n == 0 {
             f64::NAN
         } else {
-            self.per_wall.iter().map(|w| w.missed).sum::<usize>() as f64 / n as f64
+            self.per_wall.iter().map(count).sum::<usize>() as f64 / n as f64
         }
+    }
+    /// Share of rays that jumped over geometry ([`WallAccuracy::skipped`]), over all walls.
+    pub fn skipped_rate(&self) -> f64 {
+        self.share(|w| w.skipped)
+    }
+    /// Share of rays past the first hit by more than a texel of travel, or on the wrong
+    /// wall ([`WallAccuracy::past`]), over all walls.
+    pub fn past_rate(&self) -> f64 {
+        self.share(|w| w.past)
     }
     /// RMS t error over all walls (weighted by rays).
     pub fn t_err_rms(&self) -> f64 {
@@ -92,7 +99,7 @@ pub fn measure_room(
     let hits = probe_room(gpu, &prog, room, &tex, &probe_rays)?;
     let heights: Vec<Vec<f32>> = tex.walls.iter().map(|t| t.heights_on_device.clone()).collect();
     let refs = reference_hits(room, &heights, &rays)?;
-    let per_wall = room_accuracy(room, &rays, &hits, &refs);
+    let per_wall = room_accuracy(room, &heights, &rays, &hits, &refs);
     let frame_ms = percentile(&interior.frame_ms, 0.5);
     let baseline_ms = percentile(&baseline.frame_ms, 0.5);
     Ok(RoomMeasure { interior, baseline, baseline_triangles: mesh.wall_triangles, per_wall, frame_ms, baseline_ms })

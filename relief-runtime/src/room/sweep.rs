@@ -66,7 +66,17 @@ pub struct RoomRow {
     pub ratio: f64,
     /// RMS t error over all walls.
     pub t_err_rms: f64,
-    /// Missed share over all walls.
+    /// Share of rays that jumped over geometry, over all walls
+    /// ([`WallAccuracy::skipped_rate`]); NaN in a row written before it was measured.
+    #[serde(default = "not_recorded", deserialize_with = "null_as_nan")]
+    pub skipped_rate: f64,
+    /// Share of rays more than a texel of travel past the exact hit, over all walls
+    /// ([`WallAccuracy::past_rate`]); a row written before it had the name reads
+    /// `missed_rate`.
+    #[serde(default = "not_recorded", deserialize_with = "null_as_nan")]
+    pub past_rate: f64,
+    /// The old name of `past_rate`, written beside it (the same value) for one release.
+    #[serde(default = "not_recorded", deserialize_with = "null_as_nan")]
     pub missed_rate: f64,
     /// Mean |interior − baseline| per 8-bit channel.
     pub mean_abs_diff: f64,
@@ -88,13 +98,44 @@ pub struct WallRow {
     pub rays: usize,
     /// RMS t error.
     pub t_err_rms: f64,
-    /// Missed share.
+    /// Share that jumped over geometry ([`WallAccuracy::skipped_rate`]).
+    #[serde(default = "not_recorded", deserialize_with = "null_as_nan")]
+    pub skipped_rate: f64,
+    /// Share past the exact hit by more than a texel of travel ([`WallAccuracy::past_rate`]).
+    #[serde(default = "not_recorded", deserialize_with = "null_as_nan")]
+    pub past_rate: f64,
+    /// The old name of `past_rate` (the same value), for one release.
+    #[serde(default = "not_recorded", deserialize_with = "null_as_nan")]
     pub missed_rate: f64,
 }
 
 impl From<&WallAccuracy> for WallRow {
     fn from(a: &WallAccuracy) -> WallRow {
-        WallRow { wall: a.wall.clone(), rays: a.rays, t_err_rms: a.t_err_rms, missed_rate: a.missed_rate }
+        WallRow {
+            wall: a.wall.clone(),
+            rays: a.rays,
+            t_err_rms: a.t_err_rms,
+            skipped_rate: a.skipped_rate,
+            past_rate: a.past_rate,
+            missed_rate: a.past_rate,
+        }
+    }
+}
+
+/// A measure a row does not hold: NaN, shown as such, never a silent 0.
+fn not_recorded() -> f64 {
+    f64::NAN
+}
+
+/// A number written as `null` (NaN when measured) reads back as NaN.
+fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+/// A row written before `past_rate` had the name holds it as `missed_rate`.
+fn past_from_missed(past: &mut f64, missed: f64) {
+    if past.is_nan() {
+        *past = missed;
     }
 }
 
@@ -113,7 +154,13 @@ pub fn read_rows(dir: &Path) -> anyhow::Result<Option<Vec<RoomRow>>> {
         crate::io::read_regular_to_string(&p).map_err(|e| anyhow::anyhow!("cannot read {}: {e}", p.display()))?;
     let mut out = Vec::new();
     for (i, line) in text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty()) {
-        out.push(serde_json::from_str(line).map_err(|e| anyhow::anyhow!("{}: line {}: {e}", p.display(), i + 1))?);
+        let mut row: RoomRow =
+            serde_json::from_str(line).map_err(|e| anyhow::anyhow!("{}: line {}: {e}", p.display(), i + 1))?;
+        past_from_missed(&mut row.past_rate, row.missed_rate);
+        for w in &mut row.per_wall {
+            past_from_missed(&mut w.past_rate, w.missed_rate);
+        }
+        out.push(row);
     }
     Ok(Some(out))
 }
@@ -175,7 +222,9 @@ pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> anyhow::Result<Ro
                     row.baseline_ms = m.baseline_ms;
                     row.ratio = m.frame_ms / m.baseline_ms;
                     row.t_err_rms = m.t_err_rms();
-                    row.missed_rate = m.missed_rate();
+                    row.skipped_rate = m.skipped_rate();
+                    row.past_rate = m.past_rate();
+                    row.missed_rate = row.past_rate;
                     row.mean_abs_diff = diff;
                     row.per_wall = m.per_wall.iter().map(WallRow::from).collect();
                 }

@@ -92,7 +92,9 @@ pub fn run(a: &RoomArgs) -> anyhow::Result<()> {
         "ratio_interior_to_baseline": m.frame_ms / m.baseline_ms,
         "rays": m.rays(),
         "wall_mismatch": m.per_wall.iter().map(|w| w.wall_mismatch).sum::<usize>(),
-        "missed_rate": m.missed_rate(),
+        "skipped_rate": m.skipped_rate(),
+        "past_rate": m.past_rate(),
+        "missed_rate": m.past_rate(),
         "t_err_rms": m.t_err_rms(),
         "t_err_max": m.per_wall.iter().map(|w| w.t_err_max).fold(0.0, f64::max),
         "per_wall": m.per_wall,
@@ -100,10 +102,13 @@ pub fn run(a: &RoomArgs) -> anyhow::Result<()> {
         "warnings": warnings,
     });
     write_atomic(&a.out.join("metrics.json"), serde_json::to_string_pretty(&json)?.as_bytes())?;
-    let walls: Vec<String> =
-        m.per_wall.iter().map(|w| format!("{} {:.1e}/{:.2}%", w.wall, w.t_err_rms, 100.0 * w.missed_rate)).collect();
+    let walls: Vec<String> = m
+        .per_wall
+        .iter()
+        .map(|w| format!("{} {:.1e}/{:.2}%/{:.2}%", w.wall, w.t_err_rms, 100.0 * w.skipped_rate, 100.0 * w.past_rate))
+        .collect();
     println!(
-        "{pipeline}{} in {} at {}²: interior {:.3} ms, geometry ({}² per wall, {} triangles) {:.3} ms, ratio {:.2}; t err rms/missed per wall: {} → {}",
+        "{pipeline}{} in {} at {}²: interior {:.3} ms, geometry ({}² per wall, {} triangles) {:.3} ms, ratio {:.2}; t err rms/skipped/past per wall: {} → {}",
         a.scatter.map(|n| format!(" + scatter({n})")).unwrap_or_default(),
         room.name,
         a.size,
