@@ -1,7 +1,7 @@
 //! relief's shaders in a real browser's own compilers: headless Chromium (Debian's
 //! `chromium`, SwiftShader for WebGPU and WebGL2) through the harness in `tests/browser/`.
-//! Tint (WebGPU) compiles every module `relief gen --all` writes and every WGSL library of
-//! `relief gen --all --library`; ANGLE (WebGL2) compiles every GLSL ES library. One Chromium
+//! Tint (WebGPU) compiles every module `relief gen --all` writes and every WGSL and `tsl`
+//! library of `relief gen --all --library`; ANGLE (WebGL2) compiles every GLSL ES library. One Chromium
 //! launch per test.
 
 #[path = "common/browser.rs"]
@@ -99,7 +99,8 @@ fn user_fragment(lib: &relief::dsl::emit::LibraryForms, es: bool) -> String {
 }
 
 /// Every library of `relief gen --all --library` (the pipelines a library can express)
-/// compiles in Chromium: its WGSL form in Tint, inside a user fragment shader, and its GLSL
+/// compiles in Chromium: its WGSL form in Tint, inside a user fragment shader, its `tsl`
+/// form (`NAME.tsl.wgsl`, three.js TSL's `wgslFn` include) in Tint, and its GLSL
 /// ES form (where GLSL ES 3.00 can express it) in ANGLE, after `#version 300 es` as
 /// three.js's `ShaderMaterial` puts it, compiled and linked.
 #[test]
@@ -110,14 +111,20 @@ fn tint_and_angle_compile_every_library_of_gen_all() {
     let mut es = Vec::new();
     let pipelines = frames::library_pipelines();
     for p in &pipelines {
-        // GLSL ES 3.00 has no textureGather: those pipelines are refused in that form.
+        // Whatever GLSL ES 3.00 still cannot express is refused in that form (none today).
         let with_es = relief::dsl::emit::inexpressible_in(p, Form::GlslEs).is_none();
-        let wanted: &[Form] = if with_es { &[Form::Wgsl, Form::GlslEs] } else { &[Form::Wgsl] };
+        let wanted: &[Form] = if with_es { &[Form::Wgsl, Form::Tsl, Form::GlslEs] } else { &[Form::Wgsl, Form::Tsl] };
         let lib = library_forms(p, &LibraryOptions::default(), wanted).unwrap_or_else(|e| panic!("{p}: {e}"));
         let stem = p.file_stem();
         let w = format!("{stem}.user.wgsl");
         write(&dir, &w, &format!("{}\n{}", lib.files[0].text, user_fragment(&lib, false)));
         wgsl.push(serde_json::json!({ "file": w, "entries": [] }));
+        // The tsl form as three.js's `wgslFn` includes it: functions only, every resource an
+        // argument; Tint resolves every function of a module, called or not.
+        let t = &lib.files[1];
+        assert!(t.name.ends_with(".tsl.wgsl"), "{p}: {}", t.name);
+        write(&dir, &t.name, &t.text);
+        wgsl.push(serde_json::json!({ "file": t.name, "entries": [] }));
         if !with_es {
             continue;
         }
@@ -126,8 +133,8 @@ fn tint_and_angle_compile_every_library_of_gen_all() {
             &dir,
             &g,
             &format!(
-                "#version 300 es\nprecision highp float;\nprecision highp int;\n{}\n{}",
-                lib.files[1].text,
+                "#version 300 es\nprecision highp float;\nprecision highp int;\n#define RELIEF_EDGE_REPEAT\n{}\n{}",
+                lib.files[2].text,
                 user_fragment(&lib, true)
             ),
         );
@@ -136,7 +143,7 @@ fn tint_and_angle_compile_every_library_of_gen_all() {
     let n = pipelines.len() as u64;
     let es_count = es.len() as u64;
     let r = compile_in_chromium(&dir, serde_json::json!({ "wgsl": wgsl, "glsl_es": es }));
-    assert_eq!(r["wgsl"].as_u64(), Some(n), "{r}");
+    assert_eq!(r["wgsl"].as_u64(), Some(2 * n), "{r}");
     assert_eq!(r["glsl_es"].as_u64(), Some(es_count), "{r}");
     assert!(es_count > 0, "no GLSL ES library");
     std::fs::remove_dir_all(&dir).ok();

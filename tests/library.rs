@@ -543,12 +543,12 @@ fn glsl_es_libraries_pass_the_es_profile() {
     let glslang = tool("glslangValidator");
     let dir = std::env::temp_dir().join(format!("relief-library-es-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let mut refused = 0;
+    let (mut refused, mut gathered, mut guarded_count) = (0, 0, 0);
     for p in pipelines() {
         if let Some(why) = emit::inexpressible_in(&p, Form::GlslEs) {
             // Refused with a one-line error, never written.
             let e = emit::library_forms(&p, &LibraryOptions::default(), &[Form::GlslEs]).unwrap_err().to_string();
-            assert!(e.contains("textureGather") && why.contains("textureGather") && !e.contains('\n'), "{p}: {e}");
+            assert!(e.contains(&why) && e.contains("GLSL ES") && !e.contains('\n'), "{p}: {e}");
             refused += 1;
             continue;
         }
@@ -562,7 +562,11 @@ fn glsl_es_libraries_pass_the_es_profile() {
         for b in lib.bindings.iter().filter(|b| b.kind != ResourceKind::Sampler) {
             assert!(text.contains(&format!(" {};", b.name)), "{p}: uniform {}", b.name);
         }
-        let mut s = String::from("#version 300 es\nprecision highp float;\nprecision highp int;\n");
+        // The user states the samplers' edge mode (the library's guard wants it where it
+        // addresses texels itself); without it such a library must not compile.
+        let guarded = text.contains("#error");
+        let head = "#version 300 es\nprecision highp float;\nprecision highp int;\n";
+        let mut s = format!("{head}#define RELIEF_EDGE_REPEAT\n");
         s += text;
         s += "in vec2 v_uv;\nin vec3 v_view;\nout vec4 o_color;\n";
         s += &format!("void main() {{\n    ReliefHit hit = relief_trace(v_uv, normalize(v_view), {DEPTH});\n    float shade = 1.0;\n");
@@ -579,8 +583,24 @@ fn glsl_es_libraries_pass_the_es_profile() {
             Command::new(glslang).args(["-S", "frag"]).arg(&frag),
             &format!("glslangValidator (ES 3.00 profile) on the GLSL ES library of {p}"),
         );
+        if guarded {
+            // The same shader without the define, or with the other edge mode's, fails.
+            let src = std::fs::read_to_string(&frag).unwrap();
+            for wrong in ["", "#define RELIEF_EDGE_REPEAT\n#define RELIEF_EDGE_CLAMP\n"] {
+                let bad = dir.join(format!("{}.noedge.es.frag", p.file_stem()));
+                std::fs::write(&bad, src.replacen("#define RELIEF_EDGE_REPEAT\n", wrong, 1)).unwrap();
+                let out = Command::new(glslang).args(["-S", "frag"]).arg(&bad).output().unwrap();
+                assert!(!out.status.success(), "{p}: the GLSL ES library compiles without stating its edge mode");
+            }
+            guarded_count += 1;
+        }
+        if text.contains("relief_gather(") {
+            gathered += 1;
+        }
     }
     assert!(refused < pipelines().len(), "every pipeline refused");
+    // The safe cone marches, maxmip and the min4 reads gather: all written in ES now.
+    assert!(gathered > 0 && guarded_count >= gathered, "{gathered} gathering, {guarded_count} guarded");
     std::fs::remove_dir_all(&dir).ok();
 }
 
