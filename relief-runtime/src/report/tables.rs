@@ -339,26 +339,30 @@ fn steps_note(t: &ReportTable, data: &Data) -> Option<String> {
 /// rising at its largest two N (by more than [`K_RISING`]×): its MSE falls slower than
 /// 1/N², and a slope read from it belongs to the view, not the method.
 fn regime_note(t: &ReportTable, data: &Data) -> Option<String> {
-    let mut ks: Vec<(u32, f64)> = (0..t.entries.len())
-        .filter_map(|i| {
-            let n = linear_steps(t.entries[i].pipeline.as_ref()?)?;
-            let r = t.row(data, i).filter(|r| r.status == "ok")?;
-            let k = k_linear(n, r.metrics.mse_dissertation_mean);
-            k.is_finite().then_some((n, k))
-        })
-        .collect();
+    let ks = (0..t.entries.len()).filter_map(|i| {
+        let n = linear_steps(t.entries[i].pipeline.as_ref()?)?;
+        let r = t.row(data, i).filter(|r| r.status == "ok")?;
+        Some((n, r.metrics.mse_dissertation_mean))
+    });
+    let ((n1, k1), (n2, k2)) = k_still_rising(ks)?;
+    Some(format!(
+        "Pre-asymptotic: K = 3N²·MSE of linear search still rises from {} at N = {n1} to {} at N = {n2}, so the MSE falls slower than 1/N² here \
+         (steps still cross features); a 1/N² slope is reached only once K is flat.",
+        fmt_num(k1, 3),
+        fmt_num(k2, 3)
+    ))
+}
+
+/// K = 3N²·MSE ([`k_linear`]) of linear-search rows given as (N, per-ray MSE), at their
+/// largest two step counts (the first row of each N), when it still rises there by more
+/// than [`K_RISING`]×; `None` when it is flat or fewer than three step counts have a finite K.
+pub(crate) fn k_still_rising(rows: impl Iterator<Item = (u32, f64)>) -> Option<((u32, f64), (u32, f64))> {
+    let mut ks: Vec<(u32, f64)> = rows.map(|(n, mse)| (n, k_linear(n, mse))).filter(|(_, k)| k.is_finite()).collect();
     ks.sort_by_key(|&(n, _)| n);
     ks.dedup_by_key(|&mut (n, _)| n);
     // Two step counts (Tables 4.2 and 4.4's linear-only rows) are no trend to read.
-    let [_, .., (n1, k1), (n2, k2)] = ks[..] else { return None };
-    (k2 > K_RISING * k1).then(|| {
-        format!(
-            "Pre-asymptotic: K = 3N²·MSE of linear search still rises from {} at N = {n1} to {} at N = {n2}, so the MSE falls slower than 1/N² here \
-             (steps still cross features); a 1/N² slope is reached only once K is flat.",
-            fmt_num(k1, 3),
-            fmt_num(k2, 3)
-        )
-    })
+    let [_, .., a, b] = ks[..] else { return None };
+    (b.1 > K_RISING * a.1).then_some((a, b))
 }
 
 fn render(t: &ReportTable, data: &Data, description: &str, multi_size: bool) -> TextTable {

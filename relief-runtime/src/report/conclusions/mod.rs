@@ -851,7 +851,8 @@ pub(crate) fn view_markdown(data: &Data, diss: &Diss) -> Option<String> {
         notes: vec![format!(
             "The criteria of Tables {} (grid `dissertation-view`) on each scene at its own view and at the dissertation's \
              (depth scale {}, {}° from the normal, {}° field of view, `lod={}`), each scored against the exact hit on the surface \
-             it sampled. Verdicts: `mse_dissertation_mean / ref_err_t_rms`; `changes` marks a verdict that differs between the views.",
+             it sampled. Verdicts: `mse_dissertation_mean / ref_err_t_rms`; `changes` marks a verdict that differs between the views, \
+             `one view only` one measured at a single view. Where linear search's K = 3N²·MSE still rises at a view, a note says so.",
             tables.join(", "),
             view.depth_scale(),
             view.angle_deg(),
@@ -874,11 +875,42 @@ pub(crate) fn view_markdown(data: &Data, diss: &Diss) -> Option<String> {
                 continue;
             }
             let claim = if o.form.is_empty() { o.claim.clone() } else { format!("{} (`form={}`)", o.claim, o.form) };
-            let changes = if v(o) != v(d) { "changes" } else { "" };
+            // A verdict measured at one view only has nothing to change from.
+            let one_view = o.ours_mse == Verdict::NotMeasured || d.ours_mse == Verdict::NotMeasured;
+            let changes = match (one_view, v(o) != v(d)) {
+                (true, _) => "one view only",
+                (false, true) => "changes",
+                (false, false) => "",
+            };
             t.rows.push(vec![o.table.clone(), claim, short_scene(base).to_string(), v(o), v(d), changes.into()]);
+        }
+        for (label, scene, lod) in [("its own view", base, Some(Lod::Zero)), ("the dissertation's view", at_view, None)]
+        {
+            if let Some(note) = regime_line(data, scene, lod) {
+                t.notes.push(format!("{} at {label}: {note}", short_scene(base)));
+            }
         }
     }
     Some(t.to_markdown(2))
+}
+
+/// K = 3N²·MSE of `scene`'s linear-search rows (of `lod` where given) at its largest two
+/// step counts, as a note when it still rises ([`super::tables::k_still_rising`]): the pre-asymptotic regime, where the error-slope
+/// verdicts (Tables 4.1's and the 1/N² reading) belong to the view, not the method.
+/// `None` when it is flat or fewer than three step counts are measured.
+pub(crate) fn regime_line(data: &Data, scene: &str, lod: Option<Lod>) -> Option<String> {
+    let rows = data.rows.iter().filter(|r| r.status == "ok" && r.metrics.scene == scene).filter_map(|r| {
+        let p: Pipeline = r.metrics.pipeline.parse().ok()?;
+        let n = super::tables::linear_steps(&p).filter(|_| lod.is_none_or(|l| p.lod == l))?;
+        Some((n, r.metrics.mse_dissertation_mean))
+    });
+    let ((n1, k1), (n2, k2)) = super::tables::k_still_rising(rows)?;
+    Some(format!(
+        "K = 3N²·MSE of linear search still rises ({} at N = {n1}, {} at N = {n2}): pre-asymptotic, the MSE falls slower than 1/N², so \
+         a verdict read from the error's slope belongs to this view.",
+        super::fmt_num(k1, 3),
+        super::fmt_num(k2, 3)
+    ))
 }
 
 /// The conclusions section of `tables.md`.
