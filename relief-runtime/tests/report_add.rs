@@ -105,5 +105,10 @@ fn add_scores_a_browsers_hits_sets_aside_what_the_sweep_lacks_and_refuses_a_seco
     let (ok, out, err) = relief(&["report", d, "--add", f, "--replace"]);
     assert!(ok && out.contains("1 earlier rows replaced"), "{out}\n{err}");
     assert_eq!(results::read(&dir).unwrap().rows.len(), 2);
+    // --add goes into one folder; --replace means nothing without --add.
+    let (ok, _, err) = relief(&["report", d, d, "--add", f]);
+    assert!(!ok && err.contains("--add adds to one sweep folder; 2 were given"), "{err}");
+    let (ok, _, err) = relief(&["report", d, "--replace"]);
+    assert!(!ok && err.contains("--add"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
