@@ -96,9 +96,7 @@ fn report_writes_tables_charts_strips_and_checks_conclusions() {
     rows.push(failed);
     write_rows(&dir, &rows, true);
 
-    let t = std::time::Instant::now();
     let s = report::write(&dir).expect("report");
-    assert!(t.elapsed().as_secs_f64() < 10.0);
     assert_eq!(s.rows, rows.len());
     assert_eq!(s.failed.len(), 1);
     assert_eq!(s.failed[0].2, "device lost");
