@@ -44,7 +44,8 @@ pub struct GenArgs {
     #[arg(long, requires = "library")]
     pub import_path: Option<String>,
     /// With --library: the edge mode the stages that address texels themselves assume
-    /// (maxmip); it must match your samplers' address mode.
+    /// (maxmip, the cell cone reads, glsl-es's gathers); it must match your samplers' address
+    /// mode (glsl-es: define RELIEF_EDGE_REPEAT or RELIEF_EDGE_CLAMP to say so).
     #[arg(long, value_parser = ["repeat", "clamp"], default_value = "repeat", requires = "library")]
     pub edge: String,
 }
