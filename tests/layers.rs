@@ -1,7 +1,7 @@
 //! The layers of ARCHITECTURE.md, checked on the source: no module names one above it.
 //!
 //! relief-dsl: abi → spec → ir → stage → compose → emit. relief-runtime: the leaves (io,
-//! results, picture, timing), then heightmap, scene, maps, reference → gpu → metrics, simd → measure →
+//! lock, results, picture, timing), then heightmap, scene, maps, reference → gpu → metrics, simd → measure →
 //! sweep, stability, room → report; the command line (src/bin) is above everything, and nothing in
 //! the library names it. A module may name its own layer and any below it (`crate::X` paths
 //! and `use crate::{X, ...}` groups are both read). A file's unit tests (from its
@@ -102,7 +102,7 @@ fn relief_dsl_imports_point_down() {
 fn relief_runtime_imports_point_down() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let layers: &[&[&str]] = &[
-        &["io", "results", "picture", "timing"],
+        &["io", "lock", "results", "picture", "timing"],
         &["heightmap"],
         &["scene"],
         &["maps"],

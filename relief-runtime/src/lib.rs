@@ -10,6 +10,7 @@
 pub mod gpu;
 pub mod heightmap;
 pub mod io;
+pub mod lock;
 pub mod maps;
 pub mod measure;
 pub mod metrics;

@@ -236,19 +236,63 @@ pub fn read(dir: &Path) -> anyhow::Result<ReadRows> {
     };
     let mut out = ReadRows { complete_len: complete.len(), cut: complete.len() != text.len(), ..Default::default() };
     let lines = complete.lines().count();
+    let mut numbered = Vec::new();
     for (i, line) in complete.lines().enumerate() {
         if line.trim().is_empty() {
             continue;
         }
         match parse_row(line) {
-            Ok(r) => out.rows.push(r),
+            Ok(r) => numbered.push((i + 1, r)),
             Err(e) => out.bad_lines.push(format!("line {}: {e}", i + 1)),
         }
     }
+    let (rows, duplicates) = without_duplicates(numbered);
+    out.rows = rows;
+    out.bad_lines.extend(duplicates);
     if out.cut {
         out.bad_lines.push(format!("line {}: cut short (no newline at the end), ignored", lines + 1));
     }
     Ok(out)
+}
+
+/// A cell's key: the pipeline's canonical text, the scene, the size and the adapter. A
+/// results file holds one row per key.
+pub fn cell_key(m: &Metrics) -> (String, String, u32, String) {
+    let pipeline =
+        m.pipeline.parse::<relief_dsl::Pipeline>().map(|p| p.to_string()).unwrap_or_else(|_| m.pipeline.clone());
+    (pipeline, m.scene.clone(), m.size, m.adapter.clone())
+}
+
+/// `rows` (with their line numbers) less every row whose cell key ([`cell_key`]) is on
+/// more than one line, and one line per such key naming it and its lines: which of two
+/// rows for one cell is right cannot be told (two sweeps wrote into one folder at once,
+/// or a file was edited), so neither is chosen.
+fn without_duplicates(rows: Vec<(usize, Row)>) -> (Vec<Row>, Vec<String>) {
+    let mut lines_of: std::collections::HashMap<_, Vec<usize>> = std::collections::HashMap::new();
+    let keys: Vec<_> = rows.iter().map(|(_, r)| cell_key(&r.metrics)).collect();
+    for ((line, _), k) in rows.iter().zip(&keys) {
+        lines_of.entry(k.clone()).or_default().push(*line);
+    }
+    let mut messages = Vec::new();
+    let mut kept = Vec::new();
+    for ((line, r), k) in rows.into_iter().zip(keys) {
+        let lines = &lines_of[&k];
+        if lines.len() == 1 {
+            kept.push(r);
+        } else if lines[0] == line {
+            let list: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+            messages.push(format!(
+                "lines {}: {} rows for one cell (pipeline {}, scene {}, size {}, adapter {}), all left out: keep one",
+                list.join(", "),
+                lines.len(),
+                relief_dsl::spec::echo(&k.0),
+                relief_dsl::spec::echo(&k.1),
+                k.2,
+                relief_dsl::spec::echo(&k.3)
+            ));
+        }
+    }
+    (kept, messages)
 }
 
 /// Reads `dir/results.jsonl` to append to it: the rows of [`read`], the file truncated to
@@ -309,12 +353,18 @@ pub fn write_csv(dir: &Path, rows: &[Row]) -> anyhow::Result<()> {
 }
 
 /// Parses one results line; numbers written as `null` (NaN or infinite when measured) come
-/// back as NaN.
+/// back as NaN. A row must have a `pipeline` that parses, a `scene`, a `size` and a
+/// `status` of `ok` or `error`; other columns an older row lacks take their defaults.
 pub fn parse_row(line: &str) -> anyhow::Result<Row> {
     let v: serde_json::Value = serde_json::from_str(line).map_err(|e| anyhow::anyhow!("not JSON: {e}"))?;
     let serde_json::Value::Object(obj) = v else {
         anyhow::bail!("not a JSON object");
     };
+    for k in ["pipeline", "scene", "size", "status"] {
+        if obj.get(k).is_none_or(|v| v.is_null()) {
+            anyhow::bail!("not a results row: no `{k}`");
+        }
+    }
     let mut obj = obj;
     // A row written before `past_rate` had the name: `missed_rate` is the same measure.
     if !obj.contains_key("past_rate") {
@@ -341,6 +391,12 @@ pub fn parse_row(line: &str) -> anyhow::Result<Row> {
         }
     }
     let mut row: Row = serde_json::from_value(base).map_err(|e| anyhow::anyhow!("not a results row: {e}"))?;
+    if row.status != "ok" && row.status != "error" {
+        anyhow::bail!("not a results row: status `{}` (expected ok or error)", relief_dsl::spec::echo(&row.status));
+    }
+    if let Err(e) = row.metrics.pipeline.parse::<relief_dsl::Pipeline>() {
+        anyhow::bail!("not a results row: pipeline `{}`: {e}", relief_dsl::spec::echo(&row.metrics.pipeline));
+    }
     for k in nulls {
         set_nan(&mut row.metrics, &k);
     }

@@ -81,3 +81,112 @@ fn the_appender_refuses_a_file_with_an_unreadable_complete_line() {
     assert_eq!((read.rows.len(), read.bad_lines.len()), (1, 1));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn lines_that_are_not_results_rows_are_named_and_never_counted() {
+    let dir = fresh_dir("notrows");
+    results::append(&dir, &row("linear(10)", 0.5)).unwrap();
+    let jsonl = dir.join("results.jsonl");
+    let good = std::fs::read_to_string(&jsonl).unwrap();
+    let bad = [
+        ("{\"foo\": 1}", "no `pipeline`"),
+        ("{\"pipeline\": \"linear(10)\", \"scene\": \"s\", \"size\": 16}", "no `status`"),
+        ("{\"pipeline\": \"linear(10)\", \"scene\": \"s\", \"status\": \"ok\"}", "no `size`"),
+        ("{\"pipeline\": \"linear(10)\", \"size\": 16, \"status\": \"ok\"}", "no `scene`"),
+        ("{\"pipeline\": \"linear(10)\", \"scene\": \"s\", \"size\": 16, \"status\": \"done\"}", "status `done`"),
+        ("{\"pipeline\": \"no_such_method(3)\", \"scene\": \"s\", \"size\": 16, \"status\": \"ok\"}", "no_such_method"),
+        ("{\"pipeline\": null, \"scene\": \"s\", \"size\": 16, \"status\": \"ok\"}", "no `pipeline`"),
+    ];
+    for (line, reason) in bad {
+        std::fs::write(&jsonl, format!("{good}{line}\n")).unwrap();
+        let read = results::read(&dir).unwrap();
+        assert_eq!(read.rows.len(), 1, "{line}");
+        assert_eq!(read.bad_lines.len(), 1, "{line}");
+        assert!(read.bad_lines[0].starts_with("line 2:") && read.bad_lines[0].contains(reason), "{:?}", read.bad_lines);
+        let e = results::read_for_append(&dir).unwrap_err().to_string();
+        assert!(e.contains("line 2") && e.contains(reason) && !e.contains('\n'), "{e}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn two_rows_for_one_cell_are_both_left_out_and_named_but_other_adapters_are_other_cells() {
+    let dir = fresh_dir("dups");
+    let mut zero = row("linear(10)", 0.0);
+    zero.status = "ok".into();
+    let mut other_adapter = row("linear(10)", 0.75);
+    other_adapter.metrics.adapter = "Some GPU (WebGPU, timestamp-query)".into();
+    // Line 3 is the cell of line 1 written another way (spaces): the same canonical pipeline.
+    let mut spaced = row("linear(10)", 0.5);
+    spaced.metrics.pipeline = "linear( 10 )".into();
+    for r in [&row("linear(10)", 0.5), &row("linear(20)", 0.25), &spaced, &other_adapter, &zero] {
+        results::append(&dir, r).unwrap();
+    }
+    let read = results::read(&dir).unwrap();
+    let pipelines: Vec<(&str, &str)> =
+        read.rows.iter().map(|r| (r.metrics.pipeline.as_str(), r.metrics.adapter.as_str())).collect();
+    assert_eq!(pipelines, [("linear(20)", ""), ("linear(10)", "Some GPU (WebGPU, timestamp-query)")]);
+    assert_eq!(read.bad_lines.len(), 1, "{:?}", read.bad_lines);
+    let m = &read.bad_lines[0];
+    assert!(
+        m.starts_with("lines 1, 3, 5: 3 rows for one cell") && m.contains("linear(10)") && m.contains("size 16"),
+        "{m}"
+    );
+    let e = results::read_for_append(&dir).unwrap_err().to_string();
+    assert!(e.contains("lines 1, 3, 5"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A small deterministic generator (SplitMix64) for the round-trip tests.
+fn splitmix(state: &mut u64) -> u64 {
+    *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    let mut z = *state;
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+#[test]
+fn every_value_written_to_the_csv_and_the_jsonl_reads_back_as_the_same_number() {
+    let dir = fresh_dir("roundtrip");
+    let mut state = 27;
+    let mut rows = Vec::new();
+    // Finite doubles of every exponent (random bit patterns), values in [0, 1) like the
+    // rates and errors, and the value issue 27 saw change in its last digit.
+    let mut values = vec![0.019671713345102298, 0.2240283, 5e-324, f64::MAX, f64::MIN_POSITIVE];
+    while values.len() < 1000 {
+        let bits = splitmix(&mut state);
+        let x = f64::from_bits(bits);
+        if x.is_finite() {
+            values.push(x);
+        }
+        values.push((splitmix(&mut state) >> 11) as f64 / (1u64 << 53) as f64);
+    }
+    for (i, v) in values.iter().enumerate() {
+        let mut r = row("linear(10)", *v);
+        r.metrics.scene = format!("scene:s{i}");
+        r.metrics.frame_ms_median = -*v;
+        r.metrics.frame_ratio_to_baseline = Some(*v);
+        rows.push(r);
+    }
+    for r in &rows {
+        results::append(&dir, r).unwrap();
+    }
+    let back = results::read(&dir).unwrap();
+    assert!(back.bad_lines.is_empty(), "{:?}", back.bad_lines);
+    assert_eq!(back.rows, rows, "results.jsonl");
+    results::write_csv(&dir, &rows).unwrap();
+    let mut csv = csv::Reader::from_path(dir.join("results.csv")).unwrap();
+    let headers = csv.headers().unwrap().clone();
+    let col = |name: &str| headers.iter().position(|h| h == name).unwrap();
+    let (t, f, ratio) = (col("ref_err_t_rms"), col("frame_ms_median"), col("frame_ratio_to_baseline"));
+    let mut n = 0;
+    for (rec, v) in csv.records().zip(&values) {
+        let rec = rec.unwrap();
+        let num = |c: usize| rec[c].parse::<f64>().unwrap().to_bits();
+        assert_eq!((num(t), num(f), num(ratio)), (v.to_bits(), (-v).to_bits(), v.to_bits()), "{v:e}: {:?}", &rec);
+        n += 1;
+    }
+    assert_eq!(n, values.len());
+    let _ = std::fs::remove_dir_all(&dir);
+}

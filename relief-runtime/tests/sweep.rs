@@ -335,3 +335,106 @@ fn a_scene_with_a_view_is_the_scene_swept_at_that_view() {
     assert!(rows(&dir.join("bad"))[0]["error"].as_str().unwrap().contains("angle"), "{:?}", rows(&dir.join("bad")));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// (width, height) from a PNG's header.
+fn png_size(path: &std::path::Path) -> (u32, u32) {
+    let b = std::fs::read(path).unwrap();
+    (u32::from_be_bytes(b[16..20].try_into().unwrap()), u32::from_be_bytes(b[20..24].try_into().unwrap()))
+}
+
+/// Cell folders are keyed by every part of the cell key: a size-32 sweep into a size-24
+/// folder keeps the size-24 pictures, and scene files `sc/trav.toml` and `sc_trav.toml` (one
+/// name once `/` is made file-safe by a lossy mapping) get a folder each.
+#[test]
+fn cells_of_other_sizes_and_of_look_alike_scene_paths_never_share_a_folder() {
+    let dir = std::env::temp_dir().join(format!("relief-sweep-folders-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(dir.join("sc")).unwrap();
+    let map = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/tatarchuk/bump_NM_height.tga");
+    std::fs::copy(&map, dir.join("bump.tga")).unwrap();
+    std::fs::write(dir.join("sc/trav.toml"), "[height_map]\npath = \"../bump.tga\"\nchannel = \"a\"\n").unwrap();
+    std::fs::write(dir.join("sc_trav.toml"), "[height_map]\npath = \"bump.tga\"\nchannel = \"a\"\n").unwrap();
+    let grid = dir.join("g.grid");
+    std::fs::write(&grid, "coarse: linear(4)\n").unwrap();
+    let out = dir.join("out");
+    for size in ["24", "32"] {
+        let o = relief()
+            .current_dir(&dir)
+            .args(["sweep", "--grid"])
+            .arg(&grid)
+            .args(["--scene", "sc/trav.toml", "--scene", "sc_trav.toml", "--size", size, "--frames", "2", "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let all = rows(&out);
+    assert_eq!(all.len(), 4);
+    let mut folders: Vec<&str> = all.iter().map(|r| r["cell_dir"].as_str().unwrap()).collect();
+    folders.sort();
+    folders.dedup();
+    assert_eq!(folders.len(), 4, "{folders:?}");
+    for r in &all {
+        let size = r["size"].as_u64().unwrap() as u32;
+        let frame = out.join(r["cell_dir"].as_str().unwrap()).join("frame.png");
+        assert_eq!(png_size(&frame), (size, size), "{}", frame.display());
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Two processes, one folder: a second sweep and a report refuse while a sweep holds the
+/// folder's lock, naming its pid on one line; a sweep started with `--wait` waits, takes the
+/// lock over when the holder is killed (SIGKILL: nothing of it is left to release), and
+/// finishes the grid, each cell once.
+#[test]
+fn a_locked_folder_is_refused_or_waited_for_and_a_killed_holder_frees_it() {
+    let dir = std::env::temp_dir().join(format!("relief-sweep-lock-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    let grid = dir.join("g.grid");
+    std::fs::write(&grid, "coarse: linear(4..=40 step 4)\nrefine: [none, binary(3)]\n").unwrap();
+    let out = dir.join("out");
+    let sweep = |extra: &[&str]| {
+        let mut c = relief();
+        c.args(["sweep", "--grid"])
+            .arg(&grid)
+            .args(["--scene", "scene:step", "--size", "48", "--frames", "4", "--out"])
+            .arg(&out)
+            .args(extra);
+        c
+    };
+    let mut holder = sweep(&[]).stdout(Stdio::null()).stderr(Stdio::null()).spawn().unwrap();
+    let lock = out.join(".relief.lock");
+    let start = Instant::now();
+    while !std::fs::read_to_string(&lock).unwrap_or_default().starts_with("pid") {
+        assert!(start.elapsed() < Duration::from_secs(60), "the sweep never took its lock");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let pid = format!("pid {}", holder.id());
+    for mut refused in [sweep(&[]), {
+        let mut c = relief();
+        c.arg("report").arg(&out);
+        c
+    }] {
+        let o = refused.output().unwrap();
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{e}");
+        assert!(e.contains("in use by another relief process") && e.contains(&pid), "{e}");
+        assert_eq!(e.trim_end().lines().count(), 1, "{e}");
+    }
+    let waiter = sweep(&["--wait"]).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    std::thread::sleep(Duration::from_millis(500));
+    holder.kill().unwrap();
+    holder.wait().unwrap();
+    let o = waiter.wait_with_output().unwrap();
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{e}");
+    assert!(e.contains("waiting for the results folder's lock") && e.contains(&pid), "{e}");
+    let all = rows(&out);
+    let mut keys: Vec<&str> = all.iter().map(|r| r["pipeline"].as_str().unwrap()).collect();
+    keys.sort();
+    keys.dedup();
+    assert_eq!((all.len(), keys.len()), (20, 20));
+    assert_eq!(std::fs::read_to_string(&lock).unwrap(), "", "released");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -91,3 +91,65 @@ pub fn write_pipeline(p: &Pipeline, out: &Path) -> anyhow::Result<String> {
     }
     Ok(stem)
 }
+
+/// `text` as one file-name component, injectively: ASCII letters, digits, `_`, `-` and `.`
+/// stay as they are, every other byte (of the UTF-8 text; `/`, `:`, `~` itself, …) becomes
+/// `~XX` (two upper-case hex digits), and so does a leading `.` (no `.`, `..` or hidden
+/// names). Two different texts never give the same name, so `sc/trav.toml` and
+/// `sc_trav.toml` get two folders. The empty text gives `~`. A name longer than 120 bytes is
+/// cut to its first 80 and `~~` and the 16 hex digits of a 64-bit FNV-1a hash of the whole
+/// text (`~~` never appears otherwise), so that it stays a valid file name.
+pub fn path_component(text: &str) -> String {
+    let mut s = String::with_capacity(text.len());
+    for (i, b) in text.bytes().enumerate() {
+        if b.is_ascii_alphanumeric() || b == b'_' || b == b'-' || (b == b'.' && i > 0) {
+            s.push(b as char);
+        } else {
+            s.push_str(&format!("~{b:02X}"));
+        }
+    }
+    if s.is_empty() {
+        return "~".into();
+    }
+    if s.len() > 120 {
+        let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3));
+        let mut cut = 80;
+        // Never cut inside an escape.
+        while s.as_bytes()[cut - 1] == b'~' || s.as_bytes()[cut - 2] == b'~' {
+            cut -= 1;
+        }
+        s = format!("{}~~{hash:016x}", &s[..cut]);
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::path_component;
+
+    #[test]
+    fn path_components_are_injective_and_plain() {
+        // Hand-written expectations.
+        assert_eq!(path_component("sc/trav.toml"), "sc~2Ftrav.toml");
+        assert_eq!(path_component("sc_trav.toml"), "sc_trav.toml");
+        assert_eq!(path_component("scene:rocks@angle=70"), "scene~3Arocks~40angle~3D70");
+        assert_eq!(path_component(".."), "~2E.");
+        assert_eq!(path_component("a~2F"), "a~7E2F");
+        assert_eq!(path_component(""), "~");
+        assert_eq!(path_component("é"), "~C3~A9");
+        // Texts that a lossy mapping would merge stay apart.
+        let texts = ["sc/trav.toml", "sc_trav.toml", "sc~2Ftrav.toml", "sc:trav.toml", ".x", "~2Ex", "", "~", "a b"];
+        let names: std::collections::HashSet<String> = texts.iter().map(|t| path_component(t)).collect();
+        assert_eq!(names.len(), texts.len());
+        for n in &names {
+            assert!(n.bytes().all(|b| b.is_ascii_alphanumeric() || b"_-.~".contains(&b)), "{n}");
+            assert!(!n.starts_with('.'), "{n}");
+        }
+        // Long texts stay short enough for a file name and still differ.
+        let long_a = "d/".repeat(100) + "a.toml";
+        let long_b = "d/".repeat(100) + "b.toml";
+        let (a, b) = (path_component(&long_a), path_component(&long_b));
+        assert!(a.len() <= 100 && b.len() <= 100, "{a} {b}");
+        assert_ne!(a, b);
+    }
+}

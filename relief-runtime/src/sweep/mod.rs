@@ -2,10 +2,11 @@
 //!
 //! Results go to `DIR/results.jsonl` (one JSON object per line, the source of truth) and
 //! `DIR/results.csv` (the same rows, rewritten whole through a temporary file after every
-//! cell), with each cell's `frame.png` and `error.png` under `DIR/cells/SCENE/PIPELINE/`.
+//! cell), with each cell's `frame.png` and `error.png` under `DIR/cells/SCENE/SIZE/ADAPTER/PIPELINE/` ([`cell_dir`]).
 //! A row is appended with one write as soon as its cell finishes, so a run killed at any
 //! moment loses at most the cell in flight; a line cut short by the kill is dropped when the
-//! next run starts, and cells already recorded (same pipeline, scene and size) are skipped.
+//! next run starts, and cells already recorded (same pipeline, scene, size and adapter) are
+//! skipped. A results file with two rows for one cell is refused ([`results::read`]).
 //! A cell that fails is recorded with its error, and the sweep goes on. Rows are read,
 //! appended and written by [`crate::results`].
 //!
@@ -94,7 +95,7 @@ pub struct Summary {
     /// Cells measured and recorded as `ok` in this run.
     pub measured: usize,
     /// Cells not run because the results already hold them (same pipeline as measured,
-    /// scene and size).
+    /// scene, size and adapter).
     pub skipped: usize,
     /// Cells recorded with status `error` in this run.
     pub failed: usize,
@@ -102,9 +103,9 @@ pub struct Summary {
     pub cells: usize,
 }
 
-/// The key that says a cell is done.
-fn key(pipeline: &str, scene: &str, size: u32) -> (String, String, u32) {
-    (pipeline.to_string(), scene.to_string(), size)
+/// The key that says a cell is done: its row's [`results::cell_key`].
+fn key(pipeline: &str, scene: &str, size: u32, adapter: &str) -> (String, String, u32, String) {
+    (pipeline.to_string(), scene.to_string(), size, adapter.to_string())
 }
 
 /// Runs the sweep.
@@ -113,7 +114,9 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
         .with_context(|| format!("cannot create output folder {}", opts.out.display()))?;
     let mut rows = results::read_for_append(&opts.out)?;
     let label = |arg: &str| scene_label(arg) + &opts.overrides.suffix();
-    let done: HashSet<_> = rows.iter().map(|r| key(&r.metrics.pipeline, &r.metrics.scene, r.metrics.size)).collect();
+    // Rows of other adapters (another device, a browser's rows added to the folder) are
+    // other cells.
+    let done: HashSet<_> = rows.iter().map(|r| results::cell_key(&r.metrics)).collect();
     // Each scene once: a cell is recorded under the pipeline as measured on its scene (the
     // scene's lod policy applied), so that is what resuming compares.
     let mut scenes: HashMap<String, Result<Scene, String>> = HashMap::new();
@@ -135,19 +138,20 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
             opts.grid.cells.iter().zip(shards).filter(|(_, s)| *s == k).map(|(c, _)| c.clone()).collect()
         }
     };
-    let todo: Vec<_> = mine
-        .iter()
-        .filter(|(p, s)| !done.contains(&key(&measured_as(p, s).to_string(), &label(s), opts.size)))
-        .cloned()
-        .collect();
     opts.overrides.check().map_err(anyhow::Error::msg)?;
     check_views(&opts.grid, &opts.overrides)?;
+    let gpu = Gpu::new()?;
+    let adapter = format!("{} ({})", gpu.adapter, gpu.driver);
+    let todo: Vec<_> = mine
+        .iter()
+        .filter(|(p, s)| !done.contains(&key(&measured_as(p, s).to_string(), &label(s), opts.size, &adapter)))
+        .cloned()
+        .collect();
     let mut summary = Summary { skipped: mine.len() - todo.len(), cells: mine.len(), ..Default::default() };
     if todo.is_empty() {
         results::write_csv(&opts.out, &rows)?;
         return Ok(summary);
     }
-    let gpu = Gpu::new()?;
     let mut bar = Progress::new(todo.len() as u64, opts.progress);
     let mut prepared: HashMap<String, Result<Prepared, String>> = HashMap::new();
     for (pipeline, scene_arg) in todo {
@@ -158,7 +162,7 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
             let scene = scenes[&scene_arg].clone()?;
             Prepared::new(&gpu, scene, opts.size).map_err(|e| format!("{e:#}"))
         });
-        let cell_dir = format!("cells/{}/{}", folder_name(&label(&scene_arg)), pipeline.file_stem());
+        let cell_dir = cell_dir(&label(&scene_arg), opts.size, &adapter, &pipeline);
         let mut row = Row {
             grid: opts.grid.name.clone(),
             status: "ok".into(),
@@ -199,7 +203,7 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
                     pipeline: text.clone(),
                     scene: label(&scene_arg),
                     size: opts.size,
-                    adapter: format!("{} ({})", gpu.adapter, gpu.driver),
+                    adapter: adapter.clone(),
                     ..Default::default()
                 };
                 row.status = "error".into();
@@ -243,10 +247,14 @@ fn scene_spec(arg: &str) -> String {
     crate::scene::scene_spec(arg)
 }
 
-/// A scene's folder under `cells/`: its label without `scene:`, file-safe.
-fn folder_name(label: &str) -> String {
-    let name = label.strip_prefix("scene:").unwrap_or(label);
-    name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.' { c } else { '_' }).collect()
+/// A cell's folder, relative to the sweep's folder: `cells/SCENE/SIZE/ADAPTER/PIPELINE`, the
+/// scene's label and the adapter each made one file-name component injectively
+/// ([`crate::io::path_component`]), the size in pixels, the pipeline's file stem. Every part
+/// of the cell's key ([`results::cell_key`]) is in it, so no two cells of one folder share
+/// pictures. Readers take the folder from the row's `cell_dir`, never rebuild it.
+pub fn cell_dir(label: &str, size: u32, adapter: &str, pipeline: &relief_dsl::Pipeline) -> String {
+    let (scene, adapter) = (crate::io::path_component(label), crate::io::path_component(adapter));
+    format!("cells/{scene}/{size}/{adapter}/{}", pipeline.file_stem())
 }
 
 #[cfg(test)]

@@ -25,11 +25,22 @@ pub struct ReportArgs {
     /// it, adding an adapter that already has rows is refused).
     #[arg(long, requires = "add")]
     pub replace: bool,
+    /// When another relief process (a sweep) holds one of the folders' locks
+    /// (`DIR/.relief.lock`), wait for it instead of refusing.
+    #[arg(long)]
+    pub wait: bool,
 }
 
 /// Runs `relief report`.
 pub fn run(a: &ReportArgs) -> anyhow::Result<()> {
     let out = a.out.clone().unwrap_or_else(|| a.dirs[0].clone());
+    // Every folder read and the one written, for as long as the report runs; a folder that
+    // does not exist is left to the report to refuse.
+    let mut locked: Vec<&std::path::Path> = a.dirs.iter().filter(|d| d.is_dir()).map(|d| d.as_path()).collect();
+    if a.dirs.iter().all(|d| d.is_dir()) {
+        locked.push(&out);
+    }
+    let _lock = crate::lock_folders(&locked, a.wait)?;
     if !a.add.is_empty() {
         if a.dirs.len() != 1 {
             anyhow::bail!("--add adds to one sweep folder; {} were given", a.dirs.len());

@@ -18,6 +18,10 @@ pub struct StabilityArgs {
     /// height-map file); repeatable. Default: the whole stability matrix.
     #[arg(long)]
     pub scene: Vec<String>,
+    /// When another relief process holds the output folder's lock (`OUT/.relief.lock`),
+    /// wait for it instead of refusing.
+    #[arg(long)]
+    pub wait: bool,
 }
 
 /// Runs `relief stability`.
@@ -27,6 +31,7 @@ pub fn run(a: &StabilityArgs) -> anyhow::Result<()> {
     }
     std::fs::create_dir_all(&a.out)
         .map_err(|e| anyhow::anyhow!("cannot create output folder {}: {e}", a.out.display()))?;
+    let _lock = crate::lock_folders(&[&a.out], a.wait)?;
     let gpu = Gpu::new()?;
     let methods = stability::methods();
     let scenes: Vec<&str> =

@@ -36,6 +36,10 @@ pub struct SweepArgs {
     /// List the built-in grids with their cell counts.
     #[arg(long)]
     pub list: bool,
+    /// When another relief process holds the output folder's lock (`OUT/.relief.lock`),
+    /// wait for it instead of refusing.
+    #[arg(long)]
+    pub wait: bool,
 }
 
 /// Runs `relief sweep`.
@@ -60,10 +64,12 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
         if a.shard.is_some() {
             anyhow::bail!("--shard is not implemented for the room grid");
         }
+        let _lock = crate::lock_folders(&[&a.out], a.wait)?;
         return run_rooms(a);
     }
     let overrides = a.overrides.checked()?;
     let grid = grids::load(a.grid.as_deref().unwrap_or_default(), scenes)?;
+    let _lock = crate::lock_folders(&[&a.out], a.wait)?;
     let start = std::time::Instant::now();
     let s = sweep::run(&sweep::Options {
         grid,

@@ -1,0 +1,195 @@
+//! One relief process at a time in a results folder (a leaf): `DIR/.relief.lock`.
+//!
+//! `relief sweep` (the room grid too), `relief stability` and `relief report` hold the lock of
+//! every folder they write or read results in for as long as they run, so that two of them
+//! never append rows for the same cells or rewrite `results.csv` under each other. A second
+//! process refuses with one line naming the holder (its pid, host and start), or waits for
+//! it with `--wait`.
+//!
+//! The lock is an advisory `flock` on the file, not the file's existence: the kernel drops
+//! it the moment its holder exits, however it exits, so a lock left by a killed process is
+//! never stale, and taking it over is the same atomic `flock` that takes a free one (two
+//! processes racing for a dead holder's folder cannot both win). The file itself stays;
+//! while held it names the holder (`pid N, host H, started at unix time T`), and it is
+//! emptied when released. Where `flock` is missing (not Unix) no lock is taken.
+
+use std::path::{Path, PathBuf};
+
+/// The lock file's name in a results folder.
+pub const LOCK_FILE: &str = ".relief.lock";
+
+/// How long [`FolderLock::take`] with `wait` sleeps between tries.
+const POLL: std::time::Duration = std::time::Duration::from_millis(200);
+
+/// A held folder lock; released when dropped (or when the process ends).
+#[derive(Debug)]
+pub struct FolderLock {
+    #[cfg_attr(not(unix), allow(dead_code))]
+    file: std::fs::File,
+    path: PathBuf,
+}
+
+impl FolderLock {
+    /// Takes `dir`'s lock (creating `dir` and the lock file if missing). When another
+    /// process holds it: an error naming the holder, or, with `wait`, a wait until it is
+    /// released (`on_wait` is called once, with the holder, before the first sleep).
+    pub fn take(dir: &Path, wait: bool, on_wait: &mut dyn FnMut(&str)) -> anyhow::Result<FolderLock> {
+        std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("cannot create folder {}: {e}", dir.display()))?;
+        let path = dir.join(LOCK_FILE);
+        // A FIFO in the lock's place would block the open.
+        if let Ok(meta) = std::fs::symlink_metadata(&path) {
+            if !meta.is_file() {
+                anyhow::bail!("cannot lock {}: {} is not a regular file", dir.display(), path.display());
+            }
+        }
+        let file = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(&path)
+            .map_err(|e| anyhow::anyhow!("cannot lock {}: cannot open {}: {e}", dir.display(), path.display()))?;
+        let mut told = false;
+        loop {
+            match try_flock(&file) {
+                Ok(true) => break,
+                Ok(false) if wait => {
+                    if !told {
+                        on_wait(&holder(&path));
+                        told = true;
+                    }
+                    std::thread::sleep(POLL);
+                }
+                Ok(false) => anyhow::bail!(
+                    "{} is in use by another relief process ({}): wait for it to finish, or pass --wait",
+                    dir.display(),
+                    holder(&path)
+                ),
+                Err(e) => anyhow::bail!("cannot lock {}: {e}", path.display()),
+            }
+        }
+        let lock = FolderLock { file, path };
+        lock.write_holder()?;
+        Ok(lock)
+    }
+
+    /// The lock file's path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    fn write_holder(&self) -> anyhow::Result<()> {
+        use std::io::{Seek, Write};
+        let started =
+            std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0);
+        let text = format!("pid {}, host {}, started at unix time {started}\n", std::process::id(), host());
+        let mut f = &self.file;
+        f.set_len(0)?;
+        f.seek(std::io::SeekFrom::Start(0))?;
+        f.write_all(text.as_bytes())?;
+        f.sync_data()?;
+        Ok(())
+    }
+}
+
+impl Drop for FolderLock {
+    fn drop(&mut self) {
+        // Emptied while still held; the kernel releases the lock when the file closes.
+        let _ = self.file.set_len(0);
+    }
+}
+
+/// Takes the locks of `dirs` (each folder once, in a fixed order so that two processes
+/// waiting for the same folders cannot each hold what the other waits for).
+pub fn take_all(dirs: &[&Path], wait: bool, on_wait: &mut dyn FnMut(&str)) -> anyhow::Result<Vec<FolderLock>> {
+    let mut keyed: Vec<(PathBuf, &Path)> = Vec::new();
+    for d in dirs {
+        std::fs::create_dir_all(d).map_err(|e| anyhow::anyhow!("cannot create folder {}: {e}", d.display()))?;
+        let key = std::fs::canonicalize(d).unwrap_or_else(|_| d.to_path_buf());
+        if !keyed.iter().any(|(k, _)| *k == key) {
+            keyed.push((key, d));
+        }
+    }
+    keyed.sort();
+    keyed.into_iter().map(|(_, d)| FolderLock::take(d, wait, on_wait)).collect()
+}
+
+/// What the lock file says of its holder, for a message.
+fn holder(path: &Path) -> String {
+    match std::fs::read_to_string(path) {
+        Ok(t) if !t.trim().is_empty() => relief_dsl::spec::echo(t.trim()),
+        _ => "its pid not written yet".into(),
+    }
+}
+
+fn host() -> String {
+    std::fs::read_to_string("/etc/hostname")
+        .ok()
+        .map(|h| h.trim().to_string())
+        .filter(|h| !h.is_empty())
+        .or_else(|| std::env::var("HOSTNAME").ok())
+        .unwrap_or_else(|| "unknown".into())
+}
+
+/// A non-blocking exclusive `flock`: `Ok(false)` when another open file holds it.
+#[cfg(unix)]
+fn try_flock(file: &std::fs::File) -> std::io::Result<bool> {
+    use std::os::unix::io::AsRawFd;
+    // SAFETY: flock on a file descriptor this `File` owns and keeps open.
+    let r = unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) };
+    if r == 0 {
+        return Ok(true);
+    }
+    let e = std::io::Error::last_os_error();
+    if e.raw_os_error() == Some(libc::EWOULDBLOCK) {
+        Ok(false)
+    } else {
+        Err(e)
+    }
+}
+
+#[cfg(not(unix))]
+fn try_flock(_: &std::fs::File) -> std::io::Result<bool> {
+    Ok(true)
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_held_folder_is_refused_with_its_holder_and_free_again_once_released() {
+        let dir = std::env::temp_dir().join(format!("relief-lock-unit-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let first = FolderLock::take(&dir, false, &mut |_| {}).unwrap();
+        let text = std::fs::read_to_string(first.path()).unwrap();
+        assert!(text.starts_with(&format!("pid {}, host ", std::process::id())), "{text}");
+        // A second open of the file (as another process would open it) is refused.
+        let e = FolderLock::take(&dir, false, &mut |_| {}).unwrap_err().to_string();
+        assert!(
+            e.contains("in use by another relief process") && e.contains(&format!("pid {}", std::process::id())),
+            "{e}"
+        );
+        assert!(!e.contains('\n'), "{e}");
+        // The same folder named twice is taken once.
+        drop(first);
+        assert_eq!(std::fs::read_to_string(dir.join(LOCK_FILE)).unwrap(), "", "emptied when released");
+        let both = take_all(&[&dir, &dir.join("."), &dir.join("sub")], false, &mut |_| {}).unwrap();
+        assert_eq!(both.len(), 2);
+        drop(both);
+        // A waiter gets it once the holder lets go.
+        let held = FolderLock::take(&dir, false, &mut |_| {}).unwrap();
+        let d2 = dir.clone();
+        let waiter = std::thread::spawn(move || {
+            let mut told = Vec::new();
+            let l = FolderLock::take(&d2, true, &mut |h| told.push(h.to_string()));
+            (l.is_ok(), told)
+        });
+        std::thread::sleep(std::time::Duration::from_millis(500));
+        drop(held);
+        let (ok, told) = waiter.join().unwrap();
+        assert!(ok);
+        assert_eq!(told.len(), 1, "{told:?}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
