@@ -284,6 +284,8 @@ fn bad_room_files_give_one_line_errors_naming_key_and_file() {
         ("[light]\npoint = [1, 1, -1]\ndirection = [0, 1, 0]", "light", "not both"),
         ("[camera]\nposition = [1, 1, -1]", "camera.position", "in front of the window"),
         ("map_size = 3", "map_size", "8..=4096"),
+        ("[camera]\ntarget = [nan, 0.7, 2.0]", "camera.target", "must be three finite numbers"),
+        ("[walls.floor]\ndepth_scale = 1e30", "walls.floor.depth_scale", "allowed 0 < depth scale <= 10"),
     ];
     for (i, (text, key, says)) in cases.iter().enumerate() {
         let p = write(&dir, &format!("bad{i}.toml"), text);

@@ -233,8 +233,9 @@ impl Room {
         s
     }
 
-    /// Checks the room's values: positive size, finite positive depth scales, the camera in
-    /// front of the window, a point light inside the room. Errors name the key.
+    /// Checks the room's values: positive size, depth scales in range
+    /// ([`crate::scene::file::check_depth_scale`]), the camera in front of the window and a
+    /// finite target, a point light inside the room. Errors name the key.
     pub fn check(&self) -> Result<(), (String, String)> {
         if !self.size.iter().all(|x| x.is_finite() && *x > 0.0) {
             return Err(("size".into(), format!("{:?}: width, height and depth must be positive", self.size)));
@@ -243,17 +244,19 @@ impl Room {
             return Err(("walls".into(), format!("{} walls, expected {WALLS}", self.walls.len())));
         }
         for (k, w) in self.walls.iter().enumerate() {
-            if !(w.depth_scale.is_finite() && w.depth_scale > 0.0) {
-                return Err((
-                    format!("walls.{}.depth_scale", WALL_NAMES[k]),
-                    format!("{}: must be a positive number", w.depth_scale),
-                ));
-            }
+            crate::scene::file::check_depth_scale(w.depth_scale)
+                .map_err(|m| (format!("walls.{}.depth_scale", WALL_NAMES[k]), m))?;
         }
         if !(self.camera.position.is_finite() && self.camera.position.z > 0.0) {
             return Err((
                 "camera.position".into(),
                 format!("{:?}: the camera must be in front of the window (z > 0)", self.camera.position.to_array()),
+            ));
+        }
+        if !self.camera.target.is_finite() {
+            return Err((
+                "camera.target".into(),
+                format!("{:?}: must be three finite numbers", self.camera.target.to_array()),
             ));
         }
         if !(self.camera.fov_deg > 0.0 && self.camera.fov_deg < 180.0) {

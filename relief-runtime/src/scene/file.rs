@@ -252,9 +252,7 @@ fn build(path: &Path, f: FileSpec) -> Result<Scene, KeyError> {
     let mut s = Scene::from_height_map(name, hm);
     s.lod = lod;
     if let Some(t) = f.tiling {
-        if !(t.is_finite() && t > 0.0) {
-            return Err(("tiling", format!("{t}: must be a positive number")));
-        }
+        check_tiling(t).map_err(|m| ("tiling", m))?;
         s = s.with_tiling(t);
     }
     if let Some(v) = &f.view {
@@ -264,9 +262,7 @@ fn build(path: &Path, f: FileSpec) -> Result<Scene, KeyError> {
         }
     }
     if let Some(d) = f.depth_scale {
-        if !(d.is_finite() && d > 0.0) {
-            return Err(("depth_scale", format!("{d}: must be a positive number")));
-        }
+        check_depth_scale(d).map_err(|m| ("depth_scale", m))?;
         s.depth_scale = d;
     }
     s.edge = match f.edge.as_deref() {
@@ -319,6 +315,35 @@ fn build(path: &Path, f: FileSpec) -> Result<Scene, KeyError> {
         s.normal = Some(load_normal_map(&dir.join(n), green_up).map_err(|m| ("normal_map", m))?);
     }
     Ok(s)
+}
+
+/// The largest depth scale accepted: a relief MAX_DEPTH_SCALE times as deep as its texture
+/// is wide. Papers use 0.02 to 0.3; far deeper, a ray crosses so many texels that the exact
+/// reference cannot end its traversal (1e30 did not, after seconds), so such a value is
+/// refused before any work.
+pub const MAX_DEPTH_SCALE: f32 = 10.0;
+
+/// The largest tiling accepted (repeats across the quad), for the same reason.
+pub const MAX_TILING: f32 = 1000.0;
+
+/// A depth scale in (0, [`MAX_DEPTH_SCALE`]], or the message naming the range.
+pub fn check_depth_scale(d: f32) -> Result<(), String> {
+    if d.is_finite() && d > 0.0 && d <= MAX_DEPTH_SCALE {
+        Ok(())
+    } else {
+        Err(format!(
+            "{d}: must be a positive number at most {MAX_DEPTH_SCALE} (allowed 0 < depth scale <= {MAX_DEPTH_SCALE})"
+        ))
+    }
+}
+
+/// A tiling in (0, [`MAX_TILING`]], or the message naming the range.
+pub fn check_tiling(t: f32) -> Result<(), String> {
+    if t.is_finite() && t > 0.0 && t <= MAX_TILING {
+        Ok(())
+    } else {
+        Err(format!("{t}: must be a positive number at most {MAX_TILING} (allowed 0 < tiling <= {MAX_TILING})"))
+    }
 }
 
 fn check_angle(a: f32) -> Result<(), String> {
@@ -394,15 +419,15 @@ impl Overrides {
         *self == Overrides::default()
     }
 
-    /// Checks the values: depth scale and tiling positive, 0 <= angle < 90, azimuth finite.
+    /// Checks the values: 0 < depth scale <= [`MAX_DEPTH_SCALE`], 0 < tiling <= [`MAX_TILING`],
+    /// 0 <= angle < 90, azimuth finite.
     /// Errors name the flag.
     pub fn check(&self) -> Result<(), String> {
-        for (flag, v) in [("--depth-scale", self.depth_scale), ("--tiling", self.tiling)] {
-            if let Some(v) = v {
-                if !(v.is_finite() && v > 0.0) {
-                    return Err(format!("{flag} {v}: must be a positive number"));
-                }
-            }
+        if let Some(d) = self.depth_scale {
+            check_depth_scale(d).map_err(|m| format!("--depth-scale {m}"))?;
+        }
+        if let Some(t) = self.tiling {
+            check_tiling(t).map_err(|m| format!("--tiling {m}"))?;
         }
         if let Some(a) = self.angle {
             check_angle(a).map_err(|m| format!("--angle {m}"))?;

@@ -140,6 +140,7 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
     };
     opts.overrides.check().map_err(anyhow::Error::msg)?;
     check_views(&opts.grid, &opts.overrides)?;
+    check_pipelines(&opts.grid.name, mine.iter().map(|(p, s)| measured_as(p, s)))?;
     let gpu = Gpu::new()?;
     let adapter = format!("{} ({})", gpu.adapter, gpu.driver);
     let todo: Vec<_> = mine
@@ -218,6 +219,29 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
     }
     bar.finish();
     Ok(summary)
+}
+
+/// Refuses a grid holding a pipeline that cannot be built (`csm(4, form=safe, sample=min4)`:
+/// a stage refuses the combination), before any cell runs: each distinct pipeline is built
+/// once (the naga module, as `relief gen` builds it), in parallel.
+fn check_pipelines(grid: &str, pipelines: impl Iterator<Item = relief_dsl::Pipeline>) -> anyhow::Result<()> {
+    use rayon::prelude::*;
+    let mut distinct: Vec<relief_dsl::Pipeline> = Vec::new();
+    let mut seen = HashSet::new();
+    for p in pipelines {
+        if seen.insert(p.to_string()) {
+            distinct.push(p);
+        }
+    }
+    let bad = distinct.par_iter().find_first(|p| relief_dsl::compose::build_module(p).is_err());
+    if let Some(p) = bad {
+        let e = relief_dsl::compose::build_module(p).expect_err("failed above");
+        anyhow::bail!(
+            "grid `{grid}`: pipeline {} cannot be built: {e} (no cell was run)",
+            relief_dsl::spec::echo(&p.to_string())
+        );
+    }
+    Ok(())
 }
 
 /// Refuses overrides that would replace a view a cell's scene names itself (`--angle 30` on
