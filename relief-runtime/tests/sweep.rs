@@ -336,6 +336,14 @@ fn a_scene_with_a_view_is_the_scene_swept_at_that_view() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// An empty folder under the system's temporary folder, for this process.
+fn fresh(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("relief-sweep-{name}-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
 /// (width, height) from a PNG's header.
 fn png_size(path: &std::path::Path) -> (u32, u32) {
     let b = std::fs::read(path).unwrap();
@@ -347,8 +355,7 @@ fn png_size(path: &std::path::Path) -> (u32, u32) {
 /// name once `/` is made file-safe by a lossy mapping) get a folder each.
 #[test]
 fn cells_of_other_sizes_and_of_look_alike_scene_paths_never_share_a_folder() {
-    let dir = std::env::temp_dir().join(format!("relief-sweep-folders-{}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
+    let dir = fresh("folders");
     std::fs::create_dir_all(dir.join("sc")).unwrap();
     let map = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/tatarchuk/bump_NM_height.tga");
     std::fs::copy(&map, dir.join("bump.tga")).unwrap();
@@ -388,9 +395,7 @@ fn cells_of_other_sizes_and_of_look_alike_scene_paths_never_share_a_folder() {
 /// finishes the grid, each cell once.
 #[test]
 fn a_locked_folder_is_refused_or_waited_for_and_a_killed_holder_frees_it() {
-    let dir = std::env::temp_dir().join(format!("relief-sweep-lock-{}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = fresh("lock");
     let grid = dir.join("g.grid");
     std::fs::write(&grid, "coarse: linear(4..=40 step 4)\nrefine: [none, binary(3)]\n").unwrap();
     let out = dir.join("out");
