@@ -78,3 +78,215 @@ fn a_grid_with_a_pipeline_that_cannot_be_built_is_refused_before_any_cell_runs()
     assert!(!d.join("out").join("results.jsonl").exists(), "nothing measured");
     std::fs::remove_dir_all(&d).ok();
 }
+
+/// How one fuzzed command ended.
+enum End {
+    /// Exited with a status (success or not) and its stderr.
+    Exit(Option<i32>, String),
+    /// Still running at the deadline (killed).
+    Hung,
+}
+
+/// Runs `c` with stdin closed, killing it at `secs`.
+fn run_bounded(mut c: Command, secs: u64) -> End {
+    use std::io::Read;
+    let mut child = c
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut err = child.stderr.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut s = Vec::new();
+        let _ = err.read_to_end(&mut s);
+        s
+    });
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(secs);
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            let e = String::from_utf8_lossy(&reader.join().unwrap()).into_owned();
+            return End::Exit(status.code(), e);
+        }
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            return End::Hung;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+}
+
+/// A deterministic generator (SplitMix64).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+}
+
+/// The fuzz-and-fault test of issue 27, bounded in count (a fixed list and a fixed number of
+/// seeded mutations) and in time (each command killed after 20 s, which counts as a hang):
+/// malformed pipelines and parameters, bad numbers for every numeric flag, FIFOs and
+/// folders given as inputs, corrupted results rows under `relief report`. Every command must
+/// end by itself, with status 0 or a plain failure (never a panic, exit 101, or a signal),
+/// and a failure must be one line on stderr. The concurrent sweeps with the lock and the
+/// kill-and-resume runs are in tests/sweep.rs. The count of commands run is printed.
+#[test]
+fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
+    let d = tmpdir("fuzz");
+    let out = d.join("out");
+    let mut cases: Vec<(String, Command)> = Vec::new();
+    let mut add = |name: String, args: Vec<std::ffi::OsString>| {
+        let mut c = relief();
+        c.args(&args);
+        cases.push((name, c));
+    };
+    let os = |v: &[&str]| v.iter().map(std::ffi::OsString::from).collect::<Vec<_>>();
+    // Malformed pipelines: hand-picked, then seeded mutations of good ones.
+    let mut pipelines: Vec<String> = [
+        "",
+        "(",
+        ")",
+        "linear(",
+        "linear()",
+        "linear(,)",
+        "linear(1,1,1,1)",
+        "linear(-1)",
+        "linear(1e400)",
+        "linear(nan)",
+        "linear(0)",
+        "linear(4294967296)",
+        "linea\nr(10)",
+        "linear(10)+",
+        "+binary(5)",
+        "linear(10)+binary(5)+binary(5)",
+        "csm(4, form=safe, sample=min4)",
+        "csm(form=)",
+        "csm(4,,)",
+        "linear(10)+shadow=soft(nan)",
+        "linear(10)@lod=9999",
+        "\u{1b}[31m",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    pipelines.push(format!("linear({})", vec!["1"; 5000].join(",")));
+    pipelines.push("(".repeat(5000));
+    let good = ["linear(10)+binary(5)", "csm(8, form=textbook)+binary(4)", "sphere(16)+secant(3)+shadow=soft(8)"];
+    let alphabet: Vec<char> = "()+,=.-0123456789eabcdlinrsz \n\t@~".chars().collect();
+    let mut rng = Rng(27);
+    for _ in 0..300 {
+        let mut p: Vec<char> = good[rng.below(good.len())].chars().collect();
+        for _ in 0..1 + rng.below(4) {
+            let i = rng.below(p.len() + 1);
+            match rng.below(3) {
+                0 if i < p.len() => {
+                    p.remove(i);
+                }
+                1 if i < p.len() => p[i] = alphabet[rng.below(alphabet.len())],
+                _ => p.insert(i, alphabet[rng.below(alphabet.len())]),
+            }
+        }
+        pipelines.push(p.into_iter().collect());
+    }
+    for p in &pipelines {
+        let mut a = os(&["gen"]);
+        a.push(p.into());
+        a.push("--out".into());
+        a.push(d.join("gen").into());
+        add(format!("gen {p:?}"), a);
+    }
+    // Bad numbers for numeric flags.
+    for v in ["nan", "inf", "-inf", "-1", "0", "1e39", "3.4e38", "1e30", "abc", "", "0x10", "99999999999999999999"] {
+        for flag in ["--depth-scale", "--tiling", "--angle", "--azimuth", "--size", "--frames"] {
+            let mut a = os(&["render", "linear(4)", "--scene", "scene:step", "--size", "8", "--frames", "1", "--out"]);
+            a.push(out.clone().into());
+            a.push(format!("{flag}={v}").into());
+            add(format!("render {flag}={v}"), a);
+        }
+    }
+    // FIFOs and folders given as inputs.
+    let fifo = d.join("f.png");
+    let made = Command::new("mkfifo").arg(&fifo).status().map(|s| s.success()).unwrap_or(false);
+    let folder = d.join("folder.png");
+    std::fs::create_dir_all(&folder).unwrap();
+    let fifo_grid = d.join("f.grid");
+    let _ = Command::new("mkfifo").arg(&fifo_grid).status();
+    let mut inputs = vec![folder.clone()];
+    if made {
+        inputs.push(fifo.clone());
+    }
+    for input in &inputs {
+        let mut a = os(&["maps"]);
+        a.push(input.into());
+        a.extend(os(&["--kind", "cone", "--out"]));
+        a.push(d.join("o.npy").into());
+        add(format!("maps {}", input.display()), a);
+        let mut a = os(&["render", "linear(4)", "--size", "8", "--frames", "1", "--scene"]);
+        a.push(input.into());
+        a.push("--out".into());
+        a.push(out.clone().into());
+        add(format!("render --scene {}", input.display()), a);
+    }
+    for g in [&fifo_grid, &folder] {
+        let mut a = os(&["sweep", "--grid"]);
+        a.push(g.into());
+        a.extend(os(&["--scene", "scene:step", "--size", "8", "--frames", "2", "--out"]));
+        a.push(d.join("sweep-fifo").into());
+        add(format!("sweep --grid {}", g.display()), a);
+    }
+    // Corrupted results rows under `relief report` (each folder one kind of damage).
+    let row = r#"{"grid":"g","pipeline":"linear(10)","scene":"scene:step","size":16,"adapter":"a","status":"ok","error":"","relief_version":"0","cell_dir":""}"#;
+    let damages = [
+        "{\"foo\": 1}".to_string(),
+        row.replace("\"ok\"", "\"maybe\""),
+        row.replace("linear(10)", "nosuch(1)"),
+        row.to_string(),
+        row.replace("16", "-16"),
+        row.replace("16", "1e99"),
+        row[..row.len() / 2].to_string(),
+        "\u{0}\u{1}\u{2}".to_string(),
+        "[1,2,3]".to_string(),
+        "{".repeat(10000),
+        String::from_utf8_lossy(&[0xff, 0xfe, b'{']).into_owned(),
+    ];
+    for (i, bad) in damages.iter().enumerate() {
+        let dir = d.join(format!("rows{i}"));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("results.jsonl"), format!("{row}\n{bad}\n")).unwrap();
+        let mut a = os(&["report"]);
+        a.push(dir.into());
+        add(format!("report with line {bad:.40?}"), a);
+    }
+    let total = cases.len();
+    let mut failures = Vec::new();
+    for (name, c) in cases {
+        match run_bounded(c, 20) {
+            End::Hung => failures.push(format!("{name}: did not end within 20 s")),
+            End::Exit(None, e) => failures.push(format!("{name}: killed by a signal: {e}")),
+            End::Exit(Some(101), e) => failures.push(format!("{name}: panicked: {e}")),
+            End::Exit(Some(0), _) => {}
+            End::Exit(Some(_), e) => {
+                let lines: Vec<&str> = e.lines().filter(|l| !l.starts_with("warning: ")).collect();
+                if lines.len() != 1 || !lines[0].starts_with("relief: ") {
+                    failures.push(format!("{name}: the error is not one line: {e:?}"));
+                }
+                if e.contains("panicked") {
+                    failures.push(format!("{name}: panicked: {e}"));
+                }
+            }
+        }
+    }
+    println!("fuzz: {total} commands run, {} failures", failures.len());
+    assert!(total >= 400, "the case list was cut: {total}");
+    assert!(failures.is_empty(), "{} of {total} failed:\n{}", failures.len(), failures.join("\n"));
+    std::fs::remove_dir_all(&d).ok();
+}
