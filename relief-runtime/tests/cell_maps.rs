@@ -8,6 +8,7 @@
 //! distances ≤ 1.5, a few operations each, relative error ≲ 1e-15); `TOL = 1e-12` relative is
 //! a 1000× margin over that and far below one f32 ulp of a height (6e-8).
 
+use proptest::prelude::*;
 use relief_runtime::heightmap::{EdgeMode, HeightMap};
 use relief_runtime::maps::cell::cone::{cell_cone, cell_cone_normal, cell_quad_cone, QUADRANTS};
 use relief_runtime::maps::cell::multi_cone::{cell_multi_cone, cell_piecewise_cone, heights};
@@ -424,6 +425,66 @@ fn cell_relaxed_cone_matches_brute_force_bit_for_bit() {
             &cell_relaxed_cone(&m, edge),
             &brute_relaxed(&m, edge),
         );
+    }
+}
+
+/// A tilted plane `z = z0 + sx x + sy y` (texel units), clamped to [0, 1]: long smooth slopes
+/// where every cell along the slope ties with the cone's binding cell (axis-aligned slopes
+/// give exactly equal ratios), the case the search's node and cell tests must not get wrong.
+fn plane(w: usize, h: usize, z0: f32, sx: f32, sy: f32) -> HeightMap {
+    HeightMap::from_fn(w, h, |x, y| (z0 + sx * x as f32 + sy * y as f32).clamp(0.0, 1.0))
+}
+
+#[test]
+fn cell_cone_and_relaxed_match_brute_force_on_long_slopes() {
+    let maps = [
+        ("axis plane", plane(40, 36, 0.05, 1.0 / 64.0, 0.0)),
+        ("diagonal plane", plane(40, 36, 0.0, 1.0 / 96.0, 1.0 / 128.0)),
+        ("smooth", smooth(48, 48, 11)),
+    ];
+    for (name, m) in &maps {
+        for edge in EDGES {
+            assert_bits(&format!("cell_cone {name} {edge:?}"), &cell_cone(m, edge), &brute_cell_cone(m, edge));
+            assert_bits(
+                &format!("cell_relaxed_cone {name} {edge:?}"),
+                &cell_relaxed_cone(m, edge),
+                &brute_relaxed(m, edge),
+            );
+        }
+    }
+}
+
+/// A random small map: continuous heights, heights on a few levels (many exact ties, flat
+/// regions, one-texel steps) or an integer-slope plane (ties along the slope).
+fn random_map(w: usize, h: usize, style: u8, seed: u64) -> HeightMap {
+    let mut r = Lcg(seed);
+    match style {
+        0 => HeightMap::from_fn(w, h, |_, _| r.next()),
+        1 => HeightMap::from_fn(w, h, |_, _| (r.next() * 3.0).floor() / 4.0),
+        _ => {
+            let (sx, sy) = ((r.next() * 8.0).floor() / 32.0 - 0.125, (r.next() * 8.0).floor() / 32.0 - 0.125);
+            plane(w, h, 0.5, sx, sy)
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    #[test]
+    fn cell_kinds_match_brute_force_on_random_maps(
+        w in 2usize..14,
+        h in 2usize..14,
+        style in 0u8..3,
+        seed in any::<u64>(),
+        clamp in any::<bool>(),
+    ) {
+        let m = random_map(w, h, style, seed);
+        let edge = if clamp { EdgeMode::Clamp } else { EdgeMode::Repeat };
+        let what = format!("{w}x{h} style {style} seed {seed} {edge:?}");
+        assert_bits(&format!("cell_cone {what}"), &cell_cone(&m, edge), &brute_cell_cone(&m, edge));
+        assert_bits(&format!("cell_quad_cone {what}"), &cell_quad_cone(&m, edge), &brute_quad(&m, edge));
+        assert_bits(&format!("cell_relaxed_cone {what}"), &cell_relaxed_cone(&m, edge), &brute_relaxed(&m, edge));
+        assert_bits(&format!("cell_piecewise_cone {what}"), &cell_piecewise_cone(&m, edge, 3), &brute_piecewise(&m, edge, 3));
     }
 }
 

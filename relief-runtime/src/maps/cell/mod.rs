@@ -69,8 +69,9 @@
 //! `d_min / (h_max − apex)` is not below the best ratio found (with a relative margin of
 //! `1e-9` so that rounding in the per-cell formula can never make a pruned cell smaller than
 //! the bound); seeded with the 8 neighbouring cells and the cell that bound the previous
-//! cell of the row. Rows of cells run in parallel with rayon. The result is bit-identical to
-//! the brute-force minimum over all cells (tested in `tests/cell_maps.rs`).
+//! cell of the row (the tree search does not score those cells again). Rows of cells run in
+//! parallel with rayon. The result is bit-identical to the brute-force minimum over all cells
+//! (tested in `tests/cell_maps.rs`).
 //!
 //! What was measured and tried to make the search fast: `docs/notes/cell-map-search.md`.
 //!
@@ -297,7 +298,9 @@ pub fn piece_ratio(lo: f64, hi: f64, rho: f64, c: &[Corner; 4]) -> f64 {
 /// terms), and faster: it stops as soon as one certified term reaches `best` (the maximum is
 /// then `≥ best`), drops a candidate direction once its running minimum falls to the largest
 /// term so far (it can no longer be the maximum), and tries the direction of the highest
-/// corner first (the usual binding point, so the usual early stop).
+/// corner first (the usual binding point, so the usual early stop). With `ρ = 0` that first
+/// direction is checked against `best` without divisions before anything else
+/// (`reaches_along`); most cells the search scores cannot lower the minimum and leave there.
 #[inline]
 pub fn piece_ratio_below(lo: f64, hi: f64, rho: f64, c: &[Corner; 4], best: f64) -> Option<f64> {
     let mut top_k = 0;
@@ -308,6 +311,9 @@ pub fn piece_ratio_below(lo: f64, hi: f64, rho: f64, c: &[Corner; 4], best: f64)
     }
     let m = c[top_k].s;
     if m <= lo {
+        return None;
+    }
+    if rho == 0.0 && reaches_along(c, &c[top_k], lo, best) {
         return None;
     }
     let dmin = norm(c[0].gx.min(c[1].gx), c[0].gy.min(c[2].gy));
@@ -354,6 +360,26 @@ pub fn piece_ratio_below(lo: f64, hi: f64, rho: f64, c: &[Corner; 4], best: f64)
         }
     }
     Some(v)
+}
+
+/// Whether option 1 of [`piece_ratio`] (`ρ = 0`) along the gap vector of corner `e` is
+/// certainly at least `best`, decided without divisions: with `n = |g_e|`, the term is the
+/// minimum over corners `q` above `lo` of `(g_e · g_q) / (n (S_q − lo))`, and each such
+/// corner is checked as `g_e · g_q ≥ best · n · (S_q − lo) · (1 + 1e-12)` (a margin far
+/// above the few ulp by which the division form can differ). `true` means the cell cannot
+/// score below `best` (the maximum over options is at least that term), so
+/// [`piece_ratio_below`] would return `None`.
+#[inline]
+fn reaches_along(c: &[Corner; 4], e: &Corner, lo: f64, best: f64) -> bool {
+    let n = norm(e.gx, e.gy);
+    if n <= 0.0 || best == f64::INFINITY {
+        return false;
+    }
+    let bar = best * n * (1.0 + 1e-12);
+    c.iter().all(|q| {
+        let ds = q.s - lo;
+        ds <= 0.0 || e.gx * q.gx + e.gy * q.gy >= bar * ds
+    })
 }
 
 /// The node test for a bound `sqrt(d2) / dh` (`dh > 0`): `None` when it reaches `best` with
@@ -536,7 +562,9 @@ impl CellTree {
     /// Minimum score over the cells reachable from cell `(ci, cj)` with directions
     /// `(ax, ay)`, starting from `best` (and its binding cell, a plane position, see
     /// [`CellTree::leaf_below_at`]). Returns the minimum and the plane position of the cell that
-    /// gave it.
+    /// gave it. `seeds`: cells the caller has already scored against a bar no lower than
+    /// the search's (they cannot lower it again and are not scored twice).
+    #[allow(clippy::too_many_arguments)]
     pub fn search<S: CellScorer>(
         &self,
         ci: usize,
@@ -545,10 +573,11 @@ impl CellTree {
         ay: Dir,
         s: &S,
         start: (f64, Option<(i64, i64)>),
+        seeds: Seeds,
     ) -> (f64, Option<(i64, i64)>) {
         let mut best = start;
         let top = self.levels.len() - 1;
-        let q = Query { xa: self.axis_query(ci, ax, true), ya: self.axis_query(cj, ay, false), ci, cj, ax, ay };
+        let q = Query { xa: self.axis_query(ci, ax, true), ya: self.axis_query(cj, ay, false), ci, cj, ax, ay, seeds };
         let shifts: &[i64] = if self.grid.edge == EdgeMode::Repeat { &[0, -1, 1] } else { &[0] };
         for &my in shifts {
             for &mx in shifts {
@@ -725,6 +754,9 @@ impl CellTree {
             if k == 1 {
                 let px = ci2 as i64 + mx * cw as i64;
                 let py = cj2 as i64 + my * ch as i64;
+                if q.seeds.has(px, py, q.ci, q.cj) {
+                    continue;
+                }
                 if let Some(v) = self.leaf_below_at(px, py, q.ci, q.cj, q.ax, q.ay, s, best.0) {
                     *best = (v, Some((px, py)));
                 }
@@ -763,7 +795,7 @@ impl CellTree {
                 }
             }
         }
-        let r = self.search(ci, cj, ax, ay, s, best);
+        let r = self.search(ci, cj, ax, ay, s, best, Seeds { neighbours: true, prev: *prev });
         if r.1.is_some() {
             *prev = r.1;
         }
@@ -838,6 +870,23 @@ struct Query {
     cj: usize,
     ax: Dir,
     ay: Dir,
+    seeds: Seeds,
+}
+
+/// Cells a search need not score (see [`CellTree::search`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Seeds {
+    /// The 8 cells around `C` (plane positions `C ± 1`).
+    pub neighbours: bool,
+    /// One more plane position.
+    pub prev: Option<(i64, i64)>,
+}
+
+impl Seeds {
+    #[inline]
+    fn has(&self, px: i64, py: i64, ci: usize, cj: usize) -> bool {
+        (self.neighbours && (px - ci as i64).abs() <= 1 && (py - cj as i64).abs() <= 1) || self.prev == Some((px, py))
+    }
 }
 
 fn side_of(ka: i64, kb: i64) -> Side {
