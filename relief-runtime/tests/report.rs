@@ -864,7 +864,7 @@ fn the_answer_names_the_fastest_pipeline_at_each_accuracy_and_the_engine_familys
         2,
         "{overview}"
     );
-    assert!(overview.contains("<code>csm(16)</code> 1.500 ms<span class=\"fam\">engine family: 1.33× the time (<code>linear_dynamic(1, 64)+binary(5)</code>)</span>"), "{overview}");
+    assert!(overview.contains("<code>csm(16)</code> 1.500 ms<span class=\"fam\"><span title=\"the engine family's fastest here: linear_dynamic(1, 64)+binary(5)\">family: 1.33×</span></span>"), "{overview}");
     // The scene's picture: its height map (at least 256 pixels) and the exact row's frame.
     let map = image::open(dir.join("report/scene_rocks.png")).expect("height map").to_luma8();
     assert!(map.width() >= 256 && map.height() >= 256);
@@ -932,13 +932,14 @@ fn the_skips_no_geometry_level_keeps_only_rows_with_skipped_rate_zero() {
     assert_eq!(last[10], "family unreachable");
     // The RMS levels still take the skipping rows: at 1e-2 rcs(8)+binary(5) is the fastest.
     assert_eq!(table[1][1], "`rcs(8)+binary(5)`");
-    // The page's overview has the level as its last column.
+    // The page's overview has the level as its last column, the pick's t error beside it
+    // (the level does not bound it).
     let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
     let overview = &html[html.find("id=\"answer-table\"").expect("overview")..];
     let overview = &overview[..overview.find("</table>").unwrap()];
     assert!(overview.contains("<th>skips no geometry (skipped_rate = 0)</th></tr>"), "{overview}");
     assert!(
-        overview.contains("<td><code>csm(16)</code> 1.500 ms<span class=\"fam\">family unreachable</span></td></tr>"),
+        overview.contains("<td><code>csm(16)</code> 1.500 ms · t error 8.000e-3<span class=\"fam\">family unreachable</span></td></tr>"),
         "{overview}"
     );
     let _ = std::fs::remove_dir_all(&dir);
@@ -1022,10 +1023,10 @@ fn the_answer_ranks_by_paired_ratios_and_says_not_decided_where_the_interval_rea
     assert_eq!(a70[0][1], "`linear_dynamic(1, 64)+binary(5)`");
     let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
     assert!(
-        html.contains("<code>csm(16)</code> 1.800 ms · 1.10× baseline<span class=\"fam\">engine family: 1.09× ["),
+        html.contains("<code>csm(16)</code> 1.800 ms · 1.10× baseline<span class=\"fam\"><span title=\"the engine family's fastest here: linear_dynamic(1, 64)+binary(5)\">family: 1.09× ["),
         "overview cell"
     );
-    assert!(html.contains("<code>qcsm(32)</code> 2.000 ms · 1.60× baseline<span class=\"fam\">not told apart from 1 other: <code>linear_dynamic(1, 256)+interval(1)</code></span>"), "overview ties");
+    assert!(html.contains("<span title=\"not told apart from the fastest in this run (95 %): linear_dynamic(1, 256)+interval(1)\">≈ 1 other</span>"), "overview ties");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -210,31 +210,40 @@ pub(crate) fn page(mut p: Parts) -> String {
 // ---------------------------------------------------------------------------------------
 // The answer
 
-/// One cell of the overview: the fastest pipeline, its time, and the family's ratio.
-fn overview_cell(a: &Answer, k: usize) -> String {
+/// One cell of the overview, kept to about two lines so that the whole table sits above the
+/// fold: the fastest pipeline and its speed (and its t error where the level does not bound
+/// it); under it the engine family's multiple (its pipeline in the tooltip; nothing where the
+/// family was not measured: the row is greyed) and how many rows are not told apart from
+/// the pick (their names in the tooltip; the scene's table lists them).
+fn overview_cell(a: &Answer, k: usize, level: &answer::Level) -> String {
     let pick = &a.picks[k];
     let Some(b) = pick.best else {
         return "<td>unreachable</td>".into();
     };
     let c = &a.cands[b];
-    let fam = match pick.engine {
-        Some(e) if e == b => "the engine family's own".to_string(),
-        Some(e) => format!(
-            "engine family: {} the time (<code>{}</code>)",
-            esc(&answer::ratio_cell(a, pick)),
-            esc(&a.cands[e].pipeline)
-        ),
-        None => esc(&answer::ratio_cell(a, pick)),
-    };
-    let ties = match pick.ties.len() {
-        0 => String::new(),
-        n => format!(
-            "<span class=\"fam\">not told apart from {n} other{}: {}</span>",
-            if n == 1 { "" } else { "s" },
-            md_inline(&answer::ties_cell(a, pick, 2))
-        ),
-    };
-    format!("<td><code>{}</code> {}{ties}<span class=\"fam\">{fam}</span></td>", esc(&c.pipeline), esc(&speed_words(c)))
+    let mut under = Vec::new();
+    match pick.engine {
+        Some(e) if e == b => under.push("in the engine family".to_string()),
+        Some(e) => under.push(format!(
+            "<span title=\"the engine family's fastest here: {}\">family: {}</span>",
+            esc(&a.cands[e].pipeline),
+            esc(&answer::ratio_cell(a, pick))
+        )),
+        None if a.engine_measured => under.push(esc(&answer::ratio_cell(a, pick))),
+        None => {}
+    }
+    if !pick.ties.is_empty() {
+        let n = pick.ties.len();
+        under.push(format!(
+            "<span title=\"not told apart from the fastest in this run (95 %): {}\">≈ {n} other{}</span>",
+            esc(&answer::ties_cell(a, pick, 8).replace('`', "")),
+            if n == 1 { "" } else { "s" }
+        ));
+    }
+    let err = if level.bounds_error { String::new() } else { format!(" · t error {}", fmt_sci(c.err)) };
+    let under =
+        if under.is_empty() { String::new() } else { format!("<span class=\"fam\">{}</span>", under.join(" · ")) };
+    format!("<td><code>{}</code> {}{err}{under}</td>", esc(&c.pipeline), esc(&speed_words(c)))
 }
 
 /// `1.234 ms`, or `1.234 ms · 0.81× baseline` under paired timing.
@@ -254,16 +263,8 @@ fn answer_section(p: &Parts) -> Section {
     let levels = answer::levels();
     let _ = writeln!(
         h,
-        "<p>For each scene and view: the fastest measured pipeline whose RMS t error (<code>ref_err_t_rms</code>) is at most \
-         each level, or, in the last column, that skips no geometry (no ray steps over a surface it should have hit: \
-         <code>skipped_rate</code> exactly 0, whatever its t error), and the engine family's ({}) fastest there as a multiple of its time (<i>unreachable</i>: none of the \
-         family's rows gets there; <i>not measured</i>: no row of it here).</p>\
-         <details class=\"how\"><summary>How speed is compared</summary><p>Where the sweep timed every row against one \
-         baseline in alternating blocks, “fastest” ranks by that paired ratio (<code>× baseline</code>); the family's multiple \
-         carries its 95 % interval and is <i>not decided</i> where the interval reaches 1, and the rows that cannot be told \
-         apart from the fastest are named under it. Otherwise frame times are medians of one run and a multiple near 1 is \
-         within the noise.</p></details>",
-        md_inline(answer::ENGINE_FAMILY)
+        "<p class=\"answer-lead\">Per scene and view: the fastest measured pipeline at each accuracy, and the \
+         engine family's fastest there.</p>"
     );
     h.push_str("<table class=\"answer sortable\" id=\"answer-table\"><thead><tr><th>scene, view, size</th>");
     for l in &levels {
@@ -278,12 +279,28 @@ fn answer_section(p: &Parts) -> Section {
             a.id,
             esc(&a.title)
         );
-        for k in 0..levels.len() {
-            h.push_str(&overview_cell(a, k));
+        for (k, level) in levels.iter().enumerate() {
+            h.push_str(&overview_cell(a, k, level));
         }
         h.push_str("</tr>\n");
     }
     h.push_str("</tbody></table>\n");
+    let _ = writeln!(
+        h,
+        "<p class=\"legend\">Each cell: the fastest pipeline whose RMS t error (<code>ref_err_t_rms</code>) is at most \
+         the level, and its speed. <i>family</i>: the engine family's ({}) fastest there as a multiple of its time \
+         (hover for its pipeline), <i>unreachable</i> where none of its rows gets there; greyed rows: the family was not \
+         measured on that scene. <i>≈ N others</i>: rows that reach the level and cannot be told apart from the pick in \
+         this run (hover for their names). The last column asks no bound on the t error: no ray of the row steps over \
+         a surface it should have hit (<code>skipped_rate</code> exactly 0); its t error is given. Each scene's name \
+         leads to its table, picture and chart.</p>\
+         <details class=\"how\"><summary>How speed is compared</summary><p>Where the sweep timed every row against one \
+         baseline in alternating blocks, “fastest” ranks by that paired ratio (<code>× baseline</code>); the family's multiple \
+         carries its 95 % interval and is <i>not decided</i> where the interval reaches 1, and the rows that cannot be told \
+         apart from the fastest are counted under it. Otherwise frame times are medians of one run and a multiple near 1 is \
+         within the noise.</p></details>",
+        md_inline(answer::ENGINE_FAMILY)
+    );
     for (i, a) in p.answers.iter().enumerate() {
         let _ = writeln!(h, "<h3 id=\"{}\">{}</h3>", a.id, esc(&a.title));
         // The scene itself: its height map and the shaded frame of an exact pipeline.
