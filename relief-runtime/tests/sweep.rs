@@ -443,3 +443,35 @@ fn a_locked_folder_is_refused_or_waited_for_and_a_killed_holder_frees_it() {
     assert_eq!(std::fs::read_to_string(&lock).unwrap(), "", "released");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// On a terminal the bar is there from the start, saying what is prepared before the first
+/// cell (a large grid takes a while to check). `script` (util-linux) gives the sweep a
+/// terminal.
+#[test]
+fn on_a_terminal_the_progress_bar_shows_from_the_start() {
+    let dir = fresh("bar");
+    let grid = dir.join("g.grid");
+    std::fs::write(&grid, "coarse: linear([4, 8])\n").unwrap();
+    let line = format!(
+        "{} sweep --grid {} --scene scene:step --size 16 --frames 2 --out {}",
+        env!("CARGO_BIN_EXE_relief"),
+        grid.display(),
+        dir.join("out").display()
+    );
+    let typescript = dir.join("typescript");
+    let o = Command::new("script")
+        .arg("-qc")
+        .arg(&line)
+        .arg(&typescript)
+        .env("LP_NUM_THREADS", "1")
+        .env("NODEVICE_SELECT", "1")
+        .stdout(Stdio::null())
+        .status()
+        .expect("`script` (util-linux) runs");
+    assert!(o.success());
+    let text = String::from_utf8_lossy(&std::fs::read(&typescript).unwrap()).into_owned();
+    let prep = text.find("0/2 cells, ETA").map(|i| &text[i..]).unwrap_or("");
+    assert!(prep.contains("preparing 2 cells"), "{text}");
+    assert_eq!(rows(&dir.join("out")).len(), 2);
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -112,6 +112,9 @@ fn key(pipeline: &str, scene: &str, size: u32, adapter: &str) -> (String, String
 pub fn run(opts: &Options) -> anyhow::Result<Summary> {
     std::fs::create_dir_all(&opts.out)
         .with_context(|| format!("cannot create output folder {}", opts.out.display()))?;
+    // Shown from the start: a large grid takes a while to check before its first cell.
+    let mut bar = Progress::new(opts.grid.cells.len() as u64, opts.progress);
+    bar.preparing(format!("preparing {} cells: reading results and scenes, building pipelines", opts.grid.cells.len()));
     let mut rows = results::read_for_append(&opts.out)?;
     let label = |arg: &str| scene_label(arg) + &opts.overrides.suffix();
     // Rows of other adapters (another device, a browser's rows added to the folder) are
@@ -150,10 +153,11 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
         .collect();
     let mut summary = Summary { skipped: mine.len() - todo.len(), cells: mine.len(), ..Default::default() };
     if todo.is_empty() {
+        bar.finish();
         results::write_csv(&opts.out, &rows)?;
         return Ok(summary);
     }
-    let mut bar = Progress::new(todo.len() as u64, opts.progress);
+    bar.set_len(todo.len() as u64);
     let mut prepared: HashMap<String, Result<Prepared, String>> = HashMap::new();
     for (pipeline, scene_arg) in todo {
         let pipeline = measured_as(&pipeline, &scene_arg);

@@ -40,6 +40,34 @@ impl Progress {
         }
     }
 
+    /// Sets the number of cells (the bar is shown from the start of a sweep, over the grid's
+    /// cells, while the results, scenes and pipelines are read and checked; then over the
+    /// cells left to measure). In the plain form, says what is being prepared on one line.
+    pub(crate) fn set_len(&mut self, len: u64) {
+        #[cfg(feature = "cli")]
+        {
+            self.bar.set_length(len);
+            self.bar.set_position(0);
+        }
+        #[cfg(not(feature = "cli"))]
+        if let Some(p) = &mut self.plain {
+            p.len = len;
+        }
+    }
+
+    /// Says what the sweep prepares before its first cell (the bar ticks while it does).
+    pub(crate) fn preparing(&mut self, message: String) {
+        #[cfg(feature = "cli")]
+        {
+            self.bar.enable_steady_tick(std::time::Duration::from_millis(250));
+            self.bar.set_message(message);
+        }
+        #[cfg(not(feature = "cli"))]
+        if self.plain.is_some() {
+            eprintln!("{message}");
+        }
+    }
+
     /// Names the cell in flight.
     pub(crate) fn set_message(&mut self, message: String) {
         #[cfg(feature = "cli")]
