@@ -382,8 +382,8 @@ pub(crate) fn table(a: &Answer) -> TextTable {
         Clock::Paired(base) => format!(
             "speed: each row's mean frame time over the baseline `{base}`'s, timed in alternating blocks in the row's own run \
              ({RATIO_NAME}); the family's ratio to the fastest is the quotient of the two with its 95 % interval, \
-             *not decided* where that interval reaches 1; the last column names the rows reaching the level whose \
-             quotient to the fastest reaches 1, any of which may be the fastest in another run"
+             and the verdict is not decided where that interval reaches 1; the last column names the rows \
+             reaching the level whose quotient to the fastest reaches 1, any of which may be the fastest in another run"
         ),
         Clock::Median => format!("speed: {SPEED_NAME} of one run (no paired timing), so a ratio near 1 is within the noise"),
     };
