@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use relief_dsl::Pipeline;
 
 use super::{
-    and, figure_points, g, method_variant, pareto_front, share, share_dec, slower, spearman_at_least, Check, Dec,
+    and, compact, figure_points, method_variant, pareto_front, share, share_dec, slower, spearman_at_least, Check, Dec,
 };
 
 /// The common share: a criterion over several cells holds when at least 75% of the
@@ -48,7 +48,7 @@ pub(super) fn checks() -> Vec<Check> {
                 let flags: Vec<Option<bool>> = pts.windows(2).map(|w| Some(w[1].1 <= w[0].1 * 1.05)).collect();
                 let (ok, ev) = share(&flags, SHARE, 2, "consecutive step counts lower or equal")?;
                 let (first, last) = (pts[0], pts[pts.len() - 1]);
-                Ok((and(ok, Some(last.1 < first.1)), format!("{ev}; linear({}) {} → linear({}) {}", first.0, g(first.1), last.0, g(last.1))))
+                Ok((and(ok, Some(last.1 < first.1)), format!("{ev}; linear({}) {} → linear({}) {}", first.0, compact(first.1), last.0, compact(last.1))))
             },
         },
         Check {
@@ -124,7 +124,7 @@ pub(super) fn checks() -> Vec<Check> {
                     };
                     if let Some((fi, fb)) = f() {
                         all &= fi >= 2.0 * fb;
-                        ev.push(format!("linear({c}): interval ÷{} vs binary ÷{}", g(fi), g(fb)));
+                        ev.push(format!("linear({c}): interval ÷{} vs binary ÷{}", compact(fi), compact(fb)));
                     }
                 }
                 if ev.is_empty() {
@@ -418,7 +418,7 @@ pub(super) fn checks() -> Vec<Check> {
                 let flags: Vec<Option<bool>> = front.iter().filter(|f| f.1 >= start).map(|(p, _, _)| Some(li(p))).collect();
                 let (ok, ev) = share(&flags, SHARE, 1, "front points from the fastest linear+interval on are linear+interval")?;
                 let best = front.iter().min_by(|a, b| a.2.total_cmp(&b.2)).expect("non-empty");
-                Ok((and(ok, Some(li(&best.0))), format!("{ev}; most accurate `{}` ({} {}; on the frame times' estimates)", best.0, g(best.2), s.unit())))
+                Ok((and(ok, Some(li(&best.0))), format!("{ev}; most accurate `{}` ({} {}; on the frame times' estimates)", best.0, compact(best.2), s.unit())))
             },
         },
         Check {

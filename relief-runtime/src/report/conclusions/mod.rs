@@ -173,7 +173,9 @@ enum Clock {
     Model,
 }
 
-struct Ours<'a> {
+/// This run's rows (the results file's ok rows of one scene), read as a [`Src`] by the
+/// criteria.
+struct MeasuredRows<'a> {
     data: &'a Data,
     /// How frame time is read.
     clock: Clock,
@@ -194,10 +196,10 @@ struct Ours<'a> {
     lod: Lod,
 }
 
-impl<'a> Ours<'a> {
+impl<'a> MeasuredRows<'a> {
     fn new(data: &'a Data, scene: &str, metric: Metric, textbook: bool, lod: Lod, model: bool) -> Self {
         let clock = if model { Clock::Model } else { time_clock(data, scene) };
-        Ours {
+        MeasuredRows {
             data,
             clock,
             read_time: Default::default(),
@@ -272,7 +274,7 @@ impl<'a> Ours<'a> {
     }
 }
 
-impl Src for Ours<'_> {
+impl Src for MeasuredRows<'_> {
     fn time(&self, _: &str, p: &str) -> Option<Ratio> {
         self.time_of(self.row(p)?)
     }
@@ -299,7 +301,7 @@ impl Src for Ours<'_> {
     }
 }
 
-impl Ours<'_> {
+impl MeasuredRows<'_> {
     fn squared(&self, v: f64) -> f64 {
         if !v.is_finite() {
             return f64::INFINITY;
@@ -319,11 +321,12 @@ fn printed_sampling(p: &Pipeline) -> bool {
     !(p.coarse.name == "csm" && matches!(p.coarse.word("sample"), "min4" | "corners"))
 }
 
-struct Theirs<'a> {
+/// The dissertation's printed rows (Burger 2018's tables), read as a [`Src`] by the criteria.
+struct PrintedRows<'a> {
     diss: &'a Diss,
 }
 
-impl Theirs<'_> {
+impl PrintedRows<'_> {
     /// The row of `p` in `table`; `*` means the first printed row of any table with a value.
     fn find(&self, table: &str, p: &str, f: fn(&DissRow) -> Option<f64>) -> Option<f64> {
         let p: Pipeline = p.parse().ok()?;
@@ -337,7 +340,7 @@ impl Theirs<'_> {
     }
 }
 
-impl Src for Theirs<'_> {
+impl Src for PrintedRows<'_> {
     fn time(&self, table: &str, p: &str) -> Option<Ratio> {
         self.find(table, p, DissRow::ms_f).map(Ratio::point)
     }
@@ -465,12 +468,22 @@ fn verdict(o: &Outcome) -> (Verdict, String) {
     }
 }
 
+/// A check's outcome on this run's rows.
+struct MeasuredCheck {
+    verdict: Verdict,
+    evidence: String,
+    /// Whether the criterion read a cone method (whose form the reading chose).
+    read_cone: bool,
+    /// Whether the criterion read frame time.
+    read_time: bool,
+}
+
 /// Runs a check on our rows with `metric`; a criterion that read rows of more than one size
 /// is refused (not measured, the evidence naming the sizes) rather than an error, so that
 /// the rest of the report stays readable.
 /// Also says whether the criterion read a cone method (whose form `textbook` chose) and
 /// whether it read frame time. With `model`, frame time is the SIMD cost model's.
-fn run_ours(
+fn run_measured(
     c: &Check,
     data: &Data,
     scene: &str,
@@ -478,26 +491,28 @@ fn run_ours(
     textbook: bool,
     lod: Lod,
     model: bool,
-) -> (Verdict, String, bool, bool) {
-    let src = Ours::new(data, scene, metric, textbook, lod, model);
+) -> MeasuredCheck {
+    let src = MeasuredRows::new(data, scene, metric, textbook, lod, model);
     let out = (c.run)(&src);
-    let (cone, time) = (src.read_cone.get(), src.read_time.get());
+    let (read_cone, read_time) = (src.read_cone.get(), src.read_time.get());
+    let refused = |evidence| MeasuredCheck { verdict: Verdict::NotMeasured, evidence, read_cone, read_time };
     if let Some(why) = src.mixed_sizes() {
-        return (Verdict::NotMeasured, why, cone, time);
+        return refused(why);
     }
     if src.untraced.get() {
-        let why = "the model counts the probe's trace only; shadow and ambient-occlusion work is not in it".to_string();
-        return (Verdict::NotMeasured, why, cone, time);
+        return refused(
+            "the model counts the probe's trace only; shadow and ambient-occlusion work is not in it".into(),
+        );
     }
     let (v, mut e) = verdict(&out);
-    if time && v != Verdict::NotMeasured {
+    if read_time && v != Verdict::NotMeasured {
         e.push_str(match src.clock {
             Clock::Ratio => "; frame times as paired ratios to the baseline, 95 % intervals",
             Clock::Mean => "; mean frame times as points (the rows have no paired ratios to one baseline)",
             Clock::Model => "; model: simd32_fetches",
         });
     }
-    (v, e, cone, time)
+    MeasuredCheck { verdict: v, evidence: e, read_cone, read_time }
 }
 
 /// Checks every conclusion on the main scene's rows; a criterion that reads a cone method
@@ -511,25 +526,25 @@ pub(crate) fn check(data: &Data, diss: &Diss) -> Vec<Conclusion> {
 /// is read as `cell+lod=…`).
 pub(crate) fn check_at(data: &Data, diss: &Diss, scene: &str, lod: Lod) -> Vec<Conclusion> {
     let scene = scene.to_string();
-    let theirs = Theirs { diss };
+    let printed = PrintedRows { diss };
     let mut out = Vec::new();
     for c in &checks::checks() {
-        let (dv, de) = verdict(&(c.run)(&theirs));
+        let (dv, de) = verdict(&(c.run)(&printed));
         for textbook in [false, true] {
-            let (ours_mse, evidence_mse, cone, reads_time) =
-                run_ours(c, data, &scene, Metric::Mse, textbook, lod, false);
+            let MeasuredCheck { verdict: ours_mse, evidence: evidence_mse, read_cone: cone, read_time: reads_time } =
+                run_measured(c, data, &scene, Metric::Mse, textbook, lod, false);
             if textbook && !cone {
                 break;
             }
             let (ours_ref, evidence_ref) = if c.uses_error {
-                let (v, e, _, _) = run_ours(c, data, &scene, Metric::RefT, textbook, lod, false);
-                (Some(v), e)
+                let m = run_measured(c, data, &scene, Metric::RefT, textbook, lod, false);
+                (Some(m.verdict), m.evidence)
             } else {
                 (None, String::new())
             };
             let (model, evidence_model) = if reads_time {
-                let (v, e, _, _) = run_ours(c, data, &scene, Metric::Mse, textbook, lod, true);
-                (Some(v), e)
+                let m = run_measured(c, data, &scene, Metric::Mse, textbook, lod, true);
+                (Some(m.verdict), m.evidence)
             } else {
                 (None, String::new())
             };
@@ -563,7 +578,8 @@ pub(crate) fn check_at(data: &Data, diss: &Diss, scene: &str, lod: Lod) -> Vec<C
 // ---------------------------------------------------------------------------------------
 // Helpers
 
-fn g(v: f64) -> String {
+/// `v` in few characters: three decimals in the middle range, scientific notation outside it.
+fn compact(v: f64) -> String {
     if v == 0.0 {
         "0".into()
     } else if v.abs() >= 0.01 && v.abs() < 1000.0 {
