@@ -190,10 +190,10 @@ fn gap(x: f64, c: [f64; 2]) -> f64 {
 
 fn corners(m: &HeightMap, hd: &[f32; 4], dx: [f64; 2], dy: [f64; 2], cx: [f64; 2], cy: [f64; 2]) -> [Corner; 4] {
     let (w, h) = (m.width as f64, m.height as f64);
-    let mut out = [Corner { gx: 0.0, gy: 0.0, s: 0.0 }; 4];
+    let mut out = [Corner { gx: 0.0, gy: 0.0, height: 0.0 }; 4];
     for b in 0..2 {
         for a in 0..2 {
-            out[2 * b + a] = Corner { gx: gap(dx[a], cx) / w, gy: gap(dy[b], cy) / h, s: hd[2 * b + a] as f64 };
+            out[2 * b + a] = Corner { gx: gap(dx[a], cx) / w, gy: gap(dy[b], cy) / h, height: hd[2 * b + a] as f64 };
         }
     }
     out

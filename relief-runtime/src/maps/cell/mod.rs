@@ -98,15 +98,15 @@ use crate::maps::search::reduce_pyramid;
 /// The cell grid of a height map (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CellGrid {
-    /// Texels.
-    pub w: usize,
-    /// Texel rows: the height map's height (`w` is its width).
-    pub h: usize,
+    /// Texels per row: the height map's width.
+    pub width: usize,
+    /// Texel rows: the height map's height.
+    pub height: usize,
     /// The edge mode; it decides the cell counts and how corner indices are resolved.
     pub edge: EdgeMode,
-    /// Cells: `w x h` (repeat) or `(w + 1) x (h + 1)` (clamp).
+    /// Cells per row: `width` (repeat) or `width + 1` (clamp).
     pub cw: usize,
-    /// Cell rows: `h` (repeat) or `h + 1` (clamp); `cw` is the cells per row.
+    /// Cell rows: `height` (repeat) or `height + 1` (clamp).
     pub ch: usize,
 }
 
@@ -114,23 +114,23 @@ impl CellGrid {
     /// The cell grid of a `w x h` height map under `edge`.
     pub fn new(w: usize, h: usize, edge: EdgeMode) -> CellGrid {
         let extra = usize::from(edge == EdgeMode::Clamp);
-        CellGrid { w, h, edge, cw: w + extra, ch: h + extra }
+        CellGrid { width: w, height: h, edge, cw: w + extra, ch: h + extra }
     }
 
     /// The storage index of the cell that contains `(u, v)` (see the module docs).
     pub fn cell_of_uv(&self, u: f64, v: f64) -> (usize, usize) {
-        (axis_cell(u, self.w, self.edge), axis_cell(v, self.h, self.edge))
+        (axis_cell(u, self.width, self.edge), axis_cell(v, self.height, self.edge))
     }
 
     /// Texel indices (resolved) of the two corner columns of cell column `i`, and the cell's
     /// extent in texel-centre coordinates `X` (one period for repeat: `[i, i + 1]`).
     pub fn col(&self, i: usize) -> (usize, usize, f64, f64) {
-        axis_extent(i, self.w, self.edge)
+        axis_extent(i, self.width, self.edge)
     }
 
     /// Same for cell row `j`.
     pub fn row(&self, j: usize) -> (usize, usize, f64, f64) {
-        axis_extent(j, self.h, self.edge)
+        axis_extent(j, self.height, self.edge)
     }
 
     /// The four corner heights of cell `(i, j)`: `[h00, h10, h01, h11]` (x fastest).
@@ -195,7 +195,7 @@ pub struct Corner {
     /// Gap along v from `C` to the corner, in texture units, ≥ 0 (0 inside `C`'s row).
     pub gy: f64,
     /// The corner's height, in [0, 1].
-    pub s: f64,
+    pub height: f64,
 }
 
 /// The four corners of `D` seen from `C`, from the two cells' extents in texel-centre
@@ -214,10 +214,10 @@ pub(crate) fn corners_seen_from(
     let gx = [gap(dx[0], cx[0], cx[1]) / w as f64, gap(dx[1], cx[0], cx[1]) / w as f64];
     let gy = [gap(dy[0], cy[0], cy[1]) / h as f64, gap(dy[1], cy[0], cy[1]) / h as f64];
     [
-        Corner { gx: gx[0], gy: gy[0], s: hd[0] as f64 },
-        Corner { gx: gx[1], gy: gy[0], s: hd[1] as f64 },
-        Corner { gx: gx[0], gy: gy[1], s: hd[2] as f64 },
-        Corner { gx: gx[1], gy: gy[1], s: hd[3] as f64 },
+        Corner { gx: gx[0], gy: gy[0], height: hd[0] as f64 },
+        Corner { gx: gx[1], gy: gy[0], height: hd[1] as f64 },
+        Corner { gx: gx[0], gy: gy[1], height: hd[2] as f64 },
+        Corner { gx: gx[1], gy: gy[1], height: hd[3] as f64 },
     ]
 }
 
@@ -254,7 +254,7 @@ pub fn norm(gx: f64, gy: f64) -> f64 {
 /// The condition is monotone in `r` (smaller `r` keeps it true), so the minimum over cells
 /// of these values is certified for every cell at once.
 pub fn piece_ratio(lo: f64, hi: f64, rho: f64, c: &[Corner; 4]) -> f64 {
-    let m = c[0].s.max(c[1].s).max(c[2].s).max(c[3].s);
+    let m = c[0].height.max(c[1].height).max(c[2].height).max(c[3].height);
     if m <= lo {
         return f64::INFINITY;
     }
@@ -274,7 +274,7 @@ pub fn piece_ratio(lo: f64, hi: f64, rho: f64, c: &[Corner; 4]) -> f64 {
         let mut feasible = true;
         for q in c {
             let l = ex * q.gx + ey * q.gy - rho;
-            let ds = q.s - lo;
+            let ds = q.height - lo;
             if ds > 0.0 {
                 upper = upper.min(l / ds);
             } else if l < 0.0 {
@@ -305,11 +305,11 @@ pub fn piece_ratio(lo: f64, hi: f64, rho: f64, c: &[Corner; 4]) -> f64 {
 pub fn piece_ratio_below(lo: f64, hi: f64, rho: f64, c: &[Corner; 4], best: f64) -> Option<f64> {
     let mut top_k = 0;
     for k in 1..4 {
-        if c[k].s > c[top_k].s {
+        if c[k].height > c[top_k].height {
             top_k = k;
         }
     }
-    let m = c[top_k].s;
+    let m = c[top_k].height;
     if m <= lo {
         return None;
     }
@@ -336,7 +336,7 @@ pub fn piece_ratio_below(lo: f64, hi: f64, rho: f64, c: &[Corner; 4], best: f64)
         let mut feasible = true;
         for q in c {
             let l = ex * q.gx + ey * q.gy - rho;
-            let ds = q.s - lo;
+            let ds = q.height - lo;
             if ds > 0.0 {
                 upper = upper.min(l / ds);
                 if upper <= v {
@@ -377,7 +377,7 @@ fn reaches_along(c: &[Corner; 4], e: &Corner, lo: f64, best: f64) -> bool {
     }
     let bar = best * n * (1.0 + 1e-12);
     c.iter().all(|q| {
-        let ds = q.s - lo;
+        let ds = q.height - lo;
         ds <= 0.0 || e.gx * q.gx + e.gy * q.gy >= bar * ds
     })
 }
@@ -554,7 +554,7 @@ impl CellTree {
     pub fn corners_at(&self, i: usize, j: usize) -> [f32; 4] {
         let (x0, x1, _, _) = self.grid.col(i);
         let (y0, y1, _, _) = self.grid.row(j);
-        let w = self.grid.w;
+        let w = self.grid.width;
         let t = |x: usize, y: usize| self.heights[y * w + x];
         [t(x0, y0), t(x1, y0), t(x0, y1), t(x1, y1)]
     }
@@ -595,7 +595,7 @@ impl CellTree {
     }
 
     fn axis_query(&self, c: usize, dir: Dir, is_x: bool) -> AxisQuery {
-        let (n, cn) = if is_x { (self.grid.w, self.grid.cw) } else { (self.grid.h, self.grid.ch) };
+        let (n, cn) = if is_x { (self.grid.width, self.grid.cw) } else { (self.grid.height, self.grid.ch) };
         let (_, _, c0, c1) = axis_extent(c, n, self.grid.edge);
         AxisQuery {
             repeat: self.grid.edge == EdgeMode::Repeat,
@@ -625,10 +625,10 @@ impl CellTree {
         s: &S,
         best: f64,
     ) -> Option<f64> {
-        let x = self.axis_leaf(px, ci, self.grid.cw, self.grid.w, ax, true)?;
-        let y = self.axis_leaf(py, cj, self.grid.ch, self.grid.h, ay, false)?;
+        let x = self.axis_leaf(px, ci, self.grid.cw, self.grid.width, ax, true)?;
+        let y = self.axis_leaf(py, cj, self.grid.ch, self.grid.height, ay, false)?;
         let d = y.0 * self.grid.cw + x.0;
-        let c = corners_seen_from(x.1, y.1, x.2, y.2, &self.corners_at(x.0, y.0), self.grid.w, self.grid.h);
+        let c = corners_seen_from(x.1, y.1, x.2, y.2, &self.corners_at(x.0, y.0), self.grid.width, self.grid.height);
         s.leaf_below(d, &c, x.1, y.1, x.2, y.2, x.3, y.3, best)
     }
 

@@ -188,7 +188,7 @@ impl CellScorer for RelaxedScorer<'_> {
         // The corner heights are f32 values widened to f64: narrowing them back is exact
         // (and saves the lookup of `d`'s corners).
         let _ = d;
-        (!rising(&c.map(|q| q.s as f32), dx, dy, cx, cy)).then_some(r)
+        (!rising(&c.map(|q| q.height as f32), dx, dy, cx, cy)).then_some(r)
     }
 }
 
