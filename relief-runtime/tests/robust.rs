@@ -2,8 +2,12 @@
 
 use std::process::Command;
 
+/// The binary under test: this build's, or the one `RELIEF_HOSTILE_BIN` names (to count what an
+/// older build fails, as `tests/cli/hostile.rs` does).
 fn relief() -> Command {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_relief"));
+    let bin = std::env::var_os("RELIEF_HOSTILE_BIN")
+        .map_or_else(|| std::path::PathBuf::from(env!("CARGO_BIN_EXE_relief")), std::path::PathBuf::from);
+    let mut c = Command::new(bin);
     c.env("LP_NUM_THREADS", "1").env("NODEVICE_SELECT", "1");
     c
 }
@@ -32,7 +36,6 @@ fn depth_scales_and_tilings_beyond_their_range_are_refused_with_the_range_and_th
         ("--depth-scale", "0", "allowed 0 < depth scale <= 10"),
         ("--tiling", "1e30", "allowed 0 < tiling <= 1000"),
     ] {
-        let start = std::time::Instant::now();
         let mut c = relief();
         c.args(["render", "linear(8)", "--scene", "scene:step", "--size", "16", "--frames", "1", "--out"])
             .arg(d.join("o"))
@@ -40,8 +43,7 @@ fn depth_scales_and_tilings_beyond_their_range_are_refused_with_the_range_and_th
         let (ok, e) = run(c);
         assert!(!ok && e.contains(flag) && e.contains(says), "{flag}={value}: {e}");
         assert_eq!(e.trim_end().lines().count(), 1, "{e}");
-        // Refused up front: long before a frame is rendered or the reference traced.
-        assert!(start.elapsed() < std::time::Duration::from_secs(5), "{flag}={value} took {:?}", start.elapsed());
+        // Refused up front: no frame rendered, no metrics written.
         assert!(!d.join("o").join("metrics.json").exists());
     }
     for (key, says) in [("depth_scale", "allowed 0 < depth scale <= 10"), ("tiling", "allowed 0 < tiling <= 1000")] {
