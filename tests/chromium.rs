@@ -105,15 +105,19 @@ fn user_fragment(lib: &relief::dsl::emit::LibraryForms, es: bool) -> String {
 /// three.js's `ShaderMaterial` puts it, compiled and linked.
 #[test]
 fn tint_and_angle_compile_every_library_of_gen_all() {
-    use relief::dsl::emit::{library_forms, Form, LibraryOptions};
+    use relief::dsl::emit::{library_forms, LibraryForm, LibraryOptions};
     let dir = temp_dir("libraries");
     let mut wgsl = Vec::new();
     let mut es = Vec::new();
     let pipelines = frames::library_pipelines();
     for p in &pipelines {
         // Whatever GLSL ES 3.00 still cannot express is refused in that form (none today).
-        let with_es = relief::dsl::emit::inexpressible_in(p, Form::GlslEs).is_none();
-        let wanted: &[Form] = if with_es { &[Form::Wgsl, Form::Tsl, Form::GlslEs] } else { &[Form::Wgsl, Form::Tsl] };
+        let with_es = relief::dsl::emit::inexpressible_in(p, LibraryForm::GlslEs).is_none();
+        let wanted: &[LibraryForm] = if with_es {
+            &[LibraryForm::Wgsl, LibraryForm::Tsl, LibraryForm::GlslEs]
+        } else {
+            &[LibraryForm::Wgsl, LibraryForm::Tsl]
+        };
         let lib = library_forms(p, &LibraryOptions::default(), wanted).unwrap_or_else(|e| panic!("{p}: {e}"));
         let stem = p.file_stem();
         let w = format!("{stem}.user.wgsl");

@@ -401,9 +401,9 @@ fn the_largest_accepted_options_compile_and_one_past_is_refused() {
 
 // ---- The engine forms (`relief gen --library --target …`) ----
 
-use emit::{Form, LibraryForms};
+use emit::{LibraryForm, LibraryForms};
 
-fn forms(p: &Pipeline, opts: &LibraryOptions, forms: &[Form]) -> LibraryForms {
+fn forms(p: &Pipeline, opts: &LibraryOptions, forms: &[LibraryForm]) -> LibraryForms {
     emit::library_forms(p, opts, forms).unwrap_or_else(|e| panic!("{p}: {e}"))
 }
 
@@ -442,7 +442,7 @@ fn wgsl_import_path_composes_with_naga_oil() {
         let path = format!("relief::{}", p.file_stem().replace('-', "_"));
         let opts =
             LibraryOptions { group: 2, binding: 3, import_path: Some(path.clone()), ..LibraryOptions::default() };
-        let lib = forms(&p, &opts, &[Form::Wgsl]);
+        let lib = forms(&p, &opts, &[LibraryForm::Wgsl]);
         let text = file(&lib, ".lib.wgsl");
         let mut composer = Composer::default();
         let added = composer.add_composable_module(ComposableModuleDescriptor {
@@ -493,7 +493,7 @@ fn wgsl_import_path_composes_with_naga_oil() {
 fn wesl_module_is_imported_by_a_user_module() {
     use wesl::{VirtualResolver, Wesl};
     for p in engine_pipelines() {
-        let lib = forms(&p, &LibraryOptions::default(), &[Form::Wesl]);
+        let lib = forms(&p, &LibraryOptions::default(), &[LibraryForm::Wesl]);
         let f = &lib.files[0];
         let module = f.name.strip_suffix(".wesl").expect("a .wesl file");
         assert_eq!(module, emit::library::wesl_module_name(&p.file_stem()));
@@ -545,14 +545,15 @@ fn glsl_es_libraries_pass_the_es_profile() {
     std::fs::create_dir_all(&dir).unwrap();
     let (mut refused, mut gathered, mut guarded_count) = (0, 0, 0);
     for p in pipelines() {
-        if let Some(why) = emit::inexpressible_in(&p, Form::GlslEs) {
+        if let Some(why) = emit::inexpressible_in(&p, LibraryForm::GlslEs) {
             // Refused with a one-line error, never written.
-            let e = emit::library_forms(&p, &LibraryOptions::default(), &[Form::GlslEs]).unwrap_err().to_string();
+            let e =
+                emit::library_forms(&p, &LibraryOptions::default(), &[LibraryForm::GlslEs]).unwrap_err().to_string();
             assert!(e.contains(&why) && e.contains("GLSL ES") && !e.contains('\n'), "{p}: {e}");
             refused += 1;
             continue;
         }
-        let lib = forms(&p, &LibraryOptions::default(), &[Form::GlslEs]);
+        let lib = forms(&p, &LibraryOptions::default(), &[LibraryForm::GlslEs]);
         let text = file(&lib, ".lib.es.glsl");
         let code: String = text.lines().filter(|l| !l.starts_with("//")).collect();
         assert!(
@@ -617,7 +618,7 @@ fn unity_custom_function_compiles_against_the_unity_stub() {
     let dir = std::env::temp_dir().join(format!("relief-library-unity-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     for p in engine_pipelines() {
-        let lib = forms(&p, &LibraryOptions::default(), &[Form::Unity]);
+        let lib = forms(&p, &LibraryOptions::default(), &[LibraryForm::Unity]);
         let text = file(&lib, ".unity.hlsl");
         let mut s = format!("{}\n{text}\n", std::fs::read_to_string(&stub).unwrap());
         let mut args = vec!["uv".to_string(), "view".into(), DEPTH.into()];
@@ -687,7 +688,7 @@ fn unreal_custom_node_compiles_against_the_unreal_stub() {
     std::fs::create_dir_all(&dir).unwrap();
     for edge_clamp in [false, true] {
         for p in engine_pipelines() {
-            let lib = forms(&p, &LibraryOptions { edge_clamp, ..LibraryOptions::default() }, &[Form::Unreal]);
+            let lib = forms(&p, &LibraryOptions { edge_clamp, ..LibraryOptions::default() }, &[LibraryForm::Unreal]);
             let include = file(&lib, ".ush");
             let node = file(&lib, ".custom.hlsl");
             let sampler = if edge_clamp { "Clamped" } else { "Wrapped" };
@@ -762,18 +763,18 @@ fn unreal_custom_node_compiles_against_the_unreal_stub() {
 /// prefix that WebGL reserves in the GLSL ES form only.
 #[test]
 fn engine_forms_refuse_bad_input_in_one_line() {
-    let e = Form::from_name("glsles").unwrap_err().to_string();
+    let e = LibraryForm::from_name("glsles").unwrap_err().to_string();
     assert!(e.contains("unknown target `glsles`") && e.contains("did you mean `glsl-es`?") && !e.contains('\n'), "{e}");
     let p: Pipeline = "linear(8)+binary(3)".parse().unwrap();
     let opts = LibraryOptions { prefix: "webgl".into(), ..LibraryOptions::default() };
-    let e = emit::library_forms(&p, &opts, &[Form::GlslEs]).unwrap_err().to_string();
+    let e = emit::library_forms(&p, &opts, &[LibraryForm::GlslEs]).unwrap_err().to_string();
     assert!(e.contains("prefix `webgl`") && e.contains("WebGL") && !e.contains('\n'), "{e}");
     assert!(
-        emit::library_forms(&p, &opts, &[Form::Wgsl, Form::Glsl, Form::Unity]).is_ok(),
+        emit::library_forms(&p, &opts, &[LibraryForm::Wgsl, LibraryForm::Glsl, LibraryForm::Unity]).is_ok(),
         "`webgl` is a fine prefix outside WebGL"
     );
     let q: Pipeline = "linear_distance+binary(5)".parse().unwrap();
-    for form in Form::ALL {
+    for form in LibraryForm::ALL {
         let e = emit::library_forms(&q, &LibraryOptions::default(), &[form]).unwrap_err().to_string();
         assert!(e.contains("linear_distance") && !e.contains('\n'), "{form:?}: {e}");
     }

@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use browser::{run_page, Page};
-use relief::dsl::emit::{library_forms, Form, LibraryOptions};
+use relief::dsl::emit::{library_forms, LibraryForm, LibraryOptions};
 use relief::runtime::gpu::{self, Gpu, MapKey, Program, SceneTextures, Upload};
 use relief::runtime::heightmap::EdgeMode;
 use relief::runtime::scene::Scene;
@@ -85,7 +85,7 @@ fn write_case(dir: &Path, i: usize, p: &Pipeline, scene: &Scene, float32: bool) 
     }
     let opts = LibraryOptions { edge_clamp: scene.edge == EdgeMode::Clamp, ..Default::default() };
     // Both forms of every case: a pipeline the glsl-es form refused would fail here.
-    let lib = library_forms(p, &opts, &[Form::Tsl, Form::GlslEs]).unwrap_or_else(|e| panic!("{p}: {e}"));
+    let lib = library_forms(p, &opts, &[LibraryForm::Tsl, LibraryForm::GlslEs]).unwrap_or_else(|e| panic!("{p}: {e}"));
     // What each of the library's resources takes, as `examples/integrate.rs` binds them.
     let bindings: Vec<Value> = lib
         .bindings
@@ -203,7 +203,8 @@ fn threejs_draws_relief_renders_frame_in_webgl2_and_webgpu() {
 fn every_tsl_library_is_valid_wgsl_with_no_global_resource() {
     let pipelines = frames::library_pipelines();
     for p in &pipelines {
-        let lib = library_forms(p, &LibraryOptions::default(), &[Form::Tsl]).unwrap_or_else(|e| panic!("{p}: {e}"));
+        let lib =
+            library_forms(p, &LibraryOptions::default(), &[LibraryForm::Tsl]).unwrap_or_else(|e| panic!("{p}: {e}"));
         let text = &lib.files[0].text;
         assert!(lib.files[0].name.ends_with(".tsl.wgsl"), "{p}: {}", lib.files[0].name);
         let module = naga::front::wgsl::parse_str(text).unwrap_or_else(|e| panic!("{p}: {}", e.emit_to_string(text)));

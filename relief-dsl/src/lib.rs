@@ -45,5 +45,5 @@ pub use spec::{register, Pipeline, Slot, StageSpec};
 pub mod __private {
     pub use crate::spec::grid::{ArgPattern, GridPattern, OptionPattern, SlotPattern, StagePattern, ValuePattern};
     pub use crate::spec::options::{key_named, Key};
-    pub use crate::spec::{slot_named, Form, ParseError, MAX_DEPTH};
+    pub use crate::spec::{slot_named, ParseError, TextForm, MAX_DEPTH};
 }

@@ -104,7 +104,7 @@ use syn::parse::{ParseStream, Parser};
 
 mod syntax;
 
-use relief_dsl::__private::Form;
+use relief_dsl::__private::TextForm;
 use syntax::Spans;
 
 /// The path of relief-dsl as the generated code sees it: through the facade.
@@ -174,7 +174,7 @@ fn pipeline_body(input: ParseStream) -> syn::Result<Pipeline> {
         return lit.value().parse::<Pipeline>().map_err(|e| syn::Error::new(lit.span(), e.to_string()));
     }
     let mut spans = Spans::default();
-    let pattern = syntax::body(input, Form::Pipeline, &mut spans)?;
+    let pattern = syntax::body(input, TextForm::Pipeline, &mut spans)?;
     if !pattern.slots.iter().any(|s| s.slot == relief_dsl::Slot::Coarse) {
         return Err(syn::Error::new(
             proc_macro2::Span::call_site(),
@@ -201,7 +201,7 @@ pub fn relief(input: TokenStream) -> TokenStream {
 #[proc_macro]
 pub fn relief_grid(input: TokenStream) -> TokenStream {
     let mut spans = Spans::default();
-    let parsed = (|input: ParseStream| syntax::body(input, Form::Grid, &mut spans)).parse(input);
+    let parsed = (|input: ParseStream| syntax::body(input, TextForm::Grid, &mut spans)).parse(input);
     let pattern = match parsed {
         Ok(p) => p,
         Err(e) => return e.to_compile_error().into(),

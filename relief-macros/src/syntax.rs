@@ -3,7 +3,7 @@
 //! error relief-dsl reports (it carries the position unchanged) maps back to its token.
 
 use proc_macro2::{Span, TokenStream};
-use relief_dsl::__private::{key_named, Form, Key, ParseError, MAX_DEPTH};
+use relief_dsl::__private::{key_named, Key, ParseError, TextForm, MAX_DEPTH};
 use relief_dsl::__private::{ArgPattern, GridPattern, OptionPattern, SlotPattern, StagePattern, ValuePattern};
 use syn::ext::IdentExt;
 use syn::parse::ParseStream;
@@ -54,7 +54,7 @@ pub fn spanned_error(first: Span, last: Span, msg: impl std::fmt::Display) -> sy
 
 /// Parses a whole body: `SLOT: STAGE, …` and `OPTION: VALUE, …` (and, for grids,
 /// `SLOT: [STAGE, …]`, `OPTION: [VALUE, …]`, `name: "…"`).
-pub fn body(input: ParseStream, form: Form, spans: &mut Spans) -> syn::Result<GridPattern> {
+pub fn body(input: ParseStream, form: TextForm, spans: &mut Spans) -> syn::Result<GridPattern> {
     let mut g = GridPattern::default();
     let mut name_seen = false;
     while !input.is_empty() {
@@ -63,7 +63,7 @@ pub fn body(input: ParseStream, form: Form, spans: &mut Spans) -> syn::Result<Gr
             .map_err(|e| syn::Error::new(e.span(), "expected a slot such as `coarse: linear(32)`"))?;
         let key_str = key.to_string();
         input.parse::<Token![:]>().map_err(|e| syn::Error::new(e.span(), format!("expected `:` after `{key_str}`")))?;
-        if key_str == "name" && form == Form::Grid {
+        if key_str == "name" && form == TextForm::Grid {
             if name_seen {
                 return Err(syn::Error::new(key.span(), "the grid's name is given twice"));
             }
@@ -82,7 +82,7 @@ pub fn body(input: ParseStream, form: Form, spans: &mut Spans) -> syn::Result<Gr
             let stages = if input.peek(syn::token::Bracket) {
                 let content;
                 let bracket = syn::bracketed!(content in input);
-                if form == Form::Pipeline {
+                if form == TextForm::Pipeline {
                     return Err(syn::Error::new(
                         bracket.span.join(),
                         "a list of stages declares several pipelines: use `relief_grid!`",
@@ -114,7 +114,7 @@ pub fn body(input: ParseStream, form: Form, spans: &mut Spans) -> syn::Result<Gr
     Ok(g)
 }
 
-fn stage(input: ParseStream, form: Form, spans: &mut Spans, depth: usize) -> syn::Result<StagePattern> {
+fn stage(input: ParseStream, form: TextForm, spans: &mut Spans, depth: usize) -> syn::Result<StagePattern> {
     let name = input
         .call(Ident::parse_any)
         .map_err(|e| syn::Error::new(e.span(), "expected a stage name such as `linear(32)`"))?;
@@ -158,7 +158,7 @@ fn int(input: ParseStream) -> syn::Result<(u64, LitInt)> {
     Ok((n, lit))
 }
 
-fn value(input: ParseStream, form: Form, spans: &mut Spans, depth: usize) -> syn::Result<ValuePattern> {
+fn value(input: ParseStream, form: TextForm, spans: &mut Spans, depth: usize) -> syn::Result<ValuePattern> {
     if input.peek(LitInt) {
         let (start, lit) = int(input)?;
         if input.peek(Token![..=]) || input.peek(Token![..]) {
@@ -179,7 +179,7 @@ fn value(input: ParseStream, form: Form, spans: &mut Spans, depth: usize) -> syn
                 last = s_lit.span();
                 text = format!("{text} step {s}");
             }
-            if form == Form::Pipeline {
+            if form == TextForm::Pipeline {
                 return Err(spanned_error(lit.span(), last, "a range declares several pipelines: use `relief_grid!`"));
             }
             let pos = spans.push(lit.span(), last);
@@ -191,7 +191,7 @@ fn value(input: ParseStream, form: Form, spans: &mut Spans, depth: usize) -> syn
     if input.peek(syn::token::Bracket) {
         let content;
         let bracket = syn::bracketed!(content in input);
-        if form == Form::Pipeline {
+        if form == TextForm::Pipeline {
             return Err(syn::Error::new(
                 bracket.span.join(),
                 "a list of values declares several pipelines: use `relief_grid!`",

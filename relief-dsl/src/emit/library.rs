@@ -407,7 +407,7 @@ fn msl_text(lib: &Library) -> Result<String, CompileError> {
 
 /// One form of a library: what `relief gen --library --target NAME` writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Form {
+pub enum LibraryForm {
     /// `NAME.lib.wgsl`: WGSL to concatenate, or to import through `naga_oil` with
     /// [`LibraryOptions::import_path`].
     Wgsl,
@@ -438,35 +438,44 @@ pub enum Form {
     Unreal,
 }
 
-impl Form {
+impl LibraryForm {
     /// Every form, in the order of `--target`'s list.
-    pub const ALL: [Form; 9] =
-        [Form::Wgsl, Form::Wesl, Form::Glsl, Form::GlslEs, Form::Tsl, Form::Hlsl, Form::Msl, Form::Unity, Form::Unreal];
+    pub const ALL: [LibraryForm; 9] = [
+        LibraryForm::Wgsl,
+        LibraryForm::Wesl,
+        LibraryForm::Glsl,
+        LibraryForm::GlslEs,
+        LibraryForm::Tsl,
+        LibraryForm::Hlsl,
+        LibraryForm::Msl,
+        LibraryForm::Unity,
+        LibraryForm::Unreal,
+    ];
     /// The forms written when no `--target` is named.
-    pub const DEFAULT: [Form; 4] = [Form::Wgsl, Form::Glsl, Form::Hlsl, Form::Msl];
+    pub const DEFAULT: [LibraryForm; 4] = [LibraryForm::Wgsl, LibraryForm::Glsl, LibraryForm::Hlsl, LibraryForm::Msl];
 
     /// The name `--target` takes.
     pub fn name(self) -> &'static str {
         match self {
-            Form::Wgsl => "wgsl",
-            Form::Wesl => "wesl",
-            Form::Glsl => "glsl",
-            Form::GlslEs => "glsl-es",
-            Form::Tsl => "tsl",
-            Form::Hlsl => "hlsl",
-            Form::Msl => "msl",
-            Form::Unity => "unity",
-            Form::Unreal => "unreal",
+            LibraryForm::Wgsl => "wgsl",
+            LibraryForm::Wesl => "wesl",
+            LibraryForm::Glsl => "glsl",
+            LibraryForm::GlslEs => "glsl-es",
+            LibraryForm::Tsl => "tsl",
+            LibraryForm::Hlsl => "hlsl",
+            LibraryForm::Msl => "msl",
+            LibraryForm::Unity => "unity",
+            LibraryForm::Unreal => "unreal",
         }
     }
 
     /// The form named `name`; an unknown name is a one-line error with the valid names and the
     /// nearest one.
-    pub fn from_name(name: &str) -> Result<Form, CompileError> {
-        if let Some(f) = Form::ALL.into_iter().find(|f| f.name() == name) {
+    pub fn from_name(name: &str) -> Result<LibraryForm, CompileError> {
+        if let Some(f) = LibraryForm::ALL.into_iter().find(|f| f.name() == name) {
             return Ok(f);
         }
-        let names: Vec<&str> = Form::ALL.iter().map(|f| f.name()).collect();
+        let names: Vec<&str> = LibraryForm::ALL.iter().map(|f| f.name()).collect();
         let near = names
             .iter()
             .copied()
@@ -486,11 +495,11 @@ impl Form {
     pub fn target(self) -> super::limits::Target {
         use super::limits::Target;
         match self {
-            Form::Wgsl | Form::Wesl | Form::Tsl => Target::Wgsl,
-            Form::Glsl => Target::Glsl,
-            Form::GlslEs => Target::GlslEs,
-            Form::Hlsl | Form::Unity | Form::Unreal => Target::Hlsl,
-            Form::Msl => Target::Msl,
+            LibraryForm::Wgsl | LibraryForm::Wesl | LibraryForm::Tsl => Target::Wgsl,
+            LibraryForm::Glsl => Target::Glsl,
+            LibraryForm::GlslEs => Target::GlslEs,
+            LibraryForm::Hlsl | LibraryForm::Unity | LibraryForm::Unreal => Target::Hlsl,
+            LibraryForm::Msl => Target::Msl,
         }
     }
 }
@@ -499,7 +508,7 @@ impl Form {
 #[derive(Clone, Debug)]
 pub struct LibraryFile {
     /// The form it belongs to.
-    pub form: Form,
+    pub form: LibraryForm,
     /// Its file name (`NAME.lib.wgsl`).
     pub name: String,
     /// Its text.
@@ -527,9 +536,9 @@ impl LibraryForms {
 }
 
 /// Builds the library of `p` and writes it in the four default languages
-/// ([`library_forms`] with [`Form::DEFAULT`]).
+/// ([`library_forms`] with [`LibraryForm::DEFAULT`]).
 pub fn library(p: &Pipeline, opts: &LibraryOptions) -> Result<LibraryFiles, CompileError> {
-    let forms = library_forms(p, opts, &Form::DEFAULT)?;
+    let forms = library_forms(p, opts, &LibraryForm::DEFAULT)?;
     let mut texts = forms.files.into_iter().map(|f| f.text);
     let mut next = || texts.next().unwrap_or_default();
     let (wgsl, glsl, hlsl, msl) = (next(), next(), next(), next());
@@ -548,7 +557,7 @@ pub fn library(p: &Pipeline, opts: &LibraryOptions) -> Result<LibraryFiles, Comp
 /// against every form's language limits first ([`super::limits`]), and the names as written
 /// against what was asked for, so a file that would not compile, or whose functions a writer
 /// renamed, is an error instead.
-pub fn library_forms(p: &Pipeline, opts: &LibraryOptions, forms: &[Form]) -> Result<LibraryForms, CompileError> {
+pub fn library_forms(p: &Pipeline, opts: &LibraryOptions, forms: &[LibraryForm]) -> Result<LibraryForms, CompileError> {
     use super::limits::{self, Target};
     let targets: Vec<Target> = forms.iter().map(|f| f.target()).collect();
     limits::check_all(&targets, &opts.prefix, opts.group, opts.binding)?;
@@ -565,7 +574,7 @@ pub fn library_forms(p: &Pipeline, opts: &LibraryOptions, forms: &[Form]) -> Res
             Ok(())
         };
         match form {
-            Form::Wgsl => {
+            LibraryForm::Wgsl => {
                 let body = wgsl_text(&lib)?;
                 let mut text = String::new();
                 if let Some(path) = &opts.import_path {
@@ -576,7 +585,7 @@ pub fn library_forms(p: &Pipeline, opts: &LibraryOptions, forms: &[Form]) -> Res
                 text += &body;
                 add(format!("{stem}.lib.wgsl"), &body, text)?;
             }
-            Form::Wesl => {
+            LibraryForm::Wesl => {
                 let body = wgsl_text(&lib)?;
                 let module = wesl_module_name(&stem);
                 let mut text = header_lines(p, &lib, opts, Lang::Wgsl);
@@ -584,31 +593,31 @@ pub fn library_forms(p: &Pipeline, opts: &LibraryOptions, forms: &[Form]) -> Res
                 text += &body;
                 add(format!("{module}.wesl"), &body, text)?;
             }
-            Form::Glsl => {
+            LibraryForm::Glsl => {
                 let body = glsl_text(&lib, opts, false)?;
                 add(format!("{stem}.lib.glsl"), &body, header_lines(p, &lib, opts, Lang::Glsl) + &body)?;
             }
-            Form::GlslEs => {
+            LibraryForm::GlslEs => {
                 let body = glsl_es_text(&lib, opts)?;
                 add(format!("{stem}.lib.es.glsl"), &body, header_lines(p, &lib, opts, Lang::GlslEs) + &body)?;
             }
-            Form::Tsl => {
+            LibraryForm::Tsl => {
                 let body = wgsl_args_text(&lib)?;
                 add(format!("{stem}.tsl.wgsl"), &body, header_lines(p, &lib, opts, Lang::WgslArgs) + &body)?;
             }
-            Form::Hlsl => {
+            LibraryForm::Hlsl => {
                 let body = hlsl_text(&lib)?;
                 add(format!("{stem}.lib.hlsl"), &body, header_lines(p, &lib, opts, Lang::Hlsl) + &body)?;
             }
-            Form::Msl => {
+            LibraryForm::Msl => {
                 let body = msl_text(&lib)?;
                 add(format!("{stem}.lib.metal"), &body, header_lines(p, &lib, opts, Lang::Msl) + &body)?;
             }
-            Form::Unity => {
+            LibraryForm::Unity => {
                 let text = super::engines::unity(p, &lib, opts)?;
                 add(format!("{stem}.unity.hlsl"), &text, text.clone())?;
             }
-            Form::Unreal => {
+            LibraryForm::Unreal => {
                 let (include, node) = super::engines::unreal(p, &lib, opts)?;
                 add(format!("{stem}.ush"), &include, include.clone())?;
                 files.push(LibraryFile { form, name: format!("{stem}.custom.hlsl"), text: node });
@@ -621,11 +630,11 @@ pub fn library_forms(p: &Pipeline, opts: &LibraryOptions, forms: &[Form]) -> Res
 /// Why `p`'s library cannot be written in `form`, if it cannot (besides what no library can
 /// express, [`crate::compose::library::inexpressible`]): the one-line error writing it gives.
 /// Every form can write every such pipeline today (GLSL ES 3.00's missing `textureGather`
-/// is lowered to `texelFetch`, see [`Form::GlslEs`]); a pipeline whose GLSL ES text still
+/// is lowered to `texelFetch`, see [`LibraryForm::GlslEs`]); a pipeline whose GLSL ES text still
 /// needs what ES 3.00 lacks is refused here with the reason. `relief gen --all --library`
 /// skips such a pipeline in that form.
-pub fn inexpressible_in(p: &Pipeline, form: Form) -> Option<String> {
-    if form != Form::GlslEs {
+pub fn inexpressible_in(p: &Pipeline, form: LibraryForm) -> Option<String> {
+    if form != LibraryForm::GlslEs {
         return None;
     }
     let opts = LibraryOptions::default();

@@ -79,6 +79,6 @@ pub mod engines;
 pub mod library;
 pub mod limits;
 pub use library::{
-    inexpressible_in, library, library_forms, Form, LibraryBinding, LibraryFile, LibraryFiles, LibraryForms,
+    inexpressible_in, library, library_forms, LibraryBinding, LibraryFile, LibraryFiles, LibraryForm, LibraryForms,
     LibraryOptions, ResourceKind,
 };

@@ -30,13 +30,13 @@ macro_rules! choices {
 
 /// `form=` of the cone methods: which cones a method steps on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Form {
+pub enum ConeForm {
     /// Cones of the bilinear cells: never past the first hit.
     Safe,
     /// The papers' cones of texel samples, stepping from the bilinear height as printed.
     Textbook,
 }
-choices!(Form { "safe" => Form::Safe, "textbook" => Form::Textbook });
+choices!(ConeForm { "safe" => ConeForm::Safe, "textbook" => ConeForm::Textbook });
 
 /// `sample=` of `csm` as written: `auto` is the form's own sampling.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -78,6 +78,6 @@ mod tests {
         fn all<C: Choice>() -> bool {
             C::WORDS.iter().all(|w| C::from_word(w).is_some()) && C::from_word("sideways").is_none()
         }
-        assert!(all::<Form>() && all::<SampleChoice>() && all::<StartChoice>());
+        assert!(all::<ConeForm>() && all::<SampleChoice>() && all::<StartChoice>());
     }
 }

@@ -46,7 +46,7 @@ use std::collections::HashSet;
 use std::str::FromStr;
 
 use super::options::{resolve_option, Lod, OptionKey, OptionValue, Silhouette};
-use super::parse::{err, parse_pattern, Form, ParseError};
+use super::parse::{err, parse_pattern, ParseError, TextForm};
 use super::resolve::{resolve_stage, RawArg, RawStage, RawValue};
 use super::{Pipeline, Slot, StageSpec};
 
@@ -142,7 +142,7 @@ impl FromStr for Grid {
     type Err = ParseError;
     /// Parses a grid text; errors carry their line and column ([`ParseError::line_column`]).
     fn from_str(s: &str) -> Result<Self, ParseError> {
-        parse_pattern(s, Form::Grid).and_then(|p| p.expand()).map_err(|e| e.locate(s))
+        parse_pattern(s, TextForm::Grid).and_then(|p| p.expand()).map_err(|e| e.locate(s))
     }
 }
 

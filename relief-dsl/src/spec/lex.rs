@@ -4,7 +4,7 @@
 //! to grids. Anything else is an error at its position, so a character that only the other
 //! form knows is reported where it stands.
 
-use super::parse::{err, Form, ParseError};
+use super::parse::{err, ParseError, TextForm};
 
 /// A token's kind and value.
 #[derive(Clone, Debug, PartialEq)]
@@ -33,8 +33,8 @@ pub(crate) struct Token {
 }
 
 /// Splits `input` into tokens of `form`, ending with [`Tok::End`] at the input's length.
-pub(crate) fn lex(input: &str, form: Form) -> Result<Vec<Token>, ParseError> {
-    let grid = form == Form::Grid;
+pub(crate) fn lex(input: &str, form: TextForm) -> Result<Vec<Token>, ParseError> {
+    let grid = form == TextForm::Grid;
     let chars: Vec<char> = input.chars().collect();
     let word_char = |c: char| c.is_ascii_alphanumeric() || c == '_';
     let mut out = Vec::new();
@@ -101,8 +101,8 @@ pub(crate) fn lex(input: &str, form: Form) -> Result<Vec<Token>, ParseError> {
             '-' => return Err(err(start, "-", "negative numbers are not allowed")),
             other => {
                 let made_of = match form {
-                    Form::Pipeline => "a pipeline is made of names, whole numbers, ( ) , = and +",
-                    Form::Grid => "a grid is made of names, whole numbers, ( ) [ ] , = : ..= and # comments",
+                    TextForm::Pipeline => "a pipeline is made of names, whole numbers, ( ) , = and +",
+                    TextForm::Grid => "a grid is made of names, whole numbers, ( ) [ ] , = : ..= and # comments",
                 };
                 return Err(err(start, &other.to_string(), format!("unexpected character; {made_of}")));
             }
@@ -117,18 +117,18 @@ pub(crate) fn lex(input: &str, form: Form) -> Result<Vec<Token>, ParseError> {
 mod tests {
     use super::*;
 
-    fn kinds(input: &str, form: Form) -> Vec<Tok> {
+    fn kinds(input: &str, form: TextForm) -> Vec<Tok> {
         lex(input, form).unwrap().into_iter().map(|t| t.tok).collect()
     }
 
     #[test]
     fn each_form_has_its_own_punctuation() {
         assert_eq!(
-            kinds("a(1)+b", Form::Pipeline),
+            kinds("a(1)+b", TextForm::Pipeline),
             [Tok::Ident("a".into()), Tok::Open, Tok::Int(1), Tok::Close, Tok::Plus, Tok::Ident("b".into()), Tok::End]
         );
         assert_eq!(
-            kinds("c: [1..=2] # x\n\"n\"", Form::Grid),
+            kinds("c: [1..=2] # x\n\"n\"", TextForm::Grid),
             [
                 Tok::Ident("c".into()),
                 Tok::Colon,
@@ -144,10 +144,10 @@ mod tests {
         // A grid's punctuation is an unexpected character in a pipeline, and `+` in a grid,
         // reported at the character (offsets count characters, not bytes).
         for (input, form, pos) in [
-            ("a[", Form::Pipeline, 1),
-            ("a#", Form::Pipeline, 1),
-            ("x:1", Form::Pipeline, 1),
-            ("\"é\"+", Form::Grid, 3),
+            ("a[", TextForm::Pipeline, 1),
+            ("a#", TextForm::Pipeline, 1),
+            ("x:1", TextForm::Pipeline, 1),
+            ("\"é\"+", TextForm::Grid, 3),
         ] {
             let e = lex(input, form).unwrap_err();
             assert_eq!(e.pos, pos, "{input}");
@@ -157,8 +157,8 @@ mod tests {
 
     #[test]
     fn numbers_are_whole_and_end_at_a_word_boundary() {
-        assert_eq!(lex("10_0", Form::Pipeline).unwrap_err().token, "10_0");
-        assert_eq!(lex("99999999999999999999", Form::Grid).unwrap_err().token, "99999999999999999999");
-        assert_eq!(kinds("18446744073709551615", Form::Grid)[0], Tok::Int(u64::MAX));
+        assert_eq!(lex("10_0", TextForm::Pipeline).unwrap_err().token, "10_0");
+        assert_eq!(lex("99999999999999999999", TextForm::Grid).unwrap_err().token, "99999999999999999999");
+        assert_eq!(kinds("18446744073709551615", TextForm::Grid)[0], Tok::Int(u64::MAX));
     }
 }

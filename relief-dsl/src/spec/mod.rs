@@ -54,7 +54,7 @@ pub use catalog::{
     catalog, method, no_maps, register, Args, Builder, Catalog, MethodDef, ParamDef, ParamKind, RegisterError,
     StageLayer, StageOr, Stages, MAX_STEPS,
 };
-pub use choice::{Choice, Form as ConeForm, SampleChoice, StartChoice};
+pub use choice::{Choice, ConeForm, SampleChoice, StartChoice};
 pub use echo::{echo, one_line, ECHO_MAX, LINE_MAX};
 pub use grid::Grid;
 pub use options::{Lod, OptionKey, Silhouette, MAX_LOD_LEVEL};
@@ -62,7 +62,7 @@ pub use parse::ParseError;
 // The parser's pieces for the macros (relief-macros): not part of the documented surface,
 // reached through `crate::__private`.
 #[doc(hidden)]
-pub use parse::{parse_pattern, slot_named, Form, MAX_DEPTH};
+pub use parse::{parse_pattern, slot_named, TextForm, MAX_DEPTH};
 #[doc(hidden)]
 pub use resolve::{resolve_stage, RawArg, RawStage, RawValue};
 
@@ -440,6 +440,6 @@ impl fmt::Display for Pipeline {
 impl FromStr for Pipeline {
     type Err = ParseError;
     fn from_str(s: &str) -> Result<Self, ParseError> {
-        parse_pattern(s, Form::Pipeline)?.pipeline()
+        parse_pattern(s, TextForm::Pipeline)?.pipeline()
     }
 }

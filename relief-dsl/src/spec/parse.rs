@@ -19,7 +19,7 @@ use super::Slot;
 
 /// Which text form is read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Form {
+pub enum TextForm {
     /// `COARSE[+REFINE][+shadow=SHADOW][+ao=AO]`: one stage per slot, one value per
     /// parameter (`relief!` and `relief_shader!` take the same with the grid's punctuation).
     Pipeline,
@@ -116,11 +116,11 @@ pub const MAX_DEPTH: usize = 8;
 /// slots that are complete before a syntax error after them is reported. The stages are
 /// checked against the catalogue only by [`GridPattern::pipeline`] or
 /// [`GridPattern::expand`].
-pub fn parse_pattern(text: &str, form: Form) -> Result<GridPattern, ParseError> {
+pub fn parse_pattern(text: &str, form: TextForm) -> Result<GridPattern, ParseError> {
     let mut p = Parser { toks: lex(text, form)?, i: 0, form, pattern: GridPattern::default() };
     let read = match form {
-        Form::Pipeline => p.pipeline(),
-        Form::Grid => p.grid(),
+        TextForm::Pipeline => p.pipeline(),
+        TextForm::Grid => p.grid(),
     };
     match read {
         Ok(()) => Ok(p.pattern),
@@ -134,7 +134,7 @@ pub fn parse_pattern(text: &str, form: Form) -> Result<GridPattern, ParseError> 
 struct Parser {
     toks: Vec<Token>,
     i: usize,
-    form: Form,
+    form: TextForm,
     /// What is read so far: the complete slots.
     pattern: GridPattern,
 }
@@ -363,8 +363,8 @@ impl Parser {
             }
             Tok::Ident(_) => Ok(ValuePattern::Stage(self.stage(depth + 1)?)),
             _ => Err(self.unexpected(match self.form {
-                Form::Pipeline => "a parameter value (a whole number or a name)",
-                Form::Grid => "a parameter value (a whole number, a range, a [list] or a name)",
+                TextForm::Pipeline => "a parameter value (a whole number or a name)",
+                TextForm::Grid => "a parameter value (a whole number, a range, a [list] or a name)",
             })),
         }
     }
@@ -399,10 +399,11 @@ mod tests {
             let p: Pipeline = pipeline.parse().unwrap();
             let g: Grid = grid.parse().unwrap();
             assert_eq!(g.cells(), std::slice::from_ref(&p), "{pipeline}");
-            assert_eq!(parse_pattern(pipeline, Form::Pipeline).unwrap().expand().unwrap().cells(), [p]);
+            assert_eq!(parse_pattern(pipeline, TextForm::Pipeline).unwrap().expand().unwrap().cells(), [p]);
         }
         // A pattern of several cells is not one pipeline: an error at the slot, not a pick.
-        let e = parse_pattern("coarse: linear(4)\nrefine: binary([4, 8])", Form::Grid).unwrap().pipeline().unwrap_err();
+        let e =
+            parse_pattern("coarse: linear(4)\nrefine: binary([4, 8])", TextForm::Grid).unwrap().pipeline().unwrap_err();
         assert_eq!((e.pos, e.token.as_str()), (18, "refine"), "{e}");
         assert!(e.message.contains("declares 2 stages"), "{e}");
     }

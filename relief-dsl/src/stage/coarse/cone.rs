@@ -7,7 +7,7 @@
 //! `-d.z`, the ray meets the cone's side after `r·Δ / (L + r·(-d.z))` (Burger Algorithm 4
 //! with an unnormalized d).
 //!
-//! Every method comes in two forms ([`Form`]):
+//! Every method comes in two forms ([`ConeForm`]):
 //! - `textbook`: the papers' algorithm as printed, on the texel-sample maps (a cone per
 //!   texel), the gap measured from the bilinear height under the point. The shader meets the
 //!   bilinear surface between texel centres, which rises through texel cones, so these steps
@@ -27,7 +27,7 @@ use crate::stage::{Bracket, Build, Filter, Ray};
 use crate::CompileError;
 
 /// Which cones a method steps on (see the module docs).
-pub use crate::spec::ConeForm as Form;
+pub use crate::spec::ConeForm;
 
 /// How the textbook CSM reads its cone map (Burger §4.3.1: linear filtering of ratios causes
 /// artifacts; the minimum of the four texels fixes them at a cost).
@@ -68,7 +68,7 @@ fn normal_of<'a>(r: Val<'a, f32>) -> Val<'a, f32> {
 /// bilinear cells and never passes the first hit; `textbook` steps on the texel-sample maps
 /// as the papers print it.
 fn form() -> ParamDef {
-    ParamDef::choice::<Form>("form")
+    ParamDef::choice::<ConeForm>("form")
 }
 
 /// `k`, the number of cones of `mcns` and `pcns`.
@@ -81,9 +81,9 @@ fn cones(default: u32) -> ParamDef {
 fn by_form(s: &StageSpec, textbook: MapReq, safe: MapReq) -> Vec<MapReq> {
     // A word outside the choice (only a hand-edited spec has one) fails to compile; the safe
     // form's map is as good a guess as any for it.
-    match Form::from_word(s.word("form")) {
-        Some(Form::Textbook) => vec![textbook],
-        Some(Form::Safe) | None => vec![safe],
+    match ConeForm::from_word(s.word("form")) {
+        Some(ConeForm::Textbook) => vec![textbook],
+        Some(ConeForm::Safe) | None => vec![safe],
     }
 }
 
@@ -154,10 +154,10 @@ fn ratio<'a>(s: &'a Stage<'a>, uv: Val<'a, crate::ir::Vec2>, sample: ConeSample)
 
 /// Cone step mapping (Dummer 2006; Burger Algorithm 4): while above the surface, step to the
 /// side of the conservative cone below.
-pub fn csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form, sample: ConeSample) -> Bracket<'a> {
+pub fn csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm, sample: ConeSample) -> Bracket<'a> {
     match form {
-        Form::Safe => safe_march(s, ray, steps, |s, p, c| cell_cone_step(s, ray, p, c)),
-        Form::Textbook => textbook_march(s, ray, steps, |s, p, h| {
+        ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| cell_cone_step(s, ray, p, c)),
+        ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let r = ratio(s, p.xy(), sample).named("r");
             cone_step(ray, r, p.z() - h)
         })
@@ -189,15 +189,15 @@ pub(crate) fn csm_def() -> MethodDef {
 /// `sample=auto` is the safe form's cell cone or the textbook's linear read; a textbook
 /// sampling with `form=safe` is an error, not ignored.
 fn build_csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
-    let form = a.choice::<Form>("form")?;
+    let form = a.choice::<ConeForm>("form")?;
     let sample = match (form, a.choice::<SampleChoice>("sample")?) {
-        (Form::Safe, SampleChoice::Auto) => ConeSample::Linear,
-        (Form::Textbook, SampleChoice::Auto | SampleChoice::Linear) => ConeSample::Linear,
-        (Form::Textbook, SampleChoice::Nearest) => ConeSample::Nearest,
-        (Form::Textbook, SampleChoice::Min4) => ConeSample::Min4,
-        (Form::Safe, SampleChoice::Linear) => return Err(only_textbook("csm", "sample=linear")),
-        (Form::Safe, SampleChoice::Nearest) => return Err(only_textbook("csm", "sample=nearest")),
-        (Form::Safe, SampleChoice::Min4) => return Err(only_textbook("csm", "sample=min4")),
+        (ConeForm::Safe, SampleChoice::Auto) => ConeSample::Linear,
+        (ConeForm::Textbook, SampleChoice::Auto | SampleChoice::Linear) => ConeSample::Linear,
+        (ConeForm::Textbook, SampleChoice::Nearest) => ConeSample::Nearest,
+        (ConeForm::Textbook, SampleChoice::Min4) => ConeSample::Min4,
+        (ConeForm::Safe, SampleChoice::Linear) => return Err(only_textbook("csm", "sample=linear")),
+        (ConeForm::Safe, SampleChoice::Nearest) => return Err(only_textbook("csm", "sample=nearest")),
+        (ConeForm::Safe, SampleChoice::Min4) => return Err(only_textbook("csm", "sample=min4")),
     };
     Ok(csm(s, ray, a.int("steps")?, form, sample))
 }
@@ -211,14 +211,14 @@ fn quadrant<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, q: Val<'a, crate::ir::Vec4>) ->
 
 /// Quad-directional cone stepping (Policarpo & Oliveira 2007, GPU Gems 3 §18.4.1): as CSM, with
 /// the cone of the quadrant the ray is heading into (channels `+u+v, -u+v, -u-v, +u-v`).
-pub fn qcsm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form) -> Bracket<'a> {
+pub fn qcsm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
     match form {
-        Form::Safe => safe_march(s, ray, steps, |s, p, c| {
+        ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| {
             let (cones, apex) = c.cones_and_apex(s, MapReq::CellQuadCone);
             let r = quadrant(s, ray, cones).named("r");
             cone_step(ray, r, c.clearance(p.z(), apex, r))
         }),
-        Form::Textbook => textbook_march(s, ray, steps, |s, p, h| {
+        ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let r = quadrant(s, ray, s.map(MapReq::QuadCone, p.xy(), Filter::Nearest)).named("r");
             cone_step(ray, r, p.z() - h)
         })
@@ -251,14 +251,14 @@ pub enum RelaxedStart {
 /// relaxed cone, whose ray may enter the surface but never leave it; stop at the first point
 /// below the surface (K). The safe form always brackets from J: on cells, the one crossing
 /// inside the cone lies between J and K.
-pub fn rcs<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form, start: RelaxedStart) -> Bracket<'a> {
+pub fn rcs<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm, start: RelaxedStart) -> Bracket<'a> {
     match form {
-        Form::Safe => relaxed_march(s, ray, steps, |s, p, c| {
+        ConeForm::Safe => relaxed_march(s, ray, steps, |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellRelaxedCone);
             let r = cone.x().named("r");
             cone_step(ray, r, c.clearance(p.z(), apex, r))
         }),
-        Form::Textbook => {
+        ConeForm::Textbook => {
             let m = textbook_march(s, ray, steps, |s, p, h| {
                 let r = s.map(MapReq::RelaxedCone, p.xy(), Filter::Nearest).x().named("r");
                 cone_step(ray, r, p.z() - h)
@@ -287,26 +287,26 @@ pub(crate) fn rcs_def() -> MethodDef {
 /// `start=auto` is the bracket from J (safe) or from H (textbook); `start=hk` with
 /// `form=safe` is an error.
 fn build_rcs<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
-    let form = a.choice::<Form>("form")?;
+    let form = a.choice::<ConeForm>("form")?;
     let start = match (form, a.choice::<StartChoice>("start")?) {
-        (Form::Safe, StartChoice::Auto | StartChoice::Bracket) => RelaxedStart::Bracket,
-        (Form::Textbook, StartChoice::Auto | StartChoice::Hk) => RelaxedStart::Hk,
-        (Form::Textbook, StartChoice::Bracket) => RelaxedStart::Bracket,
-        (Form::Safe, StartChoice::Hk) => return Err(only_textbook("rcs", "start=hk")),
+        (ConeForm::Safe, StartChoice::Auto | StartChoice::Bracket) => RelaxedStart::Bracket,
+        (ConeForm::Textbook, StartChoice::Auto | StartChoice::Hk) => RelaxedStart::Hk,
+        (ConeForm::Textbook, StartChoice::Bracket) => RelaxedStart::Bracket,
+        (ConeForm::Safe, StartChoice::Hk) => return Err(only_textbook("rcs", "start=hk")),
     };
     Ok(rcs(s, ray, a.int("steps")?, form, start))
 }
 
 /// Cone normal stepping (Burger 2018 §3.3): CSM with the cone stored as the normal of its
 /// side, stepping by the ray-plane intersection of eq. 3.2.
-pub fn cns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form) -> Bracket<'a> {
+pub fn cns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
     match form {
-        Form::Safe => safe_march(s, ray, steps, |s, p, c| {
+        ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellConeNormal);
             let n_z = cone.x().named("n_z");
             cone_normal_step(ray, n_z, c.clearance(p.z(), apex, ratio_of(n_z)))
         }),
-        Form::Textbook => textbook_march(s, ray, steps, |s, p, h| {
+        ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let n_z = s.map(MapReq::ConeNormal, p.xy(), Filter::Nearest).x().named("n_z");
             cone_normal_step(ray, n_z, p.z() - h)
         })
@@ -328,14 +328,14 @@ pub(crate) fn cns_def() -> MethodDef {
 
 /// Relaxed cone normal stepping (Burger §4.3.4): cone normal stepping on the relaxed cones;
 /// returns the bracket around the crossing (from J, the last point above the surface).
-pub fn rcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: Form) -> Bracket<'a> {
+pub fn rcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
     match form {
-        Form::Safe => relaxed_march(s, ray, steps, |s, p, c| {
+        ConeForm::Safe => relaxed_march(s, ray, steps, |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellRelaxedCone);
             let r = cone.x();
             cone_normal_step(ray, normal_of(r).named("n_z"), c.clearance(p.z(), apex, r))
         }),
-        Form::Textbook => textbook_march(s, ray, steps, |s, p, h| {
+        ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let n_z = s.map(MapReq::RelaxedConeNormal, p.xy(), Filter::Nearest).x().named("n_z");
             cone_normal_step(ray, n_z, p.z() - h)
         })
@@ -364,7 +364,7 @@ fn channels<'a>(c: Val<'a, crate::ir::Vec4>, k: u32) -> Vec<Val<'a, f32>> {
 /// `b_k = h + (1 - h)·k/K` above the base height h; of the cones below the ray point, take the
 /// one that gives the longest step. The base is the bilinear height (textbook) or the cell's
 /// apex (safe).
-pub fn mcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: Form) -> Bracket<'a> {
+pub fn mcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: ConeForm) -> Bracket<'a> {
     let longest = |p: Val<'a, Vec3>, base: Val<'a, f32>, cones: Vec<Val<'a, f32>>, c: Option<&Cell<'a>>| {
         let mut step = p.z() * 0.0;
         for (i, n_z) in cones.into_iter().enumerate() {
@@ -378,11 +378,11 @@ pub fn mcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: Form)
         step
     };
     match form {
-        Form::Safe => safe_march(s, ray, steps, |s, p, c| {
+        ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| {
             let (cones, apex) = c.cones_and_apex(s, MapReq::CellMultiCone(k));
             longest(p, apex, channels(cones, k), Some(c))
         }),
-        Form::Textbook => textbook_march(s, ray, steps, |s, p, h| {
+        ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             longest(p, h, channels(s.map(MapReq::MultiCone(k), p.xy(), Filter::Nearest), k), None)
         })
         .conservative(),
@@ -409,7 +409,7 @@ pub(crate) fn mcns_def() -> MethodDef {
 /// outside (piece 0 when there is none); within piece j it meets the piece's line after
 /// `(R_j + r_j·(z - b_j)) / (L + r_j·(-d.z))`. The base is the bilinear height (textbook) or
 /// the cell's apex (safe; the radii less the point's distance to the cell).
-pub fn pcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: Form) -> Bracket<'a> {
+pub fn pcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: ConeForm) -> Bracket<'a> {
     let speed = ray.dir.xy().length();
     let fall = -ray.dir.z();
     let leave = move |s: &'a Stage<'a>,
@@ -434,11 +434,11 @@ pub fn pcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: Form)
         step.max(0.0)
     };
     match form {
-        Form::Safe => safe_march(s, ray, steps, |s, p, c| {
+        ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| {
             let (cones, apex) = c.cones_and_apex(s, MapReq::CellPiecewiseCone(k));
             leave(s, p, apex, c.dist, channels(cones, k))
         }),
-        Form::Textbook => textbook_march(s, ray, steps, |s, p, h| {
+        ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             leave(s, p, h, s.lit(0.0), channels(s.map(MapReq::PiecewiseCone(k), p.xy(), Filter::Nearest), k))
         })
         .conservative(),

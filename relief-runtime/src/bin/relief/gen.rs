@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context};
-use relief_dsl::emit::Form;
+use relief_dsl::emit::LibraryForm;
 use relief_dsl::spec::{catalog, Pipeline, Slot};
 
 /// Arguments of `relief gen`.
@@ -75,16 +75,16 @@ pub fn listing() -> String {
 }
 
 /// The forms `--target` names (every form for `all`, the default four when none).
-pub fn forms(args: &GenArgs) -> anyhow::Result<Vec<Form>> {
+pub fn forms(args: &GenArgs) -> anyhow::Result<Vec<LibraryForm>> {
     if args.target.is_empty() {
-        return Ok(Form::DEFAULT.to_vec());
+        return Ok(LibraryForm::DEFAULT.to_vec());
     }
     let mut forms = Vec::new();
     for name in &args.target {
         let named = if name == "all" {
-            Form::ALL.to_vec()
+            LibraryForm::ALL.to_vec()
         } else {
-            vec![Form::from_name(name.trim()).map_err(|e| anyhow::anyhow!("--target: {}", e.message))?]
+            vec![LibraryForm::from_name(name.trim()).map_err(|e| anyhow::anyhow!("--target: {}", e.message))?]
         };
         for f in named {
             if !forms.contains(&f) {
@@ -96,7 +96,7 @@ pub fn forms(args: &GenArgs) -> anyhow::Result<Vec<Form>> {
 }
 
 /// Writes the library files of `p` in `forms` into `out`; returns their names.
-pub fn write_library(p: &Pipeline, args: &GenArgs, forms: &[Form], out: &Path) -> anyhow::Result<Vec<String>> {
+pub fn write_library(p: &Pipeline, args: &GenArgs, forms: &[LibraryForm], out: &Path) -> anyhow::Result<Vec<String>> {
     let stem = p.file_stem();
     let opts = relief_dsl::emit::LibraryOptions {
         prefix: args.prefix.clone(),
