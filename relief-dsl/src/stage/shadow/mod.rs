@@ -1,7 +1,7 @@
 //! Shadow stages: hit + light direction → visibility in [0, 1]. Each method's catalogue entry
 //! (a `*_def` function returning its [`MethodDef`]) sits beside its code.
 
-pub(crate) mod cone;
+pub(crate) mod cone_distance;
 pub(crate) mod march;
 
 use crate::spec::MethodDef;
@@ -14,5 +14,11 @@ fn none_def() -> MethodDef {
 
 /// The built-in shadow methods, in listing order.
 pub(crate) fn methods() -> Vec<MethodDef> {
-    vec![none_def(), march::hard_def(), march::soft_def(), cone::soft_cone_def(), cone::soft_ratio_def()]
+    vec![
+        none_def(),
+        march::hard_def(),
+        march::soft_def(),
+        cone_distance::soft_cone_def(),
+        cone_distance::soft_ratio_def(),
+    ]
 }
