@@ -6,12 +6,13 @@
 //! process refuses with one line naming the holder (its pid, host and start), or waits for
 //! it with `--wait`.
 //!
-//! The lock is an advisory `flock` on the file, not the file's existence: the kernel drops
-//! it the moment its holder exits, however it exits, so a lock left by a killed process is
-//! never stale, and taking it over is the same atomic `flock` that takes a free one (two
-//! processes racing for a dead holder's folder cannot both win). The file itself stays;
-//! while held it names the holder (`pid N, host H, started at unix time T`), and it is
-//! emptied when released. Where `flock` is missing (not Unix) no lock is taken.
+//! The lock is the operating system's exclusive lock on the open file (std's
+//! [`File::try_lock`](std::fs::File::try_lock): `flock` on Unix, `LockFileEx` on Windows),
+//! not the file's existence: the system drops it the moment its holder exits, however it
+//! exits, so a lock left by a killed process is never stale, and taking it over is the same
+//! atomic call that takes a free one (two processes racing for a dead holder's folder cannot
+//! both win). The file itself stays; while held it names the holder (`pid N, host H, started
+//! at unix time T`), and it is emptied when released.
 
 use std::path::{Path, PathBuf};
 
@@ -24,7 +25,6 @@ const POLL: std::time::Duration = std::time::Duration::from_millis(200);
 /// A held folder lock; released when dropped (or when the process ends).
 #[derive(Debug)]
 pub struct FolderLock {
-    #[cfg_attr(not(unix), allow(dead_code))]
     file: std::fs::File,
     path: PathBuf,
 }
@@ -131,29 +131,16 @@ fn host() -> String {
         .unwrap_or_else(|| "unknown".into())
 }
 
-/// A non-blocking exclusive `flock`: `Ok(false)` when another open file holds it.
-#[cfg(unix)]
+/// A non-blocking exclusive lock on `file`: `Ok(false)` when another open file holds it.
 fn try_flock(file: &std::fs::File) -> std::io::Result<bool> {
-    use std::os::unix::io::AsRawFd;
-    // SAFETY: flock on a file descriptor this `File` owns and keeps open.
-    let r = unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) };
-    if r == 0 {
-        return Ok(true);
-    }
-    let e = std::io::Error::last_os_error();
-    if e.raw_os_error() == Some(libc::EWOULDBLOCK) {
-        Ok(false)
-    } else {
-        Err(e)
+    match file.try_lock() {
+        Ok(()) => Ok(true),
+        Err(std::fs::TryLockError::WouldBlock) => Ok(false),
+        Err(std::fs::TryLockError::Error(e)) => Err(e),
     }
 }
 
-#[cfg(not(unix))]
-fn try_flock(_: &std::fs::File) -> std::io::Result<bool> {
-    Ok(true)
-}
-
-#[cfg(all(test, unix))]
+#[cfg(test)]
 mod tests {
     use super::*;
 
