@@ -328,6 +328,17 @@ pub fn append(dir: &Path, row: &Row) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Rewrites `dir/results.jsonl` with `rows`, one line each, atomically
+/// ([`crate::io::write_atomic`]): for a change that removes rows, where [`append`] cannot.
+pub fn write_jsonl(dir: &Path, rows: &[Row]) -> anyhow::Result<()> {
+    let mut text = String::new();
+    for r in rows {
+        text.push_str(&serde_json::to_string(r)?);
+        text.push('\n');
+    }
+    crate::io::write_atomic(&dir.join(JSONL), text.as_bytes())
+}
+
 /// `rows` as `results.csv` text, [`COLUMNS`] in order (NaN and infinite metrics empty).
 pub fn csv_bytes(rows: &[Row]) -> anyhow::Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());

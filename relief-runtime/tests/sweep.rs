@@ -427,13 +427,28 @@ fn a_locked_folder_is_refused_or_waited_for_and_a_killed_holder_frees_it() {
         assert!(e.contains("in use by another relief process") && e.contains(&pid), "{e}");
         assert_eq!(e.trim_end().lines().count(), 1, "{e}");
     }
-    let waiter = sweep(&["--wait"]).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
-    std::thread::sleep(Duration::from_millis(500));
+    let mut waiter = sweep(&["--wait"]).stdout(Stdio::null()).stderr(Stdio::piped()).spawn().unwrap();
+    // Kill the holder only once the waiter says it waits (a fixed sleep races a slow start).
+    let (said, heard) = std::sync::mpsc::channel();
+    let stderr = waiter.stderr.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut all = String::new();
+        for line in std::io::BufRead::lines(std::io::BufReader::new(stderr)).map_while(Result::ok) {
+            if line.contains("waiting for the results folder's lock") {
+                said.send(()).ok();
+            }
+            all += &line;
+            all.push('\n');
+        }
+        all
+    });
+    let waited = heard.recv_timeout(Duration::from_secs(60)).is_ok();
     holder.kill().unwrap();
     holder.wait().unwrap();
-    let o = waiter.wait_with_output().unwrap();
-    let e = String::from_utf8_lossy(&o.stderr);
-    assert!(o.status.success(), "{e}");
+    let status = waiter.wait().unwrap();
+    let e = reader.join().unwrap();
+    assert!(waited, "the --wait sweep never said it waits: {e}");
+    assert!(status.success(), "{e}");
     assert!(e.contains("waiting for the results folder's lock") && e.contains(&pid), "{e}");
     let all = rows(&out);
     let mut keys: Vec<&str> = all.iter().map(|r| r["pipeline"].as_str().unwrap()).collect();

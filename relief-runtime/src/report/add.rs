@@ -185,12 +185,7 @@ pub fn add(dir: &Path, files: &[PathBuf], replace: bool) -> anyhow::Result<Vec<A
     // Rows removed: the file is rewritten whole (atomically); else only appended to.
     let kept = rows.len() - out.iter().map(|a| a.rows).sum::<usize>();
     if rewrite {
-        let mut text = String::new();
-        for r in &rows {
-            text.push_str(&serde_json::to_string(r)?);
-            text.push('\n');
-        }
-        crate::io::write_atomic(&dir.join(results::JSONL), text.as_bytes())?;
+        results::write_jsonl(dir, &rows)?;
     } else {
         for r in &rows[kept..] {
             results::append(dir, r)?;
