@@ -16,9 +16,9 @@
 
 use std::path::{Path, PathBuf};
 
-use relief::dsl::ir::{Stage, Var};
+use relief::dsl::ir::{FnBuilder, Var};
 use relief::dsl::spec::{register, Args, MethodDef, ParamDef};
-use relief::dsl::stage::{Bracket, Build, Ray};
+use relief::dsl::stage::{Bracket, Ray, StageFn};
 use relief::dsl::CompileError;
 use relief::runtime::results::{self, Row};
 use relief::runtime::sweep::{self, NamedGrid};
@@ -37,7 +37,7 @@ fn first_step(steps: u32, r: f64) -> f64 {
 
 /// The search: stop at the first point at or below the surface; the bracket runs from the
 /// point before it (never before the entry) to it.
-fn geometric<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+fn geometric<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
     let steps = a.int("steps")?;
     let r = 1.0 + a.int("growth")? as f64 / 100.0;
     let t: Var<f32> = s.var("t", 0.0);
@@ -53,9 +53,9 @@ fn geometric<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a
     Ok(Bracket::new((t.get() - last.get()).max(0.0), t.get()))
 }
 
-/// The builder of `geometric`: a coarse stage.
-pub fn build() -> Build {
-    Build::Coarse(geometric)
+/// The stage function of `geometric`: a coarse stage.
+pub fn stage_fn() -> StageFn {
+    StageFn::Coarse(geometric)
 }
 
 /// Adds `geometric(steps, growth)` to the catalogue, declared the way relief declares its
@@ -64,7 +64,7 @@ pub fn register_geometric() -> Result<(), Error> {
     let def = MethodDef::new(
         "geometric",
         "linear search whose step grows by growth% each step (an example stage, examples/custom_stage.rs)",
-        build(),
+        stage_fn(),
     )
     .param(ParamDef::steps("steps", 16))
     .param(ParamDef::count("growth", 0, 100, 10));

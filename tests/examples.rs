@@ -62,7 +62,7 @@ mod custom_stage;
 fn a_registered_stage_reads_like_a_built_in() {
     custom_stage::register_geometric().unwrap();
     // Registering twice in one slot is refused; the first definition stays.
-    let again = relief::dsl::spec::MethodDef::new("geometric", "", custom_stage::build());
+    let again = relief::dsl::spec::MethodDef::new("geometric", "", custom_stage::stage_fn());
     let e = relief::dsl::spec::register(again).unwrap_err();
     assert!(e.to_string().contains("already has a method called `geometric`"), "{e}");
     // The text form: defaults filled in, canonical text, the catalogue's range checks.

@@ -93,7 +93,7 @@ fn render_timing_is_positive_and_the_frame_is_drawn() {
 /// A coarse stage whose loop skips the rest of every pass after the fifth with `continue_if`:
 /// ten passes, five of them counted. Its bracket is at t = counted/16 (exact in f32).
 fn count_with_continue<'a>(
-    s: &'a relief_dsl::ir::Stage<'a>,
+    s: &'a relief_dsl::ir::FnBuilder<'a>,
     _: &relief_dsl::stage::Ray<'a>,
     _: &relief_dsl::spec::Args,
 ) -> Result<relief_dsl::stage::Bracket<'a>, relief_dsl::CompileError> {
@@ -111,8 +111,8 @@ fn count_with_continue<'a>(
 #[test]
 fn a_loop_with_continue_still_counts_every_pass() {
     use relief_dsl::spec::{register, MethodDef};
-    use relief_dsl::stage::Build;
-    register(MethodDef::new("test_continue_count", "a test", Build::Coarse(count_with_continue))).unwrap();
+    use relief_dsl::stage::StageFn;
+    register(MethodDef::new("test_continue_count", "a test", StageFn::Coarse(count_with_continue))).unwrap();
     let p: relief_dsl::Pipeline = "test_continue_count".parse().unwrap();
     let g = gpu();
     let scene = Scene::by_name("rock_bump", Some(32)).unwrap();

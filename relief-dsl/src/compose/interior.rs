@@ -28,9 +28,9 @@
 use bytemuck::{Pod, Zeroable};
 use naga::{Binding, BuiltIn, Module, ShaderStage, TypeInner};
 
-use super::{build_stage_fns, entry_point, location, storage_array, StageFns};
+use super::{entry_point, location, storage_array, write_stage_fns, StageFns};
 use crate::abi::{abi_record, binding, Param, PROBE_WORKGROUP};
-use crate::ir::{Mat4, ModuleCtx, Stage, Ty, UVec3, Val, Vec2, Vec3, Vec4};
+use crate::ir::{FnBuilder, Mat4, ModuleCtx, Ty, UVec3, Val, Vec2, Vec3, Vec4};
 use crate::spec::Pipeline;
 use crate::stage::{Filter, Hit, Ray};
 use crate::CompileError;
@@ -189,7 +189,7 @@ struct Frame<'a> {
     normal: Val<'a, Vec3>,
 }
 
-fn frame<'a>(s: &'a Stage<'a>, k: usize, size: Val<'a, Vec3>) -> Frame<'a> {
+fn frame<'a>(s: &'a FnBuilder<'a>, k: usize, size: Val<'a, Vec3>) -> Frame<'a> {
     let f = FRAMES[k];
     let v = |c: [f64; 3]| s.vec3(s.vec2(size.x() * c[0] as f32, size.y() * c[1] as f32), size.z() * c[2] as f32);
     let n = f[3];
@@ -201,14 +201,14 @@ fn frame<'a>(s: &'a Stage<'a>, k: usize, size: Val<'a, Vec3>) -> Frame<'a> {
     }
 }
 
-fn room_param<'a>(s: &'a Stage<'a>, i: u32) -> Val<'a, Vec4> {
+fn room_param<'a>(s: &'a FnBuilder<'a>, i: u32) -> Val<'a, Vec4> {
     let g = s.module().declare("room", naga::AddressSpace::Uniform, Some(ROOM_PARAMS), |m| {
         m.record_ty("RoomParams", RoomParams::MEMBERS)
     });
     s.load(s.member_ptr(s.global_ptr(g), i))
 }
 
-fn depth_scale<'a>(s: &'a Stage<'a>, k: usize) -> Val<'a, f32> {
+fn depth_scale<'a>(s: &'a FnBuilder<'a>, k: usize) -> Val<'a, f32> {
     let (a, b) = (room_param(s, 1), room_param(s, 2));
     match k {
         0 => a.x(),
@@ -222,7 +222,7 @@ fn depth_scale<'a>(s: &'a Stage<'a>, k: usize) -> Val<'a, f32> {
 /// Amaro & Gustafsson 2022, eq. 1–4: per axis the plane the ray `cam + t·w` heads for, its t, and the
 /// nearest. Returns (wall index, t).
 fn select_wall<'a>(
-    s: &'a Stage<'a>,
+    s: &'a FnBuilder<'a>,
     cam: Val<'a, Vec3>,
     w: Val<'a, Vec3>,
     size: Val<'a, Vec3>,
@@ -249,7 +249,7 @@ fn select_wall<'a>(
 /// The world ray `cam + t·w`, met at `t_wall` on wall `k`, in the wall's normalized tangent
 /// space (Amaro & Gustafsson 2022, §2.4: "a view matrix transform … into each wall's space").
 fn wall_ray<'a>(
-    s: &'a Stage<'a>,
+    s: &'a FnBuilder<'a>,
     f: &Frame<'a>,
     scale: Val<'a, f32>,
     cam: Val<'a, Vec3>,
@@ -275,7 +275,7 @@ fn wall_point<'a>(f: &Frame<'a>, scale: Val<'a, f32>, uv: Val<'a, Vec2>, z: Val<
 
 /// Stores the camera distance for [`crate::stage::coarse::linear::linear_distance`] when
 /// a stage of the module reads it.
-pub(crate) fn store_view_distance<'a>(s: &'a Stage<'a>, d: Val<'a, f32>) {
+pub(crate) fn store_view_distance<'a>(s: &'a FnBuilder<'a>, d: Val<'a, f32>) {
     if let Some(g) = s.module().find_global(crate::stage::coarse::linear::VIEW_DISTANCE) {
         s.store(s.global_ptr(g), d.handle());
     }
@@ -288,7 +288,7 @@ fn wall_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Result<Vec<StageFns>,
     for k in 0..WALLS as u32 {
         let before = m.module.borrow().functions.len();
         m.wall.set(Some((k, WALL_BASE)));
-        let fns = build_stage_fns(m, p, counted);
+        let fns = write_stage_fns(m, p, counted);
         m.wall.set(None);
         let fns = fns?;
         for (i, (_, f)) in m.module.borrow_mut().functions.iter_mut().enumerate() {
@@ -352,7 +352,7 @@ const GLASS: [f32; 3] = [0.72, 0.78, 0.84];
 /// again and again at a known interval with a diminished intensity": a march along the view
 /// ray through the room's air, lit only where the window lets the sun in.
 fn scattering<'a>(
-    s: &'a Stage<'a>,
+    s: &'a FnBuilder<'a>,
     samples: u32,
     world: Val<'a, Vec3>,
     far: Val<'a, Vec3>,
@@ -509,7 +509,7 @@ fn refuse_render_options(p: &Pipeline) -> Result<(), CompileError> {
     Ok(())
 }
 
-fn build(p: &Pipeline, options: &RoomOptions) -> Result<(Module, Vec<WallBinding>), CompileError> {
+fn compose_room(p: &Pipeline, options: &RoomOptions) -> Result<(Module, Vec<WallBinding>), CompileError> {
     refuse_render_options(p)?;
     let m = ModuleCtx::new();
     let plain = wall_fns(&m, p, false)?;
@@ -526,8 +526,8 @@ fn build(p: &Pipeline, options: &RoomOptions) -> Result<(Module, Vec<WallBinding
 
 /// Builds the room module for `p` (not yet validated): `vs_room` + `fs_room` (the window
 /// quad, interior mapping with `p` on every wall) and `probe_room`.
-pub fn build_room_module(p: &Pipeline, options: &RoomOptions) -> Result<Module, CompileError> {
-    Ok(build(p, options)?.0)
+pub fn compose_room_module(p: &Pipeline, options: &RoomOptions) -> Result<Module, CompileError> {
+    Ok(compose_room(p, options)?.0)
 }
 
 /// Builds and validates the room module for `p`.
@@ -538,7 +538,7 @@ pub fn compile_room(p: &Pipeline, options: &RoomOptions) -> Result<RoomCompiled,
             message: format!("{} scattering samples: allowed 1..=4096", options.scatter.unwrap_or(0)),
         });
     }
-    let (module, wall_bindings) = build(p, options)?;
+    let (module, wall_bindings) = compose_room(p, options)?;
     let info = super::validate(&module)?;
     Ok(RoomCompiled { compiled: super::Compiled { module, info }, wall_bindings })
 }

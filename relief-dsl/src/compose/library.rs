@@ -30,7 +30,7 @@
 
 use naga::{Handle, Module, TypeInner};
 
-use crate::compose::build_stage_fns;
+use crate::compose::write_stage_fns;
 use crate::ir::{ModuleCtx, Ty, Vec2, Vec3, Vec4};
 use crate::spec::Pipeline;
 use crate::stage::{Hit, Ray};
@@ -167,7 +167,7 @@ pub fn inexpressible(p: &Pipeline) -> Option<String> {
         ));
     }
     let m = ModuleCtx::new();
-    if build_stage_fns(&m, p, false).is_ok() {
+    if write_stage_fns(&m, p, false).is_ok() {
         let module = m.module.borrow();
         if module
             .global_variables
@@ -181,7 +181,7 @@ pub fn inexpressible(p: &Pipeline) -> Option<String> {
 }
 
 /// Builds and validates the library module of `p`.
-pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileError> {
+pub fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileError> {
     if let Some(why) = inexpressible(p) {
         return Err(CompileError { stage: "library".into(), message: why });
     }
@@ -199,7 +199,7 @@ pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileErro
             .append(naga::Constant { name: Some(format!("{prefix}_edge_clamp")), ty, init }, naga::Span::UNDEFINED)
     };
     m.edge_clamp_constant.set(Some(edge));
-    let fns = build_stage_fns(&m, p, false)?;
+    let fns = write_stage_fns(&m, p, false)?;
     let f32_ty = m.ty(f32::inner());
     let vec2_ty = m.ty(Vec2::inner());
     let vec3_ty = m.ty(Vec3::inner());
@@ -229,7 +229,7 @@ pub fn build(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileErro
         public.push(m.add_function(f));
     }
     // The stages' hit from the public one (`found`: the public hit is always drawn).
-    let stage_hit = |s: &crate::ir::Stage<'_>, h: Handle<naga::Expression>| {
+    let stage_hit = |s: &crate::ir::FnBuilder<'_>, h: Handle<naga::Expression>| {
         let uv = s.field::<Vec2>(h, 0);
         let z = s.field::<f32>(h, 1);
         let t = s.field::<f32>(h, 2);

@@ -19,7 +19,7 @@ pub mod library;
 use naga::{Binding, BuiltIn, Handle, Module, ShaderStage, TypeInner};
 
 use crate::abi::{binding, Param, ProbeHit, ProbeRay, PROBE_WORKGROUP};
-use crate::ir::{ModuleCtx, Stage, Ty, UVec3, Val, Vec2, Vec3, Vec4};
+use crate::ir::{FnBuilder, ModuleCtx, Ty, UVec3, Val, Vec2, Vec3, Vec4};
 use crate::spec::{Pipeline, Silhouette, Slot, StageSpec};
 use crate::stage::{self, Bracket, Filter, Hit, Ray};
 use crate::CompileError;
@@ -58,7 +58,7 @@ fn wrap_err(slot: Slot, spec: &StageSpec) -> impl Fn(CompileError) -> CompileErr
 }
 
 /// The error for a stage that read something with no level under `lod` other than zero
-/// (what [`Stage`]'s sampling methods noted in `lod_unsupported` while it was built): never a
+/// (what [`FnBuilder`]'s sampling methods noted in `lod_unsupported` while it was built): never a
 /// silent level 0.
 fn check_lod(m: &ModuleCtx, slot: Slot, spec: &StageSpec) -> Result<(), CompileError> {
     let mut what = std::mem::take(&mut *m.lod_unsupported.borrow_mut());
@@ -78,7 +78,7 @@ fn check_lod(m: &ModuleCtx, slot: Slot, spec: &StageSpec) -> Result<(), CompileE
     })
 }
 
-pub(crate) fn build_stage_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Result<StageFns, CompileError> {
+pub(crate) fn write_stage_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Result<StageFns, CompileError> {
     m.lod.set(p.lod);
     m.counting.set(counted);
     let ray_ty = m.record_type::<Ray>();
@@ -281,7 +281,7 @@ fn lod_level_fn(m: &ModuleCtx, lod: crate::spec::Lod) -> Option<Handle<naga::Fun
 
 /// Stores the pixel's level ([`lod_level_fn`]) in the stage-wide level, before tracing.
 fn set_sample_level<'a>(
-    s: &'a Stage<'a>,
+    s: &'a FnBuilder<'a>,
     lod: Option<Handle<naga::Function>>,
     entry: Val<'a, Vec2>,
     pixel_size: impl FnOnce() -> Val<'a, f32>,
@@ -308,7 +308,7 @@ pub struct Options {
 /// the pixel, so the relief's outline shows at the edge of the quad, and the probe reports
 /// the raw hit with `clipped = 1`. Meant for scenes with clamp edges (the runtime refuses
 /// repeat edges).
-fn outside_square<'a>(s: &'a Stage<'a>, uv: Val<'a, Vec2>) -> Val<'a, bool> {
+fn outside_square<'a>(s: &'a FnBuilder<'a>, uv: Val<'a, Vec2>) -> Val<'a, bool> {
     let tiling = s.param::<Vec4>(Param::Quad).x();
     uv.x().lt(0.0) | uv.y().lt(0.0) | uv.x().gt(tiling) | uv.y().gt(tiling)
 }
@@ -471,15 +471,15 @@ fn probe_entry(m: &ModuleCtx, fns: &StageFns, clip: bool, lod: Option<Handle<nag
 }
 
 /// Builds the module for `p` (not yet validated).
-pub fn build_module(p: &Pipeline) -> Result<Module, CompileError> {
-    build_module_with(p, &Options::default())
+pub fn compose_module(p: &Pipeline) -> Result<Module, CompileError> {
+    compose_module_with(p, &Options::default())
 }
 
 /// Builds the module for `p` with `options` (not yet validated).
-pub fn build_module_with(p: &Pipeline, options: &Options) -> Result<Module, CompileError> {
+pub fn compose_module_with(p: &Pipeline, options: &Options) -> Result<Module, CompileError> {
     let m = ModuleCtx::new();
-    let plain = build_stage_fns(&m, p, false)?;
-    let counted = build_stage_fns(&m, p, true)?;
+    let plain = write_stage_fns(&m, p, false)?;
+    let counted = write_stage_fns(&m, p, true)?;
     let lod = lod_level_fn(&m, p.lod);
     let clip = p.silhouette == Silhouette::Clip;
     let vs = vertex_entry(&m);
@@ -497,7 +497,7 @@ pub fn compile(p: &Pipeline) -> Result<Compiled, CompileError> {
 
 /// Builds and validates the module for `p` with `options`.
 pub fn compile_with(p: &Pipeline, options: &Options) -> Result<Compiled, CompileError> {
-    let module = build_module_with(p, options)?;
+    let module = compose_module_with(p, options)?;
     let info = validate(&module)?;
     Ok(Compiled { module, info })
 }

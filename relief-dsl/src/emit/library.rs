@@ -561,7 +561,7 @@ pub fn library_forms(p: &Pipeline, opts: &LibraryOptions, forms: &[LibraryForm])
     use super::limits::{self, Target};
     let targets: Vec<Target> = forms.iter().map(|f| f.target()).collect();
     limits::check_all(&targets, &opts.prefix, opts.group, opts.binding)?;
-    let lib = crate::compose::library::build(p, opts)?;
+    let lib = crate::compose::library::compose_library(p, opts)?;
     let last = lib.bindings.last().map_or(opts.binding, |b| b.binding);
     limits::check_all(&targets, &opts.prefix, opts.group, last)?;
     check_name_lengths(&lib, &opts.prefix)?;
@@ -638,7 +638,7 @@ pub fn inexpressible_in(p: &Pipeline, form: LibraryForm) -> Option<String> {
         return None;
     }
     let opts = LibraryOptions::default();
-    let lib = crate::compose::library::build(p, &opts).ok()?;
+    let lib = crate::compose::library::compose_library(p, &opts).ok()?;
     glsl_es_text(&lib, &opts).err().map(|e| e.message)
 }
 

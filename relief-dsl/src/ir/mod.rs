@@ -1,8 +1,8 @@
 //! A typed builder over naga IR, in the spirit of cranelift-frontend's `FunctionBuilder`.
 //!
 //! The builder owns every `Emit` range, block scope and local variable: stage code writes
-//! arithmetic with Rust operators on [`Val`]s, declares mutable state with [`Stage::var`],
-//! and structures control flow with closures ([`Stage::repeat`], [`Stage::if_`]). It never
+//! arithmetic with Rust operators on [`Val`]s, declares mutable state with [`FnBuilder::var`],
+//! and structures control flow with closures ([`FnBuilder::repeat`], [`FnBuilder::if_`]). It never
 //! sees a `naga::Statement`.
 //!
 //! Values carry their shader type as a Rust type parameter, so `vec2 + f32` either splats
@@ -211,7 +211,11 @@ impl ModuleCtx {
     }
 
     /// Starts a function with named, typed arguments (and optional bindings, for entry points).
-    pub fn function<'a>(&'a self, name: &str, args: &[(&str, Handle<naga::Type>, Option<naga::Binding>)]) -> Stage<'a> {
+    pub fn function<'a>(
+        &'a self,
+        name: &str,
+        args: &[(&str, Handle<naga::Type>, Option<naga::Binding>)],
+    ) -> FnBuilder<'a> {
         let arguments = args
             .iter()
             .map(|(n, ty, binding)| FunctionArgument {
@@ -220,7 +224,7 @@ impl ModuleCtx {
                 binding: binding.clone(),
             })
             .collect();
-        Stage {
+        FnBuilder {
             ctx: self,
             f: RefCell::new(FnState {
                 func: Function { name: Some(name.to_string()), arguments, ..Function::default() },
@@ -246,49 +250,49 @@ struct FnState {
     loop_depth: u32,
 }
 
-/// The function being built. Stage code receives `&Stage` and builds values through it.
-pub struct Stage<'a> {
+/// The function being built. Stage code receives `&FnBuilder` and builds values through it.
+pub struct FnBuilder<'a> {
     pub(crate) ctx: &'a ModuleCtx,
     f: RefCell<FnState>,
 }
 
-/// The body of a loop ([`Stage::repeat`]): the function being built, inside the loop. Only
+/// The body of a loop ([`FnBuilder::repeat`]): the function being built, inside the loop. Only
 /// here can stage code leave the loop or end a pass early, so that a `break_if` outside a
 /// loop does not compile:
 ///
 /// ```
-/// # use relief_dsl::ir::Stage;
-/// fn inside<'a>(s: &'a Stage<'a>) {
+/// # use relief_dsl::ir::FnBuilder;
+/// fn inside<'a>(s: &'a FnBuilder<'a>) {
 ///     s.repeat(4, |l| l.break_if(l.lit_bool(true)));
 /// }
 /// ```
 ///
 /// ```compile_fail
-/// # use relief_dsl::ir::Stage;
-/// fn outside<'a>(s: &'a Stage<'a>) {
-///     s.break_if(s.lit_bool(true)); // no `break_if` on a `Stage`: only a `Loop` has one
+/// # use relief_dsl::ir::FnBuilder;
+/// fn outside<'a>(s: &'a FnBuilder<'a>) {
+///     s.break_if(s.lit_bool(true)); // no `break_if` on a `FnBuilder`: only a `Loop` has one
 /// }
 /// ```
 ///
 /// `if_` and `if_else` on a `Loop` hand their branches the `Loop` too, so a branch can leave
 /// the loop. Like naga's (and WGSL's), a break or continue acts on the innermost loop.
 #[repr(transparent)]
-pub struct Loop<'a>(Stage<'a>);
+pub struct Loop<'a>(FnBuilder<'a>);
 
 impl<'a> std::ops::Deref for Loop<'a> {
-    type Target = Stage<'a>;
-    fn deref(&self) -> &Stage<'a> {
+    type Target = FnBuilder<'a>;
+    fn deref(&self) -> &FnBuilder<'a> {
         &self.0
     }
 }
 
 impl<'a> Loop<'a> {
     /// The stage `s`, seen from inside a loop it is building.
-    fn of(s: &'a Stage<'a>) -> &'a Loop<'a> {
+    fn of(s: &'a FnBuilder<'a>) -> &'a Loop<'a> {
         assert!(s.f.borrow().loop_depth > 0, "a loop token outside a loop");
-        // SAFETY: `Loop` is `repr(transparent)` over `Stage`, so the two have one layout, and
+        // SAFETY: `Loop` is `repr(transparent)` over `FnBuilder`, so the two have one layout, and
         // the reference keeps the stage's lifetime.
-        unsafe { &*(s as *const Stage<'a> as *const Loop<'a>) }
+        unsafe { &*(s as *const FnBuilder<'a> as *const Loop<'a>) }
     }
 
     fn jump_if(&'a self, cond: Val<'a, bool>, jump: Statement) {
@@ -334,7 +338,7 @@ fn is_pre_emitted(e: &Expression) -> bool {
     e.needs_pre_emit() || matches!(e, Expression::CallResult(_))
 }
 
-impl<'a> Stage<'a> {
+impl<'a> FnBuilder<'a> {
     /// The module this function belongs to.
     pub(crate) fn module(&self) -> &'a ModuleCtx {
         self.ctx
@@ -425,13 +429,13 @@ impl<'a> Stage<'a> {
 
     /// `for _ in 0..n { body }`. In the probe variant every pass counts as one iteration.
     ///
-    /// The body receives the loop ([`Loop`]): a [`Stage`] (it derefs to one) that can also
+    /// The body receives the loop ([`Loop`]): a [`FnBuilder`] (it derefs to one) that can also
     /// leave the loop ([`Loop::break_if`]) or end the pass early ([`Loop::continue_if`]).
     pub fn repeat(&'a self, n: u32, body: impl FnOnce(&'a Loop<'a>)) {
         self.repeat_until(n, None, body)
     }
 
-    /// Like [`Stage::repeat`], but also stops once the pass count reaches `limit` (a run-time
+    /// Like [`FnBuilder::repeat`], but also stops once the pass count reaches `limit` (a run-time
     /// value never above `n`); `n` stays the static bound the loop is known to end by.
     pub fn repeat_up_to(&'a self, n: u32, limit: Val<'a, u32>, body: impl FnOnce(&'a Loop<'a>)) {
         self.repeat_until(n, Some(limit), body)
@@ -541,7 +545,7 @@ impl<'a> Stage<'a> {
 
 /// Struct and pointer plumbing, for the composer (stages use the typed structs of
 /// [`crate::stage`] instead).
-impl<'a> Stage<'a> {
+impl<'a> FnBuilder<'a> {
     /// Member `index` of the struct value `base`.
     pub(crate) fn field<T: Ty>(&'a self, base: Handle<Expression>, index: u32) -> Val<'a, T> {
         self.wrap(self.expr(Expression::AccessIndex { base, index }))

@@ -6,7 +6,7 @@ use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 use naga::{BinaryOperator, Expression, MathFunction, ScalarKind, SwizzleComponent, UnaryOperator};
 
 use super::types::FloatVec;
-use super::{IntoVal, Stage, Ty, Val, Vec2, Vec3, Vec4};
+use super::{FnBuilder, IntoVal, Ty, Val, Vec2, Vec3, Vec4};
 
 fn bin<'a, T: Ty, U: Ty>(op: BinaryOperator, a: Val<'a, impl Ty>, b: Val<'a, U>) -> Val<'a, T> {
     a.derive(Expression::Binary { op, left: a.handle(), right: b.handle() })
@@ -30,14 +30,14 @@ macro_rules! arith_same {
         impl<'a> $tr<$lit> for Val<'a, $t> {
             type Output = Val<'a, $t>;
             fn $f(self, rhs: $lit) -> Val<'a, $t> {
-                let r: Val<'a, $t> = rhs.into_val(self.stage());
+                let r: Val<'a, $t> = rhs.into_val(self.builder());
                 bin($op, self, r)
             }
         }
         impl<'a> $tr<Val<'a, $t>> for $lit {
             type Output = Val<'a, $t>;
             fn $f(self, rhs: Val<'a, $t>) -> Val<'a, $t> {
-                let l: Val<'a, $t> = self.into_val(rhs.stage());
+                let l: Val<'a, $t> = self.into_val(rhs.builder());
                 bin($op, l, rhs)
             }
         }
@@ -70,7 +70,7 @@ macro_rules! arith_vec {
         impl<'a> $tr<f32> for Val<'a, $v> {
             type Output = Val<'a, $v>;
             fn $f(self, rhs: f32) -> Val<'a, $v> {
-                bin($op, self, self.stage().lit(rhs).splat::<$v>())
+                bin($op, self, self.builder().lit(rhs).splat::<$v>())
             }
         }
         impl<'a> $tr<Val<'a, $v>> for Val<'a, f32> {
@@ -82,7 +82,7 @@ macro_rules! arith_vec {
         impl<'a> $tr<Val<'a, $v>> for f32 {
             type Output = Val<'a, $v>;
             fn $f(self, rhs: Val<'a, $v>) -> Val<'a, $v> {
-                bin($op, rhs.stage().lit(self).splat::<$v>(), rhs)
+                bin($op, rhs.builder().lit(self).splat::<$v>(), rhs)
             }
         }
     };
@@ -132,7 +132,7 @@ impl Ordered for u32 {}
 
 impl<'a, T: Ordered> Val<'a, T> {
     fn cmp(self, op: BinaryOperator, rhs: impl IntoVal<'a, T>) -> Val<'a, bool> {
-        let r = rhs.into_val(self.stage());
+        let r = rhs.into_val(self.builder());
         bin(op, self, r)
     }
     /// `self < rhs`
@@ -176,17 +176,17 @@ impl<'a, T: Float> Val<'a, T> {
     }
     /// Component-wise minimum.
     pub fn min(self, o: impl IntoSame<'a, T>) -> Self {
-        let o = o.into_same(self.stage());
+        let o = o.into_same(self.builder());
         self.math(MathFunction::Min, &[o.handle()])
     }
     /// Component-wise maximum.
     pub fn max(self, o: impl IntoSame<'a, T>) -> Self {
-        let o = o.into_same(self.stage());
+        let o = o.into_same(self.builder());
         self.math(MathFunction::Max, &[o.handle()])
     }
     /// `clamp(self, lo, hi)`.
     pub fn clamp(self, lo: impl IntoSame<'a, T>, hi: impl IntoSame<'a, T>) -> Self {
-        let s = self.stage();
+        let s = self.builder();
         let lo = lo.into_same(s);
         let hi = hi.into_same(s);
         self.math(MathFunction::Clamp, &[lo.handle(), hi.handle()])
@@ -213,7 +213,7 @@ impl<'a, T: Float> Val<'a, T> {
     }
     /// Linear interpolation `mix(self, o, f)`.
     pub fn mix(self, o: impl IntoSame<'a, T>, f: impl IntoSame<'a, T>) -> Self {
-        let s = self.stage();
+        let s = self.builder();
         let o = o.into_same(s);
         let f = f.into_same(s);
         self.math(MathFunction::Mix, &[o.handle(), f.handle()])
@@ -223,27 +223,27 @@ impl<'a, T: Float> Val<'a, T> {
 /// A value of type `T` or a host `f32` splatted to `T`.
 pub trait IntoSame<'a, T: Ty> {
     /// Converts.
-    fn into_same(self, s: &'a Stage<'a>) -> Val<'a, T>;
+    fn into_same(self, s: &'a FnBuilder<'a>) -> Val<'a, T>;
 }
 impl<'a, T: Ty> IntoSame<'a, T> for super::Var<'a, T> {
-    fn into_same(self, _: &'a Stage<'a>) -> Val<'a, T> {
+    fn into_same(self, _: &'a FnBuilder<'a>) -> Val<'a, T> {
         self.get()
     }
 }
 impl<'a, T: Ty> IntoSame<'a, T> for Val<'a, T> {
-    fn into_same(self, _: &'a Stage<'a>) -> Val<'a, T> {
+    fn into_same(self, _: &'a FnBuilder<'a>) -> Val<'a, T> {
         self
     }
 }
 impl<'a> IntoSame<'a, f32> for f32 {
-    fn into_same(self, s: &'a Stage<'a>) -> Val<'a, f32> {
+    fn into_same(self, s: &'a FnBuilder<'a>) -> Val<'a, f32> {
         s.lit(self)
     }
 }
 macro_rules! into_same_vec {
     ($v:ty) => {
         impl<'a> IntoSame<'a, $v> for f32 {
-            fn into_same(self, s: &'a Stage<'a>) -> Val<'a, $v> {
+            fn into_same(self, s: &'a FnBuilder<'a>) -> Val<'a, $v> {
                 s.lit(self).splat::<$v>()
             }
         }
@@ -271,12 +271,12 @@ impl<'a> Val<'a, u32> {
     }
     /// Bitwise and.
     pub fn and(self, rhs: u32) -> Val<'a, u32> {
-        let r: Val<'a, u32> = rhs.into_val(self.stage());
+        let r: Val<'a, u32> = rhs.into_val(self.builder());
         bin(BinaryOperator::And, self, r)
     }
     /// Logical shift right.
     pub fn shift_right(self, rhs: u32) -> Val<'a, u32> {
-        let r: Val<'a, u32> = rhs.into_val(self.stage());
+        let r: Val<'a, u32> = rhs.into_val(self.builder());
         bin(BinaryOperator::ShiftRight, self, r)
     }
 }
@@ -355,7 +355,7 @@ impl<'a> Val<'a, Vec4> {
     }
 }
 
-impl<'a> Stage<'a> {
+impl<'a> FnBuilder<'a> {
     fn compose<V: Ty>(&'a self, parts: &[naga::Handle<Expression>]) -> Val<'a, V> {
         let ty = self.ctx.ty(V::inner());
         self.wrap(self.expr(Expression::Compose { ty, components: parts.to_vec() }))

@@ -3,7 +3,7 @@
 
 use naga::{Expression, Handle, TypeInner};
 
-use super::{ModuleCtx, Stage};
+use super::{FnBuilder, ModuleCtx};
 
 /// A Rust struct of [`Val`](super::Val)s that is one struct value in the shader (the stages' ray, bracket
 /// and hit): how it is declared, packed into one value and unpacked again, so that a record
@@ -16,7 +16,7 @@ pub trait Record<'a>: Sized {
     /// The members' values, in declaration order.
     fn parts(&self) -> Vec<Handle<Expression>>;
     /// The record whose members are those of the struct value `value`.
-    fn from_value(s: &'a Stage<'a>, value: Handle<Expression>) -> Self;
+    fn from_value(s: &'a FnBuilder<'a>, value: Handle<Expression>) -> Self;
 }
 
 /// Implements [`Record`] for a struct of `Val`s from one list of its fields and their
@@ -31,7 +31,7 @@ macro_rules! record {
             fn parts(&self) -> Vec<naga::Handle<naga::Expression>> {
                 vec![$(self.$field.handle()),+]
             }
-            fn from_value(s: &'a $crate::ir::Stage<'a>, value: naga::Handle<naga::Expression>) -> Self {
+            fn from_value(s: &'a $crate::ir::FnBuilder<'a>, value: naga::Handle<naga::Expression>) -> Self {
                 let mut index = 0u32;
                 $(
                     let $field = s.field::<$t>(value, index);
@@ -52,7 +52,7 @@ impl ModuleCtx {
     }
 }
 
-impl<'a> Stage<'a> {
+impl<'a> FnBuilder<'a> {
     /// The record packed into one struct value.
     pub fn pack<R: Record<'a>>(&'a self, r: &R) -> Handle<Expression> {
         self.make_struct(self.ctx.record_type::<R>(), &r.parts())

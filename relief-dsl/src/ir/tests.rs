@@ -1,5 +1,5 @@
 //! The builder's output, checked as text: each test builds one small function through
-//! [`Stage`] and compares the WGSL naga writes for it with the text written out by hand
+//! [`FnBuilder`] and compares the WGSL naga writes for it with the text written out by hand
 //! below it (in the manner of cranelift's `check` tests). A change to what the builder emits
 //! (emit ranges, loop shape, where a load happens, the probe's counters) shows up here as a
 //! readable diff rather than as a different frame somewhere downstream.
@@ -12,7 +12,7 @@ fn wgsl_of<'c>(
     ctx: &'c ModuleCtx,
     name: &str,
     args: &[&str],
-    body: impl for<'s> FnOnce(&'s Stage<'s>) -> Handle<Expression>,
+    body: impl for<'s> FnOnce(&'s FnBuilder<'s>) -> Handle<Expression>,
 ) -> String {
     let f32_ty = ctx.ty(f32::inner());
     let args: Vec<(&str, Handle<naga::Type>, Option<naga::Binding>)> =

@@ -4,7 +4,7 @@ use std::marker::PhantomData;
 
 use naga::{Expression, Handle, Literal, Statement};
 
-use super::{Stage, Ty};
+use super::{FnBuilder, Ty};
 
 /// A value of shader type `T` inside the function being built. `Copy`, like a handle.
 ///
@@ -12,7 +12,7 @@ use super::{Stage, Ty};
 /// forgotten (an update meant for a variable, a result not returned).
 #[must_use = "a value that is built and never read does nothing in the shader"]
 pub struct Val<'a, T: Ty> {
-    s: &'a Stage<'a>,
+    s: &'a FnBuilder<'a>,
     h: Handle<Expression>,
     _t: PhantomData<T>,
 }
@@ -25,15 +25,15 @@ impl<T: Ty> Clone for Val<'_, T> {
 impl<T: Ty> Copy for Val<'_, T> {}
 
 impl<'a, T: Ty> Val<'a, T> {
-    pub(crate) fn from_handle(s: &'a Stage<'a>, h: Handle<Expression>) -> Self {
+    pub(crate) fn from_handle(s: &'a FnBuilder<'a>, h: Handle<Expression>) -> Self {
         Val { s, h, _t: PhantomData }
     }
     /// The naga expression behind the value.
     pub(crate) fn handle(self) -> Handle<Expression> {
         self.h
     }
-    /// The function this value belongs to.
-    pub fn stage(self) -> &'a Stage<'a> {
+    /// The builder of the function this value belongs to.
+    pub fn builder(self) -> &'a FnBuilder<'a> {
         self.s
     }
     /// Gives the value a name in the generated shader (`let NAME = …;`).
@@ -48,31 +48,31 @@ impl<'a, T: Ty> Val<'a, T> {
 /// Anything that can become a `Val<T>`: the value itself, or a host constant.
 pub trait IntoVal<'a, T: Ty> {
     /// Converts, adding a literal to `s` when needed.
-    fn into_val(self, s: &'a Stage<'a>) -> Val<'a, T>;
+    fn into_val(self, s: &'a FnBuilder<'a>) -> Val<'a, T>;
 }
 
 impl<'a, T: Ty> IntoVal<'a, T> for Val<'a, T> {
-    fn into_val(self, _: &'a Stage<'a>) -> Val<'a, T> {
+    fn into_val(self, _: &'a FnBuilder<'a>) -> Val<'a, T> {
         self
     }
 }
 impl<'a> IntoVal<'a, f32> for f32 {
-    fn into_val(self, s: &'a Stage<'a>) -> Val<'a, f32> {
+    fn into_val(self, s: &'a FnBuilder<'a>) -> Val<'a, f32> {
         s.lit(self)
     }
 }
 impl<'a> IntoVal<'a, u32> for u32 {
-    fn into_val(self, s: &'a Stage<'a>) -> Val<'a, u32> {
+    fn into_val(self, s: &'a FnBuilder<'a>) -> Val<'a, u32> {
         s.wrap(s.expr(Expression::Literal(Literal::U32(self))))
     }
 }
 impl<'a> IntoVal<'a, bool> for bool {
-    fn into_val(self, s: &'a Stage<'a>) -> Val<'a, bool> {
+    fn into_val(self, s: &'a FnBuilder<'a>) -> Val<'a, bool> {
         s.wrap(s.expr(Expression::Literal(Literal::Bool(self))))
     }
 }
 
-impl<'a> Stage<'a> {
+impl<'a> FnBuilder<'a> {
     /// An `f32` literal. Panics on a non-finite value, which naga forbids: a host constant
     /// that is NaN or infinite is a bug in the stage.
     pub fn lit(&'a self, x: f32) -> Val<'a, f32> {
@@ -92,7 +92,7 @@ impl<'a> Stage<'a> {
 /// A function-local variable of type `T`.
 #[must_use = "a variable that is declared and never read or stored does nothing in the shader"]
 pub struct Var<'a, T: Ty> {
-    s: &'a Stage<'a>,
+    s: &'a FnBuilder<'a>,
     ptr: Handle<Expression>,
     _t: PhantomData<T>,
 }
@@ -105,7 +105,7 @@ impl<T: Ty> Clone for Var<'_, T> {
 impl<T: Ty> Copy for Var<'_, T> {}
 
 impl<'a, T: Ty> Var<'a, T> {
-    pub(crate) fn new(s: &'a Stage<'a>, ptr: Handle<Expression>) -> Self {
+    pub(crate) fn new(s: &'a FnBuilder<'a>, ptr: Handle<Expression>) -> Self {
         Var { s, ptr, _t: PhantomData }
     }
     /// The current value.
@@ -122,7 +122,7 @@ impl<'a, T: Ty> Var<'a, T> {
 /// A variable reads as its current value wherever a value is expected: `t + step`,
 /// `t.ge(limit)`, `ray.at(t)`; the load is added where the expression is.
 impl<'a, T: Ty> IntoVal<'a, T> for Var<'a, T> {
-    fn into_val(self, _: &'a Stage<'a>) -> Val<'a, T> {
+    fn into_val(self, _: &'a FnBuilder<'a>) -> Val<'a, T> {
         self.get()
     }
 }

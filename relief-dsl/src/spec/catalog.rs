@@ -4,7 +4,7 @@
 //!
 //! Each built-in method is declared once, in its own file under `stage/` (a function that
 //! returns its [`MethodDef`]), and `stage/mod.rs` lists them. The spec sits below the stage
-//! layer and cannot name it: the catalogue reaches that list, and the type of a builder,
+//! layer and cannot name it: the catalogue reaches that list, and the type of a stage function,
 //! through the trait [`StageLayer`], which the stage layer implements for [`Stages`]. A
 //! program adds its own methods with [`register`], through the same [`MethodDef`].
 
@@ -78,7 +78,7 @@ impl ParamDef {
     }
 }
 
-/// A stage's resolved parameters as its builder reads them: typed getters over the
+/// A stage's resolved parameters as its stage function reads them: typed getters over the
 /// [`StageSpec`], with errors that name the stage.
 ///
 /// Resolution ([`super::resolve_stage`], the text forms, [`StageSpec::new`]) has already
@@ -139,14 +139,14 @@ pub enum StageOr<'s> {
 }
 
 /// What the catalogue needs from the stage layer, which sits above the spec and cannot be
-/// named from here: the type of a method's builder and the list of built-in methods. The
+/// named from here: the type of a method's stage function and the list of built-in methods. The
 /// stage layer implements it once, for [`Stages`]; nothing else does (nor can: the trait and
 /// the type are both this crate's).
 pub trait StageLayer {
-    /// The function that writes a method's stage into a module (the stage layer's `Build`).
-    type Build: Copy + std::fmt::Debug + Send + Sync + 'static;
-    /// The slot a builder fills.
-    fn slot(build: &Self::Build) -> Slot;
+    /// The function that writes a method's stage into a module (the stage layer's `StageFn`).
+    type StageFn: Copy + std::fmt::Debug + Send + Sync + 'static;
+    /// The slot a stage function fills.
+    fn slot(f: &Self::StageFn) -> Slot;
     /// The built-in methods, in listing order.
     fn builtins() -> Vec<MethodDef>;
 }
@@ -155,12 +155,12 @@ pub trait StageLayer {
 #[derive(Clone, Copy, Debug)]
 pub struct Stages;
 
-/// A method's builder: the stage layer's `Build` (`relief_dsl::stage::Build`), one function
-/// per slot shape.
-pub type Builder = <Stages as StageLayer>::Build;
+/// A method's stage function: the stage layer's `StageFn` (`relief_dsl::stage::StageFn`, the same
+/// type under the name the spec layer can reach), one function type per slot shape.
+pub type StageFn = <Stages as StageLayer>::StageFn;
 
 /// One method: its name, slot, parameters, the maps it reads, the combinations it refuses and
-/// its builder.
+/// its stage function.
 ///
 /// Make one with [`MethodDef::new`], then [`MethodDef::param`], [`MethodDef::reads`] and
 /// [`MethodDef::check`]; add it with [`register`]. The built-in methods are made the same way,
@@ -169,7 +169,7 @@ pub type Builder = <Stages as StageLayer>::Build;
 pub struct MethodDef {
     /// The name in the text form (lower_snake).
     pub name: &'static str,
-    /// The slot it fills (always the slot of [`MethodDef::build`]).
+    /// The slot it fills (always the slot of [`MethodDef::stage_fn`]).
     pub slot: Slot,
     /// One line for `relief gen --list`, with the source.
     pub summary: &'static str,
@@ -180,7 +180,7 @@ pub struct MethodDef {
     /// Parameter combinations that cannot work, refused at resolution (`Err(message)`).
     pub check: fn(&StageSpec) -> Result<(), String>,
     /// The function that writes the stage into a module.
-    pub build: Builder,
+    pub stage_fn: StageFn,
 }
 
 fn no_check(_: &StageSpec) -> Result<(), String> {
@@ -188,11 +188,11 @@ fn no_check(_: &StageSpec) -> Result<(), String> {
 }
 
 impl MethodDef {
-    /// A method called `name` in the slot of `build`, with no parameters and no maps besides
+    /// A method called `name` in the slot of `stage_fn`, with no parameters and no maps besides
     /// the height map.
-    pub fn new(name: &'static str, summary: &'static str, build: Builder) -> Self {
-        let slot = <Stages as StageLayer>::slot(&build);
-        MethodDef { name, slot, summary, params: vec![], maps: no_maps, check: no_check, build }
+    pub fn new(name: &'static str, summary: &'static str, stage_fn: StageFn) -> Self {
+        let slot = <Stages as StageLayer>::slot(&stage_fn);
+        MethodDef { name, slot, summary, params: vec![], maps: no_maps, check: no_check, stage_fn }
     }
     /// Adds a parameter (after those already added).
     pub fn param(mut self, p: ParamDef) -> Self {
@@ -250,7 +250,7 @@ static CATALOG: RwLock<Option<&'static [&'static MethodDef]>> = RwLock::new(None
 /// `relief_grid!`) run in the compiler and see only the built-in methods.
 ///
 /// Refused: a name that is not lower_snake, a name already taken in the method's slot, a
-/// slot that is not the builder's, two parameters with one name, a default outside its
+/// slot that is not its stage function's, two parameters with one name, a default outside its
 /// parameter's range.
 pub fn register(def: MethodDef) -> Result<(), RegisterError> {
     let mut current = CATALOG.write().unwrap_or_else(|e| e.into_inner());
@@ -273,9 +273,9 @@ fn refusal(def: &MethodDef, others: &[&MethodDef]) -> Option<String> {
     if !snake {
         return Some("a method name is lower_snake: a-z, 0-9 and `_`, starting with a letter".into());
     }
-    let built = <Stages as StageLayer>::slot(&def.build);
+    let built = <Stages as StageLayer>::slot(&def.stage_fn);
     if built != def.slot {
-        return Some(format!("declared a {} stage but its builder is a {} stage", def.slot, built));
+        return Some(format!("declared a {} stage but its stage function is a {} stage", def.slot, built));
     }
     for (i, p) in def.params.iter().enumerate() {
         if def.params[..i].iter().any(|q| q.name == p.name) {
@@ -388,13 +388,13 @@ mod tests {
         assert_eq!(words("cns", "form"), ["safe", "textbook"]);
     }
 
-    fn coarse_linear() -> Builder {
-        method(Slot::Coarse, "linear").unwrap().build
+    fn coarse_linear() -> StageFn {
+        method(Slot::Coarse, "linear").unwrap().stage_fn
     }
 
     /// The built-in methods pass the checks a registered one must pass, each against those
     /// listed before it: lower_snake names, no name twice in a slot, defaults in range, the
-    /// builder's slot, one parameter list per name.
+    /// stage function's slot, one parameter list per name.
     #[test]
     fn every_built_in_method_could_have_been_registered() {
         let all = builtins();
@@ -419,7 +419,7 @@ mod tests {
         refused(MethodDef::new("linear", "", coarse_linear()), "already has a method called `linear`");
         let mut wrong_slot = MethodDef::new("test_wrong_slot", "", coarse_linear());
         wrong_slot.slot = Slot::Refine;
-        refused(wrong_slot, "builder is a coarse stage");
+        refused(wrong_slot, "stage function is a coarse stage");
         refused(
             MethodDef::new("test_twice", "", coarse_linear())
                 .param(ParamDef::steps("n", 4))
@@ -446,7 +446,7 @@ mod tests {
         assert_eq!(p.to_string(), "test_search(7)+binary(2)");
         let e = "test_search(0)".parse::<Pipeline>().unwrap_err();
         assert!(e.message.contains("out of range"), "{e}");
-        // The builder is linear's: the module has the registered name and linear's loop.
+        // The stage function is linear's: the module has the registered name and linear's loop.
         let wgsl = crate::emit::emit(&p).unwrap().wgsl;
         assert!(wgsl.contains("fn coarse_test_search("), "{wgsl}");
         assert!(catalog().iter().any(|m| m.name == "test_search"));

@@ -51,7 +51,7 @@ use std::fmt;
 use std::str::FromStr;
 
 pub use catalog::{
-    catalog, method, no_maps, register, Args, Builder, Catalog, MethodDef, ParamDef, ParamKind, RegisterError,
+    catalog, method, no_maps, register, Args, Catalog, MethodDef, ParamDef, ParamKind, RegisterError, StageFn,
     StageLayer, StageOr, Stages, MAX_STEPS,
 };
 pub use choice::{Choice, ConeForm, SampleChoice, StartChoice};

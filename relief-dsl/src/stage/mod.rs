@@ -15,8 +15,8 @@
 //! refine after it searches between the two. A search that runs out of steps before it
 //! finds the surface returns [`Bracket::searched`] with `found` false.
 //!
-//! Each method is a function of one of the four [`Build`] shapes, declared once in its own
-//! file as a [`MethodDef`] (name, citation, parameters, maps, builder). Each slot's `mod.rs`
+//! Each method is a function of one of the four [`StageFn`] shapes, declared once in its own
+//! file as a [`MethodDef`] (name, citation, parameters, maps, stage function). Each slot's `mod.rs`
 //! lists its methods, and [`Stages`] hands the lists to the catalogue
 //! ([`crate::spec::catalog`]); [`crate::spec::register`] adds a method written outside relief
 //! through the same [`MethodDef`].
@@ -27,7 +27,7 @@ pub(crate) mod refine;
 pub(crate) mod sampling;
 pub(crate) mod shadow;
 
-use crate::ir::{IntoVal, Stage, Val, Vec2, Vec3};
+use crate::ir::{FnBuilder, IntoVal, Val, Vec2, Vec3};
 use crate::spec::{Args, MethodDef, Slot, StageLayer, StageSpec, Stages};
 use crate::CompileError;
 pub(crate) use sampling::sample_level_global;
@@ -35,19 +35,19 @@ pub use sampling::Filter;
 
 /// A coarse stage: writes the search for `ray` into the stage function and returns its
 /// bracket.
-pub type CoarseFn = for<'a> fn(&'a Stage<'a>, &Ray<'a>, &Args) -> Result<Bracket<'a>, CompileError>;
+pub type CoarseFn = for<'a> fn(&'a FnBuilder<'a>, &Ray<'a>, &Args) -> Result<Bracket<'a>, CompileError>;
 /// A refine stage: narrows the bracket found for `ray` down to a hit.
-pub type RefineFn = for<'a> fn(&'a Stage<'a>, &Ray<'a>, Bracket<'a>, &Args) -> Result<Hit<'a>, CompileError>;
+pub type RefineFn = for<'a> fn(&'a FnBuilder<'a>, &Ray<'a>, Bracket<'a>, &Args) -> Result<Hit<'a>, CompileError>;
 /// A shadow stage: the visibility of the light from the hit, in [0, 1].
-pub type ShadowFn = for<'a> fn(&'a Stage<'a>, &Hit<'a>, &Light<'a>, &Args) -> Result<Val<'a, f32>, CompileError>;
+pub type ShadowFn = for<'a> fn(&'a FnBuilder<'a>, &Hit<'a>, &Light<'a>, &Args) -> Result<Val<'a, f32>, CompileError>;
 /// An ambient-occlusion stage: the ambient factor at the hit, in [0, 1].
-pub type AoFn = for<'a> fn(&'a Stage<'a>, &Hit<'a>, &Args) -> Result<Val<'a, f32>, CompileError>;
+pub type AoFn = for<'a> fn(&'a FnBuilder<'a>, &Hit<'a>, &Args) -> Result<Val<'a, f32>, CompileError>;
 
-/// The function that builds a method, by slot: what a [`MethodDef`] runs when a pipeline
+/// The function that writes a method's stage, by slot: what a [`MethodDef`] runs when a pipeline
 /// names it. The [`Args`] are the method's parameters, already checked against
 /// its parameter definitions.
 #[derive(Clone, Copy, Debug)]
-pub enum Build {
+pub enum StageFn {
     /// A coarse search.
     Coarse(CoarseFn),
     /// A refinement.
@@ -58,14 +58,14 @@ pub enum Build {
     Ao(AoFn),
 }
 
-impl Build {
-    /// The slot the builder fills.
+impl StageFn {
+    /// The slot the function fills.
     pub fn slot(&self) -> Slot {
         match self {
-            Build::Coarse(_) => Slot::Coarse,
-            Build::Refine(_) => Slot::Refine,
-            Build::Shadow(_) => Slot::Shadow,
-            Build::Ao(_) => Slot::Ao,
+            StageFn::Coarse(_) => Slot::Coarse,
+            StageFn::Refine(_) => Slot::Refine,
+            StageFn::Shadow(_) => Slot::Shadow,
+            StageFn::Ao(_) => Slot::Ao,
         }
     }
 }
@@ -80,74 +80,74 @@ pub struct Light<'a> {
     pub cos: Val<'a, f32>,
 }
 
-/// The stage layer's side of the catalogue: the type of a builder and the built-in methods,
+/// The stage layer's side of the catalogue: the type of a stage function and the built-in methods,
 /// slot by slot in listing order (each slot's `methods`).
 impl StageLayer for Stages {
-    type Build = Build;
-    fn slot(build: &Build) -> Slot {
-        build.slot()
+    type StageFn = StageFn;
+    fn slot(f: &StageFn) -> Slot {
+        f.slot()
     }
     fn builtins() -> Vec<MethodDef> {
         [coarse::methods(), refine::methods(), shadow::methods(), ao::methods()].concat()
     }
 }
 
-/// The catalogue's builder for the method of `slot` that `spec` names.
-fn builder(slot: Slot, spec: &StageSpec) -> Result<Build, CompileError> {
+/// The catalogue's stage function for the method of `slot` that `spec` names.
+fn stage_fn_of(slot: Slot, spec: &StageSpec) -> Result<StageFn, CompileError> {
     let def = crate::spec::method(slot, &spec.name).ok_or_else(|| CompileError {
         stage: format!("{slot} {}", spec.name),
         message: format!("the catalogue has no {slot} method `{}`", spec.name),
     })?;
-    Ok(def.build)
+    Ok(def.stage_fn)
 }
 
-/// The error for a builder of another slot than the one it is registered in, which
+/// The error for a stage function of another slot than the one it is registered in, which
 /// [`crate::spec::register`] refuses (so only a catalogue bug reaches it).
-fn wrong_slot(slot: Slot, spec: &StageSpec, build: Build) -> CompileError {
+fn wrong_slot(slot: Slot, spec: &StageSpec, f: StageFn) -> CompileError {
     CompileError {
         stage: format!("{slot} {}", spec.name),
-        message: format!("the catalogue's `{}` of the {slot} slot builds a {} stage", spec.name, build.slot()),
+        message: format!("the catalogue's `{}` of the {slot} slot writes a {} stage", spec.name, f.slot()),
     }
 }
 
-/// Writes the coarse stage `spec` into the current function, with its catalogue builder.
-pub(crate) fn coarse<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, spec: &StageSpec) -> Result<Bracket<'a>, CompileError> {
-    match builder(Slot::Coarse, spec)? {
-        Build::Coarse(f) => f(s, ray, &Args::new(Slot::Coarse, spec)),
+/// Writes the coarse stage `spec` into the current function, with its catalogue stage function.
+pub(crate) fn coarse<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, spec: &StageSpec) -> Result<Bracket<'a>, CompileError> {
+    match stage_fn_of(Slot::Coarse, spec)? {
+        StageFn::Coarse(f) => f(s, ray, &Args::new(Slot::Coarse, spec)),
         other => Err(wrong_slot(Slot::Coarse, spec, other)),
     }
 }
 
 /// Writes the refine stage `spec` into the current function.
 pub(crate) fn refine<'a>(
-    s: &'a Stage<'a>,
+    s: &'a FnBuilder<'a>,
     ray: &Ray<'a>,
     b: Bracket<'a>,
     spec: &StageSpec,
 ) -> Result<Hit<'a>, CompileError> {
-    match builder(Slot::Refine, spec)? {
-        Build::Refine(f) => f(s, ray, b, &Args::new(Slot::Refine, spec)),
+    match stage_fn_of(Slot::Refine, spec)? {
+        StageFn::Refine(f) => f(s, ray, b, &Args::new(Slot::Refine, spec)),
         other => Err(wrong_slot(Slot::Refine, spec, other)),
     }
 }
 
 /// Writes the shadow stage `spec` into the current function.
 pub(crate) fn shadow<'a>(
-    s: &'a Stage<'a>,
+    s: &'a FnBuilder<'a>,
     hit: &Hit<'a>,
     light: &Light<'a>,
     spec: &StageSpec,
 ) -> Result<Val<'a, f32>, CompileError> {
-    match builder(Slot::Shadow, spec)? {
-        Build::Shadow(f) => f(s, hit, light, &Args::new(Slot::Shadow, spec)),
+    match stage_fn_of(Slot::Shadow, spec)? {
+        StageFn::Shadow(f) => f(s, hit, light, &Args::new(Slot::Shadow, spec)),
         other => Err(wrong_slot(Slot::Shadow, spec, other)),
     }
 }
 
 /// Writes the ao stage `spec` into the current function.
-pub(crate) fn ao<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, spec: &StageSpec) -> Result<Val<'a, f32>, CompileError> {
-    match builder(Slot::Ao, spec)? {
-        Build::Ao(f) => f(s, hit, &Args::new(Slot::Ao, spec)),
+pub(crate) fn ao<'a>(s: &'a FnBuilder<'a>, hit: &Hit<'a>, spec: &StageSpec) -> Result<Val<'a, f32>, CompileError> {
+    match stage_fn_of(Slot::Ao, spec)? {
+        StageFn::Ao(f) => f(s, hit, &Args::new(Slot::Ao, spec)),
         other => Err(wrong_slot(Slot::Ao, spec, other)),
     }
 }
@@ -168,7 +168,7 @@ crate::ir::record!(Ray "Ray" { origin: Vec2, dir: Vec3, cos_view: f32 });
 impl<'a> Ray<'a> {
     /// The point at parameter t: `(origin + t·dir.xy, 1 + t·dir.z)`.
     pub fn at(&self, t: impl IntoVal<'a, f32>) -> Val<'a, Vec3> {
-        let s = self.origin.stage();
+        let s = self.origin.builder();
         let t = t.into_val(s);
         s.vec3(self.origin + self.dir.xy() * t, 1.0 + self.dir.z() * t)
     }
@@ -197,7 +197,7 @@ crate::ir::record!(Bracket "Bracket" { above: f32, below: f32, found: bool });
 impl<'a> Bracket<'a> {
     /// The bracket `[above, below]`, a crossing found.
     pub fn new(above: Val<'a, f32>, below: Val<'a, f32>) -> Self {
-        Bracket { above, below, found: above.stage().lit_bool(true) }
+        Bracket { above, below, found: above.builder().lit_bool(true) }
     }
     /// What a search that may run out of steps returns: `[above, below]` when `found`, else
     /// `above`, the last point it knows to be above the surface.
@@ -208,7 +208,7 @@ impl<'a> Bracket<'a> {
     /// method does not search, so its point counts as found; how often it lies above the
     /// surface is what `relief stability` measures.
     pub fn point(t: Val<'a, f32>) -> Self {
-        let s = t.stage();
+        let s = t.builder();
         Bracket::new(s.lit(0.0), t)
     }
 }
@@ -236,7 +236,7 @@ crate::ir::record!(Hit "Hit" { t: f32, uv: Vec2, z: f32, found: bool });
 impl<'a> Hit<'a> {
     /// The hit at parameter t along `ray`, as found.
     pub fn at(ray: &Ray<'a>, t: Val<'a, f32>) -> Self {
-        Self::at_found(ray, t, t.stage().lit_bool(true))
+        Self::at_found(ray, t, t.builder().lit_bool(true))
     }
     /// The hit at parameter t along `ray`, `found` saying whether the search found the surface.
     pub fn at_found(ray: &Ray<'a>, t: Val<'a, f32>, found: Val<'a, bool>) -> Self {

@@ -6,7 +6,7 @@
 use naga::{Expression, ImageClass, ImageDimension, SampleLevel, ScalarKind, TypeInner};
 
 use crate::abi::{binding, Param, Params};
-use crate::ir::{Stage, Val, Vec2, Vec3, Vec4};
+use crate::ir::{FnBuilder, Val, Vec2, Vec3, Vec4};
 use crate::spec::MapReq;
 
 /// How a stage samples a map: bilinear between texel centres, or the nearest texel.
@@ -47,7 +47,7 @@ pub(crate) fn sample_level_global(m: &crate::ir::ModuleCtx) -> naga::Handle<naga
     m.private::<f32>(SAMPLE_LEVEL)
 }
 
-impl<'a> Stage<'a> {
+impl<'a> FnBuilder<'a> {
     /// The level 2D samples are taken at: `None` under `lod=zero` (level 0, the explicit
     /// `SampleLevel::Zero` of every sample before the option), else the stage-wide level in
     /// [`SAMPLE_LEVEL`]. Stage bodies never see it: every sampling method below reads it.
@@ -109,7 +109,7 @@ impl<'a> Stage<'a> {
         }))
     }
 
-    /// A 2D sample at the stage-wide level ([`Stage::sample_level`]).
+    /// A 2D sample at the stage-wide level ([`FnBuilder::sample_level`]).
     pub(crate) fn sample_2d(
         &'a self,
         tex: naga::Handle<naga::GlobalVariable>,
@@ -131,7 +131,7 @@ impl<'a> Stage<'a> {
     /// lower-left texel is `(i, j) = floor(uv·(w, h) − ½)`, and each of `(i, j+1), (i+1, j+1),
     /// (i+1, j), (i, j)` is a nearest sample at its texel centre on that level, so the
     /// sampler applies the edge mode exactly as the bilinear sample does. The level's size
-    /// comes from [`Stage::level_size`], not from `textureDimensions` at the level: the level
+    /// comes from [`FnBuilder::level_size`], not from `textureDimensions` at the level: the level
     /// differs between neighbouring rays under `lod=auto`, and lavapipe answers
     /// `textureDimensions` at such a level with another lane's level (measured: safe CSM rays
     /// ended up to 0.46 in t past the first hit where neighbouring pixels sampled different
@@ -162,7 +162,7 @@ impl<'a> Stage<'a> {
     /// The size in texels of level `level` of the map `name` (as floats): level 0's size
     /// halved `level` times, exact because every level of relief's chains is half the one
     /// before (`maps::mips` stops before an odd side). Not `textureDimensions` at the level,
-    /// which lavapipe gets wrong when the level differs between lanes (see [`Stage::gather_2d`]).
+    /// which lavapipe gets wrong when the level differs between lanes (see [`FnBuilder::gather_2d`]).
     pub(crate) fn level_size(&'a self, name: &str, map_binding: u32, level: Val<'a, f32>) -> Val<'a, Vec2> {
         let tex = texture_2d(self.module(), name, map_binding);
         let image = self.expr(Expression::GlobalVariable(tex));
@@ -210,7 +210,7 @@ impl<'a> Stage<'a> {
         self.gather_2d(&map.texture_name(), map.binding(), uv)
     }
 
-    /// The four heights a bilinear sample at `uv` blends (see [`Stage::map_gather`]), at the
+    /// The four heights a bilinear sample at `uv` blends (see [`FnBuilder::map_gather`]), at the
     /// stage-wide level.
     pub fn height_gather(&'a self, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
         self.gather_2d("height_map", binding::HEIGHT, uv)
@@ -268,7 +268,7 @@ impl<'a> Stage<'a> {
     }
 
     /// The size of level 0 of the height map in texels, as floats (its users address level-0
-    /// cells, and read maps that [`Stage::map_texel`] refuses at another level).
+    /// cells, and read maps that [`FnBuilder::map_texel`] refuses at another level).
     pub fn height_map_size(&'a self) -> Val<'a, Vec2> {
         match self.sample_level() {
             None => {

@@ -491,7 +491,7 @@ fn upload_map(gpu: &Gpu, map: &crate::maps::Map, used: usize, ratio: bool) -> wg
 /// j sits in the top-left corner of mip j, the rest is 0. The max-mip pyramids of the levels
 /// of the height map's chain fit that way (level k's pyramid level j has `w_0 >> (k + j)`
 /// texels a side, at most mip j's `w_0 >> j`); a stage sampling at level k reads layer k
-/// (relief-dsl's `Stage::map_texel`). Mips past the texture's chain are dropped: the
+/// (relief-dsl's `FnBuilder::map_texel`). Mips past the texture's chain are dropped: the
 /// traversal starts at `floor(log2 n)`, the chain's last mip.
 fn upload_layers(gpu: &Gpu, layers: &[crate::maps::Map]) -> wgpu::TextureView {
     let (w0, h0) = (layers[0].width, layers[0].height);

@@ -20,7 +20,7 @@
 //! where it meets a patch (a map without the apex gathers the corners every pass, as the
 //! patch's pass then reuses them).
 
-use crate::ir::{Stage, Val, Var, Vec2, Vec3, Vec4};
+use crate::ir::{FnBuilder, Val, Var, Vec2, Vec3, Vec4};
 use crate::spec::MapReq;
 use crate::stage::{Bracket, Ray};
 use std::cell::Cell as Kept;
@@ -55,7 +55,7 @@ pub(super) struct Cell<'a> {
 }
 
 /// The cell of the ray point at `t`.
-pub(super) fn cell_at<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> Cell<'a> {
+pub(super) fn cell_at<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> Cell<'a> {
     let size = s.height_map_size();
     let speed = ray.dir.xy() * size;
     let x = ray.origin * size - 0.5 + speed * t;
@@ -79,7 +79,7 @@ pub(super) fn cell_at<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> C
     Cell { size, cell, kept: Kept::new(None), index, dist: dist.named("dist"), exit: exit.named("exit") }
 }
 
-fn sign<'a>(s: &'a Stage<'a>, v: Val<'a, f32>) -> Val<'a, f32> {
+fn sign<'a>(s: &'a FnBuilder<'a>, v: Val<'a, f32>) -> Val<'a, f32> {
     s.select(v.gt(0.0), 1.0, s.select(v.lt(0.0), -1.0, 0.0))
 }
 
@@ -87,7 +87,7 @@ fn sign<'a>(s: &'a Stage<'a>, v: Val<'a, f32>) -> Val<'a, f32> {
 /// before flooring it to a cell (or node), it picks the cell the ray is entering when the
 /// point lies on a boundary. The ray's t itself is never nudged (a nudge of 1e-3 cells in t
 /// ended rays up to 1.3e-4 in t past the first hit in relief's cone tests).
-pub(super) fn ahead<'a>(s: &'a Stage<'a>, speed: Val<'a, Vec2>) -> Val<'a, Vec2> {
+pub(super) fn ahead<'a>(s: &'a FnBuilder<'a>, speed: Val<'a, Vec2>) -> Val<'a, Vec2> {
     s.vec2(sign(s, speed.x()), sign(s, speed.y())) * AHEAD_CELLS
 }
 
@@ -101,7 +101,7 @@ pub(super) fn ahead<'a>(s: &'a Stage<'a>, speed: Val<'a, Vec2>) -> Val<'a, Vec2>
 /// the hit or proves the ray above the patch to the cell's exit, so every pass leaves its
 /// cell or ends the search.
 fn step_or_meet<'a>(
-    s: &'a Stage<'a>,
+    s: &'a FnBuilder<'a>,
     ray: &Ray<'a>,
     c: &Cell<'a>,
     t: Var<'a, f32>,
@@ -123,14 +123,14 @@ fn step_or_meet<'a>(
 impl<'a> Cell<'a> {
     /// Channel values of the cell's entry in the cell map `map` (one load, no filtering: a
     /// blend of two cells' cones is neither cell's cone).
-    fn cones(&self, s: &'a Stage<'a>, map: MapReq) -> Val<'a, Vec4> {
+    fn cones(&self, s: &'a FnBuilder<'a>, map: MapReq) -> Val<'a, Vec4> {
         s.cell_map_texel(map, self.index)
     }
 
     /// The cell's entry in `map` and its apex `A_C`: the channel after the cones where the
     /// map carries it on the device, else the highest of the corners, gathered and kept for
     /// the pass (call in the pass's own block).
-    pub fn cones_and_apex(&self, s: &'a Stage<'a>, map: MapReq) -> (Val<'a, Vec4>, Val<'a, f32>) {
+    pub fn cones_and_apex(&self, s: &'a FnBuilder<'a>, map: MapReq) -> (Val<'a, Vec4>, Val<'a, f32>) {
         let texel = self.cones(s, map);
         let n = cell_map_channels(map);
         let apex = if crate::abi::cell_apex_on_device(n) {
@@ -145,14 +145,14 @@ impl<'a> Cell<'a> {
     /// The four corner heights in gather order `(i, j+1), (i+1, j+1), (i+1, j), (i, j)`,
     /// gathered in `s` and kept for the rest of the pass: `s` must be the pass's own block
     /// (a value made inside a branch does not exist after it).
-    pub fn keep_corners(&self, s: &'a Stage<'a>) -> Val<'a, Vec4> {
+    pub fn keep_corners(&self, s: &'a FnBuilder<'a>) -> Val<'a, Vec4> {
         let c = self.corners(s);
         self.kept.set(Some(c));
         c
     }
 
     /// The corners kept for the pass, or a gather in `s` (at the cell's centre) not kept.
-    fn corners(&self, s: &'a Stage<'a>) -> Val<'a, Vec4> {
+    fn corners(&self, s: &'a FnBuilder<'a>) -> Val<'a, Vec4> {
         match self.kept.get() {
             Some(c) => c,
             None => s.height_gather((self.cell + 1.0) / self.size).named("corners"),
@@ -166,7 +166,7 @@ impl<'a> Cell<'a> {
     }
 
     /// The bilinear surface at `p` (within the cell), from the corners kept for the pass.
-    pub fn height(&self, s: &'a Stage<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> Val<'a, f32> {
+    pub fn height(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> Val<'a, f32> {
         let f = fraction(ray, self.size, self.cell, t);
         let c = self.keep_corners(s);
         let (h01, h11, h10, h00) = (c.x(), c.y(), c.z(), c.w());
@@ -176,7 +176,7 @@ impl<'a> Cell<'a> {
     }
 
     /// The first t in `[from, exit]` where the ray meets the cell's patch, or -1.
-    pub fn patch_root(&self, s: &'a Stage<'a>, ray: &Ray<'a>, from: Val<'a, f32>) -> Val<'a, f32> {
+    pub fn patch_root(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, from: Val<'a, f32>) -> Val<'a, f32> {
         patch_root(s, ray, self.size, self.cell, self.corners(s), from, self.exit)
     }
 }
@@ -205,7 +205,7 @@ fn fraction<'a>(ray: &Ray<'a>, size: Val<'a, Vec2>, cell: Val<'a, Vec2>, t: Val<
 /// t: with the corner heights h00, h10, h01, h11 and fractions (fx, fy) moving at (ax, ay) per
 /// unit t, `h - z = A s² + B s + C`, `s = t - from`.
 pub(super) fn patch_root<'a>(
-    s: &'a Stage<'a>,
+    s: &'a FnBuilder<'a>,
     ray: &Ray<'a>,
     size: Val<'a, Vec2>,
     cell: Val<'a, Vec2>,
@@ -245,8 +245,8 @@ pub(super) fn patch_root<'a>(
 
 /// A method's step in a cell march: from the ray point `p` in cell `c`, how far (in t) the
 /// method's cone lets the ray advance.
-pub(super) trait CellStep<'a>: Fn(&'a Stage<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32> {}
-impl<'a, F: Fn(&'a Stage<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32>> CellStep<'a> for F {}
+pub(super) trait CellStep<'a>: Fn(&'a FnBuilder<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32> {}
+impl<'a, F: Fn(&'a FnBuilder<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32>> CellStep<'a> for F {}
 
 /// The march of the `form=safe` conservative cone methods (the method's step rule is
 /// `step(p, cell)`, a cone step from the cell's apex), one pass per cell left:
@@ -261,7 +261,7 @@ impl<'a, F: Fn(&'a Stage<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32>> CellSte
 ///
 /// Returns the bracket `[hit, hit]`, or, out of steps, the point reached (above the surface
 /// everywhere before it).
-pub(super) fn safe_march<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, step: impl CellStep<'a>) -> Bracket<'a> {
+pub(super) fn safe_march<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, step: impl CellStep<'a>) -> Bracket<'a> {
     let t = s.var("t", 0.0);
     let found = s.var("found", false);
     s.repeat(steps, |l| {
@@ -289,7 +289,12 @@ pub(super) fn safe_march<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, step: 
 /// 4. where that step would stay in the cell, the patch decides instead ([`step_or_meet`], as
 ///    in [`safe_march`]): at a hit on the patch the search is over with the bracket
 ///    `[hit, hit]`, else the ray moves on to the cell's exit.
-pub(super) fn relaxed_march<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, step: impl CellStep<'a>) -> Bracket<'a> {
+pub(super) fn relaxed_march<'a>(
+    s: &'a FnBuilder<'a>,
+    ray: &Ray<'a>,
+    steps: u32,
+    step: impl CellStep<'a>,
+) -> Bracket<'a> {
     let t = s.var("t", 0.0);
     let t_prev = s.var("t_prev", 0.0);
     let found = s.var("found", false);

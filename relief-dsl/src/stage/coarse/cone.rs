@@ -21,9 +21,9 @@
 //! the surface once and return the bracket around that crossing.
 
 use super::cell::{relaxed_march, safe_march, Cell};
-use crate::ir::{Stage, Val, Vec3};
+use crate::ir::{FnBuilder, Val, Vec3};
 use crate::spec::{Args, Choice, MapReq, MethodDef, ParamDef, SampleChoice, StageSpec, StartChoice};
-use crate::stage::{Bracket, Build, Filter, Ray};
+use crate::stage::{Bracket, Filter, Ray, StageFn};
 use crate::CompileError;
 
 /// Which cones a method steps on (see the module docs).
@@ -112,7 +112,7 @@ impl<'a> Marched<'a> {
     /// The bracket of a conservative method as printed: out of steps, the method trusts its
     /// cones and ends where the last step led.
     fn conservative(self) -> Bracket<'a> {
-        let s = self.end.stage();
+        let s = self.end.builder();
         Bracket::searched(s.select(self.found, self.prev, self.end), self.end, self.found)
     }
     /// The bracket of a relaxed method: out of steps, the last point checked.
@@ -124,10 +124,10 @@ impl<'a> Marched<'a> {
 /// Burger's Algorithm 4 loop as printed: for each of `steps` passes, h ← GETHEIGHT(p.xy); if
 /// h ≥ p.z the search is over, else advance by the cone step `step(p, h)`.
 fn textbook_march<'a>(
-    s: &'a Stage<'a>,
+    s: &'a FnBuilder<'a>,
     ray: &Ray<'a>,
     steps: u32,
-    step: impl Fn(&'a Stage<'a>, Val<'a, Vec3>, Val<'a, f32>) -> Val<'a, f32>,
+    step: impl Fn(&'a FnBuilder<'a>, Val<'a, Vec3>, Val<'a, f32>) -> Val<'a, f32>,
 ) -> Marched<'a> {
     let mut t = s.var("t", 0.0);
     let t_prev = s.var("t_prev", 0.0);
@@ -144,7 +144,7 @@ fn textbook_march<'a>(
 }
 
 /// The textbook cone ratio under `uv`.
-fn ratio<'a>(s: &'a Stage<'a>, uv: Val<'a, crate::ir::Vec2>, sample: ConeSample) -> Val<'a, f32> {
+fn ratio<'a>(s: &'a FnBuilder<'a>, uv: Val<'a, crate::ir::Vec2>, sample: ConeSample) -> Val<'a, f32> {
     match sample {
         ConeSample::Linear => s.map(MapReq::Cone, uv, Filter::Linear).x(),
         ConeSample::Nearest => s.map(MapReq::Cone, uv, Filter::Nearest).x(),
@@ -154,7 +154,7 @@ fn ratio<'a>(s: &'a Stage<'a>, uv: Val<'a, crate::ir::Vec2>, sample: ConeSample)
 
 /// Cone step mapping (Dummer 2006; Burger Algorithm 4): while above the surface, step to the
 /// side of the conservative cone below.
-pub fn csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm, sample: ConeSample) -> Bracket<'a> {
+pub fn csm<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm, sample: ConeSample) -> Bracket<'a> {
     match form {
         ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| cell_cone_step(s, ray, p, c)),
         ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
@@ -167,7 +167,7 @@ pub fn csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm, samp
 
 /// The safe CSM step from the ray point `p` in cell `c`: the cone step from the cell's apex on
 /// its cone in the cell cone map (how far, in t, the ray stays above the surface).
-pub(super) fn cell_cone_step<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, p: Val<'a, Vec3>, c: &Cell<'a>) -> Val<'a, f32> {
+pub(super) fn cell_cone_step<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, p: Val<'a, Vec3>, c: &Cell<'a>) -> Val<'a, f32> {
     let (cone, apex) = c.cones_and_apex(s, MapReq::CellCone);
     let r = cone.x().named("r");
     cone_step(ray, r, c.clearance(p.z(), apex, r))
@@ -178,7 +178,7 @@ pub(crate) fn csm_def() -> MethodDef {
     MethodDef::new(
         "csm",
         "cone step mapping (Dummer 2006; Burger Algorithm 4); form=safe|textbook; sample=linear|nearest|min4 for form=textbook (Burger 4.3.1), auto: the cell's cone (safe) or linear (textbook)",
-        Build::Coarse(build_csm),
+        StageFn::Coarse(csm_stage),
     )
     .param(ParamDef::steps("steps", 15))
     .param(form())
@@ -188,7 +188,7 @@ pub(crate) fn csm_def() -> MethodDef {
 
 /// `sample=auto` is the safe form's cell cone or the textbook's linear read; a textbook
 /// sampling with `form=safe` is an error, not ignored.
-fn build_csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+fn csm_stage<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
     let form = a.choice::<ConeForm>("form")?;
     let sample = match (form, a.choice::<SampleChoice>("sample")?) {
         (ConeForm::Safe, SampleChoice::Auto) => ConeSample::Linear,
@@ -203,7 +203,7 @@ fn build_csm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a
 }
 
 /// The quadrant cone of a ray heading `dir` from channels `+u+v, -u+v, -u-v, +u-v`.
-fn quadrant<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, q: Val<'a, crate::ir::Vec4>) -> Val<'a, f32> {
+fn quadrant<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, q: Val<'a, crate::ir::Vec4>) -> Val<'a, f32> {
     let west = ray.dir.x().lt(0.0);
     let south = ray.dir.y().lt(0.0);
     s.select(south, s.select(west, q.z(), q.w()), s.select(west, q.y(), q.x()))
@@ -211,7 +211,7 @@ fn quadrant<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, q: Val<'a, crate::ir::Vec4>) ->
 
 /// Quad-directional cone stepping (Policarpo & Oliveira 2007, GPU Gems 3 §18.4.1): as CSM, with
 /// the cone of the quadrant the ray is heading into (channels `+u+v, -u+v, -u-v, +u-v`).
-pub fn qcsm<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
+pub fn qcsm<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
     match form {
         ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| {
             let (cones, apex) = c.cones_and_apex(s, MapReq::CellQuadCone);
@@ -231,7 +231,7 @@ pub(crate) fn qcsm_def() -> MethodDef {
     MethodDef::new(
         "qcsm",
         "quad-directional cone stepping (Policarpo & Oliveira, GPU Gems 3 18.4.1); form=safe|textbook",
-        Build::Coarse(|s, ray, a| Ok(qcsm(s, ray, a.int("steps")?, a.choice("form")?))),
+        StageFn::Coarse(|s, ray, a| Ok(qcsm(s, ray, a.int("steps")?, a.choice("form")?))),
     )
     .param(ParamDef::steps("steps", 15))
     .param(form())
@@ -251,7 +251,7 @@ pub enum RelaxedStart {
 /// relaxed cone, whose ray may enter the surface but never leave it; stop at the first point
 /// below the surface (K). The safe form always brackets from J: on cells, the one crossing
 /// inside the cone lies between J and K.
-pub fn rcs<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm, start: RelaxedStart) -> Bracket<'a> {
+pub fn rcs<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm, start: RelaxedStart) -> Bracket<'a> {
     match form {
         ConeForm::Safe => relaxed_march(s, ray, steps, |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellRelaxedCone);
@@ -276,7 +276,7 @@ pub(crate) fn rcs_def() -> MethodDef {
     MethodDef::new(
         "rcs",
         "relaxed cone stepping (GPU Gems 3 Listing 18-3); form=safe|textbook; start=hk|bracket (Fig. 18-10), auto: bracket (safe) or hk (textbook)",
-        Build::Coarse(build_rcs),
+        StageFn::Coarse(rcs_stage),
     )
     .param(ParamDef::steps("steps", 15))
     .param(form())
@@ -286,7 +286,7 @@ pub(crate) fn rcs_def() -> MethodDef {
 
 /// `start=auto` is the bracket from J (safe) or from H (textbook); `start=hk` with
 /// `form=safe` is an error.
-fn build_rcs<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
+fn rcs_stage<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a>, CompileError> {
     let form = a.choice::<ConeForm>("form")?;
     let start = match (form, a.choice::<StartChoice>("start")?) {
         (ConeForm::Safe, StartChoice::Auto | StartChoice::Bracket) => RelaxedStart::Bracket,
@@ -299,7 +299,7 @@ fn build_rcs<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracket<'a
 
 /// Cone normal stepping (Burger 2018 §3.3): CSM with the cone stored as the normal of its
 /// side, stepping by the ray-plane intersection of eq. 3.2.
-pub fn cns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
+pub fn cns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
     match form {
         ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellConeNormal);
@@ -319,7 +319,7 @@ pub(crate) fn cns_def() -> MethodDef {
     MethodDef::new(
         "cns",
         "cone normal stepping (Burger 3.3, eq. 3.2); form=safe|textbook",
-        Build::Coarse(|s, ray, a| Ok(cns(s, ray, a.int("steps")?, a.choice("form")?))),
+        StageFn::Coarse(|s, ray, a| Ok(cns(s, ray, a.int("steps")?, a.choice("form")?))),
     )
     .param(ParamDef::steps("steps", 15))
     .param(form())
@@ -328,7 +328,7 @@ pub(crate) fn cns_def() -> MethodDef {
 
 /// Relaxed cone normal stepping (Burger §4.3.4): cone normal stepping on the relaxed cones;
 /// returns the bracket around the crossing (from J, the last point above the surface).
-pub fn rcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
+pub fn rcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
     match form {
         ConeForm::Safe => relaxed_march(s, ray, steps, |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellRelaxedCone);
@@ -348,7 +348,7 @@ pub(crate) fn rcns_def() -> MethodDef {
     MethodDef::new(
         "rcns",
         "relaxed cone normal stepping (Burger 4.3.4); form=safe|textbook",
-        Build::Coarse(|s, ray, a| Ok(rcns(s, ray, a.int("steps")?, a.choice("form")?))),
+        StageFn::Coarse(|s, ray, a| Ok(rcns(s, ray, a.int("steps")?, a.choice("form")?))),
     )
     .param(ParamDef::steps("steps", 15))
     .param(form())
@@ -364,7 +364,7 @@ fn channels<'a>(c: Val<'a, crate::ir::Vec4>, k: u32) -> Vec<Val<'a, f32>> {
 /// `b_k = h + (1 - h)·k/K` above the base height h; of the cones below the ray point, take the
 /// one that gives the longest step. The base is the bilinear height (textbook) or the cell's
 /// apex (safe).
-pub fn mcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: ConeForm) -> Bracket<'a> {
+pub fn mcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: ConeForm) -> Bracket<'a> {
     let longest = |p: Val<'a, Vec3>, base: Val<'a, f32>, cones: Vec<Val<'a, f32>>, c: Option<&Cell<'a>>| {
         let mut step = p.z() * 0.0;
         for (i, n_z) in cones.into_iter().enumerate() {
@@ -394,7 +394,7 @@ pub(crate) fn mcns_def() -> MethodDef {
     MethodDef::new(
         "mcns",
         "multiple cone normal stepping, K stacked cones (Burger 3.4, method 1); form=safe|textbook",
-        Build::Coarse(|s, ray, a| Ok(mcns(s, ray, a.int("steps")?, a.int("k")?, a.choice("form")?))),
+        StageFn::Coarse(|s, ray, a| Ok(mcns(s, ray, a.int("steps")?, a.int("k")?, a.choice("form")?))),
     )
     .param(ParamDef::steps("steps", 15))
     .param(cones(4))
@@ -409,10 +409,10 @@ pub(crate) fn mcns_def() -> MethodDef {
 /// outside (piece 0 when there is none); within piece j it meets the piece's line after
 /// `(R_j + r_j·(z - b_j)) / (L + r_j·(-d.z))`. The base is the bilinear height (textbook) or
 /// the cell's apex (safe; the radii less the point's distance to the cell).
-pub fn pcns<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: ConeForm) -> Bracket<'a> {
+pub fn pcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: ConeForm) -> Bracket<'a> {
     let speed = ray.dir.xy().length();
     let fall = -ray.dir.z();
-    let leave = move |s: &'a Stage<'a>,
+    let leave = move |s: &'a FnBuilder<'a>,
                       p: Val<'a, Vec3>,
                       base: Val<'a, f32>,
                       offset: Val<'a, f32>,
@@ -450,7 +450,7 @@ pub(crate) fn pcns_def() -> MethodDef {
     MethodDef::new(
         "pcns",
         "piecewise cone normal stepping, K cone pieces (Burger 3.4, method 2); form=safe|textbook",
-        Build::Coarse(|s, ray, a| Ok(pcns(s, ray, a.int("steps")?, a.int("k")?, a.choice("form")?))),
+        StageFn::Coarse(|s, ray, a| Ok(pcns(s, ray, a.int("steps")?, a.int("k")?, a.choice("form")?))),
     )
     .param(ParamDef::steps("steps", 15))
     .param(cones(4))

@@ -1,12 +1,12 @@
 //! Linear search: equal steps down the ray until it dips below the surface.
 
-use crate::ir::{IntoVal, Stage, Val};
+use crate::ir::{FnBuilder, IntoVal, Val};
 use crate::spec::{MethodDef, ParamDef, StageSpec};
-use crate::stage::{Bracket, Build, Ray};
+use crate::stage::{Bracket, Ray, StageFn};
 
 /// Linear search (Burger 2018, Algorithm 1): `steps` equal steps that reach the bottom of the
 /// volume after the last one; stop at the first point at or below the surface.
-pub fn linear<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
+pub fn linear<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     let step = 1.0 / steps as f32;
     let t = s.var("t", 0.0);
     s.repeat(steps, |s| {
@@ -22,7 +22,7 @@ pub(crate) fn linear_def() -> MethodDef {
     MethodDef::new(
         "linear",
         "linear search (Burger Algorithm 1)",
-        Build::Coarse(|s, ray, a| Ok(linear(s, ray, a.int("steps")?))),
+        StageFn::Coarse(|s, ray, a| Ok(linear(s, ray, a.int("steps")?))),
     )
     .param(ParamDef::steps("steps", 32))
 }
@@ -32,14 +32,14 @@ pub(crate) fn linear_def() -> MethodDef {
 /// would be a step above the polygon, outside the volume, and a refinement would end there
 /// (`relief stability` found linear + binary ending at t < 0 on a flat map at height 1).
 fn one_step_back<'a>(t: Val<'a, f32>, step: impl IntoVal<'a, f32>) -> Bracket<'a> {
-    let step = step.into_val(t.stage());
+    let step = step.into_val(t.builder());
     Bracket::new((t - step).max(0.0), t)
 }
 
 /// Linear search with the step count chosen from the view angle, as parallax occlusion
 /// mapping engines do (Tatarchuk 2006; Amaro & Gustafsson §2.1.3 without the distance
 /// term): `n = mix(max, min, cos θ)`, many steps at grazing angles, few head-on.
-pub fn linear_dynamic<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, min: u32, max: u32) -> Bracket<'a> {
+pub fn linear_dynamic<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, min: u32, max: u32) -> Bracket<'a> {
     let n = s.lit(max as f32).mix(min as f32, ray.cos_view).floor().max(1.0);
     let step = 1.0 / n;
     let t = s.var("t", 0.0);
@@ -56,7 +56,7 @@ pub(crate) fn linear_dynamic_def() -> MethodDef {
     MethodDef::new(
         "linear_dynamic",
         "linear search, step count from the view angle (Tatarchuk 2006; Amaro & Gustafsson 2.1.3)",
-        Build::Coarse(|s, ray, a| Ok(linear_dynamic(s, ray, a.int("min")?, a.int("max")?))),
+        StageFn::Coarse(|s, ray, a| Ok(linear_dynamic(s, ray, a.int("min")?, a.int("max")?))),
     )
     .param(ParamDef::steps("min", 8))
     .param(ParamDef::steps("max", 32))
@@ -76,7 +76,7 @@ pub const VIEW_DISTANCE: &str = "view_distance";
 
 /// The distance from the camera to the fragment, as the entry point stored it (see
 /// [`VIEW_DISTANCE`]).
-fn view_distance<'a>(s: &'a Stage<'a>) -> Val<'a, f32> {
+fn view_distance<'a>(s: &'a FnBuilder<'a>) -> Val<'a, f32> {
     let g = s.module().private::<f32>(VIEW_DISTANCE);
     s.load(s.global_ptr(g))
 }
@@ -87,7 +87,7 @@ fn view_distance<'a>(s: &'a Stage<'a>) -> Val<'a, f32> {
 /// L_max·(1 − d/(3 + d))) + L_θmin·cos θ`, then `max(1, floor(L))` steps), which the entry point stores in
 /// [`VIEW_DISTANCE`] (in the scene's world units: the quad's for `fs_main`, the room's for
 /// the interior entry). The loop is bounded by `max(min, max, theta_min)`.
-pub fn linear_distance<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, min: u32, max: u32, theta_min: u32) -> Bracket<'a> {
+pub fn linear_distance<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, min: u32, max: u32, theta_min: u32) -> Bracket<'a> {
     let d = view_distance(s).max(0.0);
     let w = d / (d + 3.0);
     let c = ray.cos_view.clamp(0.0, 1.0);
@@ -110,7 +110,7 @@ pub(crate) fn linear_distance_def() -> MethodDef {
     MethodDef::new(
         "linear_distance",
         "linear search, layer count from the view angle and the camera distance (Amaro & Gustafsson 2.1.3)",
-        Build::Coarse(|s, ray, a| Ok(linear_distance(s, ray, a.int("min")?, a.int("max")?, a.int("theta_min")?))),
+        StageFn::Coarse(|s, ray, a| Ok(linear_distance(s, ray, a.int("min")?, a.int("max")?, a.int("theta_min")?))),
     )
     .param(ParamDef::steps("min", 16))
     .param(ParamDef::steps("max", 180))

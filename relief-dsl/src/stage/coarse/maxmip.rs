@@ -8,9 +8,9 @@
 //! descends; in a single cell it meets the bilinear patch exactly (a quadratic in t).
 //! Each pass through the loop is one node visit.
 
-use crate::ir::{Stage, Val, Vec2};
+use crate::ir::{FnBuilder, Val, Vec2};
 use crate::spec::{MapReq, MethodDef, ParamDef};
-use crate::stage::{Bracket, Build, Ray};
+use crate::stage::{Bracket, Ray, StageFn};
 
 /// Maximum-mipmap traversal with the exact bilinear-patch intersection in the finest cells
 /// (Tevs, Ihrke & Seidel 2008; the survey's pyramidal displacement mapping), one node per
@@ -23,7 +23,7 @@ use crate::stage::{Bracket, Build, Ray};
 /// 3. else, above the finest level, descend into the node at `down`;
 /// 4. else (one cell) meet the cell's bilinear patch between `down` and `exit`: the hit, or
 ///    on to the exit.
-pub fn maxmip<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
+pub fn maxmip<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     let size = s.height_map_size();
     let n = size.x().max(size.y());
     let top = n.log2().floor();
@@ -86,7 +86,7 @@ pub fn maxmip<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
 /// choice of level changes only how far a pass may skip, never the guarantee (every node's
 /// maximum bounds the surface under it).
 fn leaves_parent<'a>(
-    s: &'a Stage<'a>,
+    s: &'a FnBuilder<'a>,
     node: Val<'a, Vec2>,
     speed: Val<'a, Vec2>,
     by_x: Val<'a, bool>,
@@ -102,7 +102,7 @@ pub(crate) fn maxmip_def() -> MethodDef {
     MethodDef::new(
         "maxmip",
         "maximum-mipmap traversal with the exact bilinear patch in the finest cells (Tevs et al. 2008)",
-        Build::Coarse(|s, ray, a| Ok(maxmip(s, ray, a.int("steps")?))),
+        StageFn::Coarse(|s, ray, a| Ok(maxmip(s, ray, a.int("steps")?))),
     )
     .param(ParamDef::steps("steps", 64))
     .reads(|_| vec![MapReq::MaxMip])
@@ -111,7 +111,7 @@ pub(crate) fn maxmip_def() -> MethodDef {
 /// The first t in `[from, to]` where the ray meets the bilinear patch of the cell it is in (or
 /// entering) at `from`, or -1 (see [`super::cell::patch_root`]).
 fn patch_root<'a>(
-    s: &'a Stage<'a>,
+    s: &'a FnBuilder<'a>,
     ray: &Ray<'a>,
     size: Val<'a, Vec2>,
     ahead: Val<'a, Vec2>,

@@ -7,16 +7,16 @@
 //! vector's z, which in this parameterization multiplies that t by `cos θ` (θ the angle of
 //! the view ray from the normal).
 
-use crate::ir::{Stage, Val};
+use crate::ir::{FnBuilder, Val};
 use crate::spec::{MapReq, MethodDef, ParamDef, StageSpec};
-use crate::stage::{Bracket, Build, Ray};
+use crate::stage::{Bracket, Ray, StageFn};
 
 fn normal_map(_: &StageSpec) -> Vec<MapReq> {
     vec![MapReq::Normal]
 }
 
 /// Plain texture mapping: the hit is where the ray enters, t = 0.
-pub fn none<'a>(s: &'a Stage<'a>, _ray: &Ray<'a>) -> Bracket<'a> {
+pub fn none<'a>(s: &'a FnBuilder<'a>, _ray: &Ray<'a>) -> Bracket<'a> {
     Bracket::point(s.lit(0.0))
 }
 
@@ -25,13 +25,13 @@ pub(crate) fn none_def() -> MethodDef {
     MethodDef::new(
         "none",
         "plain texture mapping: the hit is the entry point",
-        Build::Coarse(|s, ray, _| Ok(none(s, ray))),
+        StageFn::Coarse(|s, ray, _| Ok(none(s, ray))),
     )
 }
 
 /// Parallax mapping (Kaneko et al. 2001; Burger eq. 2.3): the surface is taken to be the
 /// plane at the height found under the entry point, `t = (1 - h) / -d.z`.
-pub fn parallax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>) -> Bracket<'a> {
+pub fn parallax<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>) -> Bracket<'a> {
     let h = s.height(ray.origin);
     Bracket::point((1.0 - h) / -ray.dir.z())
 }
@@ -41,13 +41,13 @@ pub(crate) fn parallax_def() -> MethodDef {
     MethodDef::new(
         "parallax",
         "parallax mapping (Kaneko et al. 2001; Burger eq. 2.3-2.5)",
-        Build::Coarse(|s, ray, _| Ok(parallax(s, ray))),
+        StageFn::Coarse(|s, ray, _| Ok(parallax(s, ray))),
     )
 }
 
 /// Parallax with offset limiting (Welsh 2004; survey §4.1.3, Burger eq. 2.6): the offset is
 /// the depth along the *normalized* view vector, so it never exceeds the depth itself.
-pub fn offset_limited<'a>(s: &'a Stage<'a>, ray: &Ray<'a>) -> Bracket<'a> {
+pub fn offset_limited<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>) -> Bracket<'a> {
     let h = s.height(ray.origin);
     Bracket::point((1.0 - h) * ray.cos_view / -ray.dir.z())
 }
@@ -57,13 +57,13 @@ pub(crate) fn offset_limited_def() -> MethodDef {
     MethodDef::new(
         "offset_limited",
         "parallax with offset limiting (Welsh 2004; survey 4.1.3)",
-        Build::Coarse(|s, ray, _| Ok(offset_limited(s, ray))),
+        StageFn::Coarse(|s, ray, _| Ok(offset_limited(s, ray))),
     )
 }
 
 /// Parallax along the slope (survey §4.1.4, the "safer" form): the depth is scaled by the
 /// normal map's z, `offset = h · N.z · V.xy`.
-pub fn slope_parallax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>) -> Bracket<'a> {
+pub fn slope_parallax<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>) -> Bracket<'a> {
     let h = s.height(ray.origin);
     let n = s.normal(ray.origin);
     Bracket::point((1.0 - h) * n.z() * ray.cos_view / -ray.dir.z())
@@ -74,14 +74,14 @@ pub(crate) fn slope_parallax_def() -> MethodDef {
     MethodDef::new(
         "slope_parallax",
         "parallax along the normal map's slope (survey 4.1.4)",
-        Build::Coarse(|s, ray, _| Ok(slope_parallax(s, ray))),
+        StageFn::Coarse(|s, ray, _| Ok(slope_parallax(s, ray))),
     )
     .reads(normal_map)
 }
 
 /// Iterative parallax mapping (Premecz 2006; survey §4.2.1): repeat the slope correction
 /// `uvh += (h - uvh.z) · N.z · V` at the current point, `steps` times.
-pub fn iterative_parallax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
+pub fn iterative_parallax<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     let t = s.var("t", 0.0);
     s.repeat(steps, |s| {
         let p = ray.at(t.get());
@@ -98,7 +98,7 @@ pub(crate) fn iterative_parallax_def() -> MethodDef {
     MethodDef::new(
         "iterative_parallax",
         "iterative parallax with slope (Premecz 2006; survey 4.2.1)",
-        Build::Coarse(|s, ray, a| Ok(iterative_parallax(s, ray, a.int("steps")?))),
+        StageFn::Coarse(|s, ray, a| Ok(iterative_parallax(s, ray, a.int("steps")?))),
     )
     .param(ParamDef::steps("steps", 4))
     .reads(normal_map)

@@ -15,9 +15,9 @@
 //! proven point (the patch's hit, the floor, or, out of steps, `proven`).
 
 use super::cell::{cell_at, CellStep};
-use crate::ir::{Stage, Val};
+use crate::ir::{FnBuilder, Val};
 use crate::spec::{MapReq, MethodDef, ParamDef};
-use crate::stage::{Bracket, Build, Ray};
+use crate::stage::{Bracket, Ray, StageFn};
 
 /// The largest over-step factor ω. With the bound changing linearly along the ray by `m` per
 /// unit t (`m ∈ [−1, 0]` toward a surface), a probe `ω·reach` ahead reaches back over the gap
@@ -29,7 +29,7 @@ const OMEGA_MAX: f32 = 1.8;
 /// ray): `0.9 · 2 / (1 − m)`, within `[1, OMEGA_MAX]`; 1 where there is no previous point
 /// (the entry, after the patch's pass, after a step back).
 fn omega<'a>(
-    s: &'a Stage<'a>,
+    s: &'a FnBuilder<'a>,
     t: Val<'a, f32>,
     reach: Val<'a, f32>,
     last_t: Val<'a, f32>,
@@ -55,7 +55,12 @@ fn omega<'a>(
 /// 5. the search is over at a hit on the patch, or with the floor proven reached.
 ///
 /// Returns `[proven, proven]`: the hit, or out of steps the proven point.
-pub(super) fn relaxing_march<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, step: impl CellStep<'a>) -> Bracket<'a> {
+pub(super) fn relaxing_march<'a>(
+    s: &'a FnBuilder<'a>,
+    ray: &Ray<'a>,
+    steps: u32,
+    step: impl CellStep<'a>,
+) -> Bracket<'a> {
     let t = s.var("t", 0.0);
     let proven = s.var("proven", 0.0);
     let last_t = s.var("last_t", 0.0);
@@ -103,7 +108,7 @@ pub(super) fn relaxing_march<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32, st
 /// Cone step mapping on the cell cones (the safe `csm`) with exact step relaxation: see
 /// [`relaxing_march`]. Exact as the safe `csm` is; fewer passes where the cones' steps shrink
 /// slowly (grazing rays over open ground), one wasted pass per step back.
-pub fn csm_relax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
+pub fn csm_relax<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     relaxing_march(s, ray, steps, |s, p, c| super::cone::cell_cone_step(s, ray, p, c))
 }
 
@@ -112,7 +117,7 @@ pub(crate) fn csm_relax_def() -> MethodDef {
     MethodDef::new(
         "csm_relax",
         "safe cone step mapping with exact step relaxation (after Bán & Valasek 2023): over-steps, steps back where the bounds do not overlap",
-        Build::Coarse(|s, ray, a| Ok(csm_relax(s, ray, a.int("steps")?))),
+        StageFn::Coarse(|s, ray, a| Ok(csm_relax(s, ray, a.int("steps")?))),
     )
     .param(ParamDef::steps("steps", 15))
     .reads(|_| vec![MapReq::CellCone])
@@ -121,7 +126,7 @@ pub(crate) fn csm_relax_def() -> MethodDef {
 /// Sphere tracing (`sphere`) with exact step relaxation (Bán & Valasek 2023): see
 /// [`relaxing_march`]; the field's spheres are symmetric, so a probe's sphere reaches back as
 /// far as forward.
-pub fn sphere_relax<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
+pub fn sphere_relax<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     relaxing_march(s, ray, steps, |s, p, _| super::sphere::sphere_step(s, ray, p))
 }
 
@@ -130,7 +135,7 @@ pub(crate) fn sphere_relax_def() -> MethodDef {
     MethodDef::new(
         "sphere_relax",
         "sphere tracing with exact step relaxation (Bán & Valasek 2023): over-steps, steps back where the spheres do not overlap",
-        Build::Coarse(|s, ray, a| Ok(sphere_relax(s, ray, a.int("steps")?))),
+        StageFn::Coarse(|s, ray, a| Ok(sphere_relax(s, ray, a.int("steps")?))),
     )
     .param(ParamDef::steps("steps", 15))
     .reads(|_| vec![MapReq::DistanceField])

@@ -1,8 +1,8 @@
 //! Sphere tracing a distance field.
 
-use crate::ir::{Stage, Val, Vec3};
+use crate::ir::{FnBuilder, Val, Vec3};
 use crate::spec::{MapReq, MethodDef, ParamDef};
-use crate::stage::{Bracket, Build, Ray};
+use crate::stage::{Bracket, Ray, StageFn};
 
 /// Sphere tracing a 3D distance field (Donnelly 2005; survey §4.3): each step moves by the
 /// distance to the nearest surface, which is free space in every direction. Distances are in
@@ -13,12 +13,12 @@ use crate::stage::{Bracket, Build, Ray};
 /// within a voxel of the surface it reads 0, and there the cell's bilinear patch closes the
 /// gap exactly ([`super::cell::safe_march`]), so the search neither stalls nor passes the
 /// first hit.
-pub fn sphere<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
+pub fn sphere<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     super::cell::safe_march(s, ray, steps, |s, p, _| sphere_step(s, ray, p))
 }
 
 /// The sphere-tracing step from the ray point `p`: the field's distance, in t.
-pub(super) fn sphere_step<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, p: Val<'a, Vec3>) -> Val<'a, f32> {
+pub(super) fn sphere_step<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, p: Val<'a, Vec3>) -> Val<'a, f32> {
     s.distance(p) / ray.dir.length()
 }
 
@@ -27,7 +27,7 @@ pub(crate) fn sphere_def() -> MethodDef {
     MethodDef::new(
         "sphere",
         "sphere tracing a 3D distance field (Donnelly 2005)",
-        Build::Coarse(|s, ray, a| Ok(sphere(s, ray, a.int("steps")?))),
+        StageFn::Coarse(|s, ray, a| Ok(sphere(s, ray, a.int("steps")?))),
     )
     .param(ParamDef::steps("steps", 15))
     .reads(|_| vec![MapReq::DistanceField])

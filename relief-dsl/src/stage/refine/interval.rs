@@ -1,8 +1,8 @@
 //! Interval mapping: false position between the two ends of the bracket.
 
-use crate::ir::Stage;
+use crate::ir::FnBuilder;
 use crate::spec::{MethodDef, ParamDef};
-use crate::stage::{Bracket, Build, Hit, Ray};
+use crate::stage::{Bracket, Hit, Ray, StageFn};
 
 /// Interval mapping (Burger 2018, Algorithm 3; Risser et al. 2005), which is the method of
 /// false position: intersect the ray with the line through the surface samples at both ends
@@ -10,7 +10,7 @@ use crate::stage::{Bracket, Build, Hit, Ray};
 ///
 /// Algorithm 3 as printed replaces `p1` when the new point is below the surface; with `t1`
 /// the end above and `t2` the end below, the end a point below replaces is `t2`, as here.
-pub fn interval<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, b: Bracket<'a>, steps: u32) -> Hit<'a> {
+pub fn interval<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, b: Bracket<'a>, steps: u32) -> Hit<'a> {
     let t1 = s.var("t1", b.above);
     let t2 = s.var("t2", b.below);
     let h1 = s.var("h1", s.height(ray.at(b.above).xy()));
@@ -45,7 +45,7 @@ pub(crate) fn interval_def() -> MethodDef {
     MethodDef::new(
         "interval",
         "interval mapping, false position (Burger Algorithm 3; Risser et al. 2005)",
-        Build::Refine(|s, ray, b, a| Ok(interval(s, ray, b, a.int("steps")?))),
+        StageFn::Refine(|s, ray, b, a| Ok(interval(s, ray, b, a.int("steps")?))),
     )
     .param(ParamDef::steps("steps", 5))
 }

@@ -6,14 +6,14 @@ pub(crate) mod interval;
 pub(crate) mod secant;
 
 use crate::spec::MethodDef;
-use crate::stage::{Build, Hit};
+use crate::stage::{Hit, StageFn};
 
 /// `none`: no refinement, the hit is the bracket's far end (the coarse search's answer).
 fn none_def() -> MethodDef {
     MethodDef::new(
         "none",
         "no refinement: the hit is the bracket's far end",
-        Build::Refine(|_, ray, b, _| Ok(Hit::at(ray, b.below))),
+        StageFn::Refine(|_, ray, b, _| Ok(Hit::at(ray, b.below))),
     )
 }
 

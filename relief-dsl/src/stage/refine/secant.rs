@@ -1,8 +1,8 @@
 //! The secant method: the next guess from the line through the last two guesses.
 
-use crate::ir::{Stage, Val};
+use crate::ir::{FnBuilder, Val};
 use crate::spec::{MethodDef, ParamDef};
-use crate::stage::{Bracket, Build, Hit, Ray};
+use crate::stage::{Bracket, Hit, Ray, StageFn};
 
 /// The true secant method (survey §4.2.3: "worth checking … its convergence is not
 /// guaranteed"): the next guess is where the line through the *last two guesses* of
@@ -10,7 +10,7 @@ use crate::stage::{Bracket, Build, Hit, Ray};
 ///
 /// Guards against divergence: a guess never leaves the coarse bracket, and the iteration
 /// stops when the two last values of g are (numerically) equal.
-pub fn secant<'a>(s: &'a Stage<'a>, ray: &Ray<'a>, b: Bracket<'a>, steps: u32) -> Hit<'a> {
+pub fn secant<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, b: Bracket<'a>, steps: u32) -> Hit<'a> {
     let gap = |t: Val<'a, f32>| {
         let p = ray.at(t);
         p.z() - s.height(p.xy())
@@ -36,7 +36,7 @@ pub(crate) fn secant_def() -> MethodDef {
     MethodDef::new(
         "secant",
         "the true secant method on the last two guesses (survey 4.2.3), guarded",
-        Build::Refine(|s, ray, b, a| Ok(secant(s, ray, b, a.int("steps")?))),
+        StageFn::Refine(|s, ray, b, a| Ok(secant(s, ray, b, a.int("steps")?))),
     )
     .param(ParamDef::steps("steps", 5))
 }

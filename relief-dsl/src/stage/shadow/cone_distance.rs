@@ -2,9 +2,9 @@
 //! (Burger 2018 §3.2: `d = h·n_z` for a point `h` above the cone's apex), which drives the
 //! distance-field penumbra `k·d / τ` (Quílez-style; Burger §4.4).
 
-use crate::ir::{Stage, Val, Vec3};
+use crate::ir::{FnBuilder, Val, Vec3};
 use crate::spec::{MapReq, MethodDef, ParamDef};
-use crate::stage::{Build, Filter, Hit};
+use crate::stage::{Filter, Hit, StageFn};
 
 /// Penumbra sharpness `k`: the light is fully visible once the distance to the surface is
 /// at least `τ / k` at distance τ along the light ray.
@@ -22,7 +22,7 @@ pub enum Source {
 /// Soft shadow from cone distances: march `steps` equal steps toward the light; at each
 /// sample the cone below bounds the distance to the surface, `d = (z - h)·n_z`, and the
 /// visibility is the smallest `k·d / τ` seen (0 under the surface).
-pub fn soft<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, light: Val<'a, Vec3>, steps: u32, source: Source) -> Val<'a, f32> {
+pub fn soft<'a>(s: &'a FnBuilder<'a>, hit: &Hit<'a>, light: Val<'a, Vec3>, steps: u32, source: Source) -> Val<'a, f32> {
     let step = (1.0 - hit.z) / steps as f32;
     let tau = s.var("tau", step);
     let visible = s.var("visible", 1.0);
@@ -48,7 +48,7 @@ pub(crate) fn soft_cone_def() -> MethodDef {
     MethodDef::new(
         "soft_cone",
         "soft shadow from the cone-normal distance d = h n_z (Burger 3.2) with penumbra k d / t",
-        Build::Shadow(|s, hit, light, a| Ok(soft(s, hit, light.dir, a.int("steps")?, Source::ConeNormal))),
+        StageFn::Shadow(|s, hit, light, a| Ok(soft(s, hit, light.dir, a.int("steps")?, Source::ConeNormal))),
     )
     .param(ParamDef::steps("steps", 16))
     .reads(|_| vec![MapReq::ConeNormal])
@@ -59,7 +59,7 @@ pub(crate) fn soft_ratio_def() -> MethodDef {
     MethodDef::new(
         "soft_ratio",
         "the same soft shadow from CSM's cone ratio",
-        Build::Shadow(|s, hit, light, a| Ok(soft(s, hit, light.dir, a.int("steps")?, Source::ConeRatio))),
+        StageFn::Shadow(|s, hit, light, a| Ok(soft(s, hit, light.dir, a.int("steps")?, Source::ConeRatio))),
     )
     .param(ParamDef::steps("steps", 16))
     .reads(|_| vec![MapReq::Cone])

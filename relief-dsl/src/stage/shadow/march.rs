@@ -3,20 +3,20 @@
 //! The light ray starts at the hit and rises with direction `light` (normalized tangent
 //! space, scaled so that `light.z = 1`); it leaves the volume after `1 - hit.z`.
 
-use crate::ir::{Stage, Val, Vec3};
+use crate::ir::{FnBuilder, Val, Vec3};
 use crate::spec::{Args, MethodDef, ParamDef, Slot, StageOr};
-use crate::stage::{Bracket, Build, Hit, Light, Ray};
+use crate::stage::{Bracket, Hit, Light, Ray, StageFn};
 use crate::CompileError;
 
 /// The light ray's point at parameter τ.
 fn toward_light<'a>(hit: &Hit<'a>, light: Val<'a, Vec3>, tau: Val<'a, f32>) -> Val<'a, Vec3> {
-    let s = tau.stage();
+    let s = tau.builder();
     s.vec3(hit.uv + light.xy() * tau, hit.z + tau)
 }
 
 /// Hard shadow (Amaro & Gustafsson §2.1.1): a linear search of `steps` equal steps from the
 /// hit to the top of the volume; any sample below the surface blocks the light.
-pub fn hard<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, light: Val<'a, Vec3>, steps: u32) -> Val<'a, f32> {
+pub fn hard<'a>(s: &'a FnBuilder<'a>, hit: &Hit<'a>, light: Val<'a, Vec3>, steps: u32) -> Val<'a, f32> {
     let step = (1.0 - hit.z) / steps as f32;
     let tau = s.var("tau", step);
     let visible = s.var("visible", 1.0);
@@ -38,7 +38,7 @@ const LIGHT_WIDTH: f32 = 0.25;
 /// surface per distance travelled, `w = (h - z) / τ` — and turn it into a visibility with
 /// the fast sigmoid `1 - w / (0.24 + w)`, clamped to [0, 1]. `w` is measured in units of
 /// the light's width ([`LIGHT_WIDTH`]).
-pub fn soft<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, light: Val<'a, Vec3>, steps: u32) -> Val<'a, f32> {
+pub fn soft<'a>(s: &'a FnBuilder<'a>, hit: &Hit<'a>, light: Val<'a, Vec3>, steps: u32) -> Val<'a, f32> {
     let step = (1.0 - hit.z) / steps as f32;
     let tau = s.var("tau", step);
     let w = s.var("w", 0.0);
@@ -56,7 +56,7 @@ pub(crate) fn soft_def() -> MethodDef {
     MethodDef::new(
         "soft",
         "soft shadow from the deepest blocker, 1 - w/(0.24 + w) (Tatarchuk 2006; Amaro & Gustafsson 2.1.2)",
-        Build::Shadow(|s, hit, light, a| Ok(soft(s, hit, light.dir, a.int("steps")?))),
+        StageFn::Shadow(|s, hit, light, a| Ok(soft(s, hit, light.dir, a.int("steps")?))),
     )
     .param(ParamDef::steps("steps", 16))
 }
@@ -65,11 +65,11 @@ pub(crate) fn soft_def() -> MethodDef {
 /// volume down toward the hit — an ordinary view ray, so every coarse stage applies — and the
 /// hit is in shadow when the search stops on the surface clearly before reaching it.
 pub fn hard_with<'a>(
-    s: &'a Stage<'a>,
+    s: &'a FnBuilder<'a>,
     hit: &Hit<'a>,
     light: Val<'a, Vec3>,
     light_cos: Val<'a, f32>,
-    search: impl FnOnce(&'a Stage<'a>, &Ray<'a>) -> Bracket<'a>,
+    search: impl FnOnce(&'a FnBuilder<'a>, &Ray<'a>) -> Bracket<'a>,
 ) -> Val<'a, f32> {
     let t_hit = 1.0 - hit.z;
     let ray = Ray { origin: hit.uv + light.xy() * t_hit, dir: s.vec3(-light.xy(), -1.0), cos_view: light_cos };
@@ -85,13 +85,18 @@ pub(crate) fn hard_def() -> MethodDef {
     MethodDef::new(
         "hard",
         "hard shadow: a coarse search toward the light (Amaro & Gustafsson 2.1.1)",
-        Build::Shadow(build_hard),
+        StageFn::Shadow(hard_stage),
     )
     .param(ParamDef::stage_or("search", Slot::Coarse, 16))
 }
 
 /// A step count is [`hard`]'s linear search; a coarse stage is [`hard_with`] that search.
-fn build_hard<'a>(s: &'a Stage<'a>, hit: &Hit<'a>, light: &Light<'a>, a: &Args) -> Result<Val<'a, f32>, CompileError> {
+fn hard_stage<'a>(
+    s: &'a FnBuilder<'a>,
+    hit: &Hit<'a>,
+    light: &Light<'a>,
+    a: &Args,
+) -> Result<Val<'a, f32>, CompileError> {
     Ok(match a.stage_or("search")? {
         StageOr::Steps(n) => hard(s, hit, light.dir, n),
         StageOr::Stage(inner) => {

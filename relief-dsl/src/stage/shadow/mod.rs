@@ -5,11 +5,11 @@ pub(crate) mod cone_distance;
 pub(crate) mod march;
 
 use crate::spec::MethodDef;
-use crate::stage::Build;
+use crate::stage::StageFn;
 
 /// `none`: no self-shadowing, visibility 1.
 fn none_def() -> MethodDef {
-    MethodDef::new("none", "no self-shadowing: visibility 1", Build::Shadow(|s, _, _, _| Ok(s.lit(1.0))))
+    MethodDef::new("none", "no self-shadowing: visibility 1", StageFn::Shadow(|s, _, _, _| Ok(s.lit(1.0))))
 }
 
 /// The built-in shadow methods, in listing order.

@@ -475,7 +475,7 @@ pub type CellFlags = dyn Fn(&[f32; 4]) -> u8;
 
 /// The cell map `kind` of every level of the height map's mip chain `chain` in one 2D
 /// texture, for stages that sample at a level (`lod` other than zero): the levels stacked by
-/// rows from level 0 down, each at the left edge, as relief-dsl's `Stage::cell_map_texel`
+/// rows from level 0 down, each at the left edge, as relief-dsl's `FnBuilder::cell_map_texel`
 /// addresses them (the rows above level k are `Σ_{j<k}` of the levels' cell rows). Texels
 /// right of a narrower level are 0 and never read. An error if a level's cell grid is not
 /// the one that addressing assumes (`h_k` rows, `h_k + 1` under clamp).
