@@ -127,7 +127,7 @@ pub(crate) fn seeded_search<S: Scorer>(
 /// Conservative cone ratios, one per texel, row-major (see the module docs).
 pub fn cone_ratios(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
     let tree = MaxTree::new(map);
-    super::search::per_row::<1>(map.width, map.height, |y, row| {
+    super::search::per_row(map.width, map.height, 1, |y, row| {
         let mut prev: Option<(usize, usize)> = None;
         for (x, out) in row.iter_mut().enumerate() {
             let s = ConeScorer { apex: map.data[y * map.width + x] as f64, w: map.width, h: map.height };

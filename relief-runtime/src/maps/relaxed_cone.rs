@@ -131,7 +131,7 @@ pub fn relaxed_cone_ratios(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
     let tree = MaxTree::with_aux(map, exit_rates(map, edge));
     let (w, h) = (map.width, map.height);
     let delta = 1.0 / (w.max(h) as f64);
-    super::search::per_row::<1>(w, h, |y, row| {
+    super::search::per_row(w, h, 1, |y, row| {
         let mut prev: Option<(usize, usize)> = None;
         for (x, out) in row.iter_mut().enumerate() {
             let s = RelaxedScorer {

@@ -163,10 +163,9 @@ impl MaxTree {
         s: &S,
         start: Best,
     ) -> Best {
-        let mut best = start;
-        let top = self.levels.len() - 1;
-        self.visit(top, 0, 0, px as i64, py as i64, ax, ay, s, &mut best);
-        best
+        let mut q = TexelSearch { tree: self, px: px as i64, py: py as i64, ax, ay, s, best: start };
+        descend(&mut q, self.levels.len() - 1, 0, 0);
+        q.best
     }
 
     /// The score of texel `q` seen from `p` (a valid starting bound: it is a real candidate).
@@ -184,68 +183,117 @@ impl MaxTree {
         let sy = ay.offset(py as i64, q.1 as i64, h)?;
         s.score(sx, sy, self.height(q.0, q.1))
     }
+}
 
-    #[allow(clippy::too_many_arguments)]
-    fn visit<S: Scorer>(
-        &self,
-        k: usize,
-        i: usize,
-        j: usize,
-        px: i64,
-        py: i64,
-        ax: Axis,
-        ay: Axis,
-        s: &S,
-        best: &mut Best,
-    ) {
-        let (w, h) = (self.w as i64, self.h as i64);
-        if k == 0 {
-            let (Some(sx), Some(sy)) = (ax.offset(px, i as i64, w), ay.offset(py, j as i64, h)) else {
-                return;
-            };
-            if let Some(v) = s.score(sx, sy, self.height(i, j)) {
-                if v < best.0 {
-                    *best = (v, Some((i, j)));
-                }
-            }
-            return;
-        }
-        let (cw, ch, ref cd) = self.levels[k - 1];
-        let mut kids: [(f64, usize, usize); 4] = [(0.0, 0, 0); 4];
+/// One search of [`MaxTree`]: the centre texel, the axes, the scorer and the running best.
+struct TexelSearch<'a, S> {
+    tree: &'a MaxTree,
+    px: i64,
+    py: i64,
+    ax: Axis,
+    ay: Axis,
+    s: &'a S,
+    best: Best,
+}
+
+impl<S: Scorer> Descent for TexelSearch<'_, S> {
+    #[inline]
+    fn closed(&self, b: f64) -> bool {
+        b >= self.best.0
+    }
+
+    #[inline]
+    fn children(&mut self, k: usize, i: usize, j: usize, kids: &mut [(f64, usize, usize); 4]) -> usize {
+        let t = self.tree;
+        let (w, h) = (t.w as i64, t.h as i64);
+        let (cw, ch, ref cd) = t.levels[k - 1];
         let mut n = 0;
         for cj in 2 * j..(2 * j + 2).min(ch) {
             for ci in 2 * i..(2 * i + 2).min(cw) {
                 let hmax = cd[cj * cw + ci];
-                let aux = if self.aux.is_empty() { 0.0 } else { self.aux[k - 1][cj * cw + ci] };
+                let aux = if t.aux.is_empty() { 0.0 } else { t.aux[k - 1][cj * cw + ci] };
                 let shift = k - 1;
                 let (x0, x1) = ((ci << shift) as i64, (((ci + 1) << shift) as i64).min(w) - 1);
                 let (y0, y1) = ((cj << shift) as i64, (((cj + 1) << shift) as i64).min(h) - 1);
-                let (Some(ox), Some(oy)) = (ax.min_offset(px, x0, x1, w), ay.min_offset(py, y0, y1, h)) else {
+                let (Some(ox), Some(oy)) =
+                    (self.ax.min_offset(self.px, x0, x1, w), self.ay.min_offset(self.py, y0, y1, h))
+                else {
                     continue;
                 };
-                let Some(b) = s.bound(ox, oy, hmax, aux) else { continue };
-                if b >= best.0 {
+                let Some(b) = self.s.bound(ox, oy, hmax, aux) else { continue };
+                if b >= self.best.0 {
                     continue;
                 }
                 kids[n] = (b, ci, cj);
                 n += 1;
             }
         }
-        let kids = &mut kids[..n];
-        kids.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-        for &(b, ci, cj) in kids.iter() {
-            if b < best.0 {
-                self.visit(k - 1, ci, cj, px, py, ax, ay, s, best);
+        n
+    }
+
+    #[inline]
+    fn leaf(&mut self, i: usize, j: usize) {
+        let t = self.tree;
+        let (w, h) = (t.w as i64, t.h as i64);
+        let (Some(sx), Some(sy)) = (self.ax.offset(self.px, i as i64, w), self.ay.offset(self.py, j as i64, h)) else {
+            return;
+        };
+        if let Some(v) = self.s.score(sx, sy, t.height(i, j)) {
+            if v < self.best.0 {
+                self.best = (v, Some((i, j)));
             }
         }
     }
 }
 
-/// Runs `f(y, row)` for every row in parallel; `row` holds `w * C` values.
-pub(crate) fn per_row<const C: usize>(w: usize, h: usize, f: impl Fn(usize, &mut [f32]) + Sync) -> Vec<f32> {
+/// One branch-and-bound search over a quadtree (level 0 the leaves, each level halving the
+/// one below, rounding up), as [`descend`] drives it: the texel search of [`MaxTree`] and
+/// the cell search of `maps::cell` are the two.
+pub(crate) trait Descent {
+    /// Whether a child whose bound is `b` can no longer hold a score below the best found
+    /// so far (the search's pruning test, margin included).
+    fn closed(&self, b: f64) -> bool;
+    /// The children of node `(i, j)` of level `k ≥ 1` (nodes of level `k − 1`) that may hold
+    /// a score below the best, with their bounds, written to the front of `kids` in any
+    /// order; returns how many.
+    fn children(&mut self, k: usize, i: usize, j: usize, kids: &mut [(f64, usize, usize); 4]) -> usize;
+    /// Scores leaf `(i, j)` and keeps it as the best if it scores lower.
+    fn leaf(&mut self, i: usize, j: usize);
+}
+
+/// Visits node `(i, j)` of level `k`: a leaf is scored; an inner node's children are visited
+/// depth first in increasing order of bound (ties in the order `children` gave them),
+/// each unless [`Descent::closed`] by then.
+pub(crate) fn descend<D: Descent>(d: &mut D, k: usize, i: usize, j: usize) {
+    if k == 0 {
+        d.leaf(i, j);
+        return;
+    }
+    let mut kids: [(f64, usize, usize); 4] = [(0.0, 0, 0); 4];
+    let n = d.children(k, i, j, &mut kids);
+    // Insertion sort: at most four children, ties keep their order.
+    for a in 1..n {
+        let x = kids[a];
+        let mut p = a;
+        while p > 0 && kids[p - 1].0 > x.0 {
+            kids[p] = kids[p - 1];
+            p -= 1;
+        }
+        kids[p] = x;
+    }
+    for &(b, ci, cj) in &kids[..n] {
+        if !d.closed(b) {
+            descend(d, k - 1, ci, cj);
+        }
+    }
+}
+
+/// Runs `f(y, row)` for every row in parallel; `row` holds `w * c` values (`c` per texel or
+/// per cell).
+pub(crate) fn per_row(w: usize, h: usize, c: usize, f: impl Fn(usize, &mut [f32]) + Sync) -> Vec<f32> {
     use rayon::prelude::*;
-    let mut out = vec![0.0f32; w * h * C];
-    out.par_chunks_mut(w * C).enumerate().for_each(|(y, row)| f(y, row));
+    let mut out = vec![0.0f32; w * h * c];
+    out.par_chunks_mut(w * c).enumerate().for_each(|(y, row)| f(y, row));
     out
 }
 

@@ -50,7 +50,7 @@ pub fn grid(map: &HeightMap, edge: EdgeMode) -> CellGrid {
 pub fn cell_cone(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
     let tree = CellTree::new(map, edge);
     let cw = tree.grid.cw;
-    super::per_cell_row(cw, tree.grid.ch, 2, |j, row| {
+    crate::maps::search::per_row(cw, tree.grid.ch, 2, |j, row| {
         let mut prev = None;
         for i in 0..cw {
             let a = super::apex(&tree.corners_of(j * cw + i));
@@ -74,7 +74,7 @@ pub const QUADRANTS: [(Dir, Dir); 4] = [
 pub fn cell_quad_cone(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
     let tree = CellTree::new(map, edge);
     let cw = tree.grid.cw;
-    super::per_cell_row(cw, tree.grid.ch, 5, |j, row| {
+    crate::maps::search::per_row(cw, tree.grid.ch, 5, |j, row| {
         let mut prev = [None; 4];
         for i in 0..cw {
             let a = super::apex(&tree.corners_of(j * cw + i));

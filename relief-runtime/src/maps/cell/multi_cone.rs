@@ -109,7 +109,7 @@ fn per_cell_cones(
     let tree = CellTree::new(map, edge);
     let cw = tree.grid.cw;
     let nc = k_cones + 1;
-    super::per_cell_row(cw, tree.grid.ch, nc, |j, row| {
+    crate::maps::search::per_row(cw, tree.grid.ch, nc, |j, row| {
         let mut prev = vec![None; k_cones];
         for i in 0..cw {
             let r = ratios(&tree, i, j, k_cones, &mut prev);

@@ -205,7 +205,7 @@ pub fn cap(w: usize, h: usize, edge: EdgeMode, apex: f32) -> f64 {
 pub fn cell_relaxed_cone(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
     let tree = CellTree::with_flags(map, edge, Some(&monotone_flags));
     let cw = tree.grid.cw;
-    super::per_cell_row(cw, tree.grid.ch, 2, |j, row| {
+    crate::maps::search::per_row(cw, tree.grid.ch, 2, |j, row| {
         let (mut prev, mut prev_cons) = (None, None);
         for i in 0..cw {
             let a = super::apex(&tree.corners_of(j * cw + i));
