@@ -17,8 +17,8 @@ use std::path::Path;
 
 use relief::dsl::emit::{self, LibraryFiles, LibraryOptions};
 use relief::runtime::gpu::{draw_frame, Gpu, SceneTextures, DEPTH_FORMAT, FORMAT};
-use relief::runtime::heightmap::EdgeMode;
-use relief::runtime::scene::Scene;
+use relief::runtime::EdgeMode;
+use relief::runtime::Scene;
 use relief::Pipeline;
 use wgpu::util::DeviceExt;
 
@@ -233,7 +233,7 @@ fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let pipeline: Pipeline =
         args.first().map(String::as_str).unwrap_or("linear(32)+binary(5)+shadow=soft(16)").parse()?;
-    let scene = relief::runtime::scene::scene_from_arg(args.get(1).map(String::as_str).unwrap_or("scene:lion"))?;
+    let scene = relief::runtime::scene_from_arg(args.get(1).map(String::as_str).unwrap_or("scene:lion"))?;
     let size: u32 = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(256);
     let out = args.get(3).map(String::as_str).unwrap_or("integrate.png");
     let frame = run(&pipeline, &scene, size)?;

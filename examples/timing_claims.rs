@@ -18,7 +18,7 @@ use std::process::{Child, Command, Stdio};
 use relief::runtime::report::{self, Verdict};
 use relief::runtime::results::{self, Row};
 use relief::runtime::sweep::{self, grids, NamedGrid};
-use relief::runtime::timing::Ratio;
+use relief::runtime::Ratio;
 use relief::Pipeline;
 
 type Error = Box<dyn std::error::Error>;

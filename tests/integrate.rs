@@ -14,7 +14,7 @@ mod frames;
 mod integrate;
 
 use relief::runtime::gpu::{self, Gpu, Program, SceneTextures};
-use relief::runtime::scene::Scene;
+use relief::runtime::Scene;
 use relief::Pipeline;
 
 fn relief_render(p: &Pipeline, scene: &Scene, size: u32) -> Vec<u8> {
@@ -61,7 +61,7 @@ fn the_integration_example_matches_relief_render() {
 #[test]
 fn depth_offset_is_the_distance_along_the_view_ray() {
     use relief::dsl::emit::{library, LibraryOptions};
-    use relief::runtime::heightmap::HeightMap;
+    use relief::runtime::HeightMap;
     use wgpu::util::DeviceExt;
 
     let p: Pipeline = "linear(32)+binary(6)".parse().unwrap();

@@ -27,8 +27,8 @@ use std::time::Duration;
 use browser::{run_page, Page};
 use relief::dsl::emit::{library_forms, LibraryForm, LibraryOptions};
 use relief::runtime::gpu::{self, Gpu, MapKey, Program, SceneTextures, Upload};
-use relief::runtime::heightmap::EdgeMode;
-use relief::runtime::scene::Scene;
+use relief::runtime::EdgeMode;
+use relief::runtime::Scene;
 use relief::Pipeline;
 use serde_json::{json, Value};
 

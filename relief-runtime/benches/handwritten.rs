@@ -6,7 +6,7 @@
 
 use relief_runtime::gpu::{self, Gpu, Program, SceneTextures};
 use relief_runtime::metrics::percentile;
-use relief_runtime::scene::Scene;
+use relief_runtime::Scene;
 
 fn main() {
     if std::env::args().any(|a| a == "--list") {

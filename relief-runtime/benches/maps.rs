@@ -8,11 +8,11 @@
 //! `cargo bench -p relief-runtime --bench maps -- cells`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use relief_runtime::heightmap::{EdgeMode, HeightMap};
 use relief_runtime::maps::cell::cone::cell_cone;
 use relief_runtime::maps::cell::relaxed_cone::cell_relaxed_cone;
 use relief_runtime::maps::cone::cone_ratios;
 use relief_runtime::maps::relaxed_cone::relaxed_cone_ratios;
+use relief_runtime::{EdgeMode, HeightMap};
 use std::time::Duration;
 
 struct Lcg(u64);

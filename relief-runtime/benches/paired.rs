@@ -15,8 +15,8 @@ use std::process::{Child, Command, Stdio};
 
 use relief_runtime::gpu::Gpu;
 use relief_runtime::measure::{measure_paired, Prepared};
-use relief_runtime::scene::{scene_from_arg, scene_spec};
-use relief_runtime::timing::Ratio;
+use relief_runtime::Ratio;
+use relief_runtime::{scene_from_arg, scene_spec};
 
 /// CPU hogs, one per core, killed (by their own handles) when dropped.
 struct Hogs(Vec<Child>);

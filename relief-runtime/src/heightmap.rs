@@ -93,10 +93,10 @@ use std::path::{Path, PathBuf};
 
 /// Largest accepted side of a height map, in texels. Checked against the file's header
 /// *before* any texel storage is allocated, so a hostile header cannot exhaust memory.
-pub const MAX_SIDE: usize = 16384;
+pub(crate) const MAX_SIDE: usize = 16384;
 
 /// Largest accepted texel count (`MAX_SIDE²`, 1 GiB of `f32`).
-pub const MAX_TEXELS: usize = MAX_SIDE * MAX_SIDE;
+pub(crate) const MAX_TEXELS: usize = MAX_SIDE * MAX_SIDE;
 
 /// A channel of a colour image to read heights from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -114,7 +114,7 @@ pub enum Channel {
 
 impl Channel {
     /// The lower-case letter used on the command line (`r`, `g`, `b`, `a`).
-    pub fn letter(self) -> char {
+    pub(crate) fn letter(self) -> char {
         match self {
             Channel::R => 'r',
             Channel::G => 'g',
@@ -284,7 +284,11 @@ impl HeightMap {
     /// `[h, w, c]` (then `channel` picks `c` = 0..3 as r, g, b, a; without a channel, `c` must
     /// be 1). Row 0 is v = 0, like image rows. Values must be finite and in [0, 1]; `depth`
     /// conversion is applied by [`HeightMap::load`], not here. `path` only names errors.
-    pub fn from_npy_bytes(bytes: &[u8], channel: Option<Channel>, path: &Path) -> Result<HeightMap, HeightMapError> {
+    pub(crate) fn from_npy_bytes(
+        bytes: &[u8],
+        channel: Option<Channel>,
+        path: &Path,
+    ) -> Result<HeightMap, HeightMapError> {
         let corrupt = |m: &str| HeightMapError::Corrupt { path: path.to_path_buf(), message: m.to_string() };
         let header = crate::io::npy::parse_npy_header(bytes).map_err(|m| corrupt(&m))?;
         let (h, w, c) = match header.shape.as_slice() {

@@ -1,26 +1,57 @@
 //! relief-runtime: maps, scenes, the GPU runtime, the exact reference, metrics and sweeps.
 //!
-//! Modules in import order (a module imports only modules listed before it): the leaves
-//! [`io`], [`picture`], [`results`] and [`timing`]; then [`heightmap`], [`scene`], [`maps`],
-//! [`reference`](mod@reference); [`gpu`]; [`metrics`] and [`simd`]; [`measure`]; [`sweep`], [`stability`], [`room`]; [`report`].
-//! The `relief` command line lives in `src/bin/relief/` and the library never calls it.
+//! The types a user meets are re-exported here, in the groups below; the work of each area
+//! is reached through its module ([`gpu`], [`maps`], [`metrics`], [`measure`], [`results`],
+//! [`sweep`], [`stability`], [`room`], [`report`], [`io`], [`lock`]). Everything else is
+//! private to the crate. ARCHITECTURE.md ("Layers", "Public API") gives the import order
+//! of the modules; the `relief` command line lives in `src/bin/relief/` and the library
+//! never calls it.
 
 #![warn(missing_docs)]
+#![warn(unreachable_pub)]
+#![warn(unnameable_types)]
 
 pub mod gpu;
-pub mod heightmap;
+mod heightmap;
 pub mod io;
 pub mod lock;
 pub mod maps;
 pub mod measure;
 pub mod metrics;
-pub mod picture;
-pub mod reference;
+mod picture;
+mod reference;
 pub mod report;
 pub mod results;
 pub mod room;
-pub mod scene;
-pub mod simd;
+mod scene;
+mod simd;
 pub mod stability;
 pub mod sweep;
-pub mod timing;
+mod timing;
+
+// Height maps and scenes: a height map loaded or made, the scene around it (camera, depth
+// scale, edge mode, maps), named views and scene-file overrides.
+pub use heightmap::{Channel, EdgeMode, HeightMap, HeightMapError, LoadOptions};
+pub use scene::{
+    camera_json, load_scene_file, scene_from_arg, scene_spec, Camera, NormalMap, Overrides, ProbeRay, RealScene,
+    Rgba8Image, Scene, SceneError, SceneFileError, View, REAL_SCENES,
+};
+
+// Maps: the kinds a pipeline reads and their parameters (built by `maps::build`).
+pub use maps::{Map, MapCache, MapKey, MapKind, MapParams};
+
+// The device: a pipeline compiled for it, the scene's textures on it, the probe's hits.
+pub use gpu::{Gpu, GpuHit, Program, SceneTextures};
+
+// The exact reference on the CPU and the accuracy it gives.
+pub use metrics::{Accuracy, Metrics};
+pub use reference::{reference_hits, RefHit, Reference, ReferenceError, Sampling};
+
+// Measurement, results and sweeps: one pipeline on one prepared scene, the paired-timing
+// ratio, a results row, a named grid of cells, a report's verdict.
+pub use measure::{Prepared, BASELINE};
+pub use report::Verdict;
+pub use results::Row;
+pub use simd::SimdCost;
+pub use sweep::NamedGrid;
+pub use timing::Ratio;

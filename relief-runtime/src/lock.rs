@@ -17,7 +17,7 @@
 use std::path::{Path, PathBuf};
 
 /// The lock file's name in a results folder.
-pub const LOCK_FILE: &str = ".relief.lock";
+pub(crate) const LOCK_FILE: &str = ".relief.lock";
 
 /// How long [`FolderLock::take`] with `wait` sleeps between tries.
 const POLL: std::time::Duration = std::time::Duration::from_millis(200);

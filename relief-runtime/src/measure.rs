@@ -65,7 +65,7 @@ impl Prepared {
 
     /// The exact hits under `lod`, once [`Prepared::refs_for`] has computed them (a panic
     /// before: never the level-0 hits in their place).
-    pub fn refs_at(&self, lod: Lod) -> &[Option<RefHit>] {
+    pub(crate) fn refs_at(&self, lod: Lod) -> &[Option<RefHit>] {
         if lod == Lod::Zero {
             return &self.refs;
         }

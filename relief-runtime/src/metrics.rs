@@ -31,7 +31,7 @@ pub fn one_texel_t(ray: &ProbeRay, texels: f64) -> f64 {
 }
 
 /// [`one_texel_t`] for a ray direction `dir` in f64 (a room wall's ray, for one).
-pub fn one_texel_t_along(dir: [f64; 3], texels: f64) -> f64 {
+pub(crate) fn one_texel_t_along(dir: [f64; 3], texels: f64) -> f64 {
     let horizontal = (dir[0] * dir[0] + dir[1] * dir[1]).sqrt();
     1.0 / (texels * horizontal.max(dir[2].abs()))
 }
@@ -39,7 +39,7 @@ pub fn one_texel_t_along(dir: [f64; 3], texels: f64) -> f64 {
 /// Whether a hit at `t` on the ray `(origin, 1) + t·dir` is past the exact first hit at
 /// `t_ref` by more than one texel of travel ([`one_texel_t_along`]) on a map `texels`
 /// texels a side: what `past_rate` counts.
-pub fn is_past(dir: [f64; 3], texels: f64, t_ref: f64, t: f64) -> bool {
+pub(crate) fn is_past(dir: [f64; 3], texels: f64, t_ref: f64, t: f64) -> bool {
     t - t_ref > one_texel_t_along(dir, texels)
 }
 
@@ -47,13 +47,20 @@ pub fn is_past(dir: [f64; 3], texels: f64, t_ref: f64, t: f64) -> bool {
 /// above `level`'s bilinear surface before `t` ([`rises_above`] with [`SKIP_SLACK`]),
 /// looked at only up to the floor (below it no surface lies under the ray): a hit at `t`
 /// jumped over geometry, what `skipped_rate` counts.
-pub fn is_skipped(level: &HeightMap, edge: EdgeMode, origin: [f64; 2], dir: [f64; 3], t_ref: f64, t: f64) -> bool {
+pub(crate) fn is_skipped(
+    level: &HeightMap,
+    edge: EdgeMode,
+    origin: [f64; 2],
+    dir: [f64; 3],
+    t_ref: f64,
+    t: f64,
+) -> bool {
     let t_floor = 1.0 / -dir[2];
     rises_above(level, edge, origin, dir, t_ref, t.min(t_floor), SKIP_SLACK)
 }
 
 /// Fills the frame-time fields from per-frame milliseconds.
-pub fn set_timing(m: &mut Metrics, frame_ms: &[f64]) {
+pub(crate) fn set_timing(m: &mut Metrics, frame_ms: &[f64]) {
     m.frame_ms_median = percentile(frame_ms, 0.5);
     m.frame_ms_mean = if frame_ms.is_empty() { f64::NAN } else { frame_ms.iter().sum::<f64>() / frame_ms.len() as f64 };
     m.frame_ms_p10 = percentile(frame_ms, 0.1);
@@ -61,7 +68,7 @@ pub fn set_timing(m: &mut Metrics, frame_ms: &[f64]) {
 }
 
 /// A hit's z above the surface by more than this counts as ending above it.
-pub const ABOVE_SURFACE: f64 = 1e-3;
+pub(crate) const ABOVE_SURFACE: f64 = 1e-3;
 
 /// A hit further than this in t past the exact first hit counts as past it: the f32
 /// rounding of a t near 1 is ~1e-7, and of the ray's position on a ray nearly parallel to a
@@ -73,10 +80,10 @@ pub const PAST_SLACK: f64 = 1e-5;
 /// within 6e-8, and the exact first hit is found in f64, so a rise of 1e-6 is no rounding;
 /// a ray that only grazes a ridge by less than that has not jumped over anything a picture
 /// shows.
-pub const SKIP_SLACK: f64 = 1e-6;
+pub(crate) const SKIP_SLACK: f64 = 1e-6;
 
 /// Share of the rays with the largest squared height errors in `mse_worst1_share`.
-pub const WORST_SHARE: f64 = 0.01;
+pub(crate) const WORST_SHARE: f64 = 0.01;
 
 /// Accuracy of a set of probe hits against the reference hits of the same rays, from the
 /// raw hits: nothing is clamped, filtered or skipped before it is counted.
@@ -255,12 +262,12 @@ impl Accuracy {
     }
     /// Percentile `q` of |t − t_ref| over the rays the reference hits ([`percentile`]);
     /// NaN when there are none.
-    pub fn t_abs_percentile(&self, q: f64) -> f64 {
+    pub(crate) fn t_abs_percentile(&self, q: f64) -> f64 {
         percentile(&self.t_abs, q)
     }
     /// The share of the MSE that the worst `fraction` of the rays carry: the sum of the
     /// ⌈fraction · rays⌉ largest squared height errors over the sum of all ([`worst_share`]).
-    pub fn mse_worst_share(&self, fraction: f64) -> f64 {
+    pub(crate) fn mse_worst_share(&self, fraction: f64) -> f64 {
         worst_share(&self.mse_terms, fraction)
     }
     /// `false_hits` as a share of all rays, in [0, 1]; 0 when there are no rays.
@@ -279,7 +286,7 @@ impl Accuracy {
 
 /// The sum of the ⌈`fraction` · n⌉ largest of `terms` (n of them) over the sum of all; NaN
 /// when the sum is 0 or there are no terms (no error to share out).
-pub fn worst_share(terms: &[f64], fraction: f64) -> f64 {
+pub(crate) fn worst_share(terms: &[f64], fraction: f64) -> f64 {
     let total: f64 = terms.iter().sum();
     if terms.is_empty() || total <= 0.0 {
         return f64::NAN;

@@ -4,12 +4,12 @@
 /// error on the whole report page: black at or below `lo` (1e-6, the report's "exact"
 /// level), yellow at `hi` (1, a whole ray length) and beyond, logarithmic between (a
 /// decade is a sixth of the bar).
-pub const ERROR_SCALE: (f64, f64) = (1e-6, 1.0);
+pub(crate) const ERROR_SCALE: (f64, f64) = (1e-6, 1.0);
 
 /// Per-pixel |t − t_ref| as a heat map on [`ERROR_SCALE`] (black = exact, red = 1e-3,
 /// yellow = 1 or more, magenta = no finite hit), with a legend bar and its range below the
 /// image.
-pub fn error_map(size: u32, errors: &[(u32, u32, f64)]) -> (u32, u32, Vec<u8>) {
+pub(crate) fn error_map(size: u32, errors: &[(u32, u32, f64)]) -> (u32, u32, Vec<u8>) {
     let legend_h = 24u32;
     let (w, h) = (size.max(96), size + legend_h);
     let mut img = vec![0u8; (w * h * 4) as usize];

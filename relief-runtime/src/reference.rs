@@ -93,7 +93,7 @@ pub struct ReferenceError {
 /// The default pass limit: each pass descends a level or moves to the next cell or block, so
 /// a ray over an N² map takes at most a few times N·(levels + 1) passes; 10⁸ is far beyond
 /// any map relief loads (8192² included).
-pub const PASS_LIMIT: u64 = 100_000_000;
+pub(crate) const PASS_LIMIT: u64 = 100_000_000;
 
 impl Reference {
     /// Prepares `map` (copied) for queries.
@@ -146,7 +146,7 @@ impl Reference {
 
     /// [`Reference::trace`] for every ray, in parallel (rayon), in input order; the first
     /// error, naming its ray, if any ray fails.
-    pub fn trace_all(&self, rays: &[ProbeRay]) -> Result<Vec<Option<RefHit>>, ReferenceError> {
+    pub(crate) fn trace_all(&self, rays: &[ProbeRay]) -> Result<Vec<Option<RefHit>>, ReferenceError> {
         rays.par_iter().map(|r| self.trace(r)).collect()
     }
 
@@ -285,7 +285,7 @@ fn gap(map: &HeightMap, edge: EdgeMode, ray: &GridRay, cx: i64, cy: i64, ta: f64
 /// reports t1 has jumped over geometry. Exact: the cells the ray crosses are visited in
 /// order, and in each the gap h − z, a quadratic in t, is minimised over the ray's part in
 /// it (the ends, and the vertex where the quadratic opens upwards).
-pub fn rises_above(
+pub(crate) fn rises_above(
     map: &HeightMap,
     edge: EdgeMode,
     origin: [f64; 2],
@@ -402,7 +402,7 @@ fn hit(o: [f64; 2], d: [f64; 3], t: f64) -> RefHit {
 /// square `[0, tiling]²` becomes no hit. This is the first hit inside the square's prism:
 /// a ray enters the volume inside the square and, being straight, leaves the prism once, so
 /// the part of it inside comes first; a first hit outside means nothing inside was hit.
-pub fn clip_to_square(refs: &[Option<RefHit>], tiling: f64) -> Vec<Option<RefHit>> {
+pub(crate) fn clip_to_square(refs: &[Option<RefHit>], tiling: f64) -> Vec<Option<RefHit>> {
     let inside = |x: f64| (0.0..=tiling).contains(&x);
     refs.iter().map(|r| r.filter(|h| inside(h.u) && inside(h.v))).collect()
 }
@@ -416,7 +416,7 @@ pub fn clip_to_square(refs: &[Option<RefHit>], tiling: f64) -> Vec<Option<RefHit
 ///
 /// [`Camera::footprint_lambda`]: crate::scene::Camera::footprint_lambda
 /// [`footprint_level`]: crate::scene::camera::footprint_level
-pub fn ray_levels(
+pub(crate) fn ray_levels(
     scene: &Scene,
     rays: &[ProbeRay],
     lod: Lod,
@@ -447,7 +447,7 @@ pub fn ray_levels(
 /// Exact first hits of `rays`, ray i on the surface of level `levels[i]` of the mip chain
 /// `chain` (the bilinear or nearest surface of that level's texels, with `edge`): the
 /// surface a shader sampling at that level meets. In parallel, in input order.
-pub fn reference_hits_at_levels(
+pub(crate) fn reference_hits_at_levels(
     chain: &[HeightMap],
     edge: EdgeMode,
     rays: &[ProbeRay],

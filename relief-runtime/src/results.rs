@@ -205,7 +205,7 @@ pub const COLUMNS: &[&str] = &[
 ];
 
 /// The file rows are appended to, in a sweep folder.
-pub const JSONL: &str = "results.jsonl";
+pub(crate) const JSONL: &str = "results.jsonl";
 
 /// What [`read`] found.
 #[derive(Clone, Debug, Default)]
@@ -257,7 +257,7 @@ pub fn read(dir: &Path) -> anyhow::Result<ReadRows> {
 
 /// A cell's key: the pipeline's canonical text, the scene, the size and the adapter. A
 /// results file holds one row per key.
-pub fn cell_key(m: &Metrics) -> (String, String, u32, String) {
+pub(crate) fn cell_key(m: &Metrics) -> (String, String, u32, String) {
     let pipeline =
         m.pipeline.parse::<relief_dsl::Pipeline>().map(|p| p.to_string()).unwrap_or_else(|_| m.pipeline.clone());
     (pipeline, m.scene.clone(), m.size, m.adapter.clone())
@@ -330,7 +330,7 @@ pub fn append(dir: &Path, row: &Row) -> anyhow::Result<()> {
 
 /// Rewrites `dir/results.jsonl` with `rows`, one line each, atomically
 /// ([`crate::io::write_atomic`]): for a change that removes rows, where [`append`] cannot.
-pub fn write_jsonl(dir: &Path, rows: &[Row]) -> anyhow::Result<()> {
+pub(crate) fn write_jsonl(dir: &Path, rows: &[Row]) -> anyhow::Result<()> {
     let mut text = String::new();
     for r in rows {
         text.push_str(&serde_json::to_string(r)?);
@@ -340,7 +340,7 @@ pub fn write_jsonl(dir: &Path, rows: &[Row]) -> anyhow::Result<()> {
 }
 
 /// `rows` as `results.csv` text, [`COLUMNS`] in order (NaN and infinite metrics empty).
-pub fn csv_bytes(rows: &[Row]) -> anyhow::Result<Vec<u8>> {
+pub(crate) fn csv_bytes(rows: &[Row]) -> anyhow::Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(COLUMNS)?;
     for r in rows {
@@ -366,7 +366,7 @@ pub fn write_csv(dir: &Path, rows: &[Row]) -> anyhow::Result<()> {
 /// Parses one results line; numbers written as `null` (NaN or infinite when measured) come
 /// back as NaN. A row must have a `pipeline` that parses, a `scene`, a `size` and a
 /// `status` of `ok` or `error`; other columns an older row lacks take their defaults.
-pub fn parse_row(line: &str) -> anyhow::Result<Row> {
+pub(crate) fn parse_row(line: &str) -> anyhow::Result<Row> {
     let v: serde_json::Value = serde_json::from_str(line).map_err(|e| anyhow::anyhow!("not JSON: {e}"))?;
     let serde_json::Value::Object(obj) = v else {
         anyhow::bail!("not a JSON object");

@@ -74,7 +74,7 @@ fn groups(rays: &[ProbeRay], hits: &[ProbeHit], tw: u32, th: u32) -> Vec<Group> 
 
 /// The model's figures for `hits`, the probe's hits of `rays` (same order; rays carry their
 /// pixel). Every figure is NaN when there are no rays.
-pub fn simd_cost(rays: &[ProbeRay], hits: &[ProbeHit]) -> SimdCost {
+pub(crate) fn simd_cost(rays: &[ProbeRay], hits: &[ProbeHit]) -> SimdCost {
     let g32 = groups(rays, hits, 8, 4);
     let g64 = groups(rays, hits, 8, 8);
     if g32.is_empty() {

@@ -33,7 +33,7 @@ pub struct Ratio {
 /// interval from one observation). Exact to three decimals from a table up to 30 degrees of
 /// freedom, the Cornish–Fisher expansion of t about the normal quantile beyond (error below
 /// 1e-4 there).
-pub fn t975(df: u32) -> f64 {
+pub(crate) fn t975(df: u32) -> f64 {
     const TABLE: [f64; 30] = [
         12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160, 2.145, 2.131,
         2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042,
@@ -59,7 +59,7 @@ fn t975_expansion(nu: f64) -> f64 {
 /// mean frame times (any unit, the same for both) of the two blocks of pair i. Pairs beyond
 /// the shorter list are ignored. A block time that is not a positive finite number (a block
 /// below the timer's resolution reads 0) makes the whole estimate NaN: it is not dropped.
-pub fn paired_ratio(a: &[f64], b: &[f64]) -> Ratio {
+pub(crate) fn paired_ratio(a: &[f64], b: &[f64]) -> Ratio {
     let n = a.len().min(b.len());
     let logs: Vec<f64> = a
         .iter()
@@ -82,7 +82,7 @@ pub fn paired_ratio(a: &[f64], b: &[f64]) -> Ratio {
 impl Ratio {
     /// The standard error of `ln ratio` behind the interval: its half-width in logs divided
     /// by `t(0.975, pairs − 1)`. NaN without an interval.
-    pub fn log_se(&self) -> f64 {
+    pub(crate) fn log_se(&self) -> f64 {
         if self.pairs < 2 || !self.lo.is_finite() || !self.hi.is_finite() || self.lo <= 0.0 {
             return f64::NAN;
         }

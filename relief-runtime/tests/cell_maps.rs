@@ -9,7 +9,6 @@
 //! a 1000× margin over that and far below one f32 ulp of a height (6e-8).
 
 use proptest::prelude::*;
-use relief_runtime::heightmap::{EdgeMode, HeightMap};
 use relief_runtime::maps::cell::cone::{cell_cone, cell_cone_normal, cell_quad_cone, QUADRANTS};
 use relief_runtime::maps::cell::multi_cone::{cell_multi_cone, cell_piecewise_cone, heights};
 use relief_runtime::maps::cell::relaxed_cone::{cap, cell_relaxed_cone, rising};
@@ -18,6 +17,7 @@ use relief_runtime::maps::cone_normal::normal_z;
 use relief_runtime::maps::distance_field::distance_field;
 use relief_runtime::maps::encode::{f32_down, Encoding, Format};
 use relief_runtime::maps::{self, MapKind, MapParams};
+use relief_runtime::{EdgeMode, HeightMap};
 
 const TOL: f64 = 1e-12;
 

@@ -93,7 +93,7 @@ fn render_writes_frame_error_metrics_and_hits() {
     assert!(rows.len() > 32 * 32 / 2);
     // The new columns: lod=zero samples level 0; linear(8) steps 1/8 in t, |dir.xy|/8 in u, v,
     // times the map's side in texels; the mean of (height at hit − z)² is the metrics' MSE.
-    let step = relief_runtime::scene::Scene::by_name("step", None).unwrap();
+    let step = relief_runtime::Scene::by_name("step", None).unwrap();
     let texels = step.height.width.max(step.height.height) as f64;
     let mut sq = 0.0;
     for r in &rows {

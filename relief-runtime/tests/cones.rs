@@ -8,10 +8,10 @@
 //! do pass the first hit on the same maps (the finding behind the safe form).
 
 use relief_runtime::gpu::{self, Gpu, GpuHit, Program, SceneTextures};
-use relief_runtime::heightmap::{EdgeMode, HeightMap};
 use relief_runtime::metrics::one_texel_t;
-use relief_runtime::reference::{reference_hits, RefHit, Sampling};
-use relief_runtime::scene::{ProbeRay, Scene};
+use relief_runtime::{reference_hits, RefHit, Sampling};
+use relief_runtime::{EdgeMode, HeightMap};
+use relief_runtime::{ProbeRay, Scene};
 
 /// A deterministic LCG in [0, 1).
 fn lcg(seed: u64) -> impl FnMut() -> f32 {

@@ -3,8 +3,8 @@
 
 use relief_runtime::gpu::{self, Gpu, Program, SceneTextures};
 use relief_runtime::metrics::{self, Metrics};
-use relief_runtime::reference::{reference_hits, Sampling};
-use relief_runtime::scene::Scene;
+use relief_runtime::Scene;
+use relief_runtime::{reference_hits, Sampling};
 
 fn gpu() -> Gpu {
     Gpu::new().unwrap_or_else(|e| panic!("{e}"))

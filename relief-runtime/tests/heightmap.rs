@@ -1,7 +1,7 @@
 //! Height-map loading: formats, channels, bit depths, the depth flag and bad input.
 
-use relief_runtime::heightmap::{Channel, HeightMap, HeightMapError, LoadOptions};
 use relief_runtime::io::npy::npy_bytes;
+use relief_runtime::{Channel, HeightMap, HeightMapError, LoadOptions};
 use std::path::PathBuf;
 
 fn dir() -> PathBuf {

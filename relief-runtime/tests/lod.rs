@@ -4,10 +4,10 @@
 
 use relief_dsl::spec::Lod;
 use relief_runtime::gpu::{self, Gpu, Program};
-use relief_runtime::heightmap::EdgeMode;
 use relief_runtime::measure::Prepared;
 use relief_runtime::metrics::{self, Metrics};
-use relief_runtime::scene::Scene;
+use relief_runtime::EdgeMode;
+use relief_runtime::Scene;
 
 fn gpu() -> Gpu {
     Gpu::new().unwrap_or_else(|e| panic!("{e}"))

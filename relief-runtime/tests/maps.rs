@@ -2,7 +2,6 @@
 //! definitions in the module docs), plus encoding, cache and ray-safety properties.
 
 use proptest::prelude::*;
-use relief_runtime::heightmap::{EdgeMode, HeightMap};
 use relief_runtime::io::npy;
 use relief_runtime::maps::cone::cone_ratios;
 use relief_runtime::maps::cone_normal::{cone_normals, normal_z, relaxed_cone_normals};
@@ -14,6 +13,7 @@ use relief_runtime::maps::relaxed_cone::{exits, relaxed_cone_ratios};
 use relief_runtime::maps::search::texel_distance;
 use relief_runtime::maps::{self, Map, MapCache, MapKind, MapParams};
 use relief_runtime::maps::{file, filter};
+use relief_runtime::{EdgeMode, HeightMap};
 
 // ------------------------------------------------------------------------------------------
 // Test height maps

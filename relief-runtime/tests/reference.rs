@@ -2,9 +2,9 @@
 //! max-mip skipping against plain cell-by-cell traversal.
 
 use proptest::prelude::*;
-use relief_runtime::heightmap::{EdgeMode, HeightMap};
-use relief_runtime::reference::{reference_hits, Reference, Sampling};
-use relief_runtime::scene::Scene;
+use relief_runtime::Scene;
+use relief_runtime::{reference_hits, Reference, Sampling};
+use relief_runtime::{EdgeMode, HeightMap};
 
 /// Samples per ray in the oracle (then bisection between the last sample above and the
 /// first at or below the surface).

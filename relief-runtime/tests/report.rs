@@ -868,7 +868,7 @@ fn the_answer_names_the_fastest_pipeline_at_each_accuracy_and_the_engine_familys
     // The scene's picture: its height map (at least 256 pixels) and the exact row's frame.
     let map = image::open(dir.join("report/scene_rocks.png")).expect("height map").to_luma8();
     assert!(map.width() >= 256 && map.height() >= 256);
-    let rocks = relief_runtime::scene::scene_from_arg("scene:rocks").unwrap();
+    let rocks = relief_runtime::scene_from_arg("scene:rocks").unwrap();
     let k = map.width() as usize / rocks.height.width;
     for (x, y) in [(0usize, 0usize), (17, 99), (255, 128)] {
         let want = (rocks.height.data[y * rocks.height.width + x] * 255.0).round() as u8;

@@ -6,9 +6,9 @@ use std::path::PathBuf;
 use std::process::Command;
 
 use relief_runtime::gpu;
-use relief_runtime::reference::{reference_hits, Sampling};
 use relief_runtime::results::{self, Metrics, Row};
-use relief_runtime::scene::scene_from_arg;
+use relief_runtime::scene_from_arg;
+use relief_runtime::{reference_hits, Sampling};
 
 const PIPELINE: &str = "linear(16)+binary(5)";
 /// How far past its exact first hit every browser hit lies, in t.

@@ -6,14 +6,14 @@
 use std::path::Path;
 
 use relief_runtime::gpu::{self, Gpu, Program, SceneTextures};
-use relief_runtime::heightmap::HeightMap;
 use relief_runtime::room::accuracy::{reference_hits, room_accuracy};
 use relief_runtime::room::gpu::{probe_room, RoomProgram, RoomTextures};
 use relief_runtime::room::mesh::{render_geometry, wall_of_alpha, RoomMesh};
 use relief_runtime::room::{
     border_warnings, builtin, file::load_room_file, room_from_arg, PixelRay, Room, RoomRay, NEAR_FAR, WALLS,
 };
-use relief_runtime::scene::Scene;
+use relief_runtime::HeightMap;
+use relief_runtime::Scene;
 
 fn gpu() -> Gpu {
     Gpu::new().unwrap_or_else(|e| panic!("{e}"))

@@ -6,8 +6,8 @@
 
 use std::path::{Path, PathBuf};
 
-use relief_runtime::heightmap::{EdgeMode, HeightMap, LoadOptions};
-use relief_runtime::scene::{load_scene_file, scene_from_arg, Scene, SceneError, REAL_SCENES};
+use relief_runtime::{load_scene_file, scene_from_arg, Scene, SceneError, REAL_SCENES};
+use relief_runtime::{EdgeMode, HeightMap, LoadOptions};
 
 fn repo_file(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
@@ -513,7 +513,7 @@ fn sweep_and_maps_take_a_scene_file() {
 fn real_rocks_measure_against_the_exact_reference_on_the_device() {
     use relief_runtime::gpu::{self, Gpu, Program, SceneTextures};
     use relief_runtime::metrics::{self, Metrics};
-    use relief_runtime::reference::{reference_hits, Sampling};
+    use relief_runtime::{reference_hits, Sampling};
     let g = Gpu::new().unwrap_or_else(|e| panic!("{e}"));
     let scene = Scene::by_name("rocks", None).unwrap();
     let (steps, refine) = (64u32, 5u32);
@@ -579,7 +579,7 @@ fn the_stability_matrix_holds_the_real_scenes_box_filtered_to_64() {
 #[test]
 fn the_dissertation_view_sets_depth_camera_and_lod() {
     use relief_dsl::spec::Lod;
-    use relief_runtime::scene::{scene_from_arg, Overrides, View};
+    use relief_runtime::{scene_from_arg, Overrides, View};
     let s = scene_from_arg("scene:rocks@view=dissertation").unwrap();
     assert_eq!((s.depth_scale, s.camera.angle_deg, s.camera.fov_deg, s.lod), (0.05, 20.0, 25.0, Some(Lod::Auto)));
     let plain = scene_from_arg("scene:rocks").unwrap();
@@ -628,10 +628,10 @@ fn the_dissertation_view_sets_depth_camera_and_lod() {
     image::GrayImage::from_fn(8, 8, |x, _| image::Luma([(x * 30) as u8])).save(d.join("h.png")).unwrap();
     std::fs::write(d.join("v.toml"), "view = \"dissertation\"\n[height_map]\npath = \"h.png\"\n[camera]\nangle = 30\n")
         .unwrap();
-    let f = relief_runtime::scene::load_scene_file(&d.join("v.toml")).unwrap();
+    let f = relief_runtime::load_scene_file(&d.join("v.toml")).unwrap();
     assert_eq!((f.depth_scale, f.camera.angle_deg, f.camera.fov_deg, f.lod), (0.05, 30.0, 25.0, Some(Lod::Auto)));
     std::fs::write(d.join("bad.toml"), "view = \"disertation\"\n[height_map]\npath = \"h.png\"\n").unwrap();
-    let e = relief_runtime::scene::load_scene_file(&d.join("bad.toml")).unwrap_err().to_string();
+    let e = relief_runtime::load_scene_file(&d.join("bad.toml")).unwrap_err().to_string();
     assert!(e.contains("key `view`") && e.contains("did you mean `dissertation`?") && !e.contains('\n'), "{e}");
     assert!(scene_from_arg("scene:rocks@view=nope").is_err());
 }

@@ -10,9 +10,9 @@
 
 use relief_dsl::compose::Options;
 use relief_runtime::gpu::Gpu;
-use relief_runtime::heightmap::EdgeMode;
 use relief_runtime::measure::{measure_with, Prepared};
-use relief_runtime::scene::{ProbeRay, Scene};
+use relief_runtime::EdgeMode;
+use relief_runtime::{ProbeRay, Scene};
 
 /// The t agreement of an exact method with the reference (the goal the exactness tests use).
 const EXACT_T: f64 = 1e-4;

@@ -57,8 +57,7 @@ fn the_scores_see_what_they_measure() {
     use relief_runtime::gpu::GpuHit;
     let flat1 = stability::scene("flat1", 16).unwrap();
     let rays = stability::rays(&flat1, 4, 60.0);
-    let refs = relief_runtime::reference::reference_hits(&flat1, &rays, relief_runtime::reference::Sampling::Bilinear)
-        .unwrap();
+    let refs = relief_runtime::reference_hits(&flat1, &rays, relief_runtime::Sampling::Bilinear).unwrap();
     let at_entry: Vec<GpuHit> = rays
         .iter()
         .map(|r| GpuHit {
@@ -79,8 +78,7 @@ fn the_scores_see_what_they_measure() {
         (0, 0, 0.0, 0.0, 0.0)
     );
     let flat0 = stability::scene("flat0", 16).unwrap();
-    let refs0 = relief_runtime::reference::reference_hits(&flat0, &rays, relief_runtime::reference::Sampling::Bilinear)
-        .unwrap();
+    let refs0 = relief_runtime::reference_hits(&flat0, &rays, relief_runtime::Sampling::Bilinear).unwrap();
     let c = stability::score("entry", &flat0, 60.0, &rays, &at_entry, &refs0);
     assert_eq!((c.nonconverged_rate, c.above_surface_rate, c.missed_rate), (0.0, 1.0, 0.0));
     assert!((c.ref_err_t_max - 1.0).abs() < 1e-6);
@@ -114,8 +112,7 @@ fn a_broken_stage_is_caught_by_the_scores_and_the_metrics() {
     let scene = stability::scene("walls", 16).unwrap();
     let tex = SceneTextures::new(&g, &scene);
     let rays = stability::rays(&scene, 8, 45.0);
-    let refs = relief_runtime::reference::reference_hits(&scene, &rays, relief_runtime::reference::Sampling::Bilinear)
-        .unwrap();
+    let refs = relief_runtime::reference_hits(&scene, &rays, relief_runtime::Sampling::Bilinear).unwrap();
     let n = rays.len();
     let run = |program: &relief_runtime::gpu::Program| {
         let hits = gpu::probe(&g, program, &scene, &tex, &rays).unwrap();
@@ -149,7 +146,7 @@ fn a_broken_stage_is_caught_by_the_scores_and_the_metrics() {
 #[test]
 fn one_texel_of_travel_is_horizontal_or_vertical_whichever_comes_first() {
     use relief_runtime::metrics::one_texel_t;
-    use relief_runtime::scene::ProbeRay;
+    use relief_runtime::ProbeRay;
     let ray = |dir: [f32; 3]| ProbeRay { origin: [0.5, 0.5], dir, x: 0, y: 0, pixel_size: 0.0 };
     assert!((one_texel_t(&ray([0.0, 0.0, -1.0]), 64.0) - 1.0 / 64.0).abs() < 1e-12);
     assert!(
@@ -164,10 +161,10 @@ fn one_texel_of_travel_is_horizontal_or_vertical_whichever_comes_first() {
 
 /// A 16 × 16 map, floor at 0, one texel (8, 8) at height 1: along texel row 8 the bilinear
 /// surface is the tent h = 1 − |x − 8| in cell coordinates (x = 16u − 0.5), 0 elsewhere.
-fn pillar(edge: relief_runtime::heightmap::EdgeMode) -> relief_runtime::scene::Scene {
-    use relief_runtime::heightmap::HeightMap;
+fn pillar(edge: relief_runtime::EdgeMode) -> relief_runtime::Scene {
+    use relief_runtime::HeightMap;
     let hm = HeightMap::from_fn(16, 16, |x, y| if (x, y) == (8, 8) { 1.0 } else { 0.0 });
-    let mut s = relief_runtime::scene::Scene::from_height_map("pillar", hm);
+    let mut s = relief_runtime::Scene::from_height_map("pillar", hm);
     s.edge = edge;
     s
 }
@@ -176,23 +173,21 @@ fn pillar(edge: relief_runtime::heightmap::EdgeMode) -> relief_runtime::scene::S
 /// z = 1 − t. It meets the pillar's front face (h = x − 7) where 1 − t = 8t − 3.5, at t = 1/2;
 /// it is below the back face (h = 9 − x) until 1 − t = 5.5 − 8t, t = 9/14, and above the
 /// surface from there until it reaches the floor at t = 1.
-fn over_the_pillar() -> relief_runtime::scene::ProbeRay {
-    relief_runtime::scene::ProbeRay { origin: [0.25, 8.5 / 16.0], dir: [0.5, 0.0, -1.0], x: 0, y: 0, pixel_size: 0.0 }
+fn over_the_pillar() -> relief_runtime::ProbeRay {
+    relief_runtime::ProbeRay { origin: [0.25, 8.5 / 16.0], dir: [0.5, 0.0, -1.0], x: 0, y: 0, pixel_size: 0.0 }
 }
 
 #[test]
 fn skipped_rate_counts_a_ray_that_linear_search_carries_over_a_one_texel_pillar() {
     use relief_runtime::gpu::{self, Program, SceneTextures};
-    use relief_runtime::heightmap::EdgeMode;
     use relief_runtime::metrics::Accuracy;
+    use relief_runtime::EdgeMode;
     let g = Gpu::new().unwrap();
     for edge in [EdgeMode::Repeat, EdgeMode::Clamp] {
         let scene = pillar(edge);
         let tex = SceneTextures::new(&g, &scene);
         let rays = vec![over_the_pillar()];
-        let refs =
-            relief_runtime::reference::reference_hits(&scene, &rays, relief_runtime::reference::Sampling::Bilinear)
-                .unwrap();
+        let refs = relief_runtime::reference_hits(&scene, &rays, relief_runtime::Sampling::Bilinear).unwrap();
         assert!(
             (refs[0].unwrap().t - 0.5).abs() < 1e-9,
             "{edge:?}: the exact hit is on the front face at t = 1/2: {refs:?}"
@@ -214,16 +209,15 @@ fn skipped_rate_counts_a_ray_that_linear_search_carries_over_a_one_texel_pillar(
 
 #[test]
 fn a_hit_three_texels_past_a_flat_floor_is_past_but_not_skipped() {
-    use relief_runtime::heightmap::{EdgeMode, HeightMap};
     use relief_runtime::metrics::{one_texel_t, Accuracy};
+    use relief_runtime::{EdgeMode, HeightMap};
     for edge in [EdgeMode::Repeat, EdgeMode::Clamp] {
         let floor = HeightMap::from_fn(16, 16, |_, _| 0.5);
-        let ray =
-            relief_runtime::scene::ProbeRay { origin: [0.25, 0.5], dir: [0.5, 0.0, -1.0], x: 0, y: 0, pixel_size: 0.0 };
+        let ray = relief_runtime::ProbeRay { origin: [0.25, 0.5], dir: [0.5, 0.0, -1.0], x: 0, y: 0, pixel_size: 0.0 };
         // The exact hit: z = 1 − t = 0.5 at t = 1/2. One texel of travel is 1/16 in t (the
         // depth's 1/16 comes before the 1/8 a texel across takes), so 3 texels is t = 11/16.
         assert_eq!(one_texel_t(&ray, 16.0), 1.0 / 16.0);
-        let exact = relief_runtime::reference::RefHit { t: 0.5, u: 0.5, v: 0.5, z: 0.5 };
+        let exact = relief_runtime::RefHit { t: 0.5, u: 0.5, v: 0.5, z: 0.5 };
         let t = 0.5 + 3.0 / 16.0;
         let hit = relief_runtime::gpu::GpuHit {
             t,
@@ -242,7 +236,7 @@ fn a_hit_three_texels_past_a_flat_floor_is_past_but_not_skipped() {
         relief_runtime::metrics::set_accuracy(&mut m, &[ray], &[hit], &[Some(exact)], &floor, edge);
         assert_eq!((m.skipped_rate, m.past_rate, m.missed_rate), (0.0, 1.0, 1.0), "the old name is the same measure");
         // `relief stability` scores it with the same rules.
-        let mut scene = relief_runtime::scene::Scene::from_height_map("floor", floor.clone());
+        let mut scene = relief_runtime::Scene::from_height_map("floor", floor.clone());
         scene.edge = edge;
         let c = stability::score("late", &scene, 45.0, &[ray], &[hit], &[Some(exact)]);
         assert_eq!((c.skipped_rate, c.past_rate, c.missed_rate), (0.0, 1.0, 1.0), "{edge:?}: {c:?}");
@@ -276,12 +270,12 @@ fn the_worst_condition_is_the_one_that_skipped_geometry() {
 
 #[test]
 fn robust_statistics_match_a_hand_computed_list() {
-    use relief_runtime::heightmap::{EdgeMode, HeightMap};
+    use relief_runtime::{EdgeMode, HeightMap};
     // 101 rays onto a flat floor at 0.5 (exact hit t = 1/2), hit i ending i/1000 past it:
     // |t − t_ref| = i/1000, and the height error is the same i/1000 (z = 1 − t).
     let floor = HeightMap::from_fn(16, 16, |_, _| 0.5);
     let rays: Vec<_> = (0..101)
-        .map(|i| relief_runtime::scene::ProbeRay {
+        .map(|i| relief_runtime::ProbeRay {
             origin: [i as f32 / 101.0, 0.5],
             dir: [0.5, 0.0, -1.0],
             x: i,
@@ -291,7 +285,7 @@ fn robust_statistics_match_a_hand_computed_list() {
         .collect();
     let refs: Vec<_> = rays
         .iter()
-        .map(|r| Some(relief_runtime::reference::RefHit { t: 0.5, u: r.origin[0] as f64 + 0.25, v: 0.5, z: 0.5 }))
+        .map(|r| Some(relief_runtime::RefHit { t: 0.5, u: r.origin[0] as f64 + 0.25, v: 0.5, z: 0.5 }))
         .collect();
     let hits: Vec<_> = (0..101)
         .map(|i| {

@@ -12,15 +12,10 @@ mod resources;
 pub use crate::maps::MapKey;
 pub use device::{adapters, choose, Gpu, GpuError, ADAPTER_VAR};
 pub use probe::{probe, GpuHit};
-pub use relief_dsl::abi::OUTSIDE_TOLERANCE;
-pub use render::{
-    draw_frame, paired_blocks, render, timed_frames, Clock, Frames, PairedBlocks, RenderResult, Renderer, Target,
-    DEPTH_FORMAT, FORMAT, MAX_FRAMES_PER_BLOCK, MIN_BLOCK_MS,
-};
-pub use resources::{
-    binding_source, map_upload, map_upload_of, params_for, scene_uploads, SceneTextures, SceneUploads, Source, Upload,
-    AMBIENT, MAX_RATIO,
-};
+pub use render::{draw_frame, render, Frames, PairedBlocks, RenderResult, DEPTH_FORMAT, FORMAT, MAX_FRAMES_PER_BLOCK};
+pub(crate) use render::{paired_blocks, timed_frames, Clock, Renderer, MIN_BLOCK_MS};
+pub(crate) use resources::{binding_source, params_for, Source};
+pub use resources::{map_upload_of, scene_uploads, SceneTextures, SceneUploads, Upload, AMBIENT};
 
 use relief_dsl::compose::Compiled;
 
@@ -50,7 +45,7 @@ impl Program {
     }
 
     /// Compiles `p` with `options` (e.g. a fragment entry that writes depth).
-    pub fn new_with(
+    pub(crate) fn new_with(
         p: &relief_dsl::Pipeline,
         options: &relief_dsl::compose::Options,
     ) -> Result<Program, relief_dsl::CompileError> {
@@ -72,7 +67,7 @@ impl Program {
     }
 
     /// The WGSL loaded on `gpu`; a shader the device rejects is an error, not a panic.
-    pub fn shader_module(&self, gpu: &Gpu) -> Result<wgpu::ShaderModule, GpuError> {
+    pub(crate) fn shader_module(&self, gpu: &Gpu) -> Result<wgpu::ShaderModule, GpuError> {
         gpu.checked(|| {
             gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("relief"),
@@ -83,7 +78,7 @@ impl Program {
 
     /// From an already compiled module that reads no acceleration map (set [`Program::maps`]
     /// for one that does).
-    pub fn from_compiled(c: &Compiled) -> Result<Program, relief_dsl::CompileError> {
+    pub(crate) fn from_compiled(c: &Compiled) -> Result<Program, relief_dsl::CompileError> {
         let wgsl = relief_dsl::emit::wgsl(c)?;
         let used = |names: &[&str]| used_bindings(c, names);
         Ok(Program {

@@ -29,7 +29,7 @@ pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 
 /// A timed block lasts at least this long on the device: a 256² frame can take 20 µs on a
 /// desktop GPU, near the timer's resolution, so fast frames are timed many to a block.
-pub const MIN_BLOCK_MS: f64 = 2.0;
+pub(crate) const MIN_BLOCK_MS: f64 = 2.0;
 
 /// The most frames one block holds (a frame below the timer's resolution still ends).
 pub const MAX_FRAMES_PER_BLOCK: u32 = 1 << 14;
@@ -50,7 +50,7 @@ fn attachment(gpu: &Gpu, label: &str, size: u32, format: wgpu::TextureFormat) ->
 
 /// What frames are drawn into: a `size²` RGBA8 colour attachment cleared to `clear` and,
 /// `with_depth`, a `Depth32Float` depth cleared to 1.
-pub struct Target {
+pub(crate) struct Target {
     color: wgpu::Texture,
     view: wgpu::TextureView,
     depth: Option<(wgpu::Texture, wgpu::TextureView)>,
@@ -60,7 +60,7 @@ pub struct Target {
 
 impl Target {
     /// A new target (see the type's doc).
-    pub fn new(gpu: &Gpu, size: u32, with_depth: bool, clear: wgpu::Color) -> Target {
+    pub(crate) fn new(gpu: &Gpu, size: u32, with_depth: bool, clear: wgpu::Color) -> Target {
         let color = attachment(gpu, "frame", size, FORMAT);
         let view = color.create_view(&Default::default());
         let depth = with_depth.then(|| {
@@ -97,7 +97,12 @@ impl Target {
     }
 
     /// `frames` untimed frames in one submission, waited for.
-    pub fn untimed(&self, gpu: &Gpu, frames: u32, draw: &dyn Fn(&mut wgpu::RenderPass<'_>)) -> Result<(), GpuError> {
+    pub(crate) fn untimed(
+        &self,
+        gpu: &Gpu,
+        frames: u32,
+        draw: &dyn Fn(&mut wgpu::RenderPass<'_>),
+    ) -> Result<(), GpuError> {
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         for _ in 0..frames {
             draw(&mut self.pass(&mut enc, None));
@@ -107,7 +112,7 @@ impl Target {
     }
 
     /// The last frame drawn (and its depth), read back, with `frame_ms` as the frame times.
-    pub fn read(&self, gpu: &Gpu, frame_ms: Vec<f64>) -> Result<Frames, GpuError> {
+    pub(crate) fn read(&self, gpu: &Gpu, frame_ms: Vec<f64>) -> Result<Frames, GpuError> {
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         let pixels = Readback::new(gpu, &mut enc, &self.color, wgpu::TextureAspect::All, self.size);
         let depth_pixels = self
@@ -126,7 +131,7 @@ impl Target {
 
 /// The device's clock: render-pass timestamps around a block of frames (compute-pass
 /// timestamps are wrong on lavapipe).
-pub struct Clock {
+pub(crate) struct Clock {
     queries: wgpu::QuerySet,
     resolve: wgpu::Buffer,
     read: wgpu::Buffer,
@@ -136,7 +141,7 @@ pub struct Clock {
 
 impl Clock {
     /// A clock on `gpu`; an adapter without timestamp queries is an error.
-    pub fn new(gpu: &Gpu) -> Result<Clock, GpuError> {
+    pub(crate) fn new(gpu: &Gpu) -> Result<Clock, GpuError> {
         if !gpu.timestamps {
             return Err(GpuError::Device(format!(
                 "the adapter {} has no timestamp queries, so frames cannot be timed",
@@ -167,7 +172,7 @@ impl Clock {
     /// One timed block: `frames` (at least 1) frames drawn into `target` in one submission,
     /// a timestamp at the beginning of the first pass and one at the end of the last; waits
     /// for it and returns the block's device time in milliseconds.
-    pub fn block(
+    pub(crate) fn block(
         &self,
         gpu: &Gpu,
         target: &Target,
@@ -196,7 +201,7 @@ impl Clock {
     /// one-frame blocks are timed, then blocks growing by the shortfall (×2 at least, with a
     /// quarter to spare) until one lasts long enough, up to [`MAX_FRAMES_PER_BLOCK`]. The
     /// blocks timed here are warm-up: their times are dropped.
-    pub fn calibrate(
+    pub(crate) fn calibrate(
         &self,
         gpu: &Gpu,
         target: &Target,
@@ -215,7 +220,7 @@ impl Clock {
 }
 
 /// A pipeline ready to draw: its render pipeline and bind group on a scene, and its target.
-pub struct Renderer {
+pub(crate) struct Renderer {
     pipeline: wgpu::RenderPipeline,
     bind_group: wgpu::BindGroup,
     /// Where its frames go.
@@ -228,7 +233,7 @@ const CLEAR: wgpu::Color = wgpu::Color { r: 0.02, g: 0.02, b: 0.03, a: 1.0 };
 impl Renderer {
     /// `program`'s render entry on `scene` (its textures and maps already in `tex`) at
     /// `size × size` pixels.
-    pub fn new(
+    pub(crate) fn new(
         gpu: &Gpu,
         program: &Program,
         scene: &Scene,
@@ -282,7 +287,7 @@ impl Renderer {
     }
 
     /// Records one frame's draw into `pass`.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+    pub(crate) fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.bind_group, &[]);
         pass.draw(0..4, 0..1);
@@ -352,7 +357,7 @@ pub struct Frames {
 /// (compute-pass timestamps are wrong on lavapipe). `frames / k` blocks (at least one) are
 /// timed, one frame time per block. `draw` records the pass's pipeline, bind groups and draw
 /// calls. `relief render` and the room's two renders use it.
-pub fn timed_frames(
+pub(crate) fn timed_frames(
     gpu: &Gpu,
     size: u32,
     with_depth: bool,
@@ -412,7 +417,7 @@ impl PairedBlocks {
 /// in odd ones, so that a steady drift falls on both alike (`crate::timing`). Each block
 /// holds `frames_per_block` frames of its pipeline (calibrate them with [`Clock::calibrate`]:
 /// those blocks are the warm-up, dropped); one more untimed block of each is drawn first.
-pub fn paired_blocks(
+pub(crate) fn paired_blocks(
     gpu: &Gpu,
     clock: &Clock,
     a: &Renderer,

@@ -179,7 +179,7 @@ pub fn scene_uploads(scene: &Scene, float32: bool) -> SceneUploads {
 
 /// What a binding of group 0 takes ([`binding_source`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Source {
+pub(crate) enum Source {
     /// The `Params` uniform buffer.
     Params,
     /// The height map.
@@ -201,7 +201,7 @@ pub enum Source {
 /// What binding `b` of a program reading the maps `reqs` takes: the one table of bindings
 /// that the device's bind groups and the report's browser data both follow. A map binding
 /// no request names is an error.
-pub fn binding_source(b: u32, reqs: &[MapReq]) -> Result<Source, super::GpuError> {
+pub(crate) fn binding_source(b: u32, reqs: &[MapReq]) -> Result<Source, super::GpuError> {
     let map = |base: u32| {
         reqs.iter().copied().find(|r| *r != MapReq::Normal && r.binding() == base).map(Source::Map).ok_or_else(|| {
             super::GpuError::Pipeline(format!(
@@ -232,7 +232,7 @@ pub fn binding_source(b: u32, reqs: &[MapReq]) -> Result<Source, super::GpuError
 /// passes 0, its rays carry their own).
 ///
 /// [`Camera::pixel_size`]: crate::scene::Camera::pixel_size
-pub fn params_for(scene: &Scene, aspect: f32, pixel_size: f32) -> Params {
+pub(crate) fn params_for(scene: &Scene, aspect: f32, pixel_size: f32) -> Params {
     let (_, right, up) = scene.camera.basis();
     let cam = scene.camera.camera_position();
     let l = scene.light_dir.normalize();
@@ -377,7 +377,7 @@ impl SceneTextures {
     /// `program`'s requests, with their per-level chains when `map_levels`) and the buffers
     /// given.
     #[allow(clippy::too_many_arguments)]
-    pub fn bind_group(
+    pub(crate) fn bind_group(
         &self,
         gpu: &Gpu,
         layout: &wgpu::BindGroupLayout,
@@ -419,7 +419,7 @@ fn missing_map(b: u32) -> super::GpuError {
 }
 
 /// The largest cone ratio uploaded (a cone 89.99° wide).
-pub const MAX_RATIO: f32 = 1.0e4;
+pub(crate) const MAX_RATIO: f32 = 1.0e4;
 
 /// The channels of a cell map that go to the device: all of them (the cones, then the apex)
 /// where the apex fits in the texel ([`relief_dsl::abi::cell_apex_on_device`]), else the
@@ -436,7 +436,7 @@ fn cell_channels_uploaded(channels: usize) -> usize {
 /// map's cone and apex, half the bytes of a padded texel) or Rgba32Float (3 or 4 channels,
 /// padded), 2D or 3D, with its pyramid levels (max-mip) as mip levels; cone ratios (`ratio`)
 /// clamped to [`MAX_RATIO`]: the layout [`SceneTextures::add_maps`] uploads.
-pub fn map_upload(map: &crate::maps::Map, used: usize, ratio: bool) -> Upload {
+pub(crate) fn map_upload(map: &crate::maps::Map, used: usize, ratio: bool) -> Upload {
     assert!((1..=4).contains(&used) && used <= map.channels, "a map uploads 1 to 4 of its channels");
     let fix = |x: f32| if ratio { x.min(MAX_RATIO) } else { x };
     // Channels per stored texel: no format holds three 32-bit floats.

@@ -17,7 +17,7 @@ use relief_dsl::Pipeline;
 /// directory or a device would fail late or read without end. Symbolic links are followed.
 /// The error is an [`std::io::Error`] of kind `InvalidInput` whose message names what the
 /// path is, so callers format it as they do any other read error.
-pub fn check_regular(path: &Path) -> std::io::Result<()> {
+pub(crate) fn check_regular(path: &Path) -> std::io::Result<()> {
     let meta = std::fs::metadata(path)?;
     if meta.is_file() {
         return Ok(());
@@ -47,19 +47,19 @@ fn special_kind(_: &std::fs::Metadata) -> &'static str {
 }
 
 /// [`std::fs::read`] of a regular file only ([`check_regular`] first).
-pub fn read_regular(path: &Path) -> std::io::Result<Vec<u8>> {
+pub(crate) fn read_regular(path: &Path) -> std::io::Result<Vec<u8>> {
     check_regular(path)?;
     std::fs::read(path)
 }
 
 /// [`std::fs::read_to_string`] of a regular file only ([`check_regular`] first).
-pub fn read_regular_to_string(path: &Path) -> std::io::Result<String> {
+pub(crate) fn read_regular_to_string(path: &Path) -> std::io::Result<String> {
     check_regular(path)?;
     std::fs::read_to_string(path)
 }
 
 /// [`image::open`] of a regular file only ([`check_regular`] first); the error names the path.
-pub fn open_image(path: &Path) -> Result<image::DynamicImage, String> {
+pub(crate) fn open_image(path: &Path) -> Result<image::DynamicImage, String> {
     check_regular(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
     image::open(path).map_err(|e| format!("{}: {e}", path.display()))
 }
@@ -99,7 +99,7 @@ pub fn write_pipeline(p: &Pipeline, out: &Path) -> anyhow::Result<String> {
 /// `sc_trav.toml` get two folders. The empty text gives `~`. A name longer than 120 bytes is
 /// cut to its first 80 and `~~` and the 16 hex digits of a 64-bit FNV-1a hash of the whole
 /// text (`~~` never appears otherwise), so that it stays a valid file name.
-pub fn path_component(text: &str) -> String {
+pub(crate) fn path_component(text: &str) -> String {
     let mut s = String::with_capacity(text.len());
     for (i, b) in text.bytes().enumerate() {
         if b.is_ascii_alphanumeric() || b == b'_' || b == b'-' || (b == b'.' && i > 0) {

@@ -14,7 +14,7 @@ pub fn write_rgba8(path: &Path, w: u32, h: u32, rgba: Vec<u8>) -> anyhow::Result
 
 /// Writes `w × h` pixels of `channels` (1 gray, 2 gray+alpha, 3 RGB, 4 RGBA) unsigned
 /// samples as PNG; `samples` holds little-endian `u16` when `sixteen_bit`, bytes otherwise.
-pub fn write_unorm(
+pub(crate) fn write_unorm(
     path: &Path,
     w: usize,
     h: usize,

@@ -35,15 +35,6 @@ pub fn normal_z(r: f32) -> f32 {
     super::encode::f32_down(r / (1.0 + r * r).sqrt())
 }
 
-/// The ratio of a cone whose side normal has z component `n_z` (inverse of [`normal_z`]).
-pub fn ratio_from_normal_z(n_z: f32) -> f32 {
-    let n = n_z as f64;
-    if n >= 1.0 {
-        return f32::INFINITY;
-    }
-    (n / (1.0 - n * n).sqrt()) as f32
-}
-
 /// Conservative cone normals (CNS), one `n_z` per texel.
 pub fn cone_normals(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
     super::cone::cone_ratios(map, edge).into_iter().map(normal_z).collect()

@@ -127,7 +127,7 @@ struct Scratch {
 }
 
 /// `H_q`: the largest texel of the 3×3 neighbourhood of each texel (module docs).
-pub fn cell_box_heights(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
+pub(crate) fn cell_box_heights(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
     let (w, h) = (map.width, map.height);
     let mut out = Vec::with_capacity(w * h);
     for y in 0..h as i64 {
@@ -145,7 +145,7 @@ pub fn cell_box_heights(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
 }
 
 /// The voxel diagonal `δ` subtracted for trilinear filtering (module docs), rounded up.
-pub fn voxel_diagonal(w: usize, h: usize, depth: usize) -> f64 {
+pub(crate) fn voxel_diagonal(w: usize, h: usize, depth: usize) -> f64 {
     let (a, b, c) = (1.0 / w as f64, 1.0 / h as f64, 1.0 / depth as f64);
     (a * a + b * b + c * c).sqrt() * (1.0 + 1e-12)
 }

@@ -36,7 +36,7 @@ pub fn f32_down(v: f64) -> f32 {
 }
 
 /// Rounds an f64 to the smallest f32 not below it.
-pub fn f32_up(v: f64) -> f32 {
+pub(crate) fn f32_up(v: f64) -> f32 {
     let f = v as f32;
     if (f as f64) < v {
         next_up(f)

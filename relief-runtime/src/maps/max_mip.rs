@@ -90,7 +90,7 @@ pub struct Node {
 
 impl Node {
     /// Stands for "no end" in clamp mode (exactly representable in f64, far from overflow).
-    pub const UNBOUNDED: i64 = 1 << 52;
+    pub(crate) const UNBOUNDED: i64 = 1 << 52;
 }
 
 /// A 2D conservative pyramid (see the module docs for the layout).
@@ -213,7 +213,7 @@ pub fn min_mip(width: usize, height: usize, data: &[f32]) -> Pyramid {
 /// With `Clamp`, cells left of 0 (or below 0) have corners drawn only from column (row) 0,
 /// which cell 0 already bounds; [`Pyramid::node`] maps them there, so the bound stays
 /// conservative everywhere on the infinite clamped surface.
-pub fn cell_values(map: &HeightMap, edge: EdgeMode, reducer: Reducer) -> Vec<f32> {
+pub(crate) fn cell_values(map: &HeightMap, edge: EdgeMode, reducer: Reducer) -> Vec<f32> {
     let (w, h) = (map.width, map.height);
     let mut data = Vec::with_capacity(w * h);
     for y in 0..h as i64 {
@@ -230,7 +230,7 @@ pub fn cell_values(map: &HeightMap, edge: EdgeMode, reducer: Reducer) -> Vec<f32
 /// for their bilinear patches): every node bounds the bilinear surface over its footprint.
 /// Level-0 index `i` is the cell between texel centres `i` and `i + 1`, i.e. texture
 /// coordinate `u` lies in cell `floor(u * width - 0.5)`.
-pub fn cell_max_mip(map: &HeightMap, edge: EdgeMode) -> Pyramid {
+pub(crate) fn cell_max_mip(map: &HeightMap, edge: EdgeMode) -> Pyramid {
     Pyramid::build(map.width, map.height, cell_values(map, edge, Reducer::Max), Reducer::Max)
 }
 

@@ -27,7 +27,7 @@ pub struct Level {
 }
 
 /// The number of levels of a `width × height` map under the rule above (level 0 included).
-pub fn level_count(width: usize, height: usize) -> usize {
+pub(crate) fn level_count(width: usize, height: usize) -> usize {
     let (mut w, mut h, mut n) = (width, height, 1);
     while (w > 1 || h > 1) && (w == 1 || w % 2 == 0) && (h == 1 || h % 2 == 0) {
         w = (w / 2).max(1);
@@ -38,7 +38,7 @@ pub fn level_count(width: usize, height: usize) -> usize {
 }
 
 /// The chain of a map, level 0 (a copy of `data`) first; see the module docs.
-pub fn box_chain(width: usize, height: usize, channels: usize, data: &[f32]) -> Vec<Level> {
+pub(crate) fn box_chain(width: usize, height: usize, channels: usize, data: &[f32]) -> Vec<Level> {
     assert_eq!(data.len(), width * height * channels, "map data has the wrong length");
     let mut out = vec![Level { width, height, data: data.to_vec() }];
     for _ in 1..level_count(width, height) {

@@ -179,17 +179,6 @@ impl MapKind {
         )
     }
 
-    /// The safe quantisation direction of each channel: [`MapKind::rounding`] for every
-    /// channel, except the apex channel (the last) of the cell kinds, which rounds up.
-    pub fn channel_rounding(self, params: &MapParams) -> Vec<Rounding> {
-        let n = self.channels(params);
-        let mut r = vec![self.rounding(); n];
-        if self.is_cell() {
-            r[n - 1] = Rounding::Up;
-        }
-        r
-    }
-
     /// The safe quantisation direction of this kind's values.
     pub fn rounding(self) -> Rounding {
         match self {
@@ -199,7 +188,7 @@ impl MapKind {
     }
 
     /// Whether the values are cone ratios (where the sqrt encoding is meant to be used).
-    pub fn is_ratio(self) -> bool {
+    pub(crate) fn is_ratio(self) -> bool {
         matches!(
             self,
             MapKind::Cone
@@ -243,7 +232,7 @@ impl Default for MapParams {
 
 impl MapParams {
     /// The parameters that matter to `kind` (others reset to defaults), for cache keys.
-    pub fn relevant(&self, kind: MapKind) -> MapParams {
+    pub(crate) fn relevant(&self, kind: MapKind) -> MapParams {
         let d = MapParams::default();
         match kind {
             MapKind::MultiCone | MapKind::PiecewiseCone | MapKind::CellMultiCone | MapKind::CellPiecewiseCone => {
@@ -324,15 +313,6 @@ impl Map {
             data: Vec::new(),
             mips: Vec::new(),
         }
-    }
-
-    /// The minimum-mip chain of a single-channel 2D map (conservative mip-mapping of cone
-    /// ratios and normals, GPU Gems 3 ch. 18), through [`max_mip::min_mip`]; level 0 is `self`.
-    pub fn with_min_mips(mut self) -> Map {
-        assert_eq!(self.channels, 1, "min-mips are built per channel");
-        let p = max_mip::min_mip(self.width, self.height, &self.data);
-        self.mips = p.levels[1..].iter().map(|l| Map::new_2d(l.w, l.h, 1, l.data.clone())).collect();
-        self
     }
 }
 
@@ -459,7 +439,7 @@ pub struct EncodedBundle {
 impl EncodedBundle {
     /// Encodes `map` and its mip levels with `enc`, each channel rounded in the safe
     /// direction for `kind` ([`kind_rounding`]).
-    pub fn from_map(map: &Map, kind: MapKind, enc: &Encoding) -> EncodedBundle {
+    pub(crate) fn from_map(map: &Map, kind: MapKind, enc: &Encoding) -> EncodedBundle {
         let r = kind_rounding(map, kind);
         EncodedBundle {
             base: encode::encode_channels(map, enc, &r),

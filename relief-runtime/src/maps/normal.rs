@@ -4,7 +4,7 @@ use crate::heightmap::{EdgeMode, HeightMap};
 
 /// Unit normals of the surface z = `depth_scale` · h(u, v) (texture units) by central
 /// differences, one per texel, row-major; neighbours resolved with `edge`.
-pub fn derived_normals(m: &HeightMap, depth_scale: f32, edge: EdgeMode) -> Vec<[f32; 3]> {
+pub(crate) fn derived_normals(m: &HeightMap, depth_scale: f32, edge: EdgeMode) -> Vec<[f32; 3]> {
     let (w, h) = (m.width as i64, m.height as i64);
     let mut out = Vec::with_capacity(m.data.len());
     for y in 0..h {

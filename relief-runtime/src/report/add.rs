@@ -27,11 +27,11 @@ use crate::scene::{scene_from_arg, Scene};
 use relief_dsl::spec::Lod;
 
 /// The `format` of a browser's results file.
-pub const FORMAT: &str = "relief-browser-results";
+pub(crate) const FORMAT: &str = "relief-browser-results";
 /// The version of [`FORMAT`] this relief reads.
-pub const VERSION: u64 = 1;
+pub(crate) const VERSION: u64 = 1;
 /// The log of adds, one JSON object per line ([`Added`]), in the sweep folder.
-pub const LOG: &str = "added.jsonl";
+pub(crate) const LOG: &str = "added.jsonl";
 
 /// A browser's results file.
 #[derive(Deserialize)]

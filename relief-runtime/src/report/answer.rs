@@ -78,14 +78,14 @@ pub(crate) struct Speed {
 
 impl Speed {
     /// What ranks: smaller is faster.
-    pub fn rank(&self) -> f64 {
+    pub(crate) fn rank(&self) -> f64 {
         self.paired.map_or(self.ms, |r| r.ratio)
     }
 
     /// `self`'s frame time over `other`'s: the quotient of the two paired ratios with its
     /// interval ([`Ratio::over`]; the baseline cancels), or the quotient of the medians as a
     /// point when either was timed alone.
-    pub fn over(&self, other: &Speed) -> Ratio {
+    pub(crate) fn over(&self, other: &Speed) -> Ratio {
         match (self.paired, other.paired) {
             (Some(a), Some(b)) => a.over(&b),
             _ => Ratio::point(self.ms / other.ms),
@@ -124,7 +124,7 @@ pub(crate) enum Clock {
 
 impl Clock {
     /// What the answer ranks by, in the table's words.
-    pub fn name(&self) -> &'static str {
+    pub(crate) fn name(&self) -> &'static str {
         match self {
             Clock::Paired(_) => RATIO_NAME,
             Clock::Median => SPEED_NAME,
@@ -183,7 +183,7 @@ pub(crate) struct Answer {
 
 impl Answer {
     /// The fastest exact row (t error ≤ 1e-6 and no ray that skipped geometry), else the most accurate.
-    pub fn exact_or_best(&self) -> Option<&Cand> {
+    pub(crate) fn exact_or_best(&self) -> Option<&Cand> {
         self.cands.iter().find(|c| c.err <= 1e-6 && c.skipped == 0.0).or_else(|| {
             self.cands.iter().min_by(|a, b| a.err.total_cmp(&b.err).then(a.speed.rank().total_cmp(&b.speed.rank())))
         })

@@ -40,13 +40,13 @@ use super::Data;
 
 /// The exact pipeline the page draws its |t − t_exact| view against (a max-mip traversal
 /// with enough steps to finish every ray, Tevs, Ihrke & Seidel 2008).
-pub const EXACT: &str = "maxmip(96)";
+pub(crate) const EXACT: &str = "maxmip(96)";
 
 /// The most probe rays shipped per scene and size: above it every `stride`-th ray.
-pub const MAX_PROBE_RAYS: usize = 65536;
+pub(crate) const MAX_PROBE_RAYS: usize = 65536;
 
 /// The stride of the shipped probe rays for `n` rays ([`MAX_PROBE_RAYS`]).
-pub fn probe_stride(n: usize) -> usize {
+pub(crate) fn probe_stride(n: usize) -> usize {
     n.div_ceil(MAX_PROBE_RAYS).max(1)
 }
 
@@ -63,7 +63,7 @@ pub(crate) struct Written {
 
 /// The `Params` members with their WGSL uniform-buffer offsets and sizes: `(name, type,
 /// offset, size)`, and the block's size.
-pub fn params_layout() -> (Vec<(&'static str, &'static str, usize, usize)>, usize) {
+pub(crate) fn params_layout() -> (Vec<(&'static str, &'static str, usize, usize)>, usize) {
     let mut off = 0usize;
     let mut out = Vec::new();
     let mut align_max = 1;

@@ -20,7 +20,7 @@ pub(crate) struct Data {
 
 impl Data {
     /// The rows of one adapter, read from `dir` (or merged into it), indexed.
-    pub fn from_rows(dir: &Path, mut rows: Vec<Row>, bad_lines: Vec<String>) -> Data {
+    pub(crate) fn from_rows(dir: &Path, mut rows: Vec<Row>, bad_lines: Vec<String>) -> Data {
         for r in rows.iter_mut() {
             r.metrics.pipeline = canonical(&r.metrics.pipeline);
         }
@@ -42,7 +42,7 @@ impl Data {
     /// The row of `pipeline` (canonical text) on `scene` (label, `scene:NAME`) at `size`,
     /// any status. On a scene at a named view (`scene:rocks@view=dissertation`) a pipeline
     /// that names no `lod` was measured under the view's, and is found under that name.
-    pub fn get(&self, pipeline: &str, scene: &str, size: u32) -> Option<&Row> {
+    pub(crate) fn get(&self, pipeline: &str, scene: &str, size: u32) -> Option<&Row> {
         let find = |p: &str| self.index.get(&(p.to_string(), scene.to_string(), size)).and_then(|&i| self.rows.get(i));
         find(pipeline).or_else(|| {
             let view = crate::scene::view::of_label(scene)?;
@@ -52,29 +52,29 @@ impl Data {
     }
 
     /// The same, only if it succeeded.
-    pub fn ok(&self, pipeline: &str, scene: &str, size: u32) -> Option<&Row> {
+    pub(crate) fn ok(&self, pipeline: &str, scene: &str, size: u32) -> Option<&Row> {
         self.get(pipeline, scene, size).filter(|r| r.status == "ok")
     }
 
     /// The ok rows of `pipeline` on `scene` at every size, smallest size first.
-    pub fn ok_any_size(&self, pipeline: &str, scene: &str) -> Vec<&Row> {
+    pub(crate) fn ok_any_size(&self, pipeline: &str, scene: &str) -> Vec<&Row> {
         let mut v: Vec<&Row> = self.sizes().into_iter().filter_map(|z| self.ok(pipeline, scene, z)).collect();
         v.sort_by_key(|r| r.metrics.size);
         v
     }
 
     /// Whether `r` is the row the index keeps for its (pipeline, scene, size).
-    pub fn is_indexed(&self, r: &Row) -> bool {
+    pub(crate) fn is_indexed(&self, r: &Row) -> bool {
         self.get(&r.metrics.pipeline, &r.metrics.scene, r.metrics.size).is_some_and(|x| std::ptr::eq(x, r))
     }
 
     /// Scene labels in first-seen order.
-    pub fn scenes(&self) -> Vec<String> {
+    pub(crate) fn scenes(&self) -> Vec<String> {
         self.distinct(|r| r.metrics.scene.clone())
     }
 
     /// Sizes in first-seen order.
-    pub fn sizes(&self) -> Vec<u32> {
+    pub(crate) fn sizes(&self) -> Vec<u32> {
         let mut out: Vec<u32> = Vec::new();
         for r in &self.rows {
             if !out.contains(&r.metrics.size) {
@@ -85,7 +85,7 @@ impl Data {
     }
 
     /// The sizes with rows on `scene`, first-seen order.
-    pub fn sizes_of(&self, scene: &str) -> Vec<u32> {
+    pub(crate) fn sizes_of(&self, scene: &str) -> Vec<u32> {
         let mut out: Vec<u32> = Vec::new();
         for r in self.rows.iter().filter(|r| r.metrics.scene == scene) {
             if !out.contains(&r.metrics.size) {
@@ -95,7 +95,7 @@ impl Data {
         out
     }
 
-    pub fn distinct(&self, f: impl Fn(&Row) -> String) -> Vec<String> {
+    pub(crate) fn distinct(&self, f: impl Fn(&Row) -> String) -> Vec<String> {
         let mut out: Vec<String> = Vec::new();
         for r in &self.rows {
             let v = f(r);
@@ -108,7 +108,7 @@ impl Data {
 
     /// The scene the conclusions are checked on: Lion when measured, else the scene with the
     /// most ok rows.
-    pub fn main_scene(&self) -> Option<String> {
+    pub(crate) fn main_scene(&self) -> Option<String> {
         let scenes = self.scenes();
         if scenes.iter().any(|s| s == "scene:lion") {
             return Some("scene:lion".into());
@@ -219,15 +219,15 @@ pub(crate) enum Metric {
 }
 
 impl Metric {
-    pub const ALL: [Metric; 3] = [Metric::Mse, Metric::RefT, Metric::Skipped];
-    pub fn name(self) -> &'static str {
+    pub(crate) const ALL: [Metric; 3] = [Metric::Mse, Metric::RefT, Metric::Skipped];
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Metric::Mse => "mse_dissertation_mean",
             Metric::RefT => "ref_err_t_rms",
             Metric::Skipped => "skipped_rate",
         }
     }
-    pub fn of(self, r: &Row) -> f64 {
+    pub(crate) fn of(self, r: &Row) -> f64 {
         match self {
             Metric::Mse => r.metrics.mse_dissertation_mean,
             Metric::RefT => r.metrics.ref_err_t_rms,

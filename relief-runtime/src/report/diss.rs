@@ -26,15 +26,15 @@ pub(crate) struct DissRow {
 }
 
 impl DissRow {
-    pub fn mse_f(&self) -> Option<f64> {
+    pub(crate) fn mse_f(&self) -> Option<f64> {
         self.mse.trim().parse().ok()
     }
-    pub fn ms_f(&self) -> Option<f64> {
+    pub(crate) fn ms_f(&self) -> Option<f64> {
         self.frame_ms.trim().parse().ok()
     }
 
     /// Whether our pipeline is this configuration. The CSV's `soft_height` is our `soft`.
-    pub fn matches(&self, p: &Pipeline) -> bool {
+    pub(crate) fn matches(&self, p: &Pipeline) -> bool {
         fn name(d: &str, ours: &str) -> bool {
             let d = d.trim();
             d.is_empty() || d == ours || (d == "soft_height" && ours == "soft")
@@ -59,17 +59,17 @@ pub(crate) struct Diss {
 }
 
 impl Diss {
-    pub fn load() -> Diss {
+    pub(crate) fn load() -> Diss {
         Diss { rows: parse(CSV) }
     }
 
     /// The rows of table `table` (`4.1` …).
-    pub fn table(&self, table: &str) -> Vec<&DissRow> {
+    pub(crate) fn table(&self, table: &str) -> Vec<&DissRow> {
         self.rows.iter().filter(|r| r.table == table).collect()
     }
 
     /// The first row of `table` that is `p`.
-    pub fn find(&self, table: &str, p: &Pipeline) -> Option<&DissRow> {
+    pub(crate) fn find(&self, table: &str, p: &Pipeline) -> Option<&DissRow> {
         self.rows.iter().find(|r| r.table == table && r.matches(p))
     }
 }

@@ -15,12 +15,12 @@ pub(crate) struct Rect {
 
 impl Rect {
     /// A box of size `w × h` centred on (`cx`, `cy`).
-    pub fn around(cx: f64, cy: f64, w: f64, h: f64) -> Rect {
+    pub(crate) fn around(cx: f64, cy: f64, w: f64, h: f64) -> Rect {
         Rect { x: cx - w / 2.0, y: cy - h / 2.0, w, h }
     }
 
     /// Whether the two boxes share any area (touching edges do not count).
-    pub fn intersects(&self, o: &Rect) -> bool {
+    pub(crate) fn intersects(&self, o: &Rect) -> bool {
         self.x < o.x + o.w && o.x < self.x + self.w && self.y < o.y + o.h && o.y < self.y + self.h
     }
 
@@ -31,7 +31,7 @@ impl Rect {
     }
 
     /// The point of the box nearest to (`px`, `py`), where a leader line ends.
-    pub fn nearest(&self, px: f64, py: f64) -> (f64, f64) {
+    pub(crate) fn nearest(&self, px: f64, py: f64) -> (f64, f64) {
         (px.clamp(self.x, self.x + self.w), py.clamp(self.y, self.y + self.h))
     }
 }

@@ -42,7 +42,7 @@ pub(crate) struct Frame {
 
 impl Frame {
     /// `3. linear(15)`, or the pipeline alone.
-    pub fn numbered(&self) -> String {
+    pub(crate) fn numbered(&self) -> String {
         match self.number {
             Some(n) => format!("{n}. {}", self.label),
             None => self.label.clone(),

@@ -37,7 +37,7 @@ pub(crate) struct Entry {
 
 impl ReportTable {
     /// Our row of entry `i` (any status).
-    pub fn row<'a>(&self, data: &'a Data, i: usize) -> Option<&'a Row> {
+    pub(crate) fn row<'a>(&self, data: &'a Data, i: usize) -> Option<&'a Row> {
         let e = self.entries.get(i)?;
         data.get(&e.pipeline.as_ref()?.to_string(), &self.scene, self.size?)
     }

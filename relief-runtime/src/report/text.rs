@@ -60,7 +60,7 @@ pub(crate) struct TextTable {
 }
 
 impl TextTable {
-    pub fn to_markdown(&self, level: usize) -> String {
+    pub(crate) fn to_markdown(&self, level: usize) -> String {
         let mut md = String::new();
         if !self.title.is_empty() {
             let _ = writeln!(md, "{} {}\n", "#".repeat(level.max(1)), self.title);
@@ -84,7 +84,7 @@ impl TextTable {
     }
 
     /// The table with its heading (`<hN id=…>` from the title) and notes.
-    pub fn to_html(&self, level: usize) -> String {
+    pub(crate) fn to_html(&self, level: usize) -> String {
         let mut h = String::new();
         let lv = level.clamp(1, 6);
         if !self.title.is_empty() {
@@ -102,7 +102,7 @@ impl TextTable {
 
     /// The `<table>` alone, sortable by the page's script, with id `id`. A cell that starts
     /// with a verdict (`holds`, `does not hold`, `not measured`) shows it as a badge.
-    pub fn table_html(&self, id: &str) -> String {
+    pub(crate) fn table_html(&self, id: &str) -> String {
         let mut h = String::new();
         let _ = write!(h, "<table class=\"sortable\" id=\"{id}\">\n<thead><tr>");
         for c in &self.header {

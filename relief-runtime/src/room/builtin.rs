@@ -9,7 +9,7 @@ use crate::heightmap::HeightMap;
 use crate::scene::Rgba8Image;
 
 /// Texels a side of the procedural maps by default.
-pub const DEFAULT_MAP_SIZE: usize = 128;
+pub(crate) const DEFAULT_MAP_SIZE: usize = 128;
 
 /// The built-in rooms.
 pub fn names() -> &'static [&'static str] {
@@ -38,7 +38,7 @@ fn bevel(dist: f32, width: f32, lo: f32, hi: f32) -> f32 {
 }
 
 /// Bricks: 8 rows, 4 bricks a row, every other row offset by half a brick; mortar at 0.45.
-pub fn bricks(n: usize) -> HeightMap {
+pub(crate) fn bricks(n: usize) -> HeightMap {
     with_border(n, |u, v| {
         let rows = 8.0;
         let row = (v * rows).floor();
@@ -51,7 +51,7 @@ pub fn bricks(n: usize) -> HeightMap {
 }
 
 /// Panels: 2 × 3 recessed panels, floor at 0.35, bevels 45°-like.
-pub fn panels(n: usize) -> HeightMap {
+pub(crate) fn panels(n: usize) -> HeightMap {
     with_border(n, |u, v| {
         let (cu, cv) = ((u * 2.0).fract(), (v * 3.0).fract());
         let d = ((cu.min(1.0 - cu)) / 2.0).min(cv.min(1.0 - cv) / 3.0);
@@ -70,7 +70,7 @@ pub fn tiles(n: usize) -> HeightMap {
 }
 
 /// Coffers: 3 × 3 recessed squares, down to 0.2.
-pub fn coffers(n: usize) -> HeightMap {
+pub(crate) fn coffers(n: usize) -> HeightMap {
     with_border(n, |u, v| {
         let (cu, cv) = ((u * 3.0).fract(), (v * 3.0).fract());
         let d = (cu.min(1.0 - cu).min(cv.min(1.0 - cv))) / 3.0;

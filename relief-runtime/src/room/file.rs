@@ -40,7 +40,7 @@ use crate::scene::file::{check_toml_keys, load_normal_map, SceneFileError};
 use crate::scene::Rgba8Image;
 
 /// The keys of a room file and the type each holds (`*` stands for a wall's name).
-pub const KEYS: &[(&str, &str)] = &[
+pub(crate) const KEYS: &[(&str, &str)] = &[
     ("name", "string"),
     ("size", "array of 3 numbers"),
     ("ambient", "number"),

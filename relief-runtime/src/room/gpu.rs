@@ -37,7 +37,7 @@ impl RoomProgram {
     }
 
     /// Compiles `p` as a room module with `options` (e.g. light scattering).
-    pub fn new_with(p: &Pipeline, options: &RoomOptions) -> Result<RoomProgram, CompileError> {
+    pub(crate) fn new_with(p: &Pipeline, options: &RoomOptions) -> Result<RoomProgram, CompileError> {
         let rc = compile_room(p, options)?;
         let c = &rc.compiled;
         let wgsl = relief_dsl::emit::wgsl(c)?;
@@ -109,7 +109,7 @@ impl RoomTextures {
 }
 
 /// The `Params` and [`RoomParams`] blocks of a room seen at `aspect`.
-pub fn room_params(room: &Room, aspect: f32) -> (Params, RoomParams) {
+pub(crate) fn room_params(room: &Room, aspect: f32) -> (Params, RoomParams) {
     let c = room.camera.position;
     let (l, kind) = match room.light {
         RoomLight::Point(p) => (p, 1.0),
@@ -203,7 +203,7 @@ fn bind_group(
 }
 
 /// Renders the room with interior mapping: `frames` timed frames after `warmup`, `size²`.
-pub fn render_interior(
+pub(crate) fn render_interior(
     gpu: &Gpu,
     prog: &RoomProgram,
     room: &Room,

@@ -106,7 +106,7 @@ pub fn measure_room(
 }
 
 /// The frame with alpha made opaque (the baseline's alpha holds wall indices).
-pub fn opaque(rgba: &[u8]) -> Vec<u8> {
+pub(crate) fn opaque(rgba: &[u8]) -> Vec<u8> {
     let mut out = rgba.to_vec();
     for px in out.chunks_mut(4) {
         px[3] = 255;

@@ -90,7 +90,7 @@ impl RoomCamera {
     }
     /// The world direction (unit) through pixel `(x, y)` of a `size²` frame (row 0 at the
     /// top), through the pixel's centre.
-    pub fn pixel_dir(&self, x: u32, y: u32, size: u32) -> Vec3 {
+    pub(crate) fn pixel_dir(&self, x: u32, y: u32, size: u32) -> Vec3 {
         let ndc_x = (x as f32 + 0.5) / size as f32 * 2.0 - 1.0;
         let ndc_y = 1.0 - (y as f32 + 0.5) / size as f32 * 2.0;
         let (f, r, u) = self.basis();
@@ -221,7 +221,7 @@ impl Room {
     /// Wall `k` as a scene (its maps, edge mode clamp), for uploading and the reference.
     /// The scene's `depth_scale` is the wall's depth over its mean extent (texture units),
     /// which the derived normal map uses.
-    pub fn wall_scene(&self, k: usize) -> Scene {
+    pub(crate) fn wall_scene(&self, k: usize) -> Scene {
         let w = &self.walls[k];
         let f = wall_frame(k, self.size64());
         let extent = (dot(f.u_edge, f.u_edge).sqrt() * dot(f.v_edge, f.v_edge).sqrt()).sqrt() as f32;
@@ -289,7 +289,7 @@ impl Room {
 }
 
 /// Texels on a map's border lower than this below 1 make [`border_warnings`] warn.
-pub const BORDER_TOLERANCE: f32 = 1e-3;
+pub(crate) const BORDER_TOLERANCE: f32 = 1e-3;
 
 /// One warning per wall whose height map is not at height 1 on its whole border (Amaro & Gustafsson 2022
 /// §4: the walls would not meet at the room's edges). Empty when every border is at 1.

@@ -151,12 +151,12 @@ pub const REAL_SCENES: &[RealScene] = &[
 ];
 
 /// The built-in real scene called `name` (without `scene:`), if there is one.
-pub fn find(name: &str) -> Option<&'static RealScene> {
+pub(crate) fn find(name: &str) -> Option<&'static RealScene> {
     REAL_SCENES.iter().find(|r| r.name == name)
 }
 
 /// The map decoded at its native size: heights from the alpha, normals from the RGB.
-pub fn decode(r: &RealScene) -> (HeightMap, NormalMap) {
+pub(crate) fn decode(r: &RealScene) -> (HeightMap, NormalMap) {
     let img = image::load_from_memory_with_format(r.bytes, image::ImageFormat::Tga)
         .unwrap_or_else(|e| panic!("embedded {} does not decode: {e}", r.file))
         .to_rgba8();
@@ -170,7 +170,7 @@ pub fn decode(r: &RealScene) -> (HeightMap, NormalMap) {
 
 /// The built-in real scene `r` with `size × size` texels (default: native), box-filtered
 /// down by a whole factor (see the module docs).
-pub fn real_scene(r: &RealScene, size: Option<usize>) -> Result<Scene, SceneError> {
+pub(crate) fn real_scene(r: &RealScene, size: Option<usize>) -> Result<Scene, SceneError> {
     let size = size.unwrap_or(r.size);
     if size == 0 {
         return Err(SceneError::ZeroSize);
@@ -189,7 +189,7 @@ pub fn real_scene(r: &RealScene, size: Option<usize>) -> Result<Scene, SceneErro
 }
 
 /// Mean of each `k × k` block (the map's side must be a multiple of `k`).
-pub fn box_down(m: &HeightMap, k: usize) -> HeightMap {
+pub(crate) fn box_down(m: &HeightMap, k: usize) -> HeightMap {
     let (w, h) = (m.width / k, m.height / k);
     HeightMap::from_fn(w, h, |x, y| {
         let mut sum = 0.0f64;
@@ -222,7 +222,7 @@ fn box_down_normals(m: &NormalMap, k: usize) -> NormalMap {
 /// What a scene is: one of the real maps, a procedural stand-in for one of the dissertation's
 /// scenes, or a stress scene (or a user's file).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum SceneKind {
+pub(crate) enum SceneKind {
     /// A real height map (a built-in one or a user's file or scene file).
     Real,
     /// A procedural stand-in for one of the dissertation's scenes.
@@ -233,7 +233,7 @@ pub enum SceneKind {
 
 impl SceneKind {
     /// `real`, `stand-in` or `stress`.
-    pub fn label(self) -> &'static str {
+    pub(crate) fn label(self) -> &'static str {
         match self {
             SceneKind::Real => "real",
             SceneKind::StandIn => "stand-in",
@@ -244,7 +244,7 @@ impl SceneKind {
 
 /// The kind of the scene named `name` (`scene:NAME`, a bare built-in NAME, or anything else,
 /// which is a user's file and counts as real). Any `@…` override suffix is ignored.
-pub fn scene_kind(name: &str) -> SceneKind {
+pub(crate) fn scene_kind(name: &str) -> SceneKind {
     let base = name.split('@').next().unwrap_or(name);
     let bare = base.strip_prefix("scene:").unwrap_or(base);
     if find(bare).is_some() {

@@ -29,7 +29,7 @@ impl Camera {
     /// The default camera for a quad of side `tiling`: 45° from the normal, azimuth -90° (the
     /// eye on the -v side, so +u runs right and +v runs up the screen), 40° vertical field of
     /// view, at a distance where the quad fills most of a square frame.
-    pub fn default_for(tiling: f32) -> Camera {
+    pub(crate) fn default_for(tiling: f32) -> Camera {
         Camera {
             angle_deg: 45.0,
             azimuth_deg: -90.0,
@@ -55,7 +55,7 @@ impl Camera {
     }
 
     /// Near and far clip distances: `distance / 100` and `distance * 100`.
-    pub fn near_far(&self) -> (f32, f32) {
+    pub(crate) fn near_far(&self) -> (f32, f32) {
         (self.distance * 0.01, self.distance * 100.0)
     }
 
@@ -74,7 +74,7 @@ impl Camera {
     /// The world direction (unit) of the ray through NDC point `(ndc_x, ndc_y)`. Built from
     /// the camera basis directly (equal, up to rounding, to unprojecting with
     /// [`Camera::view_proj`], without its loss of precision).
-    pub fn ray_dir(&self, ndc_x: f32, ndc_y: f32, aspect: f32) -> Vec3 {
+    pub(crate) fn ray_dir(&self, ndc_x: f32, ndc_y: f32, aspect: f32) -> Vec3 {
         let (f, r, u) = self.basis();
         let ty = (0.5 * self.fov_deg.to_radians()).tan();
         (f + ndc_x * ty * aspect * r + ndc_y * ty * u).normalize()
@@ -95,7 +95,7 @@ impl Camera {
     /// `compose::lod_level_fn`, the shader twin of this function; the operations are the
     /// same, in f32, so that both round to the same level away from ties. `-inf` for
     /// `pixel_size` 0.
-    pub fn footprint_lambda(&self, entry: glam::Vec2, pixel_size: f32, size: [usize; 2]) -> f32 {
+    pub(crate) fn footprint_lambda(&self, entry: glam::Vec2, pixel_size: f32, size: [usize; 2]) -> f32 {
         let (_, right, up) = self.basis();
         let d = entry.extend(0.0) - self.camera_position();
         let dist = d.dot(up.cross(right));
@@ -110,7 +110,7 @@ impl Camera {
 /// The whole mip level of footprint `lambda` ([`Camera::footprint_lambda`]) in a chain of
 /// `levels` levels: `clamp(round(λ), 0, levels − 1)`, halves rounded to even as WGSL's
 /// `round` does.
-pub fn footprint_level(lambda: f32, levels: usize) -> usize {
+pub(crate) fn footprint_level(lambda: f32, levels: usize) -> usize {
     let last = levels.saturating_sub(1) as f32;
     lambda.round_ties_even().clamp(0.0, last) as usize
 }

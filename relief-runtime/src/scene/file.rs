@@ -44,7 +44,7 @@ use crate::scene::{Camera, NormalMap, Rgba8Image, Scene, View};
 
 /// The keys of a scene file with the type each holds: `number`, `string`, `table` or
 /// `array of 3 numbers`.
-pub const KEYS: &[(&str, &str)] = &[
+pub(crate) const KEYS: &[(&str, &str)] = &[
     ("name", "string"),
     ("height_map", "table"),
     ("height_map.path", "string"),
@@ -321,13 +321,13 @@ fn build(path: &Path, f: FileSpec) -> Result<Scene, KeyError> {
 /// is wide. Papers use 0.02 to 0.3; far deeper, a ray crosses so many texels that the exact
 /// reference cannot end its traversal (1e30 did not, after seconds), so such a value is
 /// refused before any work.
-pub const MAX_DEPTH_SCALE: f32 = 10.0;
+pub(crate) const MAX_DEPTH_SCALE: f32 = 10.0;
 
 /// The largest tiling accepted (repeats across the quad), for the same reason.
-pub const MAX_TILING: f32 = 1000.0;
+pub(crate) const MAX_TILING: f32 = 1000.0;
 
 /// A depth scale in (0, [`MAX_DEPTH_SCALE`]], or the message naming the range.
-pub fn check_depth_scale(d: f32) -> Result<(), String> {
+pub(crate) fn check_depth_scale(d: f32) -> Result<(), String> {
     if d.is_finite() && d > 0.0 && d <= MAX_DEPTH_SCALE {
         Ok(())
     } else {
@@ -338,7 +338,7 @@ pub fn check_depth_scale(d: f32) -> Result<(), String> {
 }
 
 /// A tiling in (0, [`MAX_TILING`]], or the message naming the range.
-pub fn check_tiling(t: f32) -> Result<(), String> {
+pub(crate) fn check_tiling(t: f32) -> Result<(), String> {
     if t.is_finite() && t > 0.0 && t <= MAX_TILING {
         Ok(())
     } else {
@@ -378,7 +378,7 @@ fn load_albedo(path: &Path) -> Result<Rgba8Image, String> {
 /// Tangent-space normals from RGBA8 texels: c = 2·rgb/255 − 1, red along +u, blue up, green
 /// towards the top of the image (−v, `green_up`, the POM sample's maps and most tools') or
 /// towards the bottom (+v); renormalised (a zero vector becomes +z).
-pub fn rgb_to_normals(rgba: &[u8], green_up: bool) -> Vec<[f32; 3]> {
+pub(crate) fn rgb_to_normals(rgba: &[u8], green_up: bool) -> Vec<[f32; 3]> {
     let gy = if green_up { -1.0 } else { 1.0 };
     rgba.chunks_exact(4)
         .map(|p| {
@@ -389,7 +389,7 @@ pub fn rgb_to_normals(rgba: &[u8], green_up: bool) -> Vec<[f32; 3]> {
 }
 
 /// A tangent-space normal map from an image's RGB, see [`rgb_to_normals`].
-pub fn load_normal_map(path: &Path, green_up: bool) -> Result<NormalMap, String> {
+pub(crate) fn load_normal_map(path: &Path, green_up: bool) -> Result<NormalMap, String> {
     let img = open_rgba(path)?;
     let (width, height) = (img.width() as usize, img.height() as usize);
     Ok(NormalMap { width, height, data: rgb_to_normals(img.as_raw(), green_up) })
@@ -465,7 +465,7 @@ impl Overrides {
     /// Reads an override list as [`Overrides::suffix`] writes it, without the `@`
     /// (`angle=70`, `depth_scale=0.05,angle=60`): its inverse. Values are not range-checked
     /// here ([`Overrides::check`] does that). Errors name the bad part.
-    pub fn parse_suffix(text: &str) -> Result<Overrides, String> {
+    pub(crate) fn parse_suffix(text: &str) -> Result<Overrides, String> {
         let mut o = Overrides::default();
         for part in text.split(',') {
             let (k, v) = part.split_once('=').ok_or_else(|| format!("`{part}` is not KEY=VALUE"))?;
@@ -494,7 +494,7 @@ impl Overrides {
 
     /// The keys both `self` and `other` set (`angle`, …; a named view sets `depth_scale` and
     /// `angle`), for refusing one that would silently replace the other.
-    pub fn shared_keys(&self, other: &Overrides) -> Vec<&'static str> {
+    pub(crate) fn shared_keys(&self, other: &Overrides) -> Vec<&'static str> {
         // A named view sets the depth scale and the angle too.
         let depth = |o: &Overrides| o.depth_scale.is_some() || o.view.is_some();
         let angle = |o: &Overrides| o.angle.is_some() || o.view.is_some();
@@ -537,7 +537,7 @@ impl Overrides {
 /// `None` when there is no `@` or what follows does not read as an override list (a file
 /// name with an `@` in it is then a file name); an override list with a bad value is `Some`
 /// with the error.
-pub fn split_view(arg: &str) -> Option<(&str, Result<Overrides, String>)> {
+pub(crate) fn split_view(arg: &str) -> Option<(&str, Result<Overrides, String>)> {
     let (base, view) = arg.rsplit_once('@')?;
     let keys = ["view=", "depth_scale=", "tiling=", "angle=", "azimuth="];
     if base.is_empty() || !view.split(',').all(|p| keys.iter().any(|k| p.trim_start().starts_with(k))) {

@@ -32,20 +32,20 @@ use glam::Vec3;
 
 use crate::heightmap::{EdgeMode, HeightMap, HeightMapError, LoadOptions};
 
-pub mod builtin;
-pub mod camera;
-pub mod file;
-pub mod procedural;
-pub mod view;
+pub(crate) mod builtin;
+pub(crate) mod camera;
+pub(crate) mod file;
+pub(crate) mod procedural;
+pub(crate) mod view;
 
-pub use builtin::{scene_kind, SceneKind, REAL_SCENES};
+pub(crate) use builtin::scene_kind;
+pub use builtin::{RealScene, REAL_SCENES};
 pub use camera::Camera;
-pub use file::{load_scene_file, Overrides, SceneFileError};
-pub use procedural::{checker, collage, lion, rock_bump, self_shadow, shapes, spikes, step, walls};
+pub use file::{camera_json, load_scene_file, Overrides, SceneFileError};
 pub use view::View;
 
 /// Side of the procedural height maps when no size is asked for.
-pub const DEFAULT_SIZE: usize = 256;
+pub(crate) const DEFAULT_SIZE: usize = 256;
 
 /// An RGBA8 image, row-major, 4 bytes per texel (r, g, b, a), row 0 at v = 0.
 #[derive(Clone, Debug, PartialEq)]
@@ -128,7 +128,7 @@ impl Scene {
     }
 
     /// Sets the tiling and re-centres the camera target on the new quad (distance scaled).
-    pub fn with_tiling(mut self, tiling: f32) -> Scene {
+    pub(crate) fn with_tiling(mut self, tiling: f32) -> Scene {
         let old = self.tiling;
         self.tiling = tiling;
         self.camera.target = Vec3::new(0.5 * tiling, 0.5 * tiling, 0.0);
@@ -162,7 +162,7 @@ impl Scene {
     /// `[0, tiling]²` on z = 0 (boundary included), in row-major pixel order. Pixels that miss
     /// the quad get no ray. Pixel (x, y) has NDC `(2(x + ½)/w - 1, 1 - 2(y + ½)/h)`; every ray
     /// carries the frame's [`Camera::pixel_size`].
-    pub fn rays_wh(&self, width: u32, height: u32) -> Vec<ProbeRay> {
+    pub(crate) fn rays_wh(&self, width: u32, height: u32) -> Vec<ProbeRay> {
         let aspect = width as f32 / height as f32;
         let eye = self.camera.camera_position();
         let pixel_size = self.camera.pixel_size(height);
@@ -182,7 +182,7 @@ impl Scene {
 
     /// The tangent-space probe ray for a world ray from `eye` along `v` (any length), if it
     /// meets the quad from above. Pixel fields are 0.
-    pub fn tangent_ray(&self, eye: Vec3, v: Vec3) -> Option<ProbeRay> {
+    pub(crate) fn tangent_ray(&self, eye: Vec3, v: Vec3) -> Option<ProbeRay> {
         let from_above = eye.z > 0.0 && v.z < 0.0; // false for NaN too
         if !from_above {
             return None;
@@ -201,7 +201,7 @@ impl Scene {
 /// The built-in scenes, with what each stresses: the real maps (see [`REAL_SCENES`]), the
 /// procedural stand-ins for the dissertation's scenes, the stress scenes. `scene:NAME` on the
 /// command line. The kind of each is [`scene_kind`].
-pub const SCENES: &[(&str, &str)] = &[
+pub(crate) const SCENES: &[(&str, &str)] = &[
     ("rocks", "real: rounded rocks (POM sample, 256², depth 0.1); the dissertation's Rock Bump"),
     ("stones", "real: flat paving stones (POM sample, 256², depth 0.02); a vertical seam"),
     ("wall", "real: brick wall (POM sample, 256², depth 0.06)"),
@@ -223,7 +223,7 @@ pub const SCENES: &[(&str, &str)] = &[
 ];
 
 /// The names of [`SCENES`].
-pub fn scene_names() -> Vec<&'static str> {
+pub(crate) fn scene_names() -> Vec<&'static str> {
     SCENES.iter().map(|(n, _)| *n).collect()
 }
 
@@ -251,7 +251,7 @@ pub fn scene_spec(arg: &str) -> String {
 }
 
 /// [`scene_from_arg`] with a texel size for procedural scenes and load options for files.
-pub fn scene_from_arg_with(arg: &str, size: Option<usize>, options: &LoadOptions) -> Result<Scene, SceneError> {
+pub(crate) fn scene_from_arg_with(arg: &str, size: Option<usize>, options: &LoadOptions) -> Result<Scene, SceneError> {
     // `rocks@angle=70`: the scene with that view, named as `--angle 70` names it.
     if let Some((base, view)) = file::split_view(arg) {
         let view = view.map_err(|e| SceneError::View { arg: arg.to_string(), message: e })?;

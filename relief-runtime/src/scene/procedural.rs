@@ -106,7 +106,7 @@ fn uv(x: usize, y: usize, n: usize) -> (f32, f32) {
 /// alternating depths, a raised face with carved eyes and a mouth groove. Every feature edge
 /// is a one-texel discontinuity: stresses sharp edges and grooves (methods that step over a
 /// thin groove, or blur a cliff, show here), like the dissertation's carved Lion.
-pub fn lion(n: usize) -> HeightMap {
+pub(crate) fn lion(n: usize) -> HeightMap {
     HeightMap::from_fn(n, n, |x, y| {
         let (u, v) = uv(x, y, n);
         let (dx, dy) = (u - 0.5, v - 0.5);
@@ -154,7 +154,7 @@ pub fn lion(n: usize) -> HeightMap {
 /// Self-shadow: square pillars of different heights (0.55 to 1) and widths (about 2 to 15 texels at
 /// 256²) on a low, slightly rough floor. Stresses long shadows from tall occluders, deep
 /// narrow gaps where rays travel far, and tall thin features a coarse step misses.
-pub fn self_shadow(n: usize) -> HeightMap {
+pub(crate) fn self_shadow(n: usize) -> HeightMap {
     let cells = 6u32;
     HeightMap::from_fn(n, n, |x, y| {
         let (u, v) = uv(x, y, n);
@@ -176,7 +176,7 @@ pub fn self_shadow(n: usize) -> HeightMap {
 /// Collage: four quadrants of different character. Terraced pyramid (sharp, flat steps),
 /// smooth sine waves, hemispherical domes (smooth tops, sharp base contours), rough fractal
 /// noise. Stresses a method's consistency across sharp and smooth content in one frame.
-pub fn collage(n: usize) -> HeightMap {
+pub(crate) fn collage(n: usize) -> HeightMap {
     use std::f32::consts::TAU;
     HeightMap::from_fn(n, n, |x, y| {
         let (u, v) = uv(x, y, n);
@@ -202,7 +202,7 @@ pub fn collage(n: usize) -> HeightMap {
 /// Shapes: flat plateaus joined by gentle slopes: a truncated pyramid, a round mesa with a
 /// smooth shoulder, a long ramp, on a flat base. Stresses flat regions (where secant and
 /// interval refinements are exact) against gentle slopes seen at grazing angles.
-pub fn shapes(n: usize) -> HeightMap {
+pub(crate) fn shapes(n: usize) -> HeightMap {
     HeightMap::from_fn(n, n, |x, y| {
         let (u, v) = uv(x, y, n);
         let mut h: f32 = 0.2;
@@ -223,7 +223,7 @@ pub fn shapes(n: usize) -> HeightMap {
 /// Rock bump: rounded stones (a periodic Worley pattern: high in the middle of each cell, soft
 /// grooves where cells meet) with small smooth bumps on top. Everything is smooth; stresses
 /// curved surfaces where linear search's staircase and binary refinement are easy to see.
-pub fn rock_bump(n: usize) -> HeightMap {
+pub(crate) fn rock_bump(n: usize) -> HeightMap {
     let g = 5u32;
     HeightMap::from_fn(n, n, |x, y| {
         let (u, v) = uv(x, y, n);
@@ -256,7 +256,7 @@ pub fn rock_bump(n: usize) -> HeightMap {
 /// Spikes: a flat floor at 0 with isolated single-texel spikes at height 1 (about one texel
 /// in 64, never adjacent). Under bilinear sampling each is a one-texel-wide pyramid: the
 /// thinnest feature there is; any method that steps more than a texel may miss it.
-pub fn spikes(n: usize) -> HeightMap {
+pub(crate) fn spikes(n: usize) -> HeightMap {
     HeightMap::from_fn(n, n, |x, y| {
         let (x, y) = (x as u32, y as u32);
         // One candidate per 8x8 block, at a hashed position inside the block's inner 6x6.
@@ -273,18 +273,18 @@ pub fn spikes(n: usize) -> HeightMap {
 
 /// Walls: one-texel-thick walls of height 1 on a square grid (spacing n/16 texels, at least
 /// 4) over a floor at 0. Stresses thin occluders seen at grazing angles.
-pub fn walls(n: usize) -> HeightMap {
+pub(crate) fn walls(n: usize) -> HeightMap {
     let k = (n / 16).max(4);
     HeightMap::from_fn(n, n, |x, y| if x % k == 0 || y % k == 0 { 1.0 } else { 0.0 })
 }
 
 /// Step: 0 for u < 1/2, 1 for u >= 1/2 (with repeat, a second cliff at u = 0).
-pub fn step(n: usize) -> HeightMap {
+pub(crate) fn step(n: usize) -> HeightMap {
     HeightMap::from_fn(n, n, |x, _| if 2 * x < n { 0.0 } else { 1.0 })
 }
 
 /// Checker: 0/1 squares of side n/8 texels (at least 1).
-pub fn checker(n: usize) -> HeightMap {
+pub(crate) fn checker(n: usize) -> HeightMap {
     let k = (n / 8).max(1);
     HeightMap::from_fn(n, n, |x, y| if (x / k + y / k).is_multiple_of(2) { 0.0 } else { 1.0 })
 }

@@ -81,7 +81,7 @@ impl View {
 /// The named view a scene label carries (`scene:rocks@view=dissertation`), if any: what a
 /// reader of results needs to know which `lod` the scene applied to the pipelines measured
 /// on it.
-pub fn of_label(label: &str) -> Option<View> {
+pub(crate) fn of_label(label: &str) -> Option<View> {
     let (_, suffix) = label.rsplit_once('@')?;
     suffix.split(',').find_map(|p| p.trim().strip_prefix("view=")).and_then(|n| View::parse(n).ok())
 }

@@ -63,12 +63,12 @@ pub const FIVE_SCENES: [&str; 5] = ["lion", "self_shadow", "collage", "four", "r
 
 /// The procedural stand-ins that real maps replaced in [`FIVE_SCENES`] (Shapes, Rock Bump),
 /// measured next to them in the figures that name those scenes.
-pub const REPLACED_STAND_INS: [&str; 2] = ["shapes", "rock_bump"];
+pub(crate) const REPLACED_STAND_INS: [&str; 2] = ["shapes", "rock_bump"];
 
 /// The scenes a named grid is measured on unless `--scene` says otherwise: Lion, the main
 /// test scene, except where the dissertation names others (then the real map where relief
 /// has one, and the replaced stand-in next to it).
-pub fn default_scenes(name: &str) -> Vec<String> {
+pub(crate) fn default_scenes(name: &str) -> Vec<String> {
     let f47: Vec<&str> = FIVE_SCENES.iter().chain(&REPLACED_STAND_INS).copied().collect();
     let v: &[&str] = match name {
         "f4.5" => &["rocks", "self_shadow", "rock_bump"],
@@ -83,7 +83,7 @@ pub fn default_scenes(name: &str) -> Vec<String> {
 /// The views a built-in grid repeats each of its scenes at, as scene-argument suffixes
 /// ([`crate::scene::file::split_view`]); `""` is the scene's own camera. `frontier`: the
 /// scenes' own 45° (every built-in scene's camera) and 70° from the normal.
-pub fn default_views(name: &str) -> &'static [&'static str] {
+pub(crate) fn default_views(name: &str) -> &'static [&'static str] {
     match name {
         "frontier" => &["", "@angle=70"],
         DISSERTATION_VIEW => &["@view=dissertation"],
@@ -94,11 +94,11 @@ pub fn default_views(name: &str) -> &'static [&'static str] {
 /// The grid that repeats some of the dissertation's tables at the dissertation's own view
 /// ([`crate::scene::View::Dissertation`]: depth scale 0.05, 20° from the normal, 25° field
 /// of view, `lod=auto`), on Lion and the two real maps.
-pub const DISSERTATION_VIEW: &str = "dissertation-view";
+pub(crate) const DISSERTATION_VIEW: &str = "dissertation-view";
 
 /// The tables [`DISSERTATION_VIEW`] repeats: linear search (4.1), binary (4.2) and interval
 /// refinement (4.4), linear against cone step mapping (4.7), cone against quad cone (4.8).
-pub const DISSERTATION_VIEW_TABLES: [&str; 5] = ["t4.1", "t4.2", "t4.4", "t4.7", "t4.8"];
+pub(crate) const DISSERTATION_VIEW_TABLES: [&str; 5] = ["t4.1", "t4.2", "t4.4", "t4.7", "t4.8"];
 
 /// [`DISSERTATION_VIEW`]: the cells of [`DISSERTATION_VIEW_TABLES`], each (pipeline, scene)
 /// once, every scene at the dissertation's view. The safe cone forms read per-cell maps,

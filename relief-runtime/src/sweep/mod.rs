@@ -65,7 +65,7 @@ pub fn pairs(frames: u32) -> u32 {
 /// order the grid lists its cells in, nor on duplicates; they do depend on the whole grid (a
 /// cell added to it can move others to another shard), so every shard must be given the same
 /// grid, scenes and overrides.
-pub fn shard_of(cells: &[(String, String)], n: u32) -> Vec<u32> {
+pub(crate) fn shard_of(cells: &[(String, String)], n: u32) -> Vec<u32> {
     let mut keys: Vec<&(String, String)> = cells.iter().collect();
     keys.sort_by(|a, b| (&a.1, &a.0).cmp(&(&b.1, &b.0)));
     keys.dedup();
@@ -267,7 +267,7 @@ fn check_views(grid: &NamedGrid, overrides: &crate::scene::Overrides) -> anyhow:
 
 /// How a scene argument is named in results: `scene:NAME` for procedural scenes (a bare
 /// name is one), the path otherwise.
-pub fn scene_label(arg: &str) -> String {
+pub(crate) fn scene_label(arg: &str) -> String {
     scene_spec(arg)
 }
 

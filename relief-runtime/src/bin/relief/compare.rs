@@ -3,7 +3,7 @@
 
 use relief_runtime::gpu::Gpu;
 use relief_runtime::measure::compare;
-use relief_runtime::scene::{scene_from_arg, scene_spec};
+use relief_runtime::{scene_from_arg, scene_spec};
 
 /// Arguments of `relief compare`.
 #[derive(clap::Args, Debug)]

@@ -1,7 +1,7 @@
 //! The `relief` command line.
 
 use clap::{Parser, Subcommand};
-use relief_runtime::scene::Overrides;
+use relief_runtime::Overrides;
 mod adapters;
 mod compare;
 mod gen;
@@ -59,8 +59,8 @@ enum Command {
 pub struct OverrideArgs {
     /// A named view, applied before the other overrides: `dissertation` (the Steep Parallax
     /// demo's: depth scale 0.05, 20° from the normal, 25° field of view, lod=auto).
-    #[arg(long, value_parser = |s: &str| relief_runtime::scene::View::parse(s))]
-    pub view: Option<relief_runtime::scene::View>,
+    #[arg(long, value_parser = |s: &str| relief_runtime::View::parse(s))]
+    pub view: Option<relief_runtime::View>,
     /// View angle from the surface normal, in degrees (overrides the scene's camera).
     #[arg(long)]
     pub angle: Option<f32>,

@@ -11,8 +11,8 @@
 //! bit), `.exr` (f32/f16), `.npy` (float32, the decoded values). See [`relief_runtime::maps::encode`] and [`relief_runtime::maps::file`].
 
 use anyhow::{bail, Context};
-use relief_runtime::heightmap::{Channel, EdgeMode, HeightMap, LoadOptions};
 use relief_runtime::maps::{self, encode, MapKind, MapParams};
+use relief_runtime::{Channel, EdgeMode, HeightMap, LoadOptions};
 use std::path::PathBuf;
 
 /// Arguments of `relief maps`.
@@ -92,7 +92,7 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
     }
     let input = match (&args.input, &args.scene) {
         (Some(i), _) => i.clone(),
-        (None, Some(s)) => PathBuf::from(relief_runtime::scene::scene_spec(s)),
+        (None, Some(s)) => PathBuf::from(relief_runtime::scene_spec(s)),
         (None, None) => bail!("relief maps needs INPUT (or --scene), --kind and --out (or --list)"),
     };
     let input = &input;
@@ -116,8 +116,8 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
     }
     let is_scene_file = input.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml"));
     let hm = match input.to_str().and_then(|s| s.strip_prefix("scene:")) {
-        Some(name) => relief_runtime::scene::Scene::by_name(name, None)?.height,
-        None if is_scene_file => relief_runtime::scene::load_scene_file(input)?.height,
+        Some(name) => relief_runtime::Scene::by_name(name, None)?.height,
+        None if is_scene_file => relief_runtime::load_scene_file(input)?.height,
         None => HeightMap::load(input, &LoadOptions { channel, depth: args.depth })?,
     };
     let params = MapParams { cones: args.cones, z_resolution: args.z_resolution };

@@ -6,11 +6,11 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 
+use relief_runtime::camera_json;
 use relief_runtime::gpu::Gpu;
 use relief_runtime::io::write_atomic;
 use relief_runtime::measure::{measure_with, write_images, Prepared};
-use relief_runtime::scene::file::camera_json;
-use relief_runtime::scene::{scene_from_arg, scene_spec};
+use relief_runtime::{scene_from_arg, scene_spec};
 
 /// Arguments of `relief render`.
 #[derive(clap::Args, Debug)]
@@ -95,7 +95,7 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     if a.dump_hits {
         let measured_pipeline: relief_dsl::Pipeline =
             m.pipeline.parse().map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", m.pipeline))?;
-        let chain: &[relief_runtime::heightmap::HeightMap] = if measured.lod == relief_dsl::spec::Lod::Zero {
+        let chain: &[relief_runtime::HeightMap] = if measured.lod == relief_dsl::spec::Lod::Zero {
             std::slice::from_ref(&prep.on_device.height)
         } else {
             &prep.textures.height_levels

@@ -78,7 +78,7 @@ const Y_UP: u8 = 4;
 const Y_DOWN: u8 = 8;
 
 /// Monotonicity flags of a cell from its corners `[h00, h10, h01, h11]`.
-pub fn monotone_flags(c: &[f32; 4]) -> u8 {
+pub(crate) fn monotone_flags(c: &[f32; 4]) -> u8 {
     let mut f = 0;
     if c[1] >= c[0] && c[3] >= c[2] {
         f |= X_UP;
