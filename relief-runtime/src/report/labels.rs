@@ -26,7 +26,7 @@ impl Rect {
 
     /// Whether `self` lies wholly inside `o`.
     #[cfg(test)]
-    pub fn inside(&self, o: &Rect) -> bool {
+    pub(crate) fn inside(&self, o: &Rect) -> bool {
         self.x >= o.x && self.y >= o.y && self.x + self.w <= o.x + o.w && self.y + self.h <= o.y + o.h
     }
 

@@ -338,6 +338,7 @@ impl fmt::Display for Scene {
 
 #[cfg(test)]
 mod tests {
+    use super::procedural::{checker, lion, rock_bump, self_shadow, spikes, step};
     use super::*;
 
     #[test]
