@@ -193,7 +193,7 @@ pub enum HeightMapError {
         /// Height in texels, as the header states it.
         height: usize,
     },
-    /// A side is larger than [`MAX_SIDE`]; found from the header, before decoding.
+    /// A side is larger than `MAX_SIDE`; found from the header, before decoding.
     #[error("{path}: {width} x {height} texels exceeds the limit of {max} x {max}", max = MAX_SIDE)]
     TooLarge {
         /// The file.
@@ -249,10 +249,10 @@ impl HeightMap {
     ///   RGBA): integer samples are normalised to [0, 1] (`v / 255` or `v / 65535`), through the
     ///   `image` crate's decoders.
     /// - `.exr`: float samples, used as they are.
-    /// - `.npy`: the raw float format, see [`HeightMap::from_npy_bytes`].
+    /// - `.npy`: the raw float format, see `HeightMap::from_npy_bytes`.
     ///
     /// Then `options.depth` flips depth to height (`1 - v`). Float values must be finite and in
-    /// [0, 1]. Sizes are checked against [`MAX_SIDE`] before the texels are decoded. Never panics.
+    /// [0, 1]. Sizes are checked against `MAX_SIDE` before the texels are decoded. Never panics.
     pub fn load(path: impl AsRef<Path>, options: &LoadOptions) -> Result<HeightMap, HeightMapError> {
         let path = path.as_ref();
         let p = || path.to_path_buf();

@@ -74,7 +74,7 @@ impl Prepared {
     }
 
     /// The level of each ray and the exact hits on those levels' surfaces under `lod`
-    /// ([`ray_levels`], [`reference_hits_at_levels`] on the chain as the device stores it).
+    /// (`ray_levels`, `reference_hits_at_levels` on the chain as the device stores it).
     pub fn refs_for(&mut self, lod: Lod) -> anyhow::Result<(&[usize], &[Option<RefHit>])> {
         if lod == Lod::Zero {
             return Ok((&[], &self.refs));
@@ -140,10 +140,10 @@ pub fn measure_with(
 
 /// [`measure`] with paired timing: the pipeline's frames are timed in blocks alternating
 /// with blocks of the scene's [`BASELINE`] (`pairs` pairs, after `warmup` untimed frames of
-/// each and the blocks that calibrate their lengths; [`gpu::paired_blocks`]). The metrics'
+/// each and the blocks that calibrate their lengths; `gpu::paired_blocks`). The metrics'
 /// frame times are the pipeline's blocks, and `frame_ratio_to_baseline` with its 95 %
 /// interval compares them with the baseline's blocks of the same pairs
-/// ([`crate::timing::paired_ratio`]).
+/// (`crate::timing::paired_ratio`).
 pub fn measure_paired(
     gpu: &Gpu,
     prep: &mut Prepared,
@@ -295,7 +295,7 @@ pub struct Reference<'a> {
 
 /// Scores a pipeline's raw probe hits against the reference: the accuracy fields of `m`
 /// ([`metrics::set_accuracy_levels`], the rules of [`metrics::Accuracy`]) and the SIMD cost
-/// model ([`crate::simd::simd_cost`]). The one scoring of the sweep, `relief render` and
+/// model (`crate::simd::simd_cost`). The one scoring of the sweep, `relief render` and
 /// the hits a browser measured (`relief report --add`). Returns the reference hits scored
 /// against: `reference.refs`, clipped to the quad's square for `silhouette=clip`.
 ///
@@ -335,7 +335,7 @@ pub struct Comparison {
     pub ratio: crate::timing::Ratio,
     /// The blocks behind it.
     pub blocks: gpu::PairedBlocks,
-    /// The SIMD cost model of each ([`crate::simd`]), from the probe on the frame's rays.
+    /// The SIMD cost model of each (`crate::simd`), from the probe on the frame's rays.
     pub cost: [crate::simd::SimdCost; 2],
 }
 

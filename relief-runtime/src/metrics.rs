@@ -116,7 +116,7 @@ pub struct Accuracy {
     pub missed: usize,
     /// Rays the reference hits whose reported hit lies beyond a point where the ray, after
     /// the exact first hit, is back above the surface the ray sampled by more than
-    /// [`SKIP_SLACK`] ([`rises_above`]): it jumped over geometry. Plus the clipped hits
+    /// `SKIP_SLACK` (`rises_above`): it jumped over geometry. Plus the clipped hits
     /// the reference has a hit for, and every non-finite hit (`skipped_rate`).
     pub skipped: usize,
     /// |t − t_ref| of each ray the reference hits (`t_max` for a non-finite hit), in ray
@@ -136,7 +136,7 @@ pub struct Accuracy {
     pub outside: usize,
     /// Hits whose coarse search ran out of steps (`converged == 0`).
     pub nonconverged: usize,
-    /// Finite hits that end above the surface by more than [`ABOVE_SURFACE`].
+    /// Finite hits that end above the surface by more than `ABOVE_SURFACE`.
     pub above_surface: usize,
     /// Σ of the coarse stage's loop passes over all rays.
     pub coarse_steps: u64,

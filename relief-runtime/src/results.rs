@@ -21,7 +21,7 @@ pub struct Metrics {
     /// The pipeline's text form as measured, with the scene's `lod` policy applied
     /// ([`crate::scene::Scene::pipeline_for`]).
     pub pipeline: String,
-    /// The scene's name; in a sweep the scene argument ([`crate::sweep::scene_label`]) with
+    /// The scene's name; in a sweep the scene argument (`crate::sweep::scene_label`) with
     /// the overrides' suffix.
     pub scene: String,
     /// Side of the square frame, in pixels (one probe ray per pixel that sees the quad).
@@ -57,7 +57,7 @@ pub struct Metrics {
     #[serde(default)]
     pub ref_err_t_p99: f64,
     /// The share of `mse_dissertation` that the worst 1 % of the rays carry
-    /// ([`crate::metrics::worst_share`]); NaN when the MSE is 0.
+    /// (`crate::metrics::worst_share`); NaN when the MSE is 0.
     #[serde(default)]
     pub mse_worst1_share: f64,
     /// Share of rays that jumped over geometry: the reported hit lies beyond a point where
@@ -96,7 +96,7 @@ pub struct Metrics {
     pub avg_iterations: f64,
     /// Texture fetches per ray over all stages.
     pub avg_fetches: f64,
-    /// The SIMD cost model ([`crate::simd`]): the largest coarse + refine step count of a
+    /// The SIMD cost model (`crate::simd`): the largest coarse + refine step count of a
     /// group of 32 rays (8 × 4 pixels), averaged over groups.
     #[serde(default)]
     pub simd32_steps: f64,
@@ -110,7 +110,7 @@ pub struct Metrics {
     #[serde(default)]
     pub simd32_divergence: f64,
     /// The pipeline the cell was timed against in alternating blocks (paired timing,
-    /// [`crate::timing`]); empty when it was timed alone.
+    /// `crate::timing`); empty when it was timed alone.
     #[serde(default)]
     pub baseline: String,
     /// The cell's mean frame time over the baseline's, from the paired blocks.
@@ -222,7 +222,7 @@ pub struct ReadRows {
 
 /// Reads `dir/results.jsonl` without changing it. A last line without its newline (a kill
 /// cut it short) is dropped and named in `bad_lines`; so is every complete line that is not
-/// a results row ([`parse_row`]). A missing file gives no rows.
+/// a results row (`parse_row`). A missing file gives no rows.
 pub fn read(dir: &Path) -> anyhow::Result<ReadRows> {
     let path = dir.join(JSONL);
     let text = match crate::io::read_regular(&path) {

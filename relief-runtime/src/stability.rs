@@ -25,7 +25,7 @@ pub const ANGLES: [f32; 7] = [0.0, 30.0, 60.0, 75.0, 85.0, 89.0, 89.9];
 /// The scenes of the stability grid: the stress scenes, a seam, the five main procedural
 /// scenes (stand-ins) and the seven real maps. Every scene is probed at 64² texels: the
 /// procedural ones are generated at that size, the real ones box-filtered down from their
-/// native 256² or 128² by a whole factor (4 or 2; see [`crate::scene::builtin`]).
+/// native 256² or 128² by a whole factor (4 or 2; see `crate::scene::builtin`).
 pub const SCENES: [&str; 20] = [
     "spikes",
     "walls",
@@ -66,10 +66,10 @@ pub struct Cell {
     pub outside_count: usize,
     /// Share of rays that jumped over geometry: after the exact first hit the ray is back
     /// above the surface before its reported hit, or the hit is NaN
-    /// ([`crate::metrics::is_skipped`]; the results' `skipped_rate`).
+    /// (`crate::metrics::is_skipped`; the results' `skipped_rate`).
     pub skipped_rate: f64,
     /// Share of rays whose hit is more than one texel of travel past the exact first hit, or
-    /// NaN ([`crate::metrics::is_past`]; the results' `past_rate`). On a fine map a coarse
+    /// NaN (`crate::metrics::is_past`; the results' `past_rate`). On a fine map a coarse
     /// step spans several texels, so this counts rays that skipped nothing.
     pub past_rate: f64,
     /// The old name of `past_rate`, written beside it (the same value) for one release.
@@ -77,7 +77,7 @@ pub struct Cell {
     /// Share of rays whose coarse search ran out of steps before it found the surface.
     pub nonconverged_rate: f64,
     /// Share of rays whose hit ends above the surface (z above the height there by more than
-    /// [`crate::metrics::ABOVE_SURFACE`]): what a one-shot method's non-convergence looks like.
+    /// `crate::metrics::ABOVE_SURFACE`): what a one-shot method's non-convergence looks like.
     pub above_surface_rate: f64,
     /// Hits past the exact first hit by more than [`crate::metrics::PAST_SLACK`] in t (the
     /// `form=safe` conservative cone methods, sphere and maxmip must have none).

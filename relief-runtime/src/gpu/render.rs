@@ -6,7 +6,7 @@ use crate::scene::Scene;
 /// Frame times and the last frame.
 pub struct RenderResult {
     /// Mean GPU time per frame of each timed block of frames, in milliseconds (one value per
-    /// frame where a frame lasts at least [`MIN_BLOCK_MS`]).
+    /// frame where a frame lasts at least `MIN_BLOCK_MS`).
     pub frame_ms: Vec<f64>,
     /// The last frame, RGBA8 (sRGB), row-major, `size × size`.
     pub rgba: Vec<u8>,
@@ -15,7 +15,7 @@ pub struct RenderResult {
     /// The last frame's depth buffer (NDC depth, row-major, cleared to 1), when the program
     /// writes depth.
     pub depth: Option<Vec<f32>>,
-    /// Frames per timed block ([`Clock::calibrate`]).
+    /// Frames per timed block (`Clock::calibrate`).
     pub frames_per_block: u32,
     /// The timer's tick in nanoseconds (`wgpu::Queue::get_timestamp_period`).
     pub timestamp_period_ns: f64,
@@ -295,7 +295,7 @@ impl Renderer {
 }
 
 /// Renders `frames` timed frames (after `warmup` untimed ones) of `program` on `scene` at
-/// `size × size` pixels, in blocks of at least [`MIN_BLOCK_MS`] ([`timed_frames`]).
+/// `size × size` pixels, in blocks of at least `MIN_BLOCK_MS` (`timed_frames`).
 pub fn render(
     gpu: &Gpu,
     program: &Program,
@@ -337,7 +337,7 @@ pub fn draw_frame(
 /// Timed frames and the last one.
 pub struct Frames {
     /// Mean GPU time per frame of each timed block, ms (render-pass timestamps): one value
-    /// per frame when a frame lasts at least [`MIN_BLOCK_MS`].
+    /// per frame when a frame lasts at least `MIN_BLOCK_MS`.
     pub frame_ms: Vec<f64>,
     /// The last frame, RGBA8 (sRGB), rows from the top.
     pub rgba: Vec<u8>,
@@ -392,7 +392,7 @@ fn time_frames(
     Ok(f)
 }
 
-/// Block times of two pipelines timed alternately ([`paired_blocks`]).
+/// Block times of two pipelines timed alternately (`paired_blocks`).
 #[derive(Clone, Debug, Default)]
 pub struct PairedBlocks {
     /// Mean frame time (ms) of each of A's timed blocks, pair order.
@@ -407,7 +407,7 @@ pub struct PairedBlocks {
 
 impl PairedBlocks {
     /// The ratio of A's to B's mean frame time with its 95 % interval
-    /// ([`crate::timing::paired_ratio`]).
+    /// (`crate::timing::paired_ratio`).
     pub fn ratio(&self) -> crate::timing::Ratio {
         crate::timing::paired_ratio(&self.a_ms, &self.b_ms)
     }

@@ -285,7 +285,7 @@ impl SceneTextures {
     }
 
     /// Builds and uploads the acceleration maps in `reqs` that are not there yet (the normal
-    /// map is always there). Ratios are uploaded clamped to [`MAX_RATIO`]: a narrower cone
+    /// map is always there). Ratios are uploaded clamped to `MAX_RATIO`: a narrower cone
     /// than the exact one, which stays conservative and keeps `+inf` out of the shaders.
     pub fn add_maps(&mut self, gpu: &Gpu, scene: &Scene, reqs: &[MapReq]) -> Result<(), crate::maps::MapError> {
         self.add_maps_lod(gpu, scene, reqs, relief_dsl::spec::Lod::Zero)

@@ -6,7 +6,7 @@
 //! - `.npy`: NumPy format version 1.0, little-endian `float32` (`<f4`), C order, the decoded
 //!   values (what a shader reads); shape `[h, w]`, `[h, w, c]` (c > 1), and `[d, h, w]` /
 //!   `[d, h, w, c]` for 3D maps. Row 0 is v = 0. The same format is the raw float *input*
-//!   for height maps ([`crate::heightmap::HeightMap::from_npy_bytes`]).
+//!   for height maps (`crate::heightmap::HeightMap::from_npy_bytes`).
 
 use std::path::Path;
 

@@ -24,7 +24,7 @@
 //! a size is odd. A shader finds the node above level-0 index `i` as `min(i >> L, size_L - 1)`.
 //!
 //! Level 0 is either the texels themselves ([`max_mip`], [`min_mip`]) or the *cells* of the
-//! bilinear surface ([`cell_max_mip`]): cell `(i, j)` is the square between the texel centres
+//! bilinear surface (`cell_max_mip`): cell `(i, j)` is the square between the texel centres
 //! `(i, j)`, `(i + 1, j)`, `(i, j + 1)`, `(i + 1, j + 1)`; a bilinear patch never exceeds its
 //! largest corner, so the maximum of the four corners bounds the whole cell.
 
@@ -73,7 +73,7 @@ impl Level {
 /// `[x0, x1) x [y0, y1)` of level-0 indices it stands for, in the same unbounded index space.
 ///
 /// With [`EdgeMode::Clamp`] the first and last nodes of a row stand for everything beyond the
-/// map as well; their open ends are [`Node::UNBOUNDED`] (negated for the lower end).
+/// map as well; their open ends are `Node::UNBOUNDED` (negated for the lower end).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Node {
     /// The node's entry: the maximum (or minimum) over its range.
@@ -195,7 +195,7 @@ fn reduce(src: &Level, r: Reducer) -> Level {
 }
 
 /// Maximum mipmap over the texels (Tevs et al. 2008): level 0 = the heights themselves.
-/// Exact bound for nearest-texel sampling; for bilinear sampling use [`cell_max_mip`].
+/// Exact bound for nearest-texel sampling; for bilinear sampling use `cell_max_mip`.
 pub fn max_mip(map: &HeightMap) -> Pyramid {
     Pyramid::build(map.width, map.height, map.data.clone(), Reducer::Max)
 }

@@ -65,7 +65,7 @@ pub(crate) fn box_chain(width: usize, height: usize, channels: usize, data: &[f3
     out
 }
 
-/// The mip chain of a height map, level 0 (a copy) first, by [`box_chain`] (2×2 box; the
+/// The mip chain of a height map, level 0 (a copy) first, by `box_chain` (2×2 box; the
 /// chain stops before a level with an odd side).
 pub fn height_chain(map: &crate::heightmap::HeightMap) -> Vec<crate::heightmap::HeightMap> {
     box_chain(map.width, map.height, 1, &map.data)

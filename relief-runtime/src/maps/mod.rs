@@ -250,7 +250,7 @@ impl MapParams {
 pub struct MapKey {
     /// The kind of map.
     pub kind: MapKind,
-    /// Its parameters, reduced to those the kind reads ([`MapParams::relevant`]).
+    /// Its parameters, reduced to those the kind reads (`MapParams::relevant`).
     pub params: MapParams,
 }
 

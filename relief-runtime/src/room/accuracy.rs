@@ -23,13 +23,13 @@ pub struct WallAccuracy {
     /// Largest |t − t_ref|.
     pub t_err_max: f64,
     /// Rays that jumped over geometry: after the exact first hit the ray is back above the
-    /// wall's surface before its reported hit ([`crate::metrics::is_skipped`], the sweep's
+    /// wall's surface before its reported hit (`crate::metrics::is_skipped`, the sweep's
     /// `skipped_rate` rule), or the hit is not finite, or on another wall.
     pub skipped: usize,
     /// `skipped / rays`.
     pub skipped_rate: f64,
     /// Rays whose hit lies more than one texel of travel past the exact first hit
-    /// ([`crate::metrics::is_past`], the sweep's `past_rate` rule), or is not finite, or
+    /// (`crate::metrics::is_past`, the sweep's `past_rate` rule), or is not finite, or
     /// on another wall.
     pub past: usize,
     /// `past / rays`.

@@ -109,7 +109,7 @@ fn tinted(m: &HeightMap, base: [f32; 3]) -> Rgba8Image {
 }
 
 /// The built-in room `name` ([`names`]) with maps of `map_size` texels a side
-/// ([`DEFAULT_MAP_SIZE`] when `None`).
+/// (`DEFAULT_MAP_SIZE` when `None`).
 pub fn room(name: &str, map_size: Option<usize>) -> Result<Room, String> {
     let n = map_size.unwrap_or(DEFAULT_MAP_SIZE);
     if !(8..=4096).contains(&n) {

@@ -67,7 +67,7 @@ impl RoomProgram {
 }
 
 /// Every wall's textures on the device (each wall as a scene with edge mode clamp,
-/// [`Room::wall_scene`]), and the window's opacity.
+/// `Room::wall_scene`), and the window's opacity.
 pub struct RoomTextures {
     /// Per wall, in [`super::WALL_NAMES`] order.
     pub walls: Vec<SceneTextures>,

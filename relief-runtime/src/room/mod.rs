@@ -234,7 +234,7 @@ impl Room {
     }
 
     /// Checks the room's values: positive size, depth scales in range
-    /// ([`crate::scene::file::check_depth_scale`]), the camera in front of the window and a
+    /// (`crate::scene::file::check_depth_scale`), the camera in front of the window and a
     /// finite target, a point light inside the room. Errors name the key.
     pub fn check(&self) -> Result<(), (String, String)> {
         if !self.size.iter().all(|x| x.is_finite() && *x > 0.0) {

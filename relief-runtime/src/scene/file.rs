@@ -419,7 +419,7 @@ impl Overrides {
         *self == Overrides::default()
     }
 
-    /// Checks the values: 0 < depth scale <= [`MAX_DEPTH_SCALE`], 0 < tiling <= [`MAX_TILING`],
+    /// Checks the values: 0 < depth scale <= `MAX_DEPTH_SCALE`, 0 < tiling <= `MAX_TILING`,
     /// 0 <= angle < 90, azimuth finite.
     /// Errors name the flag.
     pub fn check(&self) -> Result<(), String> {
@@ -508,7 +508,7 @@ impl Overrides {
         pairs.iter().filter(|(_, both)| *both).map(|(k, _)| *k).collect()
     }
 
-    /// Applies the overrides: tiling first (with [`Scene::with_tiling`]), then the named view,
+    /// Applies the overrides: tiling first (with `Scene::with_tiling`), then the named view,
     /// then depth scale, angle and azimuth; appends [`Overrides::suffix`] to the name. Call
     /// [`Overrides::check`] first.
     pub fn apply(&self, mut s: Scene) -> Scene {

@@ -136,10 +136,10 @@ impl Scene {
         self
     }
 
-    /// The built-in scene `name` (see [`SCENES`]) with `size × size` texels: a procedural
-    /// scene is generated at that size (default [`DEFAULT_SIZE`]); a real one
+    /// The built-in scene `name` (see `SCENES`) with `size × size` texels: a procedural
+    /// scene is generated at that size (default `DEFAULT_SIZE`); a real one
     /// ([`REAL_SCENES`]) is decoded at its native size and, for a smaller size that divides
-    /// it, box-filtered down (see [`builtin`]).
+    /// it, box-filtered down (see `builtin`).
     pub fn by_name(name: &str, size: Option<usize>) -> Result<Scene, SceneError> {
         if let Some(r) = builtin::find(name) {
             return builtin::real_scene(r, size);
@@ -153,7 +153,7 @@ impl Scene {
         Ok(s)
     }
 
-    /// One probe ray per pixel of a `size × size` frame; see [`Scene::rays_wh`].
+    /// One probe ray per pixel of a `size × size` frame; see `Scene::rays_wh`.
     pub fn rays(&self, size: u32) -> Vec<ProbeRay> {
         self.rays_wh(size, size)
     }
@@ -228,9 +228,9 @@ pub(crate) fn scene_names() -> Vec<&'static str> {
 }
 
 /// A scene from a command-line argument: `scene:NAME` (built-in, default size), a TOML scene
-/// file (`.toml`, see [`mod@file`]) or a path to an image file (edge mode repeat, loaded with
+/// file (`.toml`, see `mod@file`) or a path to an image file (edge mode repeat, loaded with
 /// default [`LoadOptions`]), each optionally followed by a view as results name it
-/// (`scene:rocks@angle=70` is `scene:rocks` with `--angle 70`; see [`file::split_view`]).
+/// (`scene:rocks@angle=70` is `scene:rocks` with `--angle 70`; see `file::split_view`).
 pub fn scene_from_arg(arg: &str) -> Result<Scene, SceneError> {
     scene_from_arg_with(arg, None, &LoadOptions::default())
 }
@@ -272,7 +272,7 @@ pub(crate) fn scene_from_arg_with(arg: &str, size: Option<usize>, options: &Load
 /// Why a scene could not be made.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
-    /// Not one of [`SCENES`].
+    /// Not one of `SCENES`.
     #[error("{}", unknown_message(name, suggestion))]
     Unknown {
         /// The name asked for, without `scene:`.

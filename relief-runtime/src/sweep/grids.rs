@@ -58,7 +58,7 @@ const EXTRA_FILES: &[(&str, &str)] =
 
 /// The dissertation's five scenes: Lion, Self-shadow and Collage as relief's procedural
 /// stand-ins, Shapes and Rock Bump as the real maps `four` and `rocks` (see
-/// [`crate::scene::builtin`]).
+/// `crate::scene::builtin`).
 pub const FIVE_SCENES: [&str; 5] = ["lion", "self_shadow", "collage", "four", "rocks"];
 
 /// The procedural stand-ins that real maps replaced in [`FIVE_SCENES`] (Shapes, Rock Bump),
@@ -195,7 +195,7 @@ fn named(name: &str, text: &str, scenes: Option<&[String]>) -> NamedGrid {
 }
 
 /// Every built-in grid of the dissertation, then `dissertation`: all of them, each
-/// (pipeline, scene) once; then `dissertation-view` ([`DISSERTATION_VIEW`]) and relief's
+/// (pipeline, scene) once; then `dissertation-view` (`DISSERTATION_VIEW`) and relief's
 /// own grids (`lod`, `frontier`).
 pub fn builtin(scenes: Option<&[String]>) -> Vec<NamedGrid> {
     let mut all: Vec<NamedGrid> = FILES.iter().map(|(n, t)| named(n, t, scenes)).collect();

@@ -13,7 +13,7 @@
 //! Each cell is timed in blocks alternating with the scene's baseline pipeline
 //! ([`crate::measure::BASELINE`], [`crate::measure::measure_paired`]), and its row records
 //! `frame_ratio_to_baseline` with its 95 % interval. `--shard K/N` measures a deterministic
-//! share of the cells ([`shard_of`]); the report merges the shards' folders.
+//! share of the cells (`shard_of`); the report merges the shards' folders.
 
 pub mod grids;
 mod progress;
@@ -49,7 +49,7 @@ pub struct Options {
     /// Overrides applied to every scene (`--depth-scale`, `--tiling`, `--angle`,
     /// `--azimuth`); an overridden scene's results carry [`Overrides::suffix`] in their name.
     pub overrides: Overrides,
-    /// Measure only shard K of N (`Some((K, N))`, K in 1..=N): see [`shard_of`].
+    /// Measure only shard K of N (`Some((K, N))`, K in 1..=N): see `shard_of`.
     pub shard: Option<(u32, u32)>,
 }
 
@@ -277,8 +277,8 @@ fn scene_spec(arg: &str) -> String {
 
 /// A cell's folder, relative to the sweep's folder: `cells/SCENE/SIZE/ADAPTER/PIPELINE`, the
 /// scene's label and the adapter each made one file-name component injectively
-/// ([`crate::io::path_component`]), the size in pixels, the pipeline's file stem. Every part
-/// of the cell's key ([`results::cell_key`]) is in it, so no two cells of one folder share
+/// (`crate::io::path_component`), the size in pixels, the pipeline's file stem. Every part
+/// of the cell's key (`results::cell_key`) is in it, so no two cells of one folder share
 /// pictures. Readers take the folder from the row's `cell_dir`, never rebuild it.
 pub fn cell_dir(label: &str, size: u32, adapter: &str, pipeline: &relief_dsl::Pipeline) -> String {
     let (scene, adapter) = (crate::io::path_component(label), crate::io::path_component(adapter));

@@ -77,7 +77,7 @@
 //!
 //! # Quantisation and the 3×3 pass
 //!
-//! Ratios and `n_z` round down, the apex channel rounds up ([`MapKind::channel_rounding`]):
+//! Ratios and `n_z` round down, the apex channel rounds up ([`kind_rounding`](super::kind_rounding)):
 //! a lower apex or a wider cone could reach the surface, a higher apex or narrower cone is
 //! contained in the stored one. An unorm encoding must have `max_value ≥ 1` so the apex
 //! (≤ 1) is representable (the CLI refuses otherwise). The 3×3 minimum pass is **not needed**
@@ -85,8 +85,6 @@
 //! (Burger §4.3.1); a cell map is read at the one cell that contains the ray point, with no
 //! filtering, so no blend is ever formed. Filtering a cell map would be wrong even after a
 //! 3×3 pass (the apex would have to be blended upward), so the CLI refuses `--min3x3` here.
-//!
-//! [`MapKind::channel_rounding`]: super::MapKind::channel_rounding
 
 pub mod cone;
 pub mod multi_cone;
