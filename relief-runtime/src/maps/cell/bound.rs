@@ -27,7 +27,7 @@ use super::Corner;
 ///    corner distance (the exact minimum of `dist` over `D`), when `d_min ≥ ρ`: then
 ///    `ρ + r (min(S, hi) − lo) ≤ ρ + r (min(M, hi) − lo) ≤ d_min ≤ dist`;
 /// 3. `0` (callers guarantee `ρ ≤ dist(y, C)` wherever `S(y) > lo`: for `ρ = 0` trivially,
-///    for the pieces of [`multi_cone`] by the piece below).
+///    for the pieces of [`multi_cone`](super::multi_cone) by the piece below).
 ///
 /// The condition is monotone in `r` (smaller `r` keeps it true), so the minimum over cells
 /// of these values is certified for every cell at once.

@@ -50,7 +50,7 @@ impl CellGrid {
     }
 
     /// Corner heights of every cell, row-major.
-    pub fn all_corners(&self, map: &HeightMap) -> Vec<[f32; 4]> {
+    pub(crate) fn all_corners(&self, map: &HeightMap) -> Vec<[f32; 4]> {
         let mut out = Vec::with_capacity(self.cw * self.ch);
         for j in 0..self.ch {
             for i in 0..self.cw {

@@ -13,11 +13,11 @@
 //! `(x, y)` sits at `(X, Y) = (x, y)`. The bilinear surface `S` is one bilinear patch per
 //! *cell*, the square between four neighbouring texel centres.
 //!
-//! - [`EdgeMode::Repeat`]: `width × height` cells. Cell `(i, j)` covers
+//! - [`EdgeMode::Repeat`](crate::EdgeMode::Repeat): `width × height` cells. Cell `(i, j)` covers
 //!   `X ∈ [i, i + 1], Y ∈ [j, j + 1]` (modulo the period); its corners are texels
 //!   `(i, j), (i+1, j), (i, j+1), (i+1, j+1)` with indices wrapped. The cell of `(u, v)` is
 //!   `i = floor(u · width − 0.5) mod width`, `j = floor(v · height − 0.5) mod height`.
-//! - [`EdgeMode::Clamp`]: `(width + 1) × (height + 1)` cells. Storage column `i` in
+//! - [`EdgeMode::Clamp`](crate::EdgeMode::Clamp): `(width + 1) × (height + 1)` cells. Storage column `i` in
 //!   `0..=width` covers `X ∈ [max(i − 1, −0.5), min(i, width − 0.5)]` (the map's domain is
 //!   `X ∈ [−0.5, width − 0.5]`, i.e. `u ∈ [0, 1]`), corners texel columns `clamp(i − 1)` and
 //!   `clamp(i)`: the first and last columns are half-texel border strips where the surface is

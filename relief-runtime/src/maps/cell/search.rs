@@ -98,12 +98,12 @@ pub(crate) struct CellTree {
 
 impl CellTree {
     /// The tree over `map`'s cells under `edge`, without flags.
-    pub fn new(map: &HeightMap, edge: EdgeMode) -> CellTree {
+    pub(crate) fn new(map: &HeightMap, edge: EdgeMode) -> CellTree {
         Self::with_flags(map, edge, None)
     }
 
     /// With one flag byte per cell (node value: the AND of its cells' flags).
-    pub fn with_flags(map: &HeightMap, edge: EdgeMode, flags: Option<&CellFlags>) -> CellTree {
+    pub(crate) fn with_flags(map: &HeightMap, edge: EdgeMode, flags: Option<&CellFlags>) -> CellTree {
         let grid = CellGrid::new(map.width, map.height, edge);
         let corners = grid.all_corners(map);
         let base: Vec<f32> = corners.iter().map(apex).collect();
@@ -121,13 +121,13 @@ impl CellTree {
 
     /// The corners `[h00, h10, h01, h11]` of cell `d` (storage index).
     #[inline]
-    pub fn corners_of(&self, d: usize) -> [f32; 4] {
+    pub(crate) fn corners_of(&self, d: usize) -> [f32; 4] {
         self.corners_at(d % self.grid.cw, d / self.grid.cw)
     }
 
     /// The corners of cell `(i, j)` (storage column and row).
     #[inline]
-    pub fn corners_at(&self, i: usize, j: usize) -> [f32; 4] {
+    pub(crate) fn corners_at(&self, i: usize, j: usize) -> [f32; 4] {
         let (x0, x1, _, _) = self.grid.col(i);
         let (y0, y1, _, _) = self.grid.row(j);
         let w = self.grid.width;
@@ -141,7 +141,7 @@ impl CellTree {
     /// gave it. `seeds`: cells the caller has already scored against a bar no lower than
     /// the search's (they cannot lower it again and are not scored twice).
     #[allow(clippy::too_many_arguments)]
-    pub fn search<S: CellScorer>(
+    pub(crate) fn search<S: CellScorer>(
         &self,
         ci: usize,
         cj: usize,
@@ -183,7 +183,7 @@ impl CellTree {
     /// `None`.
     #[allow(clippy::too_many_arguments)]
     #[inline]
-    pub fn leaf_below_at<S: CellScorer>(
+    pub(crate) fn leaf_below_at<S: CellScorer>(
         &self,
         px: i64,
         py: i64,
@@ -260,7 +260,7 @@ impl CellTree {
     /// The search seeded with the 8 neighbours of `C` and `prev` (updated to the binding
     /// cell's plane position).
     #[allow(clippy::too_many_arguments)]
-    pub fn seeded<S: CellScorer>(
+    pub(crate) fn seeded<S: CellScorer>(
         &self,
         ci: usize,
         cj: usize,
