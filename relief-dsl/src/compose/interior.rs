@@ -171,15 +171,15 @@ pub fn wall_frame(k: usize, size: [f64; 3]) -> WallFrame {
 pub struct RoomOptions {
     /// Light scattering through the window (Amaro & Gustafsson 2022, §2.3) with this many samples along the
     /// view ray; `None` (the default): off. The sun is [`RoomParams::sun`]; each sample adds
-    /// [`SCATTER_WEIGHT`], decaying by [`SCATTER_DECAY`], where the sun passes the window.
+    /// `SCATTER_WEIGHT`, decaying by `SCATTER_DECAY`, where the sun passes the window.
     pub scatter: Option<u32>,
 }
 
 /// Share of the in-scattered light each sample adds, before decay.
-pub const SCATTER_WEIGHT: f32 = 0.6;
+pub(crate) const SCATTER_WEIGHT: f32 = 0.6;
 /// Decay of each further sample's contribution (Amaro & Gustafsson 2022, §2.3: "a diminished intensity each
 /// step of the way").
-pub const SCATTER_DECAY: f32 = 0.97;
+pub(crate) const SCATTER_DECAY: f32 = 0.97;
 
 /// The walls' frames in the shader, from the room's size.
 struct Frame<'a> {
@@ -522,12 +522,6 @@ fn compose_room(p: &Pipeline, options: &RoomOptions) -> Result<(Module, Vec<Wall
     let mut module = m.finish();
     module.entry_points.extend([vs, fs, cs]);
     Ok((module, walls))
-}
-
-/// Builds the room module for `p` (not yet validated): `vs_room` + `fs_room` (the window
-/// quad, interior mapping with `p` on every wall) and `probe_room`.
-pub fn compose_room_module(p: &Pipeline, options: &RoomOptions) -> Result<Module, CompileError> {
-    Ok(compose_room(p, options)?.0)
 }
 
 /// Builds and validates the room module for `p`.

@@ -181,7 +181,7 @@ pub fn inexpressible(p: &Pipeline) -> Option<String> {
 }
 
 /// Builds and validates the library module of `p`.
-pub fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileError> {
+pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Library, CompileError> {
     if let Some(why) = inexpressible(p) {
         return Err(CompileError { stage: "library".into(), message: why });
     }

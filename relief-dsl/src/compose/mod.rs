@@ -476,7 +476,7 @@ pub fn compose_module(p: &Pipeline) -> Result<Module, CompileError> {
 }
 
 /// Builds the module for `p` with `options` (not yet validated).
-pub fn compose_module_with(p: &Pipeline, options: &Options) -> Result<Module, CompileError> {
+pub(crate) fn compose_module_with(p: &Pipeline, options: &Options) -> Result<Module, CompileError> {
     let m = ModuleCtx::new();
     let plain = write_stage_fns(&m, p, false)?;
     let counted = write_stage_fns(&m, p, true)?;

@@ -74,7 +74,7 @@ impl Target {
 }
 
 /// A limit and who sets it (the words that follow "the limit of" in an error).
-pub type Limit<T> = Option<(T, &'static str)>;
+pub(crate) type Limit<T> = Option<(T, &'static str)>;
 
 /// The limits of one target.
 #[derive(Clone, Copy, Debug)]
@@ -202,7 +202,7 @@ pub fn check(target: Target, prefix: &str, group: u32, binding: u32) -> Result<(
 }
 
 /// [`check`] for every target in `targets`, first error first.
-pub fn check_all(targets: &[Target], prefix: &str, group: u32, binding: u32) -> Result<(), CompileError> {
+pub(crate) fn check_all(targets: &[Target], prefix: &str, group: u32, binding: u32) -> Result<(), CompileError> {
     targets.iter().try_for_each(|t| check(*t, prefix, group, binding))
 }
 

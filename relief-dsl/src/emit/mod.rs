@@ -36,12 +36,12 @@ pub fn spirv(c: &Compiled) -> Result<Vec<u32>, CompileError> {
 }
 
 /// The GLSL binding map: every `(group 0, binding n)` resource at binding n.
-pub fn glsl_binding_map(c: &Compiled) -> glsl::BindingMap {
+pub(crate) fn glsl_binding_map(c: &Compiled) -> glsl::BindingMap {
     c.module.global_variables.iter().filter_map(|(_, g)| g.binding).map(|rb| (rb, rb.binding as u8)).collect()
 }
 
 /// GLSL 450 of one entry point.
-pub fn glsl_entry(c: &Compiled, stage: ShaderStage, entry: &str) -> Result<String, CompileError> {
+pub(crate) fn glsl_entry(c: &Compiled, stage: ShaderStage, entry: &str) -> Result<String, CompileError> {
     let options = glsl::Options {
         version: glsl::Version::Desktop(450),
         binding_map: glsl_binding_map(c),

@@ -73,7 +73,7 @@ impl ParamDef {
         ParamDef { name, kind: ParamKind::Choice(C::WORDS), default: Some(Value::Word(C::WORDS[0].to_string())) }
     }
     /// A step count or a stage of `slot`, `default` steps when left out.
-    pub fn stage_or(name: &'static str, slot: Slot, default: u32) -> Self {
+    pub(crate) fn stage_or(name: &'static str, slot: Slot, default: u32) -> Self {
         ParamDef { name, kind: ParamKind::StageOr(slot), default: Some(Value::Int(default)) }
     }
 }
@@ -120,7 +120,7 @@ impl<'s> Args<'s> {
         }
     }
     /// The step-count-or-stage parameter `name`.
-    pub fn stage_or(&self, name: &str) -> Result<StageOr<'s>, CompileError> {
+    pub(crate) fn stage_or(&self, name: &str) -> Result<StageOr<'s>, CompileError> {
         match self.spec.get(name) {
             Some(Value::Int(n)) => Ok(StageOr::Steps(*n)),
             Some(Value::Stage(s)) => Ok(StageOr::Stage(s)),

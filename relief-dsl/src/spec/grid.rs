@@ -288,7 +288,7 @@ impl ValuePattern {
 impl StagePattern {
     /// The stages this pattern stands for, in declaration order (first parameter outermost),
     /// not yet checked against the catalogue.
-    pub fn expand(&self) -> Result<Vec<RawStage>, ParseError> {
+    pub(crate) fn expand(&self) -> Result<Vec<RawStage>, ParseError> {
         let Some(args) = &self.args else {
             return Ok(vec![RawStage { name: self.name.clone(), pos: self.pos, args: None }]);
         };
@@ -372,7 +372,7 @@ impl GridPattern {
     }
 
     /// Expands and resolves every stage, then forms the product of the slots.
-    pub fn expand(&self) -> Result<Grid, ParseError> {
+    pub(crate) fn expand(&self) -> Result<Grid, ParseError> {
         let lists = self.resolve()?;
         let (lods, sils) = self.resolve_options()?;
         let total = lists.iter().map(Vec::len).product::<usize>().saturating_mul(lods.len() * sils.len());

@@ -34,7 +34,7 @@
 //! (relief-macros) build the same patterns from Rust tokens. A pattern is expanded (ranges,
 //! lists) and each stage is checked against the [`catalog`] by [`resolve_stage`];
 //! [`grid::GridPattern::pipeline`] makes the one pipeline of a pipeline text, and
-//! [`grid::GridPattern::expand`] the [`Grid`] of a grid text. Every error is a
+//! `grid::GridPattern::expand` the [`Grid`] of a grid text. Every error is a
 //! [`ParseError`]; "did you mean" comes from [`suggest::nearest`].
 
 mod catalog;

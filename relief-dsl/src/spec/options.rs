@@ -125,7 +125,7 @@ pub fn key_named(name: &str, pos: usize) -> Result<Key, ParseError> {
 
 /// One option value as resolved.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum OptionValue {
+pub(crate) enum OptionValue {
     /// A `lod` value.
     Lod(Lod),
     /// A `silhouette` value.
@@ -148,7 +148,7 @@ fn no_args(key: OptionKey, raw: &RawStage) -> Result<(), ParseError> {
 
 /// Checks one option value as written (a bare word or `level(k)`), with errors at the
 /// positions in `raw` and "did you mean" from [`nearest`].
-pub fn resolve_option(key: OptionKey, raw: &RawStage) -> Result<OptionValue, ParseError> {
+pub(crate) fn resolve_option(key: OptionKey, raw: &RawStage) -> Result<OptionValue, ParseError> {
     match key {
         OptionKey::Lod => {
             let lod = match raw.name.as_str() {

@@ -35,7 +35,7 @@ pub struct ParseError {
     /// producer of a pattern used (the macros: an index into their table of spans).
     pub pos: usize,
     /// `(line, column)` of `pos`, both from 1, for a text of several lines (a grid text,
-    /// see [`ParseError::locate`]); `None` for a pipeline text, whose errors name `pos`.
+    /// see `ParseError::locate`); `None` for a pipeline text, whose errors name `pos`.
     pub line_column: Option<(u32, u32)>,
     /// The offending token (empty at the end of the input).
     pub token: String,
@@ -49,7 +49,7 @@ pub struct ParseError {
 
 impl ParseError {
     /// The error with its line and column in `text` (`pos` a character offset in it).
-    pub fn locate(mut self, text: &str) -> Self {
+    pub(crate) fn locate(mut self, text: &str) -> Self {
         let (mut line, mut column) = (1u32, 1u32);
         for c in text.chars().take(self.pos) {
             if c == '\n' {
@@ -115,7 +115,7 @@ pub const MAX_DEPTH: usize = 8;
 /// Parses a text of `form` into its pattern (positions are character offsets), checking the
 /// slots that are complete before a syntax error after them is reported. The stages are
 /// checked against the catalogue only by [`GridPattern::pipeline`] or
-/// [`GridPattern::expand`].
+/// `GridPattern::expand`.
 pub fn parse_pattern(text: &str, form: TextForm) -> Result<GridPattern, ParseError> {
     let mut p = Parser { toks: lex(text, form)?, i: 0, form, pattern: GridPattern::default() };
     let read = match form {

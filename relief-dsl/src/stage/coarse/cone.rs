@@ -32,7 +32,7 @@ pub use crate::spec::ConeForm;
 /// How the textbook CSM reads its cone map (Burger §4.3.1: linear filtering of ratios causes
 /// artifacts; the minimum of the four texels fixes them at a cost).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ConeSample {
+pub(crate) enum ConeSample {
     Linear,
     Nearest,
     Min4,
@@ -240,7 +240,7 @@ pub(crate) fn qcsm_def() -> MethodDef {
 
 /// Where relaxed stepping starts the refinement (GPU Gems 3 Fig. 18-10).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum RelaxedStart {
+pub(crate) enum RelaxedStart {
     /// From H, halfway between the entry and the stopping point K, to K (textbook only).
     Hk,
     /// From J, the last point visited before K, to K.

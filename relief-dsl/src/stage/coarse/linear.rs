@@ -72,7 +72,7 @@ fn min_le_max(s: &StageSpec) -> Result<(), String> {
 
 /// The name of the private global that holds the distance from the camera to the fragment
 /// (the `d` of [`linear_distance`]); every entry point that traces writes it first.
-pub const VIEW_DISTANCE: &str = "view_distance";
+pub(crate) const VIEW_DISTANCE: &str = "view_distance";
 
 /// The distance from the camera to the fragment, as the entry point stored it (see
 /// [`VIEW_DISTANCE`]).

@@ -64,7 +64,7 @@ pub(crate) fn soft_def() -> MethodDef {
 /// Hard shadow with any coarse search: the light ray is traced from where it enters the
 /// volume down toward the hit — an ordinary view ray, so every coarse stage applies — and the
 /// hit is in shadow when the search stops on the surface clearly before reaching it.
-pub fn hard_with<'a>(
+pub(crate) fn hard_with<'a>(
     s: &'a FnBuilder<'a>,
     hit: &Hit<'a>,
     light: Val<'a, Vec3>,
