@@ -25,12 +25,14 @@
 //! selection and the counted trace, and reports per ray the wall and the hit in the wall's
 //! tangent space.
 
+use std::cell::RefCell;
+
 use bytemuck::{Pod, Zeroable};
 use naga::{Binding, BuiltIn, Module, ShaderStage, TypeInner};
 
 use super::{entry_point, location, storage_array, write_stage_fns, StageFns};
 use crate::abi::{abi_record, binding, Param, PROBE_WORKGROUP};
-use crate::ir::{FnBuilder, Mat4, ModuleCtx, Ty, UVec3, Val, Vec2, Vec3, Vec4};
+use crate::ir::{FnBuilder, Mat4, ModuleCtx, Plain, Policy, Ty, UVec3, Val, Vec2, Vec3, Vec4};
 use crate::spec::Pipeline;
 use crate::stage::{Filter, Hit, Ray};
 use crate::CompileError;
@@ -281,19 +283,40 @@ pub(crate) fn store_view_distance<'a>(s: &'a FnBuilder<'a>, d: Val<'a, f32>) {
     }
 }
 
-/// The stage functions for each wall (`counted`: the probe's variant), their textures
-/// renamed and rebound per wall.
-fn wall_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Result<Vec<StageFns>, CompileError> {
+/// A wall's policy: every texture the stages (and the shading) read is wall `k`'s own,
+/// named `NAME_wallK` and bound at the next free binding from [`WALL_BASE`], recorded in
+/// `table` the first time the wall reads it; samplers, uniforms and private globals stay
+/// shared. Walls are sampled at level 0, with the edge mode of `Params` (clamp).
+struct Wall<'t> {
+    k: u32,
+    table: &'t RefCell<Vec<WallBinding>>,
+}
+
+impl Policy for Wall<'_> {
+    fn texture(&self, name: &str, plain: u32) -> (String, u32) {
+        let mut table = self.table.borrow_mut();
+        let binding = match table.iter().find(|w| w.wall == self.k && w.plain == plain) {
+            Some(w) => w.binding,
+            None => {
+                let next = table.iter().map(|w| w.binding + 1).max().unwrap_or(WALL_BASE);
+                table.push(WallBinding { binding: next, wall: self.k, plain });
+                next
+            }
+        };
+        (format!("{name}_wall{}", self.k), binding)
+    }
+}
+
+/// The stage functions for each wall (`counted`: the probe's variant), each under its
+/// wall's policy.
+fn wall_fns(m: &ModuleCtx, p: &Pipeline, walls: &[Wall<'_>], counted: bool) -> Result<Vec<StageFns>, CompileError> {
     let mut out = Vec::new();
-    for k in 0..WALLS as u32 {
+    for wall in walls {
         let before = m.module.borrow().functions.len();
-        m.wall.set(Some((k, WALL_BASE)));
-        let fns = write_stage_fns(m, p, counted);
-        m.wall.set(None);
-        let fns = fns?;
+        let fns = write_stage_fns(m, p, wall, counted)?;
         for (i, (_, f)) in m.module.borrow_mut().functions.iter_mut().enumerate() {
             if i >= before {
-                f.name = f.name.take().map(|n| format!("{n}_wall{k}"));
+                f.name = f.name.take().map(|n| format!("{n}_wall{}", wall.k));
             }
         }
         out.push(fns);
@@ -301,7 +324,7 @@ fn wall_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Result<Vec<StageFns>,
     Ok(out)
 }
 
-fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
+fn vertex_entry(m: &ModuleCtx, policy: &dyn Policy) -> naga::EntryPoint {
     let out_ty = {
         let v4 = m.ty(Vec4::inner());
         let v3 = m.ty(Vec3::inner());
@@ -329,7 +352,8 @@ fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
             naga::Span::UNDEFINED,
         )
     };
-    let s = m.function("vs_room", &[("vertex", m.ty(u32::inner()), Some(Binding::BuiltIn(BuiltIn::VertexIndex)))]);
+    let s =
+        m.function("vs_room", &[("vertex", m.ty(u32::inner()), Some(Binding::BuiltIn(BuiltIn::VertexIndex)))], policy);
     // The window: (0,0) (W,0) (0,H) (W,H) as a triangle strip, at z = 0.
     let i = s.arg::<u32>(0);
     let size = room_param(&s, 0);
@@ -379,8 +403,14 @@ fn scattering<'a>(
     sum.get() * sun.w() / n as f32
 }
 
-fn fragment_entry(m: &ModuleCtx, walls: &[StageFns], options: &RoomOptions) -> naga::EntryPoint {
-    let s = m.function("fs_room", &[("world", m.ty(Vec3::inner()), Some(location(0)))]);
+fn fragment_entry(
+    m: &ModuleCtx,
+    policy: &dyn Policy,
+    walls: &[Wall<'_>],
+    fns: &[StageFns],
+    options: &RoomOptions,
+) -> naga::EntryPoint {
+    let s = m.function("fs_room", &[("world", m.ty(Vec3::inner()), Some(location(0)))], policy);
     let world = s.arg::<Vec3>(0);
     let cam = s.param::<Vec4>(Param::Camera).xyz();
     let size = room_param(&s, 0).xyz();
@@ -391,43 +421,44 @@ fn fragment_entry(m: &ModuleCtx, walls: &[StageFns], options: &RoomOptions) -> n
     let point_light = room_param(&s, 2).y().gt(0.5);
     let color = s.var::<Vec3>("color", s.vec3(s.vec2(0.0, 0.0), 0.0));
     let far = s.var::<Vec3>("far", world);
-    for (k, fns) in walls.iter().enumerate() {
+    for (k, (wall_policy, fns)) in walls.iter().zip(fns).enumerate() {
         s.if_(wall.ge(k as u32) & wall.le(k as u32), |s| {
-            m.wall.set(Some((k as u32, WALL_BASE)));
-            let f = frame(s, k, size);
-            let scale = depth_scale(s, k);
-            let ray = wall_ray(s, &f, scale, cam, w, t_wall);
-            store_view_distance(s, (w * t_wall).length());
-            let traced: Hit = s.unpack(s.call(fns.trace, &[s.pack(&ray)], true).unwrap());
-            let hit = Hit::at_found(&ray, traced.t.clamp(0.0, ray.t_max()), traced.found);
-            let hv = s.pack(&hit);
-            let p = wall_point(&f, scale, hit.uv, hit.z);
-            let to_point = (light.xyz() - p).normalize();
-            let to_light = s.select(point_light, to_point, light.xyz().normalize());
-            let ln = to_light.dot(f.normal);
-            let uu = f.u_edge.dot(f.u_edge);
-            let vv = f.v_edge.dot(f.v_edge);
-            let visibility = match fns.shadow {
-                Some(sh) => {
-                    let lk = scale / ln.max(1e-3);
-                    let light_n = s.vec3(s.vec2(to_light.dot(f.u_edge) / uu, to_light.dot(f.v_edge) / vv) * lk, 1.0);
-                    let v = s.wrap::<f32>(s.call(sh, &[hv, light_n.handle(), ln.handle()], true).unwrap());
-                    s.select(ln.gt(0.0), v, s.lit(0.0))
-                }
-                None => s.lit(1.0),
-            };
-            let occlusion = match fns.ao {
-                Some(a) => s.wrap::<f32>(s.call(a, &[hv], true).unwrap()),
-                None => s.lit(1.0),
-            };
-            let n = s.normal(hit.uv);
-            let n_world =
-                (f.u_edge * (n.x() / uu.sqrt()) + f.v_edge * (n.y() / vv.sqrt()) + f.normal * n.z()).normalize();
-            let albedo = s.sample("albedo_map", binding::ALBEDO, hit.uv, Filter::Linear).xyz();
-            let diffuse = n_world.dot(to_light).max(0.0);
-            color.set(albedo * (ambient * occlusion + (1.0 - ambient) * diffuse * visibility));
-            far.set(cam + w * t_wall);
-            m.wall.set(None);
+            s.with_policy(wall_policy, || {
+                let f = frame(s, k, size);
+                let scale = depth_scale(s, k);
+                let ray = wall_ray(s, &f, scale, cam, w, t_wall);
+                store_view_distance(s, (w * t_wall).length());
+                let traced: Hit = s.unpack(s.call(fns.trace, &[s.pack(&ray)], true).unwrap());
+                let hit = Hit::at_found(&ray, traced.t.clamp(0.0, ray.t_max()), traced.found);
+                let hv = s.pack(&hit);
+                let p = wall_point(&f, scale, hit.uv, hit.z);
+                let to_point = (light.xyz() - p).normalize();
+                let to_light = s.select(point_light, to_point, light.xyz().normalize());
+                let ln = to_light.dot(f.normal);
+                let uu = f.u_edge.dot(f.u_edge);
+                let vv = f.v_edge.dot(f.v_edge);
+                let visibility = match fns.shadow {
+                    Some(sh) => {
+                        let lk = scale / ln.max(1e-3);
+                        let light_n =
+                            s.vec3(s.vec2(to_light.dot(f.u_edge) / uu, to_light.dot(f.v_edge) / vv) * lk, 1.0);
+                        let v = s.wrap::<f32>(s.call(sh, &[hv, light_n.handle(), ln.handle()], true).unwrap());
+                        s.select(ln.gt(0.0), v, s.lit(0.0))
+                    }
+                    None => s.lit(1.0),
+                };
+                let occlusion = match fns.ao {
+                    Some(a) => s.wrap::<f32>(s.call(a, &[hv], true).unwrap()),
+                    None => s.lit(1.0),
+                };
+                let n = s.normal(hit.uv);
+                let n_world =
+                    (f.u_edge * (n.x() / uu.sqrt()) + f.v_edge * (n.y() / vv.sqrt()) + f.normal * n.z()).normalize();
+                let albedo = s.sample("albedo_map", binding::ALBEDO, hit.uv, Filter::Linear).xyz();
+                let diffuse = n_world.dot(to_light).max(0.0);
+                color.set(albedo * (ambient * occlusion + (1.0 - ambient) * diffuse * visibility));
+                far.set(cam + w * t_wall);
+            })
         });
     }
     // The window's opacity map (optional): opaque parts show glass, not the room.
@@ -447,14 +478,17 @@ fn fragment_entry(m: &ModuleCtx, walls: &[StageFns], options: &RoomOptions) -> n
     entry_point("fs_room", ShaderStage::Fragment, f, [0; 3])
 }
 
-fn probe_entry(m: &ModuleCtx, walls: &[StageFns]) -> naga::EntryPoint {
+fn probe_entry(m: &ModuleCtx, policy: &dyn Policy, walls: &[StageFns]) -> naga::EntryPoint {
     let ray_rec = m.record_ty("RoomRay", RoomRay::MEMBERS);
     let hit_rec = m.record_ty("RoomHit", RoomHit::MEMBERS);
     let rays = storage_array(m, "room_rays", ray_rec, ROOM_RAYS, false);
     let hits = storage_array(m, "room_hits", hit_rec, ROOM_HITS, true);
     let counters = super::probe_counters(m);
-    let s =
-        m.function("probe_room", &[("id", m.ty(UVec3::inner()), Some(Binding::BuiltIn(BuiltIn::GlobalInvocationId)))]);
+    let s = m.function(
+        "probe_room",
+        &[("id", m.ty(UVec3::inner()), Some(Binding::BuiltIn(BuiltIn::GlobalInvocationId)))],
+        policy,
+    );
     let index = s.arg::<UVec3>(0).x();
     let rays_ptr = s.global_ptr(rays);
     s.if_(index.ge(s.array_length(rays_ptr)), |s| s.ret());
@@ -511,17 +545,19 @@ fn refuse_render_options(p: &Pipeline) -> Result<(), CompileError> {
 
 fn compose_room(p: &Pipeline, options: &RoomOptions) -> Result<(Module, Vec<WallBinding>), CompileError> {
     refuse_render_options(p)?;
+    let table = RefCell::new(Vec::new());
+    let walls: Vec<Wall> = (0..WALLS as u32).map(|k| Wall { k, table: &table }).collect();
     let m = ModuleCtx::new();
-    let plain = wall_fns(&m, p, false)?;
-    let counted = wall_fns(&m, p, true)?;
-    let vs = vertex_entry(&m);
-    let fs = fragment_entry(&m, &plain, options);
-    let cs = probe_entry(&m, &counted);
-    let walls =
-        m.wall_bindings.borrow().iter().map(|&(binding, wall, plain)| WallBinding { binding, wall, plain }).collect();
+    let shared = Plain::default();
+    let plain = wall_fns(&m, p, &walls, false)?;
+    let counted = wall_fns(&m, p, &walls, true)?;
+    let vs = vertex_entry(&m, &shared);
+    let fs = fragment_entry(&m, &shared, &walls, &plain, options);
+    let cs = probe_entry(&m, &shared, &counted);
+    drop(walls);
     let mut module = m.finish();
     module.entry_points.extend([vs, fs, cs]);
-    Ok((module, walls))
+    Ok((module, table.into_inner()))
 }
 
 /// Builds and validates the room module for `p`.

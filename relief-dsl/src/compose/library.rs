@@ -31,10 +31,22 @@
 use naga::{Handle, Module, TypeInner};
 
 use crate::compose::write_stage_fns;
-use crate::ir::{ModuleCtx, Ty, Vec2, Vec3, Vec4};
+use crate::ir::{ModuleCtx, Plain, Policy, Ty, Vec2, Vec3, Vec4};
 use crate::spec::Pipeline;
 use crate::stage::{Hit, Ray};
 use crate::CompileError;
+
+/// The library's policy: relief's plain one, but the edge mode from the module constant
+/// `P_edge_clamp` (a library has no `Params` block).
+struct LibraryPolicy {
+    edge: Handle<naga::Constant>,
+}
+
+impl Policy for LibraryPolicy {
+    fn edge_clamp_constant(&self) -> Option<Handle<naga::Constant>> {
+        Some(self.edge)
+    }
+}
 
 /// How a library is named and bound.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -167,7 +179,7 @@ pub fn inexpressible(p: &Pipeline) -> Option<String> {
         ));
     }
     let m = ModuleCtx::new();
-    if write_stage_fns(&m, p, false).is_ok() {
+    if write_stage_fns(&m, p, &Plain::default(), false).is_ok() {
         let module = m.module.borrow();
         if module
             .global_variables
@@ -198,8 +210,8 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
             .constants
             .append(naga::Constant { name: Some(format!("{prefix}_edge_clamp")), ty, init }, naga::Span::UNDEFINED)
     };
-    m.edge_clamp_constant.set(Some(edge));
-    let fns = write_stage_fns(&m, p, false)?;
+    let policy = LibraryPolicy { edge };
+    let fns = write_stage_fns(&m, p, &policy, false)?;
     let f32_ty = m.ty(f32::inner());
     let vec2_ty = m.ty(Vec2::inner());
     let vec3_ty = m.ty(Vec3::inner());
@@ -212,8 +224,11 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
 
     // relief_trace(uv, view_ts, depth_scale) -> ReliefHit
     {
-        let s =
-            m.function("trace", &[("uv", vec2_ty, None), ("view_ts", vec3_ty, None), ("depth_scale", f32_ty, None)]);
+        let s = m.function(
+            "trace",
+            &[("uv", vec2_ty, None), ("view_ts", vec3_ty, None), ("depth_scale", f32_ty, None)],
+            &policy,
+        );
         let uv = s.arg::<Vec2>(0);
         let view = s.arg::<Vec3>(1).normalize();
         let depth_scale = s.arg::<f32>(2);
@@ -229,18 +244,19 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
         public.push(m.add_function(f));
     }
     // The stages' hit from the public one (`found`: the public hit is always drawn).
-    let stage_hit = |s: &crate::ir::FnBuilder<'_>, h: Handle<naga::Expression>| {
+    fn stage_hit<'a>(s: &'a crate::ir::FnBuilder<'a>, h: Handle<naga::Expression>) -> Handle<naga::Expression> {
         let uv = s.field::<Vec2>(h, 0);
         let z = s.field::<f32>(h, 1);
         let t = s.field::<f32>(h, 2);
         s.pack(&Hit { t, uv, z, found: s.lit_bool(true) })
-    };
+    }
     // relief_shadow(hit, light_ts, depth_scale) -> f32: the light ray in the stages'
     // normalized space, as the render entry builds it.
     if let Some(shadow) = fns.shadow {
         let s = m.function(
             "shadow",
             &[("hit", public_hit, None), ("light_ts", vec3_ty, None), ("depth_scale", f32_ty, None)],
+            &policy,
         );
         let hv = stage_hit(&s, s.arg::<Vec4>(0).handle());
         let light = s.arg::<Vec3>(1).normalize();
@@ -252,7 +268,7 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
     }
     // relief_ao(hit) -> f32
     if let Some(ao) = fns.ao {
-        let s = m.function("ao", &[("hit", public_hit, None)]);
+        let s = m.function("ao", &[("hit", public_hit, None)], &policy);
         let hv = stage_hit(&s, s.arg::<Vec4>(0).handle());
         let v = s.call(ao, &[hv], true).unwrap();
         let f = s.finish(Some((f32_ty, None, v)));

@@ -19,7 +19,7 @@ pub mod library;
 use naga::{Binding, BuiltIn, Handle, Module, ShaderStage, TypeInner};
 
 use crate::abi::{binding, Param, ProbeHit, ProbeRay, PROBE_WORKGROUP};
-use crate::ir::{FnBuilder, ModuleCtx, Ty, UVec3, Val, Vec2, Vec3, Vec4};
+use crate::ir::{Counting, FnBuilder, ModuleCtx, Plain, Policy, Ty, UVec3, Val, Vec2, Vec3, Vec4};
 use crate::spec::{Pipeline, Silhouette, Slot, StageSpec};
 use crate::stage::{self, Bracket, Filter, Hit, Ray};
 use crate::CompileError;
@@ -58,58 +58,65 @@ fn wrap_err(slot: Slot, spec: &StageSpec) -> impl Fn(CompileError) -> CompileErr
 }
 
 /// The error for a stage that read something with no level under `lod` other than zero
-/// (what [`FnBuilder`]'s sampling methods noted in `lod_unsupported` while it was built): never a
+/// (what the sampling methods of its function noted, [`FnBuilder::take_no_level`]): never a
 /// silent level 0.
-fn check_lod(m: &ModuleCtx, slot: Slot, spec: &StageSpec) -> Result<(), CompileError> {
-    let mut what = std::mem::take(&mut *m.lod_unsupported.borrow_mut());
+fn check_lod(s: &FnBuilder<'_>, slot: Slot, spec: &StageSpec) -> Result<(), CompileError> {
+    let what = s.take_no_level();
     if what.is_empty() {
         return Ok(());
     }
-    what.sort();
-    what.dedup();
     Err(CompileError {
         stage: format!("{} {}", slot.name(), spec.name),
         message: format!(
             "`{}` does not support lod={} yet: it reads {}, which has no mip chain of the level's own surface (built over level 0 of the height map)",
             spec.name,
-            m.lod.get(),
+            s.policy().lod(),
             what.join(", ")
         ),
     })
 }
 
-pub(crate) fn write_stage_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Result<StageFns, CompileError> {
-    m.lod.set(p.lod);
-    m.counting.set(counted);
+/// Writes the stage functions of `p` and `trace` under `base` (relief's own [`Plain`], a
+/// library's constant edge, a room's wall), or, `counted`, the probe's copies, which count
+/// under [`Counting`] around `base`: the coarse stage's passes apart from the refine stage's.
+pub(crate) fn write_stage_fns(
+    m: &ModuleCtx,
+    p: &Pipeline,
+    base: &dyn Policy,
+    counted: bool,
+) -> Result<StageFns, CompileError> {
+    let coarse_policy = Counting { inner: base, steps: crate::ir::counter::COARSE_STEPS };
+    let refine_policy = Counting { inner: base, steps: crate::ir::counter::REFINE_STEPS };
+    let (coarse_policy, refine_policy): (&dyn Policy, &dyn Policy) =
+        if counted { (&coarse_policy, &refine_policy) } else { (base, base) };
     let ray_ty = m.record_type::<Ray>();
     let hit_ty = m.record_type::<Hit>();
     // coarse(ray) -> Bracket
-    m.step_counter.set(crate::ir::counter::COARSE_STEPS);
     let coarse = {
-        let s = m.function(&fn_name(Slot::Coarse, &p.coarse, counted), &[("ray", ray_ty, None)]);
+        let s = m.function(&fn_name(Slot::Coarse, &p.coarse, counted), &[("ray", ray_ty, None)], coarse_policy);
         let ray: Ray = s.arg_record(0);
         let b = stage::coarse(&s, &ray, &p.coarse).map_err(wrap_err(Slot::Coarse, &p.coarse))?;
-        check_lod(m, Slot::Coarse, &p.coarse)?;
+        check_lod(&s, Slot::Coarse, &p.coarse)?;
         m.add_function(s.finish_record(&b))
     };
     // refine(ray, bracket) -> Hit
-    m.step_counter.set(crate::ir::counter::REFINE_STEPS);
     let refine = {
         let s = m.function(
             &fn_name(Slot::Refine, &p.refine, counted),
             &[("ray", ray_ty, None), ("bracket", m.record_type::<Bracket>(), None)],
+            refine_policy,
         );
         let ray: Ray = s.arg_record(0);
         let b: Bracket = s.arg_record(1);
         let hit = stage::refine(&s, &ray, b, &p.refine).map_err(wrap_err(Slot::Refine, &p.refine))?;
-        check_lod(m, Slot::Refine, &p.refine)?;
+        check_lod(&s, Slot::Refine, &p.refine)?;
         m.add_function(s.finish_record(&hit))
     };
     // trace(ray) -> Hit: the refinement runs on a bracket that holds a crossing; a search
     // that found none ends at the last point it knew to be above the surface.
     let trace = {
         let name = if counted { "trace_counted" } else { "trace" };
-        let s = m.function(name, &[("ray", ray_ty, None)]);
+        let s = m.function(name, &[("ray", ray_ty, None)], base);
         let ray_h = s.arg::<Vec4>(0).handle();
         let b_h = s.call(coarse, &[ray_h], true).unwrap();
         let b: Bracket = s.unpack(b_h);
@@ -122,7 +129,6 @@ pub(crate) fn write_stage_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Res
         let f = s.finish(Some((m.record_type::<Hit>(), None, h)));
         m.add_function(f)
     };
-    m.counting.set(false);
     if counted {
         // The probe traces only: shadow and ao have no counted variant.
         return Ok(StageFns { trace, shadow: None, ao: None });
@@ -133,21 +139,22 @@ pub(crate) fn write_stage_fns(m: &ModuleCtx, p: &Pipeline, counted: bool) -> Res
         let s = m.function(
             &fn_name(Slot::Shadow, &p.shadow, counted),
             &[("hit", hit_ty, None), ("light", m.ty(Vec3::inner()), None), ("light_cos", m.ty(f32::inner()), None)],
+            base,
         );
         let hit: Hit = s.arg_record(0);
         let light = stage::Light { dir: s.arg::<Vec3>(1), cos: s.arg::<f32>(2) };
         let v = stage::shadow(&s, &hit, &light, &p.shadow).map_err(wrap_err(Slot::Shadow, &p.shadow))?;
-        check_lod(m, Slot::Shadow, &p.shadow)?;
+        check_lod(&s, Slot::Shadow, &p.shadow)?;
         let f = s.finish(Some((m.ty(f32::inner()), None, v.handle())));
         Some(m.add_function(f))
     };
     let ao = if p.ao.is_none() {
         None
     } else {
-        let s = m.function(&fn_name(Slot::Ao, &p.ao, counted), &[("hit", hit_ty, None)]);
+        let s = m.function(&fn_name(Slot::Ao, &p.ao, counted), &[("hit", hit_ty, None)], base);
         let hit: Hit = s.arg_record(0);
         let v = stage::ao(&s, &hit, &p.ao).map_err(wrap_err(Slot::Ao, &p.ao))?;
-        check_lod(m, Slot::Ao, &p.ao)?;
+        check_lod(&s, Slot::Ao, &p.ao)?;
         let f = s.finish(Some((m.ty(f32::inner()), None, v.handle())));
         Some(m.add_function(f))
     };
@@ -184,7 +191,7 @@ pub(crate) fn entry_point(
     }
 }
 
-fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
+fn vertex_entry(m: &ModuleCtx, policy: &dyn Policy) -> naga::EntryPoint {
     let out_ty = {
         let v4 = m.ty(Vec4::inner());
         let v2 = m.ty(Vec2::inner());
@@ -208,7 +215,8 @@ fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
             naga::Span::UNDEFINED,
         )
     };
-    let s = m.function("vs_main", &[("vertex", m.ty(u32::inner()), Some(Binding::BuiltIn(BuiltIn::VertexIndex)))]);
+    let s =
+        m.function("vs_main", &[("vertex", m.ty(u32::inner()), Some(Binding::BuiltIn(BuiltIn::VertexIndex)))], policy);
     // Four vertices as a triangle strip: (0,0) (1,0) (0,1) (1,1), scaled to the quad's size.
     let i = s.arg::<u32>(0);
     let size = s.param::<Vec4>(Param::Quad).x();
@@ -247,14 +255,16 @@ fn vertex_entry(m: &ModuleCtx) -> naga::EntryPoint {
 ///
 /// The CPU twin is `Camera::footprint_lambda` in relief-runtime (the reference traces each
 /// ray on the level it gives).
-fn lod_level_fn(m: &ModuleCtx, lod: crate::spec::Lod) -> Option<Handle<naga::Function>> {
+fn lod_level_fn(m: &ModuleCtx, policy: &dyn Policy) -> Option<Handle<naga::Function>> {
     use crate::spec::Lod;
+    let lod = policy.lod();
     if lod == Lod::Zero {
         return None;
     }
     let s = m.function(
         "relief_lod_level",
         &[("entry", m.ty(Vec2::inner()), None), ("pixel_size", m.ty(f32::inner()), None)],
+        policy,
     );
     let entry = s.arg::<Vec2>(0);
     let delta = s.arg::<f32>(1);
@@ -339,13 +349,14 @@ fn fragment_output_with_depth(m: &ModuleCtx) -> Handle<naga::Type> {
 
 fn fragment_entry(
     m: &ModuleCtx,
+    policy: &dyn Policy,
     fns: &StageFns,
     options: &Options,
     clip: bool,
     lod: Option<Handle<naga::Function>>,
 ) -> naga::EntryPoint {
     let loc = location(0);
-    let s = m.function("fs_main", &[("world", m.ty(Vec2::inner()), Some(loc))]);
+    let s = m.function("fs_main", &[("world", m.ty(Vec2::inner()), Some(loc))], policy);
     let world = s.arg::<Vec2>(0);
     let camera = s.param::<Vec4>(Param::Camera);
     let depth_scale = s.name("depth_scale", camera.w());
@@ -420,14 +431,24 @@ pub(crate) fn probe_counters(m: &ModuleCtx) -> [Handle<naga::GlobalVariable>; 3]
     [counter::COARSE_STEPS, counter::REFINE_STEPS, counter::FETCHES].map(|name| m.private::<u32>(name))
 }
 
-fn probe_entry(m: &ModuleCtx, fns: &StageFns, clip: bool, lod: Option<Handle<naga::Function>>) -> naga::EntryPoint {
+fn probe_entry(
+    m: &ModuleCtx,
+    policy: &dyn Policy,
+    fns: &StageFns,
+    clip: bool,
+    lod: Option<Handle<naga::Function>>,
+) -> naga::EntryPoint {
     let ray_rec = m.record_ty("ProbeRay", ProbeRay::MEMBERS);
     let hit_rec = m.record_ty("ProbeHit", ProbeHit::MEMBERS);
     let rays = storage_array(m, "rays", ray_rec, binding::RAYS, false);
     let hits = storage_array(m, "hits", hit_rec, binding::HITS, true);
     let counters = probe_counters(m);
 
-    let s = m.function("probe", &[("id", m.ty(UVec3::inner()), Some(Binding::BuiltIn(BuiltIn::GlobalInvocationId)))]);
+    let s = m.function(
+        "probe",
+        &[("id", m.ty(UVec3::inner()), Some(Binding::BuiltIn(BuiltIn::GlobalInvocationId)))],
+        policy,
+    );
     let index = s.arg::<UVec3>(0).x();
     let rays_ptr = s.global_ptr(rays);
     s.if_(index.ge(s.array_length(rays_ptr)), |s| s.ret());
@@ -478,13 +499,14 @@ pub fn compose_module(p: &Pipeline) -> Result<Module, CompileError> {
 /// Builds the module for `p` with `options` (not yet validated).
 pub(crate) fn compose_module_with(p: &Pipeline, options: &Options) -> Result<Module, CompileError> {
     let m = ModuleCtx::new();
-    let plain = write_stage_fns(&m, p, false)?;
-    let counted = write_stage_fns(&m, p, true)?;
-    let lod = lod_level_fn(&m, p.lod);
+    let policy = Plain { lod: p.lod };
+    let plain = write_stage_fns(&m, p, &policy, false)?;
+    let counted = write_stage_fns(&m, p, &policy, true)?;
+    let lod = lod_level_fn(&m, &policy);
     let clip = p.silhouette == Silhouette::Clip;
-    let vs = vertex_entry(&m);
-    let fs = fragment_entry(&m, &plain, options, clip, lod);
-    let cs = probe_entry(&m, &counted, clip, lod);
+    let vs = vertex_entry(&m, &policy);
+    let fs = fragment_entry(&m, &policy, &plain, options, clip, lod);
+    let cs = probe_entry(&m, &policy, &counted, clip, lod);
     let mut module = m.finish();
     module.entry_points.extend([vs, fs, cs]);
     Ok(module)

@@ -14,49 +14,30 @@
 //! stages read.
 
 mod ops;
+pub(crate) mod policy;
 mod record;
 mod types;
 mod values;
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 
 use naga::{
     Block, Expression, Function, FunctionArgument, FunctionResult, Handle, LocalVariable, Module, Span, Statement,
 };
 
 pub use ops::{Float, IntoSame, Ordered};
+pub(crate) use policy::{Counting, Plain, Policy};
 pub(crate) use record::record;
 pub use record::Record;
 pub use types::{Mat4, Ty, UVec2, UVec3, Vec2, Vec3, Vec4};
 pub use values::{IntoVal, Val, Var};
 
 /// Module-wide state shared by every function being built: the module itself and the
-/// resources already declared in it.
+/// resources already declared in it. What the composer decides for the code (counting, the
+/// level, a wall's textures, the edge constant) is each function's [`Policy`], not this.
 pub(crate) struct ModuleCtx {
     pub(crate) module: RefCell<Module>,
     globals: RefCell<Vec<(String, Handle<naga::GlobalVariable>)>>,
-    /// Whether functions built now count iterations and fetches (the probe variant).
-    pub(crate) counting: std::cell::Cell<bool>,
-    /// The private counter a loop pass adds one to while counting: the coarse stage's and
-    /// the refine stage's passes are counted apart ([`counter`]).
-    pub(crate) step_counter: std::cell::Cell<&'static str>,
-    /// When set, stages read the edge mode from this module constant (a `bool`) instead of
-    /// the `Params` block: the library output ([`crate::compose::library`]) has no `Params`.
-    pub(crate) edge_clamp_constant: std::cell::Cell<Option<Handle<naga::Constant>>>,
-    /// The pipeline's `lod` option: under anything but [`Lod::Zero`](crate::spec::Lod) every
-    /// 2D sample is taken at the level in the private `relief_sample_level`, which the entry
-    /// points set ([`crate::compose`]).
-    pub(crate) lod: std::cell::Cell<crate::spec::Lod>,
-    /// What stages read that has no level (maps built over level 0, the 3D field), while
-    /// `lod` is not zero: the composer turns an entry into an error naming the stage.
-    pub(crate) lod_unsupported: RefCell<Vec<String>>,
-    /// When set to `(k, first)`, every texture declared now is wall `k`'s: named
-    /// `NAME_wallK` and bound at the next free binding from `first` on, recorded in
-    /// `wall_bindings` (the interior entry, [`crate::compose::interior`]); samplers,
-    /// uniforms and private globals stay shared.
-    pub(crate) wall: std::cell::Cell<Option<(u32, u32)>>,
-    /// The walls' textures: (binding, wall, the binding of the same texture in a plain module).
-    pub(crate) wall_bindings: RefCell<Vec<(u32, u32, u32)>>,
 }
 
 /// Names of the probe's private counters.
@@ -78,17 +59,7 @@ impl Default for ModuleCtx {
 impl ModuleCtx {
     /// An empty module.
     pub fn new() -> Self {
-        ModuleCtx {
-            module: RefCell::new(Module::default()),
-            globals: RefCell::new(Vec::new()),
-            counting: std::cell::Cell::new(false),
-            step_counter: std::cell::Cell::new(counter::COARSE_STEPS),
-            edge_clamp_constant: std::cell::Cell::new(None),
-            lod: std::cell::Cell::new(crate::spec::Lod::Zero),
-            lod_unsupported: RefCell::new(Vec::new()),
-            wall: std::cell::Cell::new(None),
-            wall_bindings: RefCell::new(Vec::new()),
-        }
+        ModuleCtx { module: RefCell::new(Module::default()), globals: RefCell::new(Vec::new()) }
     }
 
     /// Takes the finished module out.
@@ -137,34 +108,10 @@ impl ModuleCtx {
         name: &str,
         make: impl FnOnce(&ModuleCtx) -> naga::GlobalVariable,
     ) -> Handle<naga::GlobalVariable> {
-        let walled = self.wall.get().map(|(k, _)| format!("{name}_wall{k}"));
-        if let Some(key) = &walled {
-            if let Some(h) = self.find_global(key) {
-                return h;
-            }
-            if let Some(h) = self.find_global(name) {
-                if !self.is_texture(h) {
-                    return h;
-                }
-            }
-        } else if let Some(h) = self.find_global(name) {
+        if let Some(h) = self.find_global(name) {
             return h;
         }
-        let mut var = make(self);
-        let mut name = name.to_string();
-        if let (Some(key), Some((k, first))) = (walled, self.wall.get()) {
-            if self.is_texture_ty(var.ty) {
-                var.name = Some(key.clone());
-                if let Some(b) = &mut var.binding {
-                    let mut list = self.wall_bindings.borrow_mut();
-                    let next = list.iter().map(|w| w.0 + 1).max().unwrap_or(first);
-                    list.push((next, k, b.binding));
-                    b.binding = next;
-                }
-                name = key;
-            }
-        }
-        let name = name.as_str();
+        let var = make(self);
         let h = self.module.borrow_mut().global_variables.append(var, Span::UNDEFINED);
         self.globals.borrow_mut().push((name.to_string(), h));
         h
@@ -201,20 +148,13 @@ impl ModuleCtx {
         self.globals.borrow().iter().find(|(n, _)| n == name).map(|(_, h)| *h)
     }
 
-    fn is_texture(&self, h: Handle<naga::GlobalVariable>) -> bool {
-        let ty = self.module.borrow().global_variables[h].ty;
-        self.is_texture_ty(ty)
-    }
-
-    fn is_texture_ty(&self, ty: Handle<naga::Type>) -> bool {
-        matches!(self.module.borrow().types[ty].inner, naga::TypeInner::Image { .. })
-    }
-
-    /// Starts a function with named, typed arguments (and optional bindings, for entry points).
-    pub fn function<'a>(
+    /// Starts a function with named, typed arguments (and optional bindings, for entry points),
+    /// written under `policy`.
+    pub(crate) fn function<'a>(
         &'a self,
         name: &str,
         args: &[(&str, Handle<naga::Type>, Option<naga::Binding>)],
+        policy: &'a dyn Policy,
     ) -> FnBuilder<'a> {
         let arguments = args
             .iter()
@@ -226,11 +166,13 @@ impl ModuleCtx {
             .collect();
         FnBuilder {
             ctx: self,
+            policy: Cell::new(policy),
             f: RefCell::new(FnState {
                 func: Function { name: Some(name.to_string()), arguments, ..Function::default() },
                 blocks: vec![Block::new()],
                 emit_from: None,
                 loop_depth: 0,
+                no_level: Vec::new(),
             }),
         }
     }
@@ -248,11 +190,15 @@ struct FnState {
     /// Index of the first expression not yet covered by an `Emit`.
     emit_from: Option<usize>,
     loop_depth: u32,
+    /// What the function read that has no level while its policy's `lod` is not zero
+    /// ([`FnBuilder::no_level`]).
+    no_level: Vec<String>,
 }
 
 /// The function being built. Stage code receives `&FnBuilder` and builds values through it.
 pub struct FnBuilder<'a> {
     pub(crate) ctx: &'a ModuleCtx,
+    policy: Cell<&'a dyn Policy>,
     f: RefCell<FnState>,
 }
 
@@ -344,9 +290,40 @@ impl<'a> FnBuilder<'a> {
         self.ctx
     }
 
-    /// Whether this function counts iterations and fetches.
+    /// The composer's policy for the code written now.
+    pub(crate) fn policy(&self) -> &'a dyn Policy {
+        self.policy.get()
+    }
+
+    /// Whether the code written now counts loop passes and fetches (the probe's copy).
     pub(crate) fn counting(&self) -> bool {
-        self.ctx.counting.get()
+        self.policy().step_counter().is_some()
+    }
+
+    /// Runs `body` with `policy` in place of the function's own (restored after): a region
+    /// of the function that reads another set of textures, as a room's branch per wall.
+    pub(crate) fn with_policy<R>(&self, policy: &'a dyn Policy, body: impl FnOnce() -> R) -> R {
+        let before = self.policy.replace(policy);
+        let out = body();
+        self.policy.set(before);
+        out
+    }
+
+    /// Notes that the function reads `what`, which has no level, while its policy's `lod`
+    /// is not zero; the composer turns the notes into an error naming the stage
+    /// ([`FnBuilder::take_no_level`]).
+    pub(crate) fn no_level(&self, what: &str) {
+        if self.policy().lod() != crate::spec::Lod::Zero {
+            self.f.borrow_mut().no_level.push(what.to_string());
+        }
+    }
+
+    /// The notes of [`FnBuilder::no_level`] so far, sorted, each once; the list is emptied.
+    pub(crate) fn take_no_level(&self) -> Vec<String> {
+        let mut what = std::mem::take(&mut self.f.borrow_mut().no_level);
+        what.sort();
+        what.dedup();
+        what
     }
 
     /// Appends an expression, keeping the emit bookkeeping.
@@ -452,8 +429,8 @@ impl<'a> FnBuilder<'a> {
                 done = done | i_now.ge(limit);
             }
             l.break_if(done);
-            if s.counting() {
-                s.count(s.ctx.step_counter.get());
+            if let Some(counter) = s.policy().step_counter() {
+                s.count(counter);
             }
             body(l);
         });
@@ -539,6 +516,7 @@ impl<'a> FnBuilder<'a> {
             blocks: vec![Block::new()],
             emit_from: None,
             loop_depth: 0,
+            no_level: Vec::new(),
         })
     }
 }

@@ -6,10 +6,22 @@
 
 use super::*;
 
-/// Builds one function `name(args…) -> f32` with `body`, validates the module with naga's
-/// validator (every check on) and returns the WGSL of the whole module.
+/// Builds one function `name(args…) -> f32` with `body` under the plain policy (see
+/// [`wgsl_under`]).
 fn wgsl_of<'c>(
     ctx: &'c ModuleCtx,
+    name: &str,
+    args: &[&str],
+    body: impl for<'s> FnOnce(&'s FnBuilder<'s>) -> Handle<Expression>,
+) -> String {
+    wgsl_under(ctx, &Plain::default(), name, args, body)
+}
+
+/// Builds one function `name(args…) -> f32` with `body` under `policy`, validates the module
+/// with naga's validator (every check on) and returns the WGSL of the whole module.
+fn wgsl_under<'c>(
+    ctx: &'c ModuleCtx,
+    policy: &dyn Policy,
     name: &str,
     args: &[&str],
     body: impl for<'s> FnOnce(&'s FnBuilder<'s>) -> Handle<Expression>,
@@ -18,7 +30,7 @@ fn wgsl_of<'c>(
     let args: Vec<(&str, Handle<naga::Type>, Option<naga::Binding>)> =
         args.iter().map(|a| (*a, f32_ty, None)).collect();
     let f = {
-        let s = ctx.function(name, &args);
+        let s = ctx.function(name, &args, policy);
         let value = body(&s);
         s.finish(Some((f32_ty, None, value)))
     };
@@ -191,9 +203,9 @@ fn counting_loops_add_to_the_step_counter() {
     // The probe's copy of a stage: every pass of a loop adds one to the private counter the
     // composer named (here the refine stage's), after the pass's exit test.
     let ctx = ModuleCtx::new();
-    ctx.counting.set(true);
-    ctx.step_counter.set(counter::REFINE_STEPS);
-    let src = wgsl_of(&ctx, "passes", &["x"], |s| {
+    let plain = Plain::default();
+    let probe = Counting { inner: &plain, steps: counter::REFINE_STEPS };
+    let src = wgsl_under(&ctx, &probe, "passes", &["x"], |s| {
         let x = s.arg::<f32>(0);
         let mut acc = s.var("acc", x);
         s.repeat(2, |_| acc += 1.0);

@@ -19,22 +19,24 @@ pub enum Filter {
 }
 
 /// The sampled float texture `name` of dimension `dim` (`arrayed`: an array of layers) at
-/// `binding`, declared on first use.
+/// `binding`, declared on first use under the name and binding the function's policy gives
+/// it (a room's wall reads its own copy).
 fn texture_of(
-    m: &crate::ir::ModuleCtx,
+    s: &FnBuilder<'_>,
     name: &str,
     binding: u32,
     dim: ImageDimension,
     arrayed: bool,
 ) -> naga::Handle<naga::GlobalVariable> {
-    m.declare(name, naga::AddressSpace::Handle, Some(binding), |m| {
+    let (name, binding) = s.policy().texture(name, binding);
+    s.module().declare(&name, naga::AddressSpace::Handle, Some(binding), |m| {
         m.ty(TypeInner::Image { dim, arrayed, class: ImageClass::Sampled { kind: ScalarKind::Float, multi: false } })
     })
 }
 
 /// The 2D float texture `name` at `binding`, declared on first use.
-fn texture_2d(m: &crate::ir::ModuleCtx, name: &str, binding: u32) -> naga::Handle<naga::GlobalVariable> {
-    texture_of(m, name, binding, ImageDimension::D2, false)
+fn texture_2d(s: &FnBuilder<'_>, name: &str, binding: u32) -> naga::Handle<naga::GlobalVariable> {
+    texture_of(s, name, binding, ImageDimension::D2, false)
 }
 
 /// The private global that holds the mip level every 2D sample is taken at when the
@@ -52,19 +54,11 @@ impl<'a> FnBuilder<'a> {
     /// `SampleLevel::Zero` of every sample before the option), else the stage-wide level in
     /// [`SAMPLE_LEVEL`]. Stage bodies never see it: every sampling method below reads it.
     pub(crate) fn sample_level(&'a self) -> Option<Val<'a, f32>> {
-        if self.module().lod.get() == crate::spec::Lod::Zero {
+        if self.policy().lod() == crate::spec::Lod::Zero {
             return None;
         }
         let g = sample_level_global(self.module());
         Some(self.load(self.global_ptr(g)))
-    }
-
-    /// Notes that a stage reads `what`, which has no level, under a `lod` other than zero:
-    /// the composer reports it as an error naming the stage ([`crate::compose`]).
-    pub(crate) fn no_level(&'a self, what: &str) {
-        if self.module().lod.get() != crate::spec::Lod::Zero {
-            self.module().lod_unsupported.borrow_mut().push(what.to_string());
-        }
     }
 
     /// The sampler of `filter` (declared on first use).
@@ -140,14 +134,14 @@ impl<'a> FnBuilder<'a> {
     /// for, so that fetch counts compare across levels.
     pub(crate) fn gather_2d(&'a self, name: &str, map_binding: u32, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
         let Some(level) = self.sample_level() else {
-            let tex = texture_2d(self.module(), name, map_binding);
+            let tex = texture_2d(self, name, map_binding);
             return self.image_sample(tex, uv.handle(), Filter::Linear, true, SampleLevel::Zero, true);
         };
         if self.counting() {
             self.count(crate::ir::counter::FETCHES);
         }
         let nearest = format!("{name}_nearest");
-        let tex = texture_2d(self.module(), &nearest, map_binding + binding::NEAREST_OFFSET);
+        let tex = texture_2d(self, &nearest, map_binding + binding::NEAREST_OFFSET);
         let size = self.level_size(name, map_binding, level);
         let base = (uv * size - 0.5).floor();
         let texel = |dx: f32, dy: f32| -> Val<'a, f32> {
@@ -164,7 +158,7 @@ impl<'a> FnBuilder<'a> {
     /// before (`maps::mips` stops before an odd side). Not `textureDimensions` at the level,
     /// which lavapipe gets wrong when the level differs between lanes (see [`FnBuilder::gather_2d`]).
     pub(crate) fn level_size(&'a self, name: &str, map_binding: u32, level: Val<'a, f32>) -> Val<'a, Vec2> {
-        let tex = texture_2d(self.module(), name, map_binding);
+        let tex = texture_2d(self, name, map_binding);
         let image = self.expr(Expression::GlobalVariable(tex));
         let zero = self.lit_u32(0).handle();
         let size = self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::Size { level: Some(zero) } });
@@ -185,7 +179,7 @@ impl<'a> FnBuilder<'a> {
             Filter::Linear => (map.to_string(), map_binding),
             Filter::Nearest => (format!("{map}_nearest"), map_binding + binding::NEAREST_OFFSET),
         };
-        let tex = texture_2d(self.module(), &name, b);
+        let tex = texture_2d(self, &name, b);
         self.sample_2d(tex, uv, filter)
     }
 
@@ -244,7 +238,7 @@ impl<'a> FnBuilder<'a> {
             }
         };
         let name = map.texture_name();
-        let tex = texture_of(self.module(), &name, map.binding(), ImageDimension::D2, layer.is_some());
+        let tex = texture_of(self, &name, map.binding(), ImageDimension::D2, layer.is_some());
         if self.counting() {
             self.count(crate::ir::counter::FETCHES);
         }
@@ -263,7 +257,7 @@ impl<'a> FnBuilder<'a> {
         let map = MapReq::DistanceField;
         let name = map.texture_name();
         self.no_level(map.name());
-        let tex = texture_of(self.module(), &name, map.binding(), ImageDimension::D3, false);
+        let tex = texture_of(self, &name, map.binding(), ImageDimension::D3, false);
         self.image_sample(tex, p.handle(), Filter::Linear, false, SampleLevel::Zero, true).x()
     }
 
@@ -272,7 +266,7 @@ impl<'a> FnBuilder<'a> {
     pub fn height_map_size(&'a self) -> Val<'a, Vec2> {
         match self.sample_level() {
             None => {
-                let tex = texture_2d(self.module(), "height_map", binding::HEIGHT);
+                let tex = texture_2d(self, "height_map", binding::HEIGHT);
                 let image = self.expr(Expression::GlobalVariable(tex));
                 let level = self.lit_u32(0).handle();
                 let size =
@@ -294,7 +288,7 @@ impl<'a> FnBuilder<'a> {
     /// `Σ_{j<k} h_j = 2·h_0 − 2·h_k`, plus k under clamp: the cell's row is offset by that.
     pub fn cell_map_texel(&'a self, map: MapReq, index: Val<'a, Vec2>) -> Val<'a, Vec4> {
         let name = map.texture_name();
-        let tex = texture_2d(self.module(), &name, map.binding());
+        let tex = texture_2d(self, &name, map.binding());
         if self.counting() {
             self.count(crate::ir::counter::FETCHES);
         }
@@ -321,7 +315,7 @@ impl<'a> FnBuilder<'a> {
 
     /// The number of mip levels of the height map, as a float.
     pub(crate) fn height_map_levels(&'a self) -> Val<'a, f32> {
-        let tex = texture_2d(self.module(), "height_map", binding::HEIGHT);
+        let tex = texture_2d(self, "height_map", binding::HEIGHT);
         let image = self.expr(Expression::GlobalVariable(tex));
         let n = self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::NumLevels });
         self.wrap(self.expr(Expression::As { expr: n, kind: ScalarKind::Float, convert: Some(4) }))
@@ -343,7 +337,7 @@ impl<'a> FnBuilder<'a> {
     /// Whether the scene's edge mode is clamp (`params.quad.y` is 1), for stages that address
     /// texels themselves.
     pub fn edge_is_clamp(&'a self) -> Val<'a, bool> {
-        if let Some(c) = self.module().edge_clamp_constant.get() {
+        if let Some(c) = self.policy().edge_clamp_constant() {
             return self.wrap(self.expr(Expression::Constant(c)));
         }
         self.param::<Vec4>(Param::Quad).y().gt(0.5)

@@ -1,0 +1,76 @@
+//! What the composer decides for the code the builder writes, and a stage never sees: whether
+//! loop passes and fetches are counted (the probe's copy), the mip level samples are taken at,
+//! which texture a stage's read of a map becomes (a room's wall has its own), and where the
+//! edge mode comes from (a library fixes it as a constant).
+//!
+//! The builder asks its function's [`Policy`] each time; the composer hands one to
+//! [`ModuleCtx::function`](super::ModuleCtx::function) (and may swap it for a region with
+//! [`FnBuilder::with_policy`](super::FnBuilder::with_policy)). [`Plain`] is relief's own render
+//! code; the composer's other policies wrap or replace it.
+
+use naga::Handle;
+
+use crate::spec::Lod;
+
+/// The composer's decisions for a function being built. Every method has the plain answer as
+/// its default.
+pub(crate) trait Policy {
+    /// The private counter a loop pass adds one to, `None` when nothing is counted. A policy
+    /// that counts passes counts texture fetches too (in [`super::counter::FETCHES`]).
+    fn step_counter(&self) -> Option<&'static str> {
+        None
+    }
+    /// The pipeline's `lod`: under anything but [`Lod::Zero`] every 2D sample is taken at the
+    /// level in the private `relief_sample_level`, which the entry points set.
+    fn lod(&self) -> Lod {
+        Lod::Zero
+    }
+    /// The module constant (a `bool`) stages read the edge mode from, instead of the `Params`
+    /// block; `None`: the `Params` block.
+    fn edge_clamp_constant(&self) -> Option<Handle<naga::Constant>> {
+        None
+    }
+    /// The name and binding of the texture a stage reads as `name` at `binding` (relief's
+    /// own binding numbers, [`crate::abi::binding`]).
+    fn texture(&self, name: &str, binding: u32) -> (String, u32) {
+        (name.to_string(), binding)
+    }
+}
+
+/// relief's own functions: nothing counted, the textures at their own names and bindings, the
+/// edge mode from `Params`, samples at the level `lod` asks for.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Plain {
+    /// The pipeline's `lod`.
+    pub(crate) lod: Lod,
+}
+
+impl Policy for Plain {
+    fn lod(&self) -> Lod {
+        self.lod
+    }
+}
+
+/// The probe's copy of a function: `inner`'s decisions, with loop passes counted in `steps`
+/// and every texture fetch in [`super::counter::FETCHES`].
+pub(crate) struct Counting<'p> {
+    /// The policy this one counts for.
+    pub(crate) inner: &'p dyn Policy,
+    /// The counter a loop pass adds one to.
+    pub(crate) steps: &'static str,
+}
+
+impl Policy for Counting<'_> {
+    fn step_counter(&self) -> Option<&'static str> {
+        Some(self.steps)
+    }
+    fn lod(&self) -> Lod {
+        self.inner.lod()
+    }
+    fn edge_clamp_constant(&self) -> Option<Handle<naga::Constant>> {
+        self.inner.edge_clamp_constant()
+    }
+    fn texture(&self, name: &str, binding: u32) -> (String, u32) {
+        self.inner.texture(name, binding)
+    }
+}
