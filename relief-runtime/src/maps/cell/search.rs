@@ -166,12 +166,20 @@ impl CellTree {
     fn axis_query(&self, c: usize, dir: Dir, is_x: bool) -> AxisQuery {
         let (n, cn) = if is_x { (self.grid.width, self.grid.cw) } else { (self.grid.height, self.grid.ch) };
         let (_, _, c0, c1) = axis_extent(c, n, self.grid.edge);
+        let m = n as i64 - 1;
+        let (klo, khi) = match dir {
+            Dir::Both => (-m, m),
+            Dir::Forward => (0, m),
+            Dir::Backward => (-m, 0),
+        };
         AxisQuery {
             repeat: self.grid.edge == EdgeMode::Repeat,
             n: n as i64,
             cn: cn as i64,
             c: c as i64,
             dir,
+            klo,
+            khi,
             c0,
             c1,
             scale: 1.0 / n as f64,
@@ -377,6 +385,10 @@ struct AxisQuery {
     cn: i64,
     c: i64,
     dir: Dir,
+    /// Repeat: the reachable plane offsets from `C`, `klo..=khi` (decided once per search,
+    /// not per node).
+    klo: i64,
+    khi: i64,
     /// `C`'s extent (texel-centre units; clamp only).
     c0: f64,
     c1: f64,
@@ -387,18 +399,13 @@ struct AxisQuery {
 impl AxisQuery {
     /// A node's range along the axis (storage `a..=b`, shift `m` periods): min gap in
     /// texture units and side, or `None` if no cell of it is reachable.
-    #[inline]
+    #[inline(always)]
     fn node(&self, a: usize, b: usize, m: i64) -> Option<(f64, Side)> {
         let (a, b, c) = (a as i64, b as i64, self.c);
         if self.repeat {
-            let n = self.n;
-            let (lo, hi) = match self.dir {
-                Dir::Both => (-(n - 1), n - 1),
-                Dir::Forward => (0, n - 1),
-                Dir::Backward => (-(n - 1), 0),
-            };
-            let ka = (a - c + m * n).max(lo);
-            let kb = (b - c + m * n).min(hi);
+            let o = m * self.n - c;
+            let ka = (a + o).max(self.klo);
+            let kb = (b + o).min(self.khi);
             if ka > kb {
                 return None;
             }
@@ -455,6 +462,7 @@ impl Seeds {
     }
 }
 
+#[inline(always)]
 fn side_of(ka: i64, kb: i64) -> Side {
     if ka >= 1 {
         Side::Pos
