@@ -4,10 +4,7 @@
 //! library of `relief gen --all --library`; ANGLE (WebGL2) compiles every GLSL ES library. One Chromium
 //! launch per test.
 
-#[path = "common/browser.rs"]
-mod browser;
-#[path = "common/frames.rs"]
-mod frames;
+use crate::common::{browser, frames};
 
 use std::path::Path;
 use std::time::Duration;

@@ -7,8 +7,7 @@
 //! other side of a texel edge or of a step). The goal stated here: a mean absolute difference
 //! of at most 1 (of 255) per channel, and at most 1 % of the pixels differing by more than 8.
 
-#[path = "common/frames.rs"]
-mod frames;
+use crate::common::frames;
 #[path = "../examples/integrate.rs"]
 #[allow(dead_code)]
 mod integrate;

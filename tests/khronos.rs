@@ -4,8 +4,7 @@
 use std::path::Path;
 use std::process::Command;
 
-mod common;
-use common::{run, tool};
+use crate::common::{run, tool};
 
 use relief::dsl::emit;
 use relief::dsl::spec::catalog;

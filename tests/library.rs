@@ -8,8 +8,7 @@
 use std::path::Path;
 use std::process::Command;
 
-mod common;
-use common::{run, tool};
+use crate::common::{run, tool};
 
 use relief::dsl::emit::{self, LibraryFiles, LibraryOptions, ResourceKind};
 use relief::Pipeline;

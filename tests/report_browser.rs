@@ -3,10 +3,7 @@
 //! table within the first 1000 px, sorting and filtering a table, every in-page link landing
 //! on its target, pictures at least 256 px wide, nothing loaded from elsewhere.
 
-#[path = "common/browser.rs"]
-mod browser;
-#[path = "common/frames.rs"]
-mod frames;
+use crate::common::{browser, frames};
 
 use std::time::Duration;
 

@@ -3,8 +3,7 @@
 
 use std::process::Command;
 
-mod common;
-use common::{run, tool};
+use crate::common::{run, tool};
 
 use relief::dsl::compose::interior::{compile_room, RoomOptions, WALL_BASE};
 use relief::dsl::emit;

@@ -16,10 +16,7 @@
 //! The goal (the bar of `tests/integrate.rs`): a mean absolute difference of at most 1 of
 //! 255 per channel and at most 1 % of the pixels differing by more than 8 in a channel.
 
-#[path = "common/browser.rs"]
-mod browser;
-#[path = "common/frames.rs"]
-mod frames;
+use crate::common::{browser, frames};
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;

@@ -221,8 +221,8 @@ fn missing_or_empty_folders_are_clear_errors() {
     let _ = std::fs::remove_dir_all(&empty);
 }
 
-/// Runs the report on a real sweep: `RELIEF_REPORT_DIR=out/sweep cargo test --release -p
-/// relief-runtime --test report -- --ignored`.
+/// Runs the report on a real sweep: `RELIEF_REPORT_DIR=out/sweep cargo test --release --test
+/// runtime report:: -- --ignored`.
 #[test]
 #[ignore]
 fn report_on_a_real_sweep() {

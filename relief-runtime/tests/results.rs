@@ -152,7 +152,7 @@ fn every_value_written_to_the_csv_and_the_jsonl_reads_back_as_the_same_number() 
     let mut state = 27;
     let mut rows = Vec::new();
     // Finite doubles of every exponent (random bit patterns), values in [0, 1) like the
-    // rates and errors, and the value issue 27 saw change in its last digit.
+    // rates and errors, and a value once seen to change in its last digit.
     let mut values = vec![0.019671713345102298, 0.2240283, 5e-324, f64::MAX, f64::MIN_POSITIVE];
     while values.len() < 1000 {
         let bits = splitmix(&mut state);

@@ -1,4 +1,4 @@
-//! Issue 27: bad values refused up front, with their accepted range and their key.
+//! Bad values refused up front, with their accepted range and their key.
 
 use std::process::Command;
 
@@ -134,7 +134,7 @@ impl Rng {
     }
 }
 
-/// The fuzz-and-fault test of issue 27, bounded in count (a fixed list and a fixed number of
+/// The fuzz-and-fault test, bounded in count (a fixed list and a fixed number of
 /// seeded mutations) and in time (each command killed after 20 s, which counts as a hang):
 /// malformed pipelines and parameters, bad numbers for every numeric flag, FIFOs and
 /// folders given as inputs, corrupted results rows under `relief report`. Every command must

@@ -1,6 +1,6 @@
 //! Runs a page of `tests/browser/` in headless Chromium through `tests/browser/run.mjs`
-//! (SwiftShader's WebGPU and WebGL2) and returns what the page reported. Include it with
-//! `#[path = "common/browser.rs"] mod browser;`.
+//! (SwiftShader's WebGPU and WebGL2) and returns what the page reported
+//! (`use crate::common::browser;`).
 
 use std::io::Read;
 use std::path::{Path, PathBuf};

@@ -1,6 +1,5 @@
 //! What the picture tests share: comparing two RGBA8 frames, and the pipelines every library
-//! test goes over. Include it with `#[path = "common/frames.rs"] mod frames;`.
-#![allow(dead_code)]
+//! test goes over (`use crate::common::frames;`).
 
 use relief::Pipeline;
 

@@ -1,4 +1,8 @@
-//! Helpers the validator tests share: finding the Khronos tools and running them.
+//! Helpers the tests share: finding the Khronos tools and running them (here), driving the
+//! browser harness (`browser`) and comparing frames (`frames`).
+
+pub mod browser;
+pub mod frames;
 
 use std::process::Command;
 

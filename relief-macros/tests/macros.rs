@@ -5,7 +5,7 @@ use relief::dsl::spec::{Grid, Pipeline};
 use relief::{relief, relief_grid, relief_shader};
 
 /// Each file in tests/ui must fail to compile with exactly the messages in its `.stderr`.
-/// Regenerate with `TRYBUILD=overwrite cargo test --release --test macros` and review them.
+/// Regenerate with `TRYBUILD=overwrite cargo test --release -p relief-macros --test macros` and review them.
 #[test]
 fn compile_errors_point_at_the_offending_token() {
     let t = trybuild::TestCases::new();
