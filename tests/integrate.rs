@@ -10,7 +10,7 @@
 use crate::common::frames;
 #[path = "../examples/integrate.rs"]
 #[allow(dead_code)]
-mod integrate;
+mod example;
 
 use relief::runtime::gpu::{self, Gpu, Program, SceneTextures};
 use relief::runtime::Scene;
@@ -34,7 +34,7 @@ fn the_integration_example_matches_relief_render() {
     ] {
         let p: Pipeline = pipe.parse().unwrap();
         let scene = Scene::by_name(scene, Some(64)).unwrap();
-        let frame = integrate::run(&p, &scene, size).unwrap();
+        let frame = example::run(&p, &scene, size).unwrap();
         let ours = frame.rgba;
         let theirs = relief_render(&p, &scene, size);
         let (mean, share) = frames::frame_difference(&ours, &theirs);
@@ -197,7 +197,7 @@ fn the_integration_examples_depth_offset_matches_the_reference_hits() {
     let p: Pipeline = "maxmip(96)".parse().unwrap();
     for name in ["shapes", "rock_bump"] {
         let scene = Scene::by_name(name, Some(64)).unwrap();
-        let frame = integrate::run(&p, &scene, size).unwrap();
+        let frame = example::run(&p, &scene, size).unwrap();
         let g = Gpu::new().unwrap();
         let prep = relief::runtime::measure::Prepared::new(&g, scene, size).unwrap();
         let errors = relief::runtime::measure::depth_errors(&prep, &prep.refs, &frame.depth);
