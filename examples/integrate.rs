@@ -106,7 +106,7 @@ pub struct Frame {
 
 /// Renders `pipeline` on `scene` at `size²` pixels through the material shader, with a
 /// depth attachment the fragment writes the hit's depth to.
-pub fn run(pipeline: &Pipeline, scene: &Scene, size: u32) -> anyhow::Result<Frame> {
+pub fn run(pipeline: &Pipeline, scene: &Scene, size: u32) -> Result<Frame, Box<dyn std::error::Error>> {
     let gpu = Gpu::new()?;
     let lib = emit::library(
         pipeline,
@@ -197,12 +197,13 @@ pub fn run(pipeline: &Pipeline, scene: &Scene, size: u32) -> anyhow::Result<Fram
             "height" | "height_nearest" => wgpu::BindingResource::TextureView(&tex.height),
             other => {
                 let map = other.strip_suffix("_nearest").unwrap_or(other);
-                let req = reqs.iter().find(|r| r.name() == map).ok_or_else(|| {
-                    anyhow::anyhow!("the library reads `{}`, which the pipeline's maps do not name", b.name)
-                })?;
+                let req = reqs
+                    .iter()
+                    .find(|r| r.name() == map)
+                    .ok_or_else(|| format!("the library reads `{}`, which the pipeline's maps do not name", b.name))?;
                 let view = relief::runtime::gpu::MapKey::of(*req)
                     .and_then(|k| tex.maps.get(&k))
-                    .ok_or_else(|| anyhow::anyhow!("map for `{}` not built", b.name))?;
+                    .ok_or_else(|| format!("map for `{}` not built", b.name))?;
                 wgpu::BindingResource::TextureView(view)
             }
         };
@@ -229,7 +230,7 @@ pub fn run(pipeline: &Pipeline, scene: &Scene, size: u32) -> anyhow::Result<Fram
 }
 
 #[allow(dead_code)]
-fn main() -> anyhow::Result<()> {
+fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let pipeline: Pipeline =
         args.first().map(String::as_str).unwrap_or("linear(32)+binary(5)+shadow=soft(16)").parse()?;

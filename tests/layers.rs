@@ -108,7 +108,7 @@ fn relief_runtime_imports_point_down() {
         &["maps"],
         &["reference"],
         &["gpu"],
-        &["metrics", "simd"],
+        &["metrics", "simd", "error"],
         &["measure"],
         &["sweep", "stability", "room"],
         &["report"],

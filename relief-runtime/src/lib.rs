@@ -6,11 +6,16 @@
 //! private to the crate. ARCHITECTURE.md ("Layers", "Public API") gives the import order
 //! of the modules; the `relief` command line lives in `src/bin/relief/` and the library
 //! never calls it.
+//!
+//! Errors are typed: each area has its own ([`io::FileError`], [`lock::LockError`],
+//! [`results::ResultsError`], [`SceneError`], [`gpu::GpuError`], …), and the modules above
+//! them return [`Error`], which wraps them all.
 
 #![warn(missing_docs)]
 #![warn(unreachable_pub)]
 #![warn(unnameable_types)]
 
+pub mod error;
 pub mod gpu;
 mod heightmap;
 pub mod io;
@@ -28,6 +33,9 @@ mod simd;
 pub mod stability;
 pub mod sweep;
 mod timing;
+
+// The crate's error, which wraps every area's (each area's own is in its module).
+pub use error::{Error, Result};
 
 // Height maps and scenes: a height map loaded or made, the scene around it (camera, depth
 // scale, edge mode, maps), named views and scene-file overrides.

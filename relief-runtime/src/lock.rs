@@ -16,6 +16,52 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::io::FileError;
+
+/// Why a folder's lock could not be taken. One line each, naming the folder or lock file.
+#[derive(Debug, thiserror::Error)]
+pub enum LockError {
+    /// Another relief process holds the lock (and the caller did not ask to wait).
+    #[error("{} is in use by another relief process ({holder}): wait for it to finish, or pass --wait", dir.display())]
+    Held {
+        /// The folder.
+        dir: PathBuf,
+        /// What the lock file says of its holder (`pid N, host H, started at unix time T`).
+        holder: String,
+    },
+    /// Something other than a regular file (a FIFO, a folder) stands where the lock file goes.
+    #[error("cannot lock {}: {} is not a regular file", dir.display(), path.display())]
+    NotRegular {
+        /// The folder.
+        dir: PathBuf,
+        /// The lock file's path.
+        path: PathBuf,
+    },
+    /// The lock file could not be opened or created.
+    #[error("cannot lock {}: cannot open {}: {source}", dir.display(), path.display())]
+    Open {
+        /// The folder.
+        dir: PathBuf,
+        /// The lock file's path.
+        path: PathBuf,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The operating system refused the lock call itself.
+    #[error("cannot lock {}: {source}", path.display())]
+    Lock {
+        /// The lock file's path.
+        path: PathBuf,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The folder could not be created, or the holder not written into the lock file.
+    #[error(transparent)]
+    File(#[from] FileError),
+}
+
 /// The lock file's name in a results folder.
 pub(crate) const LOCK_FILE: &str = ".relief.lock";
 
@@ -33,13 +79,13 @@ impl FolderLock {
     /// Takes `dir`'s lock (creating `dir` and the lock file if missing). When another
     /// process holds it: an error naming the holder, or, with `wait`, a wait until it is
     /// released (`on_wait` is called once, with the holder, before the first sleep).
-    pub fn take(dir: &Path, wait: bool, on_wait: &mut dyn FnMut(&str)) -> anyhow::Result<FolderLock> {
-        std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("cannot create folder {}: {e}", dir.display()))?;
+    pub fn take(dir: &Path, wait: bool, on_wait: &mut dyn FnMut(&str)) -> Result<FolderLock, LockError> {
+        crate::io::create_dir_all(dir)?;
         let path = dir.join(LOCK_FILE);
         // A FIFO in the lock's place would block the open.
         if let Ok(meta) = std::fs::symlink_metadata(&path) {
             if !meta.is_file() {
-                anyhow::bail!("cannot lock {}: {} is not a regular file", dir.display(), path.display());
+                return Err(LockError::NotRegular { dir: dir.to_path_buf(), path });
             }
         }
         let file = std::fs::OpenOptions::new()
@@ -48,7 +94,7 @@ impl FolderLock {
             .create(true)
             .truncate(false)
             .open(&path)
-            .map_err(|e| anyhow::anyhow!("cannot lock {}: cannot open {}: {e}", dir.display(), path.display()))?;
+            .map_err(|source| LockError::Open { dir: dir.to_path_buf(), path: path.clone(), source })?;
         let mut told = false;
         loop {
             match try_flock(&file) {
@@ -60,16 +106,12 @@ impl FolderLock {
                     }
                     std::thread::sleep(POLL);
                 }
-                Ok(false) => anyhow::bail!(
-                    "{} is in use by another relief process ({}): wait for it to finish, or pass --wait",
-                    dir.display(),
-                    holder(&path)
-                ),
-                Err(e) => anyhow::bail!("cannot lock {}: {e}", path.display()),
+                Ok(false) => return Err(LockError::Held { dir: dir.to_path_buf(), holder: holder(&path) }),
+                Err(source) => return Err(LockError::Lock { path, source }),
             }
         }
         let lock = FolderLock { file, path };
-        lock.write_holder()?;
+        lock.write_holder().map_err(|e| FileError::write(&lock.path, e))?;
         Ok(lock)
     }
 
@@ -78,7 +120,7 @@ impl FolderLock {
         &self.path
     }
 
-    fn write_holder(&self) -> anyhow::Result<()> {
+    fn write_holder(&self) -> std::io::Result<()> {
         use std::io::{Seek, Write};
         let started =
             std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0);
@@ -101,10 +143,10 @@ impl Drop for FolderLock {
 
 /// Takes the locks of `dirs` (each folder once, in a fixed order so that two processes
 /// waiting for the same folders cannot each hold what the other waits for).
-pub fn take_all(dirs: &[&Path], wait: bool, on_wait: &mut dyn FnMut(&str)) -> anyhow::Result<Vec<FolderLock>> {
+pub fn take_all(dirs: &[&Path], wait: bool, on_wait: &mut dyn FnMut(&str)) -> Result<Vec<FolderLock>, LockError> {
     let mut keyed: Vec<(PathBuf, &Path)> = Vec::new();
     for d in dirs {
-        std::fs::create_dir_all(d).map_err(|e| anyhow::anyhow!("cannot create folder {}: {e}", d.display()))?;
+        crate::io::create_dir_all(d)?;
         let key = std::fs::canonicalize(d).unwrap_or_else(|_| d.to_path_buf());
         if !keyed.iter().any(|(k, _)| *k == key) {
             keyed.push((key, d));
@@ -152,7 +194,9 @@ mod tests {
         let text = std::fs::read_to_string(first.path()).unwrap();
         assert!(text.starts_with(&format!("pid {}, host ", std::process::id())), "{text}");
         // A second open of the file (as another process would open it) is refused.
-        let e = FolderLock::take(&dir, false, &mut |_| {}).unwrap_err().to_string();
+        let e = FolderLock::take(&dir, false, &mut |_| {}).unwrap_err();
+        assert!(matches!(&e, LockError::Held { dir: d, .. } if *d == dir), "{e}");
+        let e = e.to_string();
         assert!(
             e.contains("in use by another relief process") && e.contains(&format!("pid {}", std::process::id())),
             "{e}"

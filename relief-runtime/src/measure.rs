@@ -4,8 +4,7 @@
 
 use std::path::Path;
 
-use anyhow::Context;
-
+use crate::error::{Error, Result};
 use crate::gpu::{self, Clock, Gpu, GpuHit, Program, RenderResult, Renderer, SceneTextures};
 use crate::heightmap::{EdgeMode, HeightMap};
 use crate::io;
@@ -53,13 +52,13 @@ struct Baseline {
 
 impl Prepared {
     /// Uploads `scene` and traces the reference for one ray per pixel at `size²`.
-    pub fn new(gpu: &Gpu, scene: Scene, size: u32) -> anyhow::Result<Prepared> {
+    pub fn new(gpu: &Gpu, scene: Scene, size: u32) -> Result<Prepared> {
         let textures = SceneTextures::new(gpu, &scene);
         let mut on_device = scene.clone();
         on_device.height.data = textures.heights_on_device.clone();
         let rays = scene.rays(size);
         let refs =
-            reference_hits(&on_device, &rays, Sampling::Bilinear).with_context(|| format!("scene {}", scene.name))?;
+            reference_hits(&on_device, &rays, Sampling::Bilinear).map_err(|e| Error::from(e).in_scene(&scene.name))?;
         Ok(Prepared { scene, on_device, textures, rays, refs, size, lod_refs: Default::default(), baseline: None })
     }
 
@@ -75,16 +74,16 @@ impl Prepared {
 
     /// The level of each ray and the exact hits on those levels' surfaces under `lod`
     /// (`ray_levels`, `reference_hits_at_levels` on the chain as the device stores it).
-    pub fn refs_for(&mut self, lod: Lod) -> anyhow::Result<(&[usize], &[Option<RefHit>])> {
+    pub fn refs_for(&mut self, lod: Lod) -> Result<(&[usize], &[Option<RefHit>])> {
         if lod == Lod::Zero {
             return Ok((&[], &self.refs));
         }
         if !self.lod_refs.contains_key(&lod) {
             let chain = &self.textures.height_levels;
             let size = [chain[0].width, chain[0].height];
-            let levels = ray_levels(&self.scene, &self.rays, lod, size, chain.len()).map_err(anyhow::Error::msg)?;
+            let levels = ray_levels(&self.scene, &self.rays, lod, size, chain.len()).map_err(Error::Input)?;
             let refs = reference_hits_at_levels(chain, self.scene.edge, &self.rays, &levels, Sampling::Bilinear)
-                .with_context(|| format!("scene {} at lod={lod}", self.scene.name))?;
+                .map_err(|e| Error::from(e).in_scene(format!("{} at lod={lod}", self.scene.name)))?;
             self.lod_refs.insert(lod, (levels, refs));
         }
         let (l, r) = &self.lod_refs[&lod];
@@ -115,7 +114,7 @@ pub fn measure(
     pipeline: &relief_dsl::Pipeline,
     warmup: u32,
     frames: u32,
-) -> anyhow::Result<Measured> {
+) -> Result<Measured> {
     measure_with(gpu, prep, pipeline, &relief_dsl::compose::Options::default(), warmup, frames)
 }
 
@@ -128,7 +127,7 @@ pub fn measure_with(
     options: &relief_dsl::compose::Options,
     warmup: u32,
     frames: u32,
-) -> anyhow::Result<Measured> {
+) -> Result<Measured> {
     let cell = Cell::new(gpu, prep, pipeline, options)?;
     let frame = gpu::render(gpu, &cell.program, &prep.scene, &prep.textures, prep.size, warmup, frames)?;
     let mut m = cell.metrics(gpu, prep);
@@ -150,7 +149,7 @@ pub fn measure_paired(
     pipeline: &relief_dsl::Pipeline,
     warmup: u32,
     pairs: u32,
-) -> anyhow::Result<Measured> {
+) -> Result<Measured> {
     let cell = Cell::new(gpu, prep, pipeline, &relief_dsl::compose::Options::default())?;
     let clock = Clock::new(gpu)?;
     prep.baseline(gpu, &clock, warmup)?;
@@ -186,7 +185,7 @@ pub fn measure_paired(
 impl Prepared {
     /// Builds the scene's baseline renderer on first use ([`BASELINE`] under the scene's
     /// `lod` policy): its maps, `warmup` untimed frames, its frames per block.
-    fn baseline(&mut self, gpu: &Gpu, clock: &Clock, warmup: u32) -> anyhow::Result<()> {
+    fn baseline(&mut self, gpu: &Gpu, clock: &Clock, warmup: u32) -> Result<()> {
         if self.baseline.is_some() {
             return Ok(());
         }
@@ -215,15 +214,15 @@ impl Cell {
         prep: &mut Prepared,
         pipeline: &relief_dsl::Pipeline,
         options: &relief_dsl::compose::Options,
-    ) -> anyhow::Result<Cell> {
+    ) -> Result<Cell> {
         // The scene's level policy applies to a pipeline that names no lod; the metrics record
         // the pipeline as measured.
         let pipeline = prep.scene.pipeline_for(pipeline);
         if pipeline.silhouette == Silhouette::Clip && prep.scene.edge != EdgeMode::Clamp {
-            anyhow::bail!(
+            return Err(Error::Input(format!(
                 "silhouette=clip needs a scene with clamp edges; scene `{}` repeats its height map (set `edge = \"clamp\"` in a scene file)",
                 prep.scene.name
-            );
+            )));
         }
         let program = Program::new_with(&pipeline, options)?;
         // Checked before the GPU runs: a level the map does not have is an error.
@@ -244,7 +243,7 @@ impl Cell {
     }
 
     /// Probes every ray and scores the hits ([`score`]; and the depth buffer).
-    fn finish(self, gpu: &Gpu, prep: &mut Prepared, mut m: Metrics, frame: RenderResult) -> anyhow::Result<Measured> {
+    fn finish(self, gpu: &Gpu, prep: &mut Prepared, mut m: Metrics, frame: RenderResult) -> Result<Measured> {
         let pipeline = &self.pipeline;
         let hits = gpu::probe(gpu, &self.program, &prep.scene, &prep.textures, &prep.rays)?;
         let levels = match pipeline.lod {
@@ -306,15 +305,15 @@ pub fn score(
     pipeline: &relief_dsl::Pipeline,
     reference: &Reference<'_>,
     hits: &[GpuHit],
-) -> anyhow::Result<Vec<Option<RefHit>>> {
+) -> Result<Vec<Option<RefHit>>> {
     let r = reference;
     if hits.len() != r.rays.len() || r.refs.len() != r.rays.len() {
-        anyhow::bail!(
+        return Err(Error::Input(format!(
             "`{pipeline}`: {} probe hits and {} reference hits for {} rays",
             hits.len(),
             r.refs.len(),
             r.rays.len()
-        );
+        )));
     }
     let refs = if pipeline.silhouette == Silhouette::Clip { clip_to_square(r.refs, r.tiling) } else { r.refs.to_vec() };
     metrics::set_accuracy_levels(m, r.rays, hits, &refs, r.chain, r.levels, r.edge);
@@ -350,7 +349,7 @@ pub fn compare(
     b: &relief_dsl::Pipeline,
     warmup: u32,
     pairs: u32,
-) -> anyhow::Result<Comparison> {
+) -> Result<Comparison> {
     let mut tex = SceneTextures::new(gpu, scene);
     let rays = scene.rays(size);
     let clock = Clock::new(gpu)?;
@@ -358,10 +357,10 @@ pub fn compare(
     for p in [a, b] {
         let p = scene.pipeline_for(p);
         if p.silhouette == Silhouette::Clip && scene.edge != EdgeMode::Clamp {
-            anyhow::bail!(
+            return Err(Error::Input(format!(
                 "`{p}`: silhouette=clip needs a scene with clamp edges; scene `{}` repeats its height map",
                 scene.name
-            );
+            )));
         }
         let program = Program::new(&p)?;
         tex.add_maps_lod(gpu, scene, &p.required_maps(), p.lod)?;
@@ -402,8 +401,8 @@ pub fn depth_errors(prep: &Prepared, refs: &[Option<RefHit>], depth: &[f32]) -> 
 }
 
 /// Writes `frame.png` and `error.png` of a measurement into `dir`.
-pub fn write_images(dir: &Path, prep: &Prepared, m: &Measured) -> anyhow::Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+pub fn write_images(dir: &Path, prep: &Prepared, m: &Measured) -> Result<()> {
+    io::create_dir_all(dir)?;
     let size = prep.size;
     io::png::write_rgba8(&dir.join("frame.png"), size, size, m.frame.rgba.clone())?;
     let errors: Vec<(u32, u32, f64)> = prep
@@ -420,5 +419,5 @@ pub fn write_images(dir: &Path, prep: &Prepared, m: &Measured) -> anyhow::Result
         })
         .collect();
     let (w, h, rgba) = crate::picture::error_map(size, &errors);
-    io::png::write_rgba8(&dir.join("error.png"), w, h, rgba)
+    Ok(io::png::write_rgba8(&dir.join("error.png"), w, h, rgba)?)
 }

@@ -10,10 +10,74 @@
 //! `DIR/results.csv` holds the same rows in the [`COLUMNS`] order.
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use anyhow::Context;
 use serde::{Deserialize, Serialize};
+
+use crate::io::FileError;
+
+/// Why a results file could not be read, appended to or written.
+#[derive(Debug, thiserror::Error)]
+pub enum ResultsError {
+    /// A complete line of `results.jsonl` is not a results row; appending after it would
+    /// hide the cells it recorded.
+    #[error("{}: {text} (not a results row)", path.display())]
+    BadLine {
+        /// The results file.
+        path: PathBuf,
+        /// The line's number (from 1); for rows that repeat one cell, the first of them.
+        line: usize,
+        /// The entry of [`ReadRows::bad_lines`]: `line N: WHY` (a [`RowError`]), or
+        /// `lines N, M: …` for rows that repeat one cell.
+        text: String,
+    },
+    /// A line of a rows file that must be whole (`rooms.jsonl`) is not a row.
+    #[error("{}: line {line}: {source}", path.display())]
+    Line {
+        /// The rows file.
+        path: PathBuf,
+        /// The line's number (from 1).
+        line: usize,
+        /// The JSON reader's error.
+        #[source]
+        source: serde_json::Error,
+    },
+    /// Rows that could not be encoded as JSON or CSV (the writers refused a value).
+    #[error("cannot encode results rows: {0}")]
+    Encode(String),
+    /// The file could not be read or written.
+    #[error(transparent)]
+    File(#[from] FileError),
+}
+
+/// Why one line of a results file is not a results row.
+#[derive(Debug, thiserror::Error)]
+pub enum RowError {
+    /// The line does not parse as JSON.
+    #[error("not JSON: {0}")]
+    NotJson(serde_json::Error),
+    /// The line is JSON but not an object.
+    #[error("not a JSON object")]
+    NotObject,
+    /// A column every row has (`pipeline`, `scene`, `size`, `status`) is missing or null.
+    #[error("not a results row: no `{0}`")]
+    Missing(&'static str),
+    /// A column holds a value of the wrong type.
+    #[error("not a results row: {0}")]
+    Field(serde_json::Error),
+    /// The status is neither `ok` nor `error` (quoted, escaped).
+    #[error("not a results row: status `{0}` (expected ok or error)")]
+    Status(String),
+    /// The pipeline column does not parse (the text quoted, escaped).
+    #[error("not a results row: pipeline `{pipeline}`: {source}")]
+    Pipeline {
+        /// The pipeline column, escaped for one line.
+        pipeline: String,
+        /// The parser's error.
+        #[source]
+        source: Box<relief_dsl::spec::ParseError>,
+    },
+}
 
 /// One run's metrics (the names are the column names of results files).
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
@@ -218,17 +282,19 @@ pub struct ReadRows {
     complete_len: usize,
     /// Whether the last line was cut short (no newline after it).
     cut: bool,
+    /// The (first) line number of each entry of `bad_lines`.
+    bad_at: Vec<usize>,
 }
 
 /// Reads `dir/results.jsonl` without changing it. A last line without its newline (a kill
 /// cut it short) is dropped and named in `bad_lines`; so is every complete line that is not
 /// a results row (`parse_row`). A missing file gives no rows.
-pub fn read(dir: &Path) -> anyhow::Result<ReadRows> {
+pub fn read(dir: &Path) -> Result<ReadRows, FileError> {
     let path = dir.join(JSONL);
     let text = match crate::io::read_regular(&path) {
         Ok(b) => String::from_utf8_lossy(&b).into_owned(),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => String::new(),
-        Err(e) => return Err(anyhow::anyhow!("cannot read {}: {e}", path.display())),
+        Err(e) => return Err(FileError::read(&path, e)),
     };
     let complete = match text.rfind('\n') {
         Some(i) => &text[..=i],
@@ -243,14 +309,21 @@ pub fn read(dir: &Path) -> anyhow::Result<ReadRows> {
         }
         match parse_row(line) {
             Ok(r) => numbered.push((i + 1, r)),
-            Err(e) => out.bad_lines.push(format!("line {}: {e}", i + 1)),
+            Err(e) => {
+                out.bad_lines.push(format!("line {}: {e}", i + 1));
+                out.bad_at.push(i + 1);
+            }
         }
     }
     let (rows, duplicates) = without_duplicates(numbered);
     out.rows = rows;
-    out.bad_lines.extend(duplicates);
+    for (line, message) in duplicates {
+        out.bad_lines.push(message);
+        out.bad_at.push(line);
+    }
     if out.cut {
         out.bad_lines.push(format!("line {}: cut short (no newline at the end), ignored", lines + 1));
+        out.bad_at.push(lines + 1);
     }
     Ok(out)
 }
@@ -264,10 +337,11 @@ pub(crate) fn cell_key(m: &Metrics) -> (String, String, u32, String) {
 }
 
 /// `rows` (with their line numbers) less every row whose cell key ([`cell_key`]) is on
-/// more than one line, and one line per such key naming it and its lines: which of two
+/// more than one line, and one message per such key naming it and its lines (with the
+/// first of them): which of two
 /// rows for one cell is right cannot be told (two sweeps wrote into one folder at once,
 /// or a file was edited), so neither is chosen.
-fn without_duplicates(rows: Vec<(usize, Row)>) -> (Vec<Row>, Vec<String>) {
+fn without_duplicates(rows: Vec<(usize, Row)>) -> (Vec<Row>, Vec<(usize, String)>) {
     let mut lines_of: std::collections::HashMap<_, Vec<usize>> = std::collections::HashMap::new();
     let keys: Vec<_> = rows.iter().map(|(_, r)| cell_key(&r.metrics)).collect();
     for ((line, _), k) in rows.iter().zip(&keys) {
@@ -281,7 +355,9 @@ fn without_duplicates(rows: Vec<(usize, Row)>) -> (Vec<Row>, Vec<String>) {
             kept.push(r);
         } else if lines[0] == line {
             let list: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
-            messages.push(format!(
+            messages.push((
+                line,
+                format!(
                 "lines {}: {} rows for one cell (pipeline {}, scene {}, size {}, adapter {}), all left out: keep one",
                 list.join(", "),
                 lines.len(),
@@ -289,6 +365,7 @@ fn without_duplicates(rows: Vec<(usize, Row)>) -> (Vec<Row>, Vec<String>) {
                 relief_dsl::spec::echo(&k.1),
                 k.2,
                 relief_dsl::spec::echo(&k.3)
+            ),
             ));
         }
     }
@@ -298,53 +375,53 @@ fn without_duplicates(rows: Vec<(usize, Row)>) -> (Vec<Row>, Vec<String>) {
 /// Reads `dir/results.jsonl` to append to it: the rows of [`read`], the file truncated to
 /// its last complete line first. An unreadable complete line is an error (appending after
 /// it would hide the cells it recorded).
-pub fn read_for_append(dir: &Path) -> anyhow::Result<Vec<Row>> {
+pub fn read_for_append(dir: &Path) -> Result<Vec<Row>, ResultsError> {
     let path = dir.join(JSONL);
     let read = read(dir)?;
     if read.cut {
-        let f = std::fs::OpenOptions::new().write(true).open(&path)?;
-        f.set_len(read.complete_len as u64)?;
+        let f = std::fs::OpenOptions::new().write(true).open(&path).map_err(|e| FileError::write(&path, e))?;
+        f.set_len(read.complete_len as u64).map_err(|e| FileError::write(&path, e))?;
     }
-    let bad = if read.cut { &read.bad_lines[..read.bad_lines.len() - 1] } else { &read.bad_lines[..] };
-    if let Some(first) = bad.first() {
-        anyhow::bail!("{}: {first} (not a results row)", path.display());
+    let bad = if read.cut { read.bad_lines.len() - 1 } else { read.bad_lines.len() };
+    if bad > 0 {
+        return Err(ResultsError::BadLine { path, line: read.bad_at[0], text: read.bad_lines[0].clone() });
     }
     Ok(read.rows)
 }
 
 /// Appends `row` to `dir/results.jsonl` with one write of the whole line, synced: a kill
 /// leaves either the whole row or a cut line, which the next read drops.
-pub fn append(dir: &Path, row: &Row) -> anyhow::Result<()> {
+pub fn append(dir: &Path, row: &Row) -> Result<(), ResultsError> {
     let path = dir.join(JSONL);
-    let mut line = serde_json::to_string(row)?;
+    let mut line = serde_json::to_string(row).map_err(|e| ResultsError::Encode(e.to_string()))?;
     line.push('\n');
-    let mut f = std::fs::OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(&path)
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    f.write_all(line.as_bytes())?;
-    f.sync_data()?;
+    let write = || -> std::io::Result<()> {
+        let mut f = std::fs::OpenOptions::new().create(true).append(true).open(&path)?;
+        f.write_all(line.as_bytes())?;
+        f.sync_data()
+    };
+    write().map_err(|e| FileError::write(&path, e))?;
     Ok(())
 }
 
 /// Rewrites `dir/results.jsonl` with `rows`, one line each, atomically
 /// ([`crate::io::write_atomic`]): for a change that removes rows, where [`append`] cannot.
-pub(crate) fn write_jsonl(dir: &Path, rows: &[Row]) -> anyhow::Result<()> {
+pub(crate) fn write_jsonl(dir: &Path, rows: &[Row]) -> Result<(), ResultsError> {
     let mut text = String::new();
     for r in rows {
-        text.push_str(&serde_json::to_string(r)?);
+        text.push_str(&serde_json::to_string(r).map_err(|e| ResultsError::Encode(e.to_string()))?);
         text.push('\n');
     }
-    crate::io::write_atomic(&dir.join(JSONL), text.as_bytes())
+    Ok(crate::io::write_atomic(&dir.join(JSONL), text.as_bytes())?)
 }
 
 /// `rows` as `results.csv` text, [`COLUMNS`] in order (NaN and infinite metrics empty).
-pub(crate) fn csv_bytes(rows: &[Row]) -> anyhow::Result<Vec<u8>> {
+pub(crate) fn csv_bytes(rows: &[Row]) -> Result<Vec<u8>, ResultsError> {
+    let encode = |e: &dyn std::fmt::Display| ResultsError::Encode(e.to_string());
     let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(COLUMNS)?;
+    w.write_record(COLUMNS).map_err(|e| encode(&e))?;
     for r in rows {
-        let v = serde_json::to_value(r)?;
+        let v = serde_json::to_value(r).map_err(|e| encode(&e))?;
         let record: Vec<String> = COLUMNS
             .iter()
             .map(|c| match &v[*c] {
@@ -353,27 +430,27 @@ pub(crate) fn csv_bytes(rows: &[Row]) -> anyhow::Result<Vec<u8>> {
                 other => other.to_string(),
             })
             .collect();
-        w.write_record(&record)?;
+        w.write_record(&record).map_err(|e| encode(&e))?;
     }
-    w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))
+    w.into_inner().map_err(|e| encode(&e))
 }
 
 /// Rewrites `dir/results.csv` from `rows`, atomically ([`crate::io::write_atomic`]).
-pub fn write_csv(dir: &Path, rows: &[Row]) -> anyhow::Result<()> {
-    crate::io::write_atomic(&dir.join("results.csv"), &csv_bytes(rows)?)
+pub fn write_csv(dir: &Path, rows: &[Row]) -> Result<(), ResultsError> {
+    Ok(crate::io::write_atomic(&dir.join("results.csv"), &csv_bytes(rows)?)?)
 }
 
 /// Parses one results line; numbers written as `null` (NaN or infinite when measured) come
 /// back as NaN. A row must have a `pipeline` that parses, a `scene`, a `size` and a
 /// `status` of `ok` or `error`; other columns an older row lacks take their defaults.
-pub(crate) fn parse_row(line: &str) -> anyhow::Result<Row> {
-    let v: serde_json::Value = serde_json::from_str(line).map_err(|e| anyhow::anyhow!("not JSON: {e}"))?;
+pub(crate) fn parse_row(line: &str) -> Result<Row, RowError> {
+    let v: serde_json::Value = serde_json::from_str(line).map_err(RowError::NotJson)?;
     let serde_json::Value::Object(obj) = v else {
-        anyhow::bail!("not a JSON object");
+        return Err(RowError::NotObject);
     };
     for k in ["pipeline", "scene", "size", "status"] {
         if obj.get(k).is_none_or(|v| v.is_null()) {
-            anyhow::bail!("not a results row: no `{k}`");
+            return Err(RowError::Missing(k));
         }
     }
     let mut obj = obj;
@@ -383,7 +460,7 @@ pub(crate) fn parse_row(line: &str) -> anyhow::Result<Row> {
             obj.insert("past_rate".into(), v);
         }
     }
-    let mut base = serde_json::to_value(Row::default())?;
+    let mut base = serde_json::to_value(Row::default()).map_err(RowError::Field)?;
     let mut nulls = Vec::new();
     // Fields that older rows lack: not recorded, so NaN (shown as such),
     // never a silent 0.
@@ -401,12 +478,15 @@ pub(crate) fn parse_row(line: &str) -> anyhow::Result<Row> {
             }
         }
     }
-    let mut row: Row = serde_json::from_value(base).map_err(|e| anyhow::anyhow!("not a results row: {e}"))?;
+    let mut row: Row = serde_json::from_value(base).map_err(RowError::Field)?;
     if row.status != "ok" && row.status != "error" {
-        anyhow::bail!("not a results row: status `{}` (expected ok or error)", relief_dsl::spec::echo(&row.status));
+        return Err(RowError::Status(relief_dsl::spec::echo(&row.status)));
     }
-    if let Err(e) = row.metrics.pipeline.parse::<relief_dsl::Pipeline>() {
-        anyhow::bail!("not a results row: pipeline `{}`: {e}", relief_dsl::spec::echo(&row.metrics.pipeline));
+    if let Err(source) = row.metrics.pipeline.parse::<relief_dsl::Pipeline>() {
+        return Err(RowError::Pipeline {
+            pipeline: relief_dsl::spec::echo(&row.metrics.pipeline),
+            source: Box::new(source),
+        });
     }
     for k in nulls {
         set_nan(&mut row.metrics, &k);

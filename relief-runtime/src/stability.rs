@@ -10,7 +10,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use anyhow::Context;
+use crate::error::{Error, Result};
+use crate::io::FileError;
 use relief_dsl::spec::{catalog, Slot};
 use relief_dsl::Pipeline;
 
@@ -131,7 +132,7 @@ pub fn boxes(n: usize, seed: u64) -> HeightMap {
 /// [`Scene::by_name`]); `seam` is a ramp that does not tile, with edge mode repeat, so rays
 /// that cross its edge meet a cliff. A TOML scene file or an image file (see
 /// [`crate::scene::scene_from_arg`]) is used at its own size.
-pub fn scene(name: &str, size: usize) -> anyhow::Result<Scene> {
+pub fn scene(name: &str, size: usize) -> Result<Scene> {
     if name == "boxes" {
         let mut s = Scene::from_height_map("boxes", boxes(size, 1));
         s.depth_scale = 0.1;
@@ -225,7 +226,7 @@ pub fn run(
     scenes: &[&str],
     angles: &[f32],
     mut progress: impl FnMut(&str, f32),
-) -> anyhow::Result<Vec<Cell>> {
+) -> Result<Vec<Cell>> {
     let programs: Vec<(String, Program, Vec<relief_dsl::spec::MapReq>)> = methods
         .iter()
         .map(|p| Ok((p.to_string(), Program::new(p)?, p.required_maps())))
@@ -238,12 +239,12 @@ pub fn run(
         on_device.height.data = tex.heights_on_device.clone();
         for &angle in angles {
             let rays = rays(&scene, size, angle);
-            let refs =
-                reference_hits(&on_device, &rays, Sampling::Bilinear).with_context(|| format!("{name} at {angle}°"))?;
+            let refs = reference_hits(&on_device, &rays, Sampling::Bilinear)
+                .map_err(|e| Error::from(e).in_scene(format!("{name} at {angle}°")))?;
             for (text, program, maps) in &programs {
                 tex.add_maps(gpu, &scene, maps)?;
-                let hits =
-                    gpu::probe(gpu, program, &scene, &tex, &rays).with_context(|| format!("{text} on {name}"))?;
+                let hits = gpu::probe(gpu, program, &scene, &tex, &rays)
+                    .map_err(|e| Error::from(e).in_scene(name).in_pipeline(text))?;
                 cells.push(score(text, &on_device, angle, &rays, &hits, &refs));
             }
             progress(name, angle);
@@ -257,13 +258,15 @@ type CellMetric = fn(&Cell) -> f64;
 
 /// Writes `stability.csv`, one heat map per metric (`stability_METRIC.svg`) and
 /// `worst.md` (the worst condition of each method).
-pub fn write(out: &Path, cells: &[Cell]) -> anyhow::Result<()> {
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create output folder {}", out.display()))?;
+pub fn write(out: &Path, cells: &[Cell]) -> Result<()> {
+    crate::io::create_dir_all(out)?;
+    let path = out.join("stability.csv");
+    let encode = |e: &dyn std::fmt::Display| FileError::Encode { path: path.clone(), message: e.to_string() };
     let mut w = csv::Writer::from_writer(Vec::new());
     for c in cells {
-        w.serialize(c)?;
+        w.serialize(c).map_err(|e| encode(&e))?;
     }
-    crate::io::write_atomic(&out.join("stability.csv"), &w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))?)?;
+    crate::io::write_atomic(&path, &w.into_inner().map_err(|e| encode(&e))?)?;
     let metrics: [(&str, CellMetric); 8] = [
         ("nan_count", |c| c.nan_count as f64),
         ("outside_count", |c| c.outside_count as f64),

@@ -74,7 +74,10 @@ fn the_appender_refuses_a_file_with_an_unreadable_complete_line() {
     let jsonl = dir.join("results.jsonl");
     let text = std::fs::read_to_string(&jsonl).unwrap();
     std::fs::write(&jsonl, format!("{text}not json\n")).unwrap();
-    let e = results::read_for_append(&dir).unwrap_err().to_string();
+    let e = results::read_for_append(&dir).unwrap_err();
+    // A caller can match the line without reading the message.
+    assert!(matches!(&e, results::ResultsError::BadLine { line: 2, path, .. } if *path == jsonl), "{e:?}");
+    let e = e.to_string();
     assert!(e.contains("line 2"), "{e}");
     // The report's reader skips it and says so.
     let read = results::read(&dir).unwrap();
@@ -103,7 +106,9 @@ fn lines_that_are_not_results_rows_are_named_and_never_counted() {
         assert_eq!(read.rows.len(), 1, "{line}");
         assert_eq!(read.bad_lines.len(), 1, "{line}");
         assert!(read.bad_lines[0].starts_with("line 2:") && read.bad_lines[0].contains(reason), "{:?}", read.bad_lines);
-        let e = results::read_for_append(&dir).unwrap_err().to_string();
+        let e = results::read_for_append(&dir).unwrap_err();
+        assert!(matches!(e, results::ResultsError::BadLine { line: 2, .. }), "{e:?}");
+        let e = e.to_string();
         assert!(e.contains("line 2") && e.contains(reason) && !e.contains('\n'), "{e}");
     }
     let _ = std::fs::remove_dir_all(&dir);
@@ -132,7 +137,9 @@ fn two_rows_for_one_cell_are_both_left_out_and_named_but_other_adapters_are_othe
         m.starts_with("lines 1, 3, 5: 3 rows for one cell") && m.contains("linear(10)") && m.contains("size 16"),
         "{m}"
     );
-    let e = results::read_for_append(&dir).unwrap_err().to_string();
+    let e = results::read_for_append(&dir).unwrap_err();
+    assert!(matches!(e, results::ResultsError::BadLine { line: 1, .. }), "the first of the lines: {e:?}");
+    let e = e.to_string();
     assert!(e.contains("lines 1, 3, 5"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -6,10 +6,88 @@ pub mod exr;
 pub mod npy;
 pub mod png;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use anyhow::Context;
 use relief_dsl::Pipeline;
+
+/// A file or folder that could not be read, written, created or removed. Every variant
+/// names the path and displays as one line: `cannot write PATH: REASON`.
+#[derive(Debug, thiserror::Error)]
+pub enum FileError {
+    /// Opening or reading the file failed (a FIFO or folder in its place included).
+    #[error("cannot read {}: {source}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// Creating, writing or renaming the file failed.
+    #[error("cannot write {}: {source}", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The folder could not be created.
+    #[error("cannot create folder {}: {source}", path.display())]
+    CreateDir {
+        /// The folder.
+        path: PathBuf,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The folder could not be removed (to be written afresh).
+    #[error("cannot clear {}: {source}", path.display())]
+    Clear {
+        /// The folder.
+        path: PathBuf,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The contents could not be encoded in the file's format (an image whose pixels do not
+    /// fill its size, a record the CSV writer refuses).
+    #[error("cannot write {}: {message}", path.display())]
+    Encode {
+        /// The file.
+        path: PathBuf,
+        /// What the encoder said.
+        message: String,
+    },
+}
+
+impl FileError {
+    /// A [`FileError::Read`] of `path`.
+    pub fn read(path: &Path, source: std::io::Error) -> FileError {
+        FileError::Read { path: path.to_path_buf(), source }
+    }
+
+    /// A [`FileError::Write`] of `path`.
+    pub fn write(path: &Path, source: std::io::Error) -> FileError {
+        FileError::Write { path: path.to_path_buf(), source }
+    }
+
+    /// The path the error names.
+    pub fn path(&self) -> &Path {
+        match self {
+            FileError::Read { path, .. }
+            | FileError::Write { path, .. }
+            | FileError::CreateDir { path, .. }
+            | FileError::Clear { path, .. }
+            | FileError::Encode { path, .. } => path,
+        }
+    }
+}
+
+/// [`std::fs::create_dir_all`], the error naming the folder.
+pub fn create_dir_all(path: &Path) -> Result<(), FileError> {
+    std::fs::create_dir_all(path).map_err(|source| FileError::CreateDir { path: path.to_path_buf(), source })
+}
 
 /// Refuses a path that names anything but a regular file (a FIFO, a directory, a device, a
 /// socket), before it is opened. Opening a FIFO for reading blocks until some writer opens
@@ -67,11 +145,11 @@ pub(crate) fn open_image(path: &Path) -> Result<image::DynamicImage, String> {
 /// Writes `bytes` to `path` through a temporary file and a rename, so that an interrupted
 /// run never leaves a half-written file (`NAME.EXT.tmp` beside it, removed when the write
 /// fails).
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
     let tmp = path.with_extension(format!("{}.tmp", path.extension().and_then(|e| e.to_str()).unwrap_or("")));
     let result = std::fs::write(&tmp, bytes)
-        .with_context(|| format!("cannot write {}", tmp.display()))
-        .and_then(|()| std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display())));
+        .map_err(|e| FileError::write(&tmp, e))
+        .and_then(|()| std::fs::rename(&tmp, path).map_err(|e| FileError::write(path, e)));
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
@@ -80,8 +158,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
 
 /// Writes the five shader files of `p` into `out` (`STEM.wgsl`, `STEM.spv` and one
 /// `STEM.STAGE.glsl` per entry point); returns the file stem.
-pub fn write_pipeline(p: &Pipeline, out: &Path) -> anyhow::Result<String> {
-    let shaders = relief_dsl::emit::emit(p).with_context(|| format!("pipeline {p}"))?;
+pub fn write_pipeline(p: &Pipeline, out: &Path) -> Result<String, WritePipelineError> {
+    let shaders =
+        relief_dsl::emit::emit(p).map_err(|source| WritePipelineError::Compile { pipeline: p.to_string(), source })?;
     let stem = p.file_stem();
     write_atomic(&out.join(format!("{stem}.wgsl")), shaders.wgsl.as_bytes())?;
     let spv: Vec<u8> = shaders.spirv.iter().flat_map(|w| w.to_le_bytes()).collect();
@@ -90,6 +169,23 @@ pub fn write_pipeline(p: &Pipeline, out: &Path) -> anyhow::Result<String> {
         write_atomic(&out.join(format!("{stem}.{stage}.glsl")), src.as_bytes())?;
     }
     Ok(stem)
+}
+
+/// Why [`write_pipeline`] failed.
+#[derive(Debug, thiserror::Error)]
+pub enum WritePipelineError {
+    /// The pipeline did not compile.
+    #[error("pipeline {pipeline}: {source}")]
+    Compile {
+        /// The pipeline's text form.
+        pipeline: String,
+        /// The compiler's error.
+        #[source]
+        source: relief_dsl::CompileError,
+    },
+    /// A shader file could not be written.
+    #[error(transparent)]
+    File(#[from] FileError),
 }
 
 /// `text` as one file-name component, injectively: ASCII letters, digits, `_`, `-` and `.`

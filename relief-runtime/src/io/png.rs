@@ -2,13 +2,17 @@
 
 use std::path::Path;
 
-use anyhow::Context;
+use super::FileError;
 
-/// Writes an RGBA8 image as PNG, atomically ([`super::write_atomic`]).
-pub fn write_rgba8(path: &Path, w: u32, h: u32, rgba: Vec<u8>) -> anyhow::Result<()> {
-    let img = image::RgbaImage::from_raw(w, h, rgba).context("image size")?;
+/// Writes an RGBA8 image as PNG, atomically ([`super::write_atomic`]). Pixels that do not
+/// fill `w × h` exactly are a [`FileError::Encode`].
+pub fn write_rgba8(path: &Path, w: u32, h: u32, rgba: Vec<u8>) -> Result<(), FileError> {
+    let encode = |message: String| FileError::Encode { path: path.to_path_buf(), message };
+    let len = rgba.len();
+    let img = image::RgbaImage::from_raw(w, h, rgba)
+        .ok_or_else(|| encode(format!("{len} bytes of RGBA8 pixels for a {w}x{h} image")))?;
     let mut bytes = Vec::new();
-    img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)?;
+    img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png).map_err(|e| encode(e.to_string()))?;
     super::write_atomic(path, &bytes)
 }
 

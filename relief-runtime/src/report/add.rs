@@ -20,6 +20,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::browser::{self, ProbeSet};
+use crate::error::{Error, Result};
 use crate::gpu::GpuHit;
 use crate::measure::{score, Reference};
 use crate::results::{self, Metrics, Row};
@@ -77,25 +78,26 @@ pub struct Added {
 }
 
 /// Reads a browser's results file: a one-line error when it is not one.
-fn read_file(path: &Path) -> anyhow::Result<File> {
+fn read_file(path: &Path) -> Result<File> {
     let name = path.display();
-    let bytes = crate::io::read_regular(path).map_err(|e| anyhow::anyhow!("cannot read {name}: {e}"))?;
+    let bad = |message: String| Error::BrowserFile { path: path.to_path_buf(), message };
+    let bytes = crate::io::read_regular(path).map_err(|e| crate::io::FileError::read(path, e))?;
     let v: serde_json::Value = serde_json::from_slice(&bytes)
-        .map_err(|e| anyhow::anyhow!("{name} is not a relief browser results file (not JSON: {e})"))?;
+        .map_err(|e| bad(format!("{name} is not a relief browser results file (not JSON: {e})")))?;
     let format = v.get("format").and_then(|f| f.as_str());
     if format != Some(FORMAT) {
         let got = match format {
             Some(f) => format!("its format is `{}`", relief_dsl::spec::echo(f)),
             None => "it has no `format` field".to_string(),
         };
-        anyhow::bail!("{name} is not a relief browser results file: {got}, expected `{FORMAT}`");
+        return Err(bad(format!("{name} is not a relief browser results file: {got}, expected `{FORMAT}`")));
     }
     match v.get("version").and_then(|x| x.as_u64()) {
         Some(VERSION) => {}
-        Some(n) => anyhow::bail!("{name}: {FORMAT} version {n}, this relief reads version {VERSION}"),
-        None => anyhow::bail!("{name}: {FORMAT} without a whole-number `version`"),
+        Some(n) => return Err(bad(format!("{name}: {FORMAT} version {n}, this relief reads version {VERSION}"))),
+        None => return Err(bad(format!("{name}: {FORMAT} without a whole-number `version`"))),
     }
-    serde_json::from_value(v).map_err(|e| anyhow::anyhow!("{name}: not {FORMAT} rows: {e}"))
+    serde_json::from_value(v).map_err(|e| bad(format!("{name}: not {FORMAT} rows: {e}")))
 }
 
 /// The adapter a file's rows are recorded under.
@@ -111,9 +113,9 @@ struct SceneCache {
 
 /// Adds the browser results `files` to the sweep in `dir` (see the module docs); with
 /// `replace`, a file's adapter's earlier rows are replaced instead of refused.
-pub fn add(dir: &Path, files: &[PathBuf], replace: bool) -> anyhow::Result<Vec<Added>> {
+pub fn add(dir: &Path, files: &[PathBuf], replace: bool) -> Result<Vec<Added>> {
     if !dir.is_dir() {
-        anyhow::bail!("no sweep folder {}: it does not exist or is not a folder", dir.display());
+        return Err(Error::NoSweepFolder(dir.to_path_buf()));
     }
     let mut rows = results::read_for_append(dir)?;
     let mut scenes: HashMap<String, SceneCache> = HashMap::new();
@@ -125,11 +127,14 @@ pub fn add(dir: &Path, files: &[PathBuf], replace: bool) -> anyhow::Result<Vec<A
         let before = rows.len();
         let ours = rows.iter().filter(|r| r.metrics.adapter == adapter).count();
         if ours > 0 && !replace {
-            anyhow::bail!(
-                "{}: {} already holds {ours} rows of adapter `{adapter}` (added before); pass --replace to replace them",
-                path.display(),
-                dir.join(results::JSONL).display()
-            );
+            return Err(Error::BrowserFile {
+                path: path.clone(),
+                message: format!(
+                    "{}: {} already holds {ours} rows of adapter `{adapter}` (added before); pass --replace to replace them",
+                    path.display(),
+                    dir.join(results::JSONL).display()
+                ),
+            });
         }
         rows.retain(|r| r.metrics.adapter != adapter);
         rewrite |= rows.len() != before;
@@ -194,7 +199,9 @@ pub fn add(dir: &Path, files: &[PathBuf], replace: bool) -> anyhow::Result<Vec<A
     results::write_csv(dir, &rows)?;
     let mut log = crate::io::read_regular_to_string(&dir.join(LOG)).unwrap_or_default();
     for a in &out {
-        log.push_str(&serde_json::to_string(a)?);
+        let line = serde_json::to_string(a)
+            .map_err(|e| crate::io::FileError::Encode { path: dir.join(LOG), message: e.to_string() })?;
+        log.push_str(&line);
         log.push('\n');
     }
     crate::io::write_atomic(&dir.join(LOG), log.as_bytes())?;
@@ -223,7 +230,7 @@ fn scored(
     let set = sc
         .probes
         .entry(fr.size)
-        .or_insert_with(|| browser::probe_set(&fr.scene, scene, fr.size).map_err(|e| format!("{e:#}")))
+        .or_insert_with(|| browser::probe_set(&fr.scene, scene, fr.size).map_err(|e| e.to_string()))
         .as_ref()
         .map_err(Clone::clone)?;
     if fr.probe_rays != set.rays.len() || fr.probe_stride != set.stride {
@@ -261,7 +268,7 @@ fn scored(
         tiling: scene.tiling as f64,
         whole_frame: set.stride == 1,
     };
-    score(&mut m, &pipeline, &reference, &hits).map_err(|e| format!("{e:#}"))?;
+    score(&mut m, &pipeline, &reference, &hits).map_err(|e| e.to_string())?;
     Ok(m)
 }
 

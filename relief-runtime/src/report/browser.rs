@@ -30,7 +30,8 @@ use relief_dsl::abi::{binding, Member, Params};
 use relief_dsl::spec::Lod;
 use serde_json::{json, Value};
 
-use crate::gpu::{self, Program, Source, Upload};
+use crate::error::{Error, Result};
+use crate::gpu::{self, GpuError, Program, Source, Upload};
 use crate::heightmap::EdgeMode;
 use crate::maps::MapKey;
 use crate::reference::{reference_hits, RefHit, Sampling};
@@ -122,10 +123,10 @@ fn source_json(s: Source) -> Value {
 }
 
 /// One data file: `window.RELIEF_DATA[name] = { meta, b64 }`.
-fn data_file(dir: &Path, name: &str, meta: Value, bytes: &[u8], files: &mut Vec<PathBuf>) -> anyhow::Result<()> {
+fn data_file(dir: &Path, name: &str, meta: Value, bytes: &[u8], files: &mut Vec<PathBuf>) -> Result<()> {
     let path = dir.join(format!("{name}.js"));
     if let Some(parent) = path.parent() {
-        std::fs::create_dir_all(parent)?;
+        crate::io::create_dir_all(parent)?;
     }
     let body = json!({ "meta": meta, "b64": crate::io::base64::encode(bytes) });
     let text = format!("(window.RELIEF_DATA = window.RELIEF_DATA || {{}})[{}] = {};\n", json!(name), body);
@@ -134,7 +135,7 @@ fn data_file(dir: &Path, name: &str, meta: Value, bytes: &[u8], files: &mut Vec<
     Ok(())
 }
 
-fn texture_file(dir: &Path, name: &str, u: &Upload, files: &mut Vec<PathBuf>) -> anyhow::Result<()> {
+fn texture_file(dir: &Path, name: &str, u: &Upload, files: &mut Vec<PathBuf>) -> Result<()> {
     let dimension = if u.dimension == wgpu::TextureDimension::D3 { "3d" } else { "2d" };
     let view = match u.view {
         wgpu::TextureViewDimension::D3 => "3d",
@@ -164,20 +165,20 @@ fn ship(text: &str) -> Result<Shipped, String> {
     Ok(Shipped { text: p.to_string(), stem: p.file_stem(), program })
 }
 
-fn bindings_json(b: &[u32], program: &Program) -> Result<Value, String> {
+fn bindings_json(b: &[u32], program: &Program) -> Result<Value, GpuError> {
     b.iter()
-        .map(|&n| gpu::binding_source(n, &program.maps).map(|s| json!([n, source_json(s)])).map_err(|e| e.to_string()))
+        .map(|&n| gpu::binding_source(n, &program.maps).map(|s| json!([n, source_json(s)])))
         .collect::<Result<Vec<_>, _>>()
         .map(Value::Array)
 }
 
 /// Writes the browser data of the rows of `datas` (every adapter's) into `dir/browser/`.
-pub(crate) fn write(datas: &[&Data], dir: &Path) -> anyhow::Result<Written> {
+pub(crate) fn write(datas: &[&Data], dir: &Path) -> Result<Written> {
     let out = dir.join("browser");
     if out.is_dir() {
-        std::fs::remove_dir_all(&out).map_err(|e| anyhow::anyhow!("cannot clear {}: {e}", out.display()))?;
+        std::fs::remove_dir_all(&out).map_err(|source| crate::io::FileError::Clear { path: out.clone(), source })?;
     }
-    std::fs::create_dir_all(&out)?;
+    crate::io::create_dir_all(&out)?;
     let mut w = Written::default();
     let mut files = Vec::new();
 
@@ -212,15 +213,15 @@ pub(crate) fn write(datas: &[&Data], dir: &Path) -> anyhow::Result<Written> {
             }));
         }
     }
-    let exact = ship(EXACT).map_err(anyhow::Error::msg)?;
+    let exact = ship(EXACT).map_err(Error::Input)?;
     pipelines.entry(exact.text.clone()).or_insert(exact);
 
     let mut pjson = Vec::new();
     for s in pipelines.values() {
         let wgsl = relief_dsl::emit::emit(&s.text.parse()?)?.wgsl;
         data_file(&out, &format!("wgsl/{}", s.stem), json!({ "pipeline": s.text }), wgsl.as_bytes(), &mut files)?;
-        let render = bindings_json(&s.program.render_bindings, &s.program).map_err(anyhow::Error::msg)?;
-        let probe = bindings_json(&s.program.probe_bindings, &s.program).map_err(anyhow::Error::msg)?;
+        let render = bindings_json(&s.program.render_bindings, &s.program)?;
+        let probe = bindings_json(&s.program.probe_bindings, &s.program)?;
         let maps: Vec<String> = s.program.maps.iter().filter_map(|r| MapKey::of(*r)).map(map_slug).collect();
         pjson.push(json!({
             "pipeline": s.text, "wgsl": format!("wgsl/{}", s.stem), "render_bindings": render, "probe_bindings": probe,
@@ -293,12 +294,11 @@ pub(crate) struct ProbeSet {
 
 /// The shipped probe rays of `on_device` (a scene from [`on_device`], labelled `label`) at
 /// `size²` and their exact hits: what the page probes and what `--add` scores it against.
-pub(crate) fn probe_set(label: &str, on_device: &Scene, size: u32) -> anyhow::Result<ProbeSet> {
+pub(crate) fn probe_set(label: &str, on_device: &Scene, size: u32) -> Result<ProbeSet> {
     let all = on_device.rays(size);
     let stride = probe_stride(all.len());
     let rays: Vec<ProbeRay> = all.iter().step_by(stride).copied().collect();
-    let refs =
-        reference_hits(on_device, &rays, Sampling::Bilinear).map_err(|e| anyhow::anyhow!("scene {label}: {e}"))?;
+    let refs = reference_hits(on_device, &rays, Sampling::Bilinear).map_err(|e| Error::from(e).in_scene(label))?;
     Ok(ProbeSet { rays, all: all.len(), stride, refs })
 }
 
@@ -310,7 +310,7 @@ fn write_scene<'a>(
     sizes: &[u32],
     pipelines: impl Iterator<Item = &'a Shipped>,
     files: &mut Vec<PathBuf>,
-) -> anyhow::Result<Value> {
+) -> Result<Value> {
     let slug = scene_slug(label);
     let base = format!("scenes/{slug}");
     let u = gpu::scene_uploads(scene, true);
@@ -370,12 +370,12 @@ fn write_scene<'a>(
 
 /// The page's live section: two pipelines side by side and the measure button (their
 /// script is `web/live.js`), or why there is no browser data.
-pub(crate) fn section(w: &anyhow::Result<Written>) -> super::html::Section {
+pub(crate) fn section(w: &Result<Written>) -> super::html::Section {
     use super::html::esc;
     let mut h = String::from("<h2>Live: the pipelines on your GPU</h2>\n");
     match w {
         Err(e) => {
-            let _ = writeln!(h, "<p>No browser data was written: {}</p>", esc(&format!("{e:#}")));
+            let _ = writeln!(h, "<p>No browser data was written: {}</p>", esc(&e.to_string()));
         }
         Ok(w) => {
             h.push_str(LIVE_HTML);

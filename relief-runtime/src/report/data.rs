@@ -121,7 +121,7 @@ impl Data {
 
 /// The rows of the sweeps in `dirs`, in folder order, each row's `cell_dir` made relative to
 /// `out` (where the report goes), and the unreadable lines named with their folder.
-pub(crate) fn read_merged(dirs: &[PathBuf], out: &Path) -> anyhow::Result<(Vec<Row>, Vec<String>)> {
+pub(crate) fn read_merged(dirs: &[PathBuf], out: &Path) -> Result<(Vec<Row>, Vec<String>), crate::io::FileError> {
     let mut rows = Vec::new();
     let mut bad = Vec::new();
     let many = dirs.len() > 1;

@@ -42,7 +42,7 @@ mod text;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use anyhow::Context;
+use crate::error::{Error, Result};
 
 pub use add::{add, Added};
 pub use conclusions::{Conclusion, Verdict};
@@ -92,7 +92,7 @@ impl ReportSummary {
 }
 
 /// Writes the report for the sweep in `dir` (see the module docs).
-pub fn write(dir: &Path) -> anyhow::Result<ReportSummary> {
+pub fn write(dir: &Path) -> Result<ReportSummary> {
     write_many(&[dir.to_path_buf()], dir)
 }
 
@@ -101,17 +101,17 @@ pub fn write(dir: &Path) -> anyhow::Result<ReportSummary> {
 /// cell (the later folder's row wins, an ok row over a failed one), unless their adapters
 /// differ: each adapter's rows are kept apart (see the module docs). With `out` outside
 /// `dirs`, the merged rows are written to `out/results.csv` too.
-pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary> {
+pub fn write_many(dirs: &[PathBuf], out: &Path) -> Result<ReportSummary> {
     if dirs.is_empty() {
-        anyhow::bail!("no sweep folder given");
+        return Err(Error::NoSweepFolders);
     }
     for dir in dirs {
         if !dir.is_dir() {
-            anyhow::bail!("no sweep folder {}: it does not exist or is not a folder", dir.display());
+            return Err(Error::NoSweepFolder(dir.clone()));
         }
     }
     let dir = out;
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    crate::io::create_dir_all(dir)?;
     let (all_rows, bad_lines) = data::read_merged(dirs, dir)?;
     let mut adapters = data::by_adapter(all_rows.clone());
     let primary = if adapters.is_empty() { Vec::new() } else { adapters.remove(0).1 };
@@ -129,19 +129,10 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary>
         if let Some(rr) = &room_rows {
             return write_rooms_only(dir, rr);
         }
-        let mut msg = format!(
-            "{} holds no results: {} is missing or has no rows (run `relief sweep --out {}` first)",
-            dir.display(),
-            dir.join("results.jsonl").display(),
-            dir.display()
-        );
-        if !data.bad_lines.is_empty() {
-            let _ = write!(msg, "; unreadable lines: {}", data.bad_lines.join("; "));
-        }
-        anyhow::bail!(msg);
+        return Err(Error::NoResults { dir: dir.to_path_buf(), bad_lines: data.bad_lines });
     }
     let sub = dir.join("report");
-    std::fs::create_dir_all(&sub).with_context(|| format!("cannot create {}", sub.display()))?;
+    crate::io::create_dir_all(&sub)?;
     remove_stale(&sub);
 
     let mut summary = ReportSummary {
@@ -241,7 +232,7 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary>
         browser::write(&datas, dir)
     };
     if let Err(e) = &shipped {
-        summary.warnings.push(format!("no browser data: {e:#}"));
+        summary.warnings.push(format!("no browser data: {e}"));
     }
     let live = browser::section(&shipped);
 
@@ -291,7 +282,7 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> anyhow::Result<ReportSummary>
 
 /// The report of a folder holding only a room grid (`relief sweep --grid rooms`): the room
 /// section as `tables.md` and `index.html`.
-fn write_rooms_only(dir: &Path, rows: &[crate::room::sweep::RoomRow]) -> anyhow::Result<ReportSummary> {
+fn write_rooms_only(dir: &Path, rows: &[crate::room::sweep::RoomRow]) -> Result<ReportSummary> {
     let mut summary = ReportSummary {
         dir: dir.to_path_buf(),
         rows: rows.len(),
@@ -328,7 +319,7 @@ fn remove_stale(sub: &Path) {
     }
 }
 
-fn write_file(path: &Path, bytes: &[u8], files: &mut Vec<PathBuf>) -> anyhow::Result<()> {
+fn write_file(path: &Path, bytes: &[u8], files: &mut Vec<PathBuf>) -> Result<()> {
     crate::io::write_atomic(path, bytes)?;
     files.push(path.to_path_buf());
     Ok(())

@@ -8,6 +8,7 @@ use super::accuracy::{reference_hits, room_accuracy, WallAccuracy};
 use super::gpu::{probe_room, render_interior, RoomProgram, RoomTextures};
 use super::mesh::{render_geometry, RoomMesh};
 use super::{Frames, Room};
+use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::metrics::percentile;
 
@@ -87,9 +88,9 @@ pub fn measure_room(
     p: &Pipeline,
     options: &RoomOptions,
     setup: &RoomSetup,
-) -> anyhow::Result<RoomMeasure> {
+) -> Result<RoomMeasure> {
     let prog = RoomProgram::new_with(p, options)
-        .map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", relief_dsl::spec::echo(&p.to_string())))?;
+        .map_err(|e| Error::from(e).in_pipeline(format!("`{}`", relief_dsl::spec::echo(&p.to_string()))))?;
     let tex = RoomTextures::new(gpu, room, &prog.maps)?;
     let interior = render_interior(gpu, &prog, room, &tex, setup.size, setup.warmup, setup.frames)?;
     let mesh = RoomMesh::new(room, setup.grid);
@@ -116,8 +117,8 @@ pub(crate) fn opaque(rgba: &[u8]) -> Vec<u8> {
 
 /// Writes `frame.png`, `baseline.png` and `diff.png` (|frame − baseline| × 4 per channel)
 /// into `dir`; returns the mean absolute difference per 8-bit channel.
-pub fn write_images(dir: &std::path::Path, size: u32, m: &RoomMeasure) -> anyhow::Result<f64> {
-    std::fs::create_dir_all(dir)?;
+pub fn write_images(dir: &std::path::Path, size: u32, m: &RoomMeasure) -> Result<f64> {
+    crate::io::create_dir_all(dir)?;
     let frame = opaque(&m.interior.rgba);
     let base = opaque(&m.baseline.rgba);
     let diff: Vec<u8> = frame

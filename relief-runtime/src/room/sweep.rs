@@ -15,7 +15,10 @@ use serde::{Deserialize, Serialize};
 use super::accuracy::WallAccuracy;
 use super::measure::{measure_room, write_images, RoomSetup};
 use super::room_from_arg;
+use crate::error::{Error, Result};
 use crate::gpu::Gpu;
+use crate::io::FileError;
+use crate::results::ResultsError;
 
 /// One variant of the paper's comparison: a label, the pipeline on every wall, scattering.
 #[derive(Clone, Debug, PartialEq)]
@@ -145,17 +148,16 @@ pub fn rows_path(dir: &Path) -> PathBuf {
 }
 
 /// Reads `DIR/rooms.jsonl`; `None` when there is none. Unreadable lines are errors.
-pub fn read_rows(dir: &Path) -> anyhow::Result<Option<Vec<RoomRow>>> {
+pub fn read_rows(dir: &Path) -> Result<Option<Vec<RoomRow>>, ResultsError> {
     let p = rows_path(dir);
     if !p.exists() {
         return Ok(None);
     }
-    let text =
-        crate::io::read_regular_to_string(&p).map_err(|e| anyhow::anyhow!("cannot read {}: {e}", p.display()))?;
+    let text = crate::io::read_regular_to_string(&p).map_err(|e| FileError::read(&p, e))?;
     let mut out = Vec::new();
     for (i, line) in text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty()) {
         let mut row: RoomRow =
-            serde_json::from_str(line).map_err(|e| anyhow::anyhow!("{}: line {}: {e}", p.display(), i + 1))?;
+            serde_json::from_str(line).map_err(|source| ResultsError::Line { path: p.clone(), line: i + 1, source })?;
         past_from_missed(&mut row.past_rate, row.missed_rate);
         for w in &mut row.per_wall {
             past_from_missed(&mut w.past_rate, w.missed_rate);
@@ -181,8 +183,8 @@ pub struct RoomSweep {
 
 /// Measures every variant in every room of `rooms` (`room:NAME` or room files) that the
 /// folder's rows do not already hold (ok, same size and grid) and writes the rows.
-pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> anyhow::Result<RoomSweep> {
-    std::fs::create_dir_all(out)?;
+pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> Result<RoomSweep> {
+    crate::io::create_dir_all(out)?;
     let earlier = read_rows(out)?.unwrap_or_default();
     let same_cell = |r: &RoomRow, room: &str, variant: &str| {
         r.room == room && r.variant == variant && r.size == setup.size && r.grid == setup.grid
@@ -192,7 +194,7 @@ pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> anyhow::Result<Ro
     let mut rows: Vec<RoomRow> = earlier.into_iter().filter(|r| r.status == "ok").collect();
     let (mut measured, mut skipped) = (0, 0);
     for arg in rooms {
-        let (room, warnings) = room_from_arg(Some(arg), None).map_err(anyhow::Error::msg)?;
+        let (room, warnings) = room_from_arg(Some(arg), None).map_err(Error::Room)?;
         for w in &warnings {
             eprintln!("relief: warning: {w}");
         }
@@ -202,7 +204,7 @@ pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> anyhow::Result<Ro
                 continue;
             }
             measured += 1;
-            let p: Pipeline = v.pipeline.parse().map_err(|e| anyhow::anyhow!("{}: {e}", v.pipeline))?;
+            let p: Pipeline = v.pipeline.parse().map_err(|e| Error::from(e).in_pipeline(v.pipeline))?;
             let mut row = RoomRow {
                 room: room.name.clone(),
                 variant: v.label.into(),
@@ -230,12 +232,15 @@ pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> anyhow::Result<Ro
                 }
                 Err(e) => {
                     row.status = "error".into();
-                    row.error = format!("{e:#}");
+                    row.error = e.to_string();
                 }
             }
             rows.push(row);
-            let text: String =
-                rows.iter().map(|r| serde_json::to_string(r).map(|s| s + "\n")).collect::<Result<_, _>>()?;
+            let text: String = rows
+                .iter()
+                .map(|r| serde_json::to_string(r).map(|s| s + "\n"))
+                .collect::<Result<_, _>>()
+                .map_err(|e| ResultsError::Encode(e.to_string()))?;
             crate::io::write_atomic(&rows_path(out), text.as_bytes())?;
         }
     }

@@ -227,8 +227,48 @@ pub fn names() -> Vec<&'static str> {
         .collect()
 }
 
+/// Why [`load`] found no grid.
+#[derive(Debug, thiserror::Error)]
+pub enum GridError {
+    /// Neither a built-in grid's name nor an existing file.
+    #[error("no grid `{arg}`: not a built-in grid ({}{near}) and no such file", names.join(", "))]
+    Unknown {
+        /// The argument as given.
+        arg: String,
+        /// The built-in grids ([`names`]).
+        names: Vec<&'static str>,
+        /// `; did you mean `NAME`?` for a likely typo, else empty.
+        near: String,
+    },
+    /// The grid file cannot be read.
+    #[error(transparent)]
+    Read(crate::io::FileError),
+    /// A line of the grid file does not parse.
+    #[error("{}: {source}", path.display())]
+    Parse {
+        /// The grid file.
+        path: std::path::PathBuf,
+        /// The parser's error (with the line).
+        #[source]
+        source: Box<ParseError>,
+    },
+    /// The grid file's pipelines times the scenes make more than [`MAX_CELLS`] cells.
+    #[error(
+        "{}: {pipelines} pipelines on {scenes} scenes make more than {MAX_CELLS} cells; split the grid (sweep --shard K/N shares one out)",
+        path.display()
+    )]
+    TooLarge {
+        /// The grid file.
+        path: std::path::PathBuf,
+        /// Its pipelines.
+        pipelines: usize,
+        /// The scenes they run on.
+        scenes: usize,
+    },
+}
+
 /// A grid by built-in name, or from a grid file.
-pub fn load(arg: &str, scenes: Option<&[String]>) -> anyhow::Result<NamedGrid> {
+pub fn load(arg: &str, scenes: Option<&[String]>) -> Result<NamedGrid, GridError> {
     if let Some(g) = builtin(scenes).into_iter().find(|g| g.name == arg) {
         return Ok(g);
     }
@@ -236,19 +276,16 @@ pub fn load(arg: &str, scenes: Option<&[String]>) -> anyhow::Result<NamedGrid> {
     if !path.exists() {
         let names = names();
         let near = nearest(arg, names.iter().copied()).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
-        anyhow::bail!("no grid `{arg}`: not a built-in grid ({}{near}) and no such file", names.join(", "));
+        return Err(GridError::Unknown { arg: arg.to_string(), names, near });
     }
-    let text = crate::io::read_regular_to_string(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    let pipelines = parse_grid_file(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let text =
+        crate::io::read_regular_to_string(path).map_err(|e| GridError::Read(crate::io::FileError::read(path, e)))?;
+    let pipelines = parse_grid_file(&text)
+        .map_err(|source| GridError::Parse { path: path.to_path_buf(), source: Box::new(source) })?;
     let scenes = scenes.map(|s| s.to_vec()).unwrap_or_else(|| vec!["lion".to_string()]);
     let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("grid").to_string();
     if pipelines.len().saturating_mul(scenes.len()) > MAX_CELLS {
-        anyhow::bail!(
-            "{}: {} pipelines on {} scenes make more than {MAX_CELLS} cells; split the grid (sweep --shard K/N shares one out)",
-            path.display(),
-            pipelines.len(),
-            scenes.len()
-        );
+        return Err(GridError::TooLarge { path: path.to_path_buf(), pipelines: pipelines.len(), scenes: scenes.len() });
     }
     let cells = pipelines.into_iter().flat_map(|p| scenes.iter().map(move |s| (p.clone(), s.clone()))).collect();
     Ok(NamedGrid { name, description: description(&text), cells })

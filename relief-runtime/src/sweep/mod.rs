@@ -21,11 +21,11 @@ mod progress;
 use std::collections::{HashMap, HashSet};
 use std::path::PathBuf;
 
+use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::measure::{measure_paired, write_images, Prepared};
 use crate::results::{self, Metrics, Row};
 use crate::scene::{scene_from_arg, Overrides, Scene};
-use anyhow::Context;
 pub use grids::NamedGrid;
 use progress::Progress;
 
@@ -109,9 +109,8 @@ fn key(pipeline: &str, scene: &str, size: u32, adapter: &str) -> (String, String
 }
 
 /// Runs the sweep.
-pub fn run(opts: &Options) -> anyhow::Result<Summary> {
-    std::fs::create_dir_all(&opts.out)
-        .with_context(|| format!("cannot create output folder {}", opts.out.display()))?;
+pub fn run(opts: &Options) -> Result<Summary> {
+    crate::io::create_dir_all(&opts.out)?;
     // Shown from the start: a large grid takes a while to check before its first cell.
     let mut bar = Progress::new(opts.grid.cells.len() as u64, opts.progress);
     bar.preparing(format!("preparing {} cells: reading results and scenes, building pipelines", opts.grid.cells.len()));
@@ -141,7 +140,7 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
             opts.grid.cells.iter().zip(shards).filter(|(_, s)| *s == k).map(|(c, _)| c.clone()).collect()
         }
     };
-    opts.overrides.check().map_err(anyhow::Error::msg)?;
+    opts.overrides.check().map_err(Error::Input)?;
     check_views(&opts.grid, &opts.overrides)?;
     check_pipelines(&opts.grid.name, mine.iter().map(|(p, s)| measured_as(p, s)))?;
     let gpu = Gpu::new()?;
@@ -175,17 +174,18 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
             cell_dir: cell_dir.clone(),
             ..Default::default()
         };
+        // A failed cell's row records its error's one line.
         let result = match prep {
-            Err(e) => Err(anyhow::anyhow!("scene {scene_arg}: {e}")),
+            Err(e) => Err(format!("scene {scene_arg}: {e}")),
             Ok(prep) => {
                 let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                     let m = measure_paired(&gpu, prep, &pipeline, opts.warmup, pairs(opts.frames))?;
                     write_images(&opts.out.join(&cell_dir), prep, &m)?;
-                    Ok::<_, anyhow::Error>(m.metrics)
+                    Ok::<_, Error>(m.metrics)
                 }));
                 match outcome {
-                    Ok(r) => r,
-                    Err(panic) => Err(anyhow::anyhow!(
+                    Ok(r) => r.map_err(|e| e.to_string()),
+                    Err(panic) => Err(format!(
                         "panicked: {}",
                         panic
                             .downcast_ref::<String>()
@@ -212,7 +212,7 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
                     ..Default::default()
                 };
                 row.status = "error".into();
-                row.error = e.chain().map(|c| c.to_string()).collect::<Vec<_>>().join(": ");
+                row.error = e;
                 summary.failed += 1;
             }
         }
@@ -228,7 +228,7 @@ pub fn run(opts: &Options) -> anyhow::Result<Summary> {
 /// Refuses a grid holding a pipeline that cannot be built (`csm(4, form=safe, sample=min4)`:
 /// a stage refuses the combination), before any cell runs: each distinct pipeline is built
 /// once (the naga module, as `relief gen` builds it), in parallel.
-fn check_pipelines(grid: &str, pipelines: impl Iterator<Item = relief_dsl::Pipeline>) -> anyhow::Result<()> {
+fn check_pipelines(grid: &str, pipelines: impl Iterator<Item = relief_dsl::Pipeline>) -> Result<()> {
     use rayon::prelude::*;
     let mut distinct: Vec<relief_dsl::Pipeline> = Vec::new();
     let mut seen = HashSet::new();
@@ -240,25 +240,25 @@ fn check_pipelines(grid: &str, pipelines: impl Iterator<Item = relief_dsl::Pipel
     let bad = distinct.par_iter().find_first(|p| relief_dsl::compose::compose_module(p).is_err());
     if let Some(p) = bad {
         let e = relief_dsl::compose::compose_module(p).expect_err("failed above");
-        anyhow::bail!(
+        return Err(Error::Input(format!(
             "grid `{grid}`: pipeline {} cannot be built: {e} (no cell was run)",
             relief_dsl::spec::echo(&p.to_string())
-        );
+        )));
     }
     Ok(())
 }
 
 /// Refuses overrides that would replace a view a cell's scene names itself (`--angle 30` on
 /// `rocks@angle=70`): the cell would be measured at another view than its name says.
-fn check_views(grid: &NamedGrid, overrides: &crate::scene::Overrides) -> anyhow::Result<()> {
+fn check_views(grid: &NamedGrid, overrides: &crate::scene::Overrides) -> Result<()> {
     for (_, s) in &grid.cells {
         if let Some((_, Ok(view))) = crate::scene::file::split_view(s) {
             if let Some(k) = view.shared_keys(overrides).first() {
-                anyhow::bail!(
+                return Err(Error::Input(format!(
                     "--{} conflicts with grid `{}`'s own view of scene `{s}`: leave the flag out or name scenes without a view",
                     k.replace('_', "-"),
                     grid.name
-                );
+                )));
             }
         }
     }

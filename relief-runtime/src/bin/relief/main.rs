@@ -93,9 +93,9 @@ impl OverrideArgs {
 /// Takes the lock of every results folder in `dirs` ([`relief_runtime::lock`]) for a command
 /// that reads or writes them; with `wait` a held folder is waited for (said once on stderr).
 pub fn lock_folders(dirs: &[&std::path::Path], wait: bool) -> anyhow::Result<Vec<relief_runtime::lock::FolderLock>> {
-    relief_runtime::lock::take_all(dirs, wait, &mut |holder| {
+    Ok(relief_runtime::lock::take_all(dirs, wait, &mut |holder| {
         eprintln!("relief: waiting for the results folder's lock, held by {holder}");
-    })
+    })?)
 }
 
 fn main() {

@@ -57,7 +57,7 @@ fn write_depth(out: &std::path::Path, size: u32, depth: &[f32]) -> anyhow::Resul
             [g, g, g, 255]
         })
         .collect();
-    relief_runtime::io::png::write_rgba8(&out.join("depth.png"), size, size, rgba)
+    Ok(relief_runtime::io::png::write_rgba8(&out.join("depth.png"), size, size, rgba)?)
 }
 
 /// Runs `relief render`.
