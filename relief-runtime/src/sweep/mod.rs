@@ -237,9 +237,8 @@ fn check_pipelines(grid: &str, pipelines: impl Iterator<Item = relief_dsl::Pipel
             distinct.push(p);
         }
     }
-    let bad = distinct.par_iter().find_first(|p| relief_dsl::compose::compose_module(p).is_err());
-    if let Some(p) = bad {
-        let e = relief_dsl::compose::compose_module(p).expect_err("failed above");
+    let bad = distinct.par_iter().find_map_first(|p| relief_dsl::compose::compose_module(p).err().map(|e| (p, e)));
+    if let Some((p, e)) = bad {
         return Err(Error::Input(format!(
             "grid `{grid}`: pipeline {} cannot be built: {e} (no cell was run)",
             relief_dsl::spec::echo(&p.to_string())
