@@ -134,6 +134,77 @@ fn required_maps_match_what_the_probe_and_shading_read() {
     assert!(e.to_string().contains("form=textbook"), "{e}");
 }
 
+/// The binding table the composer returns agrees with the module it returns it with: one
+/// entry per bound global (its binding and name), each of the kind the global's type says,
+/// every texture named for its image and filter at its plain binding, every map one the
+/// pipeline's `required_maps` (declared apart from the stage code) asks for, with the same
+/// parameters.
+#[test]
+fn the_binding_table_names_every_bound_global() {
+    use relief::dsl::ir::{Filter, Image, Resource};
+    let mut pipes = Pipeline::all_defaults();
+    pipes.push(p("mcns(15, 3)+shadow=hard(pcns(5, 2))+ao=cone_ratio"));
+    pipes.push(p("csm(10, form=textbook, sample=nearest)+binary(3)"));
+    pipes.push(p("maxmip(32)+lod=auto"));
+    for pipe in pipes {
+        let c = relief::compile(&pipe).unwrap();
+        let globals: Vec<(u32, String, &naga::GlobalVariable)> = c
+            .module
+            .global_variables
+            .iter()
+            .filter_map(|(_, g)| Some((g.binding?.binding, g.name.clone()?, g)))
+            .collect();
+        assert_eq!(c.bindings.len(), globals.len(), "{pipe}: {:?}", c.bindings);
+        for (b, name, g) in globals {
+            let e = c.bindings.get(b).unwrap_or_else(|| panic!("{pipe}: binding {b} (`{name}`) not in the table"));
+            assert_eq!(e.name, name, "{pipe}: binding {b}");
+            let ty = &c.module.types[g.ty].inner;
+            match e.resource {
+                Resource::Params => assert_eq!((b, g.space), (binding::PARAMS, naga::AddressSpace::Uniform), "{pipe}"),
+                Resource::Sampler(f) => {
+                    assert!(matches!(ty, naga::TypeInner::Sampler { .. }), "{pipe}: {name}");
+                    let want = if f == Filter::Linear { "linear_sampler" } else { "nearest_sampler" };
+                    assert_eq!(name, want, "{pipe}");
+                }
+                Resource::Texture { image, filter, wall } => {
+                    assert!(matches!(ty, naga::TypeInner::Image { .. }), "{pipe}: {name}");
+                    assert_eq!(wall, None, "{pipe}: a plain module has no walls");
+                    let (base, plain) = match image {
+                        Image::Height => ("height_map".to_string(), binding::HEIGHT),
+                        Image::Normal => ("normal_map".to_string(), binding::NORMAL),
+                        Image::Albedo => ("albedo_map".to_string(), binding::ALBEDO),
+                        Image::Window => panic!("{pipe}: a window outside a room"),
+                        Image::Map(req) => {
+                            assert!(
+                                pipe.required_maps().contains(&req),
+                                "{pipe}: reads {req:?}, requires {:?}",
+                                pipe.required_maps()
+                            );
+                            (req.texture_name(), req.binding())
+                        }
+                    };
+                    match filter {
+                        Filter::Linear => assert_eq!((name.as_str(), b), (base.as_str(), plain), "{pipe}"),
+                        Filter::Nearest => {
+                            assert_eq!(
+                                (name, b),
+                                (format!("{base}_nearest"), plain + binding::NEAREST_OFFSET),
+                                "{pipe}"
+                            )
+                        }
+                    }
+                }
+                Resource::Rays | Resource::Hits => {
+                    assert!(matches!(g.space, naga::AddressSpace::Storage { .. }), "{pipe}: {name}");
+                    let want = if e.resource == Resource::Rays { binding::RAYS } else { binding::HITS };
+                    assert_eq!(b, want, "{pipe}");
+                }
+                Resource::RoomParams => panic!("{pipe}: a room block outside a room"),
+            }
+        }
+    }
+}
+
 #[test]
 fn counters_exist_only_in_the_probe_variant() {
     let c = relief::compile(&p("linear(10)+interval(3)+shadow=hard(8)")).unwrap();

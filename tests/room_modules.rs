@@ -5,8 +5,9 @@ use std::process::Command;
 
 use crate::common::{run, tool};
 
-use relief::dsl::compose::interior::{compile_room, RoomOptions, WALL_BASE};
+use relief::dsl::compose::interior::{compile_room, RoomOptions, WALL_BASE, WINDOW_MAP};
 use relief::dsl::emit;
+use relief::dsl::ir::{Image, Resource};
 use relief::Pipeline;
 
 #[test]
@@ -26,9 +27,22 @@ fn room_modules_pass_naga_spirv_val_and_glslang() {
         let p: Pipeline = text.parse().unwrap();
         // Light scattering (Amaro & Gustafsson 2022, §2.3) on the shadowed pipeline.
         let options = RoomOptions { scatter: text.contains("soft").then_some(42) };
-        let rc = compile_room(&p, &options).unwrap_or_else(|e| panic!("{p}: {e}"));
-        let c = &rc.compiled;
-        assert!(rc.wall_bindings.iter().all(|w| w.binding >= WALL_BASE && w.binding < 64));
+        let c = &compile_room(&p, &options).unwrap_or_else(|e| panic!("{p}: {e}"));
+        // The binding table: every wall texture at a wall binding below the probe's buffers,
+        // named for its wall; every other texture the window's.
+        for e in &c.bindings {
+            if let Resource::Texture { image, wall, .. } = e.resource {
+                match wall {
+                    Some(k) => {
+                        assert!(e.binding >= WALL_BASE && e.binding < 64, "{p}: {e:?}");
+                        assert!(e.name.ends_with(&format!("_wall{k}")), "{p}: {e:?}");
+                    }
+                    None => assert_eq!((image, e.binding), (Image::Window, WINDOW_MAP), "{p}"),
+                }
+            }
+        }
+        let bound = c.module.global_variables.iter().filter(|(_, g)| g.binding.is_some()).count();
+        assert_eq!(bound, c.bindings.len(), "{p}: one table entry per bound global");
         let names: Vec<&str> = c.module.entry_points.iter().map(|e| e.name.as_str()).collect();
         assert_eq!(names, ["vs_room", "fs_room", "probe_room"], "{p}");
         // Every wall has its own height map (five textures at the walls' bindings).
@@ -64,7 +78,7 @@ fn room_modules_pass_naga_spirv_val_and_glslang() {
 #[test]
 fn light_scattering_is_off_by_default() {
     let p: Pipeline = "linear(8)+shadow=soft(8)".parse().unwrap();
-    let wgsl = |o: &RoomOptions| emit::wgsl(&compile_room(&p, o).unwrap().compiled).unwrap();
+    let wgsl = |o: &RoomOptions| emit::wgsl(&compile_room(&p, o).unwrap()).unwrap();
     assert_eq!(RoomOptions::default().scatter, None);
     assert!(!wgsl(&RoomOptions::default()).contains("scatter"));
     assert!(wgsl(&RoomOptions { scatter: Some(42) }).contains("scatter"));
@@ -91,7 +105,7 @@ fn room_records_match_their_rust_structs() {
     use relief::dsl::compose::interior::{RoomHit, RoomParams, RoomRay};
     let p: relief::Pipeline = "linear(4)".parse().unwrap();
     let rc = compile_room(&p, &RoomOptions::default()).unwrap();
-    let module = &rc.compiled.module;
+    let module = &rc.module;
     let span_of = |name: &str| -> (u32, Vec<u32>) {
         let ty = module
             .types

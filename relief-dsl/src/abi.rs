@@ -59,6 +59,11 @@ pub mod binding {
     /// offset (`cone_map_nearest` at 38 for `cone_map` at 6): GLSL combines a texture with one
     /// sampler.
     pub const NEAREST_OFFSET: u32 = 32;
+    /// A room module's window opacity map (`texture_2d<f32>`, r). A room binds its walls'
+    /// images from 6 on, so it reuses the plain modules' numbers 4 and 5.
+    pub const ROOM_WINDOW: u32 = 4;
+    /// A room module's `RoomParams` uniform block.
+    pub const ROOM_PARAMS: u32 = 5;
     /// Probe input, `array<ProbeRay>` (storage, read).
     pub const RAYS: u32 = 64;
     /// Probe output, `array<ProbeHit>` (storage, read_write).

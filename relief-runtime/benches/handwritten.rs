@@ -17,8 +17,10 @@ fn main() {
     let scene = Scene::by_name("rock_bump", Some(256)).unwrap();
     let tex = SceneTextures::new(&g, &scene);
     let generated = Program::new(&"linear(32)+binary(5)".parse().unwrap()).unwrap();
+    // The hand-written shader binds what the generated one binds, at the same numbers.
     let hand = Program {
         wgsl: include_str!("handwritten_pom.wgsl").to_string(),
+        bindings: generated.bindings.clone(),
         render_bindings: vec![0, 1, 2, 4, 5],
         probe_bindings: vec![],
         maps: vec![],

@@ -5,6 +5,8 @@
 
 use std::path::Path;
 
+use relief_dsl::ir::{Image, Resource};
+use relief_dsl::spec::MapReq;
 use relief_runtime::gpu::{self, Gpu, Program, SceneTextures};
 use relief_runtime::room::accuracy::{reference_hits, room_accuracy};
 use relief_runtime::room::gpu::{probe_room, RoomProgram, RoomTextures};
@@ -433,7 +435,17 @@ fn a_safe_cone_pipeline_reads_each_walls_own_cone_map() {
     let g = gpu();
     let room = builtin::room("default", Some(32)).unwrap();
     let prog = RoomProgram::new(&"csm(15)+binary(5)".parse().unwrap()).unwrap();
-    assert!(prog.walls.iter().filter(|w| w.plain == relief_dsl::abi::binding::CELL_CONE).count() == WALLS);
+    // The binding table gives each wall its own cell cone map.
+    let mut walls: Vec<u32> = prog
+        .bindings
+        .iter()
+        .filter_map(|e| match e.resource {
+            Resource::Texture { image: Image::Map(MapReq::CellCone), wall, .. } => wall,
+            _ => None,
+        })
+        .collect();
+    walls.sort();
+    assert_eq!(walls, (0..WALLS as u32).collect::<Vec<_>>());
     let tex = RoomTextures::new(&g, &room, &prog.maps).unwrap();
     let rays = room.rays(64);
     let probe: Vec<RoomRay> = rays.iter().map(|r| r.ray).collect();

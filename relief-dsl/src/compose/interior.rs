@@ -16,8 +16,9 @@
 //!
 //! **Maps: five bindings per map.** Each wall has its own textures: the stage functions are
 //! built five times, once per wall, with every texture the stages (and the shading) declare
-//! renamed `NAME_wallK` and bound at the next free binding from [`WALL_BASE`]; samplers, the `Params`
-//! block and the [`RoomParams`] block are shared. The stages are unchanged: they sample
+//! renamed `NAME_wallK` and bound at the next free binding from [`WALL_BASE`] (the module's
+//! binding table, [`Compiled::bindings`], names the wall and the image of each); samplers,
+//! the `Params` block and the [`RoomParams`] block are shared. The stages are unchanged: they sample
 //! `height_map` as always and get the wall's. Precomputed maps (cone maps, …) are per wall in
 //! the same way. Walls are sampled with clamp-to-edge (`params.quad.y = 1`).
 //!
@@ -28,11 +29,16 @@
 use std::cell::RefCell;
 
 use bytemuck::{Pod, Zeroable};
-use naga::{Binding, BuiltIn, Module, ShaderStage, TypeInner};
+use naga::{Module, ShaderStage};
 
-use super::{entry_point, location, storage_array, write_stage_fns, StageFns};
-use crate::abi::{abi_record, binding, Param, PROBE_WORKGROUP};
-use crate::ir::{FnBuilder, Mat4, ModuleCtx, Plain, Policy, Ty, UVec3, Val, Vec2, Vec3, Vec4};
+use super::{
+    entry_point, finish_probe, finish_vertex, location, probe_function, probe_start, probe_trace, vertex_function,
+    write_stage_fns, Compiled, ProbeIo, ProbeSlot, ProbeTrace, StageFns,
+};
+use crate::abi::{abi_record, binding, Param};
+use crate::ir::{
+    Bindings, FnBuilder, Image, Mat4, ModuleCtx, Plain, Policy, Resource, TextureSite, Ty, Val, Vec2, Vec3, Vec4,
+};
 use crate::spec::Pipeline;
 use crate::stage::{Filter, Hit, Ray};
 use crate::CompileError;
@@ -43,37 +49,18 @@ pub const WALL_NAMES: [&str; 5] = ["back", "left", "right", "floor", "ceiling"];
 pub const WALLS: usize = 5;
 
 /// Binding of the window's opacity map (read when [`RoomParams::size`]`[3]` is 1).
-pub const WINDOW_MAP: u32 = 4;
+pub const WINDOW_MAP: u32 = binding::ROOM_WINDOW;
 /// Binding of the [`RoomParams`] uniform block.
-pub const ROOM_PARAMS: u32 = 5;
+pub const ROOM_PARAMS: u32 = binding::ROOM_PARAMS;
 /// The first binding of the walls' textures: each texture a wall reads gets the next free
-/// binding from here, in the order the module declares them ([`RoomCompiled::wall_bindings`]
-/// says which is which). Bindings stay small: GLSL limits sampler bindings (80 in glslang).
+/// binding from here, in the order the module declares them (the module's binding table,
+/// [`Compiled::bindings`], says which is which). Bindings stay small: GLSL limits sampler
+/// bindings (80 in glslang).
 pub const WALL_BASE: u32 = 6;
 /// Binding of the [`RoomRay`] storage buffer of `probe_room`.
 pub const ROOM_RAYS: u32 = binding::RAYS;
 /// Binding of the [`RoomHit`] storage buffer of `probe_room`.
 pub const ROOM_HITS: u32 = binding::HITS;
-
-/// One wall texture of a room module.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct WallBinding {
-    /// Its binding in the room module.
-    pub binding: u32,
-    /// The wall ([`WALL_NAMES`]).
-    pub wall: u32,
-    /// The binding the same texture has in a plain module ([`crate::abi::binding`]; a
-    /// nearest-filtered copy at [`crate::abi::binding::NEAREST_OFFSET`] + its binding).
-    pub plain: u32,
-}
-
-/// A compiled room module and its walls' bindings.
-pub struct RoomCompiled {
-    /// The module and its validation info.
-    pub compiled: super::Compiled,
-    /// Every wall texture the module declares.
-    pub wall_bindings: Vec<WallBinding>,
-}
 
 abi_record! {
 /// The room block (64 bytes) at binding [`ROOM_PARAMS`]. The `Params` block is shared
@@ -204,7 +191,7 @@ fn frame<'a>(s: &'a FnBuilder<'a>, k: usize, size: Val<'a, Vec3>) -> Frame<'a> {
 }
 
 fn room_param<'a>(s: &'a FnBuilder<'a>, i: u32) -> Val<'a, Vec4> {
-    let g = s.module().declare("room", naga::AddressSpace::Uniform, Some(ROOM_PARAMS), |m| {
+    let g = s.module().bound("room", naga::AddressSpace::Uniform, ROOM_PARAMS, Resource::RoomParams, |m| {
         m.record_ty("RoomParams", RoomParams::MEMBERS)
     });
     s.load(s.member_ptr(s.global_ptr(g), i))
@@ -284,26 +271,34 @@ pub(crate) fn store_view_distance<'a>(s: &'a FnBuilder<'a>, d: Val<'a, f32>) {
 }
 
 /// A wall's policy: every texture the stages (and the shading) read is wall `k`'s own,
-/// named `NAME_wallK` and bound at the next free binding from [`WALL_BASE`], recorded in
-/// `table` the first time the wall reads it; samplers, uniforms and private globals stay
-/// shared. Walls are sampled at level 0, with the edge mode of `Params` (clamp).
+/// named `NAME_wallK` and bound at the next free binding from [`WALL_BASE`], taken in `taken`
+/// the first time the wall reads it; samplers, uniforms and private globals stay shared.
+/// Walls are sampled at level 0, with the edge mode of `Params` (clamp).
 struct Wall<'t> {
     k: u32,
-    table: &'t RefCell<Vec<WallBinding>>,
+    taken: &'t RefCell<Vec<WallTexture>>,
+}
+
+/// A binding a wall's texture took: wall `wall`'s copy of what a plain module binds at
+/// `plain`.
+struct WallTexture {
+    binding: u32,
+    wall: u32,
+    plain: u32,
 }
 
 impl Policy for Wall<'_> {
-    fn texture(&self, name: &str, plain: u32) -> (String, u32) {
-        let mut table = self.table.borrow_mut();
-        let binding = match table.iter().find(|w| w.wall == self.k && w.plain == plain) {
+    fn texture(&self, name: &str, plain: u32) -> TextureSite {
+        let mut taken = self.taken.borrow_mut();
+        let binding = match taken.iter().find(|w| w.wall == self.k && w.plain == plain) {
             Some(w) => w.binding,
             None => {
-                let next = table.iter().map(|w| w.binding + 1).max().unwrap_or(WALL_BASE);
-                table.push(WallBinding { binding: next, wall: self.k, plain });
+                let next = taken.iter().map(|w| w.binding + 1).max().unwrap_or(WALL_BASE);
+                taken.push(WallTexture { binding: next, wall: self.k, plain });
                 next
             }
         };
-        (format!("{name}_wall{}", self.k), binding)
+        TextureSite { name: format!("{name}_wall{}", self.k), binding, wall: Some(self.k) }
     }
 }
 
@@ -325,43 +320,13 @@ fn wall_fns(m: &ModuleCtx, p: &Pipeline, walls: &[Wall<'_>], counted: bool) -> R
 }
 
 fn vertex_entry(m: &ModuleCtx, policy: &dyn Policy) -> naga::EntryPoint {
-    let out_ty = {
-        let v4 = m.ty(Vec4::inner());
-        let v3 = m.ty(Vec3::inner());
-        m.module.borrow_mut().types.insert(
-            naga::Type {
-                name: Some("RoomVertex".into()),
-                inner: TypeInner::Struct {
-                    members: vec![
-                        naga::StructMember {
-                            name: Some("clip".into()),
-                            ty: v4,
-                            binding: Some(Binding::BuiltIn(BuiltIn::Position { invariant: false })),
-                            offset: 0,
-                        },
-                        naga::StructMember {
-                            name: Some("world".into()),
-                            ty: v3,
-                            binding: Some(location(0)),
-                            offset: 16,
-                        },
-                    ],
-                    span: 32,
-                },
-            },
-            naga::Span::UNDEFINED,
-        )
-    };
-    let s =
-        m.function("vs_room", &[("vertex", m.ty(u32::inner()), Some(Binding::BuiltIn(BuiltIn::VertexIndex)))], policy);
+    let s = vertex_function(m, "vs_room", policy);
     // The window: (0,0) (W,0) (0,H) (W,H) as a triangle strip, at z = 0.
     let i = s.arg::<u32>(0);
     let size = room_param(&s, 0);
     let world = s.vec3(s.vec2(i.and(1).to_f32() * size.x(), i.shift_right(1).to_f32() * size.y()), 0.0);
     let clip = s.param::<Mat4>(Param::ViewProj) * s.vec4(world, 1.0);
-    let out = s.make_struct(out_ty, &[clip.handle(), world.handle()]);
-    let f = s.finish(Some((out_ty, None, out)));
-    entry_point("vs_room", ShaderStage::Vertex, f, [0; 3])
+    finish_vertex(&s, "vs_room", "RoomVertex", clip, world)
 }
 
 /// The glass colour the window's opacity blends toward.
@@ -394,7 +359,7 @@ fn scattering<'a>(
         let q = p + to_sun * ((-p.z()) / to_sun.z().max(1e-4));
         let inside = q.x().ge(0.0) & q.x().le(size.x()) & q.y().ge(0.0) & q.y().le(size.y()) & to_sun.z().gt(1e-4);
         let uv = s.vec2(q.x() / size.x(), 1.0 - q.y() / size.y());
-        let opacity = s.sample("window_map", WINDOW_MAP, uv, Filter::Linear).x();
+        let opacity = s.sample(Image::Window, uv, Filter::Linear).x();
         let clear = s.select(window_on, 1.0 - opacity, s.lit(1.0));
         sum.set(sum.get() + s.select(inside, w.get() * clear, s.lit(0.0)));
         w.set(w.get() * SCATTER_DECAY);
@@ -454,7 +419,7 @@ fn fragment_entry(
                 let n = s.normal(hit.uv);
                 let n_world =
                     (f.u_edge * (n.x() / uu.sqrt()) + f.v_edge * (n.y() / vv.sqrt()) + f.normal * n.z()).normalize();
-                let albedo = s.sample("albedo_map", binding::ALBEDO, hit.uv, Filter::Linear).xyz();
+                let albedo = s.sample(Image::Albedo, hit.uv, Filter::Linear).xyz();
                 let diffuse = n_world.dot(to_light).max(0.0);
                 color.set(albedo * (ambient * occlusion + (1.0 - ambient) * diffuse * visibility));
                 far.set(cam + w * t_wall);
@@ -470,7 +435,7 @@ fn fragment_entry(
     let out = s.var::<Vec3>("out", color.get());
     s.if_(window_on, |s| {
         let uv = s.vec2(world.x() / size.x(), 1.0 - world.y() / size.y());
-        let opacity = s.sample("window_map", WINDOW_MAP, uv, Filter::Linear).x();
+        let opacity = s.sample(Image::Window, uv, Filter::Linear).x();
         let glass = s.vec3(s.vec2(GLASS[0], GLASS[1]), GLASS[2]);
         out.set(color.get().mix(glass, s.vec3(s.vec2(opacity, opacity), opacity)));
     });
@@ -479,38 +444,21 @@ fn fragment_entry(
 }
 
 fn probe_entry(m: &ModuleCtx, policy: &dyn Policy, walls: &[StageFns]) -> naga::EntryPoint {
-    let ray_rec = m.record_ty("RoomRay", RoomRay::MEMBERS);
-    let hit_rec = m.record_ty("RoomHit", RoomHit::MEMBERS);
-    let rays = storage_array(m, "room_rays", ray_rec, ROOM_RAYS, false);
-    let hits = storage_array(m, "room_hits", hit_rec, ROOM_HITS, true);
-    let counters = super::probe_counters(m);
-    let s = m.function(
-        "probe_room",
-        &[("id", m.ty(UVec3::inner()), Some(Binding::BuiltIn(BuiltIn::GlobalInvocationId)))],
-        policy,
-    );
-    let index = s.arg::<UVec3>(0).x();
-    let rays_ptr = s.global_ptr(rays);
-    s.if_(index.ge(s.array_length(rays_ptr)), |s| s.ret());
-    let rec = s.element_ptr(rays_ptr, index.handle());
+    let io = ProbeIo::new(m, ("room_rays", "RoomRay", RoomRay::MEMBERS), ("room_hits", "RoomHit", RoomHit::MEMBERS));
+    let s = probe_function(m, "probe_room", policy);
+    let ProbeSlot { ray: rec, hit: out, counters } = probe_start(&s, &io);
     let cam = s.load::<Vec4>(s.member_ptr(rec, 0)).xyz();
     let w = s.load::<Vec4>(s.member_ptr(rec, 1)).xyz();
     let size = room_param(&s, 0).xyz();
-    for c in counters {
-        let zero = s.lit_u32(0);
-        s.store(s.global_ptr(c), zero.handle());
-    }
     let (wall, t_wall) = select_wall(&s, cam, w, size);
-    let out = s.element_ptr(s.global_ptr(hits), index.handle());
     for (k, fns) in walls.iter().enumerate() {
         s.if_(wall.ge(k as u32) & wall.le(k as u32), |s| {
             let f = frame(s, k, size);
             let scale = depth_scale(s, k);
             let ray = wall_ray(s, &f, scale, cam, w, t_wall);
             store_view_distance(s, (w * t_wall).length());
-            let hit: Hit = s.unpack(s.call(fns.trace, &[s.pack(&ray)], true).unwrap());
-            let [coarse_steps, refine_steps, _] = counters.map(|c| s.load::<u32>(s.global_ptr(c)));
-            let converged = s.select(hit.found, 1u32, 0u32);
+            let ProbeTrace { hit, coarse_steps, refine_steps, converged, .. } =
+                probe_trace(s, fns.trace, &ray, counters);
             let values = [
                 wall.handle(),
                 hit.t.handle(),
@@ -524,8 +472,7 @@ fn probe_entry(m: &ModuleCtx, policy: &dyn Policy, walls: &[StageFns]) -> naga::
             s.store_members(out, &values);
         });
     }
-    let f = s.finish(None);
-    entry_point("probe_room", ShaderStage::Compute, f, [PROBE_WORKGROUP, 1, 1])
+    finish_probe(&s, "probe_room")
 }
 
 /// The pipeline options the room entries do not implement, as errors: the room's entries set
@@ -543,10 +490,10 @@ fn refuse_render_options(p: &Pipeline) -> Result<(), CompileError> {
     Ok(())
 }
 
-fn compose_room(p: &Pipeline, options: &RoomOptions) -> Result<(Module, Vec<WallBinding>), CompileError> {
+fn compose_room(p: &Pipeline, options: &RoomOptions) -> Result<(Module, Bindings), CompileError> {
     refuse_render_options(p)?;
-    let table = RefCell::new(Vec::new());
-    let walls: Vec<Wall> = (0..WALLS as u32).map(|k| Wall { k, table: &table }).collect();
+    let taken = RefCell::new(Vec::new());
+    let walls: Vec<Wall> = (0..WALLS as u32).map(|k| Wall { k, taken: &taken }).collect();
     let m = ModuleCtx::new();
     let shared = Plain::default();
     let plain = wall_fns(&m, p, &walls, false)?;
@@ -554,21 +501,21 @@ fn compose_room(p: &Pipeline, options: &RoomOptions) -> Result<(Module, Vec<Wall
     let vs = vertex_entry(&m, &shared);
     let fs = fragment_entry(&m, &shared, &walls, &plain, options);
     let cs = probe_entry(&m, &shared, &counted);
-    drop(walls);
-    let mut module = m.finish();
+    let (mut module, bindings) = super::finish(m)?;
     module.entry_points.extend([vs, fs, cs]);
-    Ok((module, table.into_inner()))
+    Ok((module, bindings))
 }
 
-/// Builds and validates the room module for `p`.
-pub fn compile_room(p: &Pipeline, options: &RoomOptions) -> Result<RoomCompiled, CompileError> {
+/// Builds and validates the room module for `p`; its binding table names each wall's
+/// textures ([`Resource::Texture`] with `wall`).
+pub fn compile_room(p: &Pipeline, options: &RoomOptions) -> Result<Compiled, CompileError> {
     if options.scatter.is_some_and(|n| !(1..=4096).contains(&n)) {
         return Err(CompileError {
             stage: "scatter".into(),
             message: format!("{} scattering samples: allowed 1..=4096", options.scatter.unwrap_or(0)),
         });
     }
-    let (module, wall_bindings) = compose_room(p, options)?;
+    let (module, bindings) = compose_room(p, options)?;
     let info = super::validate(&module)?;
-    Ok(RoomCompiled { compiled: super::Compiled { module, info }, wall_bindings })
+    Ok(Compiled { module, info, bindings })
 }

@@ -31,7 +31,7 @@
 use naga::{Handle, Module, TypeInner};
 
 use crate::compose::write_stage_fns;
-use crate::ir::{ModuleCtx, Plain, Policy, Ty, Vec2, Vec3, Vec4};
+use crate::ir::{Filter, ModuleCtx, Plain, Policy, Resource, Ty, Vec2, Vec3, Vec4};
 use crate::spec::Pipeline;
 use crate::stage::{Hit, Ray};
 use crate::CompileError;
@@ -142,25 +142,24 @@ pub(crate) fn camel(prefix: &str) -> String {
         .collect()
 }
 
-/// The library name of a global the stages declare (`height_map` → `height`,
-/// `cone_map_nearest` → `cone_nearest`, `linear_sampler` → `sampler`), and what it holds.
-fn resource_base(name: &str) -> Option<(String, String)> {
-    match name {
-        "linear_sampler" => return Some(("sampler".into(), "a sampler with linear filtering".into())),
-        "nearest_sampler" => return Some(("sampler_nearest".into(), "a sampler with nearest filtering".into())),
-        _ => {}
+/// The library name of a resource the stages declare (the height map → `height`, the cone
+/// map read with nearest filtering → `cone_nearest`, the linear sampler → `sampler`), and
+/// what it holds; `None` for what a library has no place for.
+fn library_name(resource: Resource) -> Option<(String, String)> {
+    let filter_name = |f: Filter| if f == Filter::Nearest { "nearest" } else { "linear" };
+    match resource {
+        Resource::Sampler(Filter::Linear) => Some(("sampler".into(), "a sampler with linear filtering".into())),
+        Resource::Sampler(Filter::Nearest) => {
+            Some(("sampler_nearest".into(), "a sampler with nearest filtering".into()))
+        }
+        Resource::Texture { image, filter, wall: None } => {
+            let texture = image.texture_name();
+            let base = texture.strip_suffix("_map").unwrap_or(&texture);
+            let what = format!("the {} map, read with {} filtering", base.replace('_', " "), filter_name(filter));
+            Some((if filter == Filter::Nearest { format!("{base}_nearest") } else { base.to_string() }, what))
+        }
+        _ => None,
     }
-    let (map, nearest) = match name.strip_suffix("_nearest") {
-        Some(m) => (m, true),
-        None => (name, false),
-    };
-    let base = map.strip_suffix("_map")?;
-    let what = format!(
-        "the {} map, read with {} filtering",
-        base.replace('_', " "),
-        if nearest { "nearest" } else { "linear" }
-    );
-    Some((if nearest { format!("{base}_nearest") } else { base.to_string() }, what))
 }
 
 /// Why a library cannot express `p`, if it cannot: the render options a library has no
@@ -274,7 +273,7 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
         let f = s.finish(Some((f32_ty, None, v)));
         public.push(m.add_function(f));
     }
-    let mut module = m.finish();
+    let (mut module, table) = super::finish(m)?;
 
     // Functions: the public ones `P_NAME`, the stages' `P_impl_NAME`.
     for (h, f) in module.functions.iter_mut() {
@@ -337,7 +336,8 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
     for (i, (_, h)) in order.into_iter().enumerate() {
         let g = &mut module.global_variables[h];
         let old = g.name.clone().unwrap_or_default();
-        let Some((base, mut what)) = resource_base(&old) else {
+        let resource = g.binding.and_then(|rb| table.resource(rb.binding));
+        let Some((base, mut what)) = resource.and_then(library_name) else {
             return Err(CompileError {
                 stage: "library".into(),
                 message: format!("no library name for the resource `{old}`"),

@@ -19,17 +19,22 @@ pub mod library;
 use naga::{Binding, BuiltIn, Handle, Module, ShaderStage, TypeInner};
 
 use crate::abi::{binding, Param, ProbeHit, ProbeRay, PROBE_WORKGROUP};
-use crate::ir::{Counting, FnBuilder, ModuleCtx, Plain, Policy, Ty, UVec3, Val, Vec2, Vec3, Vec4};
+use crate::ir::{
+    Bindings, Counting, FnBuilder, Image, ModuleCtx, Plain, Policy, Resource, Ty, UVec3, Val, Vec2, Vec3, Vec4,
+};
 use crate::spec::{Pipeline, Silhouette, Slot, StageSpec};
 use crate::stage::{self, Bracket, Filter, Hit, Ray};
 use crate::CompileError;
 
-/// A compiled pipeline: the module and its validation info.
+/// A compiled pipeline: the module, its validation info and what each binding holds.
 pub struct Compiled {
     /// The module.
     pub module: Module,
     /// What naga's validator found out about it (the backends need it).
     pub info: naga::valid::ModuleInfo,
+    /// What each binding of the module holds, as the stages declared it: the table a
+    /// runtime binds by.
+    pub bindings: Bindings,
 }
 
 /// The stage functions of one variant (plain or counted).
@@ -191,40 +196,45 @@ pub(crate) fn entry_point(
     }
 }
 
+/// A vertex entry `name`'s function: one argument, the vertex index. Both render pairs (this
+/// module's quad, a room's window) draw one quad as a triangle strip of four vertices.
+pub(crate) fn vertex_function<'a>(m: &'a ModuleCtx, name: &str, policy: &'a dyn Policy) -> FnBuilder<'a> {
+    m.function(name, &[("vertex", m.ty(u32::inner()), Some(Binding::BuiltIn(BuiltIn::VertexIndex)))], policy)
+}
+
+/// Ends the vertex entry `name` built in `s`: it returns the struct `out_name` of the clip
+/// position `clip` and the point `world` (at location 0), which the fragment entry reads.
+pub(crate) fn finish_vertex<'a, T: Ty>(
+    s: &'a FnBuilder<'a>,
+    name: &str,
+    out_name: &str,
+    clip: Val<'a, Vec4>,
+    world: Val<'a, T>,
+) -> naga::EntryPoint {
+    let m = s.module();
+    let (v4, world_ty) = (m.ty(Vec4::inner()), m.ty(T::inner()));
+    let position = Binding::BuiltIn(BuiltIn::Position { invariant: false });
+    let members = vec![
+        naga::StructMember { name: Some("clip".into()), ty: v4, binding: Some(position), offset: 0 },
+        naga::StructMember { name: Some("world".into()), ty: world_ty, binding: Some(location(0)), offset: 16 },
+    ];
+    let out_ty = m.module.borrow_mut().types.insert(
+        naga::Type { name: Some(out_name.into()), inner: TypeInner::Struct { members, span: 32 } },
+        naga::Span::UNDEFINED,
+    );
+    let out = s.make_struct(out_ty, &[clip.handle(), world.handle()]);
+    let f = s.finish(Some((out_ty, None, out)));
+    entry_point(name, ShaderStage::Vertex, f, [0; 3])
+}
+
 fn vertex_entry(m: &ModuleCtx, policy: &dyn Policy) -> naga::EntryPoint {
-    let out_ty = {
-        let v4 = m.ty(Vec4::inner());
-        let v2 = m.ty(Vec2::inner());
-        let loc = location(0);
-        m.module.borrow_mut().types.insert(
-            naga::Type {
-                name: Some("VertexOutput".into()),
-                inner: TypeInner::Struct {
-                    members: vec![
-                        naga::StructMember {
-                            name: Some("clip".into()),
-                            ty: v4,
-                            binding: Some(Binding::BuiltIn(BuiltIn::Position { invariant: false })),
-                            offset: 0,
-                        },
-                        naga::StructMember { name: Some("world".into()), ty: v2, binding: Some(loc), offset: 16 },
-                    ],
-                    span: 32,
-                },
-            },
-            naga::Span::UNDEFINED,
-        )
-    };
-    let s =
-        m.function("vs_main", &[("vertex", m.ty(u32::inner()), Some(Binding::BuiltIn(BuiltIn::VertexIndex)))], policy);
+    let s = vertex_function(m, "vs_main", policy);
     // Four vertices as a triangle strip: (0,0) (1,0) (0,1) (1,1), scaled to the quad's size.
     let i = s.arg::<u32>(0);
     let size = s.param::<Vec4>(Param::Quad).x();
     let corner = s.vec2(i.and(1).to_f32(), i.shift_right(1).to_f32()) * size;
     let clip = s.param::<crate::ir::Mat4>(Param::ViewProj) * s.vec4(s.vec3(corner, 0.0), 1.0);
-    let out = s.make_struct(out_ty, &[clip.handle(), corner.handle()]);
-    let f = s.finish(Some((out_ty, None, out)));
-    entry_point("vs_main", ShaderStage::Vertex, f, [0; 3])
+    finish_vertex(&s, "vs_main", "VertexOutput", clip, corner)
 }
 
 /// The footprint level: `relief_lod_level(entry, pixel_size) -> f32`, the mip level every
@@ -390,7 +400,7 @@ fn fragment_entry(
         None => s.lit(1.0),
     };
     let normal = s.normal(hit.uv);
-    let albedo = s.sample("albedo_map", binding::ALBEDO, hit.uv, Filter::Linear).xyz();
+    let albedo = s.sample(Image::Albedo, hit.uv, Filter::Linear).xyz();
     let diffuse = normal.dot(to_light).max(0.0);
     let color = albedo * (ambient * occlusion + (1.0 - ambient) * diffuse * visibility);
     let out = s.vec4(color, 1.0);
@@ -407,15 +417,20 @@ fn fragment_entry(
     entry_point("fs_main", ShaderStage::Fragment, f, [0; 3])
 }
 
+/// The probe's array of `item` records at `binding`: its rays ([`Resource::Rays`], read) or
+/// its hits ([`Resource::Hits`], written).
 pub(crate) fn storage_array(
     m: &ModuleCtx,
     name: &str,
     item: Handle<naga::Type>,
     binding: u32,
-    write: bool,
+    resource: Resource,
 ) -> Handle<naga::GlobalVariable> {
-    let access = if write { naga::StorageAccess::LOAD | naga::StorageAccess::STORE } else { naga::StorageAccess::LOAD };
-    m.declare(name, naga::AddressSpace::Storage { access }, Some(binding), |m| {
+    let access = match resource {
+        Resource::Hits => naga::StorageAccess::LOAD | naga::StorageAccess::STORE,
+        _ => naga::StorageAccess::LOAD,
+    };
+    m.bound(name, naga::AddressSpace::Storage { access }, binding, resource, |m| {
         let (stride, _) = match &m.module.borrow().types[item].inner {
             TypeInner::Struct { span, .. } => (*span, 0),
             _ => unreachable!("probe records are structs"),
@@ -426,9 +441,97 @@ pub(crate) fn storage_array(
 
 /// The probe's private counters (coarse steps, refine steps, fetches), which the counted
 /// stage functions increment; an entry zeroes them per ray and stores them in its hit.
-pub(crate) fn probe_counters(m: &ModuleCtx) -> [Handle<naga::GlobalVariable>; 3] {
+fn probe_counters(m: &ModuleCtx) -> [Handle<naga::GlobalVariable>; 3] {
     use crate::ir::counter;
     [counter::COARSE_STEPS, counter::REFINE_STEPS, counter::FETCHES].map(|name| m.private::<u32>(name))
+}
+
+/// The buffers and counters a probe entry reads and writes: its array of ray records, its
+/// array of hit records and the counters.
+pub(crate) struct ProbeIo {
+    rays: Handle<naga::GlobalVariable>,
+    hits: Handle<naga::GlobalVariable>,
+    counters: [Handle<naga::GlobalVariable>; 3],
+}
+
+impl ProbeIo {
+    /// The probe's rays `(name, record)` at [`binding::RAYS`] and its hits at
+    /// [`binding::HITS`], records from the ABI's member lists, and the counters.
+    pub(crate) fn new(
+        m: &ModuleCtx,
+        rays: (&str, &str, &[(&str, crate::abi::Member)]),
+        hits: (&str, &str, &[(&str, crate::abi::Member)]),
+    ) -> ProbeIo {
+        let ray_rec = m.record_ty(rays.1, rays.2);
+        let hit_rec = m.record_ty(hits.1, hits.2);
+        ProbeIo {
+            rays: storage_array(m, rays.0, ray_rec, binding::RAYS, Resource::Rays),
+            hits: storage_array(m, hits.0, hit_rec, binding::HITS, Resource::Hits),
+            counters: probe_counters(m),
+        }
+    }
+}
+
+/// Where a probe invocation reads and writes: pointers to its ray record and its hit record,
+/// and the counters, zeroed.
+pub(crate) struct ProbeSlot {
+    /// The ray record (a pointer).
+    pub(crate) ray: Handle<naga::Expression>,
+    /// The hit record (a pointer).
+    pub(crate) hit: Handle<naga::Expression>,
+    /// Coarse steps, refine steps, fetches.
+    pub(crate) counters: [Handle<naga::GlobalVariable>; 3],
+}
+
+/// A probe entry `name`'s function: one argument, the invocation id, one ray per invocation.
+pub(crate) fn probe_function<'a>(m: &'a ModuleCtx, name: &str, policy: &'a dyn Policy) -> FnBuilder<'a> {
+    m.function(name, &[("id", m.ty(UVec3::inner()), Some(Binding::BuiltIn(BuiltIn::GlobalInvocationId)))], policy)
+}
+
+/// The start every probe entry shares: an invocation past the last ray returns; the others
+/// get their ray and hit records, with the counters zeroed for the ray.
+pub(crate) fn probe_start<'a>(s: &'a FnBuilder<'a>, io: &ProbeIo) -> ProbeSlot {
+    let index = s.arg::<UVec3>(0).x();
+    let rays_ptr = s.global_ptr(io.rays);
+    s.if_(index.ge(s.array_length(rays_ptr)), |s| s.ret());
+    for c in io.counters {
+        let zero = s.lit_u32(0);
+        s.store(s.global_ptr(c), zero.handle());
+    }
+    ProbeSlot {
+        ray: s.element_ptr(rays_ptr, index.handle()),
+        hit: s.element_ptr(s.global_ptr(io.hits), index.handle()),
+        counters: io.counters,
+    }
+}
+
+/// What a probe reports of one ray: the counted trace's hit, its counters and whether its
+/// coarse search converged (1) or not (0).
+pub(crate) struct ProbeTrace<'a> {
+    pub(crate) hit: Hit<'a>,
+    pub(crate) coarse_steps: Val<'a, u32>,
+    pub(crate) refine_steps: Val<'a, u32>,
+    pub(crate) fetches: Val<'a, u32>,
+    pub(crate) converged: Val<'a, u32>,
+}
+
+/// Traces `ray` with the counted `trace` and reads the counters after it.
+pub(crate) fn probe_trace<'a>(
+    s: &'a FnBuilder<'a>,
+    trace: Handle<naga::Function>,
+    ray: &Ray<'a>,
+    counters: [Handle<naga::GlobalVariable>; 3],
+) -> ProbeTrace<'a> {
+    let hit: Hit = s.unpack(s.call(trace, &[s.pack(ray)], true).unwrap());
+    let [coarse_steps, refine_steps, fetches] = counters.map(|c| s.load::<u32>(s.global_ptr(c)));
+    let converged = s.select(hit.found, 1u32, 0u32);
+    ProbeTrace { hit, coarse_steps, refine_steps, fetches, converged }
+}
+
+/// Ends the probe entry `name` built in `s`.
+pub(crate) fn finish_probe(s: &FnBuilder<'_>, name: &str) -> naga::EntryPoint {
+    let f = s.finish(None);
+    entry_point(name, ShaderStage::Compute, f, [PROBE_WORKGROUP, 1, 1])
 }
 
 fn probe_entry(
@@ -438,21 +541,9 @@ fn probe_entry(
     clip: bool,
     lod: Option<Handle<naga::Function>>,
 ) -> naga::EntryPoint {
-    let ray_rec = m.record_ty("ProbeRay", ProbeRay::MEMBERS);
-    let hit_rec = m.record_ty("ProbeHit", ProbeHit::MEMBERS);
-    let rays = storage_array(m, "rays", ray_rec, binding::RAYS, false);
-    let hits = storage_array(m, "hits", hit_rec, binding::HITS, true);
-    let counters = probe_counters(m);
-
-    let s = m.function(
-        "probe",
-        &[("id", m.ty(UVec3::inner()), Some(Binding::BuiltIn(BuiltIn::GlobalInvocationId)))],
-        policy,
-    );
-    let index = s.arg::<UVec3>(0).x();
-    let rays_ptr = s.global_ptr(rays);
-    s.if_(index.ge(s.array_length(rays_ptr)), |s| s.ret());
-    let rec = s.element_ptr(rays_ptr, index.handle());
+    let io = ProbeIo::new(m, ("rays", "ProbeRay", ProbeRay::MEMBERS), ("hits", "ProbeHit", ProbeHit::MEMBERS));
+    let s = probe_function(m, "probe", policy);
+    let ProbeSlot { ray: rec, hit: out, counters } = probe_start(&s, &io);
     let origin = s.load::<Vec2>(s.member_ptr(rec, 0));
     let dir_xy = s.load::<Vec2>(s.member_ptr(rec, 1));
     let dir_z = s.load::<f32>(s.member_ptr(rec, 2));
@@ -463,17 +554,10 @@ fn probe_entry(
     let cos_view = -vz / (dir_xy.dot(dir_xy) + vz * vz).sqrt();
     let ray = Ray { origin, dir: s.vec3(dir_xy, dir_z), cos_view };
     set_sample_level(&s, lod, origin, || s.load::<f32>(s.member_ptr(rec, 5)));
-    for c in counters {
-        let zero = s.lit_u32(0);
-        s.store(s.global_ptr(c), zero.handle());
-    }
     // The camera distance for stages that read it: from the camera to the ray's entry.
     let camera = s.param::<Vec4>(Param::Camera).xyz();
     interior::store_view_distance(&s, (s.vec3(origin, 0.0) - camera).length());
-    let hit: Hit = s.unpack(s.call(fns.trace, &[s.pack(&ray)], true).unwrap());
-    let out = s.element_ptr(s.global_ptr(hits), index.handle());
-    let [coarse_steps, refine_steps, fetches] = counters.map(|c| s.load::<u32>(s.global_ptr(c)));
-    let converged = s.select(hit.found, 1u32, 0u32);
+    let ProbeTrace { hit, coarse_steps, refine_steps, fetches, converged } = probe_trace(&s, fns.trace, &ray, counters);
     let clipped = if clip { s.select(outside_square(&s, hit.uv), 1u32, 0u32) } else { s.lit_u32(0) };
     let values = [
         hit.t.handle(),
@@ -487,17 +571,21 @@ fn probe_entry(
         clipped.handle(),
     ];
     s.store_members(out, &values);
-    let f = s.finish(None);
-    entry_point("probe", ShaderStage::Compute, f, [PROBE_WORKGROUP, 1, 1])
+    finish_probe(&s, "probe")
 }
 
 /// Builds the module for `p` (not yet validated).
 pub fn compose_module(p: &Pipeline) -> Result<Module, CompileError> {
-    compose_module_with(p, &Options::default())
+    Ok(compose_module_with(p, &Options::default())?.0)
 }
 
-/// Builds the module for `p` with `options` (not yet validated).
-pub(crate) fn compose_module_with(p: &Pipeline, options: &Options) -> Result<Module, CompileError> {
+/// The module's bindings declared twice, as the composer's error.
+pub(crate) fn finish(m: ModuleCtx) -> Result<(Module, Bindings), CompileError> {
+    m.finish().map_err(|message| CompileError { stage: "bindings".into(), message })
+}
+
+/// Builds the module for `p` with `options` (not yet validated), with its binding table.
+pub(crate) fn compose_module_with(p: &Pipeline, options: &Options) -> Result<(Module, Bindings), CompileError> {
     let m = ModuleCtx::new();
     let policy = Plain { lod: p.lod };
     let plain = write_stage_fns(&m, p, &policy, false)?;
@@ -507,9 +595,9 @@ pub(crate) fn compose_module_with(p: &Pipeline, options: &Options) -> Result<Mod
     let vs = vertex_entry(&m, &policy);
     let fs = fragment_entry(&m, &policy, &plain, options, clip, lod);
     let cs = probe_entry(&m, &policy, &counted, clip, lod);
-    let mut module = m.finish();
+    let (mut module, bindings) = finish(m)?;
     module.entry_points.extend([vs, fs, cs]);
-    Ok(module)
+    Ok((module, bindings))
 }
 
 /// Builds and validates the module for `p`.
@@ -519,9 +607,9 @@ pub fn compile(p: &Pipeline) -> Result<Compiled, CompileError> {
 
 /// Builds and validates the module for `p` with `options`.
 pub fn compile_with(p: &Pipeline, options: &Options) -> Result<Compiled, CompileError> {
-    let module = compose_module_with(p, options)?;
+    let (module, bindings) = compose_module_with(p, options)?;
     let info = validate(&module)?;
-    Ok(Compiled { module, info })
+    Ok(Compiled { module, info, bindings })
 }
 
 /// Runs naga's validator, the single authority on what a module may be.

@@ -11,11 +11,13 @@
 //!
 //! Resources (textures, samplers, uniforms) are declared lazily, on first use, with the
 //! fixed binding numbers of [`crate::abi::binding`], so a module declares only what its
-//! stages read.
+//! stages read; each declaration records what the binding holds in the module's
+//! [`Bindings`] table.
 
 mod ops;
 pub(crate) mod policy;
 mod record;
+mod resource;
 mod types;
 mod values;
 
@@ -26,18 +28,23 @@ use naga::{
 };
 
 pub use ops::{Float, IntoSame, Ordered};
-pub(crate) use policy::{Counting, Plain, Policy};
+pub(crate) use policy::{Counting, Plain, Policy, TextureSite};
 pub(crate) use record::record;
 pub use record::Record;
+pub use resource::{BindingEntry, Bindings, Filter, Image, Resource};
 pub use types::{Mat4, Ty, UVec2, UVec3, Vec2, Vec3, Vec4};
 pub use values::{IntoVal, Val, Var};
 
-/// Module-wide state shared by every function being built: the module itself and the
-/// resources already declared in it. What the composer decides for the code (counting, the
-/// level, a wall's textures, the edge constant) is each function's [`Policy`], not this.
+/// Module-wide state shared by every function being built: the module itself, the globals
+/// already declared in it and what each binding holds. What the composer decides for the
+/// code (counting, the level, a wall's textures, the edge constant) is each function's
+/// [`Policy`], not this.
 pub(crate) struct ModuleCtx {
     pub(crate) module: RefCell<Module>,
     globals: RefCell<Vec<(String, Handle<naga::GlobalVariable>)>>,
+    bindings: RefCell<Bindings>,
+    /// The first binding declared twice, reported by [`ModuleCtx::finish`].
+    clash: RefCell<Option<String>>,
 }
 
 /// Names of the probe's private counters.
@@ -59,12 +66,21 @@ impl Default for ModuleCtx {
 impl ModuleCtx {
     /// An empty module.
     pub fn new() -> Self {
-        ModuleCtx { module: RefCell::new(Module::default()), globals: RefCell::new(Vec::new()) }
+        ModuleCtx {
+            module: RefCell::new(Module::default()),
+            globals: RefCell::new(Vec::new()),
+            bindings: RefCell::new(Bindings::default()),
+            clash: RefCell::new(None),
+        }
     }
 
-    /// Takes the finished module out.
-    pub(crate) fn finish(self) -> Module {
-        self.module.into_inner()
+    /// Takes the finished module out, with what each of its bindings holds; two resources
+    /// declared at one binding are an error that names both.
+    pub(crate) fn finish(self) -> Result<(Module, Bindings), String> {
+        match self.clash.into_inner() {
+            Some(clash) => Err(clash),
+            None => Ok((self.module.into_inner(), self.bindings.into_inner())),
+        }
     }
 
     /// Adds (or finds) a type.
@@ -103,7 +119,7 @@ impl ModuleCtx {
     }
 
     /// The global named `name`, declared with `make` the first time it is asked for.
-    pub fn global(
+    fn global(
         &self,
         name: &str,
         make: impl FnOnce(&ModuleCtx) -> naga::GlobalVariable,
@@ -121,7 +137,7 @@ impl ModuleCtx {
     /// with the type `ty` makes the first time it is asked for: the one place a
     /// `naga::GlobalVariable` is written, so that a stage or entry asks for a global by what
     /// it is.
-    pub(crate) fn declare(
+    fn declare(
         &self,
         name: &str,
         space: naga::AddressSpace,
@@ -136,6 +152,27 @@ impl ModuleCtx {
             init: None,
             memory_decorations: Default::default(),
         })
+    }
+
+    /// The resource `name` in `space` at group 0, `binding`, declared with the type `ty` makes
+    /// the first time it is asked for, and recorded in the module's [`Bindings`] as
+    /// `resource`.
+    pub(crate) fn bound(
+        &self,
+        name: &str,
+        space: naga::AddressSpace,
+        binding: u32,
+        resource: Resource,
+        ty: impl FnOnce(&ModuleCtx) -> Handle<naga::Type>,
+    ) -> Handle<naga::GlobalVariable> {
+        if let Some(h) = self.find_global(name) {
+            return h;
+        }
+        let entry = BindingEntry { binding, name: name.to_string(), resource };
+        if let Err(clash) = self.bindings.borrow_mut().push(entry) {
+            self.clash.borrow_mut().get_or_insert(clash);
+        }
+        self.declare(name, space, Some(binding), ty)
     }
 
     /// The private (per-invocation) global `name` of type `T`, declared on first use.

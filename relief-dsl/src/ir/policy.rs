@@ -30,11 +30,23 @@ pub(crate) trait Policy {
     fn edge_clamp_constant(&self) -> Option<Handle<naga::Constant>> {
         None
     }
-    /// The name and binding of the texture a stage reads as `name` at `binding` (relief's
-    /// own binding numbers, [`crate::abi::binding`]).
-    fn texture(&self, name: &str, binding: u32) -> (String, u32) {
-        (name.to_string(), binding)
+    /// Where the texture a stage reads as `name` at `binding` (relief's own binding numbers,
+    /// [`crate::abi::binding`]) is declared.
+    fn texture(&self, name: &str, binding: u32) -> TextureSite {
+        TextureSite { name: name.to_string(), binding, wall: None }
     }
+}
+
+/// Where a policy declares a texture: its name and binding in the module, and the room wall
+/// whose image it is (`None`: the module's only copy).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) struct TextureSite {
+    /// The global's name.
+    pub(crate) name: String,
+    /// Its binding (group 0).
+    pub(crate) binding: u32,
+    /// The room wall it belongs to.
+    pub(crate) wall: Option<u32>,
 }
 
 /// relief's own functions: nothing counted, the textures at their own names and bindings, the
@@ -70,7 +82,7 @@ impl Policy for Counting<'_> {
     fn edge_clamp_constant(&self) -> Option<Handle<naga::Constant>> {
         self.inner.edge_clamp_constant()
     }
-    fn texture(&self, name: &str, binding: u32) -> (String, u32) {
+    fn texture(&self, name: &str, binding: u32) -> TextureSite {
         self.inner.texture(name, binding)
     }
 }

@@ -6,37 +6,36 @@
 use naga::{Expression, ImageClass, ImageDimension, SampleLevel, ScalarKind, TypeInner};
 
 use crate::abi::{binding, Param, Params};
-use crate::ir::{FnBuilder, Val, Vec2, Vec3, Vec4};
+pub use crate::ir::Filter;
+use crate::ir::{FnBuilder, Image, Resource, Val, Vec2, Vec3, Vec4};
 use crate::spec::MapReq;
 
-/// How a stage samples a map: bilinear between texel centres, or the nearest texel.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Filter {
-    /// Bilinear between texel centres.
-    Linear,
-    /// The nearest texel.
-    Nearest,
-}
-
-/// The sampled float texture `name` of dimension `dim` (`arrayed`: an array of layers) at
-/// `binding`, declared on first use under the name and binding the function's policy gives
-/// it (a room's wall reads its own copy).
+/// The float texture of `image` of dimension `dim` (`arrayed`: an array of layers), declared
+/// on first use for reads through the sampler of `filter`: under its own name and binding
+/// for [`Filter::Linear`] (also what texel loads and size queries read), as `NAME_nearest` at
+/// [`binding::NEAREST_OFFSET`] more for [`Filter::Nearest`]; the function's policy may move
+/// it (a room's wall reads its own copy). The module's binding table records which it is.
 fn texture_of(
     s: &FnBuilder<'_>,
-    name: &str,
-    binding: u32,
+    image: Image,
+    filter: Filter,
     dim: ImageDimension,
     arrayed: bool,
 ) -> naga::Handle<naga::GlobalVariable> {
-    let (name, binding) = s.policy().texture(name, binding);
-    s.module().declare(&name, naga::AddressSpace::Handle, Some(binding), |m| {
+    let (name, plain) = match filter {
+        Filter::Linear => (image.texture_name(), image.binding()),
+        Filter::Nearest => (format!("{}_nearest", image.texture_name()), image.binding() + binding::NEAREST_OFFSET),
+    };
+    let site = s.policy().texture(&name, plain);
+    let resource = Resource::Texture { image, filter, wall: site.wall };
+    s.module().bound(&site.name, naga::AddressSpace::Handle, site.binding, resource, |m| {
         m.ty(TypeInner::Image { dim, arrayed, class: ImageClass::Sampled { kind: ScalarKind::Float, multi: false } })
     })
 }
 
-/// The 2D float texture `name` at `binding`, declared on first use.
-fn texture_2d(s: &FnBuilder<'_>, name: &str, binding: u32) -> naga::Handle<naga::GlobalVariable> {
-    texture_of(s, name, binding, ImageDimension::D2, false)
+/// The 2D float texture of `image` for reads through `filter`, declared on first use.
+fn texture_2d(s: &FnBuilder<'_>, image: Image, filter: Filter) -> naga::Handle<naga::GlobalVariable> {
+    texture_of(s, image, filter, ImageDimension::D2, false)
 }
 
 /// The private global that holds the mip level every 2D sample is taken at when the
@@ -67,8 +66,9 @@ impl<'a> FnBuilder<'a> {
             Filter::Linear => ("linear_sampler", binding::LINEAR_SAMPLER),
             Filter::Nearest => ("nearest_sampler", binding::NEAREST_SAMPLER),
         };
-        self.module()
-            .declare(sname, naga::AddressSpace::Handle, Some(sbind), |m| m.ty(TypeInner::Sampler { comparison: false }))
+        self.module().bound(sname, naga::AddressSpace::Handle, sbind, Resource::Sampler(filter), |m| {
+            m.ty(TypeInner::Sampler { comparison: false })
+        })
     }
 
     /// One `textureSample*` of `tex` through the sampler of `filter`; `counted`: it counts
@@ -117,8 +117,8 @@ impl<'a> FnBuilder<'a> {
         self.image_sample(tex, uv.handle(), filter, false, level, true)
     }
 
-    /// The first channel of the four texels a bilinear sample of the map `name` (bound at
-    /// `map_binding`) at `uv` blends, in gather order, at the stage-wide level.
+    /// The first channel of the four texels a bilinear sample of `image` at `uv` blends, in
+    /// gather order, at the stage-wide level.
     ///
     /// WGSL's `textureGather` has no level argument (it reads level 0), so at a level other
     /// than zero the four texels are read one by one: with `(w, h)` the level's size, the
@@ -132,17 +132,16 @@ impl<'a> FnBuilder<'a> {
     /// levels, while the same rays at one fixed level were exact; `textureLoad` at such a
     /// level is right). The probe counts the four as one fetch, the one gather they stand
     /// for, so that fetch counts compare across levels.
-    pub(crate) fn gather_2d(&'a self, name: &str, map_binding: u32, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
+    pub(crate) fn gather_2d(&'a self, image: Image, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
         let Some(level) = self.sample_level() else {
-            let tex = texture_2d(self, name, map_binding);
+            let tex = texture_2d(self, image, Filter::Linear);
             return self.image_sample(tex, uv.handle(), Filter::Linear, true, SampleLevel::Zero, true);
         };
         if self.counting() {
             self.count(crate::ir::counter::FETCHES);
         }
-        let nearest = format!("{name}_nearest");
-        let tex = texture_2d(self, &nearest, map_binding + binding::NEAREST_OFFSET);
-        let size = self.level_size(name, map_binding, level);
+        let tex = texture_2d(self, image, Filter::Nearest);
+        let size = self.level_size(image, level);
         let base = (uv * size - 0.5).floor();
         let texel = |dx: f32, dy: f32| -> Val<'a, f32> {
             let centre = (base + self.vec2(dx + 0.5, dy + 0.5)) / size;
@@ -153,12 +152,12 @@ impl<'a> FnBuilder<'a> {
         self.vec4(self.vec3(self.vec2(a, b), c), d)
     }
 
-    /// The size in texels of level `level` of the map `name` (as floats): level 0's size
+    /// The size in texels of level `level` of `image` (as floats): level 0's size
     /// halved `level` times, exact because every level of relief's chains is half the one
     /// before (`maps::mips` stops before an odd side). Not `textureDimensions` at the level,
     /// which lavapipe gets wrong when the level differs between lanes (see [`FnBuilder::gather_2d`]).
-    pub(crate) fn level_size(&'a self, name: &str, map_binding: u32, level: Val<'a, f32>) -> Val<'a, Vec2> {
-        let tex = texture_2d(self, name, map_binding);
+    pub(crate) fn level_size(&'a self, image: Image, level: Val<'a, f32>) -> Val<'a, Vec2> {
+        let tex = texture_2d(self, image, Filter::Linear);
         let image = self.expr(Expression::GlobalVariable(tex));
         let zero = self.lit_u32(0).handle();
         let size = self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::Size { level: Some(zero) } });
@@ -167,26 +166,22 @@ impl<'a> FnBuilder<'a> {
         size0 * (-level).exp2()
     }
 
-    /// Samples the 2D map `map` (bound at `map_binding`) at `uv`, level 0 (explicit, so
-    /// sampling is valid in any control flow). Counts one fetch in the probe variant.
+    /// Samples `image` at `uv`, at the stage-wide level (explicit, so sampling is valid in
+    /// any control flow). Counts one fetch in the probe variant.
     ///
-    /// A map read with nearest filtering is declared a second time, as `NAME_nearest` at
+    /// An image read with nearest filtering is declared a second time, as `NAME_nearest` at
     /// binding [`binding::NEAREST_OFFSET`] + its binding (the runtime binds the same texture
     /// to both): GLSL combines textures with samplers, and one texture read through two
     /// samplers has no GLSL form.
-    pub(crate) fn sample(&'a self, map: &str, map_binding: u32, uv: Val<'a, Vec2>, filter: Filter) -> Val<'a, Vec4> {
-        let (name, b) = match filter {
-            Filter::Linear => (map.to_string(), map_binding),
-            Filter::Nearest => (format!("{map}_nearest"), map_binding + binding::NEAREST_OFFSET),
-        };
-        let tex = texture_2d(self, &name, b);
+    pub(crate) fn sample(&'a self, image: Image, uv: Val<'a, Vec2>, filter: Filter) -> Val<'a, Vec4> {
+        let tex = texture_2d(self, image, filter);
         self.sample_2d(tex, uv, filter)
     }
 
     /// Samples a precomputed map (all channels).
     pub fn map(&'a self, map: MapReq, uv: Val<'a, Vec2>, filter: Filter) -> Val<'a, Vec4> {
         self.no_level_map(map);
-        self.sample(&map.texture_name(), map.binding(), uv, filter)
+        self.sample(Image::of(map), uv, filter)
     }
 
     /// The smallest of the four texels around `uv` in the map's first channel (one gather):
@@ -201,13 +196,13 @@ impl<'a> FnBuilder<'a> {
     /// texel.
     pub fn map_gather(&'a self, map: MapReq, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
         self.no_level_map(map);
-        self.gather_2d(&map.texture_name(), map.binding(), uv)
+        self.gather_2d(Image::of(map), uv)
     }
 
     /// The four heights a bilinear sample at `uv` blends (see [`FnBuilder::map_gather`]), at the
     /// stage-wide level.
     pub fn height_gather(&'a self, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
-        self.gather_2d("height_map", binding::HEIGHT, uv)
+        self.gather_2d(Image::Height, uv)
     }
 
     /// Only maps with a mip chain of their own level's data ([`MapReq::has_levels`]) may be
@@ -237,8 +232,7 @@ impl<'a> FnBuilder<'a> {
                 None
             }
         };
-        let name = map.texture_name();
-        let tex = texture_of(self, &name, map.binding(), ImageDimension::D2, layer.is_some());
+        let tex = texture_of(self, Image::of(map), Filter::Linear, ImageDimension::D2, layer.is_some());
         if self.counting() {
             self.count(crate::ir::counter::FETCHES);
         }
@@ -255,9 +249,8 @@ impl<'a> FnBuilder<'a> {
     /// Samples the 3D distance field at `(u, v, height)`, trilinear.
     pub fn distance(&'a self, p: Val<'a, Vec3>) -> Val<'a, f32> {
         let map = MapReq::DistanceField;
-        let name = map.texture_name();
         self.no_level(map.name());
-        let tex = texture_of(self, &name, map.binding(), ImageDimension::D3, false);
+        let tex = texture_of(self, Image::Map(map), Filter::Linear, ImageDimension::D3, false);
         self.image_sample(tex, p.handle(), Filter::Linear, false, SampleLevel::Zero, true).x()
     }
 
@@ -266,14 +259,14 @@ impl<'a> FnBuilder<'a> {
     pub fn height_map_size(&'a self) -> Val<'a, Vec2> {
         match self.sample_level() {
             None => {
-                let tex = texture_2d(self, "height_map", binding::HEIGHT);
+                let tex = texture_2d(self, Image::Height, Filter::Linear);
                 let image = self.expr(Expression::GlobalVariable(tex));
                 let level = self.lit_u32(0).handle();
                 let size =
                     self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::Size { level: Some(level) } });
                 self.wrap(self.expr(Expression::As { expr: size, kind: ScalarKind::Float, convert: Some(4) }))
             }
-            Some(l) => self.level_size("height_map", binding::HEIGHT, l),
+            Some(l) => self.level_size(Image::Height, l),
         }
     }
 
@@ -287,15 +280,14 @@ impl<'a> FnBuilder<'a> {
     /// before (the chain stops before an odd side), so the rows above level k number
     /// `Σ_{j<k} h_j = 2·h_0 − 2·h_k`, plus k under clamp: the cell's row is offset by that.
     pub fn cell_map_texel(&'a self, map: MapReq, index: Val<'a, Vec2>) -> Val<'a, Vec4> {
-        let name = map.texture_name();
-        let tex = texture_2d(self, &name, map.binding());
+        let tex = texture_2d(self, Image::of(map), Filter::Linear);
         if self.counting() {
             self.count(crate::ir::counter::FETCHES);
         }
         let coords = match self.sample_level() {
             None => index.to_u32(),
             Some(l) => {
-                let hk = self.level_size("height_map", binding::HEIGHT, l).y();
+                let hk = self.level_size(Image::Height, l).y();
                 let h0 = hk * l.exp2();
                 let borders = self.select(self.edge_is_clamp(), l, self.lit(0.0));
                 let rows = h0 * 2.0 - hk * 2.0 + borders;
@@ -315,7 +307,7 @@ impl<'a> FnBuilder<'a> {
 
     /// The number of mip levels of the height map, as a float.
     pub(crate) fn height_map_levels(&'a self) -> Val<'a, f32> {
-        let tex = texture_2d(self, "height_map", binding::HEIGHT);
+        let tex = texture_2d(self, Image::Height, Filter::Linear);
         let image = self.expr(Expression::GlobalVariable(tex));
         let n = self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::NumLevels });
         self.wrap(self.expr(Expression::As { expr: n, kind: ScalarKind::Float, convert: Some(4) }))
@@ -323,12 +315,12 @@ impl<'a> FnBuilder<'a> {
 
     /// GETHEIGHT of the algorithm boxes: the height map at `uv`, bilinear.
     pub fn height(&'a self, uv: Val<'a, Vec2>) -> Val<'a, f32> {
-        self.sample("height_map", binding::HEIGHT, uv, Filter::Linear).x()
+        self.sample(Image::Height, uv, Filter::Linear).x()
     }
 
     /// The member `p` of the `Params` uniform block ([`crate::abi::Params`]).
     pub(crate) fn param<T: crate::ir::Ty>(&'a self, p: Param) -> Val<'a, T> {
-        let g = self.module().declare("params", naga::AddressSpace::Uniform, Some(binding::PARAMS), |m| {
+        let g = self.module().bound("params", naga::AddressSpace::Uniform, binding::PARAMS, Resource::Params, |m| {
             m.record_ty("Params", Params::MEMBERS)
         });
         self.load(self.member_ptr(self.global_ptr(g), p.index()))
@@ -345,7 +337,7 @@ impl<'a> FnBuilder<'a> {
 
     /// The tangent-space normal at `uv`, from the normal map (stored `n * 0.5 + 0.5`).
     pub fn normal(&'a self, uv: Val<'a, Vec2>) -> Val<'a, Vec3> {
-        let n = self.sample("normal_map", binding::NORMAL, uv, Filter::Linear).xyz();
+        let n = self.sample(Image::Normal, uv, Filter::Linear).xyz();
         (n * 2.0 - 1.0).normalize()
     }
 }

@@ -14,22 +14,26 @@ pub use device::{adapters, choose, Gpu, GpuError, ADAPTER_VAR};
 pub use probe::{probe, GpuHit};
 pub use render::{draw_frame, render, Frames, PairedBlocks, RenderResult, DEPTH_FORMAT, FORMAT, MAX_FRAMES_PER_BLOCK};
 pub(crate) use render::{paired_blocks, timed_frames, Clock, Renderer, MIN_BLOCK_MS};
-pub(crate) use resources::{binding_source, params_for, Source};
 pub use resources::{map_upload_of, scene_uploads, SceneTextures, SceneUploads, Upload, AMBIENT};
+pub(crate) use resources::{params_for, resource_at};
 
 use relief_dsl::compose::Compiled;
 
-/// A pipeline compiled for the device: the WGSL the device loads, and the bindings each
-/// entry point reads (from naga's analysis of the same module).
+/// A pipeline compiled for the device: the WGSL the device loads, what each of its bindings
+/// holds (the composer's table), and the bindings each entry point reads (from naga's
+/// analysis of the same module).
 pub struct Program {
     /// The composed module as WGSL text (naga's output): what the device loads.
     pub wgsl: String,
+    /// What each binding of the module holds, as its stages declared it
+    /// ([`relief_dsl::compose::Compiled::bindings`]): what the bind groups bind.
+    pub bindings: relief_dsl::ir::Bindings,
     /// The binding numbers (group 0, [`relief_dsl::abi::binding`]) that `vs_main` and
     /// `fs_main` read, sorted.
     pub render_bindings: Vec<u32>,
     /// The binding numbers the `probe` entry reads, sorted.
     pub probe_bindings: Vec<u32>,
-    /// The maps the pipeline reads, each with its parameters: which map a map binding takes.
+    /// The maps the pipeline reads, each with its parameters: the maps to build for it.
     pub maps: Vec<relief_dsl::spec::MapReq>,
     /// Whether the fragment entry writes the hit's depth (renders then get a depth buffer).
     pub writes_depth: bool,
@@ -83,6 +87,7 @@ impl Program {
         let used = |names: &[&str]| used_bindings(c, names);
         Ok(Program {
             wgsl,
+            bindings: c.bindings.clone(),
             render_bindings: used(&["vs_main", "fs_main"]),
             probe_bindings: used(&["probe"]),
             maps: vec![],

@@ -54,8 +54,7 @@ pub fn probe(
         gpu,
         &pipeline.get_bind_group_layout(0),
         &program.probe_bindings,
-        &program.maps,
-        program.map_levels,
+        program,
         &params,
         &[(binding::RAYS, &ray_buf), (binding::HITS, &hit_buf)],
     )?;

@@ -274,15 +274,8 @@ impl Renderer {
             })
         })?;
         let params = SceneTextures::params(gpu, scene, 1.0, scene.camera.pixel_size(size));
-        let bind_group = tex.bind_group(
-            gpu,
-            &pipeline.get_bind_group_layout(0),
-            &program.render_bindings,
-            &program.maps,
-            program.map_levels,
-            &params,
-            &[],
-        )?;
+        let bind_group =
+            tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), &program.render_bindings, program, &params, &[])?;
         Ok(Renderer { pipeline, bind_group, target: Target::new(gpu, size, program.writes_depth, CLEAR) })
     }
 

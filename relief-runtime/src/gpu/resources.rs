@@ -3,7 +3,8 @@
 
 use std::collections::HashMap;
 
-use relief_dsl::abi::{binding, Params};
+use relief_dsl::abi::Params;
+use relief_dsl::ir::{Bindings, Filter, Image, Resource};
 use relief_dsl::spec::MapReq;
 use wgpu::util::DeviceExt;
 
@@ -177,53 +178,15 @@ pub fn scene_uploads(scene: &Scene, float32: bool) -> SceneUploads {
     SceneUploads { height, normal, albedo, height_levels }
 }
 
-/// What a binding of group 0 takes ([`binding_source`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Source {
-    /// The `Params` uniform buffer.
-    Params,
-    /// The height map.
-    Height,
-    /// The normal map.
-    Normal,
-    /// The albedo.
-    Albedo,
-    /// The linear sampler.
-    Linear,
-    /// The nearest sampler.
-    Nearest,
-    /// The acceleration map of this request (level 0, or its per-level chain).
-    Map(MapReq),
-    /// A storage buffer the caller gives (the probe's rays and hits).
-    Storage(u32),
-}
-
-/// What binding `b` of a program reading the maps `reqs` takes: the one table of bindings
-/// that the device's bind groups and the report's browser data both follow. A map binding
-/// no request names is an error.
-pub(crate) fn binding_source(b: u32, reqs: &[MapReq]) -> Result<Source, super::GpuError> {
-    let map = |base: u32| {
-        reqs.iter().copied().find(|r| *r != MapReq::Normal && r.binding() == base).map(Source::Map).ok_or_else(|| {
-            super::GpuError::Pipeline(format!(
-                "the shader reads a map at binding {base}, which the pipeline's required maps do not name"
-            ))
-        })
-    };
-    Ok(match b {
-        binding::PARAMS => Source::Params,
-        binding::HEIGHT => Source::Height,
-        binding::NORMAL => Source::Normal,
-        binding::ALBEDO => Source::Albedo,
-        binding::LINEAR_SAMPLER => Source::Linear,
-        binding::NEAREST_SAMPLER => Source::Nearest,
-        b if (binding::NEAREST_OFFSET..binding::RAYS).contains(&b) => match b - binding::NEAREST_OFFSET {
-            binding::HEIGHT => Source::Height,
-            binding::NORMAL => Source::Normal,
-            binding::ALBEDO => Source::Albedo,
-            base => map(base)?,
-        },
-        b if b > binding::ALBEDO && b < binding::NEAREST_OFFSET => map(b)?,
-        other => Source::Storage(other),
+/// What binding `b` holds in a module whose binding table is `table`
+/// ([`relief_dsl::compose::Compiled::bindings`]: the composer records each resource as a
+/// stage declares it, so nothing here works it out again from the number). A binding the
+/// table does not name is an error.
+pub(crate) fn resource_at(table: &Bindings, b: u32) -> Result<Resource, super::GpuError> {
+    table.resource(b).ok_or_else(|| {
+        super::GpuError::Pipeline(format!(
+            "the shader reads binding {b}, which its module's binding table does not name"
+        ))
     })
 }
 
@@ -373,38 +336,40 @@ impl SceneTextures {
         })
     }
 
-    /// A bind group with exactly `bindings`, from this scene's resources (the maps of
-    /// `program`'s requests, with their per-level chains when `map_levels`) and the buffers
-    /// given.
-    #[allow(clippy::too_many_arguments)]
+    /// A bind group with exactly `bindings` of `program`, from this scene's resources (the
+    /// maps its table names, with their per-level chains when `program.map_levels`) and the
+    /// buffers given.
     pub(crate) fn bind_group(
         &self,
         gpu: &Gpu,
         layout: &wgpu::BindGroupLayout,
         bindings: &[u32],
-        reqs: &[MapReq],
-        map_levels: bool,
+        program: &super::Program,
         params: &wgpu::Buffer,
         storage: &[(u32, &wgpu::Buffer)],
     ) -> Result<wgpu::BindGroup, super::GpuError> {
         let mut entries = Vec::new();
         for &b in bindings {
-            let resource = match binding_source(b, reqs)? {
-                Source::Params => params.as_entire_binding(),
-                Source::Height => wgpu::BindingResource::TextureView(&self.height),
-                Source::Normal => wgpu::BindingResource::TextureView(&self.normal),
-                Source::Albedo => wgpu::BindingResource::TextureView(&self.albedo),
-                Source::Linear => wgpu::BindingResource::Sampler(&self.linear),
-                Source::Nearest => wgpu::BindingResource::Sampler(&self.nearest),
-                Source::Map(req) => wgpu::BindingResource::TextureView(self.map_view(req, map_levels)?),
-                Source::Storage(other) => match storage.iter().find(|(n, _)| *n == other) {
+            let resource = match resource_at(&program.bindings, b)? {
+                Resource::Params => params.as_entire_binding(),
+                Resource::Texture { image, wall: None, .. } => wgpu::BindingResource::TextureView(match image {
+                    Image::Height => &self.height,
+                    Image::Normal => &self.normal,
+                    Image::Albedo => &self.albedo,
+                    Image::Map(req) => self.map_view(req, program.map_levels)?,
+                    Image::Window => return Err(only_rooms(b)),
+                }),
+                Resource::Sampler(Filter::Linear) => wgpu::BindingResource::Sampler(&self.linear),
+                Resource::Sampler(Filter::Nearest) => wgpu::BindingResource::Sampler(&self.nearest),
+                Resource::Rays | Resource::Hits => match storage.iter().find(|(n, _)| *n == b) {
                     Some((_, buf)) => buf.as_entire_binding(),
                     None => {
                         return Err(super::GpuError::Pipeline(format!(
-                            "the shader reads binding {other}, which this runtime does not provide yet"
+                            "the shader reads binding {b}, a buffer this call does not provide"
                         )))
                     }
                 },
+                Resource::Texture { wall: Some(_), .. } | Resource::RoomParams => return Err(only_rooms(b)),
             };
             entries.push(wgpu::BindGroupEntry { binding: b, resource });
         }
@@ -412,6 +377,13 @@ impl SceneTextures {
             gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout, entries: &entries })
         })
     }
+}
+
+/// A room's resource in a scene's bind group.
+fn only_rooms(b: u32) -> super::GpuError {
+    super::GpuError::Pipeline(format!(
+        "the shader reads a room's resource at binding {b}; bind it with the room runtime"
+    ))
 }
 
 fn missing_map(b: u32) -> super::GpuError {

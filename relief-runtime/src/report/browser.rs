@@ -27,11 +27,12 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use relief_dsl::abi::{binding, Member, Params};
+use relief_dsl::ir::{Filter, Image, Resource};
 use relief_dsl::spec::Lod;
 use serde_json::{json, Value};
 
 use crate::error::{Error, Result};
-use crate::gpu::{self, GpuError, Program, Source, Upload};
+use crate::gpu::{self, GpuError, Program, Upload};
 use crate::heightmap::EdgeMode;
 use crate::maps::MapKey;
 use crate::reference::{reference_hits, RefHit, Sampling};
@@ -107,19 +108,24 @@ fn format_name(f: wgpu::TextureFormat) -> &'static str {
     }
 }
 
-fn source_json(s: Source) -> Value {
-    match s {
-        Source::Params => json!("params"),
-        Source::Height => json!("height"),
-        Source::Normal => json!("normal"),
-        Source::Albedo => json!("albedo"),
-        Source::Linear => json!("linear"),
-        Source::Nearest => json!("nearest"),
-        Source::Map(req) => json!(format!("map:{}", MapKey::of(req).map(map_slug).unwrap_or_default())),
-        Source::Storage(binding::RAYS) => json!("rays"),
-        Source::Storage(binding::HITS) => json!("hits"),
-        Source::Storage(b) => json!(format!("storage:{b}")),
-    }
+/// What the page binds for `resource` (`live.js` reads these names); a room's resources
+/// have no place in the page.
+fn resource_json(resource: Resource) -> Option<Value> {
+    Some(match resource {
+        Resource::Params => json!("params"),
+        Resource::Texture { image, wall: None, .. } => match image {
+            Image::Height => json!("height"),
+            Image::Normal => json!("normal"),
+            Image::Albedo => json!("albedo"),
+            Image::Map(req) => json!(format!("map:{}", MapKey::of(req).map(map_slug).unwrap_or_default())),
+            Image::Window => return None,
+        },
+        Resource::Sampler(Filter::Linear) => json!("linear"),
+        Resource::Sampler(Filter::Nearest) => json!("nearest"),
+        Resource::Rays => json!("rays"),
+        Resource::Hits => json!("hits"),
+        Resource::Texture { wall: Some(_), .. } | Resource::RoomParams => return None,
+    })
 }
 
 /// One data file: `window.RELIEF_DATA[name] = { meta, b64 }`.
@@ -167,7 +173,13 @@ fn ship(text: &str) -> Result<Shipped, String> {
 
 fn bindings_json(b: &[u32], program: &Program) -> Result<Value, GpuError> {
     b.iter()
-        .map(|&n| gpu::binding_source(n, &program.maps).map(|s| json!([n, source_json(s)])))
+        .map(|&n| {
+            let resource = gpu::resource_at(&program.bindings, n)?;
+            let json = resource_json(resource).ok_or_else(|| {
+                GpuError::Pipeline(format!("binding {n} holds {resource:?}, which the page cannot bind"))
+            })?;
+            Ok(json!([n, json]))
+        })
         .collect::<Result<Vec<_>, _>>()
         .map(Value::Array)
 }

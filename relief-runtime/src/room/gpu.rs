@@ -2,10 +2,9 @@
 //! textures, the timed interior frames (`vs_room` + `fs_room` on the window quad) and the
 //! room probe (`probe_room`).
 
-use relief_dsl::abi::{binding, Params, PROBE_WORKGROUP};
-use relief_dsl::compose::interior::{
-    compile_room, RoomOptions, RoomParams, WallBinding, ROOM_HITS, ROOM_PARAMS, ROOM_RAYS, WINDOW_MAP,
-};
+use relief_dsl::abi::{Params, PROBE_WORKGROUP};
+use relief_dsl::compose::interior::{compile_room, RoomOptions, RoomParams, ROOM_HITS, ROOM_RAYS};
+use relief_dsl::ir::{Bindings, Filter, Image, Resource};
 use relief_dsl::spec::MapReq;
 use relief_dsl::{CompileError, Pipeline};
 use wgpu::util::DeviceExt;
@@ -24,8 +23,8 @@ pub struct RoomProgram {
     pub render_bindings: Vec<u32>,
     /// Bindings `probe_room` reads.
     pub probe_bindings: Vec<u32>,
-    /// Which wall texture each wall binding is.
-    pub walls: Vec<WallBinding>,
+    /// What each binding of the module holds (each wall's textures name their wall).
+    pub bindings: Bindings,
     /// The maps the pipeline reads (built per wall).
     pub maps: Vec<MapReq>,
 }
@@ -38,8 +37,7 @@ impl RoomProgram {
 
     /// Compiles `p` as a room module with `options` (e.g. light scattering).
     pub(crate) fn new_with(p: &Pipeline, options: &RoomOptions) -> Result<RoomProgram, CompileError> {
-        let rc = compile_room(p, options)?;
-        let c = &rc.compiled;
+        let c = &compile_room(p, options)?;
         let wgsl = relief_dsl::emit::wgsl(c)?;
         // The fragment entry's bind group also serves its vertex entry.
         let used = |name: &str| match name {
@@ -51,7 +49,7 @@ impl RoomProgram {
             wgsl,
             render_bindings: used("fs_room"),
             probe_bindings: used("probe_room"),
-            walls: rc.wall_bindings,
+            bindings: c.bindings.clone(),
             maps: p.required_maps(),
         })
     }
@@ -143,17 +141,37 @@ fn uniform(gpu: &Gpu, label: &str, bytes: &[u8]) -> wgpu::Buffer {
     })
 }
 
-fn map_view<'t>(t: &'t SceneTextures, b: u32, maps: &[MapReq]) -> Result<&'t wgpu::TextureView, GpuError> {
-    let req = maps.iter().find(|r| **r != MapReq::Normal && r.binding() == b).ok_or_else(|| {
-        GpuError::Pipeline(format!(
-            "the room shader reads a map at binding {b}, which the pipeline's required maps do not name"
-        ))
-    })?;
-    MapKey::of(*req)
+fn map_view(t: &SceneTextures, req: MapReq, b: u32) -> Result<&wgpu::TextureView, GpuError> {
+    MapKey::of(req)
         .and_then(|k| t.maps.get(&k))
         .ok_or_else(|| GpuError::Pipeline(format!("the map at binding {b} was not built")))
 }
 
+/// The view of a room module's texture at binding `b`: the window's, or wall `wall`'s image.
+fn room_texture(tex: &RoomTextures, image: Image, wall: Option<u32>, b: u32) -> Result<&wgpu::TextureView, GpuError> {
+    if image == Image::Window {
+        return Ok(&tex.window);
+    }
+    let Some(k) = wall else {
+        return Err(GpuError::Pipeline(format!(
+            "the room shader reads a texture at binding {b} that belongs to no wall"
+        )));
+    };
+    let t = tex.walls.get(k as usize).ok_or_else(|| {
+        GpuError::Pipeline(format!("the room shader reads wall {k}'s texture; a room has {WALLS} walls"))
+    })?;
+    Ok(match image {
+        Image::Height => &t.height,
+        Image::Normal => &t.normal,
+        Image::Albedo => &t.albedo,
+        Image::Map(req) => map_view(t, req, b)?,
+        Image::Window => &tex.window,
+    })
+}
+
+/// A bind group with exactly `bindings` of `prog`, each bound by what the module's binding
+/// table says it holds: a wall's texture from that wall's textures, the shared samplers and
+/// blocks, the window, the buffers given.
 #[allow(clippy::too_many_arguments)]
 fn bind_group(
     gpu: &Gpu,
@@ -168,32 +186,22 @@ fn bind_group(
     let mut entries = Vec::new();
     let shared = &tex.walls[0];
     for &b in bindings {
-        let resource = if let Some(w) = prog.walls.iter().find(|w| w.binding == b) {
-            let t = &tex.walls[w.wall as usize];
-            let plain = if w.plain >= binding::NEAREST_OFFSET { w.plain - binding::NEAREST_OFFSET } else { w.plain };
-            let view = match plain {
-                binding::HEIGHT => &t.height,
-                binding::NORMAL => &t.normal,
-                binding::ALBEDO => &t.albedo,
-                other => map_view(t, other, &prog.maps)?,
-            };
-            wgpu::BindingResource::TextureView(view)
-        } else {
-            match b {
-                binding::PARAMS => params.as_entire_binding(),
-                ROOM_PARAMS => room.as_entire_binding(),
-                WINDOW_MAP => wgpu::BindingResource::TextureView(&tex.window),
-                binding::LINEAR_SAMPLER => wgpu::BindingResource::Sampler(&shared.linear),
-                binding::NEAREST_SAMPLER => wgpu::BindingResource::Sampler(&shared.nearest),
-                other => match storage.iter().find(|(n, _)| *n == other) {
-                    Some((_, buf)) => buf.as_entire_binding(),
-                    None => {
-                        return Err(GpuError::Pipeline(format!(
-                            "the room shader reads binding {other}, which the room runtime does not provide"
-                        )))
-                    }
-                },
+        let resource = match crate::gpu::resource_at(&prog.bindings, b)? {
+            Resource::Texture { image, wall, .. } => {
+                wgpu::BindingResource::TextureView(room_texture(tex, image, wall, b)?)
             }
+            Resource::Params => params.as_entire_binding(),
+            Resource::RoomParams => room.as_entire_binding(),
+            Resource::Sampler(Filter::Linear) => wgpu::BindingResource::Sampler(&shared.linear),
+            Resource::Sampler(Filter::Nearest) => wgpu::BindingResource::Sampler(&shared.nearest),
+            Resource::Rays | Resource::Hits => match storage.iter().find(|(n, _)| *n == b) {
+                Some((_, buf)) => buf.as_entire_binding(),
+                None => {
+                    return Err(GpuError::Pipeline(format!(
+                        "the room shader reads binding {b}, a buffer this call does not provide"
+                    )))
+                }
+            },
         };
         entries.push(wgpu::BindGroupEntry { binding: b, resource });
     }
