@@ -17,6 +17,8 @@
 //! ```
 
 #![warn(missing_docs)]
+#![warn(unreachable_pub)]
+#![warn(unnameable_types)]
 
 pub mod abi;
 pub mod compose;

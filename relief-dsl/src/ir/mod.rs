@@ -32,7 +32,7 @@ pub(crate) use policy::{Counting, Plain, Policy, TextureSite};
 pub(crate) use record::record;
 pub use record::Record;
 pub use resource::{BindingEntry, Bindings, Filter, Image, Resource};
-pub use types::{Mat4, Ty, UVec2, UVec3, Vec2, Vec3, Vec4};
+pub use types::{FloatVec, Mat4, Ty, UVec2, UVec3, Vec2, Vec3, Vec4};
 pub use values::{IntoVal, Val, Var};
 
 /// Module-wide state shared by every function being built: the module itself, the globals
@@ -50,11 +50,11 @@ pub(crate) struct ModuleCtx {
 /// Names of the probe's private counters.
 pub(crate) mod counter {
     /// Loop passes of the coarse stage.
-    pub const COARSE_STEPS: &str = "relief_coarse_steps";
+    pub(crate) const COARSE_STEPS: &str = "relief_coarse_steps";
     /// Loop passes of the refine stage.
-    pub const REFINE_STEPS: &str = "relief_refine_steps";
+    pub(crate) const REFINE_STEPS: &str = "relief_refine_steps";
     /// Texture fetches of every stage.
-    pub const FETCHES: &str = "relief_fetches";
+    pub(crate) const FETCHES: &str = "relief_fetches";
 }
 
 impl Default for ModuleCtx {
@@ -65,7 +65,7 @@ impl Default for ModuleCtx {
 
 impl ModuleCtx {
     /// An empty module.
-    pub fn new() -> Self {
+    pub(crate) fn new() -> Self {
         ModuleCtx {
             module: RefCell::new(Module::default()),
             globals: RefCell::new(Vec::new()),
@@ -84,13 +84,13 @@ impl ModuleCtx {
     }
 
     /// Adds (or finds) a type.
-    pub fn ty(&self, inner: naga::TypeInner) -> Handle<naga::Type> {
+    pub(crate) fn ty(&self, inner: naga::TypeInner) -> Handle<naga::Type> {
         self.module.borrow_mut().types.insert(naga::Type { name: None, inner }, Span::UNDEFINED)
     }
 
     /// Adds (or finds) a named struct type from `(member name, member type)` pairs, laid out
     /// by naga's own [`naga::proc::Layouter`] (WGSL's alignment rules).
-    pub fn struct_ty(&self, name: &str, members: &[(&str, naga::TypeInner)]) -> Handle<naga::Type> {
+    pub(crate) fn struct_ty(&self, name: &str, members: &[(&str, naga::TypeInner)]) -> Handle<naga::Type> {
         let handles: Vec<Handle<naga::Type>> = members.iter().map(|(_, inner)| self.ty(inner.clone())).collect();
         let mut layouter = naga::proc::Layouter::default();
         layouter.update(self.module.borrow().to_ctx()).expect("member types of relief's structs have layouts");
@@ -112,7 +112,7 @@ impl ModuleCtx {
     }
 
     /// A struct type for one of the ABI's records ([`crate::abi`]).
-    pub fn record_ty(&self, name: &str, members: &[(&str, crate::abi::Member)]) -> Handle<naga::Type> {
+    pub(crate) fn record_ty(&self, name: &str, members: &[(&str, crate::abi::Member)]) -> Handle<naga::Type> {
         let members: Vec<(&str, naga::TypeInner)> =
             members.iter().map(|(n, m)| (*n, types::member_inner(*m))).collect();
         self.struct_ty(name, &members)
@@ -215,7 +215,7 @@ impl ModuleCtx {
     }
 
     /// Adds a finished function to the module.
-    pub fn add_function(&self, f: Function) -> Handle<Function> {
+    pub(crate) fn add_function(&self, f: Function) -> Handle<Function> {
         self.module.borrow_mut().functions.append(f, Span::UNDEFINED)
     }
 }

@@ -47,7 +47,7 @@ pub(crate) use record;
 
 impl ModuleCtx {
     /// The struct type of the record `R`.
-    pub fn record_type<'a, R: Record<'a>>(&self) -> Handle<naga::Type> {
+    pub(crate) fn record_type<'a, R: Record<'a>>(&self) -> Handle<naga::Type> {
         self.struct_ty(R::NAME, &R::members())
     }
 }

@@ -130,7 +130,7 @@ impl<'a> Cell<'a> {
     /// The cell's entry in `map` and its apex `A_C`: the channel after the cones where the
     /// map carries it on the device, else the highest of the corners, gathered and kept for
     /// the pass (call in the pass's own block).
-    pub fn cones_and_apex(&self, s: &'a FnBuilder<'a>, map: MapReq) -> (Val<'a, Vec4>, Val<'a, f32>) {
+    pub(super) fn cones_and_apex(&self, s: &'a FnBuilder<'a>, map: MapReq) -> (Val<'a, Vec4>, Val<'a, f32>) {
         let texel = self.cones(s, map);
         let n = cell_map_channels(map);
         let apex = if crate::abi::cell_apex_on_device(n) {
@@ -145,7 +145,7 @@ impl<'a> Cell<'a> {
     /// The four corner heights in gather order `(i, j+1), (i+1, j+1), (i+1, j), (i, j)`,
     /// gathered in `s` and kept for the rest of the pass: `s` must be the pass's own block
     /// (a value made inside a branch does not exist after it).
-    pub fn keep_corners(&self, s: &'a FnBuilder<'a>) -> Val<'a, Vec4> {
+    pub(super) fn keep_corners(&self, s: &'a FnBuilder<'a>) -> Val<'a, Vec4> {
         let c = self.corners(s);
         self.kept.set(Some(c));
         c
@@ -161,12 +161,12 @@ impl<'a> Cell<'a> {
 
     /// The height above the cone's apex that a step may descend through: the point's height
     /// over `apex`, less the cone's rise over the point's distance to the cone's square.
-    pub fn clearance(&self, p_z: Val<'a, f32>, apex: Val<'a, f32>, ratio: Val<'a, f32>) -> Val<'a, f32> {
+    pub(super) fn clearance(&self, p_z: Val<'a, f32>, apex: Val<'a, f32>, ratio: Val<'a, f32>) -> Val<'a, f32> {
         (p_z - apex - self.dist / ratio.max(1e-7)).max(0.0)
     }
 
     /// The bilinear surface at `p` (within the cell), from the corners kept for the pass.
-    pub fn height(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> Val<'a, f32> {
+    pub(super) fn height(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> Val<'a, f32> {
         let f = fraction(ray, self.size, self.cell, t);
         let c = self.keep_corners(s);
         let (h01, h11, h10, h00) = (c.x(), c.y(), c.z(), c.w());
@@ -176,7 +176,7 @@ impl<'a> Cell<'a> {
     }
 
     /// The first t in `[from, exit]` where the ray meets the cell's patch, or -1.
-    pub fn patch_root(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, from: Val<'a, f32>) -> Val<'a, f32> {
+    pub(super) fn patch_root(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, from: Val<'a, f32>) -> Val<'a, f32> {
         patch_root(s, ray, self.size, self.cell, self.corners(s), from, self.exit)
     }
 }

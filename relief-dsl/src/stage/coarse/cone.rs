@@ -27,7 +27,7 @@ use crate::stage::{Bracket, Filter, Ray, StageFn};
 use crate::CompileError;
 
 /// Which cones a method steps on (see the module docs).
-pub use crate::spec::ConeForm;
+pub(crate) use crate::spec::ConeForm;
 
 /// How the textbook CSM reads its cone map (Burger §4.3.1: linear filtering of ratios causes
 /// artifacts; the minimum of the four texels fixes them at a cost).
@@ -154,7 +154,13 @@ fn ratio<'a>(s: &'a FnBuilder<'a>, uv: Val<'a, crate::ir::Vec2>, sample: ConeSam
 
 /// Cone step mapping (Dummer 2006; Burger Algorithm 4): while above the surface, step to the
 /// side of the conservative cone below.
-pub fn csm<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm, sample: ConeSample) -> Bracket<'a> {
+pub(crate) fn csm<'a>(
+    s: &'a FnBuilder<'a>,
+    ray: &Ray<'a>,
+    steps: u32,
+    form: ConeForm,
+    sample: ConeSample,
+) -> Bracket<'a> {
     match form {
         ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| cell_cone_step(s, ray, p, c)),
         ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
@@ -211,7 +217,7 @@ fn quadrant<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, q: Val<'a, crate::ir::Vec4>
 
 /// Quad-directional cone stepping (Policarpo & Oliveira 2007, GPU Gems 3 §18.4.1): as CSM, with
 /// the cone of the quadrant the ray is heading into (channels `+u+v, -u+v, -u-v, +u-v`).
-pub fn qcsm<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
+pub(crate) fn qcsm<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
     match form {
         ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| {
             let (cones, apex) = c.cones_and_apex(s, MapReq::CellQuadCone);
@@ -251,7 +257,13 @@ pub(crate) enum RelaxedStart {
 /// relaxed cone, whose ray may enter the surface but never leave it; stop at the first point
 /// below the surface (K). The safe form always brackets from J: on cells, the one crossing
 /// inside the cone lies between J and K.
-pub fn rcs<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm, start: RelaxedStart) -> Bracket<'a> {
+pub(crate) fn rcs<'a>(
+    s: &'a FnBuilder<'a>,
+    ray: &Ray<'a>,
+    steps: u32,
+    form: ConeForm,
+    start: RelaxedStart,
+) -> Bracket<'a> {
     match form {
         ConeForm::Safe => relaxed_march(s, ray, steps, |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellRelaxedCone);
@@ -299,7 +311,7 @@ fn rcs_stage<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracke
 
 /// Cone normal stepping (Burger 2018 §3.3): CSM with the cone stored as the normal of its
 /// side, stepping by the ray-plane intersection of eq. 3.2.
-pub fn cns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
+pub(crate) fn cns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
     match form {
         ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellConeNormal);
@@ -328,7 +340,7 @@ pub(crate) fn cns_def() -> MethodDef {
 
 /// Relaxed cone normal stepping (Burger §4.3.4): cone normal stepping on the relaxed cones;
 /// returns the bracket around the crossing (from J, the last point above the surface).
-pub fn rcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
+pub(crate) fn rcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
     match form {
         ConeForm::Safe => relaxed_march(s, ray, steps, |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellRelaxedCone);
@@ -364,7 +376,7 @@ fn channels<'a>(c: Val<'a, crate::ir::Vec4>, k: u32) -> Vec<Val<'a, f32>> {
 /// `b_k = h + (1 - h)·k/K` above the base height h; of the cones below the ray point, take the
 /// one that gives the longest step. The base is the bilinear height (textbook) or the cell's
 /// apex (safe).
-pub fn mcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: ConeForm) -> Bracket<'a> {
+pub(crate) fn mcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: ConeForm) -> Bracket<'a> {
     let longest = |p: Val<'a, Vec3>, base: Val<'a, f32>, cones: Vec<Val<'a, f32>>, c: Option<&Cell<'a>>| {
         let mut step = p.z() * 0.0;
         for (i, n_z) in cones.into_iter().enumerate() {
@@ -409,7 +421,7 @@ pub(crate) fn mcns_def() -> MethodDef {
 /// outside (piece 0 when there is none); within piece j it meets the piece's line after
 /// `(R_j + r_j·(z - b_j)) / (L + r_j·(-d.z))`. The base is the bilinear height (textbook) or
 /// the cell's apex (safe; the radii less the point's distance to the cell).
-pub fn pcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: ConeForm) -> Bracket<'a> {
+pub(crate) fn pcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: ConeForm) -> Bracket<'a> {
     let speed = ray.dir.xy().length();
     let fall = -ray.dir.z();
     let leave = move |s: &'a FnBuilder<'a>,

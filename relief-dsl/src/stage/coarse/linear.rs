@@ -6,7 +6,7 @@ use crate::stage::{Bracket, Ray, StageFn};
 
 /// Linear search (Burger 2018, Algorithm 1): `steps` equal steps that reach the bottom of the
 /// volume after the last one; stop at the first point at or below the surface.
-pub fn linear<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
+pub(crate) fn linear<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     let step = 1.0 / steps as f32;
     let t = s.var("t", 0.0);
     s.repeat(steps, |s| {
@@ -39,7 +39,7 @@ fn one_step_back<'a>(t: Val<'a, f32>, step: impl IntoVal<'a, f32>) -> Bracket<'a
 /// Linear search with the step count chosen from the view angle, as parallax occlusion
 /// mapping engines do (Tatarchuk 2006; Amaro & Gustafsson §2.1.3 without the distance
 /// term): `n = mix(max, min, cos θ)`, many steps at grazing angles, few head-on.
-pub fn linear_dynamic<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, min: u32, max: u32) -> Bracket<'a> {
+pub(crate) fn linear_dynamic<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, min: u32, max: u32) -> Bracket<'a> {
     let n = s.lit(max as f32).mix(min as f32, ray.cos_view).floor().max(1.0);
     let step = 1.0 / n;
     let t = s.var("t", 0.0);
@@ -87,7 +87,13 @@ fn view_distance<'a>(s: &'a FnBuilder<'a>) -> Val<'a, f32> {
 /// L_max·(1 − d/(3 + d))) + L_θmin·cos θ`, then `max(1, floor(L))` steps), which the entry point stores in
 /// [`VIEW_DISTANCE`] (in the scene's world units: the quad's for `fs_main`, the room's for
 /// the interior entry). The loop is bounded by `max(min, max, theta_min)`.
-pub fn linear_distance<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, min: u32, max: u32, theta_min: u32) -> Bracket<'a> {
+pub(crate) fn linear_distance<'a>(
+    s: &'a FnBuilder<'a>,
+    ray: &Ray<'a>,
+    min: u32,
+    max: u32,
+    theta_min: u32,
+) -> Bracket<'a> {
     let d = view_distance(s).max(0.0);
     let w = d / (d + 3.0);
     let c = ray.cos_view.clamp(0.0, 1.0);

@@ -23,7 +23,7 @@ use crate::stage::{Bracket, Ray, StageFn};
 /// 3. else, above the finest level, descend into the node at `down`;
 /// 4. else (one cell) meet the cell's bilinear patch between `down` and `exit`: the hit, or
 ///    on to the exit.
-pub fn maxmip<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
+pub(crate) fn maxmip<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     let size = s.height_map_size();
     let n = size.x().max(size.y());
     let top = n.log2().floor();

@@ -16,7 +16,7 @@ fn normal_map(_: &StageSpec) -> Vec<MapReq> {
 }
 
 /// Plain texture mapping: the hit is where the ray enters, t = 0.
-pub fn none<'a>(s: &'a FnBuilder<'a>, _ray: &Ray<'a>) -> Bracket<'a> {
+pub(crate) fn none<'a>(s: &'a FnBuilder<'a>, _ray: &Ray<'a>) -> Bracket<'a> {
     Bracket::point(s.lit(0.0))
 }
 
@@ -31,7 +31,7 @@ pub(crate) fn none_def() -> MethodDef {
 
 /// Parallax mapping (Kaneko et al. 2001; Burger eq. 2.3): the surface is taken to be the
 /// plane at the height found under the entry point, `t = (1 - h) / -d.z`.
-pub fn parallax<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>) -> Bracket<'a> {
+pub(crate) fn parallax<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>) -> Bracket<'a> {
     let h = s.height(ray.origin);
     Bracket::point((1.0 - h) / -ray.dir.z())
 }
@@ -47,7 +47,7 @@ pub(crate) fn parallax_def() -> MethodDef {
 
 /// Parallax with offset limiting (Welsh 2004; survey §4.1.3, Burger eq. 2.6): the offset is
 /// the depth along the *normalized* view vector, so it never exceeds the depth itself.
-pub fn offset_limited<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>) -> Bracket<'a> {
+pub(crate) fn offset_limited<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>) -> Bracket<'a> {
     let h = s.height(ray.origin);
     Bracket::point((1.0 - h) * ray.cos_view / -ray.dir.z())
 }
@@ -63,7 +63,7 @@ pub(crate) fn offset_limited_def() -> MethodDef {
 
 /// Parallax along the slope (survey §4.1.4, the "safer" form): the depth is scaled by the
 /// normal map's z, `offset = h · N.z · V.xy`.
-pub fn slope_parallax<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>) -> Bracket<'a> {
+pub(crate) fn slope_parallax<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>) -> Bracket<'a> {
     let h = s.height(ray.origin);
     let n = s.normal(ray.origin);
     Bracket::point((1.0 - h) * n.z() * ray.cos_view / -ray.dir.z())
@@ -81,7 +81,7 @@ pub(crate) fn slope_parallax_def() -> MethodDef {
 
 /// Iterative parallax mapping (Premecz 2006; survey §4.2.1): repeat the slope correction
 /// `uvh += (h - uvh.z) · N.z · V` at the current point, `steps` times.
-pub fn iterative_parallax<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
+pub(crate) fn iterative_parallax<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     let t = s.var("t", 0.0);
     s.repeat(steps, |s| {
         let p = ray.at(t.get());

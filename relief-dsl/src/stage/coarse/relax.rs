@@ -108,7 +108,7 @@ pub(super) fn relaxing_march<'a>(
 /// Cone step mapping on the cell cones (the safe `csm`) with exact step relaxation: see
 /// [`relaxing_march`]. Exact as the safe `csm` is; fewer passes where the cones' steps shrink
 /// slowly (grazing rays over open ground), one wasted pass per step back.
-pub fn csm_relax<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
+pub(crate) fn csm_relax<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     relaxing_march(s, ray, steps, |s, p, c| super::cone::cell_cone_step(s, ray, p, c))
 }
 
@@ -126,7 +126,7 @@ pub(crate) fn csm_relax_def() -> MethodDef {
 /// Sphere tracing (`sphere`) with exact step relaxation (Bán & Valasek 2023): see
 /// [`relaxing_march`]; the field's spheres are symmetric, so a probe's sphere reaches back as
 /// far as forward.
-pub fn sphere_relax<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
+pub(crate) fn sphere_relax<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     relaxing_march(s, ray, steps, |s, p, _| super::sphere::sphere_step(s, ray, p))
 }
 

@@ -13,7 +13,7 @@ use crate::stage::{Bracket, Ray, StageFn};
 /// within a voxel of the surface it reads 0, and there the cell's bilinear patch closes the
 /// gap exactly ([`super::cell::safe_march`]), so the search neither stalls nor passes the
 /// first hit.
-pub fn sphere<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
+pub(crate) fn sphere<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     super::cell::safe_march(s, ray, steps, |s, p, _| sphere_step(s, ray, p))
 }
 

@@ -13,7 +13,7 @@ use crate::stage::{Bracket, Hit, Ray, StageFn};
 /// and a point above the surface after a point below it moves backward again; the prose
 /// (and Policarpo's search it describes) moves forward from a point above. Here the step
 /// stays positive and the direction comes from the test each pass.
-pub fn binary<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, b: Bracket<'a>, steps: u32) -> Hit<'a> {
+pub(crate) fn binary<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, b: Bracket<'a>, steps: u32) -> Hit<'a> {
     // s ← stepSize ÷ 2; t ← linearT − s
     let mut step = s.var("step", (b.below - b.above) / 2.0);
     let mut t = s.var("t", b.below - step);

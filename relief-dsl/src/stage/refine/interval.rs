@@ -10,7 +10,7 @@ use crate::stage::{Bracket, Hit, Ray, StageFn};
 ///
 /// Algorithm 3 as printed replaces `p1` when the new point is below the surface; with `t1`
 /// the end above and `t2` the end below, the end a point below replaces is `t2`, as here.
-pub fn interval<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, b: Bracket<'a>, steps: u32) -> Hit<'a> {
+pub(crate) fn interval<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, b: Bracket<'a>, steps: u32) -> Hit<'a> {
     let t1 = s.var("t1", b.above);
     let t2 = s.var("t2", b.below);
     let h1 = s.var("h1", s.height(ray.at(b.above).xy()));

@@ -10,7 +10,7 @@ use crate::stage::{Bracket, Hit, Ray, StageFn};
 ///
 /// Guards against divergence: a guess never leaves the coarse bracket, and the iteration
 /// stops when the two last values of g are (numerically) equal.
-pub fn secant<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, b: Bracket<'a>, steps: u32) -> Hit<'a> {
+pub(crate) fn secant<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, b: Bracket<'a>, steps: u32) -> Hit<'a> {
     let gap = |t: Val<'a, f32>| {
         let p = ray.at(t);
         p.z() - s.height(p.xy())

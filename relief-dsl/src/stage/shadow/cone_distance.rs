@@ -12,7 +12,7 @@ const SHARPNESS: f32 = 8.0;
 
 /// Which cone map gives the distance.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Source {
+pub(crate) enum Source {
     /// `n_z` from the cone normal map.
     ConeNormal,
     /// `n_z = r / sqrt(1 + r²)` from CSM's cone ratio.
@@ -22,7 +22,13 @@ pub enum Source {
 /// Soft shadow from cone distances: march `steps` equal steps toward the light; at each
 /// sample the cone below bounds the distance to the surface, `d = (z - h)·n_z`, and the
 /// visibility is the smallest `k·d / τ` seen (0 under the surface).
-pub fn soft<'a>(s: &'a FnBuilder<'a>, hit: &Hit<'a>, light: Val<'a, Vec3>, steps: u32, source: Source) -> Val<'a, f32> {
+pub(crate) fn soft<'a>(
+    s: &'a FnBuilder<'a>,
+    hit: &Hit<'a>,
+    light: Val<'a, Vec3>,
+    steps: u32,
+    source: Source,
+) -> Val<'a, f32> {
     let step = (1.0 - hit.z) / steps as f32;
     let tau = s.var("tau", step);
     let visible = s.var("visible", 1.0);

@@ -16,7 +16,7 @@ fn toward_light<'a>(hit: &Hit<'a>, light: Val<'a, Vec3>, tau: Val<'a, f32>) -> V
 
 /// Hard shadow (Amaro & Gustafsson §2.1.1): a linear search of `steps` equal steps from the
 /// hit to the top of the volume; any sample below the surface blocks the light.
-pub fn hard<'a>(s: &'a FnBuilder<'a>, hit: &Hit<'a>, light: Val<'a, Vec3>, steps: u32) -> Val<'a, f32> {
+pub(crate) fn hard<'a>(s: &'a FnBuilder<'a>, hit: &Hit<'a>, light: Val<'a, Vec3>, steps: u32) -> Val<'a, f32> {
     let step = (1.0 - hit.z) / steps as f32;
     let tau = s.var("tau", step);
     let visible = s.var("visible", 1.0);
@@ -38,7 +38,7 @@ const LIGHT_WIDTH: f32 = 0.25;
 /// surface per distance travelled, `w = (h - z) / τ` — and turn it into a visibility with
 /// the fast sigmoid `1 - w / (0.24 + w)`, clamped to [0, 1]. `w` is measured in units of
 /// the light's width ([`LIGHT_WIDTH`]).
-pub fn soft<'a>(s: &'a FnBuilder<'a>, hit: &Hit<'a>, light: Val<'a, Vec3>, steps: u32) -> Val<'a, f32> {
+pub(crate) fn soft<'a>(s: &'a FnBuilder<'a>, hit: &Hit<'a>, light: Val<'a, Vec3>, steps: u32) -> Val<'a, f32> {
     let step = (1.0 - hit.z) / steps as f32;
     let tau = s.var("tau", step);
     let w = s.var("w", 0.0);
