@@ -555,18 +555,7 @@ fn about_section(p: &Parts) -> Section {
     let s = p.summary;
     let mut h = String::from("<h2>This sweep</h2><ul>\n");
     let _ = writeln!(h, "<li>Sweep folder: <code>{}</code></li>", esc(&p.data.dir.display().to_string()));
-    let _ = writeln!(
-        h,
-        "<li>Rows: {} ({} ok, {} failed{})</li>",
-        s.rows,
-        s.ok,
-        s.failed.len(),
-        if s.bad_lines.is_empty() {
-            String::new()
-        } else {
-            format!(", {} unreadable lines skipped", s.bad_lines.len())
-        }
-    );
+    let _ = writeln!(h, "<li>Rows: {}</li>", s.rows_counted());
     let _ = writeln!(
         h,
         "<li>Scenes: {}</li>",

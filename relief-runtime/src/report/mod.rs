@@ -75,6 +75,17 @@ pub struct ReportSummary {
 }
 
 impl ReportSummary {
+    /// The rows read, as the page and `tables.md` both state them: `N (K ok, F failed, U
+    /// unreadable lines skipped)`, the last part only when there are such lines.
+    pub(crate) fn rows_counted(&self) -> String {
+        let skipped = if self.bad_lines.is_empty() {
+            String::new()
+        } else {
+            format!(", {} unreadable lines skipped", self.bad_lines.len())
+        };
+        format!("{} ({} ok, {} failed{skipped})", self.rows, self.ok, self.failed.len())
+    }
+
     /// How many conclusions hold / do not hold / were not measured / are not decided, by
     /// `mse_dissertation_mean`.
     pub fn verdict_counts(&self) -> (usize, usize, usize, usize) {
@@ -346,18 +357,7 @@ fn overview_md(data: &Data, s: &ReportSummary) -> String {
     if s.adapters.len() > 1 {
         let _ = writeln!(md, "Adapters kept apart: {} (tables, charts and conclusions: the first; timing conclusions of each side by side)  ", s.adapters.join("; "));
     }
-    let _ = writeln!(
-        md,
-        "Rows: {} ({} ok, {} failed{})  ",
-        s.rows,
-        s.ok,
-        s.failed.len(),
-        if s.bad_lines.is_empty() {
-            String::new()
-        } else {
-            format!(", {} unreadable lines skipped", s.bad_lines.len())
-        }
-    );
+    let _ = writeln!(md, "Rows: {}  ", s.rows_counted());
     let _ = writeln!(md, "Scenes: {}  ", data.scenes().iter().map(|x| short_scene(x)).collect::<Vec<_>>().join(", "));
     let _ = writeln!(md, "Sizes: {}  ", data.distinct(|r| r.metrics.size.to_string()).join(", "));
     let _ = writeln!(md, "Adapters: {}  ", data.distinct(|r| r.metrics.adapter.clone()).join("; "));

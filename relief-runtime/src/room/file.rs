@@ -104,15 +104,7 @@ pub fn load_room_file(path: &Path, map_size: Option<usize>) -> Result<Room, Scen
         key: key.map(str::to_string),
         message,
     };
-    if !path.exists() {
-        return Err(err(None, "file not found".into()));
-    }
-    let text = crate::io::read_regular_to_string(path).map_err(|e| err(None, format!("cannot read: {e}")))?;
-    let t: toml::Table = text.parse().map_err(|e: toml::de::Error| {
-        let line = e.span().map(|s| text[..s.start.min(text.len())].lines().count().max(1));
-        let at = line.map(|l| format!(" at line {l}")).unwrap_or_default();
-        err(None, format!("not valid TOML{at}: {}", e.message().trim().replace('\n', " ")))
-    })?;
+    let t = crate::scene::file::read_toml_table(path)?;
     check_keys(&t).map_err(|(k, m)| err(Some(&k), m))?;
     build(path, &t, map_size).map_err(|(k, m)| err(Some(&k), m))
 }

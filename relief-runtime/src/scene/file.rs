@@ -112,6 +112,21 @@ struct CameraSpec {
     fov: Option<f32>,
 }
 
+/// The TOML table of the file at `path` (a scene or a room file): a missing or unreadable file
+/// and TOML that does not parse (with the line it fails at) are errors naming the file.
+pub(crate) fn read_toml_table(path: &Path) -> Result<toml::Table, SceneFileError> {
+    let err = |message: String| SceneFileError { path: path.to_path_buf(), key: None, message };
+    if !path.exists() {
+        return Err(err("file not found".into()));
+    }
+    let text = crate::io::read_regular_to_string(path).map_err(|e| err(format!("cannot read: {e}")))?;
+    text.parse().map_err(|e: toml::de::Error| {
+        let line = e.span().map(|s| text[..s.start.min(text.len())].lines().count().max(1));
+        let at = line.map(|l| format!(" at line {l}")).unwrap_or_default();
+        err(format!("not valid TOML{at}: {}", e.message().trim().replace('\n', " ")))
+    })
+}
+
 /// Reads a scene file (see the module docs).
 pub fn load_scene_file(path: &Path) -> Result<Scene, SceneFileError> {
     let err = |key: Option<&str>, message: String| SceneFileError {
@@ -119,15 +134,7 @@ pub fn load_scene_file(path: &Path) -> Result<Scene, SceneFileError> {
         key: key.map(str::to_string),
         message,
     };
-    if !path.exists() {
-        return Err(err(None, "file not found".into()));
-    }
-    let text = crate::io::read_regular_to_string(path).map_err(|e| err(None, format!("cannot read: {e}")))?;
-    let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
-        let line = e.span().map(|s| text[..s.start.min(text.len())].lines().count().max(1));
-        let at = line.map(|l| format!(" at line {l}")).unwrap_or_default();
-        err(None, format!("not valid TOML{at}: {}", e.message().trim().replace('\n', " ")))
-    })?;
+    let table = read_toml_table(path)?;
     check_keys(&table).map_err(|(k, m)| err(Some(&k), m))?;
     let spec: FileSpec = FileSpec::deserialize(toml::Value::Table(table))
         .map_err(|e| err(None, e.message().trim().replace('\n', " ")))?;
