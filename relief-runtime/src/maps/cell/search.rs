@@ -151,7 +151,7 @@ impl CellTree {
         start: (f64, Option<(i64, i64)>),
         seeds: Seeds,
     ) -> (f64, Option<(i64, i64)>) {
-        let q = Query { xa: self.axis_query(ci, ax, true), ya: self.axis_query(cj, ay, false), ci, cj, ax, ay, seeds };
+        let q = Query { xa: self.axis_query(ci, ax, true), ya: self.axis_query(cj, ay, false), ci, cj, seeds };
         let mut d = CellSearch { tree: self, q: &q, s, mx: 0, my: 0, best: start };
         let shifts: &[i64] = if self.grid.edge == EdgeMode::Repeat { &[0, -1, 1] } else { &[0] };
         for &my in shifts {
@@ -362,6 +362,50 @@ impl<S: CellScorer> Descent for CellSearch<'_, S> {
         n
     }
 
+    /// The nodes of 4 × 4 cells: opening them level by level cost more than testing their
+    /// cells in one pass (`CellSearch::block`).
+    #[inline]
+    fn block_level(&self) -> usize {
+        2
+    }
+
+    /// Tests each cell of the node against its own bound and scores those that may lower
+    /// the best; the gaps of the node's columns and rows are found once.
+    #[inline]
+    fn block(&mut self, k: usize, i: usize, j: usize) {
+        const SIDE: usize = 4;
+        debug_assert!(k <= 2);
+        let t = self.tree;
+        let (cw, ch) = (t.grid.cw, t.grid.ch);
+        let mut xs = [(0usize, 0.0f64, Side::Zero); SIDE];
+        let mut nx = 0;
+        for x in i << k..((i + 1) << k).min(cw) {
+            if let Some((g, sd)) = self.q.xa.node(x, x, self.mx) {
+                xs[nx] = (x, g * g, sd);
+                nx += 1;
+            }
+        }
+        let mut ys = [(0usize, 0.0f64, Side::Zero); SIDE];
+        let mut ny = 0;
+        for y in j << k..((j + 1) << k).min(ch) {
+            if let Some((g, sd)) = self.q.ya.node(y, y, self.my) {
+                ys[ny] = (y, g * g, sd);
+                ny += 1;
+            }
+        }
+        let tops = &t.levels[0].2;
+        let flags: &[u8] = if t.flags.is_empty() { &[] } else { &t.flags[0] };
+        for &(y, gy2, sy) in &ys[..ny] {
+            for &(x, gx2, sx) in &xs[..nx] {
+                let o = y * cw + x;
+                let fl = if flags.is_empty() { 0 } else { flags[o] };
+                if self.s.prune(gx2 + gy2, tops[o], fl, sx, sy, self.best.0).is_some() {
+                    self.leaf(x, y);
+                }
+            }
+        }
+    }
+
     /// Scores the cell at storage `(i, j)` in this copy of the plane, unless it is a seed.
     #[inline]
     fn leaf(&mut self, i: usize, j: usize) {
@@ -371,7 +415,12 @@ impl<S: CellScorer> Descent for CellSearch<'_, S> {
         if q.seeds.has(px, py, q.ci, q.cj) {
             return;
         }
-        if let Some(v) = t.leaf_below_at(px, py, q.ci, q.cj, q.ax, q.ay, self.s, self.best.0) {
+        // The cell passed its node test, so it is reachable: its extents follow from the
+        // storage index without `axis_leaf`'s checks.
+        let (dx, cx, sx) = q.xa.leaf(i, px);
+        let (dy, cy, sy) = q.ya.leaf(j, py);
+        let c = corners_seen_from(dx, dy, cx, cy, &t.corners_at(i, j), t.grid.width, t.grid.height);
+        if let Some(v) = self.s.leaf_below(j * t.grid.cw + i, &c, dx, dy, cx, cy, sx, sy, self.best.0) {
             self.best = (v, Some((px, py)));
         }
     }
@@ -435,14 +484,27 @@ impl AxisQuery {
     }
 }
 
+impl AxisQuery {
+    /// The extents (texel-centre units: `D`'s, then `C`'s) and side of the reachable cell
+    /// at storage index `i`, plane position `p`, as `CellTree::axis_leaf` gives them.
+    #[inline(always)]
+    fn leaf(&self, i: usize, p: i64) -> ([f64; 2], [f64; 2], Side) {
+        let k = p - self.c;
+        if self.repeat {
+            ([k as f64, k as f64 + 1.0], [0.0, 1.0], side_of(k, k))
+        } else {
+            let (_, _, d0, d1) = axis_extent(i, self.n as usize, EdgeMode::Clamp);
+            ([d0, d1], [self.c0, self.c1], side_of(k, k))
+        }
+    }
+}
+
 /// A search's fixed parameters.
 struct Query {
     xa: AxisQuery,
     ya: AxisQuery,
     ci: usize,
     cj: usize,
-    ax: Dir,
-    ay: Dir,
     seeds: Seeds,
 }
 
