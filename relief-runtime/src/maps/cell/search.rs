@@ -157,7 +157,9 @@ impl CellTree {
         for &my in shifts {
             for &mx in shifts {
                 (d.mx, d.my) = (mx, my);
-                descend(&mut d, self.levels.len() - 1, 0, 0);
+                if d.root_open() {
+                    descend(&mut d, self.levels.len() - 1, 0, 0);
+                }
             }
         }
         d.best
@@ -310,6 +312,23 @@ struct CellSearch<'a, S> {
     mx: i64,
     my: i64,
     best: (f64, Option<(i64, i64)>),
+}
+
+impl<S: CellScorer> CellSearch<'_, S> {
+    /// Whether this copy of the plane may hold a cell below the best: its root passes the
+    /// test its children get. Most copies other than `C`'s own are closed here, before
+    /// [`descend`] opens their root.
+    fn root_open(&self) -> bool {
+        let t = self.tree;
+        let top = t.levels.len() - 1;
+        let (Some((gx, sx)), Some((gy, sy))) =
+            (self.q.xa.node(0, t.grid.cw - 1, self.mx), self.q.ya.node(0, t.grid.ch - 1, self.my))
+        else {
+            return false;
+        };
+        let fl = if t.flags.is_empty() { 0 } else { t.flags[top][0] };
+        self.s.prune(gx * gx + gy * gy, t.levels[top].2[0], fl, sx, sy, self.best.0).is_some()
+    }
 }
 
 impl<S: CellScorer> Descent for CellSearch<'_, S> {
