@@ -363,8 +363,9 @@ impl<S: CellScorer> CellSearch<'_, S> {
     /// proven. `rising` checks `S_x (D.x − C.x) + S_y (D.y − C.y) ≥ 0` at every pair of
     /// corners, `S_x`, `S_y` a cell's slopes (`CellTree::cell_slopes`); each product is at
     /// least the smallest over the node's range of slopes (rounded outwards, so it holds
-    /// every cell's) and range of offsets ([`least_product`]), so a non-negative sum of those two minima proves every cell of
-    /// the node rising, with `rising`'s own rounding.
+    /// every cell's) and its range of offsets ([`least_product`]), so a sum of those two
+    /// minima that is `≥ 0` proves every cell of the node rising, with `rising`'s own
+    /// rounding.
     #[inline]
     fn all_rising(&self, k: usize, i: usize, j: usize, o: usize) -> bool {
         let t = self.tree;
@@ -454,7 +455,8 @@ impl<S: CellScorer> Descent for CellSearch<'_, S> {
     }
 
     /// Tests each cell of the node against its own bound and scores those that may lower
-    /// the best; the gaps of the node's columns and rows are found once.
+    /// the best (and are not proven rising, for a scorer that skips rising cells); the gaps
+    /// of the node's columns and rows are found once.
     #[inline]
     fn block(&mut self, k: usize, i: usize, j: usize) {
         const SIDE: usize = 4;
