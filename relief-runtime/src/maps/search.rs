@@ -259,6 +259,18 @@ pub(crate) trait Descent {
     fn children(&mut self, k: usize, i: usize, j: usize, kids: &mut [(f64, usize, usize); 4]) -> usize;
     /// Scores leaf `(i, j)` and keeps it as the best if it scores lower.
     fn leaf(&mut self, i: usize, j: usize);
+    /// The level up to which [`descend`] hands a node to [`Descent::block`] instead of
+    /// opening it; 0 (the default): none, every node is opened down to its leaves.
+    #[inline]
+    fn block_level(&self) -> usize {
+        0
+    }
+    /// Visits every leaf under node `(i, j)` of level `k` (`1 ≤ k ≤ block_level`) that may
+    /// hold a score below the best, in any order, without the nodes in between.
+    #[inline]
+    fn block(&mut self, _k: usize, _i: usize, _j: usize) {
+        unreachable!("a search with a block level of 0 has no blocks")
+    }
 }
 
 /// Visits node `(i, j)` of level `k`: a leaf is scored; an inner node's children are visited
@@ -267,6 +279,10 @@ pub(crate) trait Descent {
 pub(crate) fn descend<D: Descent>(d: &mut D, k: usize, i: usize, j: usize) {
     if k == 0 {
         d.leaf(i, j);
+        return;
+    }
+    if k <= d.block_level() {
+        d.block(k, i, j);
         return;
     }
     let mut kids: [(f64, usize, usize); 4] = [(0.0, 0, 0); 4];

@@ -69,8 +69,9 @@
 //! `d_min / (h_max − apex)` is not below the best ratio found (with a relative margin of
 //! `1e-9` so that rounding in the per-cell formula can never make a pruned cell smaller than
 //! the bound); seeded with the 8 neighbouring cells and the cell that bound the previous
-//! cell of the row (the tree search does not score those cells again). Rows of cells run in
-//! parallel with rayon. The result is bit-identical to the brute-force minimum over all cells
+//! cell of the row (the tree search does not score those cells again). A node of 4 × 4
+//! cells is not opened level by level: each of its cells is tested against its own bound
+//! in one pass. Rows of cells run in parallel with rayon. The result is bit-identical to the brute-force minimum over all cells
 //! (tested in `tests/cell_maps.rs`).
 //!
 //! What was measured and tried to make the search fast: `docs/notes/cell-map-search.md`.

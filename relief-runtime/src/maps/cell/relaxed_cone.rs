@@ -65,8 +65,14 @@
 //! The max-corner quadtree of `CellTree` with a flag byte per cell (monotone in `+X`,
 //! `−X`, `+Y`, `−Y` over the whole patch), AND-ed per node: a node lying entirely after `C` in
 //! `X` whose cells all rise in `+X` (and likewise for `Y`; a node overlapping `C`'s column
-//! needs `∂S/∂X = 0`) holds only rising cells and is skipped. Otherwise the conservative
-//! bound `d_min / (h_max − A_C)` prunes as for `cell_cone`.
+//! needs `∂S/∂X = 0`) holds only rising cells and is skipped. The tree also keeps, per node,
+//! the range of its cells' scaled partial derivatives (`CellTree::with_slopes`): `rising`'s
+//! sum `(∂S/∂X) l_y (D.x − C.x) + (∂S/∂Y) l_x (D.y − C.y)` is at least the smallest product
+//! of the node's slope range and offset range along X plus the same along Y, so a node
+//! whose two smallest products sum to `≥ 0` holds only rising cells and is skipped too.
+//! That catches what the flags cannot: a slope facing `C` across its row or column, or
+//! falling slightly along one axis while rising steeply along the other. Otherwise the
+//! conservative bound `d_min / (h_max − A_C)` prunes as for `cell_cone`.
 
 use super::{CellScorer, CellTree, Corner, Dir, PieceScorer, Side};
 use crate::heightmap::{EdgeMode, HeightMap};
@@ -145,6 +151,8 @@ impl RelaxedScorer<'_> {
 }
 
 impl CellScorer for RelaxedScorer<'_> {
+    const SKIPS_RISING: bool = true;
+
     #[inline]
     fn bound(&self, dmin: f64, hmax: f32, flags: u8, sx: Side, sy: Side) -> Option<f64> {
         self.rise(hmax, flags, sx, sy).map(|dh| dmin / dh)
@@ -203,7 +211,7 @@ pub fn cap(w: usize, h: usize, edge: EdgeMode, apex: f32) -> f64 {
 
 /// `cell_relaxed_cone`: `[R_C, A_C]` per cell (module docs).
 pub fn cell_relaxed_cone(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
-    let tree = CellTree::with_flags(map, edge, Some(&monotone_flags));
+    let tree = CellTree::with_flags(map, edge, Some(&monotone_flags)).with_slopes();
     let cw = tree.grid.cw;
     crate::maps::search::per_row(cw, tree.grid.ch, 2, |j, row| {
         let (mut prev, mut prev_cons) = (None, None);

@@ -6,6 +6,7 @@
 use super::apex;
 use super::geometry::{axis_extent, corners_seen_from, CellGrid, Corner};
 use crate::heightmap::{EdgeMode, HeightMap};
+use crate::maps::encode::{f32_down, f32_up};
 use crate::maps::search::{descend, reduce_pyramid, Descent};
 
 /// Which cells a search may use along one axis.
@@ -62,6 +63,11 @@ pub trait CellScorer: Sync {
         sx: Side,
         sy: Side,
     ) -> Option<f64>;
+    /// Whether the scorer gives no score to a cell rising from `C`
+    /// ([`rising`](super::relaxed_cone::rising)): the search may then skip a node all of
+    /// whose cells are rising (`CellTree::with_slopes`).
+    const SKIPS_RISING: bool = false;
+
     /// [`CellScorer::leaf`] when it is below `best`, else `None` (what the search uses; a
     /// scorer may override it with a faster equivalent).
     #[allow(clippy::too_many_arguments)]
@@ -94,6 +100,9 @@ pub(crate) struct CellTree {
     heights: Vec<f32>,
     levels: Vec<(usize, usize, Vec<f32>)>,
     flags: Vec<Vec<u8>>,
+    /// Optional (`CellTree::with_slopes`): per node, ranges that hold its cells' slopes
+    /// (`CellTree::cell_slopes`) rounded outwards to f32; level 1 is left empty.
+    slopes: Vec<Vec<[f32; 4]>>,
 }
 
 impl CellTree {
@@ -116,7 +125,41 @@ impl CellTree {
             }
             None => Vec::new(),
         };
-        CellTree { grid, heights, levels, flags: fl }
+        CellTree { grid, heights, levels, flags: fl, slopes: Vec::new() }
+    }
+
+    /// The tree with the ranges of its nodes' slopes, from which the search of a scorer that
+    /// skips rising cells (`CellScorer::SKIPS_RISING`) proves a whole node rising
+    /// (`CellSearch::all_rising`): 16 bytes per cell and a third more for the levels above,
+    /// but level 1, which the search never tests (its blocks are of level 2).
+    pub(crate) fn with_slopes(mut self) -> CellTree {
+        let g = self.grid;
+        let outwards = |r: [f64; 4]| [f32_down(r[0]), f32_up(r[1]), f32_down(r[2]), f32_up(r[3])];
+        let base = (0..g.ch)
+            .flat_map(|j| (0..g.cw).map(move |i| (i, j)))
+            .map(|(i, j)| outwards(self.cell_slopes(i, j)))
+            .collect();
+        let empty = [f32::INFINITY, f32::NEG_INFINITY, f32::INFINITY, f32::NEG_INFINITY];
+        let join = |a: [f32; 4], b: [f32; 4]| [a[0].min(b[0]), a[1].max(b[1]), a[2].min(b[2]), a[3].max(b[3])];
+        self.slopes = reduce_pyramid(g.cw, g.ch, base, empty, join).into_iter().map(|l| l.2).collect();
+        if let Some(level) = self.slopes.get_mut(1) {
+            *level = Vec::new();
+        }
+        self
+    }
+
+    /// The slopes of cell `(i, j)` as [`rising`](super::relaxed_cone::rising) forms them,
+    /// with the same operations: `[min, max]` of `∂S/∂X · l_y` over its two rows of
+    /// corners, then `[min, max]` of `∂S/∂Y · l_x` over its two columns (`l_x`, `l_y`: the
+    /// cell's extent, 1 but at a clamp border).
+    #[inline]
+    fn cell_slopes(&self, i: usize, j: usize) -> [f64; 4] {
+        let (_, _, x0, x1) = self.grid.col(i);
+        let (_, _, y0, y1) = self.grid.row(j);
+        let h = self.corners_at(i, j).map(|v| v as f64);
+        let sx = [(h[1] - h[0]) * (y1 - y0), (h[3] - h[2]) * (y1 - y0)];
+        let sy = [(h[2] - h[0]) * (x1 - x0), (h[3] - h[1]) * (x1 - x0)];
+        [sx[0].min(sx[1]), sx[0].max(sx[1]), sy[0].min(sy[1]), sy[0].max(sy[1])]
     }
 
     /// The corners `[h00, h10, h01, h11]` of cell `d` (storage index).
@@ -151,13 +194,15 @@ impl CellTree {
         start: (f64, Option<(i64, i64)>),
         seeds: Seeds,
     ) -> (f64, Option<(i64, i64)>) {
-        let q = Query { xa: self.axis_query(ci, ax, true), ya: self.axis_query(cj, ay, false), ci, cj, ax, ay, seeds };
+        let q = Query { xa: self.axis_query(ci, ax, true), ya: self.axis_query(cj, ay, false), ci, cj, seeds };
         let mut d = CellSearch { tree: self, q: &q, s, mx: 0, my: 0, best: start };
         let shifts: &[i64] = if self.grid.edge == EdgeMode::Repeat { &[0, -1, 1] } else { &[0] };
         for &my in shifts {
             for &mx in shifts {
                 (d.mx, d.my) = (mx, my);
-                descend(&mut d, self.levels.len() - 1, 0, 0);
+                if d.root_open() {
+                    descend(&mut d, self.levels.len() - 1, 0, 0);
+                }
             }
         }
         d.best
@@ -312,6 +357,43 @@ struct CellSearch<'a, S> {
     best: (f64, Option<(i64, i64)>),
 }
 
+impl<S: CellScorer> CellSearch<'_, S> {
+    /// Whether every cell of node `(i, j)` of level `k` (index `o` in its level) is rising
+    /// from `C`, for a scorer that gives rising cells no score; `false` when that is not
+    /// proven. `rising` checks `S_x (D.x − C.x) + S_y (D.y − C.y) ≥ 0` at every pair of
+    /// corners, `S_x`, `S_y` a cell's slopes (`CellTree::cell_slopes`); each product is at
+    /// least the smallest over the node's range of slopes (rounded outwards, so it holds
+    /// every cell's) and its range of offsets ([`least_product`]), so a sum of those two
+    /// minima that is `≥ 0` proves every cell of the node rising, with `rising`'s own
+    /// rounding.
+    #[inline]
+    fn all_rising(&self, k: usize, i: usize, j: usize, o: usize) -> bool {
+        let t = self.tree;
+        if !S::SKIPS_RISING || t.slopes.is_empty() || t.slopes[k].is_empty() {
+            return false;
+        }
+        let sl = t.slopes[k][o].map(f64::from);
+        let x = self.q.xa.span(i << k, ((i + 1) << k).min(t.grid.cw) - 1, self.mx);
+        let y = self.q.ya.span(j << k, ((j + 1) << k).min(t.grid.ch) - 1, self.my);
+        least_product(sl[0], sl[1], x.0, x.1) + least_product(sl[2], sl[3], y.0, y.1) >= 0.0
+    }
+
+    /// Whether this copy of the plane may hold a cell below the best: its root passes the
+    /// test its children get. Most copies other than `C`'s own are closed here, before
+    /// [`descend`] opens their root.
+    fn root_open(&self) -> bool {
+        let t = self.tree;
+        let top = t.levels.len() - 1;
+        let (Some((gx, sx)), Some((gy, sy))) =
+            (self.q.xa.node(0, t.grid.cw - 1, self.mx), self.q.ya.node(0, t.grid.ch - 1, self.my))
+        else {
+            return false;
+        };
+        let fl = if t.flags.is_empty() { 0 } else { t.flags[top][0] };
+        self.s.prune(gx * gx + gy * gy, t.levels[top].2[0], fl, sx, sy, self.best.0).is_some()
+    }
+}
+
 impl<S: CellScorer> Descent for CellSearch<'_, S> {
     #[inline]
     fn closed(&self, b: f64) -> bool {
@@ -355,11 +437,59 @@ impl<S: CellScorer> Descent for CellSearch<'_, S> {
                 let o = cj2 * lw + ci2;
                 let fl = if lf.is_empty() { 0 } else { lf[o] };
                 let Some(b) = self.s.prune(gx * gx + gy * gy, ld[o], fl, sx, sy, self.best.0) else { continue };
+                if self.all_rising(k - 1, ci2, cj2, o) {
+                    continue;
+                }
                 kids[n] = (b, ci2, cj2);
                 n += 1;
             }
         }
         n
+    }
+
+    /// The nodes of 4 × 4 cells: opening them level by level cost more than testing their
+    /// cells in one pass (`CellSearch::block`).
+    #[inline]
+    fn block_level(&self) -> usize {
+        2
+    }
+
+    /// Tests each cell of the node against its own bound and scores those that may lower
+    /// the best (and are not proven rising, for a scorer that skips rising cells); the gaps
+    /// of the node's columns and rows are found once.
+    #[inline]
+    fn block(&mut self, k: usize, i: usize, j: usize) {
+        const SIDE: usize = 4;
+        debug_assert!(k <= 2);
+        let t = self.tree;
+        let (cw, ch) = (t.grid.cw, t.grid.ch);
+        let mut xs = [(0usize, 0.0f64, Side::Zero); SIDE];
+        let mut nx = 0;
+        for x in i << k..((i + 1) << k).min(cw) {
+            if let Some((g, sd)) = self.q.xa.node(x, x, self.mx) {
+                xs[nx] = (x, g * g, sd);
+                nx += 1;
+            }
+        }
+        let mut ys = [(0usize, 0.0f64, Side::Zero); SIDE];
+        let mut ny = 0;
+        for y in j << k..((j + 1) << k).min(ch) {
+            if let Some((g, sd)) = self.q.ya.node(y, y, self.my) {
+                ys[ny] = (y, g * g, sd);
+                ny += 1;
+            }
+        }
+        let tops = &t.levels[0].2;
+        let flags: &[u8] = if t.flags.is_empty() { &[] } else { &t.flags[0] };
+        for &(y, gy2, sy) in &ys[..ny] {
+            for &(x, gx2, sx) in &xs[..nx] {
+                let o = y * cw + x;
+                let fl = if flags.is_empty() { 0 } else { flags[o] };
+                if self.s.prune(gx2 + gy2, tops[o], fl, sx, sy, self.best.0).is_some() && !self.all_rising(0, x, y, o) {
+                    self.leaf(x, y);
+                }
+            }
+        }
     }
 
     /// Scores the cell at storage `(i, j)` in this copy of the plane, unless it is a seed.
@@ -371,7 +501,12 @@ impl<S: CellScorer> Descent for CellSearch<'_, S> {
         if q.seeds.has(px, py, q.ci, q.cj) {
             return;
         }
-        if let Some(v) = t.leaf_below_at(px, py, q.ci, q.cj, q.ax, q.ay, self.s, self.best.0) {
+        // The cell passed its node test, so it is reachable: its extents follow from the
+        // storage index without `axis_leaf`'s checks.
+        let (dx, cx, sx) = q.xa.leaf(i, px);
+        let (dy, cy, sy) = q.ya.leaf(j, py);
+        let c = corners_seen_from(dx, dy, cx, cy, &t.corners_at(i, j), t.grid.width, t.grid.height);
+        if let Some(v) = self.s.leaf_below(j * t.grid.cw + i, &c, dx, dy, cx, cy, sx, sy, self.best.0) {
             self.best = (v, Some((px, py)));
         }
     }
@@ -435,14 +570,50 @@ impl AxisQuery {
     }
 }
 
+impl AxisQuery {
+    /// The range of `D.x − C.x` over the corners of the reachable cells of storage range
+    /// `a..=b` (shift `m` periods) and of `C`, in the coordinates `rising` is given
+    /// (texel-centre units, relative to `C` with repeat); `a..=b` holds a reachable cell.
+    #[inline]
+    fn span(&self, a: usize, b: usize, m: i64) -> (f64, f64) {
+        let (a, b, c) = (a as i64, b as i64, self.c);
+        if self.repeat {
+            let o = m * self.n - c;
+            let ka = (a + o).max(self.klo);
+            let kb = (b + o).min(self.khi);
+            ((ka - 1) as f64, (kb + 1) as f64)
+        } else {
+            let (lo, hi) = match self.dir {
+                Dir::Both => (a, b),
+                Dir::Forward => (a.max(c), b),
+                Dir::Backward => (a, b.min(c)),
+            };
+            let (_, _, d0, _) = axis_extent(lo as usize, self.n as usize, EdgeMode::Clamp);
+            let (_, _, _, d1) = axis_extent(hi as usize, self.n as usize, EdgeMode::Clamp);
+            (d0 - self.c1, d1 - self.c0)
+        }
+    }
+
+    /// The extents (texel-centre units: `D`'s, then `C`'s) and side of the reachable cell
+    /// at storage index `i`, plane position `p`, as `CellTree::axis_leaf` gives them.
+    #[inline(always)]
+    fn leaf(&self, i: usize, p: i64) -> ([f64; 2], [f64; 2], Side) {
+        let k = p - self.c;
+        if self.repeat {
+            ([k as f64, k as f64 + 1.0], [0.0, 1.0], side_of(k, k))
+        } else {
+            let (_, _, d0, d1) = axis_extent(i, self.n as usize, EdgeMode::Clamp);
+            ([d0, d1], [self.c0, self.c1], side_of(k, k))
+        }
+    }
+}
+
 /// A search's fixed parameters.
 struct Query {
     xa: AxisQuery,
     ya: AxisQuery,
     ci: usize,
     cj: usize,
-    ax: Dir,
-    ay: Dir,
     seeds: Seeds,
 }
 
@@ -460,6 +631,14 @@ impl Seeds {
     fn has(&self, px: i64, py: i64, ci: usize, cj: usize) -> bool {
         (self.neighbours && (px - ci as i64).abs() <= 1 && (py - cj as i64).abs() <= 1) || self.prev == Some((px, py))
     }
+}
+
+/// The smallest product of a value in `[lo, hi]` and one in `[a, b]`. A product is
+/// bilinear, so its smallest value over the box is at a corner; rounding is monotone, so no
+/// rounded product of the box is below the smallest rounded product of a corner.
+#[inline]
+fn least_product(lo: f64, hi: f64, a: f64, b: f64) -> f64 {
+    (lo * a).min(lo * b).min(hi * a).min(hi * b)
 }
 
 #[inline(always)]
