@@ -240,3 +240,25 @@ fn counting_loops_add_to_the_step_counter() {
         }",
     );
 }
+
+/// The binding table records each bound global once, where it is first declared, and two
+/// resources at one binding make `finish` fail with both named (the composer's error), not
+/// a module whose bind group would silently take the first.
+#[test]
+fn two_resources_at_one_binding_are_an_error_naming_both() {
+    let sampler = |m: &ModuleCtx| m.ty(naga::TypeInner::Sampler { comparison: false });
+    let ctx = ModuleCtx::new();
+    let a = ctx.bound("linear_sampler", naga::AddressSpace::Handle, 2, Resource::Sampler(Filter::Linear), sampler);
+    let again = ctx.bound("linear_sampler", naga::AddressSpace::Handle, 2, Resource::Sampler(Filter::Linear), sampler);
+    assert_eq!(a, again, "a second ask is the same global");
+    assert_eq!(ctx.bindings().len(), 1);
+    let (_, table) = ctx.finish().expect("one resource per binding");
+    assert_eq!(table.resource(2), Some(Resource::Sampler(Filter::Linear)));
+    assert_eq!(table.get(2).map(|e| e.name.as_str()), Some("linear_sampler"));
+
+    let ctx = ModuleCtx::new();
+    ctx.bound("linear_sampler", naga::AddressSpace::Handle, 2, Resource::Sampler(Filter::Linear), sampler);
+    ctx.bound("nearest_sampler", naga::AddressSpace::Handle, 2, Resource::Sampler(Filter::Nearest), sampler);
+    let e = ctx.finish().expect_err("two resources at binding 2");
+    assert!(e.contains("binding 2") && e.contains("`linear_sampler`") && e.contains("`nearest_sampler`"), "{e}");
+}
