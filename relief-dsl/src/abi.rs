@@ -119,6 +119,15 @@ impl AbiType for [f32; 16] {
     const MEMBER: Member = Member::Mat4;
 }
 
+/// A record the shader and the host share: the shader's struct is named [`AbiRecord::NAME`]
+/// (the Rust struct's name) and has [`AbiRecord::MEMBERS`].
+pub trait AbiRecord {
+    /// The struct's name, in Rust and in the shader.
+    const NAME: &'static str;
+    /// The members as the shader declares them, in order.
+    const MEMBERS: &'static [(&'static str, Member)];
+}
+
 /// Declares a `#[repr(C)]` record and, from the same field list, its `MEMBERS` as the shader
 /// declares them (each field's [`AbiType`]), so that the two cannot drift apart.
 macro_rules! abi_record {
@@ -132,6 +141,10 @@ macro_rules! abi_record {
             /// The members as the shader declares them, in order.
             pub const MEMBERS: &'static [(&'static str, $crate::abi::Member)] =
                 &[$((stringify!($field), <$ty as $crate::abi::AbiType>::MEMBER)),*];
+        }
+        impl $crate::abi::AbiRecord for $name {
+            const NAME: &'static str = stringify!($name);
+            const MEMBERS: &'static [(&'static str, $crate::abi::Member)] = $name::MEMBERS;
         }
     };
 }
@@ -226,6 +239,11 @@ impl ProbeRay {
     pub fn at(&self, t: f32) -> [f32; 3] {
         [self.origin[0] + t * self.dir[0], self.origin[1] + t * self.dir[1], 1.0 + t * self.dir[2]]
     }
+}
+
+impl AbiRecord for ProbeRay {
+    const NAME: &'static str = "ProbeRay";
+    const MEMBERS: &'static [(&'static str, Member)] = ProbeRay::MEMBERS;
 }
 
 abi_record! {

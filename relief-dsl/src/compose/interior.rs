@@ -26,8 +26,6 @@
 //! selection and the counted trace, and reports per ray the wall and the hit in the wall's
 //! tangent space.
 
-use std::cell::RefCell;
-
 use bytemuck::{Pod, Zeroable};
 use naga::{Module, ShaderStage};
 
@@ -191,9 +189,9 @@ fn frame<'a>(s: &'a FnBuilder<'a>, k: usize, size: Val<'a, Vec3>) -> Frame<'a> {
 }
 
 fn room_param<'a>(s: &'a FnBuilder<'a>, i: u32) -> Val<'a, Vec4> {
-    let g = s.module().bound("room", naga::AddressSpace::Uniform, ROOM_PARAMS, Resource::RoomParams, |m| {
-        m.record_ty("RoomParams", RoomParams::MEMBERS)
-    });
+    let g = s
+        .module()
+        .bound("room", naga::AddressSpace::Uniform, ROOM_PARAMS, Resource::RoomParams, |m| m.record_ty::<RoomParams>());
     s.load(s.member_ptr(s.global_ptr(g), i))
 }
 
@@ -271,34 +269,29 @@ pub(crate) fn store_view_distance<'a>(s: &'a FnBuilder<'a>, d: Val<'a, f32>) {
 }
 
 /// A wall's policy: every texture the stages (and the shading) read is wall `k`'s own,
-/// named `NAME_wallK` and bound at the next free binding from [`WALL_BASE`], taken in `taken`
-/// the first time the wall reads it; samplers, uniforms and private globals stay shared.
-/// Walls are sampled at level 0, with the edge mode of `Params` (clamp).
+/// named `NAME_wallK` and bound, the first time the wall reads it, at the next binding from
+/// [`WALL_BASE`] after the walls' textures the module's binding table already holds;
+/// samplers, uniforms and private globals stay shared. Walls are sampled at level 0, with the
+/// edge mode of `Params` (clamp).
 struct Wall<'t> {
     k: u32,
-    taken: &'t RefCell<Vec<WallTexture>>,
-}
-
-/// A binding a wall's texture took: wall `wall`'s copy of what a plain module binds at
-/// `plain`.
-struct WallTexture {
-    binding: u32,
-    wall: u32,
-    plain: u32,
+    module: &'t ModuleCtx,
 }
 
 impl Policy for Wall<'_> {
-    fn texture(&self, name: &str, plain: u32) -> TextureSite {
-        let mut taken = self.taken.borrow_mut();
-        let binding = match taken.iter().find(|w| w.wall == self.k && w.plain == plain) {
-            Some(w) => w.binding,
-            None => {
-                let next = taken.iter().map(|w| w.binding + 1).max().unwrap_or(WALL_BASE);
-                taken.push(WallTexture { binding: next, wall: self.k, plain });
-                next
-            }
+    fn texture(&self, name: &str, _plain: u32) -> TextureSite {
+        let name = format!("{name}_wall{}", self.k);
+        let table = self.module.bindings();
+        let binding = match table.iter().find(|e| e.name == name) {
+            Some(e) => e.binding,
+            None => table
+                .iter()
+                .filter(|e| matches!(e.resource, Resource::Texture { wall: Some(_), .. }))
+                .map(|e| e.binding + 1)
+                .max()
+                .unwrap_or(WALL_BASE),
         };
-        TextureSite { name: format!("{name}_wall{}", self.k), binding, wall: Some(self.k) }
+        TextureSite { name, binding, wall: Some(self.k) }
     }
 }
 
@@ -444,7 +437,7 @@ fn fragment_entry(
 }
 
 fn probe_entry(m: &ModuleCtx, policy: &dyn Policy, walls: &[StageFns]) -> naga::EntryPoint {
-    let io = ProbeIo::new(m, ("room_rays", "RoomRay", RoomRay::MEMBERS), ("room_hits", "RoomHit", RoomHit::MEMBERS));
+    let io = ProbeIo::new::<RoomRay, RoomHit>(m, "room_rays", "room_hits");
     let s = probe_function(m, "probe_room", policy);
     let ProbeSlot { ray: rec, hit: out, counters } = probe_start(&s, &io);
     let cam = s.load::<Vec4>(s.member_ptr(rec, 0)).xyz();
@@ -492,15 +485,15 @@ fn refuse_render_options(p: &Pipeline) -> Result<(), CompileError> {
 
 fn compose_room(p: &Pipeline, options: &RoomOptions) -> Result<(Module, Bindings), CompileError> {
     refuse_render_options(p)?;
-    let taken = RefCell::new(Vec::new());
-    let walls: Vec<Wall> = (0..WALLS as u32).map(|k| Wall { k, taken: &taken }).collect();
     let m = ModuleCtx::new();
+    let walls: Vec<Wall> = (0..WALLS as u32).map(|k| Wall { k, module: &m }).collect();
     let shared = Plain::default();
     let plain = wall_fns(&m, p, &walls, false)?;
     let counted = wall_fns(&m, p, &walls, true)?;
     let vs = vertex_entry(&m, &shared);
     let fs = fragment_entry(&m, &shared, &walls, &plain, options);
     let cs = probe_entry(&m, &shared, &counted);
+    drop(walls);
     let (mut module, bindings) = super::finish(m)?;
     module.entry_points.extend([vs, fs, cs]);
     Ok((module, bindings))

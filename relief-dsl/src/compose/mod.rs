@@ -417,18 +417,14 @@ fn fragment_entry(
     entry_point("fs_main", ShaderStage::Fragment, f, [0; 3])
 }
 
-/// The probe's array of `item` records at `binding`: its rays ([`Resource::Rays`], read) or
-/// its hits ([`Resource::Hits`], written).
-pub(crate) fn storage_array(
-    m: &ModuleCtx,
-    name: &str,
-    item: Handle<naga::Type>,
-    binding: u32,
-    resource: Resource,
-) -> Handle<naga::GlobalVariable> {
-    let access = match resource {
-        Resource::Hits => naga::StorageAccess::LOAD | naga::StorageAccess::STORE,
-        _ => naga::StorageAccess::LOAD,
+/// The probe's array `name` of `R` records: its rays (read, at [`binding::RAYS`]) or, `hits`,
+/// its hits (written, at [`binding::HITS`]).
+fn storage_array<R: crate::abi::AbiRecord>(m: &ModuleCtx, name: &str, hits: bool) -> Handle<naga::GlobalVariable> {
+    let item = m.record_ty::<R>();
+    let (binding, resource, access) = if hits {
+        (binding::HITS, Resource::Hits, naga::StorageAccess::LOAD | naga::StorageAccess::STORE)
+    } else {
+        (binding::RAYS, Resource::Rays, naga::StorageAccess::LOAD)
     };
     m.bound(name, naga::AddressSpace::Storage { access }, binding, resource, |m| {
         let (stride, _) = match &m.module.borrow().types[item].inner {
@@ -455,18 +451,16 @@ pub(crate) struct ProbeIo {
 }
 
 impl ProbeIo {
-    /// The probe's rays `(name, record)` at [`binding::RAYS`] and its hits at
-    /// [`binding::HITS`], records from the ABI's member lists, and the counters.
-    pub(crate) fn new(
+    /// The probe's array `rays` of `R` records at [`binding::RAYS`], its array `hits` of `H`
+    /// records at [`binding::HITS`], and the counters.
+    pub(crate) fn new<R: crate::abi::AbiRecord, H: crate::abi::AbiRecord>(
         m: &ModuleCtx,
-        rays: (&str, &str, &[(&str, crate::abi::Member)]),
-        hits: (&str, &str, &[(&str, crate::abi::Member)]),
+        rays: &str,
+        hits: &str,
     ) -> ProbeIo {
-        let ray_rec = m.record_ty(rays.1, rays.2);
-        let hit_rec = m.record_ty(hits.1, hits.2);
         ProbeIo {
-            rays: storage_array(m, rays.0, ray_rec, binding::RAYS, Resource::Rays),
-            hits: storage_array(m, hits.0, hit_rec, binding::HITS, Resource::Hits),
+            rays: storage_array::<R>(m, rays, false),
+            hits: storage_array::<H>(m, hits, true),
             counters: probe_counters(m),
         }
     }
@@ -541,7 +535,7 @@ fn probe_entry(
     clip: bool,
     lod: Option<Handle<naga::Function>>,
 ) -> naga::EntryPoint {
-    let io = ProbeIo::new(m, ("rays", "ProbeRay", ProbeRay::MEMBERS), ("hits", "ProbeHit", ProbeHit::MEMBERS));
+    let io = ProbeIo::new::<ProbeRay, ProbeHit>(m, "rays", "hits");
     let s = probe_function(m, "probe", policy);
     let ProbeSlot { ray: rec, hit: out, counters } = probe_start(&s, &io);
     let origin = s.load::<Vec2>(s.member_ptr(rec, 0));

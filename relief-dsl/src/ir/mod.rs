@@ -111,11 +111,11 @@ impl ModuleCtx {
         )
     }
 
-    /// A struct type for one of the ABI's records ([`crate::abi`]).
-    pub(crate) fn record_ty(&self, name: &str, members: &[(&str, crate::abi::Member)]) -> Handle<naga::Type> {
+    /// The struct type of one of the ABI's records ([`crate::abi`]), under its Rust name.
+    pub(crate) fn record_ty<R: crate::abi::AbiRecord>(&self) -> Handle<naga::Type> {
         let members: Vec<(&str, naga::TypeInner)> =
-            members.iter().map(|(n, m)| (*n, types::member_inner(*m))).collect();
-        self.struct_ty(name, &members)
+            R::MEMBERS.iter().map(|(n, m)| (*n, types::member_inner(*m))).collect();
+        self.struct_ty(R::NAME, &members)
     }
 
     /// The global named `name`, declared with `make` the first time it is asked for.
@@ -173,6 +173,11 @@ impl ModuleCtx {
             self.clash.borrow_mut().get_or_insert(clash);
         }
         self.declare(name, space, Some(binding), ty)
+    }
+
+    /// What each binding declared so far holds.
+    pub(crate) fn bindings(&self) -> std::cell::Ref<'_, Bindings> {
+        self.bindings.borrow()
     }
 
     /// The private (per-invocation) global `name` of type `T`, declared on first use.

@@ -321,7 +321,7 @@ impl<'a> FnBuilder<'a> {
     /// The member `p` of the `Params` uniform block ([`crate::abi::Params`]).
     pub(crate) fn param<T: crate::ir::Ty>(&'a self, p: Param) -> Val<'a, T> {
         let g = self.module().bound("params", naga::AddressSpace::Uniform, binding::PARAMS, Resource::Params, |m| {
-            m.record_ty("Params", Params::MEMBERS)
+            m.record_ty::<Params>()
         });
         self.load(self.member_ptr(self.global_ptr(g), p.index()))
     }
