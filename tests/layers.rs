@@ -108,7 +108,7 @@ fn relief_runtime_imports_point_down() {
         &["maps"],
         &["reference"],
         &["gpu"],
-        &["metrics", "simd", "error"],
+        &["metrics", "simd", "cost", "error"],
         &["measure"],
         &["sweep", "stability", "room"],
         &["report"],

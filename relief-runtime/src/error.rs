@@ -7,6 +7,7 @@
 
 use std::path::PathBuf;
 
+use crate::cost::CostError;
 use crate::gpu::GpuError;
 use crate::heightmap::HeightMapError;
 use crate::io::FileError;
@@ -47,6 +48,9 @@ pub enum Error {
     /// No device, or work on it failed.
     #[error(transparent)]
     Gpu(#[from] GpuError),
+    /// The GPU compiler's statistics could not be read (`cost`).
+    #[error(transparent)]
+    Cost(#[from] CostError),
     /// A pipeline did not compile.
     #[error(transparent)]
     Compile(#[from] relief_dsl::CompileError),

@@ -1,7 +1,7 @@
 //! relief-runtime: maps, scenes, the GPU runtime, the exact reference, metrics and sweeps.
 //!
 //! The types a user meets are re-exported here, in the groups below; the work of each area
-//! is reached through its module ([`gpu`], [`maps`], [`metrics`], [`measure`], [`results`],
+//! is reached through its module ([`gpu`], [`cost`], [`maps`], [`metrics`], [`measure`], [`results`],
 //! [`sweep`], [`stability`], [`room`], [`report`], [`io`], [`lock`]). Everything else is
 //! private to the crate. ARCHITECTURE.md ("Layers", "Public API") gives the import order
 //! of the modules; the `relief` command line lives in `src/bin/relief/` and the library
@@ -15,6 +15,7 @@
 #![warn(unreachable_pub)]
 #![warn(unnameable_types)]
 
+pub mod cost;
 pub mod error;
 pub mod gpu;
 mod heightmap;

@@ -4,6 +4,7 @@ use clap::{Parser, Subcommand};
 use relief_runtime::Overrides;
 mod adapters;
 mod compare;
+mod cost;
 mod gen;
 mod maps;
 mod render;
@@ -39,6 +40,12 @@ enum Command {
     /// Two pipelines timed in alternating blocks on one scene: the ratio of their mean frame
     /// times with its 95 % interval, and the SIMD cost model.
     Compare(compare::CompareArgs),
+    /// The GPU's own compiler prices pipelines: registers, instructions and loop bodies of the
+    /// fragment shader and the probe, per AMD GPU family (Mesa's RADV, no GPU needed).
+    Cost(cost::CostArgs),
+    /// (internal) Compile jobs on stdin for this process's RADV family.
+    #[command(name = "__radv-child", hide = true)]
+    RadvChild,
     /// Measure a whole grid (the dissertation's tables and figures, or a grid file), resumable.
     Sweep(sweep::SweepArgs),
     /// Every coarse × refine method on stress scenes and grazing angles: where each fails.
@@ -136,6 +143,8 @@ fn main() {
         Command::Maps(a) => maps::run(a),
         Command::Render(a) => render::run(a),
         Command::Compare(a) => compare::run(a),
+        Command::Cost(a) => cost::run(a),
+        Command::RadvChild => cost::child(),
         Command::Sweep(a) => sweep::run(a),
         Command::Stability(a) => stability::run(a),
         Command::Report(a) => report::run(a),

@@ -1,0 +1,116 @@
+//! `relief cost PIPELINE…`: the GPU's own compiler prices each pipeline (AMD's, through
+//! Mesa's RADV on its null device; no GPU needed): registers, spills, instructions, code
+//! size, waves per SIMD and each loop's body, for the render entry's fragment shader and the
+//! probe, per GPU family.
+
+use std::path::PathBuf;
+
+use anyhow::Context;
+use relief_dsl::Pipeline;
+use relief_runtime::cost::{self, Compiler, PipelineCost, ShaderCost};
+
+/// Arguments of `relief cost`.
+#[derive(clap::Args, Debug)]
+pub struct CostArgs {
+    /// Pipelines in the text form, e.g. `csm(64)` `linear_dynamic(1, 16)+binary(5)`.
+    #[arg(required_unless_present = "all")]
+    pub pipelines: Vec<String>,
+    /// Every method at its default parameters (`relief gen --all`'s list).
+    #[arg(long)]
+    pub all: bool,
+    /// GPU families, comma-separated (Mesa's chip names: navi21 is RDNA2, gfx1100 RDNA3;
+    /// default: navi21,gfx1100).
+    #[arg(long, value_delimiter = ',', value_name = "FAMILY,…")]
+    pub gpu: Vec<String>,
+    /// Write each shader's disassembly into this folder (`STEM.FAMILY.fs.s`,
+    /// `STEM.FAMILY.probe.s`).
+    #[arg(long, value_name = "DIR")]
+    pub isa: Option<PathBuf>,
+    /// Write every figure as JSON to this file as well.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+}
+
+fn loops(s: &ShaderCost) -> String {
+    if s.shape.loops.is_empty() {
+        return "none".into();
+    }
+    s.shape
+        .loops
+        .iter()
+        .map(
+            |l| if l.depth == 0 { l.body.to_string() } else { format!("{}({})", l.body, "^".repeat(l.depth as usize)) },
+        )
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+fn line(what: &str, s: &ShaderCost) -> String {
+    format!(
+        "  {what:<5} wave{:<2} vgprs {:>3}  sgprs {:>3}  spills {}/{}  scratch {:>4}  instr {:>4}  code {:>5} B  waves/SIMD {:>2}  loops {}",
+        s.subgroup_size,
+        s.vgprs,
+        s.sgprs,
+        s.spilled_vgprs,
+        s.spilled_sgprs,
+        s.scratch_bytes,
+        s.instructions,
+        s.code_bytes,
+        s.waves_per_simd,
+        loops(s)
+    )
+}
+
+/// Runs `relief cost`.
+pub fn run(a: &CostArgs) -> anyhow::Result<()> {
+    let pipelines: Vec<Pipeline> = if a.all {
+        Pipeline::all_defaults()
+    } else {
+        a.pipelines
+            .iter()
+            .map(|t| {
+                t.parse::<Pipeline>().map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", relief_dsl::spec::echo(t)))
+            })
+            .collect::<Result<_, _>>()?
+    };
+    let families: Vec<String> = if a.gpu.is_empty() {
+        cost::DEFAULT_FAMILIES.iter().map(|s| s.to_string()).collect()
+    } else {
+        a.gpu.iter().map(|f| cost::family(f)).collect::<Result<_, _>>()?
+    };
+    let exe = std::env::current_exe().context("cannot find relief's own program to run the compiler in")?;
+    let costs: Vec<PipelineCost> = Compiler::new(exe).cost(&pipelines, &families, a.isa.is_some())?;
+    let mut last_family = String::new();
+    for c in &costs {
+        if c.family != last_family {
+            println!("{} ({}, {}); loops: body in instructions, (^) nested", c.family, c.device, c.driver);
+            last_family = c.family.clone();
+        }
+        let (bc, br, bl) = c.stage_bodies();
+        println!("{}  [loop bodies: coarse {bc}, refine {br}, shadow+ao {bl}]", c.pipeline);
+        println!("{}", line("fs", &c.fragment));
+        println!("{}", line("probe", &c.probe));
+    }
+    if let Some(dir) = &a.isa {
+        relief_runtime::io::create_dir_all(dir)?;
+        for (c, p) in costs.iter().zip(pipelines.iter().cycle()) {
+            let stem = p.file_stem();
+            for (what, s) in [("fs", &c.fragment), ("probe", &c.probe)] {
+                let path = dir.join(format!("{stem}.{}.{what}.s", c.family));
+                relief_runtime::io::write_atomic(&path, s.isa.as_deref().unwrap_or("").as_bytes())?;
+            }
+        }
+        println!("wrote the disassembly to {}", dir.display());
+    }
+    if let Some(path) = &a.json {
+        let text = serde_json::to_string_pretty(&costs)?;
+        relief_runtime::io::write_atomic(path, text.as_bytes())?;
+    }
+    Ok(())
+}
+
+/// The hidden child: compiles the jobs on stdin for this process's RADV family.
+pub fn child() -> anyhow::Result<()> {
+    cost::serve_child(std::io::stdin().lock(), std::io::stdout().lock())?;
+    Ok(())
+}
