@@ -93,6 +93,7 @@ pub fn run(out: &Path) -> Result<Vec<Row>, Error> {
         progress: false,
         overrides: Default::default(),
         shard: None,
+        gpu_cost: None,
     };
     sweep::run(&options).map_err(|e| e.to_string())?;
     Ok(results::read(out).map_err(|e| e.to_string())?.rows)

@@ -29,6 +29,7 @@ pub fn run(out: &Path) -> Result<(usize, usize), Error> {
         progress: false,
         overrides: Default::default(),
         shard: None,
+        gpu_cost: None,
     };
     let summary = sweep::run(&options).map_err(|e| e.to_string())?;
     let report = relief::runtime::report::write(out).map_err(|e| e.to_string())?;

@@ -93,6 +93,7 @@ fn sweep_into(grid: NamedGrid, out: &Path, size: u32, frames: u32) -> Result<Vec
         progress: true,
         overrides: Default::default(),
         shard: None,
+        gpu_cost: None,
     })?;
     Ok(results::read(out)?.rows.into_iter().filter(|r| r.status == "ok").collect())
 }

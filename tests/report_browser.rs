@@ -35,6 +35,7 @@ fn the_report_page_answers_above_the_fold_and_its_tables_and_links_work() {
         progress: false,
         overrides: Default::default(),
         shard: None,
+        gpu_cost: None,
     };
     let s = sweep::run(&opts).expect("sweep");
     assert_eq!(s.failed, 0);
@@ -91,6 +92,7 @@ fn the_live_section_draws_and_measures_the_sweep_in_chromium() {
         progress: false,
         overrides: Default::default(),
         shard: None,
+        gpu_cost: None,
     };
     assert_eq!(sweep::run(&opts).expect("sweep").failed, 0);
     relief::runtime::report::write(&dir).expect("report");

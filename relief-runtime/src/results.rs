@@ -200,6 +200,46 @@ pub struct Metrics {
     /// depth| over the covered pixels.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub depth_err_max: Option<f64>,
+    /// The GPU compiler's driver that priced the pipeline (`cost`), e.g. `radv Mesa 22.3.6`;
+    /// absent (with every `gpu_*` column) when the sweep ran without RADV.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gpu_driver: Option<String>,
+    /// A model, not a clock (`crate::cost`): instructions a lane of the render entry's
+    /// fragment shader issues on RDNA2 (navi21), its SIMD group at the compiler's wave size
+    /// running each loop as many passes as its slowest lane, averaged over groups.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gpu_navi21_instr_px: Option<f64>,
+    /// The same model in groups of 32 lanes (8 × 4 pixels) on RDNA2 (navi21).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gpu_navi21_instr_w32: Option<f64>,
+    /// Vector registers of the fragment shader on RDNA2 (navi21).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gpu_navi21_vgprs: Option<u32>,
+    /// Instructions of the fragment shader on RDNA2 (navi21) (the compiler's static count).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gpu_navi21_instructions: Option<u32>,
+    /// The fragment shader's coarse and refine loop bodies on RDNA2 (navi21), summed (0: no loop,
+    /// or the compiler unrolled it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gpu_navi21_loop_body: Option<u32>,
+    /// A model, not a clock (`crate::cost`): instructions a lane of the render entry's
+    /// fragment shader issues on RDNA3 (gfx1100), its SIMD group at the compiler's wave size
+    /// running each loop as many passes as its slowest lane, averaged over groups.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gpu_gfx1100_instr_px: Option<f64>,
+    /// The same model in groups of 32 lanes (8 × 4 pixels) on RDNA3 (gfx1100).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gpu_gfx1100_instr_w32: Option<f64>,
+    /// Vector registers of the fragment shader on RDNA3 (gfx1100).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gpu_gfx1100_vgprs: Option<u32>,
+    /// Instructions of the fragment shader on RDNA3 (gfx1100) (the compiler's static count).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gpu_gfx1100_instructions: Option<u32>,
+    /// The fragment shader's coarse and refine loop bodies on RDNA3 (gfx1100), summed (0: no loop,
+    /// or the compiler unrolled it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gpu_gfx1100_loop_body: Option<u32>,
 }
 
 /// One results row: the metrics and where they came from.
@@ -266,6 +306,22 @@ pub const COLUMNS: &[&str] = &[
     "frames_per_block",
     "timestamp_period_ns",
     "cell_dir",
+];
+
+/// The GPU compiler's columns (`crate::cost`), after [`COLUMNS`] in `results.csv` when any
+/// row has them: a sweep without RADV writes none.
+pub const GPU_COLUMNS: &[&str] = &[
+    "gpu_driver",
+    "gpu_navi21_instr_px",
+    "gpu_navi21_instr_w32",
+    "gpu_navi21_vgprs",
+    "gpu_navi21_instructions",
+    "gpu_navi21_loop_body",
+    "gpu_gfx1100_instr_px",
+    "gpu_gfx1100_instr_w32",
+    "gpu_gfx1100_vgprs",
+    "gpu_gfx1100_instructions",
+    "gpu_gfx1100_loop_body",
 ];
 
 /// The file rows are appended to, in a sweep folder.
@@ -419,10 +475,14 @@ pub(crate) fn write_jsonl(dir: &Path, rows: &[Row]) -> Result<(), ResultsError> 
 pub(crate) fn csv_bytes(rows: &[Row]) -> Result<Vec<u8>, ResultsError> {
     let encode = |e: &dyn std::fmt::Display| ResultsError::Encode(e.to_string());
     let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(COLUMNS).map_err(|e| encode(&e))?;
+    let mut columns = COLUMNS.to_vec();
+    if rows.iter().any(|r| r.metrics.gpu_driver.is_some()) {
+        columns.extend(GPU_COLUMNS);
+    }
+    w.write_record(&columns).map_err(|e| encode(&e))?;
     for r in rows {
         let v = serde_json::to_value(r).map_err(|e| encode(&e))?;
-        let record: Vec<String> = COLUMNS
+        let record: Vec<String> = columns
             .iter()
             .map(|c| match &v[*c] {
                 serde_json::Value::String(s) => s.clone(),

@@ -45,14 +45,16 @@ use serde::{Deserialize, Serialize};
 
 use crate::gpu::Program;
 pub use isa::{IsaLoop, IsaShape};
-pub use model::{modeled, GpuModel};
+pub use model::{modeled, set_columns, GpuModel};
 
 /// The families `relief cost` and the sweep compile for when none is asked: one RDNA2
 /// (`navi21`, a Radeon RX 6800/6900) and one RDNA3 (`gfx1100`, a Radeon RX 7900).
 pub const DEFAULT_FAMILIES: [&str; 2] = ["navi21", "gfx1100"];
 
 /// The family names Mesa 22.3's RADV accepts in `RADV_FORCE_FAMILY` (its chip names,
-/// any case), GCN 1 to RDNA3. Names of later Mesas (`navi31`, `gfx1030`) are refused by it.
+/// any case), GCN 1 to RDNA3, each checked to compile there. Names of later Mesas (`navi31`,
+/// `gfx1030`) are refused by it; `navi24`, `rembrandt` and `gfx1036` are accepted by the
+/// driver but crash its null device (SIGFPE), so they are left out.
 pub const KNOWN_FAMILIES: &[&str] = &[
     "tahiti",
     "pitcairn",
@@ -86,10 +88,7 @@ pub const KNOWN_FAMILIES: &[&str] = &[
     "navi21",
     "navi22",
     "navi23",
-    "navi24",
     "vangogh",
-    "rembrandt",
-    "gfx1036",
     "gfx1100",
     "gfx1101",
     "gfx1102",
@@ -284,23 +283,7 @@ fn jobs_of(text: &str, program: &Program) -> Result<(radv::Job, radv::Job), Cost
         let po = naga::back::spv::PipelineOptions { shader_stage: stage, entry_point: name.to_string() };
         naga::back::spv::write_vec(&m, &i, &options, Some(&po)).map_err(|e| err(e.to_string()))
     };
-    let bindings: Vec<(u32, radv::Descriptor)> = module
-        .global_variables
-        .iter()
-        .filter_map(|(_, g)| {
-            let b = g.binding.as_ref()?;
-            let kind = match (g.space, &module.types[g.ty].inner) {
-                (naga::AddressSpace::Uniform, _) => radv::Descriptor::Uniform,
-                (naga::AddressSpace::Storage { .. }, _) => radv::Descriptor::Storage,
-                (_, naga::TypeInner::Sampler { .. }) => radv::Descriptor::Sampler,
-                (_, naga::TypeInner::Image { class: naga::ImageClass::Storage { .. }, .. }) => {
-                    radv::Descriptor::StorageImage
-                }
-                _ => radv::Descriptor::SampledImage,
-            };
-            Some((b.binding, kind))
-        })
-        .collect();
+    let bindings = descriptors(&module);
     let render = radv::Job {
         name: format!("{text} (render)"),
         shaders: radv::Shaders::Graphics {
@@ -391,74 +374,204 @@ impl Compiler {
     }
 
     /// Prices `pipelines` on each of `families`: one child per family, all pipelines (and
-    /// their stage prefixes) in it. `keep_isa` keeps each shader's disassembly.
+    /// their stage prefixes) in it; `keep_isa` keeps each shader's disassembly. Any pipeline
+    /// that fails is an error ([`Compiler::cost_each`] keeps the others).
     pub fn cost(
         &self,
         pipelines: &[Pipeline],
         families: &[String],
         keep_isa: bool,
     ) -> Result<Vec<PipelineCost>, CostError> {
+        let each = self.cost_each(pipelines, families, keep_isa)?;
+        // Family by family, as the children answered.
+        let mut out = vec![];
+        for f in 0..families.len() {
+            for costs in &each {
+                out.push(costs.as_ref().map_err(|e| e.clone_error())?[f].clone());
+            }
+        }
+        Ok(out)
+    }
+
+    /// Prices each of `pipelines` on every family: per pipeline, its costs in the order of
+    /// `families`, or why it could not be priced. A missing driver, an unknown family or a
+    /// child that fails as a whole is the outer error.
+    pub fn cost_each(
+        &self,
+        pipelines: &[Pipeline],
+        families: &[String],
+        keep_isa: bool,
+    ) -> Result<Vec<Result<Vec<PipelineCost>, CostError>>, CostError> {
         if !Compiler::radv_present() {
             return Err(CostError::NoRadv);
         }
         for f in families {
             family(f)?;
         }
-        // Per pipeline: render, probe, then the render pair of its prefixes 0, 1, 2.
-        let mut jobs = vec![];
+        // Jobs, each once (pipelines share their stage prefixes): per pipeline, the indices of
+        // its render, probe and prefix 0, 1, 2 render jobs.
+        let mut jobs: Vec<radv::Job> = vec![];
+        let mut index: std::collections::HashMap<String, usize> = Default::default();
+        let mut plan: Vec<Result<[usize; 5], CostError>> = vec![];
         for p in pipelines {
-            let text = p.to_string();
-            let program = |q: &Pipeline| {
-                Program::new(q).map_err(|e| CostError::Spirv { pipeline: q.to_string(), message: e.to_string() })
+            let mut add = |q: &Pipeline, probe: bool| -> Result<(usize, Option<usize>), CostError> {
+                let text = q.to_string();
+                if let Some(&i) = index.get(&text) {
+                    if !probe || index.contains_key(&format!("{text} (probe)")) {
+                        return Ok((i, index.get(&format!("{text} (probe)")).copied()));
+                    }
+                }
+                let program = Program::new(q).map_err(|e| CostError::Spirv {
+                    pipeline: text.clone(),
+                    message: relief_dsl::spec::one_line(&e.to_string()),
+                })?;
+                let (render, probe_job) = jobs_of(&text, &program)?;
+                let r = *index.entry(text.clone()).or_insert_with(|| {
+                    jobs.push(render);
+                    jobs.len() - 1
+                });
+                let pr = probe.then(|| {
+                    jobs.push(probe_job);
+                    index.insert(format!("{text} (probe)"), jobs.len() - 1);
+                    jobs.len() - 1
+                });
+                Ok((r, pr))
             };
-            let (render, probe) = jobs_of(&text, &program(p)?)?;
-            jobs.push(render);
-            jobs.push(probe);
-            for keep in 0..3 {
-                let q = prefix(p, keep);
-                jobs.push(jobs_of(&q.to_string(), &program(&q)?)?.0);
-            }
+            let entry = (|| {
+                let (render, probe) = add(p, true)?;
+                let p0 = add(&prefix(p, 0), false)?.0;
+                let p1 = add(&prefix(p, 1), false)?.0;
+                let p2 = add(&prefix(p, 2), false)?.0;
+                Ok([render, probe.expect("probe job"), p0, p1, p2])
+            })();
+            plan.push(entry);
         }
         let answers: Vec<Result<radv::Answer, CostError>> = std::thread::scope(|s| {
             let handles: Vec<_> = families.iter().map(|f| s.spawn(|| self.run(f, &jobs))).collect();
             handles.into_iter().map(|h| h.join().expect("compiling thread")).collect()
         });
+        let answers: Vec<radv::Answer> = answers.into_iter().collect::<Result<_, _>>()?;
         let mut out = vec![];
-        for (family, answer) in families.iter().zip(answers) {
-            let answer = answer?;
-            let fail = |m: &str| CostError::Driver { family: family.clone(), message: relief_dsl::spec::one_line(m) };
-            for (k, p) in pipelines.iter().enumerate() {
-                let r = &answer.results[k * 5..k * 5 + 5];
-                let get = |i: usize| r[i].as_ref().map_err(|e| fail(e));
-                let exe = |xs: &[radv::Executable], what: &str| -> Result<radv::Executable, CostError> {
-                    xs.iter().find(|e| e.name.contains(what)).cloned().ok_or_else(|| fail(&format!("no {what} shader")))
-                };
-                let fragment = ShaderCost::from_executable(&exe(get(0)?, "Fragment")?, keep_isa);
-                let probe = ShaderCost::from_executable(&exe(get(1)?, "Compute")?, keep_isa);
-                let tops = |i: usize| -> Result<u32, CostError> {
-                    Ok(isa::shape(&exe(get(i)?, "Fragment")?.isa).top_level().count() as u32)
-                };
-                let (l0, l1, l2) = (tops(2)?, tops(3)?, tops(4)?);
-                let all = fragment.shape.top_level().count() as u32;
-                let stage_loops = StageLoops {
-                    base: l0,
-                    coarse: l1.saturating_sub(l0),
-                    refine: l2.saturating_sub(l1),
-                    lighting: all.saturating_sub(l2),
-                };
-                out.push(PipelineCost {
-                    pipeline: p.to_string(),
-                    family: family.clone(),
-                    device: answer.device.clone(),
-                    driver: answer.driver.clone(),
-                    fragment,
-                    probe,
-                    stage_loops,
-                });
-            }
+        for (p, plan) in pipelines.iter().zip(plan) {
+            let one = |plan: [usize; 5]| -> Result<Vec<PipelineCost>, CostError> {
+                let mut costs = vec![];
+                for (family, answer) in families.iter().zip(&answers) {
+                    costs.push(price(p, family, answer, plan, keep_isa)?);
+                }
+                Ok(costs)
+            };
+            out.push(plan.and_then(one));
         }
         Ok(out)
     }
+}
+
+impl CostError {
+    /// A copy (the variants hold text only).
+    fn clone_error(&self) -> CostError {
+        match self {
+            CostError::UnknownFamily(f) => CostError::UnknownFamily(f.clone()),
+            CostError::NoRadv => CostError::NoRadv,
+            CostError::Spirv { pipeline, message } => {
+                CostError::Spirv { pipeline: pipeline.clone(), message: message.clone() }
+            }
+            CostError::Driver { family, message } => {
+                CostError::Driver { family: family.clone(), message: message.clone() }
+            }
+        }
+    }
+}
+
+/// One pipeline's cost on one family from the child's answer: `plan` holds the indices of
+/// its render, probe and prefix 0, 1, 2 render jobs.
+fn price(
+    p: &Pipeline,
+    family: &str,
+    answer: &radv::Answer,
+    plan: [usize; 5],
+    keep_isa: bool,
+) -> Result<PipelineCost, CostError> {
+    let fail = |m: &str| CostError::Driver { family: family.to_string(), message: relief_dsl::spec::one_line(m) };
+    let get = |i: usize| answer.results[plan[i]].as_ref().map_err(|e| fail(e));
+    let exe = |xs: &[radv::Executable], what: &str| -> Result<radv::Executable, CostError> {
+        xs.iter().find(|e| e.name.contains(what)).cloned().ok_or_else(|| fail(&format!("no {what} shader")))
+    };
+    let fragment = ShaderCost::from_executable(&exe(get(0)?, "Fragment")?, keep_isa);
+    let probe = ShaderCost::from_executable(&exe(get(1)?, "Compute")?, keep_isa);
+    let tops = |i: usize| -> Result<u32, CostError> {
+        Ok(isa::shape(&exe(get(i)?, "Fragment")?.isa).top_level().count() as u32)
+    };
+    let (l0, l1, l2) = (tops(2)?, tops(3)?, tops(4)?);
+    let all = fragment.shape.top_level().count() as u32;
+    let stage_loops = StageLoops {
+        base: l0,
+        coarse: l1.saturating_sub(l0),
+        refine: l2.saturating_sub(l1),
+        lighting: all.saturating_sub(l2),
+    };
+    Ok(PipelineCost {
+        pipeline: p.to_string(),
+        family: family.to_string(),
+        device: answer.device.clone(),
+        driver: answer.driver.clone(),
+        fragment,
+        probe,
+        stage_loops,
+    })
+}
+
+impl Compiler {
+    /// Prices a compute shader given as WGSL, whose entry point is named `probe`, on
+    /// `family`: the same SPIR-V options and driver path as a pipeline's probe. For checking
+    /// what the counts mean on shaders whose work is known.
+    pub fn cost_compute_wgsl(&self, wgsl: &str, family_name: &str, keep_isa: bool) -> Result<ShaderCost, CostError> {
+        if !Compiler::radv_present() {
+            return Err(CostError::NoRadv);
+        }
+        let family = family(family_name)?;
+        let err =
+            |m: String| CostError::Spirv { pipeline: "compute shader".into(), message: relief_dsl::spec::one_line(&m) };
+        let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| err(e.emit_to_string(wgsl)))?;
+        let info =
+            naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default())
+                .validate(&module)
+                .map_err(|e| err(e.to_string()))?;
+        let po =
+            naga::back::spv::PipelineOptions { shader_stage: naga::ShaderStage::Compute, entry_point: "probe".into() };
+        let comp = naga::back::spv::write_vec(&module, &info, &wgpu_spirv_options(), Some(&po))
+            .map_err(|e| err(e.to_string()))?;
+        let job = radv::Job {
+            name: "compute shader".into(),
+            shaders: radv::Shaders::Compute { comp },
+            bindings: descriptors(&module),
+        };
+        let answer = self.run(&family, &[job])?;
+        let fail = |m: &str| CostError::Driver { family: family.clone(), message: relief_dsl::spec::one_line(m) };
+        let exes = answer.results[0].as_ref().map_err(|e| fail(e))?;
+        let exe = exes.iter().find(|e| e.name.contains("Compute")).ok_or_else(|| fail("no compute shader"))?;
+        Ok(ShaderCost::from_executable(exe, keep_isa))
+    }
+}
+
+/// Set 0's descriptors, from the module's bound globals.
+fn descriptors(module: &naga::Module) -> Vec<(u32, radv::Descriptor)> {
+    module
+        .global_variables
+        .iter()
+        .filter_map(|(_, g)| {
+            let b = g.binding.as_ref()?;
+            let kind = match (g.space, &module.types[g.ty].inner) {
+                (naga::AddressSpace::Uniform, _) => radv::Descriptor::Uniform,
+                (naga::AddressSpace::Storage { .. }, _) => radv::Descriptor::Storage,
+                (_, naga::TypeInner::Sampler { .. }) => radv::Descriptor::Sampler,
+                (_, naga::TypeInner::Image { class: naga::ImageClass::Storage { .. }, .. }) => {
+                    radv::Descriptor::StorageImage
+                }
+                _ => radv::Descriptor::SampledImage,
+            };
+            Some((b.binding, kind))
+        })
+        .collect()
 }
 
 /// The child's side: reads the jobs (JSON) from `input`, compiles them on the RADV device

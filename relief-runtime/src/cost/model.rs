@@ -56,6 +56,41 @@ pub fn modeled(cost: &PipelineCost, rays: &[ProbeRay], hits: &[ProbeHit]) -> Gpu
     GpuModel { instr_w32, instr_w64, instr_px: if f.subgroup_size == 32 { instr_w32 } else { instr_w64 } }
 }
 
+/// Writes the results row's GPU columns (`gpu_driver`, `gpu_FAMILY_*`) from `costs`, the
+/// pipeline's costs per family, for the frame whose probe rays and hits are `rays` and
+/// `hits`. Families without columns of their own ([`crate::results::GPU_COLUMNS`]) are
+/// left out.
+pub fn set_columns(m: &mut crate::results::Metrics, costs: &[PipelineCost], rays: &[ProbeRay], hits: &[ProbeHit]) {
+    for c in costs {
+        let g = modeled(c, rays, hits);
+        let (bc, br, _) = c.stage_bodies();
+        let f = &c.fragment;
+        let slots = match c.family.as_str() {
+            "navi21" => (
+                &mut m.gpu_navi21_instr_px,
+                &mut m.gpu_navi21_instr_w32,
+                &mut m.gpu_navi21_vgprs,
+                &mut m.gpu_navi21_instructions,
+                &mut m.gpu_navi21_loop_body,
+            ),
+            "gfx1100" => (
+                &mut m.gpu_gfx1100_instr_px,
+                &mut m.gpu_gfx1100_instr_w32,
+                &mut m.gpu_gfx1100_vgprs,
+                &mut m.gpu_gfx1100_instructions,
+                &mut m.gpu_gfx1100_loop_body,
+            ),
+            _ => continue,
+        };
+        *slots.0 = Some(g.instr_px);
+        *slots.1 = Some(g.instr_w32);
+        *slots.2 = Some(f.vgprs);
+        *slots.3 = Some(f.instructions);
+        *slots.4 = Some(bc + br);
+        m.gpu_driver = Some(c.driver.clone());
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -30,6 +30,7 @@ mod charts;
 mod conclusions;
 mod data;
 mod diss;
+mod gpu_cost;
 mod html;
 mod labels;
 mod pareto;
@@ -190,12 +191,16 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> Result<ReportSummary> {
     let answer_charts: Vec<_> = answers.iter().map(|a| answer::write_chart(a, &sub, &mut summary.warnings)).collect();
     let scene_maps: Vec<_> =
         answers.iter().map(|a| answer::write_height_map(&a.scene, &sub, &mut summary.warnings)).collect();
+    let gpu = gpu_cost::build(&data, &answers, &conclusions, &sub, &mut summary.warnings);
 
     // tables.md
     let mut md = String::new();
     let _ = writeln!(md, "# relief report: Burger 2018, chapter 4, reproduced\n");
     md.push_str(&overview_md(&data, &summary));
     md.push_str(&answer::to_markdown(&answers));
+    if let Some(g) = &gpu {
+        md.push_str(&g.markdown);
+    }
     md.push_str(&tables::intro_md());
     for t in &tables {
         md.push_str(&t.table.to_markdown(2));
@@ -267,6 +272,11 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> Result<ReportSummary> {
                 nav: "Per adapter".into(),
                 html: per_adapter_cells.iter().chain(&per_adapter).map(|t| t.to_html(2)).collect(),
             }))
+            .chain(gpu.iter().map(|g| html::Section {
+                id: "gpu-model".into(),
+                nav: "GPU model".into(),
+                html: g.html.clone(),
+            }))
             .chain(room_rows.iter().map(|rr| html::Section {
                 id: "rooms".into(),
                 nav: "Rooms".into(),
@@ -278,6 +288,7 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> Result<ReportSummary> {
     // index first, then tables.md, then the rest.
     summary.files.rotate_right(1);
     summary.files.extend(charts.iter().map(|c| sub.join(&c.file)));
+    summary.files.extend(gpu.iter().flat_map(|g| g.files.iter().map(|f| dir.join(f))));
     summary.files.extend(strips.iter().map(|s| dir.join(&s.file)));
     summary.files.extend(pareto_svgs.iter().map(|p| dir.join(&p.1)));
     summary.files.extend(answer_charts.iter().flatten().map(|c| dir.join(&c.file)));
@@ -322,7 +333,10 @@ fn remove_stale(sub: &Path) {
     for e in rd.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
         let ours = ((name.starts_with("strip_") || name.starts_with("scene_")) && name.ends_with(".png"))
-            || ((name.starts_with('f') || name.starts_with("pareto_") || name.starts_with("answer_"))
+            || ((name.starts_with('f')
+                || name.starts_with("pareto_")
+                || name.starts_with("answer_")
+                || name.starts_with("gpu_"))
                 && name.ends_with(".svg"));
         if ours {
             let _ = std::fs::remove_file(e.path());

@@ -51,6 +51,10 @@ pub struct Options {
     pub overrides: Overrides,
     /// Measure only shard K of N (`Some((K, N))`, K in 1..=N): see `shard_of`.
     pub shard: Option<(u32, u32)>,
+    /// The GPU compiler's modeled cost (`crate::cost`) in every row, for the default
+    /// families, when set and RADV is installed; without RADV the rows have no GPU columns
+    /// and [`Summary::gpu_note`] says why.
+    pub gpu_cost: Option<crate::cost::Compiler>,
 }
 
 /// The pairs of blocks a cell is timed in for `frames` timed blocks: `frames / 2`, at least 2
@@ -101,6 +105,9 @@ pub struct Summary {
     pub failed: usize,
     /// The cells this run was given: the grid's, or its shard's with `shard`.
     pub cells: usize,
+    /// Why the rows have no GPU compiler columns though [`Options::gpu_cost`] asked for
+    /// them (RADV missing, the compiling child failed), once for the run.
+    pub gpu_note: Option<String>,
 }
 
 /// The key that says a cell is done: its row's [`results::cell_key`].
@@ -157,6 +164,7 @@ pub fn run(opts: &Options) -> Result<Summary> {
         return Ok(summary);
     }
     bar.set_len(todo.len() as u64);
+    let gpu_costs = gpu_costs(opts, &todo, &measured_as, &mut bar, &mut summary);
     let mut prepared: HashMap<String, Result<Prepared, String>> = HashMap::new();
     for (pipeline, scene_arg) in todo {
         let pipeline = measured_as(&pipeline, &scene_arg);
@@ -179,8 +187,11 @@ pub fn run(opts: &Options) -> Result<Summary> {
             Err(e) => Err(format!("scene {scene_arg}: {e}")),
             Ok(prep) => {
                 let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    let m = measure_paired(&gpu, prep, &pipeline, opts.warmup, pairs(opts.frames))?;
+                    let mut m = measure_paired(&gpu, prep, &pipeline, opts.warmup, pairs(opts.frames))?;
                     write_images(&opts.out.join(&cell_dir), prep, &m)?;
+                    if let Some(Ok(costs)) = gpu_costs.get(&text) {
+                        crate::cost::set_columns(&mut m.metrics, costs, &prep.rays, &m.hits);
+                    }
                     Ok::<_, Error>(m.metrics)
                 }));
                 match outcome {
@@ -223,6 +234,42 @@ pub fn run(opts: &Options) -> Result<Summary> {
     }
     bar.finish();
     Ok(summary)
+}
+
+/// The GPU compiler's costs of every pipeline to measure, by text form (`Options::gpu_cost`):
+/// one compiling child per default family for the whole run. A pipeline that fails to
+/// compile there keeps its error (its row then has no GPU columns); a missing driver or a
+/// failed child is said once in `summary.gpu_note`.
+fn gpu_costs(
+    opts: &Options,
+    todo: &[(relief_dsl::Pipeline, String)],
+    measured_as: &dyn Fn(&relief_dsl::Pipeline, &str) -> relief_dsl::Pipeline,
+    bar: &mut Progress,
+    summary: &mut Summary,
+) -> HashMap<String, std::result::Result<Vec<crate::cost::PipelineCost>, String>> {
+    let mut out = HashMap::new();
+    let Some(compiler) = &opts.gpu_cost else {
+        return out;
+    };
+    let mut distinct: Vec<relief_dsl::Pipeline> = vec![];
+    let mut seen = HashSet::new();
+    for (p, s) in todo {
+        let q = measured_as(p, s);
+        if seen.insert(q.to_string()) {
+            distinct.push(q);
+        }
+    }
+    bar.preparing(format!("pricing {} pipelines with the GPU compiler (RADV)", distinct.len()));
+    let families: Vec<String> = crate::cost::DEFAULT_FAMILIES.iter().map(|f| f.to_string()).collect();
+    match compiler.cost_each(&distinct, &families, false) {
+        Ok(each) => {
+            for (p, c) in distinct.iter().zip(each) {
+                out.insert(p.to_string(), c.map_err(|e| e.to_string()));
+            }
+        }
+        Err(e) => summary.gpu_note = Some(format!("no GPU compiler columns: {e}")),
+    }
+    out
 }
 
 /// Refuses a grid holding a pipeline that cannot be built (`csm(4, form=safe, sample=min4)`:

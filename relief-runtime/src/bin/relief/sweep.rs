@@ -40,6 +40,10 @@ pub struct SweepArgs {
     /// wait for it instead of refusing.
     #[arg(long)]
     pub wait: bool,
+    /// Leave out the GPU compiler's columns (`relief cost`'s modeled instructions per pixel
+    /// on RDNA2 and RDNA3), which the sweep writes when Mesa's RADV is installed.
+    #[arg(long)]
+    pub no_gpu_cost: bool,
 }
 
 /// Runs `relief sweep`.
@@ -80,7 +84,15 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
         progress: std::io::IsTerminal::is_terminal(&std::io::stderr()),
         overrides,
         shard: a.shard,
+        gpu_cost: if a.no_gpu_cost {
+            None
+        } else {
+            std::env::current_exe().ok().map(relief_runtime::cost::Compiler::new)
+        },
     })?;
+    if let Some(note) = &s.gpu_note {
+        eprintln!("relief: {note}");
+    }
     let shard = a.shard.map(|(k, n)| format!("shard {k}/{n}: ")).unwrap_or_default();
     println!(
         "{shard}{} cells: {} measured, {} failed, {} already done, in {:.1} s → {}",

@@ -103,6 +103,10 @@ pub struct Conclusion {
     pub model: Option<Verdict>,
     /// The numbers behind `model`, or why it was not measured.
     pub evidence_model: String,
+    /// The criterion with the GPU compiler's modeled instructions per pixel in place of
+    /// frame time (`gpu_FAMILY_instr_px`, [`crate::cost`]), per family with columns: (family,
+    /// verdict, evidence). Empty when it reads no frame time or no row has the columns.
+    pub gpu_model: Vec<(String, Verdict, String)>,
 }
 
 /// `p` with its cone method (if any) in the form a reading checks, and whether it has one:
@@ -171,6 +175,8 @@ enum Clock {
     Mean,
     /// The SIMD cost model's `simd32_fetches`, a point.
     Model,
+    /// The GPU compiler's modeled instructions per pixel on a family, a point.
+    Gpu(&'static str),
 }
 
 /// This run's rows (the results file's ok rows of one scene), read as a [`Src`] by the
@@ -197,8 +203,8 @@ struct MeasuredRows<'a> {
 }
 
 impl<'a> MeasuredRows<'a> {
-    fn new(data: &'a Data, scene: &str, metric: Metric, textbook: bool, lod: Lod, model: bool) -> Self {
-        let clock = if model { Clock::Model } else { time_clock(data, scene) };
+    fn new(data: &'a Data, scene: &str, metric: Metric, textbook: bool, lod: Lod, model: Option<Clock>) -> Self {
+        let clock = model.unwrap_or_else(|| time_clock(data, scene));
         MeasuredRows {
             data,
             clock,
@@ -226,6 +232,13 @@ impl<'a> MeasuredRows<'a> {
                     return None;
                 }
                 Ratio::point(m.simd32_fetches)
+            }
+            Clock::Gpu(family) => {
+                if r.metrics.pipeline.parse::<Pipeline>().is_ok_and(|p| !p.shadow.is_none() || !p.ao.is_none()) {
+                    self.untraced.set(true);
+                    return None;
+                }
+                Ratio::point(crate::report::gpu_cost::instr_px(m, family))
             }
         };
         v.ratio.is_finite().then_some(v)
@@ -490,7 +503,7 @@ fn run_measured(
     metric: Metric,
     textbook: bool,
     lod: Lod,
-    model: bool,
+    model: Option<Clock>,
 ) -> MeasuredCheck {
     let src = MeasuredRows::new(data, scene, metric, textbook, lod, model);
     let out = (c.run)(&src);
@@ -510,6 +523,7 @@ fn run_measured(
             Clock::Ratio => "; frame times as paired ratios to the baseline, 95 % intervals",
             Clock::Mean => "; mean frame times as points (the rows have no paired ratios to one baseline)",
             Clock::Model => "; model: simd32_fetches",
+            Clock::Gpu(_) => "; model: the GPU compiler's instructions per pixel",
         });
     }
     MeasuredCheck { verdict: v, evidence: e, read_cone, read_time }
@@ -532,21 +546,33 @@ pub(crate) fn check_at(data: &Data, diss: &Diss, scene: &str, lod: Lod) -> Vec<C
         let (dv, de) = verdict(&(c.run)(&printed));
         for textbook in [false, true] {
             let MeasuredCheck { verdict: ours_mse, evidence: evidence_mse, read_cone: cone, read_time: reads_time } =
-                run_measured(c, data, &scene, Metric::Mse, textbook, lod, false);
+                run_measured(c, data, &scene, Metric::Mse, textbook, lod, None);
             if textbook && !cone {
                 break;
             }
             let (ours_ref, evidence_ref) = if c.uses_error {
-                let m = run_measured(c, data, &scene, Metric::RefT, textbook, lod, false);
+                let m = run_measured(c, data, &scene, Metric::RefT, textbook, lod, None);
                 (Some(m.verdict), m.evidence)
             } else {
                 (None, String::new())
             };
             let (model, evidence_model) = if reads_time {
-                let m = run_measured(c, data, &scene, Metric::Mse, textbook, lod, true);
+                let m = run_measured(c, data, &scene, Metric::Mse, textbook, lod, Some(Clock::Model));
                 (Some(m.verdict), m.evidence)
             } else {
                 (None, String::new())
+            };
+            let priced = data.rows.iter().any(|r| r.metrics.gpu_driver.is_some());
+            let gpu_model = if reads_time && priced {
+                crate::report::gpu_cost::FAMILIES
+                    .iter()
+                    .map(|(f, _)| {
+                        let m = run_measured(c, data, &scene, Metric::Mse, textbook, lod, Some(Clock::Gpu(f)));
+                        (f.to_string(), m.verdict, m.evidence)
+                    })
+                    .collect()
+            } else {
+                vec![]
             };
             let form = match (cone, textbook) {
                 (false, _) => "",
@@ -569,6 +595,7 @@ pub(crate) fn check_at(data: &Data, diss: &Diss, scene: &str, lod: Lod) -> Vec<C
                 reads_time,
                 model,
                 evidence_model,
+                gpu_model,
             });
         }
     }
