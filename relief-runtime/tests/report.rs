@@ -38,7 +38,7 @@ fn row(pipeline: &str, ms: f64, mse: f64, ref_t: f64, skipped: f64) -> Row {
             avg_fetches: 3.0,
             ..Default::default()
         },
-        status: "ok".into(),
+        status: relief_runtime::results::Status::Ok,
         error: String::new(),
         relief_version: "test".into(),
         cell_dir: format!("cells/lion/{}", relief_dsl::spec::file_safe(pipeline)),
@@ -50,7 +50,7 @@ fn write_rows(dir: &Path, rows: &[Row], images: bool) {
     for r in rows {
         text.push_str(&serde_json::to_string(r).unwrap());
         text.push('\n');
-        if images && r.status == "ok" {
+        if images && r.status.is_ok() {
             let cell = dir.join(&r.cell_dir);
             std::fs::create_dir_all(&cell).unwrap();
             let img = image::RgbaImage::from_fn(16, 16, |x, y| image::Rgba([(x * 16) as u8, (y * 16) as u8, 128, 255]));
@@ -91,7 +91,7 @@ fn report_writes_tables_charts_strips_and_checks_conclusions() {
     rows.push(row("cns(5)", 0.6, 0.0, 0.0, 0.0));
     // A failed cell.
     let mut failed = row("linear(50)", 0.0, 0.0, 0.0, 0.0);
-    failed.status = "error".into();
+    failed.status = relief_runtime::results::Status::Error;
     failed.error = "device lost".into();
     rows.push(failed);
     write_rows(&dir, &rows, true);

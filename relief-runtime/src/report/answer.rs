@@ -239,7 +239,7 @@ pub(crate) fn build(data: &Data) -> Vec<Answer> {
                 .rows
                 .iter()
                 .filter(|r| {
-                    r.status == "ok" && r.metrics.scene == scene && r.metrics.size == size && data.is_indexed(r)
+                    r.status.is_ok() && r.metrics.scene == scene && r.metrics.size == size && data.is_indexed(r)
                 })
                 .filter_map(|r| r.metrics.pipeline.parse::<Pipeline>().ok().filter(competes).map(|p| (r, p)))
                 .collect();

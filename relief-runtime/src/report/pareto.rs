@@ -33,7 +33,7 @@ pub(crate) fn build(data: &Data) -> Vec<Front> {
                 let mut all: Vec<(String, f64, f64)> = Vec::new();
                 let mut not_finite = Vec::new();
                 for r in &data.rows {
-                    if r.status != "ok" || r.metrics.scene != scene || r.metrics.size != size {
+                    if !r.status.is_ok() || r.metrics.scene != scene || r.metrics.size != size {
                         continue;
                     }
                     // Only the row the index picked for this pipeline.

@@ -377,7 +377,7 @@ type Outcome = Result<(Dec, String), String>;
 /// baselines, or rows timed alone, do not compare).
 fn time_clock(data: &Data, scene: &str) -> Clock {
     let rows: Vec<&crate::results::Row> =
-        data.rows.iter().filter(|r| r.metrics.scene == scene && r.status == "ok").collect();
+        data.rows.iter().filter(|r| r.metrics.scene == scene && r.status.is_ok()).collect();
     let base = rows.first().map(|r| r.metrics.baseline.clone()).unwrap_or_default();
     let paired = !rows.is_empty()
         && !base.is_empty()
@@ -915,7 +915,7 @@ pub(crate) fn view_markdown(data: &Data, diss: &Diss) -> Option<String> {
 /// verdicts (Tables 4.1's and the 1/N² reading) belong to the view, not the method.
 /// `None` when it is flat or fewer than three step counts are measured.
 pub(crate) fn regime_line(data: &Data, scene: &str, lod: Option<Lod>) -> Option<String> {
-    let rows = data.rows.iter().filter(|r| r.status == "ok" && r.metrics.scene == scene).filter_map(|r| {
+    let rows = data.rows.iter().filter(|r| r.status.is_ok() && r.metrics.scene == scene).filter_map(|r| {
         let p: Pipeline = r.metrics.pipeline.parse().ok()?;
         let n = super::tables::linear_steps(&p).filter(|_| lod.is_none_or(|l| p.lod == l))?;
         Some((n, r.metrics.mse_dissertation_mean))
