@@ -440,15 +440,11 @@ pub(crate) fn table(a: &Answer) -> TextTable {
 }
 
 /// The indices of the rows among `cands` (fastest first) that no faster row beats in error:
-/// a Pareto front over frame time and t error.
+/// a Pareto front over speed and t error, the report's one front ([`super::pareto::front`]).
 fn front(cands: &[Cand], keep: impl Fn(&Cand) -> bool) -> Vec<usize> {
-    let mut out: Vec<usize> = Vec::new();
-    for (i, c) in cands.iter().enumerate().filter(|(_, c)| keep(c)) {
-        if out.last().is_none_or(|&j| c.err < cands[j].err) {
-            out.push(i);
-        }
-    }
-    out
+    let kept: Vec<usize> = (0..cands.len()).filter(|&i| keep(&cands[i])).collect();
+    let points: Vec<(f64, f64)> = kept.iter().map(|&i| (cands[i].speed.rank(), cands[i].err)).collect();
+    super::pareto::front(&points).into_iter().map(|k| kept[k]).collect()
 }
 
 /// An answer's chart: the file and the key of its numbered points.

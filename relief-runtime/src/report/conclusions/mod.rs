@@ -606,17 +606,11 @@ fn figure_points(s: &dyn Src, figures: &[&str]) -> Vec<(Pipeline, f64, f64)> {
     out
 }
 
-/// The points no other point beats in both mean frame time and error (strictly faster and
-/// strictly more accurate), fastest first; of points at equal time, the more accurate.
-fn pareto_front(mut pts: Vec<(Pipeline, f64, f64)>) -> Vec<(Pipeline, f64, f64)> {
-    pts.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.2.total_cmp(&b.2)));
-    let mut front: Vec<(Pipeline, f64, f64)> = Vec::new();
-    for p in pts {
-        if front.last().is_none_or(|l| p.2 < l.2) {
-            front.push(p);
-        }
-    }
-    front
+/// The points no other point beats in both mean frame time and error, fastest first: the
+/// report's one front ([`super::pareto::front`]) over (mean frame time, error).
+fn pareto_front(pts: Vec<(Pipeline, f64, f64)>) -> Vec<(Pipeline, f64, f64)> {
+    let points: Vec<(f64, f64)> = pts.iter().map(|p| (p.1, p.2)).collect();
+    super::pareto::front(&points).into_iter().map(|i| pts[i].clone()).collect()
 }
 
 /// A coarse stage's choice parameter that changes what it reads (`, sample=min4`), for
