@@ -95,7 +95,7 @@ fn sweep_into(grid: NamedGrid, out: &Path, size: u32, frames: u32) -> Result<Vec
         shard: None,
         gpu_cost: None,
     })?;
-    Ok(results::read(out)?.rows.into_iter().filter(|r| r.status == "ok").collect())
+    Ok(results::read(out)?.rows.into_iter().filter(|r| r.status.is_ok()).collect())
 }
 
 fn ratio(r: &Row) -> Ratio {

@@ -242,6 +242,38 @@ pub struct Metrics {
     pub gpu_gfx1100_loop_body: Option<u32>,
 }
 
+/// Whether a cell was measured or failed; the files hold `ok` or `error`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Status {
+    /// Measured: every metric is the cell's (`ok`).
+    #[default]
+    Ok,
+    /// Failed: the row's error says why; only the key columns are set (`error`).
+    Error,
+}
+
+impl Status {
+    /// Whether the cell was measured.
+    pub fn is_ok(self) -> bool {
+        self == Status::Ok
+    }
+
+    /// The word the files hold: `ok` or `error`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Status::Ok => "ok",
+            Status::Error => "error",
+        }
+    }
+}
+
+impl std::fmt::Display for Status {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
 /// One results row: the metrics and where they came from.
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 pub struct Row {
@@ -251,8 +283,8 @@ pub struct Row {
     /// the pipeline, scene, size and adapter are set for a failed cell.
     #[serde(flatten)]
     pub metrics: Metrics,
-    /// `ok` or `error`.
-    pub status: String,
+    /// Measured or failed (`ok` or `error` in the files).
+    pub status: Status,
     /// The error of a failed cell (empty otherwise).
     pub error: String,
     /// The version of relief-runtime that measured the row.
@@ -520,6 +552,12 @@ pub(crate) fn parse_row(line: &str) -> Result<Row, RowError> {
             obj.insert("past_rate".into(), v);
         }
     }
+    match obj.get("status") {
+        Some(serde_json::Value::String(w)) if w == Status::Ok.as_str() || w == Status::Error.as_str() => {}
+        Some(serde_json::Value::String(w)) => return Err(RowError::Status(relief_dsl::spec::echo(w))),
+        Some(other) => return Err(RowError::Status(relief_dsl::spec::echo(&other.to_string()))),
+        None => return Err(RowError::Missing("status")),
+    }
     let mut base = serde_json::to_value(Row::default()).map_err(RowError::Field)?;
     let mut nulls = Vec::new();
     // Fields that older rows lack: not recorded, so NaN (shown as such),
@@ -539,9 +577,6 @@ pub(crate) fn parse_row(line: &str) -> Result<Row, RowError> {
         }
     }
     let mut row: Row = serde_json::from_value(base).map_err(RowError::Field)?;
-    if row.status != "ok" && row.status != "error" {
-        return Err(RowError::Status(relief_dsl::spec::echo(&row.status)));
-    }
     if let Err(source) = row.metrics.pipeline.parse::<relief_dsl::Pipeline>() {
         return Err(RowError::Pipeline {
             pipeline: relief_dsl::spec::echo(&row.metrics.pipeline),

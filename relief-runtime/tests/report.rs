@@ -38,7 +38,7 @@ fn row(pipeline: &str, ms: f64, mse: f64, ref_t: f64, skipped: f64) -> Row {
             avg_fetches: 3.0,
             ..Default::default()
         },
-        status: "ok".into(),
+        status: relief_runtime::results::Status::Ok,
         error: String::new(),
         relief_version: "test".into(),
         cell_dir: format!("cells/lion/{}", relief_dsl::spec::file_safe(pipeline)),
@@ -50,7 +50,7 @@ fn write_rows(dir: &Path, rows: &[Row], images: bool) {
     for r in rows {
         text.push_str(&serde_json::to_string(r).unwrap());
         text.push('\n');
-        if images && r.status == "ok" {
+        if images && r.status.is_ok() {
             let cell = dir.join(&r.cell_dir);
             std::fs::create_dir_all(&cell).unwrap();
             let img = image::RgbaImage::from_fn(16, 16, |x, y| image::Rgba([(x * 16) as u8, (y * 16) as u8, 128, 255]));
@@ -91,7 +91,7 @@ fn report_writes_tables_charts_strips_and_checks_conclusions() {
     rows.push(row("cns(5)", 0.6, 0.0, 0.0, 0.0));
     // A failed cell.
     let mut failed = row("linear(50)", 0.0, 0.0, 0.0, 0.0);
-    failed.status = "error".into();
+    failed.status = relief_runtime::results::Status::Error;
     failed.error = "device lost".into();
     rows.push(failed);
     write_rows(&dir, &rows, true);
@@ -885,11 +885,12 @@ fn the_answer_names_the_fastest_pipeline_at_each_accuracy_and_the_engine_familys
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The last level, "skips no geometry", is `skipped_rate` exactly 0: the fastest row there is
-/// chosen among those only, whatever their t error, and a family whose every row skips some
-/// geometry is "unreachable" there.
+/// The last level, "skips no geometry and t error ≤ 1e-2", is `skipped_rate` exactly 0 and
+/// `ref_err_t_rms` at most 1e-2: the fastest row there is chosen among those only (a search
+/// that stops early, skipping nothing but far short, does not win it), and a family whose
+/// every row skips some geometry is "unreachable" there.
 #[test]
-fn the_skips_no_geometry_level_keeps_only_rows_with_skipped_rate_zero() {
+fn the_skips_no_geometry_level_keeps_only_rows_with_skipped_rate_zero_and_a_small_t_error() {
     let rocks = "scene:rocks";
     // (pipeline, ms, t error, skipped_rate)
     let cells = [
@@ -900,7 +901,11 @@ fn the_skips_no_geometry_level_keeps_only_rows_with_skipped_rate_zero() {
         ("rcs(8)+binary(5)", 1.2, 4e-3, 1e-2),
         // No share measured: a NaN never reaches the level.
         ("linear(8)+binary(5)", 0.5, 3e-2, f64::NAN),
-        // The fastest that skips nothing, with a larger t error than rcs(8)'s.
+        // Skips nothing and is the fastest of all, but stops early: t error 0.1 > 1e-2.
+        ("rcs(2)+binary(1)", 0.3, 1e-1, 0.0),
+        // Skips nothing, t error just over the bound: not chosen.
+        ("csm(8)", 1.1, 1.1e-2, 0.0),
+        // The fastest that skips nothing with t error ≤ 1e-2, larger than rcs(8)'s.
         ("csm(16)", 1.5, 8e-3, 0.0),
         ("csm(64)", 3.0, 3e-8, 0.0),
     ];
@@ -926,7 +931,7 @@ fn the_skips_no_geometry_level_keeps_only_rows_with_skipped_rate_zero() {
         .collect();
     assert_eq!(table.len(), 5, "{table:?}");
     let last = &table[4];
-    assert_eq!(last[0], "skips no geometry (skipped_rate = 0)", "placed last and named");
+    assert_eq!(last[0], "skips no geometry and t error ≤ 1e-2 (skipped_rate = 0)", "placed last and named");
     assert_eq!((last[1].as_str(), last[2].as_str()), ("`csm(16)`", "1.500"));
     assert_eq!(last[6], "unreachable", "every family row skips some geometry");
     assert_eq!(last[10], "family unreachable");
@@ -937,7 +942,9 @@ fn the_skips_no_geometry_level_keeps_only_rows_with_skipped_rate_zero() {
     let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
     let overview = &html[html.find("id=\"answer-table\"").expect("overview")..];
     let overview = &overview[..overview.find("</table>").unwrap()];
-    assert!(overview.contains("<th>skips no geometry (skipped_rate = 0)</th></tr>"), "{overview}");
+    assert!(overview.contains("<th>skips no geometry and t error ≤ 1e-2 (skipped_rate = 0)</th></tr>"), "{overview}");
+    // The table says what the level asks.
+    assert!(md[start..].contains("no ray that skipped geometry and an RMS t error ≤ 1e-2"), "{md}");
     assert!(
         overview.contains("<td><code>csm(16)</code> 1.500 ms · t error 8.000e-3<span class=\"fam\">family unreachable</span></td></tr>"),
         "{overview}"

@@ -39,7 +39,7 @@ fn add_scores_a_browsers_hits_sets_aside_what_the_sweep_lacks_and_refuses_a_seco
             ref_err_t_rms: 0.01,
             ..Default::default()
         },
-        status: "ok".into(),
+        status: relief_runtime::results::Status::Ok,
         relief_version: "test".into(),
         ..Default::default()
     };

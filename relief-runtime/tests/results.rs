@@ -13,7 +13,7 @@ fn row(pipeline: &str, t_rms: f64) -> Row {
             ref_err_t_rms: t_rms,
             ..Default::default()
         },
-        status: "ok".into(),
+        status: relief_runtime::results::Status::Ok,
         ..Default::default()
     }
 }
@@ -118,7 +118,7 @@ fn lines_that_are_not_results_rows_are_named_and_never_counted() {
 fn two_rows_for_one_cell_are_both_left_out_and_named_but_other_adapters_are_other_cells() {
     let dir = fresh_dir("dups");
     let mut zero = row("linear(10)", 0.0);
-    zero.status = "ok".into();
+    zero.status = relief_runtime::results::Status::Ok;
     let mut other_adapter = row("linear(10)", 0.75);
     other_adapter.metrics.adapter = "Some GPU (WebGPU, timestamp-query)".into();
     // Line 3 is the cell of line 1 written another way (spaces): the same canonical pipeline.

@@ -14,7 +14,7 @@ pub(crate) fn table(datas: &[(String, &Data)], added: &[super::Added]) -> Option
     }
     let mut cells: Vec<(String, String, u32)> = Vec::new();
     for (_, d) in datas {
-        for r in d.rows.iter().filter(|r| r.status == "ok" && d.is_indexed(r)) {
+        for r in d.rows.iter().filter(|r| r.status.is_ok() && d.is_indexed(r)) {
             let k = (r.metrics.pipeline.clone(), r.metrics.scene.clone(), r.metrics.size);
             if !cells.contains(&k) {
                 cells.push(k);
@@ -25,7 +25,7 @@ pub(crate) fn table(datas: &[(String, &Data)], added: &[super::Added]) -> Option
     let fastest = |d: &Data, scene: &str, size: u32| {
         d.rows
             .iter()
-            .filter(|r| r.status == "ok" && r.metrics.scene == scene && r.metrics.size == size && d.is_indexed(r))
+            .filter(|r| r.status.is_ok() && r.metrics.scene == scene && r.metrics.size == size && d.is_indexed(r))
             .map(|r| r.metrics.frame_ms_median)
             .filter(|x| x.is_finite() && *x > 0.0)
             .fold(f64::INFINITY, f64::min)

@@ -141,7 +141,7 @@ pub fn add(dir: &Path, files: &[PathBuf], replace: bool) -> Result<Vec<Added>> {
         // The sweep: the ok cells of the other adapters, with their grid.
         let sweep: HashMap<(String, String, u32), String> = rows
             .iter()
-            .filter(|r| r.status == "ok")
+            .filter(|r| r.status.is_ok())
             .map(|r| {
                 ((super::data::canonical(&r.metrics.pipeline), r.metrics.scene.clone(), r.metrics.size), r.grid.clone())
             })
@@ -175,7 +175,7 @@ pub fn add(dir: &Path, files: &[PathBuf], replace: bool) -> Result<Vec<Added>> {
                     rows.push(Row {
                         grid: grid.clone(),
                         metrics: m,
-                        status: "ok".into(),
+                        status: crate::results::Status::Ok,
                         error: String::new(),
                         relief_version: f.relief_version.clone(),
                         cell_dir: String::new(),

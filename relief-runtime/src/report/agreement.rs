@@ -14,7 +14,7 @@ pub(crate) fn metric_agreement(data: &Data, tables: &[ReportTable]) -> TextTable
     for t in tables {
         let mut v = Vec::new();
         for i in 0..t.entries.len() {
-            if let Some(r) = t.row(data, i).filter(|r| r.status == "ok") {
+            if let Some(r) = t.row(data, i).filter(|r| r.status.is_ok()) {
                 if !v.iter().any(|x: &&crate::results::Row| std::ptr::eq(*x, r)) {
                     v.push(r);
                 }
@@ -35,7 +35,7 @@ pub(crate) fn metric_agreement(data: &Data, tables: &[ReportTable]) -> TextTable
                 .rows
                 .iter()
                 .filter(|r| {
-                    r.status == "ok" && r.metrics.scene == scene && r.metrics.size == size && data.is_indexed(r)
+                    r.status.is_ok() && r.metrics.scene == scene && r.metrics.size == size && data.is_indexed(r)
                 })
                 .collect();
             let place = if multi_size { group_label(&scene, size) } else { short_scene(&scene).to_string() };

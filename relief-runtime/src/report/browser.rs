@@ -199,7 +199,7 @@ pub(crate) fn write(datas: &[&Data], dir: &Path) -> Result<Written> {
     let mut scenes: BTreeMap<String, Vec<u32>> = BTreeMap::new();
     let mut rows = Vec::new();
     for d in datas {
-        for r in d.rows.iter().filter(|r| r.status == "ok" && d.is_indexed(r)) {
+        for r in d.rows.iter().filter(|r| r.status.is_ok() && d.is_indexed(r)) {
             let m = &r.metrics;
             if !pipelines.contains_key(&m.pipeline) {
                 match ship(&m.pipeline) {

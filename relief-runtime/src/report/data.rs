@@ -30,7 +30,7 @@ impl Data {
         for (i, r) in rows.iter().enumerate() {
             let k = (r.metrics.pipeline.clone(), r.metrics.scene.clone(), r.metrics.size);
             match index.get(&k) {
-                Some(&j) if rows[j].status == "ok" && r.status != "ok" => {}
+                Some(&j) if rows[j].status.is_ok() && !r.status.is_ok() => {}
                 _ => {
                     index.insert(k, i);
                 }
@@ -53,7 +53,7 @@ impl Data {
 
     /// The same, only if it succeeded.
     pub(crate) fn ok(&self, pipeline: &str, scene: &str, size: u32) -> Option<&Row> {
-        self.get(pipeline, scene, size).filter(|r| r.status == "ok")
+        self.get(pipeline, scene, size).filter(|r| r.status.is_ok())
     }
 
     /// The ok rows of `pipeline` on `scene` at every size, smallest size first.
@@ -115,7 +115,7 @@ impl Data {
         }
         scenes
             .into_iter()
-            .max_by_key(|s| self.rows.iter().filter(|r| &r.metrics.scene == s && r.status == "ok").count())
+            .max_by_key(|s| self.rows.iter().filter(|r| &r.metrics.scene == s && r.status.is_ok()).count())
     }
 }
 
@@ -149,7 +149,7 @@ pub(crate) fn by_adapter(rows: Vec<Row>) -> Vec<(String, Vec<Row>)> {
             None => out.push((r.metrics.adapter.clone(), vec![r])),
         }
     }
-    let ok = |v: &Vec<Row>| v.iter().filter(|r| r.status == "ok").count();
+    let ok = |v: &Vec<Row>| v.iter().filter(|r| r.status.is_ok()).count();
     out.sort_by_key(|(_, v)| std::cmp::Reverse(ok(v)));
     out
 }

@@ -150,10 +150,10 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> Result<ReportSummary> {
     let mut summary = ReportSummary {
         dir: dir.to_path_buf(),
         rows: all_rows.len(),
-        ok: all_rows.iter().filter(|r| r.status == "ok").count(),
+        ok: all_rows.iter().filter(|r| r.status.is_ok()).count(),
         failed: all_rows
             .iter()
-            .filter(|r| r.status != "ok")
+            .filter(|r| !r.status.is_ok())
             .map(|r| (r.metrics.pipeline.clone(), r.metrics.scene.clone(), r.error.clone()))
             .collect(),
         bad_lines: data.bad_lines.clone(),
@@ -308,10 +308,10 @@ fn write_rooms_only(dir: &Path, rows: &[crate::room::sweep::RoomRow]) -> Result<
     let mut summary = ReportSummary {
         dir: dir.to_path_buf(),
         rows: rows.len(),
-        ok: rows.iter().filter(|r| r.status == "ok").count(),
+        ok: rows.iter().filter(|r| r.status.is_ok()).count(),
         failed: rows
             .iter()
-            .filter(|r| r.status != "ok")
+            .filter(|r| !r.status.is_ok())
             .map(|r| (r.pipeline.clone(), r.room.clone(), r.error.clone()))
             .collect(),
         ..Default::default()

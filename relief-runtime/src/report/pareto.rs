@@ -24,6 +24,22 @@ pub(crate) struct Front {
     pub all: Vec<(String, f64, f64)>,
 }
 
+/// The one Pareto front of the report (this section's, the answer's charts and the
+/// conclusions' checks): the indices of the `(time, error)` points no other point beats in
+/// both (strictly faster and strictly more accurate), fastest first; of points at equal time,
+/// the more accurate one. Ties in both keep their order in `points`.
+pub(crate) fn front(points: &[(f64, f64)]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by(|&a, &b| points[a].0.total_cmp(&points[b].0).then(points[a].1.total_cmp(&points[b].1)));
+    let mut out: Vec<usize> = Vec::new();
+    for i in order {
+        if out.last().is_none_or(|&j| points[i].1 < points[j].1) {
+            out.push(i);
+        }
+    }
+    out
+}
+
 pub(crate) fn build(data: &Data) -> Vec<Front> {
     let mut out = Vec::new();
     let multi_size = data.sizes().len() > 1;
@@ -33,7 +49,7 @@ pub(crate) fn build(data: &Data) -> Vec<Front> {
                 let mut all: Vec<(String, f64, f64)> = Vec::new();
                 let mut not_finite = Vec::new();
                 for r in &data.rows {
-                    if r.status != "ok" || r.metrics.scene != scene || r.metrics.size != size {
+                    if !r.status.is_ok() || r.metrics.scene != scene || r.metrics.size != size {
                         continue;
                     }
                     // Only the row the index picked for this pipeline.
@@ -53,12 +69,8 @@ pub(crate) fn build(data: &Data) -> Vec<Front> {
                     }
                 }
                 all.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.2.total_cmp(&b.2)));
-                let mut front: Vec<(String, f64, f64)> = Vec::new();
-                for c in &all {
-                    if front.last().is_none_or(|l| c.2 < l.2) {
-                        front.push(c.clone());
-                    }
-                }
+                let points: Vec<(f64, f64)> = all.iter().map(|c| (c.1, c.2)).collect();
+                let front = self::front(&points).into_iter().map(|i| all[i].clone()).collect();
                 if !all.is_empty() || !not_finite.is_empty() {
                     out.push(Front { scene: scene.clone(), size, multi_size, not_finite, metric, front, all });
                 }
@@ -154,4 +166,18 @@ pub(crate) fn to_markdown(fronts: &[Front], svgs: &[(usize, String)]) -> String 
         }
     }
     md
+}
+
+#[cfg(test)]
+mod tests {
+    use super::front;
+
+    /// Fastest first; a slower point joins only when strictly more accurate; of two at equal
+    /// time the more accurate; ties in both keep their order.
+    #[test]
+    fn the_front_keeps_what_no_faster_point_beats_in_error() {
+        let pts = [(3.0, 0.5), (1.0, 0.9), (2.0, 0.9), (2.0, 0.4), (4.0, 0.4), (5.0, 0.1), (5.0, 0.1)];
+        assert_eq!(front(&pts), vec![1, 3, 5]);
+        assert!(front(&[]).is_empty());
+    }
 }

@@ -71,7 +71,7 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
         }
         for r in &mine {
             let (util, power) = seed(&r.variant);
-            if r.status != "ok" {
+            if !r.status.is_ok() {
                 t.rows.push(vec![r.variant.clone(), r.pipeline.clone(), "error".into(), r.error.clone()]);
                 continue;
             }
@@ -93,7 +93,7 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
                 power.into(),
             ]);
         }
-        for r in mine.iter().filter(|r| r.status == "ok" && r.variant == "+ POM") {
+        for r in mine.iter().filter(|r| r.status.is_ok() && r.variant == "+ POM") {
             let walls: Vec<String> = r
                 .per_wall
                 .iter()
@@ -107,7 +107,7 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
         }
         // The paper's ordering, checked on our frame times.
         let ms = |label: &str| {
-            mine.iter().find(|r| r.variant == label && r.status == "ok").map(|r| (r.frame_ms, r.baseline_ms))
+            mine.iter().find(|r| r.variant == label && r.status.is_ok()).map(|r| (r.frame_ms, r.baseline_ms))
         };
         if let Some((pom, geo)) = ms("+ POM") {
             let holds = pom < geo;

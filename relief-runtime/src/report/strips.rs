@@ -54,7 +54,7 @@ impl Frame {
 pub(crate) fn caption_values(r: Option<&crate::results::Row>) -> String {
     match r {
         None => "not measured".into(),
-        Some(r) if r.status != "ok" => format!("failed: {}", r.error.replace('\n', " ")),
+        Some(r) if !r.status.is_ok() => format!("failed: {}", r.error.replace('\n', " ")),
         Some(r) => {
             let m = &r.metrics;
             let nan = if m.nan_count > 0 { format!(" · {} non-finite hits", m.nan_count) } else { String::new() };
@@ -78,7 +78,7 @@ pub(crate) fn write_all(data: &Data, tables: &[ReportTable], sub: &Path, warning
         let mut labels = Vec::new();
         let mut frames = Vec::new();
         for (i, e) in t.entries.iter().enumerate() {
-            let row = t.row(data, i).filter(|r| r.status == "ok" && !r.cell_dir.is_empty());
+            let row = t.row(data, i).filter(|r| r.status.is_ok() && !r.cell_dir.is_empty());
             let load = |name: &str, warnings: &mut Vec<String>| -> Option<RgbaImage> {
                 let r = row?;
                 let path = data.dir.join(&r.cell_dir).join(name);

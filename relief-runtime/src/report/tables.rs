@@ -311,7 +311,7 @@ fn steps_note(t: &ReportTable, data: &Data) -> Option<String> {
     let (mut ours, mut theirs) = (Vec::new(), Vec::new());
     for (i, e) in t.entries.iter().enumerate() {
         let Some(n) = e.pipeline.as_ref().and_then(linear_steps) else { continue };
-        if let Some(r) = t.row(data, i).filter(|r| r.status == "ok" && r.metrics.avg_coarse_steps.is_finite()) {
+        if let Some(r) = t.row(data, i).filter(|r| r.status.is_ok() && r.metrics.avg_coarse_steps.is_finite()) {
             ours.push(r.metrics.avg_coarse_steps / n as f64);
         }
         if let Some(d) = e.diss.as_ref().and_then(|d| d.avg_steps.trim().parse::<f64>().ok()) {
@@ -341,7 +341,7 @@ fn steps_note(t: &ReportTable, data: &Data) -> Option<String> {
 fn regime_note(t: &ReportTable, data: &Data) -> Option<String> {
     let ks = (0..t.entries.len()).filter_map(|i| {
         let n = linear_steps(t.entries[i].pipeline.as_ref()?)?;
-        let r = t.row(data, i).filter(|r| r.status == "ok")?;
+        let r = t.row(data, i).filter(|r| r.status.is_ok())?;
         Some((n, r.metrics.mse_dissertation_mean))
     });
     let ((n1, k1), (n2, k2)) = k_still_rising(ks)?;
@@ -412,7 +412,7 @@ fn render(t: &ReportTable, data: &Data, description: &str, multi_size: bool) -> 
     let mut rows = Vec::new();
     for (i, e) in t.entries.iter().enumerate() {
         let r = t.row(data, i);
-        let b = t.row(data, e.base).filter(|b| b.status == "ok");
+        let b = t.row(data, e.base).filter(|b| b.status.is_ok());
         let d = e.diss.as_ref();
         let bd = t.entries.get(e.base).and_then(|x| x.diss.as_ref());
         let rel = |f: fn(&Row) -> f64| -> String {

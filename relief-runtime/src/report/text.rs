@@ -9,7 +9,7 @@ use crate::results::Row;
 pub(crate) fn ours(row: Option<&Row>, f: impl Fn(&Row) -> String) -> String {
     match row {
         None => DASH.into(),
-        Some(r) if r.status != "ok" => "error".into(),
+        Some(r) if !r.status.is_ok() => "error".into(),
         Some(r) => f(r),
     }
 }

@@ -83,8 +83,8 @@ pub struct RoomRow {
     pub missed_rate: f64,
     /// Mean |interior − baseline| per 8-bit channel.
     pub mean_abs_diff: f64,
-    /// `ok` or `error`.
-    pub status: String,
+    /// Measured or failed (`ok` or `error` in the file).
+    pub status: crate::results::Status,
     /// The error, when the cell failed.
     pub error: String,
     /// Per wall (names and the same measures).
@@ -191,7 +191,7 @@ pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> Result<RoomSweep>
     };
     let gpu = Gpu::new()?;
     // Failed cells are measured again: only ok rows are kept.
-    let mut rows: Vec<RoomRow> = earlier.into_iter().filter(|r| r.status == "ok").collect();
+    let mut rows: Vec<RoomRow> = earlier.into_iter().filter(|r| r.status.is_ok()).collect();
     let (mut measured, mut skipped) = (0, 0);
     for arg in rooms {
         let (room, warnings) = room_from_arg(Some(arg), None).map_err(Error::Room)?;
@@ -212,7 +212,7 @@ pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> Result<RoomSweep>
                 scatter: v.scatter.unwrap_or(0),
                 size: setup.size,
                 grid: setup.grid,
-                status: "ok".into(),
+                status: crate::results::Status::Ok,
                 ..Default::default()
             };
             let dir = out.join("rooms").join(folder(&room.name)).join(folder(v.label));
@@ -231,7 +231,7 @@ pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> Result<RoomSweep>
                     row.per_wall = m.per_wall.iter().map(WallRow::from).collect();
                 }
                 Err(e) => {
-                    row.status = "error".into();
+                    row.status = crate::results::Status::Error;
                     row.error = e.to_string();
                 }
             }

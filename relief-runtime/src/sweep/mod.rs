@@ -177,7 +177,7 @@ pub fn run(opts: &Options) -> Result<Summary> {
         let cell_dir = cell_dir(&label(&scene_arg), opts.size, &adapter, &pipeline);
         let mut row = Row {
             grid: opts.grid.name.clone(),
-            status: "ok".into(),
+            status: crate::results::Status::Ok,
             relief_version: env!("CARGO_PKG_VERSION").into(),
             cell_dir: cell_dir.clone(),
             ..Default::default()
@@ -222,7 +222,7 @@ pub fn run(opts: &Options) -> Result<Summary> {
                     adapter: adapter.clone(),
                     ..Default::default()
                 };
-                row.status = "error".into();
+                row.status = crate::results::Status::Error;
                 row.error = e;
                 summary.failed += 1;
             }

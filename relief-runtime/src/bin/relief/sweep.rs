@@ -123,7 +123,7 @@ fn run_rooms(a: &SweepArgs) -> anyhow::Result<()> {
     };
     let start = std::time::Instant::now();
     let s = sweep::run(&rooms, &setup, &a.out)?;
-    let failed = s.rows.iter().filter(|r| r.status != "ok").count();
+    let failed = s.rows.iter().filter(|r| !r.status.is_ok()).count();
     println!(
         "{} room cells: {} measured, {failed} failed, {} already done, in {:.1} s → {}",
         s.rows.len(),

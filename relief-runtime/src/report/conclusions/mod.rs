@@ -390,7 +390,7 @@ type Outcome = Result<(Dec, String), String>;
 /// baselines, or rows timed alone, do not compare).
 fn time_clock(data: &Data, scene: &str) -> Clock {
     let rows: Vec<&crate::results::Row> =
-        data.rows.iter().filter(|r| r.metrics.scene == scene && r.status == "ok").collect();
+        data.rows.iter().filter(|r| r.metrics.scene == scene && r.status.is_ok()).collect();
     let base = rows.first().map(|r| r.metrics.baseline.clone()).unwrap_or_default();
     let paired = !rows.is_empty()
         && !base.is_empty()
@@ -633,17 +633,11 @@ fn figure_points(s: &dyn Src, figures: &[&str]) -> Vec<(Pipeline, f64, f64)> {
     out
 }
 
-/// The points no other point beats in both mean frame time and error (strictly faster and
-/// strictly more accurate), fastest first; of points at equal time, the more accurate.
-fn pareto_front(mut pts: Vec<(Pipeline, f64, f64)>) -> Vec<(Pipeline, f64, f64)> {
-    pts.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.2.total_cmp(&b.2)));
-    let mut front: Vec<(Pipeline, f64, f64)> = Vec::new();
-    for p in pts {
-        if front.last().is_none_or(|l| p.2 < l.2) {
-            front.push(p);
-        }
-    }
-    front
+/// The points no other point beats in both mean frame time and error, fastest first: the
+/// report's one front ([`super::pareto::front`]) over (mean frame time, error).
+fn pareto_front(pts: Vec<(Pipeline, f64, f64)>) -> Vec<(Pipeline, f64, f64)> {
+    let points: Vec<(f64, f64)> = pts.iter().map(|p| (p.1, p.2)).collect();
+    super::pareto::front(&points).into_iter().map(|i| pts[i].clone()).collect()
 }
 
 /// A coarse stage's choice parameter that changes what it reads (`, sample=min4`), for
@@ -942,7 +936,7 @@ pub(crate) fn view_markdown(data: &Data, diss: &Diss) -> Option<String> {
 /// verdicts (Tables 4.1's and the 1/N² reading) belong to the view, not the method.
 /// `None` when it is flat or fewer than three step counts are measured.
 pub(crate) fn regime_line(data: &Data, scene: &str, lod: Option<Lod>) -> Option<String> {
-    let rows = data.rows.iter().filter(|r| r.status == "ok" && r.metrics.scene == scene).filter_map(|r| {
+    let rows = data.rows.iter().filter(|r| r.status.is_ok() && r.metrics.scene == scene).filter_map(|r| {
         let p: Pipeline = r.metrics.pipeline.parse().ok()?;
         let n = super::tables::linear_steps(&p).filter(|_| lod.is_none_or(|l| p.lod == l))?;
         Some((n, r.metrics.mse_dissertation_mean))
