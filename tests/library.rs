@@ -778,3 +778,178 @@ fn engine_forms_refuse_bad_input_in_one_line() {
         assert!(e.contains("linear_distance") && !e.contains('\n'), "{form:?}: {e}");
     }
 }
+
+// ---- Issue 39, item 4: what an engine's shader processor reads in the header ----
+
+/// The comment text of each line of `src` (`//` to the end of the line, and every line
+/// inside `/* … */`).
+fn comments(src: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut in_block = false;
+    for line in src.lines() {
+        let mut rest = line;
+        loop {
+            if in_block {
+                match rest.find("*/") {
+                    Some(i) => {
+                        out.push(rest[..i].to_string());
+                        rest = &rest[i + 2..];
+                        in_block = false;
+                    }
+                    None => {
+                        out.push(rest.to_string());
+                        break;
+                    }
+                }
+            } else {
+                let line_c = rest.find("//");
+                let block = rest.find("/*");
+                match (line_c, block) {
+                    (Some(l), Some(b)) if b < l => {
+                        rest = &rest[b + 2..];
+                        in_block = true;
+                    }
+                    (Some(l), _) => {
+                        out.push(rest[l + 2..].to_string());
+                        break;
+                    }
+                    (None, Some(b)) => {
+                        rest = &rest[b + 2..];
+                        in_block = true;
+                    }
+                    (None, None) => break,
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Babylon.js's shader processor takes a shader holding `#version 3…` anywhere as already
+/// converted (issue 39): no comment of any form of any expressible default pipeline holds a
+/// `#version` or `#extension` (line-leading or not), and no line of these include files
+/// starts with one.
+#[test]
+fn no_library_form_has_a_version_or_extension_directive_in_its_comments() {
+    let mut all: Vec<Pipeline> = Pipeline::all_defaults()
+        .into_iter()
+        .filter(|p| relief::dsl::compose::library::inexpressible(p).is_none())
+        .collect();
+    all.extend(engine_pipelines());
+    let mut checked = 0;
+    for p in &all {
+        let lib = forms(p, &LibraryOptions::default(), &LibraryForm::ALL);
+        for f in &lib.files {
+            for c in comments(&f.text) {
+                for d in ["#version", "#extension"] {
+                    assert!(!c.contains(d), "{p}: {}: a comment holds `{d}`: {c}", f.name);
+                }
+            }
+            for line in f.text.lines() {
+                let t = line.trim_start();
+                assert!(
+                    !t.starts_with("#version") && !t.starts_with("#extension"),
+                    "{p}: {}: a line starts with a directive the user's shader owns: {line}",
+                    f.name
+                );
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 9 * 20, "only {checked} files checked");
+    // The helper finds a directive where one is.
+    assert_eq!(
+        comments("x; // put after `#version 300 es`\n/* a\n#extension b */ y"),
+        [" put after `#version 300 es`", " a", "#extension b "]
+    );
+}
+
+/// The arguments of the call that starts at `s` (just after its `(`), split at top-level
+/// commas.
+fn call_args(s: &str) -> Vec<String> {
+    let (mut depth, mut cur, mut out) = (0i32, String::new(), Vec::new());
+    for ch in s.chars() {
+        match ch {
+            '(' => depth += 1,
+            ')' if depth == 0 => {
+                out.push(cur.trim().to_string());
+                return out;
+            }
+            ')' => depth -= 1,
+            ',' if depth == 0 => {
+                out.push(cur.trim().to_string());
+                cur.clear();
+                continue;
+            }
+            _ => {}
+        }
+        cur.push(ch);
+    }
+    panic!("unclosed call: {s}")
+}
+
+/// Whether the WGSL library `src` reads texture `name` at some level other than 0, from its
+/// text: `textureLoad` and `textureSampleLevel` name the level last (a literal zero is level
+/// 0), `textureGather` reads level 0, `textureSample` lets the hardware choose.
+fn wgsl_reads_other_levels(src: &str, name: &str) -> Option<bool> {
+    let mut seen = false;
+    let mut other = false;
+    for (fun, at_zero) in [("textureLoad(", None), ("textureSampleLevel(", None), ("textureSample(", Some(false))] {
+        for (i, _) in src.match_indices(fun) {
+            let args = call_args(&src[i + fun.len()..]);
+            if args[0] != name {
+                continue;
+            }
+            seen = true;
+            let zero = at_zero.unwrap_or_else(|| {
+                let last = args.last().map(String::as_str).unwrap_or("");
+                matches!(last, "0" | "0i" | "0u" | "0f" | "0.0" | "0.0f" | "i32(0)" | "u32(0)" | "f32(0)")
+            });
+            other |= !zero;
+        }
+    }
+    for (i, _) in src.match_indices("textureGather(") {
+        let args = call_args(&src[i + "textureGather(".len()..]);
+        if args.iter().any(|a| a == name) {
+            seen = true;
+        }
+    }
+    seen.then_some(other)
+}
+
+/// Each texture's line in the header says at which levels the library reads it, and that is
+/// what the module's text reads: `csm(64)` reads its cell cone map at level 0 only, maxmip
+/// walks the max-mip chain (issue 39: the header said "over its mip chain" for both).
+#[test]
+fn the_header_says_at_which_levels_each_texture_is_read() {
+    let mut all = pipelines();
+    all.extend(["csm(64)", "maxmip(96)", "linear(32)+binary(5)+shadow=soft(16)"].map(|s| s.parse().unwrap()));
+    let (mut zero, mut chain) = (0, 0);
+    for p in &all {
+        let lib = forms(p, &LibraryOptions::default(), &[LibraryForm::Wgsl]);
+        let src = file(&lib, ".lib.wgsl");
+        for line in src.lines().filter(|l| l.starts_with("//   group ") && l.contains("texture_")) {
+            let name = line.split(": ").nth(1).and_then(|r| r.split(' ').next()).unwrap_or_else(|| panic!("{line}"));
+            let other = wgsl_reads_other_levels(src, name).unwrap_or_else(|| panic!("{p}: `{name}` is never read"));
+            if other {
+                chain += 1;
+                assert!(line.contains("at every level of its mip chain"), "{p}: {line}");
+                assert!(!line.contains("level 0 only"), "{p}: {line}");
+            } else {
+                zero += 1;
+                assert!(line.contains("at level 0 only"), "{p}: {line}");
+                assert!(!line.contains("mip chain"), "{p}: {line}");
+            }
+        }
+        if p.to_string() == "csm(64)" {
+            assert!(
+                src.lines().any(|l| l.contains("relief_cell_cone texture_2d") && l.contains("at level 0 only")),
+                "{src}"
+            );
+        }
+        if p.to_string() == "maxmip(96)" {
+            assert!(src.lines().any(|l| l.contains("relief_max_mip texture_2d") && l.contains("mip chain")), "{src}");
+        }
+    }
+    assert!(zero > 10 && chain >= 2, "level 0: {zero}, chain: {chain}");
+}

@@ -83,6 +83,18 @@ fn render_writes_frame_error_metrics_and_hits() {
     }
     assert_eq!(m["pipeline"], "linear(8)+binary(3)");
     assert!(m["frame_ms_median"].as_f64().unwrap() > 0.0);
+    // The shading constants an engine needs to reproduce the frame (issue 39): the render
+    // entry's ambient share of 1/4, the dark blue-grey background, the scene's light.
+    let sh = &m["shading"];
+    assert_eq!(sh["ambient"].as_f64(), Some(0.25), "{sh}");
+    let clear: Vec<f64> = sh["clear_color_linear"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert_eq!(clear, [0.02, 0.02, 0.03, 1.0]);
+    let l = relief_runtime::Scene::by_name("step", None).unwrap().light_dir;
+    let light: Vec<f64> = sh["light_dir"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert_eq!(light, [l.x as f64, l.y as f64, l.z as f64]);
+    let formula = sh["formula"].as_str().unwrap();
+    assert!(formula.contains("max(dot(n, l), 0)") && formula.contains("ambient * ao"), "{formula}");
+    assert!(sh["texture_space"].as_str().unwrap().contains("row 0 at v = 0"));
     let csv = std::fs::read_to_string(out.join("hits.csv")).unwrap();
     let mut lines = csv.lines();
     assert_eq!(

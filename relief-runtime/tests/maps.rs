@@ -748,3 +748,42 @@ fn map_kinds_and_requests_name_each_other() {
     }
     assert_eq!(seen, MapKind::ALL.to_vec(), "one request per kind, in the listing order");
 }
+
+/// `.exr` is written as scanline blocks (Babylon.js and three.js refuse tiled EXR; issue 39),
+/// read back with the `exr` crate itself: not tiled, one part, and every texel's channels
+/// equal to the map's (1 channel replicated to RGB, 2 with B = 0, 4 as they are), row 0 first.
+#[test]
+fn exr_is_scanline_and_texel_equal() {
+    use exr::meta::{BlockDescription, MetaData};
+    use exr::prelude::read_first_rgba_layer_from_file;
+    let dir = temp_dir("exr-scanline");
+    let m = bumps(24, 20, 5);
+    for kind in [MapKind::Cone, MapKind::CellCone, MapKind::QuadCone] {
+        let map = maps::build(&m, kind, &MapParams::default(), EdgeMode::Repeat).unwrap();
+        let p = dir.join(format!("{kind}.exr"));
+        file::write_map(&p, &encode::encode(&map, &Encoding::F32, Rounding::Down)).unwrap();
+        let meta = MetaData::read_from_file(&p, false).unwrap();
+        assert_eq!(meta.headers.len(), 1, "{kind}");
+        assert!(matches!(meta.headers[0].blocks, BlockDescription::ScanLines), "{kind}: {:?}", meta.headers[0].blocks);
+        let img = read_first_rgba_layer_from_file(
+            &p,
+            |size, _| (size.0, vec![[0f32; 4]; size.0 * size.1]),
+            |(w, px), pos, (r, g, b, a): (f32, f32, f32, f32)| px[pos.1 * *w + pos.0] = [r, g, b, a],
+        )
+        .unwrap();
+        let (w, px) = &img.layer_data.channel_data.pixels;
+        assert_eq!((*w, px.len()), (map.width, map.width * map.height), "{kind}");
+        let c = map.channels;
+        for (i, got) in px.iter().enumerate() {
+            let t = &map.data[i * c..(i + 1) * c];
+            let want = match c {
+                1 => [t[0], t[0], t[0], 1.0],
+                2 => [t[0], t[1], 0.0, 1.0],
+                3 => [t[0], t[1], t[2], 1.0],
+                _ => [t[0], t[1], t[2], t[3]],
+            };
+            assert_eq!(got.map(f32::to_bits), want.map(f32::to_bits), "{kind}: texel {i} (row {})", i / map.width);
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -7,6 +7,7 @@ mod cell_maps;
 mod cli;
 mod cli_library;
 mod cones;
+mod containers;
 mod cost;
 mod gpu;
 mod heightmap;

@@ -95,6 +95,12 @@ pub struct LibraryBinding {
     pub kind: ResourceKind,
     /// What to bind there (`the height map, linear filtering`).
     pub what: String,
+    /// What the module's binding table says the global holds (the map and its filter, or a
+    /// sampler): what an exporter writes for it.
+    pub resource: Resource,
+    /// Whether some read is at a level other than 0 (then every level of the map's mip
+    /// chain is needed; else level 0 suffices).
+    pub all_levels: bool,
 }
 
 /// A built library module and its resources, in binding order.
@@ -159,6 +165,56 @@ fn library_name(resource: Resource) -> Option<(String, String)> {
             Some((if filter == Filter::Nearest { format!("{base}_nearest") } else { base.to_string() }, what))
         }
         _ => None,
+    }
+}
+
+/// The end of a texture's description when every read of it is at mip level 0.
+pub const LEVEL_ZERO: &str = " at level 0 only (one level suffices)";
+/// The end of a texture's description when some read of it is at a level other than 0.
+pub const LEVELS_CHAIN: &str = " at every level of its mip chain (upload all levels)";
+
+/// How a library's functions read one texture.
+#[derive(Default)]
+struct Reads {
+    /// Some read is a texel load.
+    loaded: bool,
+    /// Some read goes through a sampler.
+    sampled: bool,
+    /// Some read is at a level that is not the constant 0 (a computed level or the
+    /// hardware's choice).
+    other_levels: bool,
+}
+
+/// Whether expression `h` is the constant 0 (a literal, a zero value, a module constant
+/// or a conversion of one).
+fn is_const_zero(module: &Module, exprs: &naga::Arena<naga::Expression>, h: Handle<naga::Expression>) -> bool {
+    fn literal_zero(l: naga::Literal) -> bool {
+        match l {
+            naga::Literal::U32(v) => v == 0,
+            naga::Literal::I32(v) => v == 0,
+            naga::Literal::U64(v) => v == 0,
+            naga::Literal::I64(v) => v == 0,
+            naga::Literal::F32(v) => v == 0.0,
+            naga::Literal::F64(v) => v == 0.0,
+            naga::Literal::AbstractInt(v) => v == 0,
+            naga::Literal::AbstractFloat(v) => v == 0.0,
+            _ => false,
+        }
+    }
+    fn global_zero(module: &Module, h: Handle<naga::Expression>) -> bool {
+        match module.global_expressions[h] {
+            naga::Expression::Literal(l) => literal_zero(l),
+            naga::Expression::ZeroValue(_) => true,
+            naga::Expression::Constant(c) => global_zero(module, module.constants[c].init),
+            _ => false,
+        }
+    }
+    match exprs[h] {
+        naga::Expression::Literal(l) => literal_zero(l),
+        naga::Expression::ZeroValue(_) => true,
+        naga::Expression::Constant(c) => global_zero(module, module.constants[c].init),
+        naga::Expression::As { expr, .. } => is_const_zero(module, exprs, expr),
+        _ => false,
     }
 }
 
@@ -316,18 +372,35 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
         order.push((rb.binding, h));
     }
     order.sort();
-    // Textures read only texel by texel (no sampler): their description says so.
-    let mut loaded = std::collections::HashSet::new();
-    let mut sampled = std::collections::HashSet::new();
+    // How each texture is read (texel loads or samples) and at which levels: the header
+    // says so, from the module's own reads.
+    let mut reads: std::collections::HashMap<Handle<naga::GlobalVariable>, Reads> = Default::default();
     for (_, f) in module.functions.iter() {
         for (_, e) in f.expressions.iter() {
             let gv = |h: Handle<naga::Expression>| match f.expressions[h] {
                 naga::Expression::GlobalVariable(g) => Some(g),
                 _ => None,
             };
+            let zero = |h: Handle<naga::Expression>| is_const_zero(&module, &f.expressions, h);
             match *e {
-                naga::Expression::ImageLoad { image, .. } => loaded.extend(gv(image)),
-                naga::Expression::ImageSample { image, .. } => sampled.extend(gv(image)),
+                naga::Expression::ImageLoad { image, level, .. } => {
+                    if let Some(g) = gv(image) {
+                        let r = reads.entry(g).or_default();
+                        r.loaded = true;
+                        r.other_levels |= level.is_some_and(|l| !zero(l));
+                    }
+                }
+                naga::Expression::ImageSample { image, level, .. } => {
+                    if let Some(g) = gv(image) {
+                        let r = reads.entry(g).or_default();
+                        r.sampled = true;
+                        r.other_levels |= match level {
+                            naga::SampleLevel::Zero => false,
+                            naga::SampleLevel::Exact(l) => !zero(l),
+                            _ => true,
+                        };
+                    }
+                }
                 _ => {}
             }
         }
@@ -337,17 +410,18 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
         let g = &mut module.global_variables[h];
         let old = g.name.clone().unwrap_or_default();
         let resource = g.binding.and_then(|rb| table.resource(rb.binding));
-        let Some((base, mut what)) = resource.and_then(library_name) else {
+        let Some((resource, (base, mut what))) = resource.and_then(|r| Some((r, library_name(r)?))) else {
             return Err(CompileError {
                 stage: "library".into(),
                 message: format!("no library name for the resource `{old}`"),
             });
         };
-        if loaded.contains(&h) && !sampled.contains(&h) {
-            what = format!(
-                "{}, read texel by texel (textureLoad) over its mip chain",
-                what.split(", read").next().unwrap_or("")
-            );
+        let all_levels = reads.get(&h).is_some_and(|r| r.other_levels);
+        if let Some(r) = reads.get(&h) {
+            if r.loaded && !r.sampled {
+                what = format!("{}, read texel by texel (textureLoad)", what.split(", read").next().unwrap_or(""));
+            }
+            what.push_str(if r.other_levels { LEVELS_CHAIN } else { LEVEL_ZERO });
         }
         let name = format!("{prefix}_{base}");
         let binding = u32::try_from(i).ok().and_then(|i| opts.binding.checked_add(i)).ok_or_else(|| CompileError {
@@ -367,7 +441,7 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
                 })
             }
         };
-        bindings.push(LibraryBinding { name, group: opts.group, binding, kind, what });
+        bindings.push(LibraryBinding { name, group: opts.group, binding, kind, what, resource, all_levels });
     }
     let info = crate::compose::validate(&module)?;
     Ok(Library { module, info, bindings, has_shadow: fns.shadow.is_some(), has_ao: fns.ao.is_some() })

@@ -135,8 +135,10 @@ pub(crate) fn header_lines(p: &Pipeline, lib: &Library, opts: &LibraryOptions, l
     let _ = writeln!(h, "//");
     match lang {
         Lang::Glsl => {
-            let _ =
-                writeln!(h, "// Include after `#version 450`. Resources (combined image samplers; a texture takes the");
+            let _ = writeln!(
+                h,
+                "// Include after the GLSL 450 version line. Resources (combined image samplers; a texture takes the"
+            );
             let _ = writeln!(
                 h,
                 "// sampler's filtering from the application; the sampler bindings below are unused in GLSL):"
@@ -145,7 +147,7 @@ pub(crate) fn header_lines(p: &Pipeline, lib: &Library, opts: &LibraryOptions, l
         Lang::GlslEs => {
             let _ = writeln!(
                 h,
-                "// GLSL ES 3.00 (WebGL2): put after `#version 300 es` (three.js and Babylon.js add it). Resources:"
+                "// GLSL ES 3.00 (WebGL2): put after the ES 3.00 version line (three.js and Babylon.js add it). Resources:"
             );
             let _ = writeln!(
                 h,

@@ -12,9 +12,12 @@ mod resources;
 pub use crate::maps::MapKey;
 pub use device::{adapters, choose, Gpu, GpuError, ADAPTER_VAR};
 pub use probe::{probe, GpuHit};
-pub use render::{draw_frame, render, Frames, PairedBlocks, RenderResult, DEPTH_FORMAT, FORMAT, MAX_FRAMES_PER_BLOCK};
+pub use render::{
+    draw_frame, render, Frames, PairedBlocks, RenderResult, CLEAR, DEPTH_FORMAT, FORMAT, MAX_FRAMES_PER_BLOCK,
+    SHADING_FORMULA,
+};
 pub(crate) use render::{paired_blocks, timed_frames, Clock, Renderer, MIN_BLOCK_MS};
-pub use resources::{map_upload_of, scene_uploads, SceneTextures, SceneUploads, Upload, AMBIENT};
+pub use resources::{map_upload_of, scene_uploads, upload_of_map, SceneTextures, SceneUploads, Upload, AMBIENT};
 pub(crate) use resources::{params_for, resource_at};
 
 use relief_dsl::compose::Compiled;

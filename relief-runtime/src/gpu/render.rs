@@ -227,8 +227,20 @@ pub(crate) struct Renderer {
     pub target: Target,
 }
 
-/// The background of the renders.
-const CLEAR: wgpu::Color = wgpu::Color { r: 0.02, g: 0.02, b: 0.03, a: 1.0 };
+/// The background of the renders: linear RGBA, written to the sRGB target as
+/// `(0.02, 0.02, 0.03)` encoded to sRGB bytes (`relief render`'s `metrics.json`, `shading`).
+pub const CLEAR: wgpu::Color = wgpu::Color { r: 0.02, g: 0.02, b: 0.03, a: 1.0 };
+
+/// How the render entry shades a pixel, as `relief render` writes it into `metrics.json`
+/// (`shading.formula`), so that an engine can reproduce the frame: `n` the normal map's
+/// texel at the hit (linear filtering) times 2 minus 1, normalized; `l` the scene's unit
+/// direction toward the light (tangent space = world: the quad lies in z = 0, u along x,
+/// v along y); `albedo` the albedo at the hit (an sRGB texture, linear filtering);
+/// `shadow` the shadow stage's visibility (1 without one), `ao` the ao stage's factor (1
+/// without one); the result goes to an `Rgba8UnormSrgb` target (linear → sRGB on write,
+/// no tone mapping), alpha 1, over [`CLEAR`].
+pub const SHADING_FORMULA: &str =
+    "rgb = albedo * (ambient * ao + (1 - ambient) * max(dot(n, l), 0) * shadow); n = normalize(normal_texel * 2 - 1)";
 
 impl Renderer {
     /// `program`'s render entry on `scene` (its textures and maps already in `tex`) at

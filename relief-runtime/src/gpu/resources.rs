@@ -450,8 +450,75 @@ pub(crate) fn map_upload(map: &crate::maps::Map, used: usize, ratio: bool) -> Up
 /// of `key` built on `scene`'s heights.
 pub fn map_upload_of(scene: &Scene, key: MapKey) -> Result<Upload, crate::maps::MapError> {
     let map = crate::maps::build(&scene.height, key.kind, &key.params, scene.edge)?;
-    let used = if key.kind.is_cell() { cell_channels_uploaded(map.channels) } else { map.channels };
-    Ok(map_upload(&map, used, key.kind.is_ratio()))
+    upload_of_map(&map, key.kind)
+}
+
+/// The layout [`SceneTextures::add_maps`] uploads for `map`, a map of kind `kind` (the
+/// channels the device gets, cone ratios clamped, the max-mip chain as mip levels, the
+/// distance field as a 3D texture). A map with more than four channels on the device (K > 4
+/// stacked or piecewise cones) fits no texel: an error naming the kind.
+///
+/// ```
+/// use relief_runtime::{gpu, maps, EdgeMode, HeightMap, MapKind, MapParams};
+/// let hm = HeightMap::new(8, 8, (0..64).map(|i| (i % 7) as f32 / 7.0).collect());
+/// let map = maps::build(&hm, MapKind::MaxMip, &MapParams::default(), EdgeMode::Repeat).unwrap();
+/// let up = gpu::upload_of_map(&map, MapKind::MaxMip).unwrap();
+/// assert_eq!((up.format, up.levels.len()), (wgpu::TextureFormat::R32Float, 4)); // 8², 4², 2², 1²
+/// ```
+pub fn upload_of_map(map: &crate::maps::Map, kind: crate::maps::MapKind) -> Result<Upload, crate::maps::MapError> {
+    let used = if kind.is_cell() { cell_channels_uploaded(map.channels) } else { map.channels };
+    if !(1..=4).contains(&used) {
+        return Err(crate::maps::MapError::Params {
+            kind,
+            message: format!("{used} channels on the device, and a texel holds 1 to 4"),
+        });
+    }
+    Ok(map_upload(map, used, kind.is_ratio()))
+}
+
+impl Upload {
+    /// The same texture with each 32-bit float texel channel rounded to a 16-bit float
+    /// (`R32Float` → `R16Float`, `Rg32Float` → `Rg16Float`, `Rgba32Float` → `Rgba16Float`);
+    /// other formats are returned as they are.
+    pub fn to_f16(&self) -> Upload {
+        let format = match self.format {
+            wgpu::TextureFormat::R32Float => wgpu::TextureFormat::R16Float,
+            wgpu::TextureFormat::Rg32Float => wgpu::TextureFormat::Rg16Float,
+            wgpu::TextureFormat::Rgba32Float => wgpu::TextureFormat::Rgba16Float,
+            _ => return self.clone(),
+        };
+        let levels = self
+            .levels
+            .iter()
+            .map(|l| {
+                l.chunks_exact(4)
+                    .flat_map(|b| half::f16::from_f32(f32::from_le_bytes([b[0], b[1], b[2], b[3]])).to_le_bytes())
+                    .collect()
+            })
+            .collect();
+        Upload { format, levels, ..self.clone() }
+    }
+
+    /// The texture as the container its extension names: `.ktx2` or `.dds`
+    /// ([`crate::io::container`]); `None` for any other extension.
+    pub fn container_bytes(&self, path: &std::path::Path) -> Option<Result<Vec<u8>, String>> {
+        let ext = path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase())?;
+        let t = crate::io::container::Texture {
+            width: self.width,
+            height: self.height,
+            depth: self.depth,
+            format: self.format,
+            levels: &self.levels,
+        };
+        if self.view == wgpu::TextureViewDimension::D2Array {
+            return Some(Err("a 2D array texture is not written to a container".into()));
+        }
+        match ext.as_str() {
+            "ktx2" => Some(crate::io::container::ktx2_bytes(&t)),
+            "dds" => Some(crate::io::container::dds_bytes(&t)),
+            _ => None,
+        }
+    }
 }
 
 fn upload_map(gpu: &Gpu, map: &crate::maps::Map, used: usize, ratio: bool) -> wgpu::TextureView {

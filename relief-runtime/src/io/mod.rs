@@ -1,7 +1,9 @@
 //! File I/O in one place (a leaf: it imports nothing else of this crate): atomic writes,
-//! shader files, and the image and array formats ([`npy`], [`png`], [`exr`]).
+//! shader files, and the image and array formats ([`npy`], [`png`], [`exr`]), and the GPU
+//! texture containers ([`container`]: KTX2, DDS).
 
 pub mod base64;
+pub mod container;
 pub mod exr;
 pub mod npy;
 pub mod png;

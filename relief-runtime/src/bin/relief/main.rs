@@ -5,6 +5,7 @@ use relief_runtime::Overrides;
 mod adapters;
 mod compare;
 mod cost;
+mod export;
 mod gen;
 mod maps;
 mod render;
@@ -34,6 +35,9 @@ enum Command {
     Gen(gen::GenArgs),
     /// Build an acceleration map from a height map.
     Maps(maps::MapsArgs),
+    /// One pipeline's library for an engine target, every texture it reads (KTX2 or DDS) and
+    /// relief.json saying how to bind them (`relief export 'csm(64)' --scene rocks --target glsl-es --out DIR`).
+    Export(export::ExportArgs),
     /// Render and probe one pipeline on one scene: frame time, accuracy against the exact
     /// reference, frame.png, error.png, metrics.json (and hits.csv).
     Render(render::RenderArgs),
@@ -141,6 +145,7 @@ fn main() {
         Command::Adapters => adapters::run(),
         Command::Gen(a) => gen::run(a),
         Command::Maps(a) => maps::run(a),
+        Command::Export(a) => export::run(a),
         Command::Render(a) => render::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Cost(a) => cost::run(a),

@@ -8,7 +8,19 @@
 //! ```
 //!
 //! The output format follows the extension of `FILE`: `.png` (unorm8 → 8 bit, unorm16 → 16
-//! bit), `.exr` (f32/f16), `.npy` (float32, the decoded values). See [`relief_runtime::maps::encode`] and [`relief_runtime::maps::file`].
+//! bit), `.exr` (f32/f16, scanlines), `.npy` (float32, the decoded values). See [`relief_runtime::maps::encode`] and [`relief_runtime::maps::file`].
+//!
+//! `.ktx2` and `.dds` hold the texture exactly as the runtime uploads it
+//! ([`relief_runtime::gpu::upload_of_map`]): R32F / RG32F / RGBA32F (or, with `--encoding
+//! f16`, the 16-bit float forms), the max-mip chain as mip levels, the distance field as a
+//! 3D texture; and for `--kind height`, `normal` or `albedo` the scene's own textures with
+//! their mip chains (the levels `lod=auto` reads). Row 0 is v = 0 in every format.
+//!
+//! ```text
+//! relief maps scene:rocks --kind max_mip --out rocks.max_mip.ktx2
+//! relief maps scene:rocks --kind cell_cone --edge repeat --out rocks.cell_cone.dds
+//! relief maps scene:rocks --kind height --out rocks.height.ktx2
+//! ```
 
 use anyhow::{bail, Context};
 use relief_runtime::maps::{self, encode, MapKind, MapParams};
@@ -25,7 +37,8 @@ pub struct MapsArgs {
     /// The same as INPUT, for a scene: `scene:NAME`, a bare NAME or a TOML scene file.
     #[arg(long, conflicts_with = "input")]
     pub scene: Option<String>,
-    /// Map kind (see --list).
+    /// Map kind (see --list); with a .ktx2 or .dds output also `height`, `normal` or
+    /// `albedo`, the scene's own textures.
     #[arg(long, required_unless_present = "list")]
     pub kind: Option<String>,
     /// Storage encoding: f32, f16, unorm8 or unorm16 (default: unorm16 for .png, f32 for
@@ -57,7 +70,7 @@ pub struct MapsArgs {
     /// Number of z slices for distance_field.
     #[arg(long, default_value_t = 64)]
     pub z_resolution: u32,
-    /// Output file (.png, .exr or .npy).
+    /// Output file (.png, .exr, .npy, .ktx2 or .dds).
     #[arg(long, required_unless_present = "list")]
     pub out: Option<PathBuf>,
     /// List the map kinds and their parameters.
@@ -71,6 +84,7 @@ fn list_text() -> String {
     for k in MapKind::ALL {
         s.push_str(&format!("  {:<20} {}\n", k.name(), k.describe()));
     }
+    s.push_str("  height, normal, albedo  the scene's textures with their mip chains (.ktx2 and .dds only)\n");
     s.push_str("parameters: --cones K (default 4), --z-resolution D (default 64), --edge repeat|clamp,\n");
     s.push_str("            --encoding f32|f16|unorm8|unorm16, --sqrt, --max-value V, --min3x3\n");
     s
@@ -99,9 +113,14 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
     let (Some(kind), Some(out)) = (&args.kind, &args.out) else {
         bail!("relief maps needs INPUT (or --scene), --kind and --out (or --list)");
     };
-    let kind: MapKind = kind.parse()?;
-    let default_encoding = match out.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).as_deref() {
-        Some("png") => "unorm16",
+    let ext = out.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).unwrap_or_default();
+    let container = matches!(ext.as_str(), "ktx2" | "dds");
+    let scene_texture = ["height", "normal", "albedo"].contains(&kind.trim().to_ascii_lowercase().as_str());
+    if scene_texture && !container {
+        bail!("--kind {kind} is the scene's texture, written as .ktx2 or .dds only (a height map file is its own .png/.exr/.npy)");
+    }
+    let default_encoding = match ext.as_str() {
+        "png" => "unorm16",
         _ => "f32",
     };
     let format: encode::Format =
@@ -115,11 +134,39 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
         bail!("--max-value must be a positive number");
     }
     let is_scene_file = input.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml"));
-    let hm = match input.to_str().and_then(|s| s.strip_prefix("scene:")) {
-        Some(name) => relief_runtime::Scene::by_name(name, None)?.height,
-        None if is_scene_file => relief_runtime::load_scene_file(input)?.height,
-        None => HeightMap::load(input, &LoadOptions { channel, depth: args.depth })?,
+    let scene = match input.to_str().and_then(|s| s.strip_prefix("scene:")) {
+        Some(name) => relief_runtime::Scene::by_name(name, None)?,
+        None if is_scene_file => relief_runtime::load_scene_file(input)?,
+        None => {
+            let mut s = relief_runtime::Scene::from_height_map(
+                "input",
+                HeightMap::load(input, &LoadOptions { channel, depth: args.depth })?,
+            );
+            s.edge = edge;
+            s
+        }
     };
+    if container {
+        if !matches!(format, encode::Format::F32 | encode::Format::F16) {
+            bail!("{kind} as {format:?} cannot be written as .{ext}: the runtime uploads 32-bit floats; use --encoding f32 or f16");
+        }
+        if args.sqrt || args.max_value != 1.0 || (args.min3x3 && scene_texture) {
+            bail!("--sqrt, --max-value and --min3x3 (for a scene texture) do not apply to .{ext}: it holds the texture as the runtime uploads it");
+        }
+    }
+    if scene_texture {
+        let ups = relief_runtime::gpu::scene_uploads(&scene, true);
+        let up = match kind.trim().to_ascii_lowercase().as_str() {
+            "height" => ups.height,
+            "normal" => ups.normal,
+            _ => ups.albedo,
+        };
+        let up = if format == encode::Format::F16 { up.to_f16() } else { up };
+        write_container(out, &up, kind)?;
+        return Ok(());
+    }
+    let kind: MapKind = kind.parse()?;
+    let hm = scene.height;
     let params = MapParams { cones: args.cones, z_resolution: args.z_resolution };
     if kind.is_cell() && args.min3x3 {
         bail!("--min3x3 does not apply to {kind}: a cell map is read at one cell, unfiltered, so no blend is formed (see the docs of relief_runtime::maps::cell)");
@@ -137,6 +184,20 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
         };
         map.mips = mips;
     }
+    if container {
+        let up = relief_runtime::gpu::upload_of_map(&map, kind)?;
+        let up = if format == encode::Format::F16 { up.to_f16() } else { up };
+        write_container(out, &up, &kind.to_string())?;
+        eprintln!(
+            "{}: {kind} as {:?}, {} level(s), from {} in {:.2} s",
+            out.display(),
+            up.format,
+            up.levels.len(),
+            input.display(),
+            start.elapsed().as_secs_f64()
+        );
+        return Ok(());
+    }
     let enc = encode::Encoding { format, sqrt: args.sqrt, max_value: args.max_value };
     let encoded = encode::encode_channels(&map, &enc, &maps::kind_rounding(&map, kind));
     maps::file::write_map(out, &encoded).with_context(|| format!("writing {}", out.display()))?;
@@ -151,5 +212,15 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
         input.display(),
         start.elapsed().as_secs_f64()
     );
+    Ok(())
+}
+
+/// Writes `up` as the container `out`'s extension names (`.ktx2` or `.dds`), atomically.
+fn write_container(out: &std::path::Path, up: &relief_runtime::gpu::Upload, kind: &str) -> anyhow::Result<()> {
+    let Some(bytes) = up.container_bytes(out) else {
+        bail!("{}: not a .ktx2 or .dds file", out.display());
+    };
+    let bytes = bytes.map_err(|e| anyhow::anyhow!("{kind} cannot be written as {}: {e}", out.display()))?;
+    relief_runtime::io::write_atomic(out, &bytes)?;
     Ok(())
 }

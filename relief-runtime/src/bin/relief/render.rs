@@ -91,6 +91,19 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     json["tiling"] = s.tiling.into();
     json["edge"] = format!("{:?}", s.edge).to_lowercase().into();
     json["camera"] = camera_json(&s.camera);
+    // What the render entry shades with, so that an engine can reproduce the frame
+    // (docs/libraries.md, "Reproducing relief render's frame").
+    let c = relief_runtime::gpu::CLEAR;
+    json["shading"] = serde_json::json!({
+        "formula": relief_runtime::gpu::SHADING_FORMULA,
+        "ambient": relief_runtime::gpu::AMBIENT,
+        "light_dir": [s.light_dir.x, s.light_dir.y, s.light_dir.z],
+        "clear_color_linear": [c.r, c.g, c.b, c.a],
+        "output": "Rgba8UnormSrgb: linear colour encoded to sRGB on write, no tone mapping, alpha 1",
+        "albedo": "sRGB texture (decoded to linear on read), linear filtering, at hit.uv",
+        "normal": "normal map (unorm8 RGB), linear filtering, at hit.uv: n = normalize(texel * 2 - 1)",
+        "texture_space": "u along x, v along y, texel row 0 at v = 0; the quad lies in z = 0, tangent space = world",
+    });
     write_atomic(&a.out.join("metrics.json"), serde_json::to_string_pretty(&json)?.as_bytes())?;
     if a.dump_hits {
         let measured_pipeline: relief_dsl::Pipeline =

@@ -1,0 +1,230 @@
+//! `relief export`: one pipeline's library for one engine target, with every texture it
+//! reads as the runtime uploads it, and `relief.json` saying how to bind each.
+//!
+//! ```text
+//! relief export PIPELINE --scene MAP --target T --out DIR [--container ktx2|dds] [--force]
+//! relief export 'csm(64)' --scene scene:rock_bump --target glsl-es --out bundle/
+//! ```
+//!
+//! `DIR` gets the library file(s) of `--target` (a `relief gen --library --target` form,
+//! generated with the scene's edge mode), one container per texture the library reads
+//! (`height.ktx2`, `cell_cone.ktx2`, …), the scene's `height`, `normal` and `albedo`
+//! textures (shading needs the last two even where the library does not read them), and
+//! `relief.json`: per binding its global, group and binding, the file, format, filter,
+//! address mode, the levels in the file and the levels read; the edge mode and its define;
+//! the depth scale; the row order; the lines to paste; the shading of `relief render`. A
+//! folder that holds other files is refused unless `--force`.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context};
+use relief_dsl::emit::{LibraryForm, LibraryOptions, ResourceKind};
+use relief_dsl::ir::{Filter, Image, Resource};
+use relief_runtime::gpu::{self, Upload};
+use relief_runtime::{scene_from_arg, scene_spec, EdgeMode, MapKey};
+
+/// Arguments of `relief export`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct ExportArgs {
+    /// The pipeline, in the text form (`csm(64)`, `maxmip(96)+shadow=soft(16)`).
+    pub pipeline: String,
+    /// The scene whose maps are exported: `scene:NAME`, a bare NAME or a TOML scene file.
+    #[arg(long)]
+    pub scene: String,
+    /// The library form (one of `relief gen --library --target`'s: wgsl, wesl, glsl,
+    /// glsl-es, tsl, hlsl, msl, unity, unreal).
+    #[arg(long)]
+    pub target: String,
+    /// The texture container: ktx2 (three.js, Babylon.js, Bevy, Godot) or dds (Unity, Unreal).
+    #[arg(long, default_value = "ktx2")]
+    pub container: String,
+    /// Output folder.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Write into a folder that already holds files.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// The file stem of an image's texture in the bundle.
+fn stem(image: Image) -> anyhow::Result<String> {
+    Ok(match image {
+        Image::Height => "height".into(),
+        Image::Normal => "normal".into(),
+        Image::Albedo => "albedo".into(),
+        Image::Map(req) => match MapKey::of(req) {
+            Some(k) => k.kind.to_string(),
+            None => bail!("the library reads {}, which relief builds no file for", image.texture_name()),
+        },
+        Image::Window => bail!("the library reads a room's window map, which a scene has not"),
+    })
+}
+
+fn filter_name(f: Filter) -> &'static str {
+    if f == Filter::Nearest {
+        "nearest"
+    } else {
+        "linear"
+    }
+}
+
+/// The lines to paste into a shader of `form`, for this library.
+fn paste_lines(form: LibraryForm, lib: &relief_dsl::emit::LibraryForms, depth: f32, edge: &str) -> Vec<String> {
+    let d = format!("{depth:?}");
+    let mut v = Vec::new();
+    match form {
+        LibraryForm::Wgsl | LibraryForm::Wesl | LibraryForm::Tsl => {
+            v.push(format!("let hit = relief_trace(uv, normalize(view_ts), {d});"));
+            if lib.has_shadow {
+                v.push(format!("let shadow = relief_shadow(hit, normalize(light_ts), {d});"));
+            }
+        }
+        LibraryForm::Unity | LibraryForm::Unreal => {
+            v.push(format!("DepthScale = {d}"));
+        }
+        _ => {
+            if form == LibraryForm::GlslEs {
+                v.push(format!("#define RELIEF_EDGE_{}", edge.to_ascii_uppercase()));
+            }
+            v.push(format!("ReliefHit hit = relief_trace(uv, normalize(view_ts), {d});"));
+            if lib.has_shadow {
+                v.push(format!("float shadow = relief_shadow(hit, normalize(light_ts), {d});"));
+            }
+        }
+    }
+    if lib.has_ao {
+        v.push("ao = relief_ao(hit)".into());
+    }
+    v
+}
+
+/// Refuses a folder that holds files, unless `force`; creates it.
+fn prepare_out(out: &Path, force: bool) -> anyhow::Result<()> {
+    if out.exists() {
+        if !out.is_dir() {
+            bail!("--out {} is not a folder", out.display());
+        }
+        let n = std::fs::read_dir(out).with_context(|| format!("cannot read {}", out.display()))?.count();
+        if n > 0 && !force {
+            bail!("--out {} holds {n} other file(s); pass --force to write the bundle into it", out.display());
+        }
+    }
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create output folder {}", out.display()))
+}
+
+/// Runs `relief export`.
+pub fn run(a: &ExportArgs) -> anyhow::Result<()> {
+    let p: relief_dsl::Pipeline =
+        a.pipeline.parse().map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", relief_dsl::spec::echo(&a.pipeline)))?;
+    let form = LibraryForm::from_name(&a.target)?;
+    let container = a.container.to_ascii_lowercase();
+    if !matches!(container.as_str(), "ktx2" | "dds") {
+        bail!("--container {}: expected ktx2 or dds", relief_dsl::spec::echo(&a.container));
+    }
+    let scene = scene_from_arg(&scene_spec(&a.scene))?;
+    let edge = if scene.edge == EdgeMode::Clamp { "clamp" } else { "repeat" };
+    let opts = LibraryOptions { edge_clamp: scene.edge == EdgeMode::Clamp, ..LibraryOptions::default() };
+    let lib = relief_dsl::emit::library_forms(&p, &opts, &[form]).with_context(|| format!("pipeline {p}"))?;
+    prepare_out(&a.out, a.force)?;
+    for f in &lib.files {
+        relief_runtime::io::write_atomic(&a.out.join(&f.name), f.text.as_bytes())?;
+    }
+    // Every texture as the runtime uploads it, one file per image.
+    let ups = gpu::scene_uploads(&scene, true);
+    let mut written: Vec<(Image, String, Upload)> = Vec::new();
+    let mut file_of = |image: Image| -> anyhow::Result<(String, Upload)> {
+        if let Some((_, f, u)) = written.iter().find(|(i, _, _)| *i == image) {
+            return Ok((f.clone(), u.clone()));
+        }
+        let up = match image {
+            Image::Height => ups.height.clone(),
+            Image::Normal => ups.normal.clone(),
+            Image::Albedo => ups.albedo.clone(),
+            Image::Map(req) => {
+                let key = MapKey::of(req).ok_or_else(|| anyhow::anyhow!("no map for {}", image.texture_name()))?;
+                gpu::map_upload_of(&scene, key)?
+            }
+            Image::Window => bail!("the library reads a room's window map, which a scene has not"),
+        };
+        let name = format!("{}.{container}", stem(image)?);
+        let path = a.out.join(&name);
+        let bytes = up.container_bytes(&path).unwrap_or_else(|| Err("no container".into())).map_err(|e| {
+            anyhow::anyhow!("{} cannot be written as .{container}: {e}", stem(image).unwrap_or_default())
+        })?;
+        relief_runtime::io::write_atomic(&path, &bytes)?;
+        written.push((image, name.clone(), up.clone()));
+        Ok((name, up))
+    };
+    let address = if scene.edge == EdgeMode::Clamp { "clamp_to_edge" } else { "repeat" };
+    let mut bindings = Vec::new();
+    for b in &lib.bindings {
+        let mut e = serde_json::json!({
+            "name": b.name,
+            "group": b.group,
+            "binding": b.binding,
+            "what": b.what,
+            "address_mode": address,
+        });
+        match (b.resource, b.kind) {
+            (Resource::Texture { image, filter, .. }, kind) => {
+                let (file, up) = file_of(image)?;
+                e["kind"] = if kind == ResourceKind::Texture3d { "texture_3d" } else { "texture_2d" }.into();
+                e["image"] = image.texture_name().into();
+                e["file"] = file.into();
+                e["format"] = format!("{:?}", up.format).into();
+                e["filter"] = filter_name(filter).into();
+                e["levels_in_file"] = up.levels.len().into();
+                e["levels_read"] = if b.all_levels { "all" } else { "0" }.into();
+                e["size"] = serde_json::json!([up.width, up.height, up.depth]);
+            }
+            (Resource::Sampler(filter), _) => {
+                e["kind"] = "sampler".into();
+                e["filter"] = filter_name(filter).into();
+                e["mipmap_filter"] = "nearest".into();
+            }
+            (other, _) => bail!("the library binds {other:?}, which a bundle has no file for"),
+        }
+        bindings.push(e);
+    }
+    // The shading textures, bound or not.
+    let mut shading_files = serde_json::Map::new();
+    for image in [Image::Height, Image::Normal, Image::Albedo] {
+        let (file, up) = file_of(image)?;
+        shading_files.insert(
+            stem(image)?,
+            serde_json::json!({ "file": file, "format": format!("{:?}", up.format), "levels_in_file": up.levels.len() }),
+        );
+    }
+    let c = gpu::CLEAR;
+    let json = serde_json::json!({
+        "pipeline": p.to_string(),
+        "scene": scene.name,
+        "target": form.name(),
+        "library": lib.files.iter().map(|f| f.name.clone()).collect::<Vec<_>>(),
+        "container": container,
+        "depth_scale": scene.depth_scale,
+        "tiling": scene.tiling,
+        "edge": edge,
+        "edge_define": format!("RELIEF_EDGE_{}", edge.to_ascii_uppercase()),
+        "texture_space": "row 0 of every file is v = 0 (KTXorientation rd: first row stored first, not flipped); u grows along a row; height 1 at the polygon, 0 at the floor",
+        "bindings": bindings,
+        "textures": shading_files,
+        "paste": paste_lines(form, &lib, scene.depth_scale, edge),
+        "shading": {
+            "formula": gpu::SHADING_FORMULA,
+            "ambient": gpu::AMBIENT,
+            "light_dir": [scene.light_dir.x, scene.light_dir.y, scene.light_dir.z],
+            "clear_color_linear": [c.r, c.g, c.b, c.a],
+        },
+    });
+    relief_runtime::io::write_atomic(&a.out.join("relief.json"), serde_json::to_string_pretty(&json)?.as_bytes())?;
+    eprintln!(
+        "{}: {} for {} on {}: {} file(s) and relief.json",
+        a.out.display(),
+        p,
+        form.name(),
+        scene.name,
+        lib.files.len() + written.len()
+    );
+    Ok(())
+}
