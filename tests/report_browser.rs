@@ -298,7 +298,7 @@ fn the_page_inflates_the_browser_data_to_the_runtimes_bytes() {
     let r = run_page(&page);
     assert_eq!(r["ok"], true, "{r}");
 
-    let scene = scene_from_arg("rocks").unwrap();
+    let scene = scene_from_arg("scene:rocks").unwrap();
     let u = gpu::scene_uploads(&scene, true);
     let mut want: std::collections::BTreeMap<String, Vec<u8>> = std::collections::BTreeMap::new();
     want.insert("height".into(), u.height.levels.concat());
