@@ -255,3 +255,77 @@ fn adding_what_is_not_a_browser_results_file_is_a_one_line_error() {
     assert_eq!(added[0].set_aside, vec!["`linear(8)` on scene:rocks at 64²: not in the sweep".to_string()]);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// FNV-1a, 32 bits: the hash `pages/data.html` computes of each inflated file.
+fn fnv(bytes: &[u8]) -> u64 {
+    let mut h: u32 = 0x811c_9dc5;
+    for &b in bytes {
+        h ^= u32::from(b);
+        h = h.wrapping_mul(16_777_619);
+    }
+    u64::from(h)
+}
+
+/// The browser data as the page reads it equals the runtime's own bytes, texel for texel: a
+/// 3-cell sweep whose pipelines read a cone map, the max-mip pyramid and the 3D distance
+/// field, reported, and every data file loaded in headless Chromium through the live
+/// section's loader (gzip inflated by the browser's `DecompressionStream`, byte planes put
+/// back), each file's length and FNV-1a hash compared with those of the bytes the runtime
+/// uploads, computed here from the scene (`gpu::scene_uploads`, `gpu::map_upload_of`,
+/// `Scene::rays`) and the WGSL from `emit`, not from the files.
+#[test]
+fn the_page_inflates_the_browser_data_to_the_runtimes_bytes() {
+    use relief::runtime::{gpu, scene_from_arg, MapKey, Program};
+    let dir = std::env::temp_dir().join(format!("relief-data-page-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    let grid = grids::parse_grid_file("coarse: [csm(8), sphere(16)]\nrefine: none\n").unwrap();
+    let cells: Vec<_> = grid.into_iter().map(|p| (p, "rocks".to_string())).collect();
+    let grid = NamedGrid { name: "data".into(), description: "the browser data test".into(), cells };
+    let opts = sweep::Options {
+        grid,
+        size: 32,
+        frames: 2,
+        warmup: 1,
+        out: dir.clone(),
+        progress: false,
+        overrides: Default::default(),
+        shard: None,
+    };
+    assert_eq!(sweep::run(&opts).expect("sweep").failed, 0);
+    relief::runtime::report::write(&dir).expect("report");
+
+    let mut page = Page::new("pages/data.html");
+    page.mounts.push(("sweep", &dir));
+    page.timeout = Duration::from_secs(120);
+    let r = run_page(&page);
+    assert_eq!(r["ok"], true, "{r}");
+
+    let scene = scene_from_arg("scene:rocks").unwrap();
+    let u = gpu::scene_uploads(&scene, true);
+    let mut want: std::collections::BTreeMap<String, Vec<u8>> = std::collections::BTreeMap::new();
+    want.insert("height".into(), u.height.levels.concat());
+    want.insert("normal".into(), u.normal.levels.concat());
+    want.insert("albedo".into(), u.albedo.levels.concat());
+    want.insert("probe:32".into(), bytemuck::cast_slice(&scene.rays(32)).to_vec());
+    for text in ["csm(8)", "sphere(16)", "maxmip(96)"] {
+        let p: relief::Pipeline = text.parse().unwrap();
+        want.insert(format!("wgsl:{p}"), relief::dsl::emit::emit(&p).unwrap().wgsl.into_bytes());
+        for k in Program::new(&p).unwrap().maps.iter().filter_map(|m| MapKey::of(*m)) {
+            let slug = format!("{}_{}_{}", k.kind.name(), k.params.cones, k.params.z_resolution);
+            want.insert(format!("map:{slug}"), gpu::map_upload_of(&scene, k).unwrap().levels.concat());
+        }
+    }
+    // Each file of the data once, and nothing else.
+    let files = r["files"].as_array().unwrap();
+    let mut got: Vec<String> = files.iter().map(|f| f["what"].as_str().unwrap().to_string()).collect();
+    got.sort();
+    assert_eq!(got, want.keys().cloned().collect::<Vec<_>>(), "{r}");
+    assert!(want.keys().any(|k| k.starts_with("map:distance_field")), "{got:?}");
+    for f in files {
+        let what = f["what"].as_str().unwrap();
+        let bytes = &want[what];
+        assert_eq!(f["len"].as_u64(), Some(bytes.len() as u64), "{what}");
+        assert_eq!(f["fnv"].as_u64(), Some(fnv(bytes)), "{what}: the inflated bytes differ from the runtime's");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

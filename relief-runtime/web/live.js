@@ -5,7 +5,8 @@
 //
 // What it needs from the browser: WebGPU with `float32-filterable` (the heights and maps are
 // 32-bit float textures sampled with linear filtering); `timestamp-query` when granted
-// (frame times are then device time, else wall clock, recorded as such).
+// (frame times are then device time, else wall clock, recorded as such); `DecompressionStream`
+// (the data files are gzip-compressed).
 "use strict";
 
 (function () {
@@ -15,8 +16,30 @@
   function say(t) { if (statusEl) statusEl.textContent = t; }
 
   // ---------------------------------------------------------------------------------------
-  // Data files: each sets window.RELIEF_DATA[name] = { meta, b64 } when loaded as a script,
-  // which works from file:// as well as over http.
+  // Data files: each sets window.RELIEF_DATA[name] = { meta, gz, shuffle, bytes } when loaded
+  // as a script, which works from file:// as well as over http. `gz` is base64 of the gzip of
+  // the bytes split into `shuffle`-byte planes (report/browser.rs, `pack`): inflated here with
+  // the browser's DecompressionStream, then the planes put back.
+  async function inflate(d) {
+    var bin = atob(d.gz);
+    var packed = new Uint8Array(bin.length);
+    for (var i = 0; i < bin.length; i++) packed[i] = bin.charCodeAt(i);
+    var stream = new Blob([packed]).stream().pipeThrough(new DecompressionStream("gzip"));
+    var planes = new Uint8Array(await new Response(stream).arrayBuffer());
+    if (planes.length !== d.bytes) throw new Error("inflated " + planes.length + " bytes, not " + d.bytes);
+    return unshuffle(planes, d.shuffle);
+  }
+  // The inverse of the writer's `shuffle`: byte b of element i is at b * n + i.
+  function unshuffle(planes, elem) {
+    if (elem <= 1) return planes;
+    var n = Math.floor(planes.length / elem), out = new Uint8Array(planes.length);
+    for (var b = 0; b < elem; b++) {
+      var from = b * n;
+      for (var i = 0; i < n; i++) out[i * elem + b] = planes[from + i];
+    }
+    out.set(planes.subarray(n * elem), n * elem);
+    return out;
+  }
   var cache = {};
   function load(name) {
     if (cache[name]) return cache[name];
@@ -26,11 +49,9 @@
       s.onload = function () {
         var d = (window.RELIEF_DATA || {})[name];
         if (!d) { reject(new Error("browser/" + name + ".js set no data")); return; }
-        var bin = atob(d.b64);
-        var bytes = new Uint8Array(bin.length);
-        for (var i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
         delete window.RELIEF_DATA[name];
-        resolve({ meta: d.meta, bytes: bytes });
+        inflate(d).then(function (bytes) { resolve({ meta: d.meta, bytes: bytes }); },
+          function (e) { reject(new Error("browser/" + name + ".js: " + e.message)); });
       };
       s.onerror = function () { reject(new Error("cannot load browser/" + name + ".js")); };
       document.head.appendChild(s);
@@ -48,6 +69,7 @@
   }
   async function openGpu() {
     if (!navigator.gpu) throw new Error("this browser has no WebGPU (navigator.gpu is missing)");
+    if (typeof DecompressionStream === "undefined") throw new Error("this browser has no DecompressionStream, which inflates the browser data");
     var adapter = await navigator.gpu.requestAdapter({ powerPreference: "high-performance" });
     if (!adapter) throw new Error("this browser offers no WebGPU adapter");
     if (!adapter.features.has("float32-filterable")) throw new Error("the WebGPU adapter lacks float32-filterable, which the 32-bit float height and map textures need");

@@ -12,10 +12,12 @@
 //!   acceleration maps, in the layouts the runtime uploads ([`crate::gpu::scene_uploads`],
 //!   [`crate::gpu::map_upload`]);
 //! - `browser/scenes/SCENE/probe_SIZE.js`: the probe rays of the measured view (the ABI's
-//!   32-byte records; every `stride`-th ray of [`Scene::rays`]) and their exact first hits on
-//!   the heights as the device stores them (t, u, v, z as f32; NaN where none).
+//!   32-byte records; every `stride`-th ray of [`Scene::rays`]). Their exact hits are not
+//!   shipped: the page reads none, and `--add` traces them again ([`probe_set`]).
 //!
-//! A data file sets `window.RELIEF_DATA[NAME] = { meta, b64 }`; the manifest sets
+//! A data file sets `window.RELIEF_DATA[NAME] = { meta, gz, shuffle, bytes }`: its bytes split
+//! into `shuffle`-byte planes ([`shuffle`]), gzip-compressed and base64-encoded ([`pack`]),
+//! which the page inflates with the browser's `DecompressionStream`; the manifest sets
 //! `window.RELIEF_MANIFEST`. The page's script (`web/live.js`) loads files on demand.
 //!
 //! Pipelines under a `lod` other than zero read per-level maps, which are not shipped; they
@@ -128,13 +130,42 @@ fn resource_json(resource: Resource) -> Option<Value> {
     })
 }
 
-/// One data file: `window.RELIEF_DATA[name] = { meta, b64 }`.
-fn data_file(dir: &Path, name: &str, meta: Value, bytes: &[u8], files: &mut Vec<PathBuf>) -> Result<()> {
+/// The byte planes of `bytes` taken `elem` bytes at a time: every element's first byte, then
+/// every element's second, and so on (a trailing part shorter than `elem` kept as it is).
+/// The high bytes of neighbouring floats are alike, so the planes deflate far better than the
+/// interleaved floats; the page puts the bytes back (`unshuffle` in `web/live.js`).
+pub(crate) fn shuffle(bytes: &[u8], elem: usize) -> Vec<u8> {
+    if elem <= 1 {
+        return bytes.to_vec();
+    }
+    let n = bytes.len() / elem;
+    let mut out = Vec::with_capacity(bytes.len());
+    for b in 0..elem {
+        out.extend((0..n).map(|i| bytes[i * elem + b]));
+    }
+    out.extend_from_slice(&bytes[n * elem..]);
+    out
+}
+
+/// `bytes` shuffled by `elem` ([`shuffle`]) and gzip-compressed: what a data file's `gz`
+/// holds, which the page inflates with the browser's `DecompressionStream("gzip")`.
+pub(crate) fn pack(bytes: &[u8], elem: usize) -> Result<Vec<u8>> {
+    use std::io::Write as _;
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    gz.write_all(&shuffle(bytes, elem))
+        .and_then(|()| gz.finish())
+        .map_err(|e| Error::Input(format!("cannot compress the browser data: {e}")))
+}
+
+/// One data file: `window.RELIEF_DATA[name] = { meta, gz, shuffle, bytes }`, `gz` the
+/// base64 of `bytes` packed by [`pack`] with element size `shuffle`, `bytes` their length.
+fn data_file(dir: &Path, name: &str, meta: Value, bytes: &[u8], elem: usize, files: &mut Vec<PathBuf>) -> Result<()> {
     let path = dir.join(format!("{name}.js"));
     if let Some(parent) = path.parent() {
         crate::io::create_dir_all(parent)?;
     }
-    let body = json!({ "meta": meta, "b64": crate::io::base64::encode(bytes) });
+    let gz = pack(bytes, elem)?;
+    let body = json!({ "meta": meta, "gz": crate::io::base64::encode(&gz), "shuffle": elem, "bytes": bytes.len() });
     let text = format!("(window.RELIEF_DATA = window.RELIEF_DATA || {{}})[{}] = {};\n", json!(name), body);
     crate::io::write_atomic(&path, text.as_bytes())?;
     files.push(path);
@@ -152,7 +183,10 @@ fn texture_file(dir: &Path, name: &str, u: &Upload, files: &mut Vec<PathBuf>) ->
         "width": u.width, "height": u.height, "depth": u.depth, "format": format_name(u.format),
         "dimension": dimension, "view": view, "levels": u.levels.iter().map(Vec::len).collect::<Vec<_>>(),
     });
-    data_file(dir, name, meta, &u.levels.concat(), files)
+    // Shuffled by 4: the bytes of a 32-bit float, or the channels of an RGBA8 texel; 2 for
+    // the bytes of a 16-bit float.
+    let elem = if u.format == wgpu::TextureFormat::R16Float { 2 } else { 4 };
+    data_file(dir, name, meta, &u.levels.concat(), elem, files)
 }
 
 /// A pipeline the page can draw: its module and bindings.
@@ -231,7 +265,7 @@ pub(crate) fn write(datas: &[&Data], dir: &Path) -> Result<Written> {
     let mut pjson = Vec::new();
     for s in pipelines.values() {
         let wgsl = relief_dsl::emit::emit(&s.text.parse()?)?.wgsl;
-        data_file(&out, &format!("wgsl/{}", s.stem), json!({ "pipeline": s.text }), wgsl.as_bytes(), &mut files)?;
+        data_file(&out, &format!("wgsl/{}", s.stem), json!({ "pipeline": s.text }), wgsl.as_bytes(), 1, &mut files)?;
         let render = bindings_json(&s.program.render_bindings, &s.program)?;
         let probe = bindings_json(&s.program.probe_bindings, &s.program)?;
         let maps: Vec<String> = s.program.maps.iter().filter_map(|r| MapKey::of(*r)).map(map_slug).collect();
@@ -296,8 +330,6 @@ pub(crate) fn on_device(scene: &Scene, uploads: &gpu::SceneUploads) -> Scene {
 pub(crate) struct ProbeSet {
     /// Every `stride`-th ray of [`Scene::rays`].
     pub rays: Vec<ProbeRay>,
-    /// How many rays the whole frame has.
-    pub all: usize,
     /// [`probe_stride`] of `all`.
     pub stride: usize,
     /// The exact first hit of each of `rays` on the heights as stored ([`on_device`]).
@@ -307,11 +339,17 @@ pub(crate) struct ProbeSet {
 /// The shipped probe rays of `on_device` (a scene from [`on_device`], labelled `label`) at
 /// `size²` and their exact hits: what the page probes and what `--add` scores it against.
 pub(crate) fn probe_set(label: &str, on_device: &Scene, size: u32) -> Result<ProbeSet> {
-    let all = on_device.rays(size);
-    let stride = probe_stride(all.len());
-    let rays: Vec<ProbeRay> = all.iter().step_by(stride).copied().collect();
+    let (rays, _, stride) = shipped_rays(on_device, size);
     let refs = reference_hits(on_device, &rays, Sampling::Bilinear).map_err(|e| Error::from(e).in_scene(label))?;
-    Ok(ProbeSet { rays, all: all.len(), stride, refs })
+    Ok(ProbeSet { rays, stride, refs })
+}
+
+/// The probe rays shipped for `scene` at `size²`: every `stride`-th ray of [`Scene::rays`],
+/// with the frame's ray count and the stride.
+fn shipped_rays(scene: &Scene, size: u32) -> (Vec<ProbeRay>, usize, usize) {
+    let all = scene.rays(size);
+    let stride = probe_stride(all.len());
+    (all.iter().step_by(stride).copied().collect(), all.len(), stride)
 }
 
 /// One scene's textures, maps and probe data, and its manifest entry.
@@ -347,21 +385,16 @@ fn write_scene<'a>(
     let mut probes = serde_json::Map::new();
     let mut measured = serde_json::Map::new();
     for &size in sizes {
-        let ProbeSet { rays, all, stride, refs } = probe_set(label, &on_device, size)?;
-        let mut bytes: Vec<u8> = bytemuck::cast_slice(&rays).to_vec();
-        for h in &refs {
-            let v = match h {
-                Some(h) => [h.t, h.u, h.v, h.z].map(|x| x as f32),
-                None => [f32::NAN; 4],
-            };
-            bytes.extend_from_slice(bytemuck::cast_slice(&v));
-        }
+        // The rays only: their exact hits are traced again where they are scored (`--add`),
+        // and the page reads none.
+        let (rays, all, stride) = shipped_rays(&on_device, size);
         let name = format!("{base}/probe_{size}");
         data_file(
             out,
             &name,
-            json!({ "rays": rays.len(), "all_rays": all, "stride": stride, "refs": "t u v z, f32, NaN where none" }),
-            &bytes,
+            json!({ "rays": rays.len(), "all_rays": all, "stride": stride }),
+            bytemuck::cast_slice(&rays),
+            4,
             files,
         )?;
         probes.insert(size.to_string(), json!(name));
@@ -436,6 +469,28 @@ mod tests {
             let s = probe_stride(n);
             assert!(n.div_ceil(s) <= MAX_PROBE_RAYS, "{n}");
             assert!(s == 1 || n.div_ceil(s - 1) > MAX_PROBE_RAYS, "{n}: stride {s} is larger than needed");
+        }
+    }
+
+    #[test]
+    fn packed_bytes_inflate_and_unshuffle_to_the_input() {
+        use std::io::Read as _;
+        // 4-byte elements with a 3-byte tail, and 1-byte elements (no shuffle).
+        let bytes: Vec<u8> = (0..4099u32).map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8).collect();
+        for elem in [1, 2, 4] {
+            let planes = shuffle(&bytes, elem);
+            assert_eq!(planes.len(), bytes.len());
+            let n = bytes.len() / elem;
+            // Byte b of element i at b * n + i, the tail last (what `unshuffle` in live.js reads).
+            for i in [0, 1, n / 2, n - 1] {
+                for b in 0..elem {
+                    assert_eq!(planes[b * n + i], bytes[i * elem + b], "elem {elem}, element {i}, byte {b}");
+                }
+            }
+            assert_eq!(planes[n * elem..], bytes[n * elem..]);
+            let mut inflated = Vec::new();
+            flate2::read::GzDecoder::new(&pack(&bytes, elem).unwrap()[..]).read_to_end(&mut inflated).unwrap();
+            assert_eq!(inflated, planes, "elem {elem}");
         }
     }
 }
