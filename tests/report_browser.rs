@@ -290,6 +290,7 @@ fn the_page_inflates_the_browser_data_to_the_runtimes_bytes() {
         progress: false,
         overrides: Default::default(),
         shard: None,
+        gpu_cost: None,
     };
     assert_eq!(sweep::run(&opts).expect("sweep").failed, 0);
     relief::runtime::report::write(&dir).expect("report");
