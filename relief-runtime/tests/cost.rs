@@ -156,6 +156,68 @@ fn a_sweep_writes_the_gpu_columns_and_the_report_shows_the_model() {
     assert!(svg.starts_with("<svg") && svg.contains("modeled instructions per pixel"), "{svg}");
     let html = std::fs::read_to_string(with.join("index.html")).unwrap();
     assert!(html.contains("id=\"gpu-model\""));
+    // The model's order against the clock: Spearman's ρ over the three rows, computed here
+    // from the rows (three distinct values each: ρ = 1 − 6Σd²/(n(n²−1))).
+    let rank = |v: Vec<f64>| -> Vec<f64> { v.iter().map(|x| v.iter().filter(|y| *y < x).count() as f64).collect() };
+    let clock = rank(rows.iter().map(|r| r.metrics.frame_ratio_to_baseline.unwrap()).collect());
+    let model = rank(rows.iter().map(|r| r.metrics.gpu_navi21_instr_px.unwrap()).collect());
+    let d2: f64 = clock.iter().zip(&model).map(|(a, b)| (a - b) * (a - b)).sum();
+    let rho = 1.0 - 6.0 * d2 / (3.0 * 8.0);
+    let line = md
+        .lines()
+        .find(|l| l.starts_with("| rocks") && l.contains("| lavapipe | 3 |"))
+        .unwrap_or_else(|| panic!("the ρ table's row: {md}"));
+    let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+    assert!(md.contains("### How the model orders the pipelines"), "{md}");
+    assert_eq!(cells[4].parse::<f64>().unwrap(), rho, "{line}");
+
+    // Recorded costs (what `relief cost --grid G --json F` writes, for a GPU machine
+    // without RADV) give every row the same columns as compiling; a pipeline missing from
+    // the file leaves its rows without them, and the run says how many.
+    let grid_file = dir.join("grid.txt");
+    std::fs::write(&grid_file, "coarse: linear_dynamic(1, [8, 16])\nrefine: binary(5)\n---\ncoarse: csm(16)\n")
+        .unwrap();
+    let json = dir.join("costs.json");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(["cost", "--grid"])
+        .arg(&grid_file)
+        .args(["--scene", "rocks", "--json"])
+        .arg(&json)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let recorded = dir.join("recorded");
+    let s = run(&recorded, Some(Compiler::from_recorded(&json).unwrap()));
+    assert!(s.gpu_note.is_none(), "{:?}", s.gpu_note);
+    let gpu_of = |m: &relief_runtime::results::Metrics| {
+        let v = serde_json::to_value(m).unwrap();
+        let o = v.as_object().unwrap().clone();
+        (m.pipeline.to_string(), o.into_iter().filter(|(k, _)| k.starts_with("gpu_")).collect::<Vec<_>>())
+    };
+    let mut a: Vec<_> = rows.iter().map(|r| gpu_of(&r.metrics)).collect();
+    let mut b: Vec<_> =
+        relief_runtime::results::read(&recorded).unwrap().rows.iter().map(|r| gpu_of(&r.metrics)).collect();
+    a.sort_by(|x, y| x.0.cmp(&y.0));
+    b.sort_by(|x, y| x.0.cmp(&y.0));
+    assert_eq!(a, b);
+    assert_eq!(a[0].1.len(), 11, "{a:?}");
+    // The file with csm(16) taken out.
+    let all: Vec<relief_runtime::cost::PipelineCost> = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let some: Vec<_> = all.iter().filter(|c| !c.pipeline.starts_with("csm")).cloned().collect();
+    assert!(some.len() < all.len());
+    let json_some = dir.join("some.json");
+    std::fs::write(&json_some, serde_json::to_vec(&some).unwrap()).unwrap();
+    let partial = dir.join("partial");
+    let s = run(&partial, Some(Compiler::from_recorded(&json_some).unwrap()));
+    let note = s.gpu_note.expect("the run says that a pipeline was not priced");
+    assert!(note.starts_with("1 of 3 pipelines have no GPU compiler columns") && note.contains("csm(16)"), "{note}");
+    for r in relief_runtime::results::read(&partial).unwrap().rows {
+        assert_eq!(r.metrics.gpu_navi21_instr_px.is_some(), !r.metrics.pipeline.to_string().starts_with("csm"));
+    }
+    // A file that is not one: one line.
+    std::fs::write(dir.join("bad.json"), "{\"pipeline\": 3").unwrap();
+    let e = Compiler::from_recorded(dir.join("bad.json")).unwrap_err().to_string();
+    assert!(e.contains("bad.json") && e.contains("relief cost --json") && !e.contains('\n'), "{e}");
 
     // Without the compiler (its program missing): no GPU columns, the reason once.
     let without = dir.join("without");

@@ -124,6 +124,24 @@ pub enum CostError {
         /// What failed, one line.
         message: String,
     },
+    /// A file of recorded costs (`relief cost --json`) cannot be read.
+    #[error("{file}: {message}")]
+    RecordedFile {
+        /// The file.
+        file: String,
+        /// Why, one line.
+        message: String,
+    },
+    /// A file of recorded costs has no entry for this pipeline and family.
+    #[error("pipeline `{pipeline}` on {family} is not in {file} (price it there with `relief cost`)")]
+    NotRecorded {
+        /// The pipeline's text form.
+        pipeline: String,
+        /// The family asked for.
+        family: String,
+        /// The file.
+        file: String,
+    },
 }
 
 /// A shader's figures as the compiler reports them.
@@ -326,6 +344,19 @@ pub struct Compiler {
     pub program: PathBuf,
     /// Its arguments that make it a child ([`CHILD_ARGS`]).
     pub args: Vec<String>,
+    /// Costs recorded earlier (`relief cost --json`), answered instead of compiling: for a
+    /// machine without RADV (a GPU machine measuring the clock the model is set beside). The
+    /// compiler's figures depend on the SPIR-V and Mesa's version only, never on the machine.
+    pub recorded: Option<Recorded>,
+}
+
+/// Costs read from a file that `relief cost --json` wrote ([`Compiler::from_recorded`]).
+#[derive(Clone, Debug)]
+pub struct Recorded {
+    /// The file, for messages.
+    pub file: PathBuf,
+    /// Its costs, any order.
+    pub costs: Vec<PipelineCost>,
 }
 
 /// The hidden subcommand that makes relief's command line a compiling child: it reads jobs
@@ -335,7 +366,32 @@ pub const CHILD_ARGS: [&str; 1] = ["__radv-child"];
 impl Compiler {
     /// The child is `program` with [`CHILD_ARGS`].
     pub fn new(program: impl AsRef<Path>) -> Compiler {
-        Compiler { program: program.as_ref().to_path_buf(), args: CHILD_ARGS.iter().map(|s| s.to_string()).collect() }
+        Compiler {
+            program: program.as_ref().to_path_buf(),
+            args: CHILD_ARGS.iter().map(|s| s.to_string()).collect(),
+            recorded: None,
+        }
+    }
+
+    /// A compiler that answers from `file` (what `relief cost --json` wrote) and compiles
+    /// nothing: a pipeline or family missing from it is [`CostError::NotRecorded`].
+    pub fn from_recorded(file: impl AsRef<Path>) -> Result<Compiler, CostError> {
+        let file = file.as_ref();
+        let fail = |m: String| CostError::RecordedFile {
+            file: file.display().to_string(),
+            message: relief_dsl::spec::one_line(&m),
+        };
+        let bytes = std::fs::read(file).map_err(|e| fail(e.to_string()))?;
+        let costs: Vec<PipelineCost> =
+            serde_json::from_slice(&bytes).map_err(|e| fail(format!("not a `relief cost --json` file: {e}")))?;
+        for c in &costs {
+            family(&c.family).map_err(|e| fail(e.to_string()))?;
+        }
+        Ok(Compiler {
+            program: PathBuf::new(),
+            args: vec![],
+            recorded: Some(Recorded { file: file.to_path_buf(), costs }),
+        })
     }
 
     /// Whether RADV's manifest is installed (the sweep writes no GPU columns without it).
@@ -402,11 +458,14 @@ impl Compiler {
         families: &[String],
         keep_isa: bool,
     ) -> Result<Vec<Result<Vec<PipelineCost>, CostError>>, CostError> {
-        if !Compiler::radv_present() {
-            return Err(CostError::NoRadv);
-        }
         for f in families {
             family(f)?;
+        }
+        if let Some(r) = &self.recorded {
+            return Ok(pipelines.iter().map(|p| r.lookup(p, families)).collect());
+        }
+        if !Compiler::radv_present() {
+            return Err(CostError::NoRadv);
         }
         // Jobs, each once (pipelines share their stage prefixes): per pipeline, the indices of
         // its render, probe and prefix 0, 1, 2 render jobs.
@@ -466,6 +525,25 @@ impl Compiler {
     }
 }
 
+impl Recorded {
+    /// `p`'s costs on each of `families`, in that order.
+    fn lookup(&self, p: &Pipeline, families: &[String]) -> Result<Vec<PipelineCost>, CostError> {
+        let text = p.to_string();
+        families
+            .iter()
+            .map(|f| {
+                self.costs.iter().find(|c| c.pipeline == text && &c.family == f).cloned().ok_or_else(|| {
+                    CostError::NotRecorded {
+                        pipeline: text.clone(),
+                        family: f.clone(),
+                        file: self.file.display().to_string(),
+                    }
+                })
+            })
+            .collect()
+    }
+}
+
 impl CostError {
     /// A copy (the variants hold text only).
     fn clone_error(&self) -> CostError {
@@ -477,6 +555,12 @@ impl CostError {
             }
             CostError::Driver { family, message } => {
                 CostError::Driver { family: family.clone(), message: message.clone() }
+            }
+            CostError::RecordedFile { file, message } => {
+                CostError::RecordedFile { file: file.clone(), message: message.clone() }
+            }
+            CostError::NotRecorded { pipeline, family, file } => {
+                CostError::NotRecorded { pipeline: pipeline.clone(), family: family.clone(), file: file.clone() }
             }
         }
     }

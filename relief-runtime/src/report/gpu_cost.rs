@@ -38,6 +38,50 @@ pub(crate) fn instr_px(m: &Metrics, family: &str) -> f64 {
     .unwrap_or(f64::NAN)
 }
 
+/// What the rows' clock is called in this section: `lavapipe` for Mesa's CPU rasterizer
+/// (its adapter reports itself as llvmpipe), else the adapter's name before its driver.
+pub(crate) fn clock_label(adapters: &[String]) -> String {
+    let names: Vec<String> = adapters
+        .iter()
+        .map(|a| {
+            if a.contains("llvmpipe") {
+                "lavapipe".to_string()
+            } else {
+                a.split(" (").next().unwrap_or(a).trim().to_string()
+            }
+        })
+        .collect::<std::collections::BTreeSet<_>>()
+        .into_iter()
+        .collect();
+    if names.is_empty() {
+        "the clock".into()
+    } else {
+        names.join(" + ")
+    }
+}
+
+/// How well the model orders one answer's pipelines against its clock: Spearman's ρ
+/// between each family's modeled instructions per pixel and the rows' frame time (their
+/// paired ratio to the baseline where they have one), over the rows with both, and how many.
+fn model_order(a: &Answer, data: &Data) -> Vec<(Option<f64>, usize)> {
+    FAMILIES
+        .iter()
+        .map(|(f, _)| {
+            let (xs, ys): (Vec<f64>, Vec<f64>) = a
+                .cands
+                .iter()
+                .filter_map(|c| {
+                    let r = data.ok(&c.pipeline, &a.scene, a.size)?;
+                    let x = instr_px(&r.metrics, f);
+                    let y = c.speed.rank();
+                    (x.is_finite() && y.is_finite()).then_some((x, y))
+                })
+                .unzip();
+            (super::stats::spearman(&xs, &ys), xs.len())
+        })
+        .collect()
+}
+
 /// The section: markdown, HTML and the charts it wrote (relative to the sweep folder).
 pub(crate) struct GpuSection {
     pub markdown: String,
@@ -73,6 +117,7 @@ pub(crate) fn build(
         return None;
     }
     let drivers = data.distinct(|r| r.metrics.gpu_driver.clone().unwrap_or_default());
+    let clock = clock_label(&data.distinct(|r| r.metrics.adapter.clone()));
     let mut md = String::from("## The GPU compiler's model beside the clock\n\n");
     let _ = writeln!(
         md,
@@ -87,19 +132,36 @@ pub(crate) fn build(
     let mut html = String::new();
     let mut files = vec![];
     let mut disagreements = vec![];
+    let mut order = TextTable {
+        title: "How the model orders the pipelines".into(),
+        notes: vec![format!(
+            "Spearman's ρ between the modeled instructions per pixel and {clock}'s frame time (paired ratio to the \
+             baseline), over an answer's competing rows: 1 = the model ranks them as the clock does."
+        )],
+        header: vec!["scene, view, size".into(), "clock".into(), "rows".into()],
+        rows: vec![],
+    };
+    for (f, gen) in FAMILIES {
+        order.header.push(format!("ρ, {gen} model ({f})"));
+    }
     for a in answers {
         if a.cands.iter().all(|c| data.ok(&c.pipeline, &a.scene, a.size).is_none_or(|r| r.metrics.gpu_driver.is_none()))
         {
             continue;
         }
+        let here = clock_label(&a.adapters);
+        let each = model_order(a, data);
+        let mut orow = vec![a.title.clone(), here.clone(), each.iter().map(|e| e.1).max().unwrap_or(0).to_string()];
+        orow.extend(each.iter().map(|(r, _)| r.map_or_else(|| DASH.to_string(), |r| fmt_num(r, 2))));
+        order.rows.push(orow);
         let mut t = TextTable {
             title: format!("Model against clock: {}", a.title),
             notes: vec![format!(
-                "Per level: the fastest pipeline and the engine family's fastest ÷ it, by lavapipe ({}) and by the \
+                "Per level: the fastest pipeline and the engine family's fastest ÷ it, by {here} ({}) and by the \
                  modeled instructions per pixel on each family.",
                 a.clock.name()
             )],
-            header: vec!["level".into(), "lavapipe: fastest".into(), "lavapipe: family ÷ fastest".into()],
+            header: vec!["level".into(), format!("{here}: fastest"), format!("{here}: family ÷ fastest")],
             rows: vec![],
         };
         for (f, gen) in FAMILIES {
@@ -156,23 +218,28 @@ pub(crate) fn build(
         }
     }
     let summary = if disagreements.is_empty() {
-        "The model and lavapipe agree on every level's fastest pipeline and on every ≥ 2× verdict.\n\n".to_string()
+        format!("The model and {clock} agree on every level's fastest pipeline and on every ≥ 2× verdict.\n\n")
     } else {
         format!(
-            "**Where the model and lavapipe disagree** ({}):\n\n{}\n\n",
+            "**Where the model and {clock} disagree** ({}):\n\n{}\n\n",
             disagreements.len(),
             disagreements.iter().map(|d| format!("- {d}")).collect::<Vec<_>>().join("\n")
         )
     };
     md.push_str(&summary);
-    let verdicts = conclusions_table(conclusions);
+    let order = (!order.rows.is_empty()).then_some(order);
+    if let Some(t) = &order {
+        md.push_str(&t.to_markdown(3));
+    }
+    let verdicts = conclusions_table(conclusions, &clock);
     if let Some(t) = &verdicts {
         md.push_str(&t.to_markdown(3));
     }
     let head = super::html::md_block(&md[..md.find("###").unwrap_or(md.len())], "gpu-model");
     let html = format!(
-        "{head}{html}{}{}",
+        "{head}{html}{}{}{}",
         super::html::md_block(&summary, "gpu-model-summary"),
+        order.map(|t| t.to_html(3)).unwrap_or_default(),
         verdicts.map(|t| t.to_html(3)).unwrap_or_default()
     );
     Some(GpuSection { markdown: md, html, files })
@@ -220,23 +287,23 @@ fn chart(a: &Answer, data: &Data, sub: &Path, warnings: &mut Vec<String>) -> Opt
     }
 }
 
-/// The dissertation's conclusions that read frame time, judged on lavapipe's clock and on the
-/// GPU compiler's model per family; `None` when none was judged on the model.
-fn conclusions_table(conclusions: &[Conclusion]) -> Option<TextTable> {
+/// The dissertation's conclusions that read frame time, judged on the rows' clock (`clock`
+/// names it) and on the GPU compiler's model per family; `None` when none was judged on the
+/// model.
+fn conclusions_table(conclusions: &[Conclusion], clock: &str) -> Option<TextTable> {
     let judged: Vec<&Conclusion> = conclusions.iter().filter(|c| !c.gpu_model.is_empty()).collect();
     if judged.is_empty() {
         return None;
     }
     let mut t = TextTable {
         title: "The timing conclusions on the model".into(),
-        notes: vec![
-            "Each conclusion of Burger 2018 that reads frame time, checked on this run's rows with lavapipe's frame \
+        notes: vec![format!(
+            "Each conclusion of Burger 2018 that reads frame time, checked on this run's rows with {clock}'s frame \
              time and again with the GPU compiler's modeled instructions per pixel in its place (a model, not a clock); \
              errors by `mse_dissertation_mean`. \"differs\" marks a conclusion where a decided model verdict is not \
-             lavapipe's."
-                .into(),
-        ],
-        header: vec!["table".into(), "conclusion".into(), "form".into(), "lavapipe".into()],
+             {clock}'s."
+        )],
+        header: vec!["table".into(), "conclusion".into(), "form".into(), clock.to_string()],
         rows: vec![],
     };
     for (f, gen) in FAMILIES {
@@ -260,4 +327,19 @@ fn conclusions_table(conclusions: &[Conclusion]) -> Option<TextTable> {
         t.rows.push(row);
     }
     Some(t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::clock_label;
+
+    #[test]
+    fn the_clock_is_named_by_its_adapter() {
+        let lp = "llvmpipe (LLVM 15.0.6, 256 bits) (llvmpipe Mesa 22.3.6 (LLVM 15.0.6))".to_string();
+        assert_eq!(clock_label(std::slice::from_ref(&lp)), "lavapipe");
+        let nv = "NVIDIA H100 80GB HBM3 (NVIDIA 550.54.15)".to_string();
+        assert_eq!(clock_label(&[nv.clone()]), "NVIDIA H100 80GB HBM3");
+        assert_eq!(clock_label(&[nv, lp]), "NVIDIA H100 80GB HBM3 + lavapipe");
+        assert_eq!(clock_label(&[]), "the clock");
+    }
 }

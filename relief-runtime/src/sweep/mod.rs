@@ -259,15 +259,53 @@ fn gpu_costs(
             distinct.push(q);
         }
     }
-    bar.preparing(format!("pricing {} pipelines with the GPU compiler (RADV)", distinct.len()));
+    bar.preparing(match &compiler.recorded {
+        Some(r) => format!("pricing {} pipelines from {}", distinct.len(), r.file.display()),
+        None => format!("pricing {} pipelines with the GPU compiler (RADV)", distinct.len()),
+    });
     let families: Vec<String> = crate::cost::DEFAULT_FAMILIES.iter().map(|f| f.to_string()).collect();
     match compiler.cost_each(&distinct, &families, false) {
         Ok(each) => {
+            let mut failed = vec![];
             for (p, c) in distinct.iter().zip(each) {
-                out.insert(p.to_string(), c.map_err(|e| e.to_string()));
+                let c = c.map_err(|e| e.to_string());
+                if let Err(e) = &c {
+                    failed.push(e.clone());
+                }
+                out.insert(p.to_string(), c);
+            }
+            if let Some(first) = failed.first() {
+                summary.gpu_note = Some(format!(
+                    "{} of {} pipelines have no GPU compiler columns; the first: {first}",
+                    failed.len(),
+                    distinct.len()
+                ));
             }
         }
         Err(e) => summary.gpu_note = Some(format!("no GPU compiler columns: {e}")),
+    }
+    out
+}
+
+/// The distinct pipelines a sweep of `grid` measures, each as measured on its scene (the
+/// scene's lod policy applied after `overrides`), in the grid's order: what `relief cost
+/// --grid` prices ahead of a run on a machine without the compiler. A scene that cannot be
+/// read keeps its cells' pipelines as written (the sweep would record those cells failed).
+pub fn measured_pipelines(grid: &NamedGrid, overrides: &Overrides) -> Vec<relief_dsl::Pipeline> {
+    let mut scenes: HashMap<String, Option<Scene>> = HashMap::new();
+    let mut seen = HashSet::new();
+    let mut out = vec![];
+    for (p, s) in &grid.cells {
+        let sc = scenes
+            .entry(s.clone())
+            .or_insert_with(|| scene_from_arg(&scene_spec(s)).ok().map(|sc| overrides.apply(sc)));
+        let q = match sc {
+            Some(sc) => sc.pipeline_for(p),
+            None => p.clone(),
+        };
+        if seen.insert(q.to_string()) {
+            out.push(q);
+        }
     }
     out
 }

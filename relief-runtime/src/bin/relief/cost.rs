@@ -13,11 +13,22 @@ use relief_runtime::cost::{self, Compiler, PipelineCost, ShaderCost};
 #[derive(clap::Args, Debug)]
 pub struct CostArgs {
     /// Pipelines in the text form, e.g. `csm(64)` `linear_dynamic(1, 16)+binary(5)`.
-    #[arg(required_unless_present = "all")]
+    #[arg(required_unless_present_any = ["all", "grid"])]
     pub pipelines: Vec<String>,
     /// Every method at its default parameters (`relief gen --all`'s list).
     #[arg(long)]
     pub all: bool,
+    /// Every pipeline a sweep of this grid measures (a built-in grid or a grid file, as
+    /// `relief sweep --grid` takes it, with `--scene` and the view overrides), each as
+    /// measured on its scene: with `--json`, the file `relief sweep --gpu-costs` reads on a
+    /// machine without RADV.
+    #[arg(long, value_name = "GRID")]
+    pub grid: Option<String>,
+    /// The scenes of `--grid` (as `relief sweep --scene`).
+    #[arg(long, requires = "grid")]
+    pub scene: Vec<String>,
+    #[command(flatten)]
+    pub overrides: crate::OverrideArgs,
     /// GPU families, comma-separated (Mesa's chip names: navi21 is RDNA2, gfx1100 RDNA3;
     /// default: navi21,gfx1100).
     #[arg(long, value_delimiter = ',', value_name = "FAMILY,…")]
@@ -63,16 +74,35 @@ fn line(what: &str, s: &ShaderCost) -> String {
 
 /// Runs `relief cost`.
 pub fn run(a: &CostArgs) -> anyhow::Result<()> {
-    let pipelines: Vec<Pipeline> = if a.all {
-        Pipeline::all_defaults()
-    } else {
-        a.pipelines
+    let mut pipelines: Vec<Pipeline> = if a.all { Pipeline::all_defaults() } else { vec![] };
+    let overrides = a.overrides.checked()?;
+    if a.grid.is_none() && overrides != Default::default() {
+        anyhow::bail!(
+            "--view, --angle, --azimuth, --depth-scale and --tiling apply to --grid's scenes; no --grid given"
+        );
+    }
+    if let Some(g) = &a.grid {
+        if g == "rooms" {
+            anyhow::bail!(
+                "--grid rooms: the room grid's pipelines are not priced (its walls are not relief pipelines)"
+            );
+        }
+        let scenes = if a.scene.is_empty() { None } else { Some(a.scene.as_slice()) };
+        let grid = relief_runtime::sweep::grids::load(g, scenes)?;
+        pipelines.extend(relief_runtime::sweep::measured_pipelines(&grid, &overrides));
+    }
+    if !a.pipelines.is_empty() {
+        let listed: Vec<Pipeline> = a
+            .pipelines
             .iter()
             .map(|t| {
                 t.parse::<Pipeline>().map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", relief_dsl::spec::echo(t)))
             })
-            .collect::<Result<_, _>>()?
-    };
+            .collect::<Result<_, _>>()?;
+        pipelines.extend(listed);
+    }
+    let mut seen = std::collections::HashSet::new();
+    pipelines.retain(|p| seen.insert(p.to_string()));
     let families: Vec<String> = if a.gpu.is_empty() {
         cost::DEFAULT_FAMILIES.iter().map(|s| s.to_string()).collect()
     } else {

@@ -42,8 +42,13 @@ pub struct SweepArgs {
     pub wait: bool,
     /// Leave out the GPU compiler's columns (`relief cost`'s modeled instructions per pixel
     /// on RDNA2 and RDNA3), which the sweep writes when Mesa's RADV is installed.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "gpu_costs")]
     pub no_gpu_cost: bool,
+    /// Take the GPU compiler's figures from this file (`relief cost --grid GRID --json
+    /// FILE`, written where RADV is installed) instead of compiling: for a machine without
+    /// RADV, a GPU machine whose clock the model is set beside.
+    #[arg(long, value_name = "FILE")]
+    pub gpu_costs: Option<PathBuf>,
 }
 
 /// Runs `relief sweep`.
@@ -86,6 +91,8 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
         shard: a.shard,
         gpu_cost: if a.no_gpu_cost {
             None
+        } else if let Some(file) = &a.gpu_costs {
+            Some(relief_runtime::cost::Compiler::from_recorded(file)?)
         } else {
             std::env::current_exe().ok().map(relief_runtime::cost::Compiler::new)
         },
