@@ -338,7 +338,7 @@ mod tests {
         let lp = "llvmpipe (LLVM 15.0.6, 256 bits) (llvmpipe Mesa 22.3.6 (LLVM 15.0.6))".to_string();
         assert_eq!(clock_label(std::slice::from_ref(&lp)), "lavapipe");
         let nv = "NVIDIA H100 80GB HBM3 (NVIDIA 550.54.15)".to_string();
-        assert_eq!(clock_label(&[nv.clone()]), "NVIDIA H100 80GB HBM3");
+        assert_eq!(clock_label(std::slice::from_ref(&nv)), "NVIDIA H100 80GB HBM3");
         assert_eq!(clock_label(&[nv, lp]), "NVIDIA H100 80GB HBM3 + lavapipe");
         assert_eq!(clock_label(&[]), "the clock");
     }
