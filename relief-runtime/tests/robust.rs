@@ -245,6 +245,59 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
         a.push(d.join("sweep-fifo").into());
         add(format!("sweep --grid {}", g.display()), a);
     }
+    // `relief cost`: malformed pipelines (the hand-picked ones and some mutations; a good one
+    // compiles in a child where RADV is installed), bad families, grids that are FIFOs or
+    // folders.
+    for p in pipelines.iter().take(60) {
+        let mut a = os(&["cost"]);
+        a.push(p.into());
+        add(format!("cost {p:?}"), a);
+    }
+    for f in ["", ",", "navi31", "gfx1030", "NAVI21,", "navi21,nosuch", "\u{1b}", "navi21,navi21"] {
+        add(format!("cost --gpu {f:?}"), os(&["cost", "linear(4)", "--gpu", f]));
+    }
+    for g in [&fifo_grid, &folder] {
+        let mut a = os(&["cost", "--grid"]);
+        a.push(g.into());
+        add(format!("cost --grid {}", g.display()), a);
+    }
+    add("cost --angle without --grid".into(), os(&["cost", "linear(4)", "--angle", "30"]));
+    // Damaged files of recorded compiler figures under `relief sweep --gpu-costs`: refused
+    // before any cell, or (a valid file that lacks the grid's pipelines) a run that says so.
+    let good_costs = r#"[{"pipeline":"linear(4)","family":"navi21","device":"d","driver":"radv","fragment":{"executable":"Fragment Shader","subgroup_size":64,"vgprs":8,"sgprs":128,"spilled_vgprs":0,"spilled_sgprs":0,"scratch_bytes":0,"instructions":42,"code_bytes":232,"waves_per_simd":32,"shape":{"instructions":42,"loops":[]}},"probe":{"executable":"Compute Shader","subgroup_size":64,"vgprs":16,"sgprs":128,"spilled_vgprs":0,"spilled_sgprs":0,"scratch_bytes":0,"instructions":27,"code_bytes":144,"waves_per_simd":32,"shape":{"instructions":27,"loops":[]}},"stage_loops":{"base":0,"coarse":0,"refine":0,"lighting":0}}]"#;
+    let mut cost_files: Vec<std::path::PathBuf> = vec![folder.clone(), d.join("no-such-costs.json")];
+    if made {
+        cost_files.push(fifo.clone());
+    }
+    for (i, bad) in [
+        String::new(),
+        "[]".to_string(),
+        "{}".to_string(),
+        good_costs[..good_costs.len() / 2].to_string(),
+        good_costs.replace("navi21", "navi31"),
+        good_costs.replace("42", "-42"),
+        good_costs.replace("\"stage_loops\"", "\"x\""),
+        "[".repeat(10000),
+        String::from_utf8_lossy(&[0xff, 0xfe, b'[']).into_owned(),
+    ]
+    .iter()
+    .enumerate()
+    {
+        let f = d.join(format!("costs{i}.json"));
+        std::fs::write(&f, bad).unwrap();
+        cost_files.push(f);
+    }
+    let tiny_grid = d.join("tiny.grid");
+    std::fs::write(&tiny_grid, "coarse: linear(4)\n").unwrap();
+    for f in &cost_files {
+        let mut a = os(&["sweep", "--grid"]);
+        a.push(tiny_grid.clone().into());
+        a.extend(os(&["--scene", "scene:step", "--size", "8", "--frames", "2", "--gpu-costs"]));
+        a.push(f.into());
+        a.push("--out".into());
+        a.push(d.join("sweep-costs").into());
+        add(format!("sweep --gpu-costs {}", f.display()), a);
+    }
     // Corrupted results rows under `relief report` (each folder one kind of damage).
     let row = r#"{"grid":"g","pipeline":"linear(10)","scene":"scene:step","size":16,"adapter":"a","status":"ok","error":"","relief_version":"0","cell_dir":""}"#;
     let damages = [

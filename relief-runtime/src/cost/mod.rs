@@ -381,7 +381,7 @@ impl Compiler {
             file: file.display().to_string(),
             message: relief_dsl::spec::one_line(&m),
         };
-        let bytes = std::fs::read(file).map_err(|e| fail(e.to_string()))?;
+        let bytes = crate::io::read_regular(file).map_err(|e| fail(e.to_string()))?;
         let costs: Vec<PipelineCost> =
             serde_json::from_slice(&bytes).map_err(|e| fail(format!("not a `relief cost --json` file: {e}")))?;
         for c in &costs {

@@ -20,10 +20,10 @@ pub struct CostArgs {
     pub all: bool,
     /// Every pipeline a sweep of this grid measures (a built-in grid or a grid file, as
     /// `relief sweep --grid` takes it, with `--scene` and the view overrides), each as
-    /// measured on its scene: with `--json`, the file `relief sweep --gpu-costs` reads on a
-    /// machine without RADV.
+    /// measured on its scene; repeatable. With `--json`, the file `relief sweep --gpu-costs`
+    /// reads on a machine without RADV.
     #[arg(long, value_name = "GRID")]
-    pub grid: Option<String>,
+    pub grid: Vec<String>,
     /// The scenes of `--grid` (as `relief sweep --scene`).
     #[arg(long, requires = "grid")]
     pub scene: Vec<String>,
@@ -76,12 +76,12 @@ fn line(what: &str, s: &ShaderCost) -> String {
 pub fn run(a: &CostArgs) -> anyhow::Result<()> {
     let mut pipelines: Vec<Pipeline> = if a.all { Pipeline::all_defaults() } else { vec![] };
     let overrides = a.overrides.checked()?;
-    if a.grid.is_none() && overrides != Default::default() {
+    if a.grid.is_empty() && overrides != Default::default() {
         anyhow::bail!(
             "--view, --angle, --azimuth, --depth-scale and --tiling apply to --grid's scenes; no --grid given"
         );
     }
-    if let Some(g) = &a.grid {
+    for g in &a.grid {
         if g == "rooms" {
             anyhow::bail!(
                 "--grid rooms: the room grid's pipelines are not priced (its walls are not relief pipelines)"
