@@ -10,6 +10,24 @@ use std::time::Duration;
 use browser::{run_page, Page};
 use relief::runtime::sweep::{self, grids, NamedGrid};
 
+/// Sweeps `grid` at `size`² into `dir` (two timed blocks a cell, no GPU compiler columns),
+/// every cell measured, and writes its report.
+fn sweep_and_report(dir: &std::path::Path, grid: NamedGrid, size: u32) {
+    let opts = sweep::Options {
+        grid,
+        size,
+        frames: 2,
+        warmup: 1,
+        out: dir.to_path_buf(),
+        progress: false,
+        overrides: Default::default(),
+        shard: None,
+        gpu_cost: None,
+    };
+    assert_eq!(sweep::run(&opts).expect("sweep").failed, 0);
+    relief::runtime::report::write(dir).expect("report");
+}
+
 #[test]
 fn the_report_page_answers_above_the_fold_and_its_tables_and_links_work() {
     let dir = std::env::temp_dir().join(format!("relief-report-page-{}", std::process::id()));
@@ -26,20 +44,7 @@ fn the_report_page_answers_above_the_fold_and_its_tables_and_links_work() {
         cells.extend(rocks.iter().map(|p| (p.clone(), s.to_string())));
     }
     let grid = NamedGrid { name: "page".into(), description: "the report page test".into(), cells };
-    let opts = sweep::Options {
-        grid,
-        size: 64,
-        frames: 2,
-        warmup: 1,
-        out: dir.clone(),
-        progress: false,
-        overrides: Default::default(),
-        shard: None,
-        gpu_cost: None,
-    };
-    let s = sweep::run(&opts).expect("sweep");
-    assert_eq!(s.failed, 0);
-    relief::runtime::report::write(&dir).expect("report");
+    sweep_and_report(&dir, grid, 64);
 
     let mut page = Page::new("pages/report.html");
     page.mounts.push(("sweep", &dir));
@@ -83,19 +88,7 @@ fn the_live_section_draws_and_measures_the_sweep_in_chromium() {
         ["rocks", "lion"].iter().flat_map(|s| grid.iter().map(move |p| (p.clone(), s.to_string()))).collect();
     assert_eq!(cells.len(), 6);
     let grid = NamedGrid { name: "live".into(), description: "the live section test".into(), cells };
-    let opts = sweep::Options {
-        grid,
-        size: 64,
-        frames: 2,
-        warmup: 1,
-        out: dir.clone(),
-        progress: false,
-        overrides: Default::default(),
-        shard: None,
-        gpu_cost: None,
-    };
-    assert_eq!(sweep::run(&opts).expect("sweep").failed, 0);
-    relief::runtime::report::write(&dir).expect("report");
+    sweep_and_report(&dir, grid, 64);
 
     let mut page = Page::new("pages/live.html");
     page.mounts.push(("sweep", &dir));
@@ -281,19 +274,7 @@ fn the_page_inflates_the_browser_data_to_the_runtimes_bytes() {
     let grid = grids::parse_grid_file("coarse: [csm(8), sphere(16)]\nrefine: none\n").unwrap();
     let cells: Vec<_> = grid.into_iter().map(|p| (p, "rocks".to_string())).collect();
     let grid = NamedGrid { name: "data".into(), description: "the browser data test".into(), cells };
-    let opts = sweep::Options {
-        grid,
-        size: 32,
-        frames: 2,
-        warmup: 1,
-        out: dir.clone(),
-        progress: false,
-        overrides: Default::default(),
-        shard: None,
-        gpu_cost: None,
-    };
-    assert_eq!(sweep::run(&opts).expect("sweep").failed, 0);
-    relief::runtime::report::write(&dir).expect("report");
+    sweep_and_report(&dir, grid, 32);
 
     let mut page = Page::new("pages/data.html");
     page.mounts.push(("sweep", &dir));
