@@ -82,6 +82,12 @@ fn model_order(a: &Answer, data: &Data) -> Vec<(Option<f64>, usize)> {
         .collect()
 }
 
+/// Whether the model's fastest `model` is the clock's pick: its fastest, or one of the rows
+/// the clock cannot tell apart from it (`Pick::ties`: their intervals reach 1).
+fn same_as_clock(model: Option<usize>, clock: &super::answer::Pick) -> bool {
+    model == clock.best || model.is_some_and(|m| clock.ties.contains(&m))
+}
+
 /// The section: markdown, HTML and the charts it wrote (relative to the sweep folder).
 pub(crate) struct GpuSection {
     pub markdown: String,
@@ -158,7 +164,8 @@ pub(crate) fn build(
             title: format!("Model against clock: {}", a.title),
             notes: vec![format!(
                 "Per level: the fastest pipeline and the engine family's fastest ÷ it, by {here} ({}) and by the \
-                 modeled instructions per pixel on each family.",
+                 modeled instructions per pixel on each family. The model's fastest agrees with the clock when it is \
+                 the clock's fastest or one the clock cannot tell apart from it (their paired interval reaches 1).",
                 a.clock.name()
             )],
             header: vec!["level".into(), format!("{here}: fastest"), format!("{here}: family ÷ fastest")],
@@ -187,7 +194,7 @@ pub(crate) fn build(
                 };
                 row.push(name(best.map(|b| b.0)));
                 row.push(self::ratio(ratio));
-                if best.map(|b| b.0) != pick.best {
+                if !same_as_clock(best.map(|b| b.0), pick) {
                     same_pick = false;
                 }
                 if clock_ratio.is_finite() && ratio.is_finite() && (clock_ratio >= 2.0) != (ratio >= 2.0) {
@@ -331,7 +338,19 @@ fn conclusions_table(conclusions: &[Conclusion], clock: &str) -> Option<TextTabl
 
 #[cfg(test)]
 mod tests {
-    use super::clock_label;
+    use super::{clock_label, same_as_clock};
+    use crate::report::answer::Pick;
+
+    #[test]
+    fn the_models_pick_agrees_when_the_clock_cannot_tell_it_from_its_own() {
+        let pick = Pick { best: Some(0), engine: Some(3), ties: vec![2] };
+        assert!(same_as_clock(Some(0), &pick));
+        assert!(same_as_clock(Some(2), &pick));
+        assert!(!same_as_clock(Some(1), &pick));
+        assert!(!same_as_clock(Some(3), &pick));
+        assert!(!same_as_clock(None, &pick));
+        assert!(same_as_clock(None, &Pick { best: None, engine: None, ties: vec![] }));
+    }
 
     #[test]
     fn the_clock_is_named_by_its_adapter() {
