@@ -15,7 +15,7 @@ pub(crate) fn table(datas: &[(String, &Data)], added: &[super::Added]) -> Option
     let mut cells: Vec<(String, String, u32)> = Vec::new();
     for (_, d) in datas {
         for r in d.rows.iter().filter(|r| r.status.is_ok() && d.is_indexed(r)) {
-            let k = (r.metrics.pipeline.clone(), r.metrics.scene.clone(), r.metrics.size);
+            let k = (r.metrics.pipeline.to_string(), r.metrics.scene.clone(), r.metrics.size);
             if !cells.contains(&k) {
                 cells.push(k);
             }

@@ -142,9 +142,7 @@ pub fn add(dir: &Path, files: &[PathBuf], replace: bool) -> Result<Vec<Added>> {
         let sweep: HashMap<(String, String, u32), String> = rows
             .iter()
             .filter(|r| r.status.is_ok())
-            .map(|r| {
-                ((super::data::canonical(&r.metrics.pipeline), r.metrics.scene.clone(), r.metrics.size), r.grid.clone())
-            })
+            .map(|r| ((r.metrics.pipeline.to_string(), r.metrics.scene.clone(), r.metrics.size), r.grid.clone()))
             .collect();
         let mut added = Added {
             file: path.display().to_string(),
@@ -249,7 +247,7 @@ fn scored(
     }
     let hits: Vec<GpuHit> = bytemuck::pod_collect_to_vec(&bytes);
     let mut m = Metrics {
-        pipeline: key.0.clone(),
+        pipeline: pipeline.clone(),
         scene: key.1.clone(),
         size: key.2,
         adapter: adapter.to_string(),

@@ -235,13 +235,14 @@ pub(crate) fn build(data: &Data) -> Vec<Answer> {
     let mut out = Vec::new();
     for scene in data.scenes() {
         for size in data.sizes_of(&scene) {
-            let rows: Vec<(&Row, Pipeline)> = data
+            let rows: Vec<(&Row, &Pipeline)> = data
                 .rows
                 .iter()
                 .filter(|r| {
                     r.status.is_ok() && r.metrics.scene == scene && r.metrics.size == size && data.is_indexed(r)
                 })
-                .filter_map(|r| r.metrics.pipeline.parse::<Pipeline>().ok().filter(competes).map(|p| (r, p)))
+                .map(|r| (r, &r.metrics.pipeline))
+                .filter(|(_, p)| competes(p))
                 .collect();
             let clock = clock_of(rows.iter().map(|(r, _)| *r));
             let mut cands = Vec::new();
@@ -253,18 +254,18 @@ pub(crate) fn build(data: &Data) -> Vec<Answer> {
                     paired: if clock == Clock::Median { None } else { Ratio::to_baseline(&r.metrics) },
                 };
                 if !(speed.rank().is_finite() && r.metrics.ref_err_t_rms.is_finite()) {
-                    not_finite.push(r.metrics.pipeline.clone());
+                    not_finite.push(r.metrics.pipeline.to_string());
                     continue;
                 }
                 if !adapters.contains(&r.metrics.adapter) {
                     adapters.push(r.metrics.adapter.clone());
                 }
                 cands.push(Cand {
-                    pipeline: r.metrics.pipeline.clone(),
+                    pipeline: r.metrics.pipeline.to_string(),
                     speed,
                     err: r.metrics.ref_err_t_rms,
                     skipped: r.metrics.skipped_rate,
-                    engine: is_engine_family(&p),
+                    engine: is_engine_family(p),
                     cell_dir: r.cell_dir.clone(),
                 });
             }

@@ -196,13 +196,13 @@ struct Shipped {
     program: Program,
 }
 
-fn ship(text: &str) -> Result<Shipped, String> {
-    let p: relief_dsl::Pipeline = text.parse().map_err(|e| format!("`{text}`: {e}"))?;
+fn ship(p: &relief_dsl::Pipeline) -> Result<Shipped, String> {
+    let text = p.to_string();
     if p.lod != Lod::Zero {
         return Err(format!("`{text}`: lod={} reads per-level maps, which the browser data does not ship", p.lod));
     }
-    let program = Program::new(&p).map_err(|e| format!("`{text}`: {e}"))?;
-    Ok(Shipped { text: p.to_string(), stem: p.file_stem(), program })
+    let program = Program::new(p).map_err(|e| format!("`{text}`: {e}"))?;
+    Ok(Shipped { text, stem: p.file_stem(), program })
 }
 
 fn bindings_json(b: &[u32], program: &Program) -> Result<Value, GpuError> {
@@ -235,10 +235,11 @@ pub(crate) fn write(datas: &[&Data], dir: &Path) -> Result<Written> {
     for d in datas {
         for r in d.rows.iter().filter(|r| r.status.is_ok() && d.is_indexed(r)) {
             let m = &r.metrics;
-            if !pipelines.contains_key(&m.pipeline) {
+            let text = m.pipeline.to_string();
+            if !pipelines.contains_key(&text) {
                 match ship(&m.pipeline) {
                     Ok(s) => {
-                        pipelines.insert(m.pipeline.clone(), s);
+                        pipelines.insert(text.clone(), s);
                     }
                     Err(e) => {
                         if !w.set_aside.contains(&e) {
@@ -253,13 +254,17 @@ pub(crate) fn write(datas: &[&Data], dir: &Path) -> Result<Written> {
                 sizes.push(m.size);
             }
             rows.push(json!({
-                "pipeline": m.pipeline, "scene": m.scene, "size": m.size, "adapter": m.adapter,
+                "pipeline": text, "scene": m.scene, "size": m.size, "adapter": m.adapter,
                 "frame_ms_median": finite(m.frame_ms_median), "frame_ratio_to_baseline": m.frame_ratio_to_baseline,
                 "ref_err_t_rms": finite(m.ref_err_t_rms), "avg_fetches": finite(m.avg_fetches), "cell_dir": r.cell_dir,
             }));
         }
     }
-    let exact = ship(EXACT).map_err(Error::Input)?;
+    let exact = EXACT
+        .parse::<relief_dsl::Pipeline>()
+        .map_err(|e| e.to_string())
+        .and_then(|p| ship(&p))
+        .map_err(Error::Input)?;
     pipelines.entry(exact.text.clone()).or_insert(exact);
 
     let mut pjson = Vec::new();

@@ -20,15 +20,12 @@ pub(crate) struct Data {
 
 impl Data {
     /// The rows of one adapter, read from `dir` (or merged into it), indexed.
-    pub(crate) fn from_rows(dir: &Path, mut rows: Vec<Row>, bad_lines: Vec<String>) -> Data {
-        for r in rows.iter_mut() {
-            r.metrics.pipeline = canonical(&r.metrics.pipeline);
-        }
+    pub(crate) fn from_rows(dir: &Path, rows: Vec<Row>, bad_lines: Vec<String>) -> Data {
         // A later row replaces an earlier one, except that an ok row is never replaced by a
         // failed one.
         let mut index: HashMap<(String, String, u32), usize> = HashMap::new();
         for (i, r) in rows.iter().enumerate() {
-            let k = (r.metrics.pipeline.clone(), r.metrics.scene.clone(), r.metrics.size);
+            let k = (r.metrics.pipeline.to_string(), r.metrics.scene.clone(), r.metrics.size);
             match index.get(&k) {
                 Some(&j) if rows[j].status.is_ok() && !r.status.is_ok() => {}
                 _ => {
@@ -65,7 +62,7 @@ impl Data {
 
     /// Whether `r` is the row the index keeps for its (pipeline, scene, size).
     pub(crate) fn is_indexed(&self, r: &Row) -> bool {
-        self.get(&r.metrics.pipeline, &r.metrics.scene, r.metrics.size).is_some_and(|x| std::ptr::eq(x, r))
+        self.get(&r.metrics.pipeline.to_string(), &r.metrics.scene, r.metrics.size).is_some_and(|x| std::ptr::eq(x, r))
     }
 
     /// Scene labels in first-seen order.

@@ -154,7 +154,7 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> Result<ReportSummary> {
         failed: all_rows
             .iter()
             .filter(|r| !r.status.is_ok())
-            .map(|r| (r.metrics.pipeline.clone(), r.metrics.scene.clone(), r.error.clone()))
+            .map(|r| (r.metrics.pipeline.to_string(), r.metrics.scene.clone(), r.error.clone()))
             .collect(),
         bad_lines: data.bad_lines.clone(),
         sources: dirs.to_vec(),

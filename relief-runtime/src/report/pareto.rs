@@ -5,8 +5,6 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use relief_dsl::Pipeline;
-
 use super::charts::{svg_chart, Line, Pt, Series};
 use super::{fmt_ms, fmt_sci, short_scene, Data, Metric, TextTable};
 
@@ -56,16 +54,15 @@ pub(crate) fn build(data: &Data) -> Vec<Front> {
                     if !data.is_indexed(r) {
                         continue;
                     }
-                    if let Ok(p) = r.metrics.pipeline.parse::<Pipeline>() {
-                        if !p.shadow.is_none() || !p.ao.is_none() {
-                            continue;
-                        }
+                    let p = &r.metrics.pipeline;
+                    if !p.shadow.is_none() || !p.ao.is_none() {
+                        continue;
                     }
                     let (ms, e) = (r.metrics.frame_ms_mean, metric.of(r));
                     if ms.is_finite() && e.is_finite() {
-                        all.push((r.metrics.pipeline.clone(), ms, e));
+                        all.push((r.metrics.pipeline.to_string(), ms, e));
                     } else {
-                        not_finite.push(r.metrics.pipeline.clone());
+                        not_finite.push(r.metrics.pipeline.to_string());
                     }
                 }
                 all.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.2.total_cmp(&b.2)));

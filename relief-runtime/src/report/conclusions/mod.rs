@@ -227,14 +227,14 @@ impl<'a> MeasuredRows<'a> {
             Clock::Ratio => Ratio::to_baseline(m)?,
             Clock::Mean => Ratio::point(m.frame_ms_mean),
             Clock::Model => {
-                if r.metrics.pipeline.parse::<Pipeline>().is_ok_and(|p| !p.shadow.is_none() || !p.ao.is_none()) {
+                if !r.metrics.pipeline.shadow.is_none() || !r.metrics.pipeline.ao.is_none() {
                     self.untraced.set(true);
                     return None;
                 }
                 Ratio::point(m.simd32_fetches)
             }
             Clock::Gpu(family) => {
-                if r.metrics.pipeline.parse::<Pipeline>().is_ok_and(|p| !p.shadow.is_none() || !p.ao.is_none()) {
+                if !r.metrics.pipeline.shadow.is_none() || !r.metrics.pipeline.ao.is_none() {
                     self.untraced.set(true);
                     return None;
                 }
@@ -247,8 +247,9 @@ impl<'a> MeasuredRows<'a> {
     fn note(&self, r: &crate::results::Row) {
         let mut u = self.used.borrow_mut();
         let v = u.entry(r.metrics.size).or_default();
-        if !v.contains(&r.metrics.pipeline) {
-            v.push(r.metrics.pipeline.clone());
+        let text = r.metrics.pipeline.to_string();
+        if !v.contains(&text) {
+            v.push(text);
         }
     }
 
@@ -826,11 +827,7 @@ pub(crate) fn lod_markdown(data: &Data, diss: &Diss) -> Option<String> {
         .scenes()
         .into_iter()
         .filter(|s| crate::scene::view::of_label(s).is_none())
-        .filter(|s| {
-            data.rows.iter().any(|r| {
-                &r.metrics.scene == s && r.metrics.pipeline.parse::<Pipeline>().is_ok_and(|p| p.lod == Lod::Auto)
-            })
-        })
+        .filter(|s| data.rows.iter().any(|r| &r.metrics.scene == s && r.metrics.pipeline.lod == Lod::Auto))
         .collect();
     if scenes.is_empty() {
         return None;
@@ -937,8 +934,8 @@ pub(crate) fn view_markdown(data: &Data, diss: &Diss) -> Option<String> {
 /// `None` when it is flat or fewer than three step counts are measured.
 pub(crate) fn regime_line(data: &Data, scene: &str, lod: Option<Lod>) -> Option<String> {
     let rows = data.rows.iter().filter(|r| r.status.is_ok() && r.metrics.scene == scene).filter_map(|r| {
-        let p: Pipeline = r.metrics.pipeline.parse().ok()?;
-        let n = super::tables::linear_steps(&p).filter(|_| lod.is_none_or(|l| p.lod == l))?;
+        let p = &r.metrics.pipeline;
+        let n = super::tables::linear_steps(p).filter(|_| lod.is_none_or(|l| p.lod == l))?;
         Some((n, r.metrics.mse_dissertation_mean))
     });
     let ((n1, k1), (n2, k2)) = super::tables::k_still_rising(rows)?;
