@@ -12,7 +12,9 @@
 use relief_dsl::spec::{Lod, Silhouette, Value};
 use relief_dsl::Pipeline;
 
-use super::{fmt_ms, fmt_num, fmt_sci, short_scene, stage_steps, Data, TextTable};
+use super::{
+    data::short_scene, data::stage_steps, data::Data, text::fmt_ms, text::fmt_num, text::fmt_sci, text::TextTable,
+};
 use crate::results::Row;
 use crate::timing::Ratio;
 
@@ -293,7 +295,7 @@ pub(crate) fn build(data: &Data) -> Vec<Answer> {
             let (base, view) = view_words(&scene);
             let title = if view.is_empty() { format!("{base}, {size}²") } else { format!("{base}, {view}, {size}²") };
             out.push(Answer {
-                id: format!("answer-{}", super::anchor(&format!("{scene} s{size}"))),
+                id: format!("answer-{}", super::text::anchor(&format!("{scene} s{size}"))),
                 engine_measured: cands.iter().any(|c| c.engine),
                 clock: clock.clone(),
                 scene: scene.clone(),
@@ -526,7 +528,7 @@ pub(crate) fn write_chart(a: &Answer, sub: &std::path::Path, warnings: &mut Vec<
         &series,
         true,
     );
-    let name = format!("answer_{}.svg", super::file_safe(&format!("{}_s{}", short_scene(&a.scene), a.size)));
+    let name = format!("answer_{}.svg", super::text::file_safe(&format!("{}_s{}", short_scene(&a.scene), a.size)));
     for k in key.iter_mut() {
         k.drawn = chart.labels.iter().any(|(text, _)| *text == k.number.to_string());
     }
@@ -557,7 +559,7 @@ pub(crate) fn write_height_map(scene: &str, sub: &std::path::Path, warnings: &mu
         let v = m.data[(y as usize / k) * m.width + x as usize / k];
         image::Luma([(v.clamp(0.0, 1.0) * 255.0).round() as u8])
     });
-    let name = format!("scene_{}.png", super::file_safe(short_scene(base)));
+    let name = format!("scene_{}.png", super::text::file_safe(short_scene(base)));
     let path = sub.join(&name);
     if !path.exists() {
         if let Err(e) = img.save(&path) {

@@ -40,7 +40,7 @@ use crate::maps::MapKey;
 use crate::reference::{reference_hits, RefHit, Sampling};
 use crate::scene::{scene_from_arg, ProbeRay, Scene};
 
-use super::Data;
+use super::data::Data;
 
 /// The exact pipeline the page draws its |t − t_exact| view against (a max-mip traversal
 /// with enough steps to finish every ray, Tevs, Ihrke & Seidel 2008).
@@ -95,7 +95,7 @@ fn map_slug(k: MapKey) -> String {
 
 /// A scene label as a folder name.
 fn scene_slug(label: &str) -> String {
-    super::file_safe(label.strip_prefix("scene:").unwrap_or(label))
+    super::text::file_safe(label.strip_prefix("scene:").unwrap_or(label))
 }
 
 fn format_name(f: wgpu::TextureFormat) -> &'static str {
@@ -420,7 +420,7 @@ fn write_scene<'a>(
 
 /// The page's live section: two pipelines side by side and the measure button (their
 /// script is `web/live.js`), or why there is no browser data.
-pub(crate) fn section(w: &Result<Written>) -> super::html::Section {
+pub(crate) fn section(w: &Result<Written>) -> super::html::PageSection {
     use super::html::esc;
     let mut h = String::from("<h2>Live: the pipelines on your GPU</h2>\n");
     match w {
@@ -435,7 +435,7 @@ pub(crate) fn section(w: &Result<Written>) -> super::html::Section {
             let _ = writeln!(h, "<script src=\"browser/manifest.js\"></script>\n<script>{LIVE_SCRIPT}</script>");
         }
     }
-    super::html::Section { id: "live".into(), nav: "Live".into(), html: h }
+    super::html::PageSection { id: "live".into(), nav: "Live".into(), html: h }
 }
 
 /// The live section's script.
