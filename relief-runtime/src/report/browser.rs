@@ -191,6 +191,7 @@ fn texture_file(dir: &Path, name: &str, u: &Upload, files: &mut Vec<PathBuf>) ->
 
 /// A pipeline the page can draw: its module and bindings.
 struct Shipped {
+    pipeline: relief_dsl::Pipeline,
     text: String,
     stem: String,
     program: Program,
@@ -202,7 +203,7 @@ fn ship(p: &relief_dsl::Pipeline) -> Result<Shipped, String> {
         return Err(format!("`{text}`: lod={} reads per-level maps, which the browser data does not ship", p.lod));
     }
     let program = Program::new(p).map_err(|e| format!("`{text}`: {e}"))?;
-    Ok(Shipped { text, stem: p.file_stem(), program })
+    Ok(Shipped { pipeline: p.clone(), text, stem: p.file_stem(), program })
 }
 
 fn bindings_json(b: &[u32], program: &Program) -> Result<Value, GpuError> {
@@ -269,7 +270,7 @@ pub(crate) fn write(datas: &[&Data], dir: &Path) -> Result<Written> {
 
     let mut pjson = Vec::new();
     for s in pipelines.values() {
-        let wgsl = relief_dsl::emit::emit(&s.text.parse()?)?.wgsl;
+        let wgsl = relief_dsl::emit::emit(&s.pipeline)?.wgsl;
         data_file(&out, &format!("wgsl/{}", s.stem), json!({ "pipeline": s.text }), wgsl.as_bytes(), 1, &mut files)?;
         let render = bindings_json(&s.program.render_bindings, &s.program)?;
         let probe = bindings_json(&s.program.probe_bindings, &s.program)?;

@@ -5,7 +5,6 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use relief_dsl::spec::{StageSpec, Value};
-use relief_dsl::Pipeline;
 
 use crate::results::{self, Row};
 
@@ -170,11 +169,6 @@ fn relative(from: &Path, to: &Path) -> PathBuf {
 /// A scene and size as a short label: `lion, 64²`.
 pub(crate) fn group_label(scene: &str, size: u32) -> String {
     format!("{}, {size}²", short_scene(scene))
-}
-
-/// The canonical text of a pipeline (the text itself when it does not parse).
-pub(crate) fn canonical(text: &str) -> String {
-    text.parse::<Pipeline>().map(|p| p.to_string()).unwrap_or_else(|_| text.to_string())
 }
 
 /// `scene:lion` → `lion`.
