@@ -102,13 +102,12 @@ fn ratio(r: &Row) -> Ratio {
     Ratio::to_baseline(&r.metrics).unwrap_or(Ratio::point(f64::NAN))
 }
 
-fn canonical(p: &str) -> String {
-    p.parse::<Pipeline>().map(|p| p.to_string()).unwrap_or_else(|_| p.to_string())
-}
-
 /// `a` ÷ `b` from their ratios to the baseline, with the verdict "a slower".
 fn quotient_line(rows: &[Row], a: &str, b: &str) -> String {
-    let find = |p: &str| rows.iter().find(|r| r.metrics.pipeline == canonical(p));
+    let find = |p: &str| {
+        let p = p.parse::<Pipeline>().ok()?;
+        rows.iter().find(|r| r.metrics.pipeline == p)
+    };
     match (find(a), find(b)) {
         (Some(x), Some(y)) => {
             let q = ratio(x).over(&ratio(y));

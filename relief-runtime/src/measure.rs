@@ -234,7 +234,7 @@ impl Cell {
     /// The row's naming fields.
     fn metrics(&self, gpu: &Gpu, prep: &Prepared) -> Metrics {
         Metrics {
-            pipeline: self.pipeline.to_string(),
+            pipeline: self.pipeline.clone(),
             scene: prep.scene.name.clone(),
             size: prep.size,
             adapter: format!("{} ({})", gpu.adapter, gpu.driver),

@@ -80,11 +80,13 @@ pub enum RowError {
 }
 
 /// One run's metrics (the names are the column names of results files).
-#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct Metrics {
-    /// The pipeline's text form as measured, with the scene's `lod` policy applied
-    /// ([`crate::scene::Scene::pipeline_for`]).
-    pub pipeline: String,
+    /// The pipeline as measured, with the scene's `lod` policy applied
+    /// ([`crate::scene::Scene::pipeline_for`]); the files hold its canonical text form,
+    /// parsed once when a row is read.
+    #[serde(with = "pipeline_text")]
+    pub pipeline: relief_dsl::Pipeline,
     /// The scene's name; in a sweep the scene argument (`crate::sweep::scene_label`) with
     /// the overrides' suffix.
     pub scene: String,
@@ -240,6 +242,87 @@ pub struct Metrics {
     /// or the compiler unrolled it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gpu_gfx1100_loop_body: Option<u32>,
+}
+
+/// Every metric zero or absent, the naming fields empty, and a placeholder pipeline (`none`
+/// in every slot, which no results file can hold): a row to fill in.
+impl Default for Metrics {
+    fn default() -> Self {
+        use relief_dsl::spec::StageSpec;
+        Metrics {
+            pipeline: relief_dsl::Pipeline::new(
+                StageSpec::none(),
+                StageSpec::none(),
+                StageSpec::none(),
+                StageSpec::none(),
+            ),
+            scene: String::new(),
+            size: 0,
+            adapter: String::new(),
+            frame_ms_median: 0.0,
+            frame_ms_mean: 0.0,
+            frame_ms_p10: 0.0,
+            frame_ms_p90: 0.0,
+            mse_dissertation: 0.0,
+            mse_dissertation_mean: 0.0,
+            ref_err_t_rms: 0.0,
+            ref_err_uv_texels_rms: 0.0,
+            ref_err_t_median: 0.0,
+            ref_err_t_p90: 0.0,
+            ref_err_t_p99: 0.0,
+            mse_worst1_share: 0.0,
+            skipped_rate: 0.0,
+            past_rate: 0.0,
+            missed_rate: 0.0,
+            false_hit_rate: 0.0,
+            nan_count: 0,
+            outside_count: 0,
+            nonconverged_rate: 0.0,
+            avg_coarse_steps: 0.0,
+            avg_refine_steps: 0.0,
+            avg_iterations: 0.0,
+            avg_fetches: 0.0,
+            simd32_steps: 0.0,
+            simd64_steps: 0.0,
+            simd32_fetches: 0.0,
+            simd32_divergence: 0.0,
+            baseline: String::new(),
+            frame_ratio_to_baseline: None,
+            frame_ratio_to_baseline_lo: None,
+            frame_ratio_to_baseline_hi: None,
+            timing_pairs: 0,
+            frames_per_block: 0,
+            timestamp_period_ns: 0.0,
+            depth_err_max: None,
+            gpu_driver: None,
+            gpu_navi21_instr_px: None,
+            gpu_navi21_instr_w32: None,
+            gpu_navi21_vgprs: None,
+            gpu_navi21_instructions: None,
+            gpu_navi21_loop_body: None,
+            gpu_gfx1100_instr_px: None,
+            gpu_gfx1100_instr_w32: None,
+            gpu_gfx1100_vgprs: None,
+            gpu_gfx1100_instructions: None,
+            gpu_gfx1100_loop_body: None,
+        }
+    }
+}
+
+/// A pipeline in a results file: its canonical text form ([`relief_dsl::Pipeline`]'s
+/// `Display`), parsed back with its `FromStr`.
+mod pipeline_text {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub(super) fn serialize<S: Serializer>(p: &relief_dsl::Pipeline, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(p)
+    }
+
+    pub(super) fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<relief_dsl::Pipeline, D::Error> {
+        let text = String::deserialize(d)?;
+        text.parse()
+            .map_err(|e| serde::de::Error::custom(format_args!("pipeline `{}`: {e}", relief_dsl::spec::echo(&text))))
+    }
 }
 
 /// Whether a cell was measured or failed; the files hold `ok` or `error`.
@@ -419,9 +502,7 @@ pub fn read(dir: &Path) -> Result<ReadRows, FileError> {
 /// A cell's key: the pipeline's canonical text, the scene, the size and the adapter. A
 /// results file holds one row per key.
 pub(crate) fn cell_key(m: &Metrics) -> (String, String, u32, String) {
-    let pipeline =
-        m.pipeline.parse::<relief_dsl::Pipeline>().map(|p| p.to_string()).unwrap_or_else(|_| m.pipeline.clone());
-    (pipeline, m.scene.clone(), m.size, m.adapter.clone())
+    (m.pipeline.to_string(), m.scene.clone(), m.size, m.adapter.clone())
 }
 
 /// `rows` (with their line numbers) less every row whose cell key ([`cell_key`]) is on
@@ -558,6 +639,7 @@ pub(crate) fn parse_row(line: &str) -> Result<Row, RowError> {
         Some(other) => return Err(RowError::Status(relief_dsl::spec::echo(&other.to_string()))),
         None => return Err(RowError::Missing("status")),
     }
+    let pipeline_text = obj.get("pipeline").and_then(|v| v.as_str()).map(str::to_string);
     let mut base = serde_json::to_value(Row::default()).map_err(RowError::Field)?;
     let mut nulls = Vec::new();
     // Fields that older rows lack: not recorded, so NaN (shown as such),
@@ -576,13 +658,16 @@ pub(crate) fn parse_row(line: &str) -> Result<Row, RowError> {
             }
         }
     }
-    let mut row: Row = serde_json::from_value(base).map_err(RowError::Field)?;
-    if let Err(source) = row.metrics.pipeline.parse::<relief_dsl::Pipeline>() {
-        return Err(RowError::Pipeline {
-            pipeline: relief_dsl::spec::echo(&row.metrics.pipeline),
-            source: Box::new(source),
-        });
-    }
+    // The pipeline is parsed here, once (`pipeline_text`); a row whose pipeline does not
+    // parse is named as such.
+    let mut row: Row = serde_json::from_value(base).map_err(|e| {
+        match pipeline_text.as_deref().map(|t| (t, t.parse::<relief_dsl::Pipeline>())) {
+            Some((t, Err(source))) => {
+                RowError::Pipeline { pipeline: relief_dsl::spec::echo(t), source: Box::new(source) }
+            }
+            _ => RowError::Field(e),
+        }
+    })?;
     for k in nulls {
         set_nan(&mut row.metrics, &k);
     }

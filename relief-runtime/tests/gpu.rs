@@ -20,7 +20,7 @@ fn measure(g: &Gpu, pipeline: &str, scene: &Scene, size: u32) -> (Metrics, Vec<g
     let mut on_device = scene.clone();
     on_device.height.data = tex.heights_on_device.clone();
     let refs = reference_hits(&on_device, &rays, Sampling::Bilinear).unwrap();
-    let mut m = Metrics { pipeline: pipeline.into(), scene: scene.name.clone(), size, ..Default::default() };
+    let mut m = Metrics { pipeline: pipeline.parse().unwrap(), scene: scene.name.clone(), size, ..Default::default() };
     metrics::set_accuracy(&mut m, &rays, &hits, &refs, &on_device.height, scene.edge);
     (m, hits)
 }

@@ -23,7 +23,8 @@ fn measure(g: &Gpu, pipeline: &str, scene: Scene, size: u32) -> (Metrics, Vec<us
     let hits = gpu::probe(g, &program, &prep.scene, &prep.textures, &prep.rays).unwrap_or_else(|e| panic!("{e}"));
     let (levels, refs) = prep.refs_for(p.lod).unwrap();
     let (levels, refs) = (levels.to_vec(), refs.to_vec());
-    let mut m = Metrics { pipeline: pipeline.into(), scene: prep.scene.name.clone(), size, ..Default::default() };
+    let mut m =
+        Metrics { pipeline: pipeline.parse().unwrap(), scene: prep.scene.name.clone(), size, ..Default::default() };
     metrics::set_accuracy_levels(
         &mut m,
         &prep.rays,

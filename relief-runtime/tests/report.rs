@@ -18,7 +18,7 @@ fn row(pipeline: &str, ms: f64, mse: f64, ref_t: f64, skipped: f64) -> Row {
     Row {
         grid: "test".into(),
         metrics: Metrics {
-            pipeline: pipeline.into(),
+            pipeline: pipeline.parse().unwrap(),
             scene: "scene:lion".into(),
             size: 32,
             adapter: "synthetic".into(),
@@ -1217,8 +1217,8 @@ fn rows_from_several_folders_merge_and_each_adapters_timing_verdicts_sit_side_by
 fn at_the_view(rows: Vec<Row>) -> impl Iterator<Item = Row> {
     rows.into_iter().map(|mut r| {
         r.metrics.scene = "scene:lion@view=dissertation".into();
-        r.metrics.pipeline.push_str("+lod=auto");
-        r.cell_dir = format!("cells/lion_view/{}", relief_dsl::spec::file_safe(&r.metrics.pipeline));
+        r.metrics.pipeline.lod = relief_dsl::spec::Lod::Auto;
+        r.cell_dir = format!("cells/lion_view/{}", relief_dsl::spec::file_safe(&r.metrics.pipeline.to_string()));
         r
     })
 }

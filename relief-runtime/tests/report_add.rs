@@ -31,7 +31,7 @@ fn add_scores_a_browsers_hits_sets_aside_what_the_sweep_lacks_and_refuses_a_seco
     let native = Row {
         grid: "g".into(),
         metrics: Metrics {
-            pipeline: PIPELINE.into(),
+            pipeline: PIPELINE.parse().unwrap(),
             scene: "scene:rocks".into(),
             size: 32,
             adapter: "synthetic".into(),

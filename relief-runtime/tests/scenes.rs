@@ -432,13 +432,13 @@ fn a_scene_files_lod_applies_to_pipelines_that_name_none() {
     };
     let by_scene = measure(&mut prep, "linear(64)+binary(5)");
     let explicit = measure(&mut prep, "linear(64)+binary(5)+lod=auto");
-    assert_eq!(by_scene.pipeline, "linear(64)+binary(5)+lod=auto");
+    assert_eq!(by_scene.pipeline.to_string(), "linear(64)+binary(5)+lod=auto");
     assert_eq!(
         (by_scene.ref_err_t_rms, by_scene.mse_dissertation),
         (explicit.ref_err_t_rms, explicit.mse_dissertation)
     );
     let own = measure(&mut prep, "linear(64)+binary(5)+lod=level(0)");
-    assert_eq!(own.pipeline, "linear(64)+binary(5)+lod=level(0)");
+    assert_eq!(own.pipeline.to_string(), "linear(64)+binary(5)+lod=level(0)");
     assert_ne!(own.ref_err_t_rms, by_scene.ref_err_t_rms, "the footprint level is not level 0 here");
 
     let grid = d.join("g.grid");
@@ -527,7 +527,7 @@ fn real_rocks_measure_against_the_exact_reference_on_the_device() {
     let mut on_device = scene.clone();
     on_device.height.data = tex.heights_on_device.clone();
     let refs = reference_hits(&on_device, &rays, Sampling::Bilinear).unwrap();
-    let mut m = Metrics { pipeline: pipeline.clone(), scene: scene.name.clone(), size, ..Default::default() };
+    let mut m = Metrics { pipeline: pipeline.parse().unwrap(), scene: scene.name.clone(), size, ..Default::default() };
     metrics::set_accuracy(&mut m, &rays, &hits, &refs, &on_device.height, scene.edge);
     eprintln!("{pipeline} on rocks: {m:?}");
     assert_eq!(m.nan_count, 0);

@@ -38,13 +38,13 @@ fn custom_stage_sweeps_against_linear() {
     let dir = std::env::temp_dir().join(format!("relief-example-custom-stage-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let rows = custom_stage::run(&dir).unwrap();
-    let names: Vec<&str> = rows.iter().map(|r| r.metrics.pipeline.as_str()).collect();
+    let names: Vec<String> = rows.iter().map(|r| r.metrics.pipeline.to_string()).collect();
     assert_eq!(
         names,
         ["linear(16)", "geometric(16, 10)", "geometric(16, 0)", "geometric(16, 25)+binary(5)", "linear(16)+binary(5)"]
     );
     assert!(rows.iter().all(|r| r.status.is_ok() && r.metrics.frame_ms_median > 0.0), "{rows:#?}");
-    let by = |p: &str| &rows.iter().find(|r| r.metrics.pipeline == p).unwrap().metrics;
+    let by = |p: &str| &rows.iter().find(|r| r.metrics.pipeline.to_string() == p).unwrap().metrics;
     // At growth 0 the search takes linear(16)'s steps exactly (first step 1/16, the same
     // f32 sums), so it finds the same brackets: the same steps taken, the same error.
     let (lin, geo0) = (by("linear(16)"), by("geometric(16, 0)"));

@@ -3,19 +3,19 @@
 //! that a ranking is judged on each adapter apart), and its RMS t error; and what
 //! `relief report --add` added from browsers ([`super::add::log`]) and set aside.
 
-use super::{fmt_ms, fmt_num, fmt_sci, short_scene, Data, TextTable, DASH};
+use super::{data::short_scene, data::Data, text::fmt_ms, text::fmt_num, text::fmt_sci, text::TextTable, text::DASH};
 use crate::results::Row;
 
 /// The per-adapter table of `datas` (adapter, its rows), the first adapter's cells first;
 /// `None` with fewer than two adapters and nothing added from a browser.
-pub(crate) fn table(datas: &[(String, &Data)], added: &[super::Added]) -> Option<TextTable> {
+pub(crate) fn table(datas: &[(String, &Data)], added: &[super::add::Added]) -> Option<TextTable> {
     if datas.len() < 2 && added.is_empty() {
         return None;
     }
     let mut cells: Vec<(String, String, u32)> = Vec::new();
     for (_, d) in datas {
         for r in d.rows.iter().filter(|r| r.status.is_ok() && d.is_indexed(r)) {
-            let k = (r.metrics.pipeline.clone(), r.metrics.scene.clone(), r.metrics.size);
+            let k = (r.metrics.pipeline.to_string(), r.metrics.scene.clone(), r.metrics.size);
             if !cells.contains(&k) {
                 cells.push(k);
             }

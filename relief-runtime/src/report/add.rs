@@ -26,6 +26,7 @@ use crate::measure::{score, Reference};
 use crate::results::{self, Metrics, Row};
 use crate::scene::{scene_from_arg, Scene};
 use relief_dsl::spec::Lod;
+use relief_dsl::Pipeline;
 
 /// The `format` of a browser's results file.
 pub(crate) const FORMAT: &str = "relief-browser-results";
@@ -139,12 +140,10 @@ pub fn add(dir: &Path, files: &[PathBuf], replace: bool) -> Result<Vec<Added>> {
         rows.retain(|r| r.metrics.adapter != adapter);
         rewrite |= rows.len() != before;
         // The sweep: the ok cells of the other adapters, with their grid.
-        let sweep: HashMap<(String, String, u32), String> = rows
+        let sweep: HashMap<(Pipeline, String, u32), String> = rows
             .iter()
             .filter(|r| r.status.is_ok())
-            .map(|r| {
-                ((super::data::canonical(&r.metrics.pipeline), r.metrics.scene.clone(), r.metrics.size), r.grid.clone())
-            })
+            .map(|r| ((r.metrics.pipeline.clone(), r.metrics.scene.clone(), r.metrics.size), r.grid.clone()))
             .collect();
         let mut added = Added {
             file: path.display().to_string(),
@@ -155,14 +154,19 @@ pub fn add(dir: &Path, files: &[PathBuf], replace: bool) -> Result<Vec<Added>> {
         };
         let mut seen = HashSet::new();
         for fr in &f.rows {
-            let key = (super::data::canonical(&fr.pipeline), fr.scene.clone(), fr.size);
+            // The file's pipeline, parsed once: the cell's key, and what is scored.
+            let pipeline = fr.pipeline.parse::<Pipeline>();
             let what = format!(
                 "`{}` on {} at {}²",
-                relief_dsl::spec::echo(&key.0),
+                relief_dsl::spec::echo(
+                    &pipeline.as_ref().map(|p| p.to_string()).unwrap_or_else(|_| fr.pipeline.clone())
+                ),
                 relief_dsl::spec::echo(&fr.scene),
                 fr.size
             );
-            let Some(grid) = sweep.get(&key) else {
+            let Some((key, grid)) =
+                pipeline.ok().map(|p| (p, fr.scene.clone(), fr.size)).and_then(|k| sweep.get(&k).map(|g| (k, g)))
+            else {
                 added.set_aside.push(format!("{what}: not in the sweep"));
                 continue;
             };
@@ -213,10 +217,10 @@ pub fn add(dir: &Path, files: &[PathBuf], replace: bool) -> Result<Vec<Added>> {
 fn scored(
     scenes: &mut HashMap<String, SceneCache>,
     fr: &FileRow,
-    key: &(String, String, u32),
+    key: &(Pipeline, String, u32),
     adapter: &str,
 ) -> Result<Metrics, String> {
-    let pipeline: relief_dsl::Pipeline = key.0.parse().map_err(|e| format!("{e}"))?;
+    let pipeline = &key.0;
     if pipeline.lod != Lod::Zero {
         return Err(format!("lod={} is not in the browser data", pipeline.lod));
     }
@@ -249,7 +253,7 @@ fn scored(
     }
     let hits: Vec<GpuHit> = bytemuck::pod_collect_to_vec(&bytes);
     let mut m = Metrics {
-        pipeline: key.0.clone(),
+        pipeline: pipeline.clone(),
         scene: key.1.clone(),
         size: key.2,
         adapter: adapter.to_string(),
@@ -268,7 +272,7 @@ fn scored(
         tiling: scene.tiling as f64,
         whole_frame: set.stride == 1,
     };
-    score(&mut m, &pipeline, &reference, &hits).map_err(|e| e.to_string())?;
+    score(&mut m, pipeline, &reference, &hits).map_err(|e| e.to_string())?;
     Ok(m)
 }
 

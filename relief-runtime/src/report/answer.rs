@@ -12,7 +12,9 @@
 use relief_dsl::spec::{Lod, Silhouette, Value};
 use relief_dsl::Pipeline;
 
-use super::{fmt_ms, fmt_num, fmt_sci, short_scene, stage_steps, Data, TextTable};
+use super::{
+    data::short_scene, data::stage_steps, data::Data, text::fmt_ms, text::fmt_num, text::fmt_sci, text::TextTable,
+};
 use crate::results::Row;
 use crate::timing::Ratio;
 
@@ -235,13 +237,14 @@ pub(crate) fn build(data: &Data) -> Vec<Answer> {
     let mut out = Vec::new();
     for scene in data.scenes() {
         for size in data.sizes_of(&scene) {
-            let rows: Vec<(&Row, Pipeline)> = data
+            let rows: Vec<(&Row, &Pipeline)> = data
                 .rows
                 .iter()
                 .filter(|r| {
                     r.status.is_ok() && r.metrics.scene == scene && r.metrics.size == size && data.is_indexed(r)
                 })
-                .filter_map(|r| r.metrics.pipeline.parse::<Pipeline>().ok().filter(competes).map(|p| (r, p)))
+                .map(|r| (r, &r.metrics.pipeline))
+                .filter(|(_, p)| competes(p))
                 .collect();
             let clock = clock_of(rows.iter().map(|(r, _)| *r));
             let mut cands = Vec::new();
@@ -253,18 +256,18 @@ pub(crate) fn build(data: &Data) -> Vec<Answer> {
                     paired: if clock == Clock::Median { None } else { Ratio::to_baseline(&r.metrics) },
                 };
                 if !(speed.rank().is_finite() && r.metrics.ref_err_t_rms.is_finite()) {
-                    not_finite.push(r.metrics.pipeline.clone());
+                    not_finite.push(r.metrics.pipeline.to_string());
                     continue;
                 }
                 if !adapters.contains(&r.metrics.adapter) {
                     adapters.push(r.metrics.adapter.clone());
                 }
                 cands.push(Cand {
-                    pipeline: r.metrics.pipeline.clone(),
+                    pipeline: r.metrics.pipeline.to_string(),
                     speed,
                     err: r.metrics.ref_err_t_rms,
                     skipped: r.metrics.skipped_rate,
-                    engine: is_engine_family(&p),
+                    engine: is_engine_family(p),
                     cell_dir: r.cell_dir.clone(),
                 });
             }
@@ -292,7 +295,7 @@ pub(crate) fn build(data: &Data) -> Vec<Answer> {
             let (base, view) = view_words(&scene);
             let title = if view.is_empty() { format!("{base}, {size}²") } else { format!("{base}, {view}, {size}²") };
             out.push(Answer {
-                id: format!("answer-{}", super::anchor(&format!("{scene} s{size}"))),
+                id: format!("answer-{}", super::text::anchor(&format!("{scene} s{size}"))),
                 engine_measured: cands.iter().any(|c| c.engine),
                 clock: clock.clone(),
                 scene: scene.clone(),
@@ -525,7 +528,7 @@ pub(crate) fn write_chart(a: &Answer, sub: &std::path::Path, warnings: &mut Vec<
         &series,
         true,
     );
-    let name = format!("answer_{}.svg", super::file_safe(&format!("{}_s{}", short_scene(&a.scene), a.size)));
+    let name = format!("answer_{}.svg", super::text::file_safe(&format!("{}_s{}", short_scene(&a.scene), a.size)));
     for k in key.iter_mut() {
         k.drawn = chart.labels.iter().any(|(text, _)| *text == k.number.to_string());
     }
@@ -556,7 +559,7 @@ pub(crate) fn write_height_map(scene: &str, sub: &std::path::Path, warnings: &mu
         let v = m.data[(y as usize / k) * m.width + x as usize / k];
         image::Luma([(v.clamp(0.0, 1.0) * 255.0).round() as u8])
     });
-    let name = format!("scene_{}.png", super::file_safe(short_scene(base)));
+    let name = format!("scene_{}.png", super::text::file_safe(short_scene(base)));
     let path = sub.join(&name);
     if !path.exists() {
         if let Err(e) = img.save(&path) {

@@ -40,7 +40,7 @@ use crate::maps::MapKey;
 use crate::reference::{reference_hits, RefHit, Sampling};
 use crate::scene::{scene_from_arg, ProbeRay, Scene};
 
-use super::Data;
+use super::data::Data;
 
 /// The exact pipeline the page draws its |t − t_exact| view against (a max-mip traversal
 /// with enough steps to finish every ray, Tevs, Ihrke & Seidel 2008).
@@ -95,7 +95,7 @@ fn map_slug(k: MapKey) -> String {
 
 /// A scene label as a folder name.
 fn scene_slug(label: &str) -> String {
-    super::file_safe(label.strip_prefix("scene:").unwrap_or(label))
+    super::text::file_safe(label.strip_prefix("scene:").unwrap_or(label))
 }
 
 fn format_name(f: wgpu::TextureFormat) -> &'static str {
@@ -191,18 +191,19 @@ fn texture_file(dir: &Path, name: &str, u: &Upload, files: &mut Vec<PathBuf>) ->
 
 /// A pipeline the page can draw: its module and bindings.
 struct Shipped {
+    pipeline: relief_dsl::Pipeline,
     text: String,
     stem: String,
     program: Program,
 }
 
-fn ship(text: &str) -> Result<Shipped, String> {
-    let p: relief_dsl::Pipeline = text.parse().map_err(|e| format!("`{text}`: {e}"))?;
+fn ship(p: &relief_dsl::Pipeline) -> Result<Shipped, String> {
+    let text = p.to_string();
     if p.lod != Lod::Zero {
         return Err(format!("`{text}`: lod={} reads per-level maps, which the browser data does not ship", p.lod));
     }
-    let program = Program::new(&p).map_err(|e| format!("`{text}`: {e}"))?;
-    Ok(Shipped { text: p.to_string(), stem: p.file_stem(), program })
+    let program = Program::new(p).map_err(|e| format!("`{text}`: {e}"))?;
+    Ok(Shipped { pipeline: p.clone(), text, stem: p.file_stem(), program })
 }
 
 fn bindings_json(b: &[u32], program: &Program) -> Result<Value, GpuError> {
@@ -235,10 +236,11 @@ pub(crate) fn write(datas: &[&Data], dir: &Path) -> Result<Written> {
     for d in datas {
         for r in d.rows.iter().filter(|r| r.status.is_ok() && d.is_indexed(r)) {
             let m = &r.metrics;
-            if !pipelines.contains_key(&m.pipeline) {
+            let text = m.pipeline.to_string();
+            if !pipelines.contains_key(&text) {
                 match ship(&m.pipeline) {
                     Ok(s) => {
-                        pipelines.insert(m.pipeline.clone(), s);
+                        pipelines.insert(text.clone(), s);
                     }
                     Err(e) => {
                         if !w.set_aside.contains(&e) {
@@ -253,18 +255,22 @@ pub(crate) fn write(datas: &[&Data], dir: &Path) -> Result<Written> {
                 sizes.push(m.size);
             }
             rows.push(json!({
-                "pipeline": m.pipeline, "scene": m.scene, "size": m.size, "adapter": m.adapter,
+                "pipeline": text, "scene": m.scene, "size": m.size, "adapter": m.adapter,
                 "frame_ms_median": finite(m.frame_ms_median), "frame_ratio_to_baseline": m.frame_ratio_to_baseline,
                 "ref_err_t_rms": finite(m.ref_err_t_rms), "avg_fetches": finite(m.avg_fetches), "cell_dir": r.cell_dir,
             }));
         }
     }
-    let exact = ship(EXACT).map_err(Error::Input)?;
+    let exact = EXACT
+        .parse::<relief_dsl::Pipeline>()
+        .map_err(|e| e.to_string())
+        .and_then(|p| ship(&p))
+        .map_err(Error::Input)?;
     pipelines.entry(exact.text.clone()).or_insert(exact);
 
     let mut pjson = Vec::new();
     for s in pipelines.values() {
-        let wgsl = relief_dsl::emit::emit(&s.text.parse()?)?.wgsl;
+        let wgsl = relief_dsl::emit::emit(&s.pipeline)?.wgsl;
         data_file(&out, &format!("wgsl/{}", s.stem), json!({ "pipeline": s.text }), wgsl.as_bytes(), 1, &mut files)?;
         let render = bindings_json(&s.program.render_bindings, &s.program)?;
         let probe = bindings_json(&s.program.probe_bindings, &s.program)?;
@@ -415,7 +421,7 @@ fn write_scene<'a>(
 
 /// The page's live section: two pipelines side by side and the measure button (their
 /// script is `web/live.js`), or why there is no browser data.
-pub(crate) fn section(w: &Result<Written>) -> super::html::Section {
+pub(crate) fn section(w: &Result<Written>) -> super::html::PageSection {
     use super::html::esc;
     let mut h = String::from("<h2>Live: the pipelines on your GPU</h2>\n");
     match w {
@@ -430,7 +436,7 @@ pub(crate) fn section(w: &Result<Written>) -> super::html::Section {
             let _ = writeln!(h, "<script src=\"browser/manifest.js\"></script>\n<script>{LIVE_SCRIPT}</script>");
         }
     }
-    super::html::Section { id: "live".into(), nav: "Live".into(), html: h }
+    super::html::PageSection { id: "live".into(), nav: "Live".into(), html: h }
 }
 
 /// The live section's script.

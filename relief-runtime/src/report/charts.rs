@@ -8,7 +8,7 @@ use std::path::Path;
 use relief_dsl::Pipeline;
 
 use super::labels::{self, Rect};
-use super::{short_scene, stage_steps, Data, Metric};
+use super::{data::short_scene, data::stage_steps, data::Data, data::Metric};
 use crate::sweep::grids;
 
 /// A chart written under `report/`.

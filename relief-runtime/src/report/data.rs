@@ -5,7 +5,6 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use relief_dsl::spec::{StageSpec, Value};
-use relief_dsl::Pipeline;
 
 use crate::results::{self, Row};
 
@@ -20,15 +19,12 @@ pub(crate) struct Data {
 
 impl Data {
     /// The rows of one adapter, read from `dir` (or merged into it), indexed.
-    pub(crate) fn from_rows(dir: &Path, mut rows: Vec<Row>, bad_lines: Vec<String>) -> Data {
-        for r in rows.iter_mut() {
-            r.metrics.pipeline = canonical(&r.metrics.pipeline);
-        }
+    pub(crate) fn from_rows(dir: &Path, rows: Vec<Row>, bad_lines: Vec<String>) -> Data {
         // A later row replaces an earlier one, except that an ok row is never replaced by a
         // failed one.
         let mut index: HashMap<(String, String, u32), usize> = HashMap::new();
         for (i, r) in rows.iter().enumerate() {
-            let k = (r.metrics.pipeline.clone(), r.metrics.scene.clone(), r.metrics.size);
+            let k = (r.metrics.pipeline.to_string(), r.metrics.scene.clone(), r.metrics.size);
             match index.get(&k) {
                 Some(&j) if rows[j].status.is_ok() && !r.status.is_ok() => {}
                 _ => {
@@ -65,7 +61,7 @@ impl Data {
 
     /// Whether `r` is the row the index keeps for its (pipeline, scene, size).
     pub(crate) fn is_indexed(&self, r: &Row) -> bool {
-        self.get(&r.metrics.pipeline, &r.metrics.scene, r.metrics.size).is_some_and(|x| std::ptr::eq(x, r))
+        self.get(&r.metrics.pipeline.to_string(), &r.metrics.scene, r.metrics.size).is_some_and(|x| std::ptr::eq(x, r))
     }
 
     /// Scene labels in first-seen order.
@@ -173,11 +169,6 @@ fn relative(from: &Path, to: &Path) -> PathBuf {
 /// A scene and size as a short label: `lion, 64²`.
 pub(crate) fn group_label(scene: &str, size: u32) -> String {
     format!("{}, {size}²", short_scene(scene))
-}
-
-/// The canonical text of a pipeline (the text itself when it does not parse).
-pub(crate) fn canonical(text: &str) -> String {
-    text.parse::<Pipeline>().map(|p| p.to_string()).unwrap_or_else(|_| text.to_string())
 }
 
 /// `scene:lion` → `lion`.

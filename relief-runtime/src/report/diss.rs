@@ -3,7 +3,7 @@
 
 use relief_dsl::Pipeline;
 
-use super::stage_steps;
+use super::data::stage_steps;
 
 const CSV: &str = include_str!("../../data/dissertation_tables.csv");
 

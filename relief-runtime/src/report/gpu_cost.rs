@@ -13,7 +13,7 @@ use std::path::Path;
 use super::answer::{levels, Answer};
 use super::charts::{svg_chart_axes, Line, Pt, Series};
 use super::conclusions::{Conclusion, Verdict};
-use super::{fmt_num, short_scene, Data, TextTable, DASH};
+use super::{data::short_scene, data::Data, text::fmt_num, text::TextTable, text::DASH};
 
 /// A ratio as the table prints it, `—` where a side is missing.
 fn ratio(x: f64) -> String {
@@ -284,7 +284,7 @@ fn chart(a: &Answer, data: &Data, sub: &Path, warnings: &mut Vec<String>) -> Opt
         &series,
         true,
     );
-    let name = format!("gpu_{}.svg", super::file_safe(&format!("{}_s{}", short_scene(&a.scene), a.size)));
+    let name = format!("gpu_{}.svg", super::text::file_safe(&format!("{}_s{}", short_scene(&a.scene), a.size)));
     match std::fs::write(sub.join(&name), &svg.svg) {
         Ok(()) => Some(format!("report/{name}")),
         Err(e) => {

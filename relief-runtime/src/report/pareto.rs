@@ -5,10 +5,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use relief_dsl::Pipeline;
-
 use super::charts::{svg_chart, Line, Pt, Series};
-use super::{fmt_ms, fmt_sci, short_scene, Data, Metric, TextTable};
+use super::{data::short_scene, data::Data, data::Metric, text::fmt_ms, text::fmt_sci, text::TextTable};
 
 pub(crate) struct Front {
     pub scene: String,
@@ -56,16 +54,15 @@ pub(crate) fn build(data: &Data) -> Vec<Front> {
                     if !data.is_indexed(r) {
                         continue;
                     }
-                    if let Ok(p) = r.metrics.pipeline.parse::<Pipeline>() {
-                        if !p.shadow.is_none() || !p.ao.is_none() {
-                            continue;
-                        }
+                    let p = &r.metrics.pipeline;
+                    if !p.shadow.is_none() || !p.ao.is_none() {
+                        continue;
                     }
                     let (ms, e) = (r.metrics.frame_ms_mean, metric.of(r));
                     if ms.is_finite() && e.is_finite() {
-                        all.push((r.metrics.pipeline.clone(), ms, e));
+                        all.push((r.metrics.pipeline.to_string(), ms, e));
                     } else {
-                        not_finite.push(r.metrics.pipeline.clone());
+                        not_finite.push(r.metrics.pipeline.to_string());
                     }
                 }
                 all.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.2.total_cmp(&b.2)));
@@ -83,7 +80,7 @@ pub(crate) fn build(data: &Data) -> Vec<Front> {
 /// `lion`, or `lion, 64²` when the sweep has several sizes.
 fn front_place(f: &Front) -> String {
     if f.multi_size {
-        super::group_label(&f.scene, f.size)
+        super::data::group_label(&f.scene, f.size)
     } else {
         short_scene(&f.scene).to_string()
     }
@@ -145,7 +142,7 @@ pub(crate) fn write_svgs(fronts: &[Front], sub: &Path, warnings: &mut Vec<String
         } else {
             short_scene(&f.scene).to_string()
         };
-        let name = format!("pareto_{}_{}.svg", super::file_safe(&place), f.metric.name());
+        let name = format!("pareto_{}_{}.svg", super::text::file_safe(&place), f.metric.name());
         match std::fs::write(sub.join(&name), svg) {
             Ok(()) => out.push((i, format!("report/{name}"))),
             Err(e) => warnings.push(format!("cannot write {}: {e}", sub.join(&name).display())),

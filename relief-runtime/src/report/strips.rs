@@ -6,7 +6,7 @@ use std::path::Path;
 use image::{imageops, Rgba, RgbaImage};
 
 use super::tables::ReportTable;
-use super::{fmt_ms, fmt_num, fmt_sci, Data};
+use super::{data::Data, text::fmt_ms, text::fmt_num, text::fmt_sci};
 
 /// Height of each tile in pixels: frames are readable at this size.
 pub(crate) const TILE: u32 = 256;
@@ -130,7 +130,7 @@ pub(crate) fn write_all(data: &Data, tables: &[ReportTable], sub: &Path, warning
                 }
             }
         }
-        let name = format!("strip_{}.png", super::file_safe(&t.key));
+        let name = format!("strip_{}.png", super::text::file_safe(&t.key));
         let path = sub.join(&name);
         match canvas.save(&path) {
             Ok(()) => out.push(Strip {

@@ -5,7 +5,10 @@ use relief_dsl::spec::StageSpec;
 use relief_dsl::Pipeline;
 
 use super::diss::{Diss, DissRow};
-use super::{fmt_ms, fmt_num, fmt_pct, fmt_sci, ours, short_scene, Data, TextTable, DASH};
+use super::{
+    data::short_scene, data::Data, text::fmt_ms, text::fmt_num, text::fmt_pct, text::fmt_sci, text::ours,
+    text::TextTable, text::DASH,
+};
 use crate::results::Row;
 use crate::sweep::grids;
 use crate::sweep::scene_label;
@@ -89,7 +92,7 @@ pub(crate) fn build(data: &Data, diss: &Diss) -> Vec<ReportTable> {
             let mut key = if scene == "scene:lion" {
                 name.clone()
             } else {
-                format!("{name}-{}", super::file_safe(short_scene(&scene)))
+                format!("{name}-{}", super::text::file_safe(short_scene(&scene)))
             };
             if let (true, Some(z)) = (multi_size, size) {
                 key.push_str(&format!("-s{z}"));
@@ -204,7 +207,7 @@ fn base_of(id: &str, entries: &[Entry], i: usize) -> usize {
         if stage.name != name {
             stage.name = name.to_string();
             // Keep only the steps: the reference method's other parameters are its defaults.
-            let steps = super::stage_steps(stage);
+            let steps = super::data::stage_steps(stage);
             if let Ok(s) = StageSpec::new(
                 if slot == "coarse" { relief_dsl::Slot::Coarse } else { relief_dsl::Slot::Refine },
                 name,

@@ -216,7 +216,7 @@ pub fn run(opts: &Options) -> Result<Summary> {
             }
             Err(e) => {
                 row.metrics = Metrics {
-                    pipeline: text.clone(),
+                    pipeline: pipeline.clone(),
                     scene: label(&scene_arg),
                     size: opts.size,
                     adapter: adapter.clone(),

@@ -106,8 +106,6 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     });
     write_atomic(&a.out.join("metrics.json"), serde_json::to_string_pretty(&json)?.as_bytes())?;
     if a.dump_hits {
-        let measured_pipeline: relief_dsl::Pipeline =
-            m.pipeline.parse().map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", m.pipeline))?;
         let chain: &[relief_runtime::HeightMap] = if measured.lod == relief_dsl::spec::Lod::Zero {
             std::slice::from_ref(&prep.on_device.height)
         } else {
@@ -124,10 +122,9 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
             let level = levels.get(i).copied().unwrap_or(0);
             let height = chain[level].bilinear(h.u as f64, h.v as f64, prep.scene.edge);
             let height = if height.is_finite() { height.to_string() } else { String::new() };
-            let step =
-                relief_runtime::metrics::coarse_step_texels(&measured_pipeline, r, prep.scene.depth_scale, texels)
-                    .map(|s| s.to_string())
-                    .unwrap_or_default();
+            let step = relief_runtime::metrics::coarse_step_texels(&m.pipeline, r, prep.scene.depth_scale, texels)
+                .map(|s| s.to_string())
+                .unwrap_or_default();
             writeln!(
                 csv,
                 "{},{},{},{},{},{},{},{},{},{},{},{tr},{ur},{vr},{},{},{},{},{},{height},{level},{step}",

@@ -20,16 +20,16 @@
 
 use std::cell::RefCell;
 use std::collections::BTreeMap;
-use std::fmt::Write as _;
 
 use relief_dsl::spec::Lod;
 use relief_dsl::Pipeline;
 
 mod checks;
+pub(crate) mod write;
 
+use super::data::{Data, Metric};
 use super::diss::{Diss, DissRow};
 use super::stats::spearman;
-use super::{short_scene, Data, Metric, TextTable, DASH};
 use crate::timing::Ratio;
 
 /// Whether a conclusion holds in a set of numbers.
@@ -227,14 +227,14 @@ impl<'a> MeasuredRows<'a> {
             Clock::Ratio => Ratio::to_baseline(m)?,
             Clock::Mean => Ratio::point(m.frame_ms_mean),
             Clock::Model => {
-                if r.metrics.pipeline.parse::<Pipeline>().is_ok_and(|p| !p.shadow.is_none() || !p.ao.is_none()) {
+                if !r.metrics.pipeline.shadow.is_none() || !r.metrics.pipeline.ao.is_none() {
                     self.untraced.set(true);
                     return None;
                 }
                 Ratio::point(m.simd32_fetches)
             }
             Clock::Gpu(family) => {
-                if r.metrics.pipeline.parse::<Pipeline>().is_ok_and(|p| !p.shadow.is_none() || !p.ao.is_none()) {
+                if !r.metrics.pipeline.shadow.is_none() || !r.metrics.pipeline.ao.is_none() {
                     self.untraced.set(true);
                     return None;
                 }
@@ -247,8 +247,9 @@ impl<'a> MeasuredRows<'a> {
     fn note(&self, r: &crate::results::Row) {
         let mut u = self.used.borrow_mut();
         let v = u.entry(r.metrics.size).or_default();
-        if !v.contains(&r.metrics.pipeline) {
-            v.push(r.metrics.pipeline.clone());
+        let text = r.metrics.pipeline.to_string();
+        if !v.contains(&text) {
+            v.push(text);
         }
     }
 
@@ -683,252 +684,47 @@ fn share_dec(flags: &[Option<Dec>], need: f64, min: usize, what: &str) -> Outcom
     Ok((dec, format!("{yes}/{} {what}{open_text}", measured.len())))
 }
 
-// ---------------------------------------------------------------------------------------
-// Output
-
-/// The conclusions as a table.
-pub(crate) fn table(cs: &[Conclusion]) -> TextTable {
-    let scene = cs.first().map(|c| short_scene(&c.scene).to_string()).unwrap_or_default();
-    let cell =
-        |v: Verdict, e: &str| if e.is_empty() { v.as_str().to_string() } else { format!("{} ({e})", v.as_str()) };
-    TextTable {
-        title: "Conclusions".into(),
-        notes: vec![format!(
-            "Each of the dissertation's conclusions with the criterion used to check it, on our rows (scene {scene}) by \
-             `mse_dissertation_mean` and by `ref_err_t_rms`, and on the dissertation's own printed numbers (a check of the \
-             criterion). Ratio thresholds are stated for a squared error: `ref_err_t_rms` is squared before they apply. \
-             A NaN error counts as the worst error, never as an unmeasured cell. Frame times are means, as the \
-             dissertation's. A criterion reads rows of one image size only and refuses otherwise. Unless its criterion \
-             says why, a criterion over several cells holds when at least 75% of the measured cells agree (one odd cell \
-             in four does not decide it); the same thresholds apply to our rows and the dissertation's numbers. A criterion \
-             that reads a cone method is checked twice: on the `form=textbook` rows (the papers' algorithm on texel \
-             maps, with the sampling the criterion names) and on the `form=safe` rows (cones of bilinear cells, read \
-             unfiltered by every safe method, so a criterion's `sample=nearest` reads the safe default, and a sampling \
-             with no safe counterpart, `sample=linear|min4` or `start=hk`, is not measured). Criteria \
-             about frame time only have no separate `ref_err_t_rms` verdict. Frame times are read as each row's \
-             `frame_ratio_to_baseline` (the row's mean frame time over the baseline pipeline's, timed in alternating \
-             blocks in the same run, with its 95 % interval) when every row has one: two cells compare by the quotient \
-             of their ratios, and a criterion whose answer the intervals leave open is `not decided`. The `model` \
-             column judges every criterion that reads frame time on the SIMD cost model instead (`simd32_fetches`, the \
-             largest fetch count of a group of 32 rays, averaged over groups: a GPU whose time goes into fetches); the \
-             probe traces only, so criteria about shadows or ambient occlusion are not measured by it. Frame times \
-             from a software rasterizer are one adapter's: read timing verdicts with the adapter in mind."
-        )],
-        header: ["table", "conclusion", "criterion", "ours (mse_dissertation_mean)", "ours (ref_err_t_rms)", "model (simd32_fetches)", "dissertation's numbers"]
-            .iter()
-            .map(|s| s.to_string())
-            .collect(),
-        rows: cs
-            .iter()
-            .map(|c| {
-                vec![
-                    c.table.clone(),
-                    if c.form.is_empty() { c.claim.clone() } else { format!("{} (cone methods in `form={}`)", c.claim, c.form) },
-                    if c.why.is_empty() { c.criterion.clone() } else { format!("{} Thresholds: {}", c.criterion, c.why) },
-                    cell(c.ours_mse, &c.evidence_mse),
-                    match c.ours_ref {
-                        Some(v) => cell(v, &c.evidence_ref),
-                        None => "(frame time only)".into(),
-                    },
-                    match c.model {
-                        Some(v) => cell(v, &c.evidence_model),
-                        None => "(no frame time)".into(),
-                    },
-                    cell(c.diss, &c.evidence_diss),
-                ]
-            })
-            .collect(),
-    }
-}
-
-/// The criteria that read frame time, checked on each adapter's rows (`adapters`: the
-/// adapter's name and its conclusions, from [`check`]), side by side: one column per
-/// adapter, and the model's verdict (the SIMD cost model reads the probe's counters, the
-/// same on every adapter: the first adapter's rows). None with fewer than two adapters.
-pub(crate) fn by_adapter(adapters: &[(String, Vec<Conclusion>)]) -> Option<TextTable> {
-    if adapters.len() < 2 {
-        return None;
-    }
-    let cell =
-        |v: Verdict, e: &str| if e.is_empty() { v.as_str().to_string() } else { format!("{} ({e})", v.as_str()) };
-    let mut header = vec!["table".to_string(), "conclusion".to_string()];
-    header.extend(adapters.iter().map(|(a, _)| a.clone()));
-    header.push("model (simd32_fetches)".into());
-    let mut rows = Vec::new();
-    for (i, c) in adapters[0].1.iter().enumerate() {
-        if !c.reads_time {
-            continue;
-        }
-        let claim = if c.form.is_empty() { c.claim.clone() } else { format!("{} (`form={}`)", c.claim, c.form) };
-        let mut row = vec![c.table.clone(), claim];
-        for (_, cs) in adapters {
-            row.push(match cs.get(i).filter(|d| d.claim == c.claim && d.form == c.form) {
-                Some(d) => cell(d.ours_mse, &d.evidence_mse),
-                None => DASH.into(),
-            });
-        }
-        row.push(c.model.map(|m| cell(m, &c.evidence_model)).unwrap_or_else(|| DASH.into()));
-        rows.push(row);
-    }
-    Some(TextTable {
-        title: "Timing conclusions per adapter".into(),
-        notes: vec![format!(
-            "The criteria that read frame time, on each adapter's rows apart (rows of {} adapters merged from their result folders), \
-             errors by `mse_dissertation_mean`; each adapter's frame times as its paired ratios to the baseline where its rows have them. \
-             The model column reads the SIMD cost model, which does not depend on the adapter.",
-            adapters.len()
-        )],
-        header,
-        rows,
-    })
-}
-
-/// Short lists: which hold and which do not (by mse_dissertation_mean and by ref_err_t_rms).
-pub(crate) fn summary_lines(cs: &[Conclusion]) -> Vec<String> {
-    let mut out = Vec::new();
-    let by = |v: Verdict, r: bool| -> Vec<String> {
-        cs.iter()
-            .filter(|c| if r { c.ours_ref.unwrap_or(c.ours_mse) == v } else { c.ours_mse == v })
-            .map(|c| {
-                let form = if c.form.is_empty() { String::new() } else { format!(" [form={}]", c.form) };
-                format!("{} {}{form}", c.table, c.claim.trim_end_matches('.'))
-            })
-            .collect()
-    };
-    for (label, r) in [("by mse_dissertation_mean", false), ("by ref_err_t_rms", true)] {
-        for v in [Verdict::Holds, Verdict::DoesNotHold, Verdict::NotDecided, Verdict::NotMeasured] {
-            let l = by(v, r);
-            out.push(format!(
-                "**{} {label}** ({}): {}",
-                capitalize(v.as_str()),
-                l.len(),
-                if l.is_empty() { DASH.to_string() } else { l.join("; ") }
-            ));
-        }
-    }
-    out
-}
-
-fn capitalize(s: &str) -> String {
-    let mut c = s.chars();
-    match c.next() {
-        Some(f) => f.to_uppercase().collect::<String>() + c.as_str(),
-        None => String::new(),
-    }
-}
-
-/// The conclusions of Tables 4.1, 4.2 and 4.7 (what the `lod` grid repeats) with every
-/// sample at level 0 and at the pixel's footprint level, on every scene with `lod=auto` rows;
-/// `None` when there are none. Verdicts are `mse / ref_err_t_rms` (frame-time criteria have
-/// one). Only the criteria of those tables are listed, cone methods in both forms.
-pub(crate) fn lod_markdown(data: &Data, diss: &Diss) -> Option<String> {
-    let scenes: Vec<String> = data
-        .scenes()
+/// The scenes with `lod=auto` rows (at their own view), each with its conclusions at level 0
+/// and at the footprint level ([`check_at`]): what the `lod` grid repeats.
+pub(crate) fn lod_checks(data: &Data, diss: &Diss) -> Vec<(String, Vec<Conclusion>, Vec<Conclusion>)> {
+    data.scenes()
         .into_iter()
         .filter(|s| crate::scene::view::of_label(s).is_none())
-        .filter(|s| {
-            data.rows.iter().any(|r| {
-                &r.metrics.scene == s && r.metrics.pipeline.parse::<Pipeline>().is_ok_and(|p| p.lod == Lod::Auto)
-            })
+        .filter(|s| data.rows.iter().any(|r| &r.metrics.scene == s && r.metrics.pipeline.lod == Lod::Auto))
+        .map(|s| {
+            let zero = check_at(data, diss, &s, Lod::Zero);
+            let auto = check_at(data, diss, &s, Lod::Auto);
+            (s, zero, auto)
         })
-        .collect();
-    if scenes.is_empty() {
-        return None;
-    }
-    let mut t = TextTable {
-        title: "Conclusions at the footprint level (`lod=auto`)".into(),
-        notes: vec!["The criteria of Tables 4.1, 4.2 and 4.7 (grid `lod`) on the same cells sampled at level 0 (`lod=zero`) and at the \
-                     pixel's footprint level (`lod=auto`), each scored against the exact hit on the surface it sampled; cone methods \
-                     in both forms (the safe form on the cells of the level it samples). Verdicts: `mse_dissertation_mean / ref_err_t_rms`."
-            .into()],
-        header: vec!["table".into(), "claim".into(), "scene".into(), "lod=zero".into(), "lod=auto".into()],
-        ..Default::default()
-    };
-    let v = |c: &Conclusion| match c.ours_ref {
-        Some(r) => format!("{} / {}", c.ours_mse, r),
-        None => c.ours_mse.to_string(),
-    };
-    for scene in &scenes {
-        let zero = check_at(data, diss, scene, Lod::Zero);
-        let auto = check_at(data, diss, scene, Lod::Auto);
-        for (z, a) in zero.iter().zip(&auto) {
-            if !["4.1", "4.2", "4.7"].contains(&z.table.as_str()) {
-                continue;
-            }
-            if z.ours_mse == Verdict::NotMeasured && a.ours_mse == Verdict::NotMeasured {
-                continue;
-            }
-            let claim = if z.form.is_empty() { z.claim.clone() } else { format!("{} (`form={}`)", z.claim, z.form) };
-            t.rows.push(vec![z.table.clone(), claim, short_scene(scene).to_string(), v(z), v(a)]);
-        }
-    }
-    Some(t.to_markdown(2))
+        .collect()
 }
 
-/// The conclusions of the tables grid `dissertation-view` repeats, on each scene at its own
-/// view and at the dissertation's (`scene@view=dissertation`), side by side, with the
-/// verdicts that change marked; `None` when no scene has rows at the dissertation's view.
-/// Verdicts are `mse / ref_err_t_rms` (frame-time criteria have one).
-pub(crate) fn view_markdown(data: &Data, diss: &Diss) -> Option<String> {
-    use crate::scene::View;
-    let view = View::Dissertation;
-    let suffix = format!("@view={}", view.name());
-    let pairs: Vec<(String, String)> = data
-        .scenes()
+/// One scene checked at its own view and at the dissertation's ([`view_checks`]).
+pub(crate) struct ViewChecks {
+    /// The scene's label at its own view.
+    pub base: String,
+    /// Its conclusions at its own view, at level 0.
+    pub own: Vec<Conclusion>,
+    /// Its conclusions at the dissertation's view (`scene@view=dissertation`).
+    pub theirs: Vec<Conclusion>,
+    /// Where linear search is still pre-asymptotic ([`regime_line`]): at its own view, at
+    /// the dissertation's.
+    pub regime: [Option<String>; 2],
+}
+
+/// Every scene with rows at the dissertation's view, checked there and at its own view.
+pub(crate) fn view_checks(data: &Data, diss: &Diss) -> Vec<ViewChecks> {
+    let suffix = format!("@view={}", crate::scene::View::Dissertation.name());
+    data.scenes()
         .into_iter()
         .filter_map(|s| s.strip_suffix(&suffix).map(|base| (base.to_string(), s.clone())))
-        .collect();
-    if pairs.is_empty() {
-        return None;
-    }
-    let tables: Vec<String> =
-        crate::sweep::grids::DISSERTATION_VIEW_TABLES.iter().map(|t| t.trim_start_matches('t').to_string()).collect();
-    let mut t = TextTable {
-        title: "Conclusions at the dissertation's view".into(),
-        notes: vec![format!(
-            "The criteria of Tables {} (grid `dissertation-view`) on each scene at its own view and at the dissertation's \
-             (depth scale {}, {}° from the normal, {}° field of view, `lod={}`), each scored against the exact hit on the surface \
-             it sampled. Verdicts: `mse_dissertation_mean / ref_err_t_rms`; `changes` marks a verdict that differs between the views, \
-             `one view only` one measured at a single view. Where linear search's K = 3N²·MSE still rises at a view, a note says so.",
-            tables.join(", "),
-            view.depth_scale(),
-            view.angle_deg(),
-            view.fov_deg(),
-            view.lod()
-        )],
-        header: ["table", "claim", "scene", "own view", "dissertation's view", "changes"].iter().map(|s| s.to_string()).collect(),
-        ..Default::default()
-    };
-    let v = |c: &Conclusion| match c.ours_ref {
-        Some(r) => format!("{} / {}", c.ours_mse, r),
-        None => c.ours_mse.to_string(),
-    };
-    for (base, at_view) in &pairs {
-        let own = check_at(data, diss, base, Lod::Zero);
-        let theirs = check_at(data, diss, at_view, Lod::Zero);
-        for (o, d) in own.iter().zip(&theirs) {
-            if !tables.contains(&o.table) || (o.ours_mse == Verdict::NotMeasured && d.ours_mse == Verdict::NotMeasured)
-            {
-                continue;
-            }
-            let claim = if o.form.is_empty() { o.claim.clone() } else { format!("{} (`form={}`)", o.claim, o.form) };
-            // A verdict measured at one view only has nothing to change from.
-            let one_view = o.ours_mse == Verdict::NotMeasured || d.ours_mse == Verdict::NotMeasured;
-            let changes = match (one_view, v(o) != v(d)) {
-                (true, _) => "one view only",
-                (false, true) => "changes",
-                (false, false) => "",
-            };
-            t.rows.push(vec![o.table.clone(), claim, short_scene(base).to_string(), v(o), v(d), changes.into()]);
-        }
-        for (label, scene, lod) in [("its own view", base, Some(Lod::Zero)), ("the dissertation's view", at_view, None)]
-        {
-            if let Some(note) = regime_line(data, scene, lod) {
-                t.notes.push(format!("{} at {label}: {note}", short_scene(base)));
-            }
-        }
-    }
-    Some(t.to_markdown(2))
+        .map(|(base, at_view)| ViewChecks {
+            own: check_at(data, diss, &base, Lod::Zero),
+            theirs: check_at(data, diss, &at_view, Lod::Zero),
+            regime: [regime_line(data, &base, Some(Lod::Zero)), regime_line(data, &at_view, None)],
+            base,
+        })
+        .collect()
 }
 
 /// K = 3N²·MSE of `scene`'s linear-search rows (of `lod` where given) at its largest two
@@ -937,28 +733,15 @@ pub(crate) fn view_markdown(data: &Data, diss: &Diss) -> Option<String> {
 /// `None` when it is flat or fewer than three step counts are measured.
 pub(crate) fn regime_line(data: &Data, scene: &str, lod: Option<Lod>) -> Option<String> {
     let rows = data.rows.iter().filter(|r| r.status.is_ok() && r.metrics.scene == scene).filter_map(|r| {
-        let p: Pipeline = r.metrics.pipeline.parse().ok()?;
-        let n = super::tables::linear_steps(&p).filter(|_| lod.is_none_or(|l| p.lod == l))?;
+        let p = &r.metrics.pipeline;
+        let n = super::tables::linear_steps(p).filter(|_| lod.is_none_or(|l| p.lod == l))?;
         Some((n, r.metrics.mse_dissertation_mean))
     });
     let ((n1, k1), (n2, k2)) = super::tables::k_still_rising(rows)?;
     Some(format!(
         "K = 3N²·MSE of linear search still rises ({} at N = {n1}, {} at N = {n2}): pre-asymptotic, the MSE falls slower than 1/N², so \
          a verdict read from the error's slope belongs to this view.",
-        super::fmt_num(k1, 3),
-        super::fmt_num(k2, 3)
+        super::text::fmt_num(k1, 3),
+        super::text::fmt_num(k2, 3)
     ))
-}
-
-/// The conclusions section of `tables.md`.
-pub(crate) fn to_markdown(cs: &[Conclusion], agreement: &TextTable) -> String {
-    let mut md = String::new();
-    let t = table(cs);
-    md.push_str(&t.to_markdown(2));
-    for l in summary_lines(cs) {
-        let _ = writeln!(md, "- {l}");
-    }
-    md.push('\n');
-    md.push_str(&agreement.to_markdown(2));
-    md
 }
