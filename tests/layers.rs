@@ -110,7 +110,7 @@ fn relief_runtime_imports_point_down() {
         &["gpu"],
         &["metrics", "simd", "cost", "error"],
         &["measure"],
-        &["sweep", "stability", "room"],
+        &["sweep", "stability", "room", "tune"],
         &["report"],
     ];
     let bad = check(&root.join("relief-runtime/src"), layers);

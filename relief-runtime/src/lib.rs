@@ -2,7 +2,7 @@
 //!
 //! The types a user meets are re-exported here, in the groups below; the work of each area
 //! is reached through its module ([`gpu`], [`cost`], [`maps`], [`metrics`], [`measure`], [`results`],
-//! [`sweep`], [`stability`], [`room`], [`report`], [`io`], [`lock`]). Everything else is
+//! [`sweep`], [`tune`], [`stability`], [`room`], [`report`], [`io`], [`lock`]). Everything else is
 //! private to the crate. ARCHITECTURE.md ("Layers", "Public API") gives the import order
 //! of the modules; the `relief` command line lives in `src/bin/relief/` and the library
 //! never calls it.
@@ -34,6 +34,7 @@ mod simd;
 pub mod stability;
 pub mod sweep;
 mod timing;
+pub mod tune;
 
 // The crate's error, which wraps every area's (each area's own is in its module).
 pub use error::{Error, Result};

@@ -150,9 +150,23 @@ pub fn measure_paired(
     warmup: u32,
     pairs: u32,
 ) -> Result<Measured> {
+    measure_paired_against(gpu, prep, pipeline, BASELINE, warmup, pairs)
+}
+
+/// [`measure_paired`] against another baseline than [`BASELINE`]: `baseline` in the text
+/// form, drawn under the scene's `lod` policy (`relief tune` times against Bevy's default).
+/// The prepared scene keeps one baseline renderer; another baseline replaces it.
+pub(crate) fn measure_paired_against(
+    gpu: &Gpu,
+    prep: &mut Prepared,
+    pipeline: &relief_dsl::Pipeline,
+    baseline: &str,
+    warmup: u32,
+    pairs: u32,
+) -> Result<Measured> {
     let cell = Cell::new(gpu, prep, pipeline, &relief_dsl::compose::Options::default())?;
     let clock = Clock::new(gpu)?;
-    prep.baseline(gpu, &clock, warmup)?;
+    prep.baseline(gpu, &clock, baseline, warmup)?;
     let base = prep.baseline.as_ref().expect("built above");
     let r = Renderer::new(gpu, &cell.program, &prep.scene, &prep.textures, prep.size)?;
     let draw = |p: &mut wgpu::RenderPass<'_>| r.draw(p);
@@ -182,14 +196,28 @@ pub fn measure_paired(
     cell.finish(gpu, prep, m, frame)
 }
 
+/// One pipeline's accuracy on a prepared scene, without frames: the probe on every ray
+/// scored against the reference ([`score`]); the metrics' frame-time fields stay unset.
+/// What `relief tune` measures at the views where it does not time.
+pub(crate) fn measure_accuracy(gpu: &Gpu, prep: &mut Prepared, pipeline: &relief_dsl::Pipeline) -> Result<Metrics> {
+    let cell = Cell::new(gpu, prep, pipeline, &relief_dsl::compose::Options::default())?;
+    let mut m = cell.metrics(gpu, prep);
+    cell.probe_and_score(gpu, prep, &mut m)?;
+    Ok(m)
+}
+
 impl Prepared {
-    /// Builds the scene's baseline renderer on first use ([`BASELINE`] under the scene's
-    /// `lod` policy): its maps, `warmup` untimed frames, its frames per block.
-    fn baseline(&mut self, gpu: &Gpu, clock: &Clock, warmup: u32) -> Result<()> {
-        if self.baseline.is_some() {
+    /// Builds the scene's baseline renderer on first use (`baseline`, [`BASELINE`] for a
+    /// sweep, under the scene's `lod` policy): its maps, `warmup` untimed frames, its frames
+    /// per block. A renderer of another baseline is replaced.
+    fn baseline(&mut self, gpu: &Gpu, clock: &Clock, baseline: &str, warmup: u32) -> Result<()> {
+        let base: relief_dsl::Pipeline = baseline
+            .parse()
+            .map_err(|e| Error::Input(format!("baseline `{}`: {e}", relief_dsl::spec::echo(baseline))))?;
+        let p = self.scene.pipeline_for(&base);
+        if self.baseline.as_ref().is_some_and(|b| b.pipeline == p.to_string()) {
             return Ok(());
         }
-        let p = self.scene.pipeline_for(&BASELINE.parse().expect("the baseline parses"));
         let program = Program::new(&p)?;
         self.textures.add_maps_lod(gpu, &self.scene, &p.required_maps(), p.lod)?;
         let renderer = Renderer::new(gpu, &program, &self.scene, &self.textures, self.size)?;
@@ -244,6 +272,21 @@ impl Cell {
 
     /// Probes every ray and scores the hits ([`score`]; and the depth buffer).
     fn finish(self, gpu: &Gpu, prep: &mut Prepared, mut m: Metrics, frame: RenderResult) -> Result<Measured> {
+        let (hits, refs) = self.probe_and_score(gpu, prep, &mut m)?;
+        if let Some(depth) = &frame.depth {
+            m.depth_err_max = Some(depth_errors(prep, &refs, depth).into_iter().fold(0.0, f64::max));
+        }
+        Ok(Measured { metrics: m, frame, hits, refs, lod: self.pipeline.lod })
+    }
+
+    /// Probes every ray and scores the hits into `m` ([`score`]): the hits and the reference
+    /// hits scored against.
+    fn probe_and_score(
+        &self,
+        gpu: &Gpu,
+        prep: &mut Prepared,
+        m: &mut Metrics,
+    ) -> Result<(Vec<GpuHit>, Vec<Option<RefHit>>)> {
         let pipeline = &self.pipeline;
         let hits = gpu::probe(gpu, &self.program, &prep.scene, &prep.textures, &prep.rays)?;
         let levels = match pipeline.lod {
@@ -263,11 +306,8 @@ impl Cell {
             tiling: prep.scene.tiling as f64,
             whole_frame: true,
         };
-        let refs = score(&mut m, pipeline, &reference, &hits)?;
-        if let Some(depth) = &frame.depth {
-            m.depth_err_max = Some(depth_errors(prep, &refs, depth).into_iter().fold(0.0, f64::max));
-        }
-        Ok(Measured { metrics: m, frame, hits, refs, lod: pipeline.lod })
+        let refs = score(m, pipeline, &reference, &hits)?;
+        Ok((hits, refs))
     }
 }
 

@@ -215,6 +215,16 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
             add(format!("render {flag}={v}"), a);
         }
     }
+    // `relief tune`: goals and views refused before any measurement.
+    for v in ["nan", "inf", "-inf", "-1", "0", "abc", "", "0x10"] {
+        add(format!("tune --error={v}"), os(&["tune", "scene:step", "--size", "8", &format!("--error={v}")]));
+    }
+    for v in ["nan", "inf", "-1", "90", "1e39", "abc", "", "30,"] {
+        add(
+            format!("tune --view={v}"),
+            os(&["tune", "scene:step", "--size", "8", "--error", "1e-2", &format!("--view={v}")]),
+        );
+    }
     // FIFOs and folders given as inputs.
     let fifo = d.join("f.png");
     let made = Command::new("mkfifo").arg(&fifo).status().map(|s| s.success()).unwrap_or(false);
@@ -237,6 +247,10 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
         a.push("--out".into());
         a.push(out.clone().into());
         add(format!("render --scene {}", input.display()), a);
+        let mut a = os(&["tune"]);
+        a.push(input.into());
+        a.extend(os(&["--error", "1e-2", "--size", "8"]));
+        add(format!("tune {}", input.display()), a);
     }
     for g in [&fifo_grid, &folder] {
         let mut a = os(&["sweep", "--grid"]);

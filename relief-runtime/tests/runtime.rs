@@ -23,3 +23,4 @@ mod scenes;
 mod silhouette;
 mod stability;
 mod sweep;
+mod tune;

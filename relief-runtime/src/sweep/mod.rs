@@ -16,7 +16,7 @@
 //! share of the cells (`shard_of`); the report merges the shards' folders.
 
 pub mod grids;
-mod progress;
+pub(crate) mod progress;
 
 use std::collections::{HashMap, HashSet};
 use std::path::PathBuf;

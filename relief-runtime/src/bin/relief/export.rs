@@ -98,8 +98,23 @@ fn paste_lines(form: LibraryForm, lib: &relief_dsl::emit::LibraryForms, depth: f
     v
 }
 
+/// Refuses a container other than ktx2 or dds.
+pub(crate) fn check_container(container: &str) -> anyhow::Result<()> {
+    if !matches!(container.to_ascii_lowercase().as_str(), "ktx2" | "dds") {
+        bail!("--container {}: expected ktx2 or dds", relief_dsl::spec::echo(container));
+    }
+    Ok(())
+}
+
 /// Refuses a folder that holds files, unless `force`; creates it.
 fn prepare_out(out: &Path, force: bool) -> anyhow::Result<()> {
+    check_out(out, force)?;
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create output folder {}", out.display()))
+}
+
+/// Refuses an output that is not a folder, or a folder that holds files unless `force`
+/// (before any work: `relief tune` checks its bundle's folder before it measures).
+pub(crate) fn check_out(out: &Path, force: bool) -> anyhow::Result<()> {
     if out.exists() {
         if !out.is_dir() {
             bail!("--out {} is not a folder", out.display());
@@ -109,7 +124,7 @@ fn prepare_out(out: &Path, force: bool) -> anyhow::Result<()> {
             bail!("--out {} holds {n} other file(s); pass --force to write the bundle into it", out.display());
         }
     }
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create output folder {}", out.display()))
+    Ok(())
 }
 
 /// Runs `relief export`.
@@ -117,10 +132,8 @@ pub fn run(a: &ExportArgs) -> anyhow::Result<()> {
     let p: relief_dsl::Pipeline =
         a.pipeline.parse().map_err(|e| anyhow::anyhow!("pipeline `{}`: {e}", relief_dsl::spec::echo(&a.pipeline)))?;
     let form = LibraryForm::from_name(&a.target)?;
+    check_container(&a.container)?;
     let container = a.container.to_ascii_lowercase();
-    if !matches!(container.as_str(), "ktx2" | "dds") {
-        bail!("--container {}: expected ktx2 or dds", relief_dsl::spec::echo(&a.container));
-    }
     let scene = scene_from_arg(&scene_spec(&a.scene))?;
     let edge = if scene.edge == EdgeMode::Clamp { "clamp" } else { "repeat" };
     let opts = LibraryOptions { edge_clamp: scene.edge == EdgeMode::Clamp, ..LibraryOptions::default() };

@@ -14,6 +14,7 @@ mod room;
 mod serve;
 mod stability;
 mod sweep;
+mod tune;
 
 /// relief: relief-mapping search methods composed into shaders, measured and swept.
 #[derive(Parser)]
@@ -50,6 +51,10 @@ enum Command {
     /// (internal) Compile jobs on stdin for this process's RADV family.
     #[command(name = "__radv-child", hide = true)]
     RadvChild,
+    /// The fastest frontier pipeline reaching an RMS t error with no skipped geometry at
+    /// every view, timed against Bevy's default (`relief tune rocks --error 1e-2`); with
+    /// `--target --out`, its export bundle.
+    Tune(tune::TuneArgs),
     /// Measure a whole grid (the dissertation's tables and figures, or a grid file), resumable.
     Sweep(sweep::SweepArgs),
     /// Every coarse × refine method on stress scenes and grazing angles: where each fails.
@@ -151,6 +156,7 @@ fn main() {
         Command::Cost(a) => cost::run(a),
         Command::RadvChild => cost::child(),
         Command::Sweep(a) => sweep::run(a),
+        Command::Tune(a) => tune::run(a),
         Command::Stability(a) => stability::run(a),
         Command::Report(a) => report::run(a),
         Command::Room(a) => room::run(a),
