@@ -20,9 +20,9 @@
 //! where it meets a patch (a map without the apex gathers the corners every pass, as the
 //! patch's pass then reuses them).
 
-use crate::ir::{FnBuilder, Val, Var, Vec2, Vec3, Vec4};
+use crate::ir::{FnBuilder, Image, Val, Var, Vec2, Vec3, Vec4};
 use crate::spec::MapReq;
-use crate::stage::{Bracket, Ray};
+use crate::stage::{Bracket, Filter, Ray};
 use std::cell::Cell as Kept;
 
 /// How far ahead along the ray (in cells) the cell of a point on a cell boundary is picked:
@@ -66,6 +66,10 @@ pub(super) struct Grid<'a> {
     pub horiz: Val<'a, f32>,
     /// The t at which the ray reaches the floor ([`Ray::t_max`]).
     pub t_max: Val<'a, f32>,
+    /// A cell's texture coordinate in a cell map is `cell·cell_scale + cell_bias` ([`Cell::cones`]).
+    cell_scale: Val<'a, Vec2>,
+    /// See `cell_scale`.
+    cell_bias: Val<'a, Vec2>,
 }
 
 impl<'a> Grid<'a> {
@@ -74,6 +78,8 @@ impl<'a> Grid<'a> {
         let size = s.height_map_size().named("size");
         let speed = (ray.dir.xy() * size).named("speed");
         let clamp = s.edge_is_clamp();
+        // Cells stored per axis: N under repeat, N + 1 under clamp (see [`Cell::cones`]).
+        let cell_scale = 1.0 / (size + s.select(clamp, 1.0, 0.0));
         let half =
             s.vec2(s.select(clamp, size.x() * 0.5, s.lit(NO_EXIT)), s.select(clamp, size.y() * 0.5, s.lit(NO_EXIT)));
         Grid {
@@ -89,17 +95,21 @@ impl<'a> Grid<'a> {
             half: half.named("half"),
             horiz: ray.dir.xy().length().named("horiz"),
             t_max: ray.t_max().named("t_max"),
+            cell_scale: cell_scale.named("cell_scale"),
+            cell_bias: (cell_scale * s.select(clamp, 1.5, 0.5)).named("cell_bias"),
         }
     }
 
-    /// The horizontal distance (texture units) from the point `x` (texel-centre coordinates)
-    /// to the map's square `[−½, N − ½]²` under clamp, 0 under repeat. Why: under clamp a ray
-    /// may travel outside the map, where the cell index clamps to a border strip whose cone
-    /// belongs to the strip's square; the step from there must be padded by the distance to
-    /// that square (which, for a point outside the map, is its distance to the map's square;
-    /// inside, the point is in its own cell's square).
+    /// At least the horizontal distance (texture units) from the point `x` (texel-centre
+    /// coordinates) to the map's square `[−½, N − ½]²` under clamp, 0 under repeat. Why: under
+    /// clamp a ray may travel outside the map, where the cell's entry clamps to a border strip
+    /// whose cone belongs to the strip's square; the step from there must be padded by the
+    /// distance to that square (for a point outside the map, its distance to the map's square;
+    /// inside, the point is in its own cell's square). The sum of the two axes' distances is
+    /// at least that distance and needs no square root; a larger pad only shortens the step.
     fn border_distance(&self, x: Val<'a, Vec2>) -> Val<'a, f32> {
-        (((x - self.centre).abs() - self.half).max(0.0) * self.inv_size).length()
+        let out = ((x - self.centre).abs() - self.half).max(0.0) * self.inv_size;
+        out.x() + out.y()
     }
 }
 
@@ -121,8 +131,6 @@ pub(super) struct Cell<'a> {
     /// The corners gathered in the pass's own block ([`Cell::keep_corners`]), for every later
     /// use in the pass; `None` until then.
     kept: Kept<Option<Val<'a, Vec4>>>,
-    /// Where the cell's cones are stored in a cell map (whole texel coordinates).
-    pub index: Val<'a, Vec2>,
     /// Horizontal distance (texture units) from the point to the square the stored cone
     /// belongs to.
     pub dist: Val<'a, f32>,
@@ -131,26 +139,13 @@ pub(super) struct Cell<'a> {
 }
 
 /// The cell of the ray point at `t`.
-pub(super) fn cell_at<'a>(s: &'a FnBuilder<'a>, g: Grid<'a>, t: Val<'a, f32>) -> Cell<'a> {
-    let size = g.size;
+pub(super) fn cell_at<'a>(g: Grid<'a>, t: Val<'a, f32>) -> Cell<'a> {
     let x = g.x0 + g.speed * t;
     let cell = (x + g.ahead).floor().named("cell");
-    // Storage: repeat wraps the N cells; clamp stores N + 1 (two half-texel border strips),
-    // cell i + 1 covering X in [max(i, -1/2), min(i + 1, N - 1/2)].
-    let wrapped = cell - size * (cell * g.inv_size).floor();
-    let clamped = (cell + 1.0).clamp(0.0, size);
-    let index = s.vec2(s.select(g.clamp, clamped.x(), wrapped.x()), s.select(g.clamp, clamped.y(), wrapped.y()));
     // To the cell's side the ray moves toward, along each axis, in t: `(cell + side − X)/speed`.
     let to_side = (cell + g.side - x) * g.inv_speed;
     let exit = (t + to_side.x().min(to_side.y())).min(g.t_max);
-    Cell {
-        grid: g,
-        cell,
-        kept: Kept::new(None),
-        index,
-        dist: g.border_distance(x).named("dist"),
-        exit: exit.named("exit"),
-    }
+    Cell { grid: g, cell, kept: Kept::new(None), dist: g.border_distance(x).named("dist"), exit: exit.named("exit") }
 }
 
 fn sign<'a>(s: &'a FnBuilder<'a>, v: Val<'a, f32>) -> Val<'a, f32> {
@@ -195,10 +190,29 @@ fn step_or_meet<'a>(
 }
 
 impl<'a> Cell<'a> {
-    /// Channel values of the cell's entry in the cell map `map` (one load, no filtering: a
+    /// Channel values of the cell's entry in the cell map `map` (one fetch, no filtering: a
     /// blend of two cells' cones is neither cell's cone).
+    ///
+    /// Storage: repeat wraps the N cells; clamp stores N + 1 (two half-texel border strips),
+    /// entry i + 1 covering X in [max(i, -1/2), min(i + 1, N - 1/2)]. At level 0 the entry is
+    /// a sample through the nearest sampler at the entry's centre, whose address mode is the
+    /// edge mode: it wraps the cell (repeat) or clamps it to the border strips (clamp) with no
+    /// arithmetic in the shader. Under a `lod` the maps of all levels share one atlas, which
+    /// no address mode wraps, so the entry's index is computed and loaded ([`Cell::index`]).
     fn cones(&self, s: &'a FnBuilder<'a>, map: MapReq) -> Val<'a, Vec4> {
-        s.cell_map_texel(map, self.index)
+        match s.sample_level() {
+            None => s.sample(Image::of(map), self.cell * self.grid.cell_scale + self.grid.cell_bias, Filter::Nearest),
+            Some(_) => s.cell_map_texel(map, self.index(s)),
+        }
+    }
+
+    /// Where the cell's entry is stored in a cell map (whole texel coordinates): the cell
+    /// wrapped (repeat) or shifted by the border strip and clamped (clamp), see [`Cell::cones`].
+    fn index(&self, s: &'a FnBuilder<'a>) -> Val<'a, Vec2> {
+        let (g, cell) = (&self.grid, self.cell);
+        let wrapped = cell - g.size * (cell * g.inv_size).floor();
+        let clamped = (cell + 1.0).clamp(0.0, g.size);
+        s.vec2(s.select(g.clamp, clamped.x(), wrapped.x()), s.select(g.clamp, clamped.y(), wrapped.y()))
     }
 
     /// The cell's entry in `map` and its apex `A_C`: the channel after the cones where the
@@ -341,7 +355,7 @@ pub(super) fn safe_march<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, st
         // 1. Over?
         l.break_if(found.get());
         // 2. The cell, its exit, and the cone step.
-        let c = cell_at(l, g, t.get());
+        let c = cell_at(g, t.get());
         let cone = t.get() + step(l, ray.at(t), &c);
         // 3. Advance: the cone step, or the patch's answer.
         let patch_hit = step_or_meet(l, ray, &c, t, cone);
@@ -376,7 +390,7 @@ pub(super) fn relaxed_march<'a>(
         // 1. Over?
         l.break_if(found.get());
         // 2. The cell; under its patch (or at the floor), the bracket is found.
-        let c = cell_at(l, g, t.get());
+        let c = cell_at(g, t.get());
         let p = ray.at(t);
         found.set(c.height(l, t.get()).ge(p.z()) | t.ge(g.t_max));
         l.break_if(found.get());

@@ -71,7 +71,7 @@ pub(super) fn relaxing_march<'a>(
         // 1. Over?
         l.break_if(found.get());
         // 2. The probe's cell and its step.
-        let c = cell_at(l, g, t.get());
+        let c = cell_at(g, t.get());
         let reach = step(l, ray.at(t), &c).named("reach");
         // 3. A probe whose bound leaves a gap behind it: back to the proven point.
         let covered = t.le(proven) | (t - reach).lt(proven);
