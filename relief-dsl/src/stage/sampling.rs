@@ -246,15 +246,6 @@ impl<'a> FnBuilder<'a> {
         }))
     }
 
-    /// The texel of mip level `level` of `map` under `uv`, through the nearest sampler (whose
-    /// address mode, the edge mode, wraps or clamps `uv` at that level): for maps read at
-    /// level 0 of the stage ([`FnBuilder::sample_level`] `None`) whose mip chain is their own
-    /// pyramid (the max-mip map). Counts one fetch in the probe variant.
-    pub(crate) fn map_nearest_at(&'a self, map: MapReq, uv: Val<'a, Vec2>, level: Val<'a, f32>) -> Val<'a, Vec4> {
-        let tex = texture_2d(self, Image::of(map), Filter::Nearest);
-        self.image_sample(tex, uv.handle(), Filter::Nearest, false, SampleLevel::Exact(level.handle()), true)
-    }
-
     /// Samples the 3D distance field at `(u, v, height)`, trilinear.
     pub fn distance(&'a self, p: Val<'a, Vec3>) -> Val<'a, f32> {
         let map = MapReq::DistanceField;

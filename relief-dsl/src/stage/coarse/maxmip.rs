@@ -41,7 +41,12 @@ pub(crate) fn maxmip<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bra
         // 1. The node, its maximum, and where the ray leaves it and comes down to it.
         let x = g.x0 + g.speed * t;
         let node = ((x + g.ahead) / span).floor();
-        let node_max = node_maximum(s, &g, node, span.get(), level.get()).named("node_max");
+        // The node's place in the pyramid: wrapped (repeat) or clamped (clamp).
+        let nodes = (size / span).floor().max(1.0);
+        let wrapped = node - nodes * (node / nodes).floor();
+        let clamped = node.clamp(0.0, nodes - 1.0);
+        let at = s.vec2(s.select(g.clamp, clamped.x(), wrapped.x()), s.select(g.clamp, clamped.y(), wrapped.y()));
+        let node_max = s.map_texel(MapReq::MaxMip, at.to_u32(), level.get().to_u32()).x().named("node_max");
         let to_side = ((node + g.side) * span - x) * g.inv_speed;
         let (exit_x, exit_y) = (to_side.x().abs(), to_side.y().abs());
         let exit = t + exit_x.min(exit_y).min(g.t_max - t);
@@ -93,29 +98,6 @@ fn leaves_parent<'a>(
     let parity = node - 2.0 * (node / 2.0).floor();
     let leaves = |odd: Val<'a, f32>, v: Val<'a, f32>| s.select(v.ge(0.0), odd.gt(0.5), odd.lt(0.5));
     s.select(by_x, leaves(parity.x(), speed.x()), leaves(parity.y(), speed.y()))
-}
-
-/// The maximum stored for `node` (whole node coordinates) at pyramid level `level` (nodes of
-/// `span` cells a side): the node wrapped (repeat) or clamped (clamp) onto the level's
-/// `max(1, floor(N / span))` nodes a side. At the stage's level 0 it is a sample through the
-/// nearest sampler at the node's centre on the pyramid's mip `level`, whose size is that count
-/// and whose address mode (the edge mode) does the wrapping or clamping; under a `lod` the
-/// pyramids of all levels are the layers of one array texture, read by index.
-fn node_maximum<'a>(
-    s: &'a FnBuilder<'a>,
-    g: &Grid<'a>,
-    node: Val<'a, Vec2>,
-    span: Val<'a, f32>,
-    level: Val<'a, f32>,
-) -> Val<'a, f32> {
-    let nodes = (g.size / span).floor().max(1.0);
-    if s.sample_level().is_none() {
-        return s.map_nearest_at(MapReq::MaxMip, (node + 0.5) / nodes, level).x();
-    }
-    let wrapped = node - nodes * (node / nodes).floor();
-    let clamped = node.clamp(0.0, nodes - 1.0);
-    let at = s.vec2(s.select(g.clamp, clamped.x(), wrapped.x()), s.select(g.clamp, clamped.y(), wrapped.y()));
-    s.map_texel(MapReq::MaxMip, at.to_u32(), level.to_u32()).x()
 }
 
 /// `maxmip(steps)`: [`maxmip`] in the catalogue.
