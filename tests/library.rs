@@ -943,7 +943,7 @@ fn the_header_says_at_which_levels_each_texture_is_read() {
         }
         if p.to_string() == "csm(64)" {
             assert!(
-                src.lines().any(|l| l.contains("relief_cell_cone texture_2d") && l.contains("at level 0 only")),
+                src.lines().any(|l| l.contains("relief_cell_cone_nearest texture_2d") && l.contains("at level 0 only")),
                 "{src}"
             );
         }

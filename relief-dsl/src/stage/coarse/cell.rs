@@ -20,9 +20,9 @@
 //! where it meets a patch (a map without the apex gathers the corners every pass, as the
 //! patch's pass then reuses them).
 
-use crate::ir::{FnBuilder, Val, Var, Vec2, Vec3, Vec4};
+use crate::ir::{FnBuilder, Image, Val, Var, Vec2, Vec3, Vec4};
 use crate::spec::MapReq;
-use crate::stage::{Bracket, Ray};
+use crate::stage::{Bracket, Filter, Ray};
 use std::cell::Cell as Kept;
 
 /// How far ahead along the ray (in cells) the cell of a point on a cell boundary is picked:
@@ -36,17 +36,101 @@ const AHEAD_CELLS: f32 = 1e-4;
 /// above f32's range, which Chromium's Tint rejects).
 const NO_EXIT: f32 = 1e30;
 
+/// What a cell march needs of its ray and map, computed once before the loop: the shader
+/// compiler keeps a value computed in the loop in the loop (AMD's ACO hoists nothing), so
+/// every term that depends only on the ray, the map's size and the edge mode is made here.
+#[derive(Clone, Copy)]
+pub(super) struct Grid<'a> {
+    /// The height map's size in texels.
+    pub size: Val<'a, Vec2>,
+    /// `1 / size`.
+    pub inv_size: Val<'a, Vec2>,
+    /// The ray's entry in texel-centre coordinates, `origin·N − ½`.
+    pub x0: Val<'a, Vec2>,
+    /// The ray's horizontal speed in cells per unit t, `d.xy·N`.
+    pub speed: Val<'a, Vec2>,
+    /// [`ahead`] of the speed.
+    pub ahead: Val<'a, Vec2>,
+    /// Per axis, 1 where the ray moves up the axis (it leaves a cell by its upper side), else 0.
+    pub side: Val<'a, Vec2>,
+    /// Per axis, `1 / speed` ([`inverse_speed`]).
+    pub inv_speed: Val<'a, Vec2>,
+    /// Whether the map's edges clamp.
+    pub clamp: Val<'a, bool>,
+    /// The centre of the clamp-mode map, `(N − 1)/2` in texel-centre coordinates.
+    centre: Val<'a, Vec2>,
+    /// Half the side of the square whose outside is padded ([`Grid::border_distance`]):
+    /// `N/2` under clamp, [`NO_EXIT`] under repeat (nothing is outside).
+    half: Val<'a, Vec2>,
+    /// The ray's horizontal speed in texture units, `|d.xy|`.
+    pub horiz: Val<'a, f32>,
+    /// The t at which the ray reaches the floor ([`Ray::t_max`]).
+    pub t_max: Val<'a, f32>,
+    /// A cell's texture coordinate in a cell map is `cell·cell_scale + cell_bias` ([`Cell::cones`]).
+    cell_scale: Val<'a, Vec2>,
+    /// See `cell_scale`.
+    cell_bias: Val<'a, Vec2>,
+}
+
+impl<'a> Grid<'a> {
+    /// The grid of `ray` over the height map the stage samples (call before the loop).
+    pub(super) fn of(s: &'a FnBuilder<'a>, ray: &Ray<'a>) -> Grid<'a> {
+        let size = s.height_map_size().named("size");
+        let speed = (ray.dir.xy() * size).named("speed");
+        let clamp = s.edge_is_clamp();
+        // Cells stored per axis: N under repeat, N + 1 under clamp (see [`Cell::cones`]).
+        let cell_scale = 1.0 / (size + s.select(clamp, 1.0, 0.0));
+        let half =
+            s.vec2(s.select(clamp, size.x() * 0.5, s.lit(NO_EXIT)), s.select(clamp, size.y() * 0.5, s.lit(NO_EXIT)));
+        Grid {
+            size,
+            inv_size: (1.0 / size).named("inv_size"),
+            x0: (ray.origin * size - 0.5).named("x0"),
+            speed,
+            ahead: ahead(s, speed).named("ahead"),
+            side: s.vec2(s.select(speed.x().ge(0.0), 1.0, 0.0), s.select(speed.y().ge(0.0), 1.0, 0.0)).named("side"),
+            inv_speed: s.vec2(inverse_speed(s, speed.x()), inverse_speed(s, speed.y())).named("inv_speed"),
+            clamp,
+            centre: ((size - 1.0) * 0.5).named("centre"),
+            half: half.named("half"),
+            horiz: ray.dir.xy().length().named("horiz"),
+            t_max: ray.t_max().named("t_max"),
+            cell_scale: cell_scale.named("cell_scale"),
+            cell_bias: (cell_scale * s.select(clamp, 1.5, 0.5)).named("cell_bias"),
+        }
+    }
+
+    /// At least the horizontal distance (texture units) from the point `x` (texel-centre
+    /// coordinates) to the map's square `[−½, N − ½]²` under clamp, 0 under repeat. Why: under
+    /// clamp a ray may travel outside the map, where the cell's entry clamps to a border strip
+    /// whose cone belongs to the strip's square; the step from there must be padded by the
+    /// distance to that square (for a point outside the map, its distance to the map's square;
+    /// inside, the point is in its own cell's square). The sum of the two axes' distances is
+    /// at least that distance and needs no square root; a larger pad only shortens the step.
+    fn border_distance(&self, x: Val<'a, Vec2>) -> Val<'a, f32> {
+        let out = ((x - self.centre).abs() - self.half).max(0.0) * self.inv_size;
+        out.x() + out.y()
+    }
+}
+
+/// `1 / v` for an axis the ray moves along at `v` cells per unit t; where it does not
+/// (|v| < 1e-12) ±[`NO_EXIT`], so that its exit is beyond any real one (the distance to the
+/// side it moves toward is positive, at least the point's rounding, so the exit is beyond
+/// 1e24) and the other axis or the floor decides.
+fn inverse_speed<'a>(s: &'a FnBuilder<'a>, v: Val<'a, f32>) -> Val<'a, f32> {
+    let none = s.select(v.lt(0.0), -NO_EXIT, NO_EXIT);
+    s.select(v.abs().lt(1e-12), none, 1.0 / v)
+}
+
 /// The bilinear cell a ray point is in (or entering), with what the safe cone steps need.
 pub(super) struct Cell<'a> {
-    /// The height map's size in texels (queried once per cell).
-    pub size: Val<'a, Vec2>,
+    /// The ray's grid (per-ray terms).
+    pub grid: Grid<'a>,
     /// The cell's lower-left texel-centre coordinates (`floor(X)`).
     pub cell: Val<'a, Vec2>,
     /// The corners gathered in the pass's own block ([`Cell::keep_corners`]), for every later
     /// use in the pass; `None` until then.
     kept: Kept<Option<Val<'a, Vec4>>>,
-    /// Where the cell's cones are stored in a cell map (whole texel coordinates).
-    pub index: Val<'a, Vec2>,
     /// Horizontal distance (texture units) from the point to the square the stored cone
     /// belongs to.
     pub dist: Val<'a, f32>,
@@ -55,28 +139,13 @@ pub(super) struct Cell<'a> {
 }
 
 /// The cell of the ray point at `t`.
-pub(super) fn cell_at<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> Cell<'a> {
-    let size = s.height_map_size();
-    let speed = ray.dir.xy() * size;
-    let x = ray.origin * size - 0.5 + speed * t;
-    let cell = (x + ahead(s, speed)).floor().named("cell");
-    // Storage: repeat wraps the N cells; clamp stores N + 1 (two half-texel border strips),
-    // cell i + 1 covering X in [max(i, -1/2), min(i + 1, N - 1/2)].
-    let clamp = s.edge_is_clamp();
-    let wrapped = cell - size * (cell / size).floor();
-    let clamped = (cell + 1.0).clamp(0.0, size);
-    let index = s.vec2(s.select(clamp, clamped.x(), wrapped.x()), s.select(clamp, clamped.y(), wrapped.y()));
-    let lo = (clamped - 1.0).max(-0.5);
-    let hi = clamped.min(size - 0.5);
-    let outside = (lo - x).max(x - hi).max(0.0) / size;
-    let dist = s.select(clamp, outside.length(), s.lit(0.0));
-    let exit_along = |c: Val<'a, f32>, x: Val<'a, f32>, v: Val<'a, f32>| {
-        let to = s.select(v.ge(0.0), c + 1.0 - x, c - x);
-        s.select(v.abs().lt(1e-12), s.lit(NO_EXIT), to / v)
-    };
-    let exit =
-        (t + exit_along(cell.x(), x.x(), speed.x()).min(exit_along(cell.y(), x.y(), speed.y()))).min(ray.t_max());
-    Cell { size, cell, kept: Kept::new(None), index, dist: dist.named("dist"), exit: exit.named("exit") }
+pub(super) fn cell_at<'a>(g: Grid<'a>, t: Val<'a, f32>) -> Cell<'a> {
+    let x = g.x0 + g.speed * t;
+    let cell = (x + g.ahead).floor().named("cell");
+    // To the cell's side the ray moves toward, along each axis, in t: `(cell + side − X)/speed`.
+    let to_side = (cell + g.side - x) * g.inv_speed;
+    let exit = (t + to_side.x().min(to_side.y())).min(g.t_max);
+    Cell { grid: g, cell, kept: Kept::new(None), dist: g.border_distance(x).named("dist"), exit: exit.named("exit") }
 }
 
 fn sign<'a>(s: &'a FnBuilder<'a>, v: Val<'a, f32>) -> Val<'a, f32> {
@@ -110,7 +179,7 @@ fn step_or_meet<'a>(
     let hit = s.var("patch_hit", false);
     s.if_else(
         cone.ge(c.exit),
-        |_| t.set(cone.min(ray.t_max())),
+        |_| t.set(cone.min(c.grid.t_max)),
         |s| {
             let root = c.patch_root(s, ray, t.get());
             hit.set(root.ge(0.0));
@@ -121,10 +190,29 @@ fn step_or_meet<'a>(
 }
 
 impl<'a> Cell<'a> {
-    /// Channel values of the cell's entry in the cell map `map` (one load, no filtering: a
+    /// Channel values of the cell's entry in the cell map `map` (one fetch, no filtering: a
     /// blend of two cells' cones is neither cell's cone).
+    ///
+    /// Storage: repeat wraps the N cells; clamp stores N + 1 (two half-texel border strips),
+    /// entry i + 1 covering X in [max(i, -1/2), min(i + 1, N - 1/2)]. At level 0 the entry is
+    /// a sample through the nearest sampler at the entry's centre, whose address mode is the
+    /// edge mode: it wraps the cell (repeat) or clamps it to the border strips (clamp) with no
+    /// arithmetic in the shader. Under a `lod` the maps of all levels share one atlas, which
+    /// no address mode wraps, so the entry's index is computed and loaded ([`Cell::index`]).
     fn cones(&self, s: &'a FnBuilder<'a>, map: MapReq) -> Val<'a, Vec4> {
-        s.cell_map_texel(map, self.index)
+        match s.sample_level() {
+            None => s.sample(Image::of(map), self.cell * self.grid.cell_scale + self.grid.cell_bias, Filter::Nearest),
+            Some(_) => s.cell_map_texel(map, self.index(s)),
+        }
+    }
+
+    /// Where the cell's entry is stored in a cell map (whole texel coordinates): the cell
+    /// wrapped (repeat) or shifted by the border strip and clamped (clamp), see [`Cell::cones`].
+    fn index(&self, s: &'a FnBuilder<'a>) -> Val<'a, Vec2> {
+        let (g, cell) = (&self.grid, self.cell);
+        let wrapped = cell - g.size * (cell * g.inv_size).floor();
+        let clamped = (cell + 1.0).clamp(0.0, g.size);
+        s.vec2(s.select(g.clamp, clamped.x(), wrapped.x()), s.select(g.clamp, clamped.y(), wrapped.y()))
     }
 
     /// The cell's entry in `map` and its apex `A_C`: the channel after the cones where the
@@ -155,7 +243,7 @@ impl<'a> Cell<'a> {
     fn corners(&self, s: &'a FnBuilder<'a>) -> Val<'a, Vec4> {
         match self.kept.get() {
             Some(c) => c,
-            None => s.height_gather((self.cell + 1.0) / self.size).named("corners"),
+            None => s.height_gather((self.cell + 1.0) * self.grid.inv_size).named("corners"),
         }
     }
 
@@ -166,8 +254,8 @@ impl<'a> Cell<'a> {
     }
 
     /// The bilinear surface at `p` (within the cell), from the corners kept for the pass.
-    pub(super) fn height(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> Val<'a, f32> {
-        let f = fraction(ray, self.size, self.cell, t);
+    pub(super) fn height(&self, s: &'a FnBuilder<'a>, t: Val<'a, f32>) -> Val<'a, f32> {
+        let f = fraction(&self.grid, self.cell, t);
         let c = self.keep_corners(s);
         let (h01, h11, h10, h00) = (c.x(), c.y(), c.z(), c.w());
         let bottom = h00 + (h10 - h00) * f.x();
@@ -177,7 +265,7 @@ impl<'a> Cell<'a> {
 
     /// The first t in `[from, exit]` where the ray meets the cell's patch, or -1.
     pub(super) fn patch_root(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, from: Val<'a, f32>) -> Val<'a, f32> {
-        patch_root(s, ray, self.size, self.cell, self.corners(s), from, self.exit)
+        patch_root(s, ray, &self.grid, self.cell, self.corners(s), from, self.exit)
     }
 }
 
@@ -196,51 +284,49 @@ fn cell_map_channels(map: MapReq) -> usize {
 /// `(origin + d.xy·t)·N − ½ − cell` rounds the position at the map's scale first: on a ray
 /// nearly parallel to a one-texel ramp that rounding moved the patch's root by 1.4e-5 in t
 /// (relief's cone tests).
-fn fraction<'a>(ray: &Ray<'a>, size: Val<'a, Vec2>, cell: Val<'a, Vec2>, t: Val<'a, f32>) -> Val<'a, Vec2> {
-    (ray.origin * size - 0.5 - cell) + ray.dir.xy() * size * t
+fn fraction<'a>(g: &Grid<'a>, cell: Val<'a, Vec2>, t: Val<'a, f32>) -> Val<'a, Vec2> {
+    (g.x0 - cell) + g.speed * t
 }
 
 /// The first t in `[from, to]` where the ray meets the bilinear patch of `cell` (corner
-/// heights `corners` in gather order, on a map of `size` texels), or -1. Along the ray the patch height is quadratic in
+/// heights `corners` in gather order), or -1. Along the ray the patch height is quadratic in
 /// t: with the corner heights h00, h10, h01, h11 and fractions (fx, fy) moving at (ax, ay) per
 /// unit t, `h - z = A s² + B s + C`, `s = t - from`.
+///
+/// From above the patch (C < 0) the first root in `s ≥ 0` is, in a form without cancellation
+/// for either sign of B (the textbook `(−B ± √disc)/2A` loses the root of near-vertical rays,
+/// where A is tiny: relief's cone tests caught rays passing 12 texels through the surface):
+/// - B ≥ 0: `−2C / (B + √disc)` (the smaller of two positive roots when A < 0, the one
+///   positive root when A > 0, the linear root −C/B when A = 0);
+/// - B < 0: `(√disc − B) / 2A`, a root ≥ 0 only when A > 0 (the one positive root; with
+///   A ≤ 0 both roots are negative, or the quotient is negative or −∞).
+///
+/// One division and no second root to order.
 pub(super) fn patch_root<'a>(
     s: &'a FnBuilder<'a>,
     ray: &Ray<'a>,
-    size: Val<'a, Vec2>,
+    g: &Grid<'a>,
     cell: Val<'a, Vec2>,
     corners: Val<'a, Vec4>,
     from: Val<'a, f32>,
     to: Val<'a, f32>,
 ) -> Val<'a, f32> {
-    let f = fraction(ray, size, cell, from);
+    let f = fraction(g, cell, from);
     let z = 1.0 + ray.dir.z() * from;
     let (h01, h11, h10, h00) = (corners.x(), corners.y(), corners.z(), corners.w());
-    let a = ray.dir.xy() * size;
-    let k = h00 - h10 - h01 + h11;
-    let big_a = k * a.x() * a.y();
-    let big_b = (h10 - h00) * a.x() + (h01 - h00) * a.y() + k * (f.x() * a.y() + f.y() * a.x()) - ray.dir.z();
-    let h = h00 + (h10 - h00) * f.x() + (h01 - h00) * f.y() + k * f.x() * f.y();
-    let big_c = h - z;
-    let span = to - from;
-    // (The textbook (-B ± √disc)/2A loses the root of near-vertical rays, where A is tiny:
-    // relief's cone tests caught rays passing 12 texels through the surface.)
-    // Both roots in the cancellation-free form q = -(B + sign(B)·√disc)/2, roots q/A and
-    // C/q (C/q is the linear root -C/B as A → 0); keep the smallest in [0, span].
+    let a = g.speed;
+    let (dx, dy) = (h10 - h00, h01 - h00);
+    let k = h11 - h10 - dy;
+    let big_a = k * (a.x() * a.y());
+    let big_b = dx * a.x() + dy * a.y() + k * (f.x() * a.y() + f.y() * a.x()) - ray.dir.z();
+    let big_c = h00 + dx * f.x() + dy * f.y() + k * (f.x() * f.y()) - z;
     let disc = big_b * big_b - 4.0 * big_a * big_c;
-    let sign_b = s.select(big_b.ge(0.0), 1.0, -1.0);
-    let q = -0.5 * (big_b + sign_b * disc.max(0.0).sqrt());
-    let safe_q = s.select(q.ge(0.0), q.max(1e-20), q.min(-1e-20));
-    let safe_a = s.select(big_a.ge(0.0), big_a.max(1e-20), big_a.min(-1e-20));
-    let r1 = q / safe_a;
-    let r2 = big_c / safe_q;
-    let lo = r1.min(r2);
-    let hi = r1.max(r2);
-    let in_span = |r: Val<'a, f32>| r.ge(0.0) & r.le(span);
-    let root = s.select(disc.lt(0.0), -1.0, s.select(in_span(lo), lo, s.select(in_span(hi), hi, -1.0)));
-    // Already under the patch at `from`: the hit is there.
-    let root = s.select(big_c.ge(0.0), s.lit(0.0), root);
-    s.select(in_span(root), from + root, -1.0)
+    let root_disc = disc.max(0.0).sqrt();
+    let up = big_b.ge(0.0);
+    let root = s.select(up, -2.0 * big_c, root_disc - big_b) / s.select(up, big_b + root_disc, 2.0 * big_a);
+    let meets = disc.ge(0.0) & root.ge(0.0) & root.le(to - from);
+    // Already under the patch at `from` (C ≥ 0): the hit is there.
+    s.select(big_c.ge(0.0), from, s.select(meets, from + root, -1.0))
 }
 
 /// A method's step in a cell march: from the ray point `p` in cell `c`, how far (in t) the
@@ -262,18 +348,19 @@ impl<'a, F: Fn(&'a FnBuilder<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32>> Cel
 /// Returns the bracket `[hit, hit]`, or, out of steps, the point reached (above the surface
 /// everywhere before it).
 pub(super) fn safe_march<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, step: impl CellStep<'a>) -> Bracket<'a> {
+    let g = Grid::of(s, ray);
     let t = s.var("t", 0.0);
     let found = s.var("found", false);
     s.repeat(steps, |l| {
         // 1. Over?
         l.break_if(found.get());
         // 2. The cell, its exit, and the cone step.
-        let c = cell_at(l, ray, t.get());
+        let c = cell_at(g, t.get());
         let cone = t.get() + step(l, ray.at(t), &c);
         // 3. Advance: the cone step, or the patch's answer.
         let patch_hit = step_or_meet(l, ray, &c, t, cone);
         // 4. A hit on the patch or the floor ends the search.
-        found.set(patch_hit | t.ge(ray.t_max()));
+        found.set(patch_hit | t.ge(g.t_max));
     });
     Bracket::searched(t.get(), t.get(), found.get())
 }
@@ -295,6 +382,7 @@ pub(super) fn relaxed_march<'a>(
     steps: u32,
     step: impl CellStep<'a>,
 ) -> Bracket<'a> {
+    let g = Grid::of(s, ray);
     let t = s.var("t", 0.0);
     let t_prev = s.var("t_prev", 0.0);
     let found = s.var("found", false);
@@ -302,9 +390,9 @@ pub(super) fn relaxed_march<'a>(
         // 1. Over?
         l.break_if(found.get());
         // 2. The cell; under its patch (or at the floor), the bracket is found.
-        let c = cell_at(l, ray, t.get());
+        let c = cell_at(g, t.get());
         let p = ray.at(t);
-        found.set(c.height(l, ray, t.get()).ge(p.z()) | t.ge(ray.t_max()));
+        found.set(c.height(l, t.get()).ge(p.z()) | t.ge(g.t_max));
         l.break_if(found.get());
         // 3. The relaxed cone step.
         let cone = t.get() + step(l, p, &c);

@@ -42,15 +42,17 @@ pub(crate) enum ConeSample {
 const TINY: f32 = 1e-7;
 
 /// Distance along the ray (in t) to the side of a cone of ratio `r` whose apex is `gap`
-/// below the current point.
-fn cone_step<'a>(ray: &Ray<'a>, r: Val<'a, f32>, gap: Val<'a, f32>) -> Val<'a, f32> {
-    r * gap / (ray.dir.xy().length() + r * -ray.dir.z()).max(TINY)
+/// below the current point; `horiz` is the ray's horizontal speed `|d.xy|` (computed once
+/// per ray where the caller can).
+fn cone_step<'a>(horiz: Val<'a, f32>, ray: &Ray<'a>, r: Val<'a, f32>, gap: Val<'a, f32>) -> Val<'a, f32> {
+    r * gap / (horiz + r * -ray.dir.z()).max(TINY)
 }
 
 /// The step to the plane of a cone side with normal z `n_z`, its apex `gap` below the ray
-/// point: Burger eq. 3.2, `t = -gap·n_z / (n·d)` with `n = (-sqrt(1 - n_z²)·d̂_xy, n_z)`.
-fn cone_normal_step<'a>(ray: &Ray<'a>, n_z: Val<'a, f32>, gap: Val<'a, f32>) -> Val<'a, f32> {
-    let n_dot_d = -(1.0 - n_z * n_z).max(0.0).sqrt() * ray.dir.xy().length() + n_z * ray.dir.z();
+/// point: Burger eq. 3.2, `t = -gap·n_z / (n·d)` with `n = (-sqrt(1 - n_z²)·d̂_xy, n_z)`;
+/// `horiz` is `|d.xy|`.
+fn cone_normal_step<'a>(horiz: Val<'a, f32>, ray: &Ray<'a>, n_z: Val<'a, f32>, gap: Val<'a, f32>) -> Val<'a, f32> {
+    let n_dot_d = -(1.0 - n_z * n_z).max(0.0).sqrt() * horiz + n_z * ray.dir.z();
     -gap * n_z / n_dot_d.min(-TINY)
 }
 
@@ -165,7 +167,7 @@ pub(crate) fn csm<'a>(
         ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| cell_cone_step(s, ray, p, c)),
         ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let r = ratio(s, p.xy(), sample).named("r");
-            cone_step(ray, r, p.z() - h)
+            cone_step(ray.dir.xy().length(), ray, r, p.z() - h)
         })
         .conservative(),
     }
@@ -176,7 +178,7 @@ pub(crate) fn csm<'a>(
 pub(super) fn cell_cone_step<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, p: Val<'a, Vec3>, c: &Cell<'a>) -> Val<'a, f32> {
     let (cone, apex) = c.cones_and_apex(s, MapReq::CellCone);
     let r = cone.x().named("r");
-    cone_step(ray, r, c.clearance(p.z(), apex, r))
+    cone_step(c.grid.horiz, ray, r, c.clearance(p.z(), apex, r))
 }
 
 /// `csm(steps, form, sample)`: [`csm`] in the catalogue.
@@ -222,11 +224,11 @@ pub(crate) fn qcsm<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: Co
         ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| {
             let (cones, apex) = c.cones_and_apex(s, MapReq::CellQuadCone);
             let r = quadrant(s, ray, cones).named("r");
-            cone_step(ray, r, c.clearance(p.z(), apex, r))
+            cone_step(c.grid.horiz, ray, r, c.clearance(p.z(), apex, r))
         }),
         ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let r = quadrant(s, ray, s.map(MapReq::QuadCone, p.xy(), Filter::Nearest)).named("r");
-            cone_step(ray, r, p.z() - h)
+            cone_step(ray.dir.xy().length(), ray, r, p.z() - h)
         })
         .conservative(),
     }
@@ -268,12 +270,12 @@ pub(crate) fn rcs<'a>(
         ConeForm::Safe => relaxed_march(s, ray, steps, |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellRelaxedCone);
             let r = cone.x().named("r");
-            cone_step(ray, r, c.clearance(p.z(), apex, r))
+            cone_step(c.grid.horiz, ray, r, c.clearance(p.z(), apex, r))
         }),
         ConeForm::Textbook => {
             let m = textbook_march(s, ray, steps, |s, p, h| {
                 let r = s.map(MapReq::RelaxedCone, p.xy(), Filter::Nearest).x().named("r");
-                cone_step(ray, r, p.z() - h)
+                cone_step(ray.dir.xy().length(), ray, r, p.z() - h)
             });
             match start {
                 RelaxedStart::Hk => Bracket::searched(s.select(m.found, m.end / 2.0, m.prev), m.end, m.found),
@@ -316,11 +318,11 @@ pub(crate) fn cns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: Con
         ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellConeNormal);
             let n_z = cone.x().named("n_z");
-            cone_normal_step(ray, n_z, c.clearance(p.z(), apex, ratio_of(n_z)))
+            cone_normal_step(c.grid.horiz, ray, n_z, c.clearance(p.z(), apex, ratio_of(n_z)))
         }),
         ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let n_z = s.map(MapReq::ConeNormal, p.xy(), Filter::Nearest).x().named("n_z");
-            cone_normal_step(ray, n_z, p.z() - h)
+            cone_normal_step(ray.dir.xy().length(), ray, n_z, p.z() - h)
         })
         .conservative(),
     }
@@ -345,11 +347,11 @@ pub(crate) fn rcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: Co
         ConeForm::Safe => relaxed_march(s, ray, steps, |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellRelaxedCone);
             let r = cone.x();
-            cone_normal_step(ray, normal_of(r).named("n_z"), c.clearance(p.z(), apex, r))
+            cone_normal_step(c.grid.horiz, ray, normal_of(r).named("n_z"), c.clearance(p.z(), apex, r))
         }),
         ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let n_z = s.map(MapReq::RelaxedConeNormal, p.xy(), Filter::Nearest).x().named("n_z");
-            cone_normal_step(ray, n_z, p.z() - h)
+            cone_normal_step(ray.dir.xy().length(), ray, n_z, p.z() - h)
         })
         .relaxed(),
     }
@@ -385,7 +387,8 @@ pub(crate) fn mcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, k: u32, 
                 Some(c) => c.clearance(p.z(), b_k, ratio_of(n_z)),
                 None => (p.z() - b_k).max(0.0),
             };
-            step = step.max(cone_normal_step(ray, n_z, gap));
+            let horiz = c.map_or_else(|| ray.dir.xy().length(), |c| c.grid.horiz);
+            step = step.max(cone_normal_step(horiz, ray, n_z, gap));
         }
         step
     };

@@ -8,6 +8,7 @@
 //! descends; in a single cell it meets the bilinear patch exactly (a quadratic in t).
 //! Each pass through the loop is one node visit.
 
+use super::cell::{patch_root, Grid};
 use crate::ir::{FnBuilder, Val, Vec2};
 use crate::spec::{MapReq, MethodDef, ParamDef};
 use crate::stage::{Bracket, Ray, StageFn};
@@ -24,58 +25,60 @@ use crate::stage::{Bracket, Ray, StageFn};
 /// 4. else (one cell) meet the cell's bilinear patch between `down` and `exit`: the hit, or
 ///    on to the exit.
 pub(crate) fn maxmip<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
-    let size = s.height_map_size();
-    let n = size.x().max(size.y());
-    let top = n.log2().floor();
-    let clamp = s.edge_is_clamp();
-    // Cell coordinates: cell i spans X in [i, i + 1), X = u·N - 1/2.
-    let to_cells = |uv: Val<'a, Vec2>| uv * size - 0.5;
-    let speed = ray.dir.xy() * size;
-    let fall = ray.dir.z();
-    // The node a point on a node boundary is in: the one the ray is entering.
-    let ahead = super::cell::ahead(s, speed);
+    // Cell coordinates: cell i spans X in [i, i + 1), X = u·N - 1/2; the per-ray terms once,
+    // before the loop (see [`Grid`]).
+    let g = Grid::of(s, ray);
+    let size = g.size;
+    let top = size.x().max(size.y()).log2().floor();
+    let inv_fall = (1.0 / ray.dir.z()).named("inv_fall");
     let t = s.var("t", 0.0);
     let mut level = s.var("level", top);
+    // `2^level`, halved and doubled with the level (exact), not an `exp2` a pass.
+    let span = s.var("span", top.exp2());
     let hit = s.var("hit", false);
     s.repeat(steps, |l| {
-        l.break_if(hit | t.ge(ray.t_max()));
+        l.break_if(hit | t.ge(g.t_max));
         // 1. The node, its maximum, and where the ray leaves it and comes down to it.
-        let x = to_cells(ray.at(t).xy());
-        let span = level.get().exp2();
-        let node = ((x + ahead) / span).floor();
+        let x = g.x0 + g.speed * t;
+        let node = ((x + g.ahead) / span).floor();
         // The node's place in the pyramid: wrapped (repeat) or clamped (clamp).
         let nodes = (size / span).floor().max(1.0);
         let wrapped = node - nodes * (node / nodes).floor();
         let clamped = node.clamp(0.0, nodes - 1.0);
-        let at = s.vec2(s.select(clamp, clamped.x(), wrapped.x()), s.select(clamp, clamped.y(), wrapped.y()));
+        let at = s.vec2(s.select(g.clamp, clamped.x(), wrapped.x()), s.select(g.clamp, clamped.y(), wrapped.y()));
         let node_max = s.map_texel(MapReq::MaxMip, at.to_u32(), level.get().to_u32()).x().named("node_max");
-        let exit_x = s.select(speed.x().ge(0.0), (node.x() + 1.0) * span - x.x(), node.x() * span - x.x()) / speed.x();
-        let exit_y = s.select(speed.y().ge(0.0), (node.y() + 1.0) * span - x.y(), node.y() * span - x.y()) / speed.y();
-        let exit = t + exit_x.abs().min(exit_y.abs()).min(ray.t_max() - t);
-        let down = ((node_max - 1.0) / fall).max(t);
+        let to_side = ((node + g.side) * span - x) * g.inv_speed;
+        let (exit_x, exit_y) = (to_side.x().abs(), to_side.y().abs());
+        let exit = t + exit_x.min(exit_y).min(g.t_max - t);
+        let down = ((node_max - 1.0) * inv_fall).max(t);
         // 2. Above the node's maximum all through it: skip the node, and climb where the ray
         //    leaves the parent node too ([`leaves_parent`]).
         l.if_(!down.lt(exit), |l| {
             t.set(exit);
-            let up = leaves_parent(l, node, speed, exit_x.abs().le(exit_y.abs()));
-            level.set(l.select(up, (level + 1.0).min(top), level.get()));
+            let up = leaves_parent(l, node, g.speed, exit_x.le(exit_y)) & level.lt(top);
+            level.set(l.select(up, level + 1.0, level.get()));
+            span.set(l.select(up, span * 2.0, span.get()));
             l.continue_();
         });
         // 3. Below it, on a coarser level: descend.
         l.if_(level.gt(0.0), |l| {
             t.set(down);
             level -= 1.0;
+            span.set(span * 0.5);
             l.continue_();
         });
         // 4. One cell: its bilinear patch, exactly, from `down` to `exit`.
-        let root = patch_root(s, ray, size, ahead, down, exit);
+        let cell = (g.x0 + g.speed * down + g.ahead).floor();
+        // The four corners in one gather at the cell's centre: (i, j+1), (i+1, j+1), (i+1, j), (i, j).
+        let corners = s.height_gather((cell + 1.0) * g.inv_size);
+        let root = patch_root(s, ray, &g, cell, corners, down, exit);
         hit.set(root.ge(0.0));
         t.set(s.select(hit.get(), root, exit));
     });
     // Reaching the floor is a hit (every height is at least 0). Out of steps, the ray is
     // known to be above the surface up to where the traversal stopped.
-    let end = t.get().min(ray.t_max());
-    Bracket::searched(end, end, hit | t.ge(ray.t_max()))
+    let end = t.get().min(g.t_max);
+    Bracket::searched(end, end, hit | t.ge(g.t_max))
 }
 
 /// Whether a ray leaving `node` (whole node coordinates at its level) through its side along x
@@ -106,20 +109,4 @@ pub(crate) fn maxmip_def() -> MethodDef {
     )
     .param(ParamDef::steps("steps", 64))
     .reads(|_| vec![MapReq::MaxMip])
-}
-
-/// The first t in `[from, to]` where the ray meets the bilinear patch of the cell it is in (or
-/// entering) at `from`, or -1 (see [`super::cell::patch_root`]).
-fn patch_root<'a>(
-    s: &'a FnBuilder<'a>,
-    ray: &Ray<'a>,
-    size: Val<'a, Vec2>,
-    ahead: Val<'a, Vec2>,
-    from: Val<'a, f32>,
-    to: Val<'a, f32>,
-) -> Val<'a, f32> {
-    let cell = (ray.at(from).xy() * size - 0.5 + ahead).floor();
-    // The four corners in one gather at the cell's centre: (i, j+1), (i+1, j+1), (i+1, j), (i, j).
-    let corners = s.height_gather((cell + 1.0) / size);
-    super::cell::patch_root(s, ray, size, cell, corners, from, to)
 }

@@ -14,7 +14,7 @@
 //! is the plain safe one. Nothing the march reports is past the first hit: it ends at a
 //! proven point (the patch's hit, the floor, or, out of steps, `proven`).
 
-use super::cell::{cell_at, CellStep};
+use super::cell::{cell_at, CellStep, Grid};
 use crate::ir::{FnBuilder, Val};
 use crate::spec::{MapReq, MethodDef, ParamDef};
 use crate::stage::{Bracket, Ray, StageFn};
@@ -61,6 +61,7 @@ pub(super) fn relaxing_march<'a>(
     steps: u32,
     step: impl CellStep<'a>,
 ) -> Bracket<'a> {
+    let g = Grid::of(s, ray);
     let t = s.var("t", 0.0);
     let proven = s.var("proven", 0.0);
     let last_t = s.var("last_t", 0.0);
@@ -70,7 +71,7 @@ pub(super) fn relaxing_march<'a>(
         // 1. Over?
         l.break_if(found.get());
         // 2. The probe's cell and its step.
-        let c = cell_at(l, ray, t.get());
+        let c = cell_at(g, t.get());
         let reach = step(l, ray.at(t), &c).named("reach");
         // 3. A probe whose bound leaves a gap behind it: back to the proven point.
         let covered = t.le(proven) | (t - reach).lt(proven);
@@ -86,10 +87,10 @@ pub(super) fn relaxing_march<'a>(
         l.if_else(
             cone.ge(c.exit),
             |_| {
-                proven.set(cone.min(ray.t_max()));
+                proven.set(cone.min(g.t_max));
                 last_t.set(t);
                 last_reach.set(reach);
-                t.set((t + w * reach).min(ray.t_max()));
+                t.set((t + w * reach).min(g.t_max));
             },
             |l| {
                 let root = c.patch_root(l, ray, t.get());
@@ -100,7 +101,7 @@ pub(super) fn relaxing_march<'a>(
             },
         );
         // 5. A hit on the patch, or the floor proven reached.
-        found.set(hit | proven.ge(ray.t_max()));
+        found.set(hit | proven.ge(g.t_max));
     });
     Bracket::searched(proven.get(), proven.get(), found.get())
 }
