@@ -5,7 +5,7 @@
 //! The library modules import downward only: `library` (the driver) calls each form's
 //! module; a form's module uses `common` (the header, the resources as arguments) and at
 //! most the one form it builds on (`wesl` on `wgsl`, `glsl_es` on `glsl`, `unity` and
-//! `unreal` on `hlsl`); `limits` and `form` depend on no other emit module but `form`.
+//! `unreal` on `hlsl`); `limits` imports only `form`, and `form` no emit module.
 
 use naga::back::spv;
 use naga::ShaderStage;
