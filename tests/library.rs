@@ -312,7 +312,7 @@ fn linear_distance_has_no_library() {
 /// (`relief_dsl::emit::limits`).
 #[test]
 fn the_largest_accepted_options_compile_and_one_past_is_refused() {
-    use relief::dsl::emit::limits::{self, Target};
+    use relief::dsl::emit::{limits, LibraryForm};
     let glslang = tool("glslangValidator");
     let spirv_val = tool("spirv-val");
     let dir = std::env::temp_dir().join(format!("relief-library-limits-{}", std::process::id()));
@@ -323,9 +323,9 @@ fn the_largest_accepted_options_compile_and_one_past_is_refused() {
     let max_name = |t| limits::limits(t).max_name.map_or(usize::MAX, |(n, _)| n);
     let max_group = |t| limits::limits(t).max_group.map_or(u32::MAX, |(n, _)| n);
     let max_binding = |t| limits::limits(t).max_binding.map_or(u32::MAX, |(n, _)| n);
-    let longest = Target::LIBRARY.iter().map(|t| max_name(*t)).min().unwrap() - limits::LONGEST_SUFFIX;
-    let group = Target::LIBRARY.iter().map(|t| max_group(*t)).min().unwrap();
-    let last = Target::LIBRARY.iter().map(|t| max_binding(*t)).min().unwrap();
+    let longest = LibraryForm::DEFAULT.iter().map(|t| max_name(*t)).min().unwrap() - limits::LONGEST_SUFFIX;
+    let group = LibraryForm::DEFAULT.iter().map(|t| max_group(*t)).min().unwrap();
+    let last = LibraryForm::DEFAULT.iter().map(|t| max_binding(*t)).min().unwrap();
     let prefix = format!("r{}", "e".repeat(longest - 1));
     let opts = LibraryOptions { prefix: prefix.clone(), group, binding: last + 1 - count, ..LibraryOptions::default() };
     let lib = emit::library(&p, &opts).unwrap_or_else(|e| panic!("{e}"));
@@ -495,7 +495,7 @@ fn wesl_module_is_imported_by_a_user_module() {
         let lib = forms(&p, &LibraryOptions::default(), &[LibraryForm::Wesl]);
         let f = &lib.files[0];
         let module = f.name.strip_suffix(".wesl").expect("a .wesl file");
-        assert_eq!(module, emit::library::wesl_module_name(&p.file_stem()));
+        assert_eq!(module, emit::wesl_module_name(&p.file_stem()));
         let mut names = vec!["relief_trace".to_string()];
         if lib.has_shadow {
             names.push("relief_shadow".into());

@@ -35,50 +35,22 @@
 //!   `PWord` with the words the library uses (and [`super::library()`] checks after writing
 //!   that every public name came out as it was given).
 //!
-//! [`check`] applies a target's limits to one set of options; library emission calls it for
-//! every target it writes, with the first binding before anything is built and the last one
-//! once the resources are known. A new target adds a [`Target`] variant and its row in
-//! [`limits`].
+//! [`check`] applies a form's limits to one set of options; library emission calls it for
+//! every form it writes, with the first binding before anything is built and the last one
+//! once the resources are known. The limits belong to languages, and each [`LibraryForm`] is
+//! held to its language's: a new form adds one arm to [`limits`], a new language its row.
 
+use super::LibraryForm;
 use crate::CompileError;
-
-/// A language (or engine dialect) a library is written in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Target {
-    /// WGSL (`NAME.lib.wgsl`).
-    Wgsl,
-    /// GLSL 450 include file (`NAME.lib.glsl`).
-    Glsl,
-    /// GLSL ES 3.00 for WebGL2 (`NAME.lib.es.glsl`).
-    GlslEs,
-    /// HLSL, shader model 5.1 (`NAME.lib.hlsl`).
-    Hlsl,
-    /// Metal Shading Language (`NAME.lib.metal`).
-    Msl,
-}
-
-impl Target {
-    /// The targets `relief gen --library` writes, in file order.
-    pub const LIBRARY: [Target; 4] = [Target::Wgsl, Target::Glsl, Target::Hlsl, Target::Msl];
-
-    /// The target's name in messages.
-    pub fn name(self) -> &'static str {
-        match self {
-            Target::Wgsl => "WGSL",
-            Target::Glsl => "GLSL",
-            Target::GlslEs => "GLSL ES",
-            Target::Hlsl => "HLSL",
-            Target::Msl => "MSL",
-        }
-    }
-}
 
 /// A limit and who sets it (the words that follow "the limit of" in an error).
 pub(crate) type Limit<T> = Option<(T, &'static str)>;
 
-/// The limits of one target.
+/// The limits of one target language.
 #[derive(Clone, Copy, Debug)]
 pub struct Limits {
+    /// The language's name in messages (`GLSL ES`).
+    pub language: &'static str,
     /// Name prefixes the language or its writer reserves, each with who reserves it.
     pub reserved_prefixes: &'static [(&'static str, &'static str)],
     /// The longest name, in characters.
@@ -94,63 +66,79 @@ pub struct Limits {
 /// not a file a compiler refuses.
 pub const LONGEST_SUFFIX: usize = 96;
 
-/// The limits of `target` (see the module docs for where each comes from).
-pub fn limits(target: Target) -> Limits {
-    match target {
-        Target::Wgsl => Limits {
-            reserved_prefixes: &[("__", "WGSL"), ("_naga", "naga's WGSL writer")],
-            max_name: None,
-            max_group: Some((3, "WebGPU's guaranteed maxBindGroups (4)")),
-            max_binding: Some((999, "WebGPU's guaranteed maxBindingsPerBindGroup (1000)")),
-        },
-        Target::Glsl => Limits {
-            reserved_prefixes: &[
-                ("gl_", "GLSL"),
-                ("_group", "naga's GLSL writer"),
-                ("_immediates_binding_", "naga's GLSL writer"),
-            ],
-            max_name: Some((1024, "glslang")),
-            max_group: Some((62, "glslang (`set` below 63)")),
-            max_binding: Some((79, "OpenGL 4.5's guaranteed GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS (80)")),
-        },
-        Target::GlslEs => Limits {
-            reserved_prefixes: &[
-                ("gl_", "GLSL ES"),
-                ("webgl_", "WebGL"),
-                ("_webgl_", "WebGL"),
-                ("_group", "naga's GLSL writer"),
-                ("_immediates_binding_", "naga's GLSL writer"),
-            ],
-            max_name: Some((1024, "WebGL 2")),
-            max_group: None,
-            max_binding: None,
-        },
-        Target::Hlsl => Limits {
-            reserved_prefixes: &[
-                ("naga_", "naga's HLSL writer"),
-                ("LoadedStorageValueFrom", "naga's HLSL writer"),
-                ("__dynamic_buffer_offsets", "naga's HLSL writer"),
-            ],
-            max_name: Some((1024, "glslang's HLSL front end")),
-            max_group: Some((255, "naga's HLSL writer (register spaces are 8-bit)")),
-            max_binding: None,
-        },
-        Target::Msl => Limits {
-            reserved_prefixes: &[
-                ("clamped_lod_e", "naga's MSL writer"),
-                ("ray_query_get_intersection", "naga's MSL writer"),
-                ("naga_query_init_tracker_for_", "naga's MSL writer"),
-                ("naga_query_tmax_tracker_for_", "naga's MSL writer"),
-            ],
-            max_name: None,
-            max_group: None,
-            max_binding: None,
-        },
+const WGSL: Limits = Limits {
+    language: "WGSL",
+    reserved_prefixes: &[("__", "WGSL"), ("_naga", "naga's WGSL writer")],
+    max_name: None,
+    max_group: Some((3, "WebGPU's guaranteed maxBindGroups (4)")),
+    max_binding: Some((999, "WebGPU's guaranteed maxBindingsPerBindGroup (1000)")),
+};
+
+const GLSL: Limits = Limits {
+    language: "GLSL",
+    reserved_prefixes: &[
+        ("gl_", "GLSL"),
+        ("_group", "naga's GLSL writer"),
+        ("_immediates_binding_", "naga's GLSL writer"),
+    ],
+    max_name: Some((1024, "glslang")),
+    max_group: Some((62, "glslang (`set` below 63)")),
+    max_binding: Some((79, "OpenGL 4.5's guaranteed GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS (80)")),
+};
+
+const GLSL_ES: Limits = Limits {
+    language: "GLSL ES",
+    reserved_prefixes: &[
+        ("gl_", "GLSL ES"),
+        ("webgl_", "WebGL"),
+        ("_webgl_", "WebGL"),
+        ("_group", "naga's GLSL writer"),
+        ("_immediates_binding_", "naga's GLSL writer"),
+    ],
+    max_name: Some((1024, "WebGL 2")),
+    max_group: None,
+    max_binding: None,
+};
+
+const HLSL: Limits = Limits {
+    language: "HLSL",
+    reserved_prefixes: &[
+        ("naga_", "naga's HLSL writer"),
+        ("LoadedStorageValueFrom", "naga's HLSL writer"),
+        ("__dynamic_buffer_offsets", "naga's HLSL writer"),
+    ],
+    max_name: Some((1024, "glslang's HLSL front end")),
+    max_group: Some((255, "naga's HLSL writer (register spaces are 8-bit)")),
+    max_binding: None,
+};
+
+const MSL: Limits = Limits {
+    language: "MSL",
+    reserved_prefixes: &[
+        ("clamped_lod_e", "naga's MSL writer"),
+        ("ray_query_get_intersection", "naga's MSL writer"),
+        ("naga_query_init_tracker_for_", "naga's MSL writer"),
+        ("naga_query_tmax_tracker_for_", "naga's MSL writer"),
+    ],
+    max_name: None,
+    max_group: None,
+    max_binding: None,
+};
+
+/// The limits of the language `form` is written in (see the module docs for where each comes
+/// from): the WGSL forms share WGSL's, the engine forms HLSL's.
+pub fn limits(form: LibraryForm) -> Limits {
+    match form {
+        LibraryForm::Wgsl | LibraryForm::Wesl | LibraryForm::Tsl => WGSL,
+        LibraryForm::Glsl => GLSL,
+        LibraryForm::GlslEs => GLSL_ES,
+        LibraryForm::Hlsl | LibraryForm::Unity | LibraryForm::Unreal => HLSL,
+        LibraryForm::Msl => MSL,
     }
 }
 
-fn refuse(target: Target, message: String) -> CompileError {
-    CompileError { stage: format!("library {}", target.name()), message }
+fn refuse(lang: &str, message: String) -> CompileError {
+    CompileError { stage: format!("library {lang}"), message }
 }
 
 /// Whether one of `a` and `b` begins the other.
@@ -158,18 +146,18 @@ fn overlap(a: &str, b: &str) -> bool {
     a.starts_with(b) || b.starts_with(a)
 }
 
-/// Checks that a library with these options can be written in `target`: the prefix (its
+/// Checks that a library with these options can be written in `form`: the prefix (its
 /// reserved starts and its length), the group and a binding it uses. The error names the
 /// option and the limit, in one line.
-pub fn check(target: Target, prefix: &str, group: u32, binding: u32) -> Result<(), CompileError> {
-    let l = limits(target);
-    let lang = target.name();
+pub fn check(form: LibraryForm, prefix: &str, group: u32, binding: u32) -> Result<(), CompileError> {
+    let l = limits(form);
+    let lang = l.language;
     let snake = format!("{prefix}_");
     let camel = crate::compose::library::camel(prefix);
     for (reserved, by) in l.reserved_prefixes {
         if overlap(&snake, reserved) || overlap(&camel, reserved) {
             return Err(refuse(
-                target,
+                lang,
                 format!(
                     "prefix `{prefix}`: names starting with `{reserved}` are reserved by {by}, and the library's names (`{snake}trace`, `{camel}Hit`) could start so in {lang}; choose another prefix"
                 ),
@@ -180,7 +168,7 @@ pub fn check(target: Target, prefix: &str, group: u32, binding: u32) -> Result<(
         let n = prefix.chars().count();
         if n + LONGEST_SUFFIX > max {
             return Err(refuse(
-                target,
+                lang,
                 format!(
                     "prefix of {n} characters: {lang} names are at most {max} characters ({by}) and the library adds up to {LONGEST_SUFFIX}, so a prefix may have at most {}",
                     max - LONGEST_SUFFIX
@@ -190,20 +178,20 @@ pub fn check(target: Target, prefix: &str, group: u32, binding: u32) -> Result<(
     }
     if let Some((max, by)) = l.max_group {
         if group > max {
-            return Err(refuse(target, format!("group {group} is above {lang}'s limit of {max} ({by})")));
+            return Err(refuse(lang, format!("group {group} is above {lang}'s limit of {max} ({by})")));
         }
     }
     if let Some((max, by)) = l.max_binding {
         if binding > max {
-            return Err(refuse(target, format!("binding {binding} is above {lang}'s limit of {max} ({by})")));
+            return Err(refuse(lang, format!("binding {binding} is above {lang}'s limit of {max} ({by})")));
         }
     }
     Ok(())
 }
 
-/// [`check`] for every target in `targets`, first error first.
-pub(crate) fn check_all(targets: &[Target], prefix: &str, group: u32, binding: u32) -> Result<(), CompileError> {
-    targets.iter().try_for_each(|t| check(*t, prefix, group, binding))
+/// [`check`] for every form in `forms`, first error first.
+pub(crate) fn check_all(forms: &[LibraryForm], prefix: &str, group: u32, binding: u32) -> Result<(), CompileError> {
+    forms.iter().try_for_each(|f| check(*f, prefix, group, binding))
 }
 
 #[cfg(test)]
@@ -212,36 +200,37 @@ mod tests {
 
     #[test]
     fn reserved_starts_are_refused_in_their_language_only() {
-        let e = check(Target::Glsl, "gl", 0, 0).unwrap_err().to_string();
+        let e = check(LibraryForm::Glsl, "gl", 0, 0).unwrap_err().to_string();
         assert!(e.contains("prefix `gl`") && e.contains("`gl_`") && e.contains("GLSL"), "{e}");
-        assert!(check(Target::Glsl, "gl_x", 0, 0).is_err());
+        assert!(check(LibraryForm::Glsl, "gl_x", 0, 0).is_err());
         for fine in ["glow", "g", "relief", "Gl"] {
-            assert!(check(Target::Glsl, fine, 0, 0).is_ok(), "{fine}");
+            assert!(check(LibraryForm::Glsl, fine, 0, 0).is_ok(), "{fine}");
         }
-        assert!(check(Target::Wgsl, "gl", 0, 0).is_ok());
-        assert!(check(Target::Hlsl, "naga", 0, 0).is_err());
-        assert!(check(Target::Hlsl, "nag", 0, 0).is_ok());
+        assert!(check(LibraryForm::Wgsl, "gl", 0, 0).is_ok());
+        assert!(check(LibraryForm::Hlsl, "naga", 0, 0).is_err());
+        assert!(check(LibraryForm::Hlsl, "nag", 0, 0).is_ok());
         // `clamped_lod` would make `clamped_lod_edge_clamp`, which starts with `clamped_lod_e`.
-        assert!(check(Target::Msl, "clamped_lod", 0, 0).is_err());
+        assert!(check(LibraryForm::Msl, "clamped_lod", 0, 0).is_err());
         // The CamelCase form: `LoadedStorageValueFrom` + `Hit`.
-        assert!(check(Target::Hlsl, "loaded_storage_value_from", 0, 0).is_err());
+        assert!(check(LibraryForm::Hlsl, "loaded_storage_value_from", 0, 0).is_err());
     }
 
     #[test]
     fn lengths_groups_and_bindings_at_the_limit_and_one_past() {
         let max = 1024 - LONGEST_SUFFIX;
-        assert!(check(Target::Glsl, &"a".repeat(max), 0, 0).is_ok());
-        let e = check(Target::Glsl, &"a".repeat(max + 1), 0, 0).unwrap_err().to_string();
+        assert!(check(LibraryForm::Glsl, &"a".repeat(max), 0, 0).is_ok());
+        let e = check(LibraryForm::Glsl, &"a".repeat(max + 1), 0, 0).unwrap_err().to_string();
         assert!(e.contains(&format!("at most {max}")), "{e}");
-        for (t, g, b) in [(Target::Wgsl, 3, 999), (Target::Glsl, 62, 79), (Target::Hlsl, 255, u32::MAX)] {
+        for (t, g, b) in [(LibraryForm::Wgsl, 3, 999), (LibraryForm::Glsl, 62, 79), (LibraryForm::Hlsl, 255, u32::MAX)]
+        {
             assert!(check(t, "relief", g, b).is_ok(), "{t:?}");
             let e = check(t, "relief", g + 1, 0).unwrap_err().to_string();
-            assert!(e.starts_with(&format!("library {}: group {}", t.name(), g + 1)), "{e}");
+            assert!(e.starts_with(&format!("library {}: group {}", limits(t).language, g + 1)), "{e}");
             if b < u32::MAX {
                 let e = check(t, "relief", 0, b + 1).unwrap_err().to_string();
                 assert!(e.contains(&format!("binding {} is above", b + 1)), "{e}");
             }
         }
-        assert!(check(Target::Msl, "relief", u32::MAX, u32::MAX).is_ok());
+        assert!(check(LibraryForm::Msl, "relief", u32::MAX, u32::MAX).is_ok());
     }
 }

@@ -1,7 +1,13 @@
-//! Emitters: WGSL, SPIR-V and GLSL 450 from a compiled pipeline; [`library()`]: the stages
-//! as functions for a user's own shader, in WGSL, GLSL 450, HLSL and MSL.
+//! Emitters: WGSL, SPIR-V and GLSL 450 from a compiled pipeline (this module); [`library()`]
+//! and [`library_forms()`]: the stages as functions for a user's own shader, in each
+//! [`LibraryForm`], one module per form.
+//!
+//! The library modules import downward only: `library` (the driver) calls each form's
+//! module; a form's module uses `common` (the header, the resources as arguments) and at
+//! most the one form it builds on (`wesl` on `wgsl`, `glsl_es` on `glsl`, `unity` and
+//! `unreal` on `hlsl`); `limits` imports only `form`, and `form` no emit module.
 
-use naga::back::{glsl, spv, wgsl};
+use naga::back::spv;
 use naga::ShaderStage;
 
 use crate::compose::Compiled;
@@ -25,7 +31,8 @@ fn err(target: &str, e: impl std::fmt::Debug) -> CompileError {
 
 /// WGSL text of the module.
 pub fn wgsl(c: &Compiled) -> Result<String, CompileError> {
-    wgsl::write_string(&c.module, &c.info, wgsl::WriterFlags::empty()).map_err(|e| err("wgsl", e))
+    naga::back::wgsl::write_string(&c.module, &c.info, naga::back::wgsl::WriterFlags::empty())
+        .map_err(|e| err("wgsl", e))
 }
 
 /// SPIR-V words of the module (Vulkan 1.1 target environment). Loops are statically
@@ -36,20 +43,21 @@ pub fn spirv(c: &Compiled) -> Result<Vec<u32>, CompileError> {
 }
 
 /// The GLSL binding map: every `(group 0, binding n)` resource at binding n.
-pub(crate) fn glsl_binding_map(c: &Compiled) -> glsl::BindingMap {
+pub(crate) fn glsl_binding_map(c: &Compiled) -> naga::back::glsl::BindingMap {
     c.module.global_variables.iter().filter_map(|(_, g)| g.binding).map(|rb| (rb, rb.binding as u8)).collect()
 }
 
 /// GLSL 450 of one entry point.
 pub(crate) fn glsl_entry(c: &Compiled, stage: ShaderStage, entry: &str) -> Result<String, CompileError> {
-    let options = glsl::Options {
-        version: glsl::Version::Desktop(450),
+    use naga::back::glsl as back;
+    let options = back::Options {
+        version: back::Version::Desktop(450),
         binding_map: glsl_binding_map(c),
-        ..glsl::Options::default()
+        ..back::Options::default()
     };
-    let pipeline = glsl::PipelineOptions { shader_stage: stage, entry_point: entry.to_string(), multiview: None };
+    let pipeline = back::PipelineOptions { shader_stage: stage, entry_point: entry.to_string(), multiview: None };
     let mut out = String::new();
-    let mut w = glsl::Writer::new(&mut out, &c.module, &c.info, &options, &pipeline, Default::default())
+    let mut w = back::Writer::new(&mut out, &c.module, &c.info, &options, &pipeline, Default::default())
         .map_err(|e| err("glsl", e))?;
     w.write().map_err(|e| err("glsl", e))?;
     Ok(out)
@@ -75,10 +83,21 @@ pub fn emit(p: &crate::spec::Pipeline) -> Result<Outputs, CompileError> {
     all(&crate::compose::compile(p)?)
 }
 
-pub mod engines;
+mod common;
+mod form;
+mod glsl;
+mod glsl_es;
+mod hlsl;
 pub mod library;
 pub mod limits;
-pub use library::{
-    inexpressible_in, library, library_forms, LibraryBinding, LibraryFile, LibraryFiles, LibraryForm, LibraryForms,
-    LibraryOptions, ResourceKind,
-};
+mod msl;
+mod tsl;
+mod unity;
+mod unreal;
+mod wesl;
+mod wgsl;
+
+pub use crate::compose::library::{LibraryBinding, LibraryOptions, ResourceKind};
+pub use form::LibraryForm;
+pub use library::{inexpressible_in, library, library_forms, LibraryFile, LibraryFiles, LibraryForms};
+pub use wesl::wesl_module_name;

@@ -82,7 +82,7 @@ fn paste_lines(form: LibraryForm, lib: &relief_dsl::emit::LibraryForms, depth: f
         LibraryForm::Unity | LibraryForm::Unreal => {
             v.push(format!("DepthScale = {d}"));
         }
-        _ => {
+        LibraryForm::Glsl | LibraryForm::GlslEs | LibraryForm::Hlsl | LibraryForm::Msl => {
             if form == LibraryForm::GlslEs {
                 v.push(format!("#define RELIEF_EDGE_{}", edge.to_ascii_uppercase()));
             }

@@ -1,0 +1,256 @@
+//! What the library writers share: the error shape, the header comment every file starts
+//! with (each writer describes its dialect in a [`Header`]), the module with its resources as
+//! function arguments (MSL's convention, taken by the TSL and engine forms), and the names
+//! the engine forms give the resources.
+
+use std::fmt::Write as _;
+
+use naga::{Expression, Handle, Module, Statement};
+
+use crate::compose::library::{camel, Library, LibraryOptions, ResourceKind};
+use crate::spec::Pipeline;
+use crate::CompileError;
+
+/// An error of the library writer for `target`.
+pub(crate) fn err(target: &str, e: impl std::fmt::Debug) -> CompileError {
+    CompileError { stage: format!("emit library {target}"), message: format!("{e:?}") }
+}
+
+/// One file a form writes.
+pub(crate) struct Written {
+    /// Its file name (`NAME.lib.wgsl`).
+    pub name: String,
+    /// Its text.
+    pub text: String,
+    /// The library's code in it as the writer produced it, whose public names the driver
+    /// checks came out as asked; `None` for a file that only calls the library (Unreal's
+    /// node code).
+    pub code: Option<String>,
+}
+
+/// How a function's header line lists the resources it takes as arguments.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) enum ResourceArguments {
+    /// None: the resources are globals.
+    Global,
+    /// Every global the function reads, in the module's order (naga's MSL convention); the
+    /// line is there even when the list is empty.
+    ModuleOrder,
+    /// The resources the function reads in binding order ([`resources_as_arguments`]), the
+    /// line only when there are any.
+    BindingOrder,
+}
+
+/// What a form's header comment says about its dialect.
+pub(crate) struct Header {
+    /// How the functions take their resources.
+    pub arguments: ResourceArguments,
+    /// The lines (each ending in a newline) before the resource list.
+    pub intro: &'static str,
+    /// The declared type of a resource of each kind.
+    pub resource_type: fn(ResourceKind) -> &'static str,
+    /// Whether the resources are bound by name (GLSL ES: no group or binding to list).
+    pub by_name: bool,
+}
+
+/// WGSL's resource types.
+pub(crate) fn wgsl_type(kind: ResourceKind) -> &'static str {
+    match kind {
+        ResourceKind::Sampler => "sampler",
+        ResourceKind::Texture2d => "texture_2d<f32>",
+        ResourceKind::Texture3d => "texture_3d<f32>",
+    }
+}
+
+/// The header comment of a library file: the interface, the edge mode and the resources, in
+/// the dialect `header` describes.
+pub(crate) fn header_lines(p: &Pipeline, lib: &Library, opts: &LibraryOptions, header: &Header) -> String {
+    let pre = &opts.prefix;
+    let hit = format!("{}Hit", camel(pre));
+    let mut h = String::new();
+    let _ = writeln!(h, "// relief library for the pipeline `{p}`, written by `relief gen --library`.");
+    let _ = writeln!(h, "//");
+    let _ = writeln!(h, "// struct {hit} {{ uv: vec2<f32>, height: f32, t: f32, depth_offset: f32 }}");
+    let extra = |name: &str| -> String {
+        if header.arguments == ResourceArguments::Global {
+            return String::new();
+        }
+        let Some((fh, _)) = lib.module.functions.iter().find(|(_, f)| f.name.as_deref() == Some(name)) else {
+            return String::new();
+        };
+        let reads = |g: &str| {
+            lib.module
+                .global_variables
+                .iter()
+                .any(|(h, gv)| gv.name.as_deref() == Some(g) && !lib.info[fh][h].is_empty())
+        };
+        let args: Vec<String> = if header.arguments == ResourceArguments::BindingOrder {
+            lib.bindings.iter().filter(|b| reads(&b.name)).map(|b| b.name.clone()).collect()
+        } else {
+            lib.module
+                .global_variables
+                .iter()
+                .filter(|(g, _)| !lib.info[fh][*g].is_empty())
+                .filter_map(|(_, g)| g.name.clone())
+                .collect()
+        };
+        if args.is_empty() && header.arguments == ResourceArguments::BindingOrder {
+            return String::new();
+        }
+        format!("\n//     + resource arguments: {}", args.join(", "))
+    };
+    let _ = writeln!(
+        h,
+        "// fn {pre}_trace(uv: vec2<f32>, view_ts: vec3<f32>, depth_scale: f32) -> {hit}{}",
+        extra(&format!("{pre}_trace"))
+    );
+    if lib.has_shadow {
+        let _ = writeln!(
+            h,
+            "// fn {pre}_shadow(hit: {hit}, light_ts: vec3<f32>, depth_scale: f32) -> f32{}",
+            extra(&format!("{pre}_shadow"))
+        );
+    }
+    if lib.has_ao {
+        let _ = writeln!(h, "// fn {pre}_ao(hit: {hit}) -> f32{}", extra(&format!("{pre}_ao")));
+    }
+    let _ = writeln!(h, "//   uv: the fragment's texture coordinate; view_ts: the normalized tangent-space direction");
+    let _ = writeln!(h, "//   from the eye to the fragment (z < 0); light_ts: the normalized tangent-space direction");
+    let _ = writeln!(h, "//   toward the light; depth_scale: the relief's depth in texture units.");
+    let _ = writeln!(h, "//   hit.uv: where to shade; hit.height in [0, 1] (1 at the polygon); hit.t in [0, 1] along");
+    let _ = writeln!(
+        h,
+        "//   the ray from the polygon (0) to the floor (1); hit.depth_offset = t * depth_scale / -view_ts.z:"
+    );
+    let _ =
+        writeln!(h, "//   the distance behind the polygon along the view ray, in texture units (pixel depth offset).");
+    let _ = writeln!(
+        h,
+        "// Edge mode assumed by stages that address texels themselves: {} ({pre}_edge_clamp = {}).",
+        if opts.edge_clamp { "clamp to edge" } else { "repeat" },
+        opts.edge_clamp
+    );
+    let _ = writeln!(h, "//");
+    h.push_str(header.intro);
+    for b in &lib.bindings {
+        let ty = (header.resource_type)(b.kind);
+        if header.by_name {
+            let _ = writeln!(h, "//   uniform {} {ty} — {}", b.name, b.what);
+        } else {
+            let _ = writeln!(h, "//   group {} binding {}: {} {ty} — {}", b.group, b.binding, b.name, b.what);
+        }
+    }
+    h.push('\n');
+    h
+}
+
+/// Whether `name` occurs in `text` as a whole identifier.
+pub(crate) fn has_word(text: &str, name: &str) -> bool {
+    let ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    text.match_indices(name).any(|(i, _)| {
+        let before = text[..i].chars().next_back();
+        let after = text[i + name.len()..].chars().next();
+        !before.is_some_and(ident) && !after.is_some_and(ident)
+    })
+}
+
+/// The library module with every global (all of them are textures and samplers) turned into
+/// trailing arguments of the functions that read it, in binding order; callers pass theirs on.
+pub(crate) fn resources_as_arguments(lib: &Library) -> Result<(Module, naga::valid::ModuleInfo), CompileError> {
+    let mut module = lib.module.clone();
+    let by_name =
+        |name: &str| module.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some(name)).map(|(h, _)| h);
+    let order: Vec<Handle<naga::GlobalVariable>> = lib.bindings.iter().filter_map(|b| by_name(&b.name)).collect();
+    if order.len() != module.global_variables.len() {
+        return Err(err("hlsl arguments", "a global of the library is no listed resource"));
+    }
+    // For each function, the resources it (or a function it calls) reads, in binding order.
+    let uses: Vec<(Handle<naga::Function>, Vec<Handle<naga::GlobalVariable>>)> = module
+        .functions
+        .iter()
+        .map(|(fh, _)| (fh, order.iter().copied().filter(|g| !lib.info[fh][*g].is_empty()).collect()))
+        .collect();
+    let used =
+        |fh: Handle<naga::Function>| uses.iter().find(|(h, _)| *h == fh).map(|(_, u)| u.clone()).unwrap_or_default();
+    for (fh, f) in module.functions.iter_mut() {
+        let mine = used(fh);
+        let base = f.arguments.len() as u32;
+        for g in &mine {
+            let gv = &lib.module.global_variables[*g];
+            f.arguments.push(naga::FunctionArgument { name: gv.name.clone(), ty: gv.ty, binding: None });
+        }
+        let index = |g: Handle<naga::GlobalVariable>| mine.iter().position(|m| *m == g).map(|i| base + i as u32);
+        for (_, e) in f.expressions.iter_mut() {
+            if let Expression::GlobalVariable(g) = *e {
+                *e = Expression::FunctionArgument(
+                    index(g).ok_or_else(|| err("hlsl arguments", "a resource read outside its function's uses"))?,
+                );
+            }
+        }
+        // The arguments callers pass on: one expression per resource, appended once.
+        let mut arg_exprs = Vec::new();
+        for (i, _) in mine.iter().enumerate() {
+            arg_exprs.push(f.expressions.append(Expression::FunctionArgument(base + i as u32), naga::Span::UNDEFINED));
+        }
+        let pass = |callee: Handle<naga::Function>| -> Vec<Handle<Expression>> {
+            used(callee).iter().filter_map(|g| mine.iter().position(|m| m == g).map(|i| arg_exprs[i])).collect()
+        };
+        add_call_arguments(&mut f.body, &pass);
+    }
+    module.global_variables = naga::Arena::new();
+    let info = crate::compose::validate(&module)?;
+    Ok((module, info))
+}
+
+/// Appends `pass(callee)` to the arguments of every call in `block`, nested blocks included.
+fn add_call_arguments(block: &mut naga::Block, pass: &dyn Fn(Handle<naga::Function>) -> Vec<Handle<Expression>>) {
+    for s in block.iter_mut() {
+        match s {
+            Statement::Call { function, arguments, .. } => arguments.extend(pass(*function)),
+            Statement::Block(b) => add_call_arguments(b, pass),
+            Statement::If { accept, reject, .. } => {
+                add_call_arguments(accept, pass);
+                add_call_arguments(reject, pass);
+            }
+            Statement::Switch { cases, .. } => cases.iter_mut().for_each(|c| add_call_arguments(&mut c.body, pass)),
+            Statement::Loop { body, continuing, .. } => {
+                add_call_arguments(body, pass);
+                add_call_arguments(continuing, pass);
+            }
+            _ => {}
+        }
+    }
+}
+
+/// The resources' names without the prefix, in CamelCase (`relief_cone_nearest` →
+/// `ConeNearest`): the engine-side input names.
+pub(crate) fn input_name(prefix: &str, resource: &str) -> String {
+    camel(resource.strip_prefix(&format!("{prefix}_")).unwrap_or(resource))
+}
+
+/// Which resources (indices into the bindings) the public function `function` reads, in its
+/// argument order.
+pub(crate) fn reads(lib: &Library, function: &str) -> Vec<usize> {
+    let Some((fh, _)) = lib.module.functions.iter().find(|(_, f)| f.name.as_deref() == Some(function)) else {
+        return Vec::new();
+    };
+    lib.bindings
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| {
+            lib.module
+                .global_variables
+                .iter()
+                .any(|(g, gv)| gv.name.as_deref() == Some(b.name.as_str()) && !lib.info[fh][g].is_empty())
+        })
+        .map(|(i, _)| i)
+        .collect()
+}
+
+/// An engine file's include guard: `PREFIX_STEM_WHAT` in capitals, anything else as `_`.
+pub(crate) fn include_guard(prefix: &str, stem: &str, what: &str) -> String {
+    format!("{prefix}_{stem}_{what}")
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_uppercase() } else { '_' })
+        .collect()
+}
