@@ -124,8 +124,23 @@ impl AbiType for [f32; 16] {
 pub trait AbiRecord {
     /// The struct's name, in Rust and in the shader.
     const NAME: &'static str;
-    /// The members as the shader declares them, in order.
+    /// The members as the shader declares them, in order: the one statement of the order.
     const MEMBERS: &'static [(&'static str, Member)];
+
+    /// The position of the member `name` in [`AbiRecord::MEMBERS`], for code that reads or
+    /// writes a member by its name.
+    ///
+    /// # Panics
+    ///
+    /// When the record declares no member `name` (a composer bug: the message names the record
+    /// and its members).
+    fn member_index(name: &str) -> u32 {
+        let Some(i) = Self::MEMBERS.iter().position(|(n, _)| *n == name) else {
+            let names: Vec<&str> = Self::MEMBERS.iter().map(|(n, _)| *n).collect();
+            panic!("the ABI record {} has no member `{name}` (its members: {names:?})", Self::NAME);
+        };
+        i as u32
+    }
 }
 
 /// Declares a `#[repr(C)]` record and, from the same field list, its `MEMBERS` as the shader
@@ -174,7 +189,8 @@ pub struct Params {
 }
 }
 
-/// A member of [`Params`], in order.
+/// A member of [`Params`], for the stages that read the block: the shader addresses it by
+/// [`Param::name`], so the order stays [`Params`]'s alone.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Param {
     /// [`Params::view_proj`].
@@ -192,9 +208,16 @@ pub enum Param {
 }
 
 impl Param {
-    /// The member's index in [`Params::MEMBERS`].
-    pub fn index(self) -> u32 {
-        self as u32
+    /// The member's name in [`Params::MEMBERS`].
+    pub fn name(self) -> &'static str {
+        match self {
+            Param::ViewProj => "view_proj",
+            Param::Camera => "camera",
+            Param::Light => "light",
+            Param::Quad => "quad",
+            Param::PixelRight => "pixel_right",
+            Param::PixelUp => "pixel_up",
+        }
     }
 }
 
@@ -309,4 +332,31 @@ pub const TEXEL_CHANNELS: usize = 4;
 /// stacked or piecewise cones) has its apex taken from the gathered corners.
 pub fn cell_apex_on_device(channels: usize) -> bool {
     channels <= TEXEL_CHANNELS
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each member is found at its place in the record's declaration, and every [`Param`] names
+    /// a distinct member of [`Params`].
+    #[test]
+    fn members_are_found_by_name() {
+        for (i, (name, _)) in ProbeHit::MEMBERS.iter().enumerate() {
+            assert_eq!(ProbeHit::member_index(name), i as u32);
+        }
+        assert_eq!(ProbeRay::member_index("pixel_size"), 5);
+        let params = [Param::ViewProj, Param::Camera, Param::Light, Param::Quad, Param::PixelRight, Param::PixelUp];
+        let mut found: Vec<u32> = params.iter().map(|p| Params::member_index(p.name())).collect();
+        found.sort();
+        found.dedup();
+        assert_eq!(found.len(), Params::MEMBERS.len());
+    }
+
+    /// A name the record lacks is a panic that names the record.
+    #[test]
+    #[should_panic(expected = "the ABI record ProbeRay has no member `dir`")]
+    fn a_missing_member_is_named() {
+        ProbeRay::member_index("dir");
+    }
 }

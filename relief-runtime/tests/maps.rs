@@ -467,6 +467,17 @@ fn build_dispatches_every_kind() {
         let cells = if kind.is_cell() { 17 * 17 } else { 16 * 16 };
         assert_eq!((map.data.len(), map.width * map.height), (cells * map.depth * map.channels, cells), "{kind}");
         assert_eq!(kind.name().parse::<MapKind>().unwrap(), kind);
+        // `relief maps --list` states the same count in words ("1 channel", "K+1 channels").
+        let words: Vec<&str> = kind.describe().split([' ', ';']).collect();
+        if let Some(i) = words.iter().position(|w| w.starts_with("channel")) {
+            let k = p.cones as usize;
+            let said = match words[i - 1] {
+                "K" => k,
+                "K+1" => k + 1,
+                n => n.parse().unwrap(),
+            };
+            assert_eq!(said, kind.channels(&p), "{kind}: {}", kind.describe());
+        }
     }
     let mm = maps::build(&m, MapKind::MaxMip, &p, EdgeMode::Clamp).unwrap();
     assert_eq!(mm.mips.last().unwrap().data.len(), 1);

@@ -188,15 +188,16 @@ fn frame<'a>(s: &'a FnBuilder<'a>, k: usize, size: Val<'a, Vec3>) -> Frame<'a> {
     }
 }
 
-fn room_param<'a>(s: &'a FnBuilder<'a>, i: u32) -> Val<'a, Vec4> {
+/// The member `name` of the [`RoomParams`] block.
+fn room_param<'a>(s: &'a FnBuilder<'a>, name: &str) -> Val<'a, Vec4> {
     let g = s
         .module()
         .bound("room", naga::AddressSpace::Uniform, ROOM_PARAMS, Resource::RoomParams, |m| m.record_ty::<RoomParams>());
-    s.load(s.member_ptr(s.global_ptr(g), i))
+    s.load(s.member_ptr::<RoomParams>(s.global_ptr(g), name))
 }
 
 fn depth_scale<'a>(s: &'a FnBuilder<'a>, k: usize) -> Val<'a, f32> {
-    let (a, b) = (room_param(s, 1), room_param(s, 2));
+    let (a, b) = (room_param(s, "depth_a"), room_param(s, "depth_b"));
     match k {
         0 => a.x(),
         1 => a.y(),
@@ -316,7 +317,7 @@ fn vertex_entry(m: &ModuleCtx, policy: &dyn Policy) -> naga::EntryPoint {
     let s = vertex_function(m, "vs_room", policy);
     // The window: (0,0) (W,0) (0,H) (W,H) as a triangle strip, at z = 0.
     let i = s.arg::<u32>(0);
-    let size = room_param(&s, 0);
+    let size = room_param(&s, "size");
     let world = s.vec3(s.vec2(i.and(1).to_f32() * size.x(), i.shift_right(1).to_f32() * size.y()), 0.0);
     let clip = s.param::<Mat4>(Param::ViewProj) * s.vec4(world, 1.0);
     finish_vertex(&s, "vs_room", "RoomVertex", clip, world)
@@ -341,7 +342,7 @@ fn scattering<'a>(
     size: Val<'a, Vec3>,
     window_on: Val<'a, bool>,
 ) -> Val<'a, f32> {
-    let sun = room_param(s, 3);
+    let sun = room_param(s, "sun");
     let to_sun = sun.xyz();
     let sum = s.var::<f32>("scatter", 0.0);
     let k = s.var::<f32>("scatter_k", 0.0);
@@ -371,12 +372,12 @@ fn fragment_entry(
     let s = m.function("fs_room", &[("world", m.ty(Vec3::inner()), Some(location(0)))], policy);
     let world = s.arg::<Vec3>(0);
     let cam = s.param::<Vec4>(Param::Camera).xyz();
-    let size = room_param(&s, 0).xyz();
+    let size = room_param(&s, "size").xyz();
     let w = world - cam;
     let (wall, t_wall) = select_wall(&s, cam, w, size);
     let light = s.param::<Vec4>(Param::Light);
     let ambient = light.w();
-    let point_light = room_param(&s, 2).y().gt(0.5);
+    let point_light = room_param(&s, "depth_b").y().gt(0.5);
     let color = s.var::<Vec3>("color", s.vec3(s.vec2(0.0, 0.0), 0.0));
     let far = s.var::<Vec3>("far", world);
     for (k, (wall_policy, fns)) in walls.iter().zip(fns).enumerate() {
@@ -420,7 +421,7 @@ fn fragment_entry(
         });
     }
     // The window's opacity map (optional): opaque parts show glass, not the room.
-    let window_on = room_param(&s, 0).w().gt(0.5);
+    let window_on = room_param(&s, "size").w().gt(0.5);
     if let Some(n) = options.scatter {
         let i = scattering(&s, n, world, far.get(), size, window_on);
         color.set(color.get() + s.vec3(s.vec2(i, i), i) * s.vec3(s.vec2(1.0, 0.95), 0.85));
@@ -440,9 +441,9 @@ fn probe_entry(m: &ModuleCtx, policy: &dyn Policy, walls: &[StageFns]) -> naga::
     let io = ProbeIo::new::<RoomRay, RoomHit>(m, "room_rays", "room_hits");
     let s = probe_function(m, "probe_room", policy);
     let ProbeSlot { ray: rec, hit: out, counters } = probe_start(&s, &io);
-    let cam = s.load::<Vec4>(s.member_ptr(rec, 0)).xyz();
-    let w = s.load::<Vec4>(s.member_ptr(rec, 1)).xyz();
-    let size = room_param(&s, 0).xyz();
+    let cam = s.load::<Vec4>(s.member_ptr::<RoomRay>(rec, "origin")).xyz();
+    let w = s.load::<Vec4>(s.member_ptr::<RoomRay>(rec, "dir")).xyz();
+    let size = room_param(&s, "size").xyz();
     let (wall, t_wall) = select_wall(&s, cam, w, size);
     for (k, fns) in walls.iter().enumerate() {
         s.if_(wall.ge(k as u32) & wall.le(k as u32), |s| {
@@ -453,16 +454,16 @@ fn probe_entry(m: &ModuleCtx, policy: &dyn Policy, walls: &[StageFns]) -> naga::
             let ProbeTrace { hit, coarse_steps, refine_steps, converged, .. } =
                 probe_trace(s, fns.trace, &ray, counters);
             let values = [
-                wall.handle(),
-                hit.t.handle(),
-                hit.uv.x().handle(),
-                hit.uv.y().handle(),
-                hit.z.handle(),
-                coarse_steps.handle(),
-                refine_steps.handle(),
-                converged.handle(),
+                ("wall", wall.handle()),
+                ("t", hit.t.handle()),
+                ("u", hit.uv.x().handle()),
+                ("v", hit.uv.y().handle()),
+                ("z", hit.z.handle()),
+                ("coarse_steps", coarse_steps.handle()),
+                ("refine_steps", refine_steps.handle()),
+                ("converged", converged.handle()),
             ];
-            s.store_members(out, &values);
+            s.store_record::<RoomHit>(out, &values);
         });
     }
     finish_probe(&s, "probe_room")

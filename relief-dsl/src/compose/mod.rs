@@ -538,33 +538,33 @@ fn probe_entry(
     let io = ProbeIo::new::<ProbeRay, ProbeHit>(m, "rays", "hits");
     let s = probe_function(m, "probe", policy);
     let ProbeSlot { ray: rec, hit: out, counters } = probe_start(&s, &io);
-    let origin = s.load::<Vec2>(s.member_ptr(rec, 0));
-    let dir_xy = s.load::<Vec2>(s.member_ptr(rec, 1));
-    let dir_z = s.load::<f32>(s.member_ptr(rec, 2));
+    let origin = s.load::<Vec2>(s.member_ptr::<ProbeRay>(rec, "origin"));
+    let dir_xy = s.load::<Vec2>(s.member_ptr::<ProbeRay>(rec, "dir_xy"));
+    let dir_z = s.load::<f32>(s.member_ptr::<ProbeRay>(rec, "dir_z"));
     let depth_scale = s.param::<Vec4>(Param::Camera).w();
     // The same cosine the render entry gets from the camera: the unscaled view ray is
     // (dir.xy, dir.z · depth_scale).
     let vz = dir_z * depth_scale;
     let cos_view = -vz / (dir_xy.dot(dir_xy) + vz * vz).sqrt();
     let ray = Ray { origin, dir: s.vec3(dir_xy, dir_z), cos_view };
-    set_sample_level(&s, lod, origin, || s.load::<f32>(s.member_ptr(rec, 5)));
+    set_sample_level(&s, lod, origin, || s.load::<f32>(s.member_ptr::<ProbeRay>(rec, "pixel_size")));
     // The camera distance for stages that read it: from the camera to the ray's entry.
     let camera = s.param::<Vec4>(Param::Camera).xyz();
     interior::store_view_distance(&s, (s.vec3(origin, 0.0) - camera).length());
     let ProbeTrace { hit, coarse_steps, refine_steps, fetches, converged } = probe_trace(&s, fns.trace, &ray, counters);
     let clipped = if clip { s.select(outside_square(&s, hit.uv), 1u32, 0u32) } else { s.lit_u32(0) };
     let values = [
-        hit.t.handle(),
-        hit.uv.x().handle(),
-        hit.uv.y().handle(),
-        hit.z.handle(),
-        coarse_steps.handle(),
-        refine_steps.handle(),
-        fetches.handle(),
-        converged.handle(),
-        clipped.handle(),
+        ("t", hit.t.handle()),
+        ("u", hit.uv.x().handle()),
+        ("v", hit.uv.y().handle()),
+        ("z", hit.z.handle()),
+        ("coarse_steps", coarse_steps.handle()),
+        ("refine_steps", refine_steps.handle()),
+        ("fetches", fetches.handle()),
+        ("converged", converged.handle()),
+        ("clipped", clipped.handle()),
     ];
-    s.store_members(out, &values);
+    s.store_record::<ProbeHit>(out, &values);
     finish_probe(&s, "probe")
 }
 

@@ -23,6 +23,8 @@ mod values;
 
 use std::cell::{Cell, RefCell};
 
+use crate::abi::AbiRecord;
+
 use naga::{
     Block, Expression, Function, FunctionArgument, FunctionResult, Handle, LocalVariable, Module, Span, Statement,
 };
@@ -112,7 +114,7 @@ impl ModuleCtx {
     }
 
     /// The struct type of one of the ABI's records ([`crate::abi`]), under its Rust name.
-    pub(crate) fn record_ty<R: crate::abi::AbiRecord>(&self) -> Handle<naga::Type> {
+    pub(crate) fn record_ty<R: AbiRecord>(&self) -> Handle<naga::Type> {
         let members: Vec<(&str, naga::TypeInner)> =
             R::MEMBERS.iter().map(|(n, m)| (*n, types::member_inner(*m))).collect();
         self.struct_ty(R::NAME, &members)
@@ -578,9 +580,10 @@ impl<'a> FnBuilder<'a> {
     pub(crate) fn global_ptr(&self, g: Handle<naga::GlobalVariable>) -> Handle<Expression> {
         self.expr(Expression::GlobalVariable(g))
     }
-    /// Pointer to member `index` of the struct behind `ptr`.
-    pub(crate) fn member_ptr(&self, ptr: Handle<Expression>, index: u32) -> Handle<Expression> {
-        self.expr(Expression::AccessIndex { base: ptr, index })
+    /// Pointer to the member `name` of the ABI record `R` behind `ptr`, at the position the
+    /// record's declaration gives it ([`AbiRecord::member_index`]; panics on a name it lacks).
+    pub(crate) fn member_ptr<R: AbiRecord>(&self, ptr: Handle<Expression>, name: &str) -> Handle<Expression> {
+        self.expr(Expression::AccessIndex { base: ptr, index: R::member_index(name) })
     }
     /// Pointer to element `index` of the array behind `ptr`.
     pub(crate) fn element_ptr(&self, ptr: Handle<Expression>, index: Handle<Expression>) -> Handle<Expression> {
@@ -594,12 +597,18 @@ impl<'a> FnBuilder<'a> {
     pub(crate) fn store(&self, ptr: Handle<Expression>, value: Handle<Expression>) {
         self.stmt(Statement::Store { pointer: ptr, value });
     }
-    /// Stores `values` into the members of the struct behind `ptr`, in member order (a probe
-    /// entry's hit record).
-    pub(crate) fn store_members(&self, ptr: Handle<Expression>, values: &[Handle<Expression>]) {
-        for (i, v) in values.iter().enumerate() {
-            self.store(self.member_ptr(ptr, i as u32), *v);
+    /// Stores each `(name, value)` of `values`, in the order given, into that member of the
+    /// ABI record `R` behind `ptr` (a probe entry's hit record). Panics unless `values` names
+    /// every member of `R` once.
+    pub(crate) fn store_record<R: AbiRecord>(&self, ptr: Handle<Expression>, values: &[(&str, Handle<Expression>)]) {
+        let mut stored = vec![false; R::MEMBERS.len()];
+        for &(name, value) in values {
+            let seen = std::mem::replace(&mut stored[R::member_index(name) as usize], true);
+            assert!(!seen, "the ABI record {}: member `{name}` stored twice", R::NAME);
+            self.store(self.member_ptr::<R>(ptr, name), value);
         }
+        let missing: Vec<&str> = R::MEMBERS.iter().zip(&stored).filter(|(_, s)| !**s).map(|((n, _), _)| *n).collect();
+        assert!(missing.is_empty(), "the ABI record {}: members {missing:?} not stored", R::NAME);
     }
     /// Number of elements of the runtime-sized array behind `ptr`.
     pub(crate) fn array_length(&'a self, ptr: Handle<Expression>) -> Val<'a, u32> {

@@ -396,17 +396,91 @@ impl MapReq {
     /// builds again from each level of the height map's mip chain. Not the per-cell maps (one
     /// texel per bilinear cell of level 0), the max-mip pyramid or the 3D distance field.
     pub fn has_levels(self) -> bool {
-        matches!(
-            self,
+        match self {
             MapReq::Normal
-                | MapReq::Cone
-                | MapReq::QuadCone
-                | MapReq::RelaxedCone
-                | MapReq::ConeNormal
-                | MapReq::RelaxedConeNormal
-                | MapReq::MultiCone(_)
-                | MapReq::PiecewiseCone(_)
-        )
+            | MapReq::Cone
+            | MapReq::QuadCone
+            | MapReq::RelaxedCone
+            | MapReq::ConeNormal
+            | MapReq::RelaxedConeNormal
+            | MapReq::MultiCone(_)
+            | MapReq::PiecewiseCone(_) => true,
+            MapReq::MaxMip
+            | MapReq::DistanceField
+            | MapReq::CellCone
+            | MapReq::CellQuadCone
+            | MapReq::CellRelaxedCone
+            | MapReq::CellConeNormal
+            | MapReq::CellMultiCone(_)
+            | MapReq::CellPiecewiseCone(_) => false,
+        }
+    }
+
+    /// The values per texel of the map as relief-runtime builds it (before the upload drops
+    /// what no texel holds: [`crate::abi::cell_apex_on_device`]): the one place each kind's
+    /// count is stated. A cell map ([`MapReq::is_cell`]) carries its apex `A_C`, the cell's
+    /// highest corner, in the last channel, after its cones.
+    pub fn channels(self) -> usize {
+        match self {
+            MapReq::Normal => 3,
+            MapReq::Cone
+            | MapReq::RelaxedCone
+            | MapReq::ConeNormal
+            | MapReq::RelaxedConeNormal
+            | MapReq::MaxMip
+            | MapReq::DistanceField => 1,
+            MapReq::QuadCone => 4,
+            MapReq::MultiCone(k) | MapReq::PiecewiseCone(k) => k as usize,
+            MapReq::CellCone | MapReq::CellRelaxedCone | MapReq::CellConeNormal => 2,
+            MapReq::CellQuadCone => 5,
+            MapReq::CellMultiCone(k) | MapReq::CellPiecewiseCone(k) => k as usize + 1,
+        }
+    }
+
+    /// The number K of cones the map holds per texel, for the kinds that take it (stacked
+    /// and piecewise cones, per texel or per cell); `None` for the others.
+    pub fn cones(self) -> Option<u32> {
+        match self {
+            MapReq::MultiCone(k)
+            | MapReq::PiecewiseCone(k)
+            | MapReq::CellMultiCone(k)
+            | MapReq::CellPiecewiseCone(k) => Some(k),
+            MapReq::Normal
+            | MapReq::Cone
+            | MapReq::QuadCone
+            | MapReq::RelaxedCone
+            | MapReq::ConeNormal
+            | MapReq::RelaxedConeNormal
+            | MapReq::MaxMip
+            | MapReq::DistanceField
+            | MapReq::CellCone
+            | MapReq::CellQuadCone
+            | MapReq::CellRelaxedCone
+            | MapReq::CellConeNormal => None,
+        }
+    }
+
+    /// Whether the map holds one entry per bilinear cell of the height map, its apex last
+    /// (the cell maps), rather than one per texel or a pyramid or a volume.
+    pub fn is_cell(self) -> bool {
+        match self {
+            MapReq::CellCone
+            | MapReq::CellQuadCone
+            | MapReq::CellRelaxedCone
+            | MapReq::CellConeNormal
+            | MapReq::CellMultiCone(_)
+            | MapReq::CellPiecewiseCone(_) => true,
+            MapReq::Normal
+            | MapReq::Cone
+            | MapReq::QuadCone
+            | MapReq::RelaxedCone
+            | MapReq::ConeNormal
+            | MapReq::RelaxedConeNormal
+            | MapReq::MultiCone(_)
+            | MapReq::PiecewiseCone(_)
+            | MapReq::MaxMip
+            | MapReq::DistanceField => false,
+        }
     }
 
     /// The map's texture name in the generated shader.

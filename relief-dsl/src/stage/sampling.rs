@@ -323,7 +323,7 @@ impl<'a> FnBuilder<'a> {
         let g = self.module().bound("params", naga::AddressSpace::Uniform, binding::PARAMS, Resource::Params, |m| {
             m.record_ty::<Params>()
         });
-        self.load(self.member_ptr(self.global_ptr(g), p.index()))
+        self.load(self.member_ptr::<Params>(self.global_ptr(g), p.name()))
     }
 
     /// Whether the scene's edge mode is clamp (`params.quad.y` is 1), for stages that address

@@ -88,10 +88,17 @@ impl MapKind {
         MapKind::CellPiecewiseCone,
     ];
 
-    /// The map request this kind answers (with the default parameters): the one table
-    /// between the two enums, [`MapKind::of`] reads it backwards.
+    /// The map request this kind answers (with the default parameters): see
+    /// [`MapKind::request_with`].
     pub fn request(self) -> MapReq {
-        let k = MapParams::default().cones;
+        self.request_with(&MapParams::default())
+    }
+
+    /// The map request this kind answers with `params`: the one table between the two enums,
+    /// [`MapKind::of`] reads it backwards. What the request says of the map (its channels,
+    /// whether it is a cell map) is stated there, in relief-dsl.
+    pub fn request_with(self, params: &MapParams) -> MapReq {
+        let k = params.cones;
         match self {
             MapKind::Cone => MapReq::Cone,
             MapKind::QuadCone => MapReq::QuadCone,
@@ -117,12 +124,9 @@ impl MapKind {
         let same = |k: &MapKind| std::mem::discriminant(&k.request()) == std::mem::discriminant(&req);
         let kind = MapKind::ALL.into_iter().find(same)?;
         let d = MapParams::default();
-        let params = match req {
-            MapReq::MultiCone(k)
-            | MapReq::PiecewiseCone(k)
-            | MapReq::CellMultiCone(k)
-            | MapReq::CellPiecewiseCone(k) => MapParams { cones: k, ..d },
-            _ => d,
+        let params = match req.cones() {
+            Some(k) => MapParams { cones: k, ..d },
+            None => d,
         };
         Some((kind, params))
     }
@@ -154,50 +158,64 @@ impl MapKind {
         }
     }
 
-    /// Number of channels for `params`.
+    /// Number of channels for `params` ([`MapReq::channels`] of the request).
     pub fn channels(self, params: &MapParams) -> usize {
-        match self {
-            MapKind::QuadCone => 4,
-            MapKind::MultiCone | MapKind::PiecewiseCone => params.cones as usize,
-            MapKind::CellCone | MapKind::CellRelaxedCone | MapKind::CellConeNormal => 2,
-            MapKind::CellQuadCone => 5,
-            MapKind::CellMultiCone | MapKind::CellPiecewiseCone => params.cones as usize + 1,
-            _ => 1,
-        }
+        self.request_with(params).channels()
     }
 
-    /// Whether this is a cell kind (map over the cell grid of [`cell`], last channel the apex).
+    /// Whether the kind reads K, [`MapParams::cones`] ([`MapReq::cones`] of its request).
+    pub fn reads_cones(self) -> bool {
+        self.request().cones().is_some()
+    }
+
+    /// Whether this is a cell kind (map over the cell grid of [`cell`], last channel the apex:
+    /// [`MapReq::is_cell`]).
     pub fn is_cell(self) -> bool {
-        matches!(
-            self,
-            MapKind::CellCone
-                | MapKind::CellQuadCone
-                | MapKind::CellRelaxedCone
-                | MapKind::CellConeNormal
-                | MapKind::CellMultiCone
-                | MapKind::CellPiecewiseCone
-        )
+        self.request().is_cell()
     }
 
-    /// The safe quantisation direction of this kind's values.
+    /// The safe quantisation direction of this kind's values: up for the heights of the
+    /// max-mip pyramid, down for cone ratios, cone normals' `n_z` and distances (the cell
+    /// maps' apex, a height, is rounded up apart: [`kind_rounding`]).
     pub fn rounding(self) -> Rounding {
         match self {
             MapKind::MaxMip => Rounding::Up,
-            _ => Rounding::Down,
+            MapKind::Cone
+            | MapKind::QuadCone
+            | MapKind::RelaxedCone
+            | MapKind::ConeNormal
+            | MapKind::RelaxedConeNormal
+            | MapKind::MultiCone
+            | MapKind::PiecewiseCone
+            | MapKind::DistanceField
+            | MapKind::CellCone
+            | MapKind::CellQuadCone
+            | MapKind::CellRelaxedCone
+            | MapKind::CellConeNormal
+            | MapKind::CellMultiCone
+            | MapKind::CellPiecewiseCone => Rounding::Down,
         }
     }
 
     /// Whether the values are cone ratios (where the sqrt encoding is meant to be used).
     pub(crate) fn is_ratio(self) -> bool {
-        matches!(
-            self,
+        match self {
             MapKind::Cone
-                | MapKind::QuadCone
-                | MapKind::RelaxedCone
-                | MapKind::CellCone
-                | MapKind::CellQuadCone
-                | MapKind::CellRelaxedCone
-        )
+            | MapKind::QuadCone
+            | MapKind::RelaxedCone
+            | MapKind::CellCone
+            | MapKind::CellQuadCone
+            | MapKind::CellRelaxedCone => true,
+            MapKind::ConeNormal
+            | MapKind::RelaxedConeNormal
+            | MapKind::MultiCone
+            | MapKind::PiecewiseCone
+            | MapKind::MaxMip
+            | MapKind::DistanceField
+            | MapKind::CellConeNormal
+            | MapKind::CellMultiCone
+            | MapKind::CellPiecewiseCone => false,
+        }
     }
 }
 
@@ -239,7 +257,16 @@ impl MapParams {
                 MapParams { cones: self.cones, ..d }
             }
             MapKind::DistanceField => MapParams { z_resolution: self.z_resolution, ..d },
-            _ => d,
+            MapKind::Cone
+            | MapKind::QuadCone
+            | MapKind::RelaxedCone
+            | MapKind::ConeNormal
+            | MapKind::RelaxedConeNormal
+            | MapKind::MaxMip
+            | MapKind::CellCone
+            | MapKind::CellQuadCone
+            | MapKind::CellRelaxedCone
+            | MapKind::CellConeNormal => d,
         }
     }
 }
@@ -359,22 +386,26 @@ pub fn build(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode) 
         return Err(MapError::Params { kind, message: format!("height map {w} x {h} is empty or inconsistent") });
     }
     let k = params.cones as usize;
-    if matches!(kind, MapKind::MultiCone | MapKind::PiecewiseCone | MapKind::CellMultiCone | MapKind::CellPiecewiseCone)
-        && !(1..=16).contains(&k)
-    {
+    if kind.reads_cones() && !(1..=16).contains(&k) {
         return Err(MapError::Params { kind, message: format!("cones = {k}, expected 1..=16") });
     }
+    // The channels of every kind's texel, as relief-dsl states them (`MapReq::channels`).
+    let n = kind.channels(params);
+    let cells = |data: Vec<f32>| {
+        let g = cell::CellGrid::new(w, h, edge);
+        Map::new_2d(g.cw, g.ch, n, data)
+    };
     let map = match kind {
-        MapKind::Cone => Map::new_2d(w, h, 1, cone::cone_ratios(hm, edge)),
-        MapKind::QuadCone => Map::new_2d(w, h, 4, quad_cone::quad_cone_ratios(hm, edge)),
-        MapKind::RelaxedCone => Map::new_2d(w, h, 1, relaxed_cone::relaxed_cone_ratios(hm, edge)),
-        MapKind::ConeNormal => Map::new_2d(w, h, 1, cone_normal::cone_normals(hm, edge)),
-        MapKind::RelaxedConeNormal => Map::new_2d(w, h, 1, cone_normal::relaxed_cone_normals(hm, edge)),
-        MapKind::MultiCone => Map::new_2d(w, h, k, multi_cone::stacked_cone_normals(hm, edge, k)),
-        MapKind::PiecewiseCone => Map::new_2d(w, h, k, multi_cone::piecewise_cone_normals(hm, edge, k)),
+        MapKind::Cone => Map::new_2d(w, h, n, cone::cone_ratios(hm, edge)),
+        MapKind::QuadCone => Map::new_2d(w, h, n, quad_cone::quad_cone_ratios(hm, edge)),
+        MapKind::RelaxedCone => Map::new_2d(w, h, n, relaxed_cone::relaxed_cone_ratios(hm, edge)),
+        MapKind::ConeNormal => Map::new_2d(w, h, n, cone_normal::cone_normals(hm, edge)),
+        MapKind::RelaxedConeNormal => Map::new_2d(w, h, n, cone_normal::relaxed_cone_normals(hm, edge)),
+        MapKind::MultiCone => Map::new_2d(w, h, n, multi_cone::stacked_cone_normals(hm, edge, k)),
+        MapKind::PiecewiseCone => Map::new_2d(w, h, n, multi_cone::piecewise_cone_normals(hm, edge, k)),
         MapKind::MaxMip => {
             let p = max_mip::cell_max_mip(hm, edge);
-            let mut levels = p.levels.into_iter().map(|l| Map::new_2d(l.w, l.h, 1, l.data));
+            let mut levels = p.levels.into_iter().map(|l| Map::new_2d(l.w, l.h, n, l.data));
             let mut base = levels.next().expect("a pyramid has level 0");
             base.mips = levels.collect();
             base
@@ -388,28 +419,17 @@ pub fn build(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode) 
                 width: w,
                 height: h,
                 depth: d,
-                channels: 1,
+                channels: n,
                 data: distance_field::distance_field(hm, edge, d),
                 mips: Vec::new(),
             }
         }
-        MapKind::CellCone
-        | MapKind::CellQuadCone
-        | MapKind::CellRelaxedCone
-        | MapKind::CellConeNormal
-        | MapKind::CellMultiCone
-        | MapKind::CellPiecewiseCone => {
-            let g = cell::CellGrid::new(w, h, edge);
-            let data = match kind {
-                MapKind::CellCone => cell::cone::cell_cone(hm, edge),
-                MapKind::CellQuadCone => cell::cone::cell_quad_cone(hm, edge),
-                MapKind::CellRelaxedCone => cell::relaxed_cone::cell_relaxed_cone(hm, edge),
-                MapKind::CellConeNormal => cell::cone::cell_cone_normal(hm, edge),
-                MapKind::CellMultiCone => cell::multi_cone::cell_multi_cone(hm, edge, k),
-                _ => cell::multi_cone::cell_piecewise_cone(hm, edge, k),
-            };
-            Map::new_2d(g.cw, g.ch, kind.channels(params), data)
-        }
+        MapKind::CellCone => cells(cell::cone::cell_cone(hm, edge)),
+        MapKind::CellQuadCone => cells(cell::cone::cell_quad_cone(hm, edge)),
+        MapKind::CellRelaxedCone => cells(cell::relaxed_cone::cell_relaxed_cone(hm, edge)),
+        MapKind::CellConeNormal => cells(cell::cone::cell_cone_normal(hm, edge)),
+        MapKind::CellMultiCone => cells(cell::multi_cone::cell_multi_cone(hm, edge, k)),
+        MapKind::CellPiecewiseCone => cells(cell::multi_cone::cell_piecewise_cone(hm, edge, k)),
     };
     Ok(map)
 }
@@ -582,7 +602,7 @@ impl MapCache {
             shape.push(map.depth);
         }
         shape.extend([map.height, map.width]);
-        if map.channels > 1 || matches!(key.kind, MapKind::MultiCone | MapKind::PiecewiseCone) || key.kind.is_cell() {
+        if map.channels > 1 || key.kind.reads_cones() || key.kind.is_cell() {
             shape.push(map.channels);
         }
         // A cache: a map that cannot be stored is built again next time.

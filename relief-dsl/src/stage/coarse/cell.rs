@@ -220,7 +220,7 @@ impl<'a> Cell<'a> {
     /// the pass (call in the pass's own block).
     pub(super) fn cones_and_apex(&self, s: &'a FnBuilder<'a>, map: MapReq) -> (Val<'a, Vec4>, Val<'a, f32>) {
         let texel = self.cones(s, map);
-        let n = cell_map_channels(map);
+        let n = map.channels();
         let apex = if crate::abi::cell_apex_on_device(n) {
             [texel.x(), texel.y(), texel.z(), texel.w()][n - 1]
         } else {
@@ -266,16 +266,6 @@ impl<'a> Cell<'a> {
     /// The first t in `[from, exit]` where the ray meets the cell's patch, or -1.
     pub(super) fn patch_root(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, from: Val<'a, f32>) -> Val<'a, f32> {
         patch_root(s, ray, &self.grid, self.cell, self.corners(s), from, self.exit)
-    }
-}
-
-/// The channels of a cell map: its cones, then the apex (relief-runtime's `MapKind::channels`
-/// of the cell kinds).
-fn cell_map_channels(map: MapReq) -> usize {
-    match map {
-        MapReq::CellQuadCone => 5,
-        MapReq::CellMultiCone(k) | MapReq::CellPiecewiseCone(k) => k as usize + 1,
-        _ => 2,
     }
 }
 
