@@ -235,9 +235,7 @@ fn the_geometry_baseline_shows_the_walls_and_depths_of_the_cpu_reference() {
             let Some(rf) = rf else { continue };
             let wr = room.wall_ray(&r.ray);
             let p = room.wall_point(*wall, rf.u, rf.v, rf.z);
-            let expect = (p[0] - cam.x as f64) * forward.x as f64
-                + (p[1] - cam.y as f64) * forward.y as f64
-                + (p[2] - cam.z as f64) * forward.z as f64;
+            let expect = (p - cam.as_dvec3()).dot(forward.as_dvec3());
             let ndc = depth[r.y as usize * n + r.x as usize] as f64;
             let got = far * near / (far - ndc * (far - near));
             depth_n += 1;

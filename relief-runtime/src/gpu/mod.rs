@@ -11,12 +11,13 @@ mod resources;
 
 pub use crate::maps::MapKey;
 pub use device::{adapters, choose, Gpu, GpuError, ADAPTER_VAR};
+pub(crate) use probe::dispatch;
 pub use probe::{probe, GpuHit};
 pub use render::{
     draw_frame, render, Frames, PairedBlocks, RenderResult, CLEAR, DEPTH_FORMAT, FORMAT, MAX_FRAMES_PER_BLOCK,
     SHADING_FORMULA,
 };
-pub(crate) use render::{paired_blocks, timed_frames, Clock, Renderer, MIN_BLOCK_MS};
+pub(crate) use render::{paired_blocks, render_pipeline, timed_frames, Clock, Draw, Renderer, MIN_BLOCK_MS};
 pub use resources::{map_upload_of, scene_uploads, upload_of_map, SceneTextures, SceneUploads, Upload, AMBIENT};
 pub(crate) use resources::{params_for, resource_at};
 

@@ -242,6 +242,60 @@ pub const CLEAR: wgpu::Color = wgpu::Color { r: 0.02, g: 0.02, b: 0.03, a: 1.0 }
 pub const SHADING_FORMULA: &str =
     "rgb = albedo * (ambient * ao + (1 - ambient) * max(dot(n, l), 0) * shadow); n = normalize(normal_texel * 2 - 1)";
 
+/// What a render pipeline draws: relief's quad, the room's window quad, or a vertex-buffered
+/// mesh. Every render pipeline of the runtime is made from one of these by [`render_pipeline`],
+/// into [`FORMAT`] (and [`DEPTH_FORMAT`] when `depth` is set), without culling.
+pub(crate) struct Draw<'a> {
+    /// The pipeline's label.
+    pub label: &'a str,
+    /// The vertex and fragment entry points.
+    pub entries: (&'a str, &'a str),
+    /// The vertex buffers (none for the generated quads, which make their corners from the
+    /// vertex index).
+    pub buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    /// Strip for the quads, list for meshes.
+    pub topology: wgpu::PrimitiveTopology,
+    /// The depth test, when the pass has a depth buffer (depth is then written).
+    pub depth: Option<wgpu::CompareFunction>,
+}
+
+/// The render pipeline of `draw` over `module`, its bind group layout derived from the module.
+pub(crate) fn render_pipeline(
+    gpu: &Gpu,
+    module: &wgpu::ShaderModule,
+    draw: &Draw<'_>,
+) -> Result<wgpu::RenderPipeline, GpuError> {
+    gpu.checked(|| {
+        gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(draw.label),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some(draw.entries.0),
+                compilation_options: Default::default(),
+                buffers: draw.buffers,
+            },
+            primitive: wgpu::PrimitiveState { topology: draw.topology, cull_mode: None, ..Default::default() },
+            depth_stencil: draw.depth.map(|compare| wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(compare),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some(draw.entries.1),
+                compilation_options: Default::default(),
+                targets: &[Some(FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    })
+}
+
 impl Renderer {
     /// `program`'s render entry on `scene` (its textures and maps already in `tex`) at
     /// `size × size` pixels.
@@ -253,38 +307,18 @@ impl Renderer {
         size: u32,
     ) -> Result<Renderer, GpuError> {
         let module = program.shader_module(gpu)?;
-        let pipeline = gpu.checked(|| {
-            gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("render"),
-                layout: None,
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs_main"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::TriangleStrip,
-                    ..Default::default()
-                },
-                depth_stencil: program.writes_depth.then(|| wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Always),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs_main"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(FORMAT.into())],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        })?;
+        let pipeline = render_pipeline(
+            gpu,
+            &module,
+            &Draw {
+                label: "render",
+                entries: ("vs_main", "fs_main"),
+                buffers: &[],
+                topology: wgpu::PrimitiveTopology::TriangleStrip,
+                // The render entry writes the hit's depth itself: every fragment is kept.
+                depth: program.writes_depth.then_some(wgpu::CompareFunction::Always),
+            },
+        )?;
         let params = SceneTextures::params(gpu, scene, 1.0, scene.camera.pixel_size(size));
         let bind_group =
             tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), &program.render_bindings, program, &params, &[])?;

@@ -2,7 +2,7 @@
 //! textures, the timed interior frames (`vs_room` + `fs_room` on the window quad) and the
 //! room probe (`probe_room`).
 
-use relief_dsl::abi::{Params, PROBE_WORKGROUP};
+use relief_dsl::abi::Params;
 use relief_dsl::compose::interior::{compile_room, RoomOptions, RoomParams, ROOM_HITS, ROOM_RAYS};
 use relief_dsl::ir::{Bindings, Filter, Image, Resource};
 use relief_dsl::spec::MapReq;
@@ -10,7 +10,7 @@ use relief_dsl::{CompileError, Pipeline};
 use wgpu::util::DeviceExt;
 
 use super::{Room, RoomHit, RoomLight, RoomRay, WALLS};
-use crate::gpu::{timed_frames, Frames, FORMAT};
+use crate::gpu::{render_pipeline, timed_frames, Draw, Frames};
 use crate::gpu::{Gpu, GpuError, MapKey, SceneTextures};
 
 /// A pipeline compiled as a room module, with the bindings each entry reads.
@@ -221,29 +221,17 @@ pub(crate) fn render_interior(
     frames: u32,
 ) -> Result<Frames, GpuError> {
     let module = prog.shader(gpu)?;
-    let pipeline = gpu.checked(|| {
-        gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("room interior"),
-            layout: None,
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_room"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleStrip, ..Default::default() },
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_room"),
-                compilation_options: Default::default(),
-                targets: &[Some(FORMAT.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
-    })?;
+    let pipeline = render_pipeline(
+        gpu,
+        &module,
+        &Draw {
+            label: "room interior",
+            entries: ("vs_room", "fs_room"),
+            buffers: &[],
+            topology: wgpu::PrimitiveTopology::TriangleStrip,
+            depth: None,
+        },
+    )?;
     let (p, r) = room_params(room, 1.0);
     let pb = uniform(gpu, "params", bytemuck::bytes_of(&p));
     let rb = uniform(gpu, "room", bytemuck::bytes_of(&r));
@@ -267,59 +255,19 @@ pub fn probe_room(
         return Ok(vec![]);
     }
     let module = prog.shader(gpu)?;
-    let pipeline = gpu.checked(|| {
-        gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("room probe"),
-            layout: None,
-            module: &module,
-            entry_point: Some("probe_room"),
-            compilation_options: Default::default(),
-            cache: None,
-        })
-    })?;
-    let ray_buf = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("room rays"),
-        contents: bytemuck::cast_slice(rays),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
-    let bytes = rays.len() as u64 * std::mem::size_of::<RoomHit>() as u64;
-    let hit_buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("room hits"),
-        size: bytes,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let read = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size: bytes,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
     let (p, r) = room_params(room, 1.0);
     let pb = uniform(gpu, "params", bytemuck::bytes_of(&p));
     let rb = uniform(gpu, "room", bytemuck::bytes_of(&r));
-    let bg = bind_group(
-        gpu,
-        &pipeline.get_bind_group_layout(0),
-        &prog.probe_bindings,
-        prog,
-        tex,
-        &pb,
-        &rb,
-        &[(ROOM_RAYS, &ray_buf), (ROOM_HITS, &hit_buf)],
-    )?;
-    let groups = (rays.len() as u32).div_ceil(PROBE_WORKGROUP);
-    if groups > 65535 {
-        return Err(GpuError::Device(format!("{} rays are more than one probe dispatch takes", rays.len())));
-    }
-    let mut enc = gpu.device.create_command_encoder(&Default::default());
-    {
-        let mut pass = enc.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bg, &[]);
-        pass.dispatch_workgroups(groups, 1, 1);
-    }
-    enc.copy_buffer_to_buffer(&hit_buf, 0, &read, 0, bytes);
-    gpu.queue.submit([enc.finish()]);
-    Ok(bytemuck::cast_slice(&gpu.read_buffer(&read)?).to_vec())
+    crate::gpu::dispatch(gpu, &module, "probe_room", rays, |layout, ray_buf, hit_buf| {
+        bind_group(
+            gpu,
+            layout,
+            &prog.probe_bindings,
+            prog,
+            tex,
+            &pb,
+            &rb,
+            &[(ROOM_RAYS, ray_buf), (ROOM_HITS, hit_buf)],
+        )
+    })
 }

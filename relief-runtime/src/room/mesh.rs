@@ -11,7 +11,7 @@
 use wgpu::util::DeviceExt;
 
 use super::{Room, RoomLight, WALLS};
-use crate::gpu::{timed_frames, Frames, DEPTH_FORMAT, FORMAT};
+use crate::gpu::{render_pipeline, timed_frames, Draw, Frames};
 use crate::gpu::{Gpu, GpuError};
 use crate::heightmap::EdgeMode;
 
@@ -45,17 +45,6 @@ fn srgb_to_linear(c: u8) -> f32 {
     }
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-fn normalize(a: [f64; 3]) -> [f64; 3] {
-    let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt().max(1e-30);
-    a.map(|c| c / l)
-}
-
 /// The wall value of a baseline pixel's alpha: `Some(wall)`, or `None` outside the walls.
 pub fn wall_of_alpha(a: u8) -> Option<usize> {
     let k = (a as f32 / 255.0 * 8.0).round() as i32 - 1;
@@ -80,9 +69,9 @@ impl RoomMesh {
             for j in 0..n {
                 for i in 0..n {
                     let p = at(i, j);
-                    let du = sub(at((i + 1).min(n - 1), j), at(i.saturating_sub(1), j));
-                    let dv = sub(at(i, (j + 1).min(n - 1)), at(i, j.saturating_sub(1)));
-                    let normal = normalize(cross(du, dv));
+                    let du = at((i + 1).min(n - 1), j) - at(i.saturating_sub(1), j);
+                    let dv = at(i, (j + 1).min(n - 1)) - at(i, j.saturating_sub(1));
+                    let normal = du.cross(dv).normalize_or_zero();
                     let (u, v) = (i as f64 / (n - 1) as f64, j as f64 / (n - 1) as f64);
                     let color = match &w.albedo {
                         Some(a) => {
@@ -94,8 +83,8 @@ impl RoomMesh {
                         None => [180, 170, 160].map(srgb_to_linear),
                     };
                     vertices.push(Vertex {
-                        pos: p.map(|c| c as f32),
-                        normal: normal.map(|c| c as f32),
+                        pos: p.as_vec3().to_array(),
+                        normal: normal.as_vec3().to_array(),
                         color,
                         wall: k as f32,
                     });
@@ -174,43 +163,22 @@ pub fn render_geometry(
         })
     })?;
     let attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32];
-    let pipeline = gpu.checked(|| {
-        gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("room mesh"),
-            layout: None,
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_mesh"),
-                compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: std::mem::size_of::<Vertex>() as u64,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &attrs,
-                })],
-            },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::TriangleList,
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_mesh"),
-                compilation_options: Default::default(),
-                targets: &[Some(FORMAT.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
-    })?;
+    let buffers = [Some(wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<Vertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &attrs,
+    })];
+    let pipeline = render_pipeline(
+        gpu,
+        &module,
+        &Draw {
+            label: "room mesh",
+            entries: ("vs_mesh", "fs_mesh"),
+            buffers: &buffers,
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            depth: Some(wgpu::CompareFunction::Less),
+        },
+    )?;
     let (l, kind) = match room.light {
         RoomLight::Point(p) => (p, 1.0),
         RoomLight::Directional(d) => (d.normalize(), 0.0),

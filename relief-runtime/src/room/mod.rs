@@ -33,7 +33,7 @@ pub use crate::gpu::Frames;
 /// The clear colour of the room's two renders (outside the window), alpha 0: no wall there.
 pub(crate) const CLEAR: wgpu::Color = wgpu::Color { r: 0.02, g: 0.02, b: 0.03, a: 0.0 };
 
-use glam::{Mat4, Vec3};
+use glam::{DVec3, DVec4, Mat4, Vec3};
 
 use crate::heightmap::{EdgeMode, HeightMap};
 use crate::scene::{NormalMap, Rgba8Image, Scene};
@@ -147,8 +147,19 @@ pub struct WallRay {
     pub t_plane: f64,
 }
 
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+/// A wall's frame ([`WallFrame`], which the shader ABI states in arrays) as glam vectors.
+struct Frame {
+    origin: DVec3,
+    u_edge: DVec3,
+    v_edge: DVec3,
+    normal: DVec3,
+}
+
+impl Frame {
+    fn of(f: WallFrame) -> Frame {
+        let v = DVec3::from_array;
+        Frame { origin: v(f.origin), u_edge: v(f.u_edge), v_edge: v(f.v_edge), normal: v(f.normal) }
+    }
 }
 
 impl Room {
@@ -182,40 +193,36 @@ impl Room {
     /// The wall a world ray meets and the ray in that wall's tangent space: Amaro & Gustafsson 2022, eq. 1–4
     /// on the host (what `fs_room` and `probe_room` compute), in f64.
     pub fn wall_ray(&self, ray: &RoomRay) -> WallRay {
-        let o = [ray.origin[0] as f64, ray.origin[1] as f64, ray.origin[2] as f64];
-        let w = [ray.dir[0] as f64, ray.dir[1] as f64, ray.dir[2] as f64];
-        let s = self.size64();
-        let tx = (if w[0] < 0.0 { -o[0] } else { s[0] - o[0] }) / w[0];
-        let ty = (if w[1] < 0.0 { -o[1] } else { s[1] - o[1] }) / w[1];
-        let tz = (-s[2] - o[2]) / w[2];
+        let o = DVec4::from_array(ray.origin.map(f64::from)).truncate();
+        let w = DVec4::from_array(ray.dir.map(f64::from)).truncate();
+        let s = DVec3::from_array(self.size64());
+        let tx = (if w.x < 0.0 { -o.x } else { s.x - o.x }) / w.x;
+        let ty = (if w.y < 0.0 { -o.y } else { s.y - o.y }) / w.y;
+        let tz = (-s.z - o.z) / w.z;
         let (mut wall, mut t) = (0, tz);
         if tx < t {
-            (wall, t) = (if w[0] < 0.0 { 1 } else { 2 }, tx);
+            (wall, t) = (if w.x < 0.0 { 1 } else { 2 }, tx);
         }
         if ty < t {
-            (wall, t) = (if w[1] < 0.0 { 3 } else { 4 }, ty);
+            (wall, t) = (if w.y < 0.0 { 3 } else { 4 }, ty);
         }
-        let f = wall_frame(wall, s);
-        let x = [o[0] + t * w[0], o[1] + t * w[1], o[2] + t * w[2]];
-        let rel = [x[0] - f.origin[0], x[1] - f.origin[1], x[2] - f.origin[2]];
-        let (uu, vv) = (dot(f.u_edge, f.u_edge), dot(f.v_edge, f.v_edge));
-        let len = dot(w, w).sqrt();
-        let view = w.map(|c| c / len);
-        let into = dot(view, f.normal);
-        let k = self.walls[wall].depth_scale as f64 / (-into).max(1e-6);
+        let f = Frame::of(wall_frame(wall, s.to_array()));
+        let rel = o + t * w - f.origin;
+        let (uu, vv) = (f.u_edge.length_squared(), f.v_edge.length_squared());
+        let view = w.normalize();
+        let k = self.walls[wall].depth_scale as f64 / (-view.dot(f.normal)).max(1e-6);
         WallRay {
             wall,
-            origin: [dot(rel, f.u_edge) / uu, dot(rel, f.v_edge) / vv],
-            dir: [dot(view, f.u_edge) / uu * k, dot(view, f.v_edge) / vv * k, -1.0],
+            origin: [rel.dot(f.u_edge) / uu, rel.dot(f.v_edge) / vv],
+            dir: [view.dot(f.u_edge) / uu * k, view.dot(f.v_edge) / vv * k, -1.0],
             t_plane: t,
         }
     }
 
     /// The world point of wall `k`'s relief at `(u, v, z)`.
-    pub fn wall_point(&self, k: usize, u: f64, v: f64, z: f64) -> [f64; 3] {
-        let f = wall_frame(k, self.size64());
-        let s = self.walls[k].depth_scale as f64 * (z - 1.0);
-        [0, 1, 2].map(|i| f.origin[i] + u * f.u_edge[i] + v * f.v_edge[i] + s * f.normal[i])
+    pub fn wall_point(&self, k: usize, u: f64, v: f64, z: f64) -> DVec3 {
+        let f = Frame::of(wall_frame(k, self.size64()));
+        f.origin + u * f.u_edge + v * f.v_edge + self.walls[k].depth_scale as f64 * (z - 1.0) * f.normal
     }
 
     /// Wall `k` as a scene (its maps, edge mode clamp), for uploading and the reference.
@@ -223,8 +230,8 @@ impl Room {
     /// which the derived normal map uses.
     pub(crate) fn wall_scene(&self, k: usize) -> Scene {
         let w = &self.walls[k];
-        let f = wall_frame(k, self.size64());
-        let extent = (dot(f.u_edge, f.u_edge).sqrt() * dot(f.v_edge, f.v_edge).sqrt()).sqrt() as f32;
+        let f = Frame::of(wall_frame(k, self.size64()));
+        let extent = (f.u_edge.length() * f.v_edge.length()).sqrt() as f32;
         let mut s = Scene::from_height_map(format!("{}/{}", self.name, WALL_NAMES[k]), w.height.clone());
         s.albedo = w.albedo.clone();
         s.normal = w.normal.clone();
