@@ -125,6 +125,32 @@ fn sweep_list_shows_every_grid_with_its_cell_count() {
         assert!(text.contains(name), "{name} missing from\n{text}");
     }
     assert!(text.lines().any(|l| l.starts_with("t4.1 ") && l.contains(" 13 cells")));
+    // The room comparison is listed like the other grids: four variants in each of the two
+    // default rooms, or in each room named.
+    assert!(text.lines().any(|l| l.starts_with("rooms ") && l.contains(" 8 cells")), "{text}");
+    let o = relief().args(["sweep", "--list", "--scene", "room:default"]).output().unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.lines().any(|l| l.starts_with("rooms ") && l.contains(" 4 cells")), "{text}");
+}
+
+/// The room comparison refuses what it does not implement, in one line naming the flag,
+/// before measuring anything.
+#[test]
+fn the_room_grid_refuses_view_overrides_and_shards_in_one_line() {
+    let dir = std::env::temp_dir().join(format!("relief-sweep-rooms-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    for (flag, value, says) in [("--angle", "30", "--angle"), ("--shard", "1/2", "--shard is not implemented")] {
+        let o = relief()
+            .args(["sweep", "--grid", "rooms", "--size", "16", "--frames", "1", flag, value, "--out"])
+            .arg(&dir)
+            .output()
+            .unwrap();
+        let e = String::from_utf8_lossy(&o.stderr);
+        let e = e.lines().filter(|l| !l.contains("XDG_RUNTIME_DIR")).collect::<Vec<_>>();
+        assert!(!o.status.success() && e.len() == 1 && e[0].contains(says), "{flag}: {e:?}");
+        assert!(!dir.join("rooms.jsonl").exists(), "{flag}: a room was measured");
+    }
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// Two maps of one kind with different parameters (mcns's K) must not share an upload: the

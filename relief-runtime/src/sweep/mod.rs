@@ -16,6 +16,7 @@
 //! share of the cells (`shard_of`); the report merges the shards' folders.
 
 pub mod grids;
+pub mod plan;
 pub(crate) mod progress;
 
 use std::collections::{HashMap, HashSet};
@@ -27,6 +28,7 @@ use crate::measure::{measure_paired, write_images, Prepared};
 use crate::results::{self, Metrics, Row};
 use crate::scene::{scene_from_arg, Overrides, Scene};
 pub use grids::NamedGrid;
+pub use plan::{Done, Plan};
 use progress::Progress;
 
 /// What `relief sweep` measures.

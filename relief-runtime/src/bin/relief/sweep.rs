@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use relief_runtime::sweep::{self, grids};
+use relief_runtime::sweep;
 
 /// Arguments of `relief sweep`.
 #[derive(clap::Args, Debug)]
@@ -55,12 +55,9 @@ pub struct SweepArgs {
 pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
     let scenes = if a.scene.is_empty() { None } else { Some(a.scene.as_slice()) };
     if a.list {
-        for g in grids::builtin(scenes) {
-            println!("{:<13} {:>4} cells  {}", g.name, g.cells.len(), g.description);
+        for g in sweep::plan::listing(scenes) {
+            println!("{:<13} {:>4} cells  {}", g.name, g.cells, g.description);
         }
-        let rooms = a.scene.len().max(relief_runtime::room::sweep::DEFAULT_ROOMS.len());
-        let n = rooms * relief_runtime::room::sweep::variants().len();
-        println!("{:<13} {n:>4} cells  Amaro & Gustafsson 2022 §3: interior mapping alone, + POM, + soft shadows, + scattering, each against real geometry, on rooms", "rooms");
         return Ok(());
     }
     if a.size == 0 || a.size > 4096 {
@@ -69,18 +66,19 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
     if a.frames == 0 {
         anyhow::bail!("--frames 0: at least one timed frame is needed");
     }
-    if a.grid.as_deref() == Some("rooms") {
-        if a.shard.is_some() {
-            anyhow::bail!("--shard is not implemented for the room grid");
-        }
-        let _lock = crate::lock_folders(&[&a.out], a.wait)?;
-        return run_rooms(a);
-    }
     let overrides = a.overrides.checked()?;
-    let grid = grids::load(a.grid.as_deref().unwrap_or_default(), scenes)?;
+    let plan = sweep::Plan::load(a.grid.as_deref().unwrap_or_default(), scenes)?;
+    let rows = plan.rows_path(&a.out);
     let _lock = crate::lock_folders(&[&a.out], a.wait)?;
+    let gpu_cost = if a.no_gpu_cost {
+        None
+    } else if let Some(file) = &a.gpu_costs {
+        Some(relief_runtime::cost::Compiler::from_recorded(file)?)
+    } else {
+        std::env::current_exe().ok().map(relief_runtime::cost::Compiler::new)
+    };
     let start = std::time::Instant::now();
-    let s = sweep::run(&sweep::Options {
+    let done = plan.run(|grid| sweep::Options {
         grid,
         size: a.size,
         frames: a.frames,
@@ -89,55 +87,12 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
         progress: std::io::IsTerminal::is_terminal(&std::io::stderr()),
         overrides,
         shard: a.shard,
-        gpu_cost: if a.no_gpu_cost {
-            None
-        } else if let Some(file) = &a.gpu_costs {
-            Some(relief_runtime::cost::Compiler::from_recorded(file)?)
-        } else {
-            std::env::current_exe().ok().map(relief_runtime::cost::Compiler::new)
-        },
+        gpu_cost,
     })?;
-    if let Some(note) = &s.gpu_note {
+    if let Some(note) = done.gpu_note() {
         eprintln!("relief: {note}");
     }
     let shard = a.shard.map(|(k, n)| format!("shard {k}/{n}: ")).unwrap_or_default();
-    println!(
-        "{shard}{} cells: {} measured, {} failed, {} already done, in {:.1} s → {}",
-        s.cells,
-        s.measured,
-        s.failed,
-        s.skipped,
-        start.elapsed().as_secs_f64(),
-        a.out.join("results.csv").display()
-    );
-    Ok(())
-}
-
-/// `relief sweep --grid rooms`: the room grid ([`relief_runtime::room::sweep`]).
-fn run_rooms(a: &SweepArgs) -> anyhow::Result<()> {
-    use relief_runtime::room::sweep;
-    let o = &a.overrides;
-    if o.view.is_some() || o.angle.is_some() || o.azimuth.is_some() || o.depth_scale.is_some() || o.tiling.is_some() {
-        anyhow::bail!("--view, --angle, --azimuth, --depth-scale and --tiling are not implemented for the room grid (set the camera and depth scales in a room file)");
-    }
-    let rooms: Vec<String> =
-        if a.scene.is_empty() { sweep::DEFAULT_ROOMS.iter().map(|s| s.to_string()).collect() } else { a.scene.clone() };
-    let setup = relief_runtime::room::measure::RoomSetup {
-        size: a.size,
-        grid: relief_runtime::room::mesh::DEFAULT_GRID,
-        warmup: 3,
-        frames: a.frames,
-    };
-    let start = std::time::Instant::now();
-    let s = sweep::run(&rooms, &setup, &a.out)?;
-    let failed = s.rows.iter().filter(|r| !r.status.is_ok()).count();
-    println!(
-        "{} room cells: {} measured, {failed} failed, {} already done, in {:.1} s → {}",
-        s.rows.len(),
-        s.measured,
-        s.skipped,
-        start.elapsed().as_secs_f64(),
-        sweep::rows_path(&a.out).display()
-    );
+    println!("{shard}{done}, in {:.1} s → {}", start.elapsed().as_secs_f64(), rows.display());
     Ok(())
 }

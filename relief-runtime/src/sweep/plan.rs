@@ -1,0 +1,146 @@
+//! What `relief sweep --grid NAME` measures, as one entry for every grid: the cells of a
+//! built-in grid or a grid file ([`super::run`], rows in `results.jsonl`), or the room
+//! comparison `rooms` ([`crate::room::sweep`], rows in `rooms.jsonl`). The command line asks
+//! [`Plan::load`], lists [`listing`] and runs [`Plan::run`]; it knows no grid by name.
+
+use std::fmt;
+
+use super::grids::{self, GridError, NamedGrid};
+use super::{Options, Summary};
+use crate::error::{Error, Result};
+use crate::room::measure::RoomSetup;
+use crate::room::sweep::{self as rooms, RoomSweep};
+
+/// The name of the room comparison (Amaro & Gustafsson 2022 §3).
+pub const ROOMS: &str = "rooms";
+
+/// A grid to measure.
+pub enum Plan {
+    /// Pipelines on scenes: a built-in grid or a grid file.
+    Cells(NamedGrid),
+    /// The room comparison's four variants in each of these rooms (`room:NAME` or room files).
+    Rooms(Vec<String>),
+}
+
+/// One line of `relief sweep --list`: a grid's name, its cell count and what it measures.
+pub struct Listed {
+    /// The name `--grid` takes.
+    pub name: String,
+    /// Cells it measures with the scenes given.
+    pub cells: usize,
+    /// What it measures.
+    pub description: String,
+}
+
+/// Every grid `--grid` names, the room comparison last, with the scenes given (`None`: each
+/// grid's own).
+pub fn listing(scenes: Option<&[String]>) -> Vec<Listed> {
+    let mut all: Vec<Listed> = grids::builtin(scenes)
+        .into_iter()
+        .map(|g| Listed { name: g.name, cells: g.cells.len(), description: g.description })
+        .collect();
+    all.push(Listed {
+        name: ROOMS.to_string(),
+        cells: room_names(scenes).len() * rooms::variants().len(),
+        description: "Amaro & Gustafsson 2022 §3: interior mapping alone, + POM, + soft shadows, + scattering, each \
+                      against real geometry, on rooms"
+            .to_string(),
+    });
+    all
+}
+
+fn room_names(scenes: Option<&[String]>) -> Vec<String> {
+    match scenes {
+        Some(s) if !s.is_empty() => s.to_vec(),
+        _ => rooms::DEFAULT_ROOMS.iter().map(|s| s.to_string()).collect(),
+    }
+}
+
+/// What [`Plan::run`] did.
+pub enum Done {
+    /// A grid of cells.
+    Cells(Summary),
+    /// The room comparison.
+    Rooms(RoomSweep),
+}
+
+impl Done {
+    /// Why the rows have no GPU compiler columns, when the run asked for them and could not.
+    pub fn gpu_note(&self) -> Option<&str> {
+        match self {
+            Done::Cells(s) => s.gpu_note.as_deref(),
+            Done::Rooms(_) => None,
+        }
+    }
+}
+
+impl fmt::Display for Done {
+    /// The summary line (without the time and the rows' path, which the caller adds).
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Done::Cells(s) => {
+                write!(f, "{} cells: {} measured, {} failed, {} already done", s.cells, s.measured, s.failed, s.skipped)
+            }
+            Done::Rooms(s) => {
+                let failed = s.rows.iter().filter(|r| !r.status.is_ok()).count();
+                write!(
+                    f,
+                    "{} room cells: {} measured, {failed} failed, {} already done",
+                    s.rows.len(),
+                    s.measured,
+                    s.skipped
+                )
+            }
+        }
+    }
+}
+
+impl Plan {
+    /// The grid `arg` names (`rooms`, a built-in grid, or a grid file) on `scenes` (`None`:
+    /// the grid's own scenes; for `rooms`, `room:default` and `room:window`).
+    pub fn load(arg: &str, scenes: Option<&[String]>) -> std::result::Result<Plan, GridError> {
+        if arg == ROOMS {
+            return Ok(Plan::Rooms(room_names(scenes)));
+        }
+        grids::load(arg, scenes).map(Plan::Cells)
+    }
+
+    /// The file the rows go to in `out`.
+    pub fn rows_path(&self, out: &std::path::Path) -> std::path::PathBuf {
+        match self {
+            Plan::Cells(_) => out.join("results.csv"),
+            Plan::Rooms(_) => rooms::rows_path(out),
+        }
+    }
+
+    /// Measures the plan with the options `options` makes for its grid (for the room
+    /// comparison, a grid named `rooms` without cells: its rooms are the plan's). The room
+    /// comparison sets its camera and depth scales in its room files and is not sharded:
+    /// overrides and a shard are refused for it, naming them.
+    pub fn run(self, options: impl FnOnce(NamedGrid) -> Options) -> Result<Done> {
+        match self {
+            Plan::Cells(grid) => Ok(Done::Cells(super::run(&options(grid))?)),
+            Plan::Rooms(names) => {
+                let opts =
+                    options(NamedGrid { name: ROOMS.to_string(), description: String::new(), cells: Vec::new() });
+                if !opts.overrides.is_empty() {
+                    return Err(Error::Input(
+                        "--view, --angle, --azimuth, --depth-scale and --tiling are not implemented for the room grid \
+                         (set the camera and depth scales in a room file)"
+                            .to_string(),
+                    ));
+                }
+                if opts.shard.is_some() {
+                    return Err(Error::Input("--shard is not implemented for the room grid".to_string()));
+                }
+                let setup = RoomSetup {
+                    size: opts.size,
+                    grid: crate::room::mesh::DEFAULT_GRID,
+                    warmup: opts.warmup,
+                    frames: opts.frames,
+                };
+                Ok(Done::Rooms(rooms::run(&names, &setup, &opts.out)?))
+            }
+        }
+    }
+}
