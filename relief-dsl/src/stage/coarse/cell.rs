@@ -6,8 +6,24 @@
 //! `maps::cell`) stores, per cell C, a cone that keeps the whole bilinear surface below
 //! `A_C + dist(y, C)/R_C`, with A_C the highest corner of C and dist the horizontal distance
 //! to the square C. From a point p at height z over C, the ray is then above the surface for
-//! the whole textbook cone step `R·(z − A_C − dist(p, C)/R) / (|d.xy| + R·(−d.z))` (dist(p, C)
-//! is 0 inside the map; it pads only a point over the clamp-mode border strips).
+//! the whole textbook cone step `R·(z − A_C) / (|d.xy| + R·(−d.z))`.
+//!
+//! That step needs no pad for a point outside a clamp-mode map, where the cell's entry clamps
+//! to a border strip C that the point is not in. Proof: let P project a horizontal point onto
+//! the map's square `[−½, N − ½]²` (per axis, a clamp). Under clamp the surface is
+//! `S(y) = S(P(y))` for every y, P is non-expansive (`|P(y) − P(p)| ≤ |y − p|`), and P(p) lies
+//! in C: the clamped cell of p is the strip or cell that holds p's clamped coordinates (up
+//! to the [`AHEAD_CELLS`] nudge, which a point inside the map has too). So for every y,
+//! `S(y) = S(P(y)) ≤ A_C + dist(P(y), C)/R_C ≤ A_C + |P(y) − P(p)|/R_C ≤ A_C + |y − p|/R_C`:
+//! the cone stands at p as it would at a point of C. The bounds of the other cell maps follow
+//! the same way: a quadrant cone's (P moves each coordinate monotonically, so P(y) lies in the
+//! quadrant of P(p) that y lies in of p), the piecewise cones' (a radius that grows with the
+//! distance to C), and the relaxed cone's (the projected ray starts in C, stays in its cone,
+//! and has the same `z − S` along it; outside the map in one axis it runs along a strip where
+//! `∂S` across the strip is 0, so `∇S · d ≥ 0` on a rising cell holds for it as for the ray).
+//! Earlier rounds padded the step by p's distance to the map's square: no ray needed it
+//! (`relief-runtime/tests/cones.rs`, rays marching outside a comb of one-texel border walls,
+//! gave 0 past the first hit without it, and went red with the pad's sign flipped).
 //!
 //! Where that step would end inside C (the point is below A_C, or C's cone is narrow), the
 //! march meets C's patch exactly (a quadratic in t) and either stops at the hit or moves to
@@ -57,11 +73,6 @@ pub(super) struct Grid<'a> {
     pub inv_speed: Val<'a, Vec2>,
     /// Whether the map's edges clamp.
     pub clamp: Val<'a, bool>,
-    /// The centre of the clamp-mode map, `(N − 1)/2` in texel-centre coordinates.
-    centre: Val<'a, Vec2>,
-    /// Half the side of the square whose outside is padded ([`Grid::border_distance`]):
-    /// `N/2` under clamp, [`NO_EXIT`] under repeat (nothing is outside).
-    half: Val<'a, Vec2>,
     /// The ray's horizontal speed in texture units, `|d.xy|`.
     pub horiz: Val<'a, f32>,
     /// The t at which the ray reaches the floor ([`Ray::t_max`]).
@@ -80,8 +91,6 @@ impl<'a> Grid<'a> {
         let clamp = s.edge_is_clamp();
         // Cells stored per axis: N under repeat, N + 1 under clamp (see [`Cell::cones`]).
         let cell_scale = 1.0 / (size + s.select(clamp, 1.0, 0.0));
-        let half =
-            s.vec2(s.select(clamp, size.x() * 0.5, s.lit(NO_EXIT)), s.select(clamp, size.y() * 0.5, s.lit(NO_EXIT)));
         Grid {
             size,
             inv_size: (1.0 / size).named("inv_size"),
@@ -91,25 +100,11 @@ impl<'a> Grid<'a> {
             side: s.vec2(s.select(speed.x().ge(0.0), 1.0, 0.0), s.select(speed.y().ge(0.0), 1.0, 0.0)).named("side"),
             inv_speed: s.vec2(inverse_speed(s, speed.x()), inverse_speed(s, speed.y())).named("inv_speed"),
             clamp,
-            centre: ((size - 1.0) * 0.5).named("centre"),
-            half: half.named("half"),
             horiz: ray.dir.xy().length().named("horiz"),
             t_max: ray.t_max().named("t_max"),
             cell_scale: cell_scale.named("cell_scale"),
             cell_bias: (cell_scale * s.select(clamp, 1.5, 0.5)).named("cell_bias"),
         }
-    }
-
-    /// At least the horizontal distance (texture units) from the point `x` (texel-centre
-    /// coordinates) to the map's square `[−½, N − ½]²` under clamp, 0 under repeat. Why: under
-    /// clamp a ray may travel outside the map, where the cell's entry clamps to a border strip
-    /// whose cone belongs to the strip's square; the step from there must be padded by the
-    /// distance to that square (for a point outside the map, its distance to the map's square;
-    /// inside, the point is in its own cell's square). The sum of the two axes' distances is
-    /// at least that distance and needs no square root; a larger pad only shortens the step.
-    fn border_distance(&self, x: Val<'a, Vec2>) -> Val<'a, f32> {
-        let out = ((x - self.centre).abs() - self.half).max(0.0) * self.inv_size;
-        out.x() + out.y()
     }
 }
 
@@ -131,9 +126,6 @@ pub(super) struct Cell<'a> {
     /// The corners gathered in the pass's own block ([`Cell::keep_corners`]), for every later
     /// use in the pass; `None` until then.
     kept: Kept<Option<Val<'a, Vec4>>>,
-    /// Horizontal distance (texture units) from the point to the square the stored cone
-    /// belongs to.
-    pub dist: Val<'a, f32>,
     /// The t at which the ray leaves the cell (at most the floor's t).
     pub exit: Val<'a, f32>,
 }
@@ -145,7 +137,7 @@ pub(super) fn cell_at<'a>(g: Grid<'a>, t: Val<'a, f32>) -> Cell<'a> {
     // To the cell's side the ray moves toward, along each axis, in t: `(cell + side − X)/speed`.
     let to_side = (cell + g.side - x) * g.inv_speed;
     let exit = (t + to_side.x().min(to_side.y())).min(g.t_max);
-    Cell { grid: g, cell, kept: Kept::new(None), dist: g.border_distance(x).named("dist"), exit: exit.named("exit") }
+    Cell { grid: g, cell, kept: Kept::new(None), exit: exit.named("exit") }
 }
 
 fn sign<'a>(s: &'a FnBuilder<'a>, v: Val<'a, f32>) -> Val<'a, f32> {
@@ -248,9 +240,9 @@ impl<'a> Cell<'a> {
     }
 
     /// The height above the cone's apex that a step may descend through: the point's height
-    /// over `apex`, less the cone's rise over the point's distance to the cone's square.
-    pub(super) fn clearance(&self, p_z: Val<'a, f32>, apex: Val<'a, f32>, ratio: Val<'a, f32>) -> Val<'a, f32> {
-        (p_z - apex - self.dist / ratio.max(1e-7)).max(0.0)
+    /// over `apex` (no pad outside a clamp-mode map: the module's proof).
+    pub(super) fn clearance(&self, p_z: Val<'a, f32>, apex: Val<'a, f32>) -> Val<'a, f32> {
+        (p_z - apex).max(0.0)
     }
 
     /// The bilinear surface at `p` (within the cell), from the corners kept for the pass.

@@ -178,7 +178,7 @@ pub(crate) fn csm<'a>(
 pub(super) fn cell_cone_step<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, p: Val<'a, Vec3>, c: &Cell<'a>) -> Val<'a, f32> {
     let (cone, apex) = c.cones_and_apex(s, MapReq::CellCone);
     let r = cone.x().named("r");
-    cone_step(c.grid.horiz, ray, r, c.clearance(p.z(), apex, r))
+    cone_step(c.grid.horiz, ray, r, c.clearance(p.z(), apex))
 }
 
 /// `csm(steps, form, sample)`: [`csm`] in the catalogue.
@@ -224,7 +224,7 @@ pub(crate) fn qcsm<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: Co
         ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| {
             let (cones, apex) = c.cones_and_apex(s, MapReq::CellQuadCone);
             let r = quadrant(s, ray, cones).named("r");
-            cone_step(c.grid.horiz, ray, r, c.clearance(p.z(), apex, r))
+            cone_step(c.grid.horiz, ray, r, c.clearance(p.z(), apex))
         }),
         ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let r = quadrant(s, ray, s.map(MapReq::QuadCone, p.xy(), Filter::Nearest)).named("r");
@@ -270,7 +270,7 @@ pub(crate) fn rcs<'a>(
         ConeForm::Safe => relaxed_march(s, ray, steps, |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellRelaxedCone);
             let r = cone.x().named("r");
-            cone_step(c.grid.horiz, ray, r, c.clearance(p.z(), apex, r))
+            cone_step(c.grid.horiz, ray, r, c.clearance(p.z(), apex))
         }),
         ConeForm::Textbook => {
             let m = textbook_march(s, ray, steps, |s, p, h| {
@@ -318,7 +318,7 @@ pub(crate) fn cns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: Con
         ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellConeNormal);
             let n_z = cone.x().named("n_z");
-            cone_normal_step(c.grid.horiz, ray, n_z, c.clearance(p.z(), apex, ratio_of(n_z)))
+            cone_normal_step(c.grid.horiz, ray, n_z, c.clearance(p.z(), apex))
         }),
         ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let n_z = s.map(MapReq::ConeNormal, p.xy(), Filter::Nearest).x().named("n_z");
@@ -347,7 +347,7 @@ pub(crate) fn rcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: Co
         ConeForm::Safe => relaxed_march(s, ray, steps, |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellRelaxedCone);
             let r = cone.x();
-            cone_normal_step(c.grid.horiz, ray, normal_of(r).named("n_z"), c.clearance(p.z(), apex, r))
+            cone_normal_step(c.grid.horiz, ray, normal_of(r).named("n_z"), c.clearance(p.z(), apex))
         }),
         ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let n_z = s.map(MapReq::RelaxedConeNormal, p.xy(), Filter::Nearest).x().named("n_z");
@@ -384,7 +384,7 @@ pub(crate) fn mcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, k: u32, 
         for (i, n_z) in cones.into_iter().enumerate() {
             let b_k = base + (1.0 - base) * (i as f32 / k as f32);
             let gap = match c {
-                Some(c) => c.clearance(p.z(), b_k, ratio_of(n_z)),
+                Some(c) => c.clearance(p.z(), b_k),
                 None => (p.z() - b_k).max(0.0),
             };
             let horiz = c.map_or_else(|| ray.dir.xy().length(), |c| c.grid.horiz);
@@ -423,19 +423,15 @@ pub(crate) fn mcns_def() -> MethodDef {
 /// the base. The ray leaves the region in the highest piece at whose bottom it is already
 /// outside (piece 0 when there is none); within piece j it meets the piece's line after
 /// `(R_j + r_j·(z - b_j)) / (L + r_j·(-d.z))`. The base is the bilinear height (textbook) or
-/// the cell's apex (safe; the radii less the point's distance to the cell).
+/// the cell's apex (safe).
 pub(crate) fn pcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, k: u32, form: ConeForm) -> Bracket<'a> {
     let speed = ray.dir.xy().length();
     let fall = -ray.dir.z();
-    let leave = move |s: &'a FnBuilder<'a>,
-                      p: Val<'a, Vec3>,
-                      base: Val<'a, f32>,
-                      offset: Val<'a, f32>,
-                      cones: Vec<Val<'a, f32>>| {
+    let leave = move |s: &'a FnBuilder<'a>, p: Val<'a, Vec3>, base: Val<'a, f32>, cones: Vec<Val<'a, f32>>| {
         let piece = (1.0 - base) / k as f32;
         let slopes: Vec<Val<'a, f32>> = cones.into_iter().map(ratio_of).collect();
-        // The region's radius at each b_j, less the point's distance to the region's axis.
-        let mut radius = vec![-offset];
+        // The region's radius at each b_j.
+        let mut radius = vec![-s.lit(0.0)];
         for j in 0..k as usize {
             radius.push(radius[j] + slopes[j] * piece);
         }
@@ -451,10 +447,10 @@ pub(crate) fn pcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, k: u32, 
     match form {
         ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| {
             let (cones, apex) = c.cones_and_apex(s, MapReq::CellPiecewiseCone(k));
-            leave(s, p, apex, c.dist, channels(cones, k))
+            leave(s, p, apex, channels(cones, k))
         }),
         ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
-            leave(s, p, h, s.lit(0.0), channels(s.map(MapReq::PiecewiseCone(k), p.xy(), Filter::Nearest), k))
+            leave(s, p, h, channels(s.map(MapReq::PiecewiseCone(k), p.xy(), Filter::Nearest), k))
         })
         .conservative(),
     }
