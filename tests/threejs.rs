@@ -210,6 +210,11 @@ fn every_tsl_library_is_valid_wgsl_with_no_global_resource() {
             .unwrap_or_else(|e| panic!("{p}: {e:?}"));
         assert!(module.global_variables.is_empty(), "{p}: the tsl form declares a global resource");
         assert!(!text.contains("@group"), "{p}: the tsl form has a binding attribute");
+        // three.js binds no sampler for a NearestFilter texture: the nearest textures are
+        // read with texel loads, and no function takes the nearest sampler.
+        assert!(!text.contains("sampler_nearest"), "{p}: the tsl form takes the nearest sampler");
+        let nearest = lib.bindings.iter().any(|b| b.name.ends_with("_nearest"));
+        assert_eq!(text.contains("fn relief_texel_nearest("), nearest, "{p}: the texel read and the nearest textures");
         // Each resource is an argument of the trace function, as the header lists it.
         let trace = module.functions.iter().find(|(_, f)| f.name.as_deref() == Some("relief_trace")).unwrap().1;
         assert!(trace.arguments.len() >= 3, "{p}: relief_trace takes uv, view and depth first");
