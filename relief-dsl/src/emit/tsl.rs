@@ -72,7 +72,7 @@ fn nearest_reads_as_loads(lib: &Library, opts: &LibraryOptions, body: String) ->
         out.push_str(&rest[..i]);
         let args = &rest[i + SAMPLE.len()..];
         let t = ident_len(args);
-        let s = args[t..].strip_prefix(", ").map(|r| ident_len(r)).unwrap_or(0);
+        let s = args[t..].strip_prefix(", ").map(ident_len).unwrap_or(0);
         if s > 0 && ours(&args[t + 2..t + 2 + s]) && args[t + 2 + s..].starts_with(", ") {
             let _ = write!(out, "{helper}({}", &args[..t]);
             rest = &args[t + 2 + s..];
