@@ -4,6 +4,7 @@
 
 mod common;
 
+mod babylon;
 mod chromium;
 mod compose;
 mod examples;

@@ -7,7 +7,8 @@ use std::fmt::Write as _;
 
 use naga::{Expression, Handle, Module, Statement};
 
-use crate::compose::library::{camel, Library, LibraryOptions, ResourceKind};
+use crate::compose::library::{camel, Library, LibraryBinding, LibraryOptions, ResourceKind};
+use crate::ir::{Filter, Resource};
 use crate::spec::Pipeline;
 use crate::CompileError;
 
@@ -51,6 +52,15 @@ pub(crate) struct Header {
     pub resource_type: fn(ResourceKind) -> &'static str,
     /// Whether the resources are bound by name (GLSL ES: no group or binding to list).
     pub by_name: bool,
+    /// Whether the form reads nearest-filtered textures with texel loads and so takes no
+    /// nearest sampler (TSL: three.js binds no sampler for a texture whose filters are both
+    /// nearest); the sampler is then left out of the header's lists.
+    pub no_nearest_sampler: bool,
+}
+
+/// Whether a form whose header is `header` lists the resource `b`.
+pub(crate) fn listed(header: &Header, b: &LibraryBinding) -> bool {
+    !(header.no_nearest_sampler && b.resource == Resource::Sampler(Filter::Nearest))
 }
 
 /// WGSL's resource types.
@@ -85,7 +95,7 @@ pub(crate) fn header_lines(p: &Pipeline, lib: &Library, opts: &LibraryOptions, h
                 .any(|(h, gv)| gv.name.as_deref() == Some(g) && !lib.info[fh][h].is_empty())
         };
         let args: Vec<String> = if header.arguments == ResourceArguments::BindingOrder {
-            lib.bindings.iter().filter(|b| reads(&b.name)).map(|b| b.name.clone()).collect()
+            lib.bindings.iter().filter(|b| listed(header, b) && reads(&b.name)).map(|b| b.name.clone()).collect()
         } else {
             lib.module
                 .global_variables
@@ -132,7 +142,7 @@ pub(crate) fn header_lines(p: &Pipeline, lib: &Library, opts: &LibraryOptions, h
     );
     let _ = writeln!(h, "//");
     h.push_str(header.intro);
-    for b in &lib.bindings {
+    for b in lib.bindings.iter().filter(|b| listed(header, b)) {
         let ty = (header.resource_type)(b.kind);
         if header.by_name {
             let _ = writeln!(h, "//   uniform {} {ty} — {}", b.name, b.what);

@@ -28,6 +28,7 @@ const HEADER: Header = Header {
             // sampler's filtering from the application; the sampler bindings below are unused in GLSL):\n",
     resource_type: glsl_type,
     by_name: false,
+    no_nearest_sampler: false,
 };
 
 /// `NAME.lib.glsl`.

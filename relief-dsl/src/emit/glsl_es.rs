@@ -18,6 +18,7 @@ const HEADER: Header = Header {
             // sampler's filtering from the application; the samplers below have no uniform in GLSL ES:\n",
     resource_type: glsl::glsl_type,
     by_name: true,
+    no_nearest_sampler: false,
 };
 
 /// `NAME.lib.es.glsl`.

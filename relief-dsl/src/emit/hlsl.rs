@@ -15,8 +15,13 @@ use crate::spec::Pipeline;
 use crate::CompileError;
 
 /// The HLSL header: resources at registers (Unreal's include file shares it).
-pub(crate) const HEADER: Header =
-    Header { arguments: ResourceArguments::Global, intro: "// Resources:\n", resource_type: hlsl_type, by_name: false };
+pub(crate) const HEADER: Header = Header {
+    arguments: ResourceArguments::Global,
+    intro: "// Resources:\n",
+    resource_type: hlsl_type,
+    by_name: false,
+    no_nearest_sampler: false,
+};
 
 fn hlsl_type(kind: ResourceKind) -> &'static str {
     match kind {

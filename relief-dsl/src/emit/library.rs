@@ -167,9 +167,14 @@ fn check_names_kept(lib: &Library, prefix: &str, form: LibraryForm, body: &str) 
     if lib.has_ao {
         names.push(format!("{prefix}_ao"));
     }
-    // GLSL keeps no sampler (a texture is combined with its sampler).
+    // GLSL keeps no sampler (a texture is combined with its sampler); TSL no nearest one
+    // (it reads those textures with texel loads).
     let glsl = matches!(form, LibraryForm::Glsl | LibraryForm::GlslEs);
-    names.extend(lib.bindings.iter().filter(|b| !(glsl && b.kind == ResourceKind::Sampler)).map(|b| b.name.clone()));
+    let kept = |b: &&LibraryBinding| {
+        !(glsl && b.kind == ResourceKind::Sampler
+            || form == LibraryForm::Tsl && b.resource == crate::ir::Resource::Sampler(crate::ir::Filter::Nearest))
+    };
+    names.extend(lib.bindings.iter().filter(kept).map(|b| b.name.clone()));
     let lang = limits::limits(form).language;
     match names.iter().find(|n| !has_word(body, n)) {
         None => Ok(()),

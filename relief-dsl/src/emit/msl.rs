@@ -16,6 +16,7 @@ const HEADER: Header = Header {
             // arguments after its own, in the order listed; the bindings are for the other languages):\n",
     resource_type: msl_type,
     by_name: false,
+    no_nearest_sampler: false,
 };
 
 fn msl_type(kind: ResourceKind) -> &'static str {

@@ -12,8 +12,13 @@ use crate::spec::Pipeline;
 use crate::CompileError;
 
 /// The WGSL header: resources as globals at their group and binding.
-pub(crate) const HEADER: Header =
-    Header { arguments: ResourceArguments::Global, intro: "// Resources:\n", resource_type: wgsl_type, by_name: false };
+pub(crate) const HEADER: Header = Header {
+    arguments: ResourceArguments::Global,
+    intro: "// Resources:\n",
+    resource_type: wgsl_type,
+    by_name: false,
+    no_nearest_sampler: false,
+};
 
 /// naga's WGSL text of the library module.
 pub(crate) fn body(lib: &Library) -> Result<String, CompileError> {

@@ -18,7 +18,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context};
-use relief_dsl::emit::{LibraryForm, LibraryOptions, ResourceKind};
+use relief_dsl::emit::{LibraryBinding, LibraryForm, LibraryOptions, ResourceKind};
 use relief_dsl::ir::{Filter, Image, Resource};
 use relief_runtime::gpu::{self, Upload};
 use relief_runtime::{scene_from_arg, scene_spec, EdgeMode, MapKey};
@@ -58,6 +58,13 @@ fn stem(image: Image) -> anyhow::Result<String> {
         },
         Image::Window => bail!("the library reads a room's window map, which a scene has not"),
     })
+}
+
+/// Whether `form` leaves the binding `b` out: the `tsl` form reads its nearest textures
+/// with texel loads and takes no nearest sampler (three.js binds none for a texture whose
+/// filters are both nearest).
+fn takes_no_sampler(form: LibraryForm, b: &LibraryBinding) -> bool {
+    form == LibraryForm::Tsl && b.resource == Resource::Sampler(Filter::Nearest)
 }
 
 fn filter_name(f: Filter) -> &'static str {
@@ -170,7 +177,7 @@ pub fn run(a: &ExportArgs) -> anyhow::Result<()> {
     };
     let address = if scene.edge == EdgeMode::Clamp { "clamp_to_edge" } else { "repeat" };
     let mut bindings = Vec::new();
-    for b in &lib.bindings {
+    for b in lib.bindings.iter().filter(|b| !takes_no_sampler(form, b)) {
         let mut e = serde_json::json!({
             "name": b.name,
             "group": b.group,
@@ -222,6 +229,8 @@ pub fn run(a: &ExportArgs) -> anyhow::Result<()> {
         "texture_space": "row 0 of every file is v = 0 (KTXorientation rd: first row stored first, not flipped); u grows along a row; height 1 at the polygon, 0 at the floor",
         "bindings": bindings,
         "textures": shading_files,
+        "has_shadow": lib.has_shadow,
+        "has_ao": lib.has_ao,
         "paste": paste_lines(form, &lib, scene.depth_scale, edge),
         "shading": {
             "formula": gpu::SHADING_FORMULA,
