@@ -11,6 +11,7 @@ mod integrate;
 mod khronos;
 mod layers;
 mod library;
+mod meshes_shaders;
 mod report_browser;
 mod room_modules;
 mod text_form;

@@ -2,7 +2,7 @@
 //! docs/meshes-shaders.md is the user's page).
 //!
 //! Built from the same pieces as relief's own module: the pipeline's stage functions
-//! ([`write_stage_fns`]) and three entry points that share one trace, so that colour, depth
+//! (`write_stage_fns`) and three entry points that share one trace, so that colour, depth
 //! and shadows come from the same search:
 //!
 //! - `vs_mesh`: one [`MeshVertex`] per vertex (the layout the runtime uploads, by member
@@ -20,16 +20,16 @@
 //! are unused (`lod=auto` is refused: its footprint is the flat tile's).
 //!
 //! The three modes differ only in where the ray starts, which quadric the heights carry and
-//! when a pixel is discarded ([`MeshRay`]):
+//! when a pixel is discarded (`covered`):
 //!
 //! - `none`: the flat tile's ray at every fragment (what engines ship); nothing discarded;
 //! - `quadric`: every height read adds the vertex's quadric centred on the ray's entry
-//!   (Oliveira & Policarpo 2005; [`crate::stage::sampling::QUADRIC_COEFFS`]); a ray that finds
+//!   (Oliveira & Policarpo 2005; the stage layer's `QUADRIC_COEFFS`); a ray that finds
 //!   no hit has left the shell (or reached the floor) and is discarded: the silhouette;
 //! - `prism`: the mesh is drawn as prisms (each triangle extruded along its vertex normals as
 //!   deep as the relief, [`MeshVertex::position`]`.w` the layer); the ray enters where the
 //!   prism face is rasterized, at texture point (u, v, w), and the search runs from there to
-//!   the ray's exit from the prism in texture space ([`prism_exit`]); a hit outside
+//!   the ray's exit from the prism in texture space (`prism_exit`); a hit outside
 //!   `[entry, exit]` or none at all is discarded.
 //!
 //! Limitation of `prism`: the side walls are *planar in texture space* (vertical over the
@@ -163,14 +163,19 @@ fn vertex_entry(m: &ModuleCtx, policy: &dyn Policy) -> naga::EntryPoint {
 /// The fragment's tangent frame: the interpolated normal renormalized, the tangent made
 /// orthogonal to it (Gram–Schmidt) and normalized, the bitangent `w · N × T`, and the texture
 /// units per object unit along T and B.
-struct Frame<'a> {
+pub(crate) struct Frame<'a> {
     t: Val<'a, Vec3>,
     b: Val<'a, Vec3>,
     n: Val<'a, Vec3>,
     scale: Val<'a, Vec2>,
 }
 
-fn frame<'a>(s: &'a FnBuilder<'a>, normal: Val<'a, Vec4>, tangent: Val<'a, Vec4>, uv: Val<'a, Vec4>) -> Frame<'a> {
+pub(crate) fn frame<'a>(
+    s: &'a FnBuilder<'a>,
+    normal: Val<'a, Vec4>,
+    tangent: Val<'a, Vec4>,
+    uv: Val<'a, Vec4>,
+) -> Frame<'a> {
     let n = normal.xyz().normalize();
     let t0 = tangent.xyz();
     let t = (t0 - n * n.dot(t0)).normalize();
@@ -181,7 +186,7 @@ fn frame<'a>(s: &'a FnBuilder<'a>, normal: Val<'a, Vec4>, tangent: Val<'a, Vec4>
 impl<'a> Frame<'a> {
     /// An object-space direction in texture units: (along u, along v, along the normal in
     /// object units).
-    fn to_texture(&self, d: Val<'a, Vec3>) -> (Val<'a, Vec2>, Val<'a, f32>) {
+    pub(crate) fn to_texture(&self, d: Val<'a, Vec3>) -> (Val<'a, Vec2>, Val<'a, f32>) {
         let s = d.builder();
         (s.vec2(d.dot(self.t) * self.scale.x(), d.dot(self.b) * self.scale.y()), d.dot(self.n))
     }
@@ -231,78 +236,126 @@ fn prism_exit<'a>(
 
 /// What a mesh fragment traces: its ray, where the ray enters the relief volume in t (0 but
 /// for a prism entered through a wall or the floor), and the view ray's data the depth needs.
-struct MeshRay<'a> {
-    ray: Ray<'a>,
-    t_entry: Val<'a, f32>,
-    /// The fragment's object-space point (on the base surface or the prism face).
-    point: Val<'a, Vec3>,
+pub(crate) struct MeshRay<'a> {
+    pub(crate) ray: Ray<'a>,
+    pub(crate) t_entry: Val<'a, f32>,
     /// The unit view ray, object space.
     view: Val<'a, Vec3>,
-    frame: Frame<'a>,
+    pub(crate) frame: Frame<'a>,
+}
+
+/// What the fragment knows of its place on the mesh, from the vertex entry's varyings or a
+/// library caller's arguments.
+pub(crate) struct MeshInputs<'a> {
+    /// The unit view ray from the eye to the fragment, object space.
+    pub(crate) view: Val<'a, Vec3>,
+    /// The interpolated normal, tangent (w: handedness) and uv (zw: texture units per object
+    /// unit along T and B), as [`MeshVertex`] has them.
+    pub(crate) normal: Val<'a, Vec4>,
+    pub(crate) tangent: Val<'a, Vec4>,
+    pub(crate) uv: Val<'a, Vec4>,
+    /// The prism layer w at the fragment (1 on the surface; only `prism` reads it).
+    pub(crate) layer: Val<'a, f32>,
+    /// The quadric's coefficients a, b in object units (only `quadric` reads them).
+    pub(crate) curvature: Val<'a, Vec2>,
+    /// The relief's depth in object units.
+    pub(crate) depth: Val<'a, f32>,
 }
 
 /// The fragment's ray, in the flat tile's convention (ARCHITECTURE.md, "Rays"): the view ray
 /// in texture units, scaled so that t = 1 descends the relief's depth. For `prism` the ray
 /// enters at the face's texture point (u, v, w), which is t = 1 − w on the ray through
-/// `(u, v, 1)` started `1 − w` earlier.
-fn mesh_ray<'a>(s: &'a FnBuilder<'a>, curved: Curved) -> MeshRay<'a> {
+/// `(u, v, 1)` started `1 − w` earlier. Under `quadric` it also centres the quadric on the
+/// entry.
+pub(crate) fn mesh_ray<'a>(s: &'a FnBuilder<'a>, curved: Curved, i: &MeshInputs<'a>) -> MeshRay<'a> {
+    let frame = frame(s, i.normal, i.tangent, i.uv);
+    let (v_uv, v_n) = frame.to_texture(i.view);
+    let cos_view = descent(v_n);
+    let dir = s.vec3(v_uv * (i.depth / cos_view), -1.0);
+    let t_entry = match curved {
+        Curved::Prism => s.lit(1.0) - i.layer,
+        Curved::None | Curved::Quadric => s.lit(0.0),
+    };
+    let origin = i.uv.xy() - dir.xy() * t_entry;
+    if curved == Curved::Quadric {
+        set_quadric(s, i.curvature / i.depth, i.uv.xy());
+    }
+    MeshRay { ray: Ray { origin, dir, cos_view }, t_entry, view: i.view, frame }
+}
+
+/// The fragment entries' inputs: the varyings and the `Params` block.
+fn varying_inputs<'a>(s: &'a FnBuilder<'a>) -> (MeshInputs<'a>, Val<'a, Vec3>) {
     let [point, normal, tangent, uv, curvature] = [0, 1, 2, 3, 4].map(|i| s.arg::<Vec4>(i));
     let camera = s.param::<Vec4>(Param::Camera);
     let depth = s.name("depth_scale", camera.w());
-    let frame = frame(s, normal, tangent, uv);
     let view = (point.xyz() - camera.xyz()).normalize();
-    let (v_uv, v_n) = frame.to_texture(view);
-    let cos_view = descent(v_n);
-    let dir = s.vec3(v_uv * (depth / cos_view), -1.0);
-    let t_entry = match curved {
-        Curved::Prism => s.lit(1.0) - point.w(),
-        Curved::None | Curved::Quadric => s.lit(0.0),
-    };
-    let origin = uv.xy() - dir.xy() * t_entry;
-    if curved == Curved::Quadric {
-        set_quadric(s, curvature.xy() / depth, uv.xy());
-    }
-    MeshRay { ray: Ray { origin, dir, cos_view }, t_entry, point: point.xyz(), view, frame }
+    let inputs = MeshInputs { view, normal, tangent, uv, layer: point.w(), curvature: curvature.xy(), depth };
+    (inputs, point.xyz())
 }
 
 /// Stores the quadric every height read adds under `curved=quadric` (in units of the
 /// relief's depth) and the texture point it is centred on.
-fn set_quadric<'a>(s: &'a FnBuilder<'a>, coeffs: Val<'a, Vec2>, origin: Val<'a, Vec2>) {
+pub(crate) fn set_quadric<'a>(s: &'a FnBuilder<'a>, coeffs: Val<'a, Vec2>, origin: Val<'a, Vec2>) {
     let m = s.module();
     s.store(s.global_ptr(m.private::<Vec2>(QUADRIC_COEFFS)), coeffs.handle());
     s.store(s.global_ptr(m.private::<Vec2>(QUADRIC_ORIGIN)), origin.handle());
+}
+
+/// Moves the quadric's centre to `uv` (the hit, before the shadow and ao stages search from
+/// it), keeping its coefficients.
+pub(crate) fn recentre_quadric<'a>(s: &'a FnBuilder<'a>, uv: Val<'a, Vec2>) {
+    s.store(s.global_ptr(s.module().private::<Vec2>(QUADRIC_ORIGIN)), uv.handle());
+}
+
+/// Whether the traced hit is drawn under `curved` (`none`: always): the rules of the mode
+/// (the module's doc). `prism` is the prism's texture-space corners.
+pub(crate) fn covered<'a>(
+    s: &'a FnBuilder<'a>,
+    curved: Curved,
+    mr: &MeshRay<'a>,
+    traced: &Hit<'a>,
+    prism: [Val<'a, Vec2>; 3],
+) -> Val<'a, bool> {
+    match curved {
+        Curved::None => s.lit_bool(true),
+        // No hit: the ray left the shell above the curved surface or reached the floor
+        // first (Oliveira & Policarpo 2005): the silhouette.
+        Curved::Quadric => traced.found,
+        Curved::Prism => {
+            let exit = prism_exit(s, &mr.ray, prism[0], prism[1], prism[2]);
+            // Entered through the floor (looking up from below the relief): nothing to see.
+            let from_below = mr.frame.to_texture(mr.view).1.ge(0.0);
+            let before = traced.t.lt(mr.t_entry - PRISM_SLACK);
+            let after = traced.t.gt(exit + PRISM_SLACK);
+            !(from_below | !traced.found | before | after)
+        }
+    }
 }
 
 /// The trace both fragment entries share: the search, then the discards of the mode; returns
 /// the hit, kept inside the volume as relief's own fragment keeps it.
 fn mesh_trace<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, curved: Curved, mr: &MeshRay<'a>) -> Hit<'a> {
     let traced: Hit = s.unpack(s.call(fns.trace, &[s.pack(&mr.ray)], true).unwrap());
-    match curved {
-        Curved::None => {}
-        // No hit: the ray left the shell above the curved surface or reached the floor
-        // first (Oliveira & Policarpo 2005): the silhouette.
-        Curved::Quadric => s.if_(!traced.found, |s| s.discard()),
-        Curved::Prism => {
-            let corners = [s.arg::<Vec4>(5).xy(), s.arg::<Vec4>(5).zw(), s.arg::<Vec4>(6).xy()];
-            let exit = prism_exit(s, &mr.ray, corners[0], corners[1], corners[2]);
-            // Entered through the floor (looking up from below the relief): nothing to see.
-            let from_below = mr.frame.to_texture(mr.view).1.ge(0.0);
-            let before = traced.t.lt(mr.t_entry - PRISM_SLACK);
-            let after = traced.t.gt(exit + PRISM_SLACK);
-            s.if_(from_below | !traced.found | before | after, |s| s.discard());
-        }
+    if curved != Curved::None {
+        let prism = [s.arg::<Vec4>(5).xy(), s.arg::<Vec4>(5).zw(), s.arg::<Vec4>(6).xy()];
+        s.if_(!covered(s, curved, mr, &traced, prism), |s| s.discard());
     }
     Hit::at_found(&mr.ray, traced.t.clamp(0.0, mr.ray.t_max()), traced.found)
 }
 
 /// The NDC depth of the hit: the point the unit view ray reaches after descending
 /// `(t − t_entry)·depth` along the normal, `(t − t_entry)·depth / cos_view` along the ray.
-fn hit_depth<'a>(s: &'a FnBuilder<'a>, mr: &MeshRay<'a>, hit: &Hit<'a>) -> Val<'a, f32> {
+fn hit_depth<'a>(s: &'a FnBuilder<'a>, mr: &MeshRay<'a>, point: Val<'a, Vec3>, hit: &Hit<'a>) -> Val<'a, f32> {
     let depth = s.param::<Vec4>(Param::Camera).w();
-    let along = (hit.t - mr.t_entry) * depth / mr.ray.cos_view;
-    let world = mr.point + mr.view * along;
+    let world = point + mr.view * depth_offset(mr, hit, depth);
     let clip = s.param::<Mat4>(Param::ViewProj) * s.vec4(world, 1.0);
     clip.z() / clip.w()
+}
+
+/// How far the hit lies behind the fragment along the unit view ray: it is `(t − t_entry)·depth`
+/// below the entry along the normal, and the view ray descends `cos_view` per unit length.
+pub(crate) fn depth_offset<'a>(mr: &MeshRay<'a>, hit: &Hit<'a>, depth: Val<'a, f32>) -> Val<'a, f32> {
+    (hit.t - mr.t_entry) * depth / mr.ray.cos_view
 }
 
 fn fragment_args(m: &ModuleCtx) -> Vec<(&'static str, naga::Handle<naga::Type>, Option<Binding>)> {
@@ -314,13 +367,13 @@ fn fragment_args(m: &ModuleCtx) -> Vec<(&'static str, naga::Handle<naga::Type>, 
 /// shadow stage's visibility, ambient × ao) and write colour and depth.
 fn fragment_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curved) -> naga::EntryPoint {
     let s = m.function("fs_mesh", &fragment_args(m), policy);
-    let mr = mesh_ray(&s, curved);
+    let (inputs, point) = varying_inputs(&s);
+    let mr = mesh_ray(&s, curved, &inputs);
     let hit = mesh_trace(&s, fns, curved, &mr);
-    let depth_out = hit_depth(&s, &mr, &hit);
+    let depth_out = hit_depth(&s, &mr, point, &hit);
     if curved == Curved::Quadric {
         // The shadow and ao stages search from the hit: the quadric is centred there.
-        let curvature = s.arg::<Vec4>(4).xy();
-        set_quadric(&s, curvature / s.param::<Vec4>(Param::Camera).w(), hit.uv);
+        recentre_quadric(&s, hit.uv);
     }
     let hv = s.pack(&hit);
     let light = s.param::<Vec4>(Param::Light);
@@ -352,9 +405,10 @@ fn fragment_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Cu
 /// and the shadow caster).
 fn depth_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curved) -> naga::EntryPoint {
     let s = m.function(DEPTH_ENTRY, &fragment_args(m), policy);
-    let mr = mesh_ray(&s, curved);
+    let (inputs, point) = varying_inputs(&s);
+    let mr = mesh_ray(&s, curved, &inputs);
     let hit = mesh_trace(&s, fns, curved, &mr);
-    let depth = hit_depth(&s, &mr, &hit);
+    let depth = hit_depth(&s, &mr, point, &hit);
     let f = s.finish(Some((m.ty(f32::inner()), Some(Binding::BuiltIn(BuiltIn::FragDepth)), depth.handle())));
     entry_point(DEPTH_ENTRY, ShaderStage::Fragment, f, [0; 3])
 }
@@ -374,7 +428,7 @@ pub(crate) fn compose_mesh(p: &Pipeline, curved: Curved) -> Result<(Module, Bind
     Ok((module, bindings))
 }
 
-/// The fragment's ray on the host, as [`mesh_ray`] writes it for `none` and `quadric`: the
+/// The fragment's ray on the host, as the fragment writes it for `none` and `quadric`: the
 /// unit view ray `view` (object space) in the frame `t`, `b`, `n` (unit, orthogonal) with
 /// `scale` texture units per object unit along t and b, for a relief `depth` object units
 /// deep; returns the direction in normalized tangent space (t = 1 descends `depth`). The
