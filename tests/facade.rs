@@ -12,6 +12,7 @@ mod integrate;
 mod khronos;
 mod layers;
 mod library;
+mod meshes_shaders;
 mod report_browser;
 mod room_modules;
 mod text_form;

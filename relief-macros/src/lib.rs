@@ -99,7 +99,7 @@
 use proc_macro::TokenStream;
 use proc_macro2::TokenStream as TokenStream2;
 use quote::quote;
-use relief_dsl::spec::{Lod, Pipeline, Silhouette, StageSpec, Value};
+use relief_dsl::spec::{Curved, Lod, Pipeline, Silhouette, StageSpec, Value};
 use syn::parse::{ParseStream, Parser};
 
 mod syntax;
@@ -145,8 +145,18 @@ fn stage_tokens(s: &StageSpec) -> TokenStream2 {
 fn pipeline_tokens(p: &Pipeline) -> TokenStream2 {
     let k = dsl();
     let [c, r, s, a] = [&p.coarse, &p.refine, &p.shadow, &p.ao].map(stage_tokens);
-    let (lod, sil) = (lod_tokens(p.lod), silhouette_tokens(p.silhouette));
-    quote!(#k::spec::Pipeline::new(#c, #r, #s, #a).with_lod(#lod).with_silhouette(#sil))
+    let (lod, sil, cur) = (lod_tokens(p.lod), silhouette_tokens(p.silhouette), curved_tokens(p.curved));
+    quote!(#k::spec::Pipeline::new(#c, #r, #s, #a).with_lod(#lod).with_silhouette(#sil).with_curved(#cur))
+}
+
+fn curved_tokens(c: Option<Curved>) -> TokenStream2 {
+    let k = dsl();
+    match c {
+        None => quote!(::std::option::Option::None),
+        Some(Curved::None) => quote!(::std::option::Option::Some(#k::spec::Curved::None)),
+        Some(Curved::Quadric) => quote!(::std::option::Option::Some(#k::spec::Curved::Quadric)),
+        Some(Curved::Prism) => quote!(::std::option::Option::Some(#k::spec::Curved::Prism)),
+    }
 }
 
 fn lod_tokens(lod: Lod) -> TokenStream2 {
@@ -207,14 +217,20 @@ pub fn relief_grid(input: TokenStream) -> TokenStream {
         Err(e) => return e.to_compile_error().into(),
     };
     let checked = pattern.resolve().and_then(|l| Ok((l, pattern.resolve_options()?)));
-    let (lists, (lods, sils)) = match checked {
+    let (lists, (lods, sils, curved)) = match checked {
         Ok(l) => l,
         Err(e) => return spans.error(&e).to_compile_error().into(),
     };
-    grid_tokens(pattern.name.as_deref(), &lists, &lods, &sils).into()
+    grid_tokens(pattern.name.as_deref(), &lists, &lods, &sils, &curved).into()
 }
 
-fn grid_tokens(name: Option<&str>, lists: &[Vec<StageSpec>; 4], lods: &[Lod], sils: &[Silhouette]) -> TokenStream2 {
+fn grid_tokens(
+    name: Option<&str>,
+    lists: &[Vec<StageSpec>; 4],
+    lods: &[Lod],
+    sils: &[Silhouette],
+    curved: &[Option<Curved>],
+) -> TokenStream2 {
     let k = dsl();
     let name = match name {
         Some(n) => {
@@ -229,7 +245,8 @@ fn grid_tokens(name: Option<&str>, lists: &[Vec<StageSpec>; 4], lods: &[Lod], si
     });
     let lods = lods.iter().copied().map(lod_tokens);
     let sils = sils.iter().copied().map(silhouette_tokens);
-    quote!(#k::spec::Grid::product_with_options(#name, [#c, #r, #s, #a], &[#(#lods),*], &[#(#sils),*]))
+    let curved = curved.iter().copied().map(curved_tokens);
+    quote!(#k::spec::Grid::product_with_options(#name, [#c, #r, #s, #a], &[#(#lods),*], &[#(#sils),*], &[#(#curved),*]))
 }
 
 /// Shaders built, validated and emitted at compile time, embedded as constants:

@@ -175,6 +175,10 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
         "csm(4,,)",
         "linear(10)+shadow=soft(nan)",
         "linear(10)@lod=9999",
+        "linear(10)+curved=prizm",
+        "linear(10)+curved=prism(3)",
+        "linear(10)+silhouette=clip+curved=quadric",
+        "linear(10)+lod=auto+curved=none",
         "\u{1b}[31m",
     ]
     .iter()
@@ -182,7 +186,12 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
     .collect();
     pipelines.push(format!("linear({})", vec!["1"; 5000].join(",")));
     pipelines.push("(".repeat(5000));
-    let good = ["linear(10)+binary(5)", "csm(8, form=textbook)+binary(4)", "sphere(16)+secant(3)+shadow=soft(8)"];
+    let good = [
+        "linear(10)+binary(5)",
+        "csm(8, form=textbook)+binary(4)",
+        "sphere(16)+secant(3)+shadow=soft(8)",
+        "linear(10)+binary(5)+curved=prism",
+    ];
     let alphabet: Vec<char> = "()+,=.-0123456789eabcdlinrsz \n\t@~".chars().collect();
     let mut rng = Rng(27);
     for _ in 0..300 {
@@ -206,6 +215,11 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
         a.push(d.join("gen").into());
         add(format!("gen {p:?}"), a);
     }
+    // A mesh pipeline where the flat tile's runtime is asked to draw it.
+    let mut a =
+        os(&["render", "linear(4)+curved=quadric", "--scene", "scene:step", "--size", "8", "--frames", "1", "--out"]);
+    a.push(out.clone().into());
+    add("render curved=quadric".into(), a);
     // Bad numbers for numeric flags.
     for v in ["nan", "inf", "-inf", "-1", "0", "1e39", "3.4e38", "1e30", "abc", "", "0x10", "99999999999999999999"] {
         for flag in ["--depth-scale", "--tiling", "--angle", "--azimuth", "--size", "--frames"] {

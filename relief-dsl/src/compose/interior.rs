@@ -470,7 +470,8 @@ fn probe_entry(m: &ModuleCtx, policy: &dyn Policy, walls: &[StageFns]) -> naga::
 }
 
 /// The pipeline options the room entries do not implement, as errors: the room's entries set
-/// no sample level (`lod`), and a window has no quad square to clip to (`silhouette`).
+/// no sample level (`lod`), a window has no quad square to clip to (`silhouette`), and a
+/// room's walls are flat (`curved`).
 fn refuse_render_options(p: &Pipeline) -> Result<(), CompileError> {
     let refuse = |what: String| {
         Err(CompileError { stage: "room".into(), message: format!("{what} is not implemented for rooms yet") })
@@ -480,6 +481,9 @@ fn refuse_render_options(p: &Pipeline) -> Result<(), CompileError> {
     }
     if p.silhouette != crate::spec::Silhouette::None {
         return refuse(format!("silhouette={}", p.silhouette));
+    }
+    if let Some(c) = p.curved {
+        return refuse(format!("curved={c}"));
     }
     Ok(())
 }

@@ -30,9 +30,10 @@
 
 use naga::{Handle, Module, TypeInner};
 
+use crate::compose::mesh::{self, MeshInputs};
 use crate::compose::write_stage_fns;
 use crate::ir::{Filter, ModuleCtx, Plain, Policy, Resource, Ty, Vec2, Vec3, Vec4};
-use crate::spec::Pipeline;
+use crate::spec::{Curved, Pipeline};
 use crate::stage::{Hit, Ray};
 use crate::CompileError;
 
@@ -40,11 +41,16 @@ use crate::CompileError;
 /// `P_edge_clamp` (a library has no `Params` block).
 struct LibraryPolicy {
     edge: Handle<naga::Constant>,
+    /// Heights carry the quadric (`curved=quadric`).
+    quadric: bool,
 }
 
 impl Policy for LibraryPolicy {
     fn edge_clamp_constant(&self) -> Option<Handle<naga::Constant>> {
         Some(self.edge)
+    }
+    fn quadric_warp(&self) -> bool {
+        self.quadric
     }
 }
 
@@ -115,6 +121,8 @@ pub struct Library {
     pub has_shadow: bool,
     /// Whether the pipeline has an ao stage (`P_ao` exists).
     pub has_ao: bool,
+    /// The pipeline's `curved=` (`Some`: the mesh forms of the functions, docs/meshes-shaders.md).
+    pub curved: Option<Curved>,
 }
 
 fn check_prefix(prefix: &str) -> Result<(), CompileError> {
@@ -265,20 +273,24 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
             .constants
             .append(naga::Constant { name: Some(format!("{prefix}_edge_clamp")), ty, init }, naga::Span::UNDEFINED)
     };
-    let policy = LibraryPolicy { edge };
+    let policy = LibraryPolicy { edge, quadric: p.curved == Some(Curved::Quadric) };
     let fns = write_stage_fns(&m, p, &policy, false)?;
     let f32_ty = m.ty(f32::inner());
     let vec2_ty = m.ty(Vec2::inner());
     let vec3_ty = m.ty(Vec3::inner());
     let camel = camel(prefix);
-    let public_hit = m.struct_ty(
-        &format!("{camel}Hit"),
-        &[("uv", Vec2::inner()), ("height", f32::inner()), ("t", f32::inner()), ("depth_offset", f32::inner())],
-    );
+    let mut hit_members =
+        vec![("uv", Vec2::inner()), ("height", f32::inner()), ("t", f32::inner()), ("depth_offset", f32::inner())];
+    if p.curved.is_some() {
+        hit_members.push(("covered", f32::inner()));
+    }
+    let public_hit = m.struct_ty(&format!("{camel}Hit"), &hit_members);
     let mut public = Vec::new();
 
-    // relief_trace(uv, view_ts, depth_scale) -> ReliefHit
-    {
+    if let Some(curved) = p.curved {
+        public.push(mesh_trace_fn(&m, &policy, &fns, curved, public_hit));
+    } else {
+        // relief_trace(uv, view_ts, depth_scale) -> ReliefHit
         let s = m.function(
             "trace",
             &[("uv", vec2_ty, None), ("view_ts", vec3_ty, None), ("depth_scale", f32_ty, None)],
@@ -307,7 +319,9 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
     }
     // relief_shadow(hit, light_ts, depth_scale) -> f32: the light ray in the stages'
     // normalized space, as the render entry builds it.
-    if let Some(shadow) = fns.shadow {
+    if let (Some(shadow), Some(curved)) = (fns.shadow, p.curved) {
+        public.push(mesh_shadow_fn(&m, &policy, shadow, curved, public_hit));
+    } else if let Some(shadow) = fns.shadow {
         let s = m.function(
             "shadow",
             &[("hit", public_hit, None), ("light_ts", vec3_ty, None), ("depth_scale", f32_ty, None)],
@@ -325,6 +339,9 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
     if let Some(ao) = fns.ao {
         let s = m.function("ao", &[("hit", public_hit, None)], &policy);
         let hv = stage_hit(&s, s.arg::<Vec4>(0).handle());
+        if p.curved == Some(Curved::Quadric) {
+            mesh::recentre_quadric(&s, s.field::<Vec2>(s.arg::<Vec4>(0).handle(), 0));
+        }
         let v = s.call(ao, &[hv], true).unwrap();
         let f = s.finish(Some((f32_ty, None, v)));
         public.push(m.add_function(f));
@@ -353,8 +370,13 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
     // Globals: every one is a texture or sampler the stages read; renamed, and rebound in the
     // order of their fixed bindings.
     let mut order: Vec<(u32, Handle<naga::GlobalVariable>)> = Vec::new();
-    for (h, g) in module.global_variables.iter() {
+    for (h, g) in module.global_variables.iter_mut() {
         let name = g.name.as_deref().unwrap_or("");
+        if let Some(rest) = quadric_global(g) {
+            // The quadric's private state (`curved=quadric`), set by `P_trace`.
+            g.name = Some(format!("{prefix}_{rest}"));
+            continue;
+        }
         let Some(rb) = g.binding else {
             return Err(CompileError {
                 stage: "library".into(),
@@ -444,5 +466,118 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
         bindings.push(LibraryBinding { name, group: opts.group, binding, kind, what, resource, all_levels });
     }
     let info = crate::compose::validate(&module)?;
-    Ok(Library { module, info, bindings, has_shadow: fns.shadow.is_some(), has_ao: fns.ao.is_some() })
+    Ok(Library { module, info, bindings, has_shadow: fns.shadow.is_some(), has_ao: fns.ao.is_some(), curved: p.curved })
+}
+
+/// The name of a quadric global after `relief_` (`quadric`, `quadric_origin`), if `g` is one.
+fn quadric_global(g: &naga::GlobalVariable) -> Option<String> {
+    use crate::stage::sampling::{QUADRIC_COEFFS, QUADRIC_ORIGIN};
+    let name = g.name.as_deref()?;
+    let private = matches!(g.space, naga::AddressSpace::Private);
+    (private && (name == QUADRIC_COEFFS || name == QUADRIC_ORIGIN))
+        .then(|| name.trim_start_matches("relief_").to_string())
+}
+
+/// The mesh form's arguments of `P_trace` under `curved`, after the first (`uv: vec2` or, for
+/// a prism, `uvw: vec3`): the view ray and the frame, the mode's own inputs, the depth.
+fn mesh_trace_args(m: &ModuleCtx, curved: Curved) -> Vec<(&'static str, Handle<naga::Type>, Option<naga::Binding>)> {
+    let (v2, v3, v4, f) = (m.ty(Vec2::inner()), m.ty(Vec3::inner()), m.ty(Vec4::inner()), m.ty(f32::inner()));
+    let first = match curved {
+        Curved::Prism => ("uvw", v3, None),
+        Curved::None | Curved::Quadric => ("uv", v2, None),
+    };
+    let mut args = vec![first, ("view", v3, None), ("normal", v3, None), ("tangent", v4, None), ("uv_scale", v2, None)];
+    match curved {
+        Curved::None => {}
+        Curved::Quadric => args.push(("curvature", v2, None)),
+        Curved::Prism => args.extend([("prism_a", v4, None), ("prism_b", v2, None)]),
+    }
+    args.push(("depth_scale", f, None));
+    args
+}
+
+/// `P_trace` of a mesh library (docs/meshes-shaders.md): the mesh module's ray, trace and
+/// coverage on the caller's interpolated inputs; `covered` is 0 where the mesh module would
+/// discard.
+fn mesh_trace_fn(
+    m: &ModuleCtx,
+    policy: &dyn Policy,
+    fns: &crate::compose::StageFns,
+    curved: Curved,
+    public_hit: Handle<naga::Type>,
+) -> Handle<naga::Function> {
+    let args = mesh_trace_args(m, curved);
+    let s = m.function("trace", &args, policy);
+    let (uv, layer) = match curved {
+        Curved::Prism => {
+            let uvw = s.arg::<Vec3>(0);
+            (uvw.xy(), uvw.z())
+        }
+        Curved::None | Curved::Quadric => (s.arg::<Vec2>(0), s.lit(1.0)),
+    };
+    let last = args.len() as u32 - 1;
+    let depth = s.arg::<f32>(last);
+    let scale = s.arg::<Vec2>(4);
+    let inputs = MeshInputs {
+        view: s.arg::<Vec3>(1).normalize(),
+        normal: s.vec4(s.arg::<Vec3>(2), 0.0),
+        tangent: s.arg::<Vec4>(3),
+        uv: s.vec4(s.vec3(uv, scale.x()), scale.y()),
+        layer,
+        curvature: if curved == Curved::Quadric { s.arg::<Vec2>(5) } else { s.vec2(0.0, 0.0) },
+        depth,
+    };
+    let mr = mesh::mesh_ray(&s, curved, &inputs);
+    let traced: Hit = s.unpack(s.call(fns.trace, &[s.pack(&mr.ray)], true).unwrap());
+    let prism = match curved {
+        Curved::Prism => [s.arg::<Vec4>(5).xy(), s.arg::<Vec4>(5).zw(), s.arg::<Vec2>(6)],
+        Curved::None | Curved::Quadric => [uv; 3],
+    };
+    let covered = s.select(mesh::covered(&s, curved, &mr, &traced, prism), 1.0f32, 0.0f32);
+    let t = traced.t.clamp(0.0, mr.ray.t_max());
+    let hit = Hit::at_found(&mr.ray, t, traced.found);
+    let offset = mesh::depth_offset(&mr, &hit, depth);
+    let values = [hit.uv.handle(), hit.z.handle(), t.handle(), offset.handle(), covered.handle()];
+    let out = s.make_struct(public_hit, &values);
+    let f = s.finish(Some((public_hit, None, out)));
+    m.add_function(f)
+}
+
+/// `P_shadow(hit, light, normal, tangent, uv_scale, depth_scale)` of a mesh library: the
+/// light (object space, toward the light) in the frame of the fragment, as the mesh module's
+/// fragment builds it; under `quadric` the quadric centred on the hit.
+fn mesh_shadow_fn(
+    m: &ModuleCtx,
+    policy: &dyn Policy,
+    shadow: Handle<naga::Function>,
+    curved: Curved,
+    public_hit: Handle<naga::Type>,
+) -> Handle<naga::Function> {
+    let (v2, v3, v4, f) = (m.ty(Vec2::inner()), m.ty(Vec3::inner()), m.ty(Vec4::inner()), m.ty(f32::inner()));
+    let s = m.function(
+        "shadow",
+        &[
+            ("hit", public_hit, None),
+            ("light", v3, None),
+            ("normal", v3, None),
+            ("tangent", v4, None),
+            ("uv_scale", v2, None),
+            ("depth_scale", f, None),
+        ],
+        policy,
+    );
+    let h = s.arg::<Vec4>(0).handle();
+    let (uv, z, t) = (s.field::<Vec2>(h, 0), s.field::<f32>(h, 1), s.field::<f32>(h, 2));
+    let hv = s.pack(&Hit { t, uv, z, found: s.lit_bool(true) });
+    if curved == Curved::Quadric {
+        mesh::recentre_quadric(&s, uv);
+    }
+    let scale = s.arg::<Vec2>(4);
+    let frame =
+        mesh::frame(&s, s.vec4(s.arg::<Vec3>(2), 0.0), s.arg::<Vec4>(3), s.vec4(s.vec3(uv, scale.x()), scale.y()));
+    let (l_uv, l_n) = frame.to_texture(s.arg::<Vec3>(1).normalize());
+    let light_n = s.vec3(l_uv * (s.arg::<f32>(5) / l_n.max(1e-3)), 1.0);
+    let v = s.call(shadow, &[hv, light_n.handle(), l_n.handle()], true).unwrap();
+    let f = s.finish(Some((m.ty(f32::inner()), None, v)));
+    m.add_function(f)
 }

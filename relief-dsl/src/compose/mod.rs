@@ -10,11 +10,15 @@
 //! - the probe entry `probe` (compute, 64 rays per workgroup: [`ProbeRay`] in, [`ProbeHit`]
 //!   out).
 //!
+//! A pipeline with `curved=…` is a *mesh module* instead ([`mesh`]): a vertex entry taking
+//! [`mesh::MeshVertex`], a fragment entry writing colour and depth, and a depth-only entry.
+//!
 //! Resources are declared when a stage first reads them (see [`binding`]), so the module
 //! declares only what its stages read.
 
 pub mod interior;
 pub mod library;
+pub mod mesh;
 
 use naga::{Binding, BuiltIn, Handle, Module, ShaderStage, TypeInner};
 
@@ -580,6 +584,9 @@ pub(crate) fn finish(m: ModuleCtx) -> Result<(Module, Bindings), CompileError> {
 
 /// Builds the module for `p` with `options` (not yet validated), with its binding table.
 pub(crate) fn compose_module_with(p: &Pipeline, options: &Options) -> Result<(Module, Bindings), CompileError> {
+    if let Some(curved) = p.curved {
+        return mesh::compose_mesh(p, curved);
+    }
     let m = ModuleCtx::new();
     let policy = Plain { lod: p.lod };
     let plain = write_stage_fns(&m, p, &policy, false)?;

@@ -9,7 +9,7 @@ use naga::{Expression, Handle, Module, Statement};
 
 use crate::compose::library::{camel, Library, LibraryBinding, LibraryOptions, ResourceKind};
 use crate::ir::{Filter, Resource};
-use crate::spec::Pipeline;
+use crate::spec::{Curved, Pipeline};
 use crate::CompileError;
 
 /// An error of the library writer for `target`.
@@ -72,6 +72,74 @@ pub(crate) fn wgsl_type(kind: ResourceKind) -> &'static str {
     }
 }
 
+/// The header's interface of a mesh library (`curved=…`): the functions and the per-vertex
+/// inputs the caller interpolates for them (docs/meshes-shaders.md).
+fn mesh_interface(h: &mut String, curved: Curved, pre: &str, hit: &str, lib: &Library, extra: &dyn Fn(&str) -> String) {
+    let (first, own) = match curved {
+        Curved::None => ("uv: vec2<f32>", ""),
+        Curved::Quadric => ("uv: vec2<f32>", " curvature: vec2<f32>,"),
+        Curved::Prism => ("uvw: vec3<f32>", " prism_a: vec4<f32>, prism_b: vec2<f32>,"),
+    };
+    let _ = writeln!(
+        h,
+        "// fn {pre}_trace({first}, view: vec3<f32>, normal: vec3<f32>, tangent: vec4<f32>, uv_scale: vec2<f32>,{own} depth_scale: f32) -> {hit}{}",
+        extra(&format!("{pre}_trace"))
+    );
+    if lib.has_shadow {
+        let _ = writeln!(
+            h,
+            "// fn {pre}_shadow(hit: {hit}, light: vec3<f32>, normal: vec3<f32>, tangent: vec4<f32>, uv_scale: vec2<f32>, depth_scale: f32) -> f32{}",
+            extra(&format!("{pre}_shadow"))
+        );
+    }
+    if lib.has_ao {
+        let _ = writeln!(h, "// fn {pre}_ao(hit: {hit}) -> f32{}", extra(&format!("{pre}_ao")));
+    }
+    let _ =
+        writeln!(h, "// Mesh form, curved={curved}. Per-vertex inputs, interpolated to the fragment (object space):");
+    let _ = writeln!(
+        h,
+        "//   position; normal (unit); tangent (xyz unit along +u, w the handedness: B = w * cross(N, T));"
+    );
+    let _ = writeln!(h, "//   uv; uv_scale = texture units per object unit along T and B.");
+    match curved {
+        Curved::None => {}
+        Curved::Quadric => {
+            let _ = writeln!(
+                h,
+                "//   curvature = (a, b): the base surface lies a*du^2 + b*dv^2 object units above the tangent"
+            );
+            let _ = writeln!(
+                h,
+                "//   plane at texture offset (du, dv) (Oliveira & Policarpo 2005; a sphere: -1/(2 R uv_scale^2))."
+            );
+        }
+        Curved::Prism => {
+            let _ = writeln!(
+                h,
+                "//   draw each triangle as a prism: 6 vertices, the floor ones moved depth_scale along -normal;"
+            );
+            let _ = writeln!(
+                h,
+                "//   uvw = (uv, layer) with layer 1 on the surface and 0 on the floor; prism_a = the triangle's"
+            );
+            let _ = writeln!(
+                h,
+                "//   uv0 (xy) and uv1 (zw), prism_b = its uv2, the same at all six vertices. Planar side walls."
+            );
+        }
+    }
+    let _ = writeln!(
+        h,
+        "//   view: from the eye to the fragment; light: toward the light; depth_scale: the relief's depth"
+    );
+    let _ = writeln!(h, "//   in object units. hit.covered = 0: discard the fragment (no hit in the shell or prism);");
+    let _ = writeln!(
+        h,
+        "//   hit.depth_offset: the distance from the fragment to the hit along the view ray (object units)."
+    );
+}
+
 /// The header comment of a library file: the interface, the edge mode and the resources, in
 /// the dialect `header` describes.
 pub(crate) fn header_lines(p: &Pipeline, lib: &Library, opts: &LibraryOptions, header: &Header) -> String {
@@ -80,7 +148,8 @@ pub(crate) fn header_lines(p: &Pipeline, lib: &Library, opts: &LibraryOptions, h
     let mut h = String::new();
     let _ = writeln!(h, "// relief library for the pipeline `{p}`, written by `relief gen --library`.");
     let _ = writeln!(h, "//");
-    let _ = writeln!(h, "// struct {hit} {{ uv: vec2<f32>, height: f32, t: f32, depth_offset: f32 }}");
+    let covered = if lib.curved.is_some() { ", covered: f32" } else { "" };
+    let _ = writeln!(h, "// struct {hit} {{ uv: vec2<f32>, height: f32, t: f32, depth_offset: f32{covered} }}");
     let extra = |name: &str| -> String {
         if header.arguments == ResourceArguments::Global {
             return String::new();
@@ -109,31 +178,40 @@ pub(crate) fn header_lines(p: &Pipeline, lib: &Library, opts: &LibraryOptions, h
         }
         format!("\n//     + resource arguments: {}", args.join(", "))
     };
-    let _ = writeln!(
-        h,
-        "// fn {pre}_trace(uv: vec2<f32>, view_ts: vec3<f32>, depth_scale: f32) -> {hit}{}",
-        extra(&format!("{pre}_trace"))
-    );
-    if lib.has_shadow {
+    if let Some(curved) = lib.curved {
+        mesh_interface(&mut h, curved, pre, &hit, lib, &extra);
+    } else {
         let _ = writeln!(
             h,
-            "// fn {pre}_shadow(hit: {hit}, light_ts: vec3<f32>, depth_scale: f32) -> f32{}",
-            extra(&format!("{pre}_shadow"))
+            "// fn {pre}_trace(uv: vec2<f32>, view_ts: vec3<f32>, depth_scale: f32) -> {hit}{}",
+            extra(&format!("{pre}_trace"))
+        );
+        if lib.has_shadow {
+            let _ = writeln!(
+                h,
+                "// fn {pre}_shadow(hit: {hit}, light_ts: vec3<f32>, depth_scale: f32) -> f32{}",
+                extra(&format!("{pre}_shadow"))
+            );
+        }
+        if lib.has_ao {
+            let _ = writeln!(h, "// fn {pre}_ao(hit: {hit}) -> f32{}", extra(&format!("{pre}_ao")));
+        }
+        let _ =
+            writeln!(h, "//   uv: the fragment's texture coordinate; view_ts: the normalized tangent-space direction");
+        let _ =
+            writeln!(h, "//   from the eye to the fragment (z < 0); light_ts: the normalized tangent-space direction");
+        let _ = writeln!(h, "//   toward the light; depth_scale: the relief's depth in texture units.");
+        let _ =
+            writeln!(h, "//   hit.uv: where to shade; hit.height in [0, 1] (1 at the polygon); hit.t in [0, 1] along");
+        let _ = writeln!(
+            h,
+            "//   the ray from the polygon (0) to the floor (1); hit.depth_offset = t * depth_scale / -view_ts.z:"
+        );
+        let _ = writeln!(
+            h,
+            "//   the distance behind the polygon along the view ray, in texture units (pixel depth offset)."
         );
     }
-    if lib.has_ao {
-        let _ = writeln!(h, "// fn {pre}_ao(hit: {hit}) -> f32{}", extra(&format!("{pre}_ao")));
-    }
-    let _ = writeln!(h, "//   uv: the fragment's texture coordinate; view_ts: the normalized tangent-space direction");
-    let _ = writeln!(h, "//   from the eye to the fragment (z < 0); light_ts: the normalized tangent-space direction");
-    let _ = writeln!(h, "//   toward the light; depth_scale: the relief's depth in texture units.");
-    let _ = writeln!(h, "//   hit.uv: where to shade; hit.height in [0, 1] (1 at the polygon); hit.t in [0, 1] along");
-    let _ = writeln!(
-        h,
-        "//   the ray from the polygon (0) to the floor (1); hit.depth_offset = t * depth_scale / -view_ts.z:"
-    );
-    let _ =
-        writeln!(h, "//   the distance behind the polygon along the view ray, in texture units (pixel depth offset).");
     let _ = writeln!(
         h,
         "// Edge mode assumed by stages that address texels themselves: {} ({pre}_edge_clamp = {}).",

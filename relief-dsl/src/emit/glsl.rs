@@ -81,6 +81,31 @@ fn with_caller(lib: &Library, prefix: &str) -> Result<(Module, naga::valid::Modu
     let view = f.expressions.append(Expression::FunctionArgument(1), Span::UNDEFINED);
     let scale = f.expressions.append(Expression::Literal(naga::Literal::F32(0.1)), Span::UNDEFINED);
     let hit = f.expressions.append(Expression::CallResult(trace), Span::UNDEFINED);
+    if lib.curved.is_some() {
+        // A mesh library's functions take more inputs: zeros of their types (only that
+        // every public function is reached matters here), the hit where one is taken.
+        let hit_ty = module.functions[trace].result.as_ref().map(|r| r.ty);
+        let call = |f: &mut naga::Function, function: Handle<naga::Function>, result: Handle<Expression>| {
+            let tys: Vec<Handle<naga::Type>> = module.functions[function].arguments.iter().map(|a| a.ty).collect();
+            let arguments = tys
+                .into_iter()
+                .map(|ty| match Some(ty) == hit_ty && function != trace {
+                    true => hit,
+                    false => f.expressions.append(Expression::ZeroValue(ty), Span::UNDEFINED),
+                })
+                .collect();
+            f.body.push(Statement::Call { function, arguments, result: Some(result) }, Span::UNDEFINED);
+        };
+        call(&mut f, trace, hit);
+        for g in [shadow, ao].into_iter().flatten() {
+            let r = f.expressions.append(Expression::CallResult(g), Span::UNDEFINED);
+            call(&mut f, g, r);
+        }
+        f.body.push(Statement::Return { value: None }, Span::UNDEFINED);
+        module.entry_points.push(crate::compose::entry_point("main", ShaderStage::Fragment, f, [0; 3]));
+        let info = crate::compose::validate(&module)?;
+        return Ok((module, info));
+    }
     f.body.push(
         Statement::Call { function: trace, arguments: vec![uv, view, scale], result: Some(hit) },
         Span::UNDEFINED,

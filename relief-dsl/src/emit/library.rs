@@ -95,6 +95,9 @@ pub fn library_forms(p: &Pipeline, opts: &LibraryOptions, forms: &[LibraryForm])
     check_name_lengths(&lib, &opts.prefix)?;
     let mut files = Vec::new();
     for &form in forms {
+        if let Some(why) = mesh_form_refused(p, form) {
+            return Err(CompileError { stage: "library".into(), message: why });
+        }
         let write = match form {
             LibraryForm::Wgsl => wgsl::write,
             LibraryForm::Wesl => wesl::write,
@@ -123,12 +126,28 @@ pub fn library_forms(p: &Pipeline, opts: &LibraryOptions, forms: &[LibraryForm])
 /// needs what ES 3.00 lacks is refused here with the reason. `relief gen --all --library`
 /// skips such a pipeline in that form.
 pub fn inexpressible_in(p: &Pipeline, form: LibraryForm) -> Option<String> {
+    if let Some(why) = mesh_form_refused(p, form) {
+        return Some(why);
+    }
     if form != LibraryForm::GlslEs {
         return None;
     }
     let opts = LibraryOptions::default();
     let lib = crate::compose::library::compose_library(p, &opts).ok()?;
     glsl_es::body(&lib, &opts).err().map(|e| e.message)
+}
+
+/// Why a mesh library (`curved=…`) has no `form`, if it has none: the forms that write
+/// their own caller of the flat `P_trace(uv, view_ts, depth_scale)` (three.js's TSL node,
+/// Unity's and Unreal's nodes) do not have the mesh form's inputs yet.
+fn mesh_form_refused(p: &Pipeline, form: LibraryForm) -> Option<String> {
+    let curved = p.curved?;
+    matches!(form, LibraryForm::Tsl | LibraryForm::Unity | LibraryForm::Unreal).then(|| {
+        format!(
+            "curved={curved} has no {} form yet: its node calls the flat tile's trace; use wgsl, wesl, glsl, glsl-es, hlsl or msl",
+            form.name()
+        )
+    })
 }
 
 /// The module's names may add at most [`limits::LONGEST_SUFFIX`] characters to the

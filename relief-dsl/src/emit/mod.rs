@@ -21,7 +21,8 @@ pub struct Outputs {
     /// The whole module as SPIR-V words.
     pub spirv: Vec<u32>,
     /// GLSL 450, one source per entry point: `(file suffix, source)` with suffixes `vert`,
-    /// `frag` and `comp`.
+    /// `frag` and `comp` (a mesh module: `vert`, `frag` and `depth.frag`, its depth-only
+    /// entry).
     pub glsl: Vec<(&'static str, String)>,
 }
 
@@ -69,6 +70,7 @@ pub fn all(c: &Compiled) -> Result<Outputs, CompileError> {
     for ep in &c.module.entry_points {
         let suffix = match ep.stage {
             ShaderStage::Vertex => "vert",
+            ShaderStage::Fragment if ep.name == crate::compose::mesh::DEPTH_ENTRY => "depth.frag",
             ShaderStage::Fragment => "frag",
             ShaderStage::Compute => "comp",
             _ => continue,

@@ -353,6 +353,11 @@ impl<'a> Val<'a, Vec4> {
         use SwizzleComponent::*;
         self.swizzle([X, Y, Z, X])
     }
+    /// Last two components.
+    pub fn zw(self) -> Val<'a, Vec2> {
+        use SwizzleComponent::*;
+        self.swizzle([Z, W, X, X])
+    }
 }
 
 impl<'a> FnBuilder<'a> {

@@ -35,6 +35,12 @@ pub(crate) trait Policy {
     fn texture(&self, name: &str, binding: u32) -> TextureSite {
         TextureSite { name: name.to_string(), binding, wall: None }
     }
+    /// Whether every height read adds the quadric of the curved base surface (a mesh module
+    /// under `curved=quadric`, Oliveira & Policarpo 2005): see
+    /// [`crate::stage::sampling::QUADRIC_COEFFS`].
+    fn quadric_warp(&self) -> bool {
+        false
+    }
 }
 
 /// Where a policy declares a texture: its name and binding in the module, and the room wall
@@ -84,5 +90,8 @@ impl Policy for Counting<'_> {
     }
     fn texture(&self, name: &str, binding: u32) -> TextureSite {
         self.inner.texture(name, binding)
+    }
+    fn quadric_warp(&self) -> bool {
+        self.inner.quadric_warp()
     }
 }

@@ -45,7 +45,7 @@
 use std::collections::HashSet;
 use std::str::FromStr;
 
-use super::options::{resolve_option, Lod, OptionKey, OptionValue, Silhouette};
+use super::options::{resolve_option, Curved, Lod, OptionKey, OptionValue, Silhouette};
 use super::parse::{err, parse_pattern, ParseError, TextForm};
 use super::resolve::{resolve_stage, RawArg, RawStage, RawValue};
 use super::{Pipeline, Slot, StageSpec};
@@ -71,18 +71,20 @@ impl Grid {
     /// coarse outermost, then refine, shadow, ao. The stages are taken as they are: build
     /// them with [`StageSpec::new`] or [`resolve_stage`] to have them checked.
     pub fn product(name: Option<String>, lists: [Vec<StageSpec>; 4]) -> Self {
-        Grid::product_with_options(name, lists, &[Lod::Zero], &[Silhouette::None])
+        Grid::product_with_options(name, lists, &[Lod::Zero], &[Silhouette::None], &[None])
     }
     /// [`Grid::product`] with the pipeline options as further axes, innermost (after ao):
-    /// lod, then silhouette, so that the variants of one pipeline stand next to each other.
+    /// lod, then silhouette, then curved, so that the variants of one pipeline stand next to
+    /// each other.
     pub fn product_with_options(
         name: Option<String>,
         lists: [Vec<StageSpec>; 4],
         lods: &[Lod],
         silhouettes: &[Silhouette],
+        curved: &[Option<Curved>],
     ) -> Self {
         let [coarse, r, s, a] = lists;
-        let n = coarse.len() * r.len() * s.len() * a.len() * lods.len() * silhouettes.len();
+        let n = coarse.len() * r.len() * s.len() * a.len() * lods.len() * silhouettes.len() * curved.len();
         let mut cells = Vec::with_capacity(n);
         for c in &coarse {
             for r in &r {
@@ -90,8 +92,10 @@ impl Grid {
                     for a in &a {
                         for &lod in lods {
                             for &sil in silhouettes {
-                                let p = Pipeline::new(c.clone(), r.clone(), s.clone(), a.clone());
-                                cells.push(p.with_lod(lod).with_silhouette(sil));
+                                for &cur in curved {
+                                    let p = Pipeline::new(c.clone(), r.clone(), s.clone(), a.clone());
+                                    cells.push(p.with_lod(lod).with_silhouette(sil).with_curved(cur));
+                                }
                             }
                         }
                     }
@@ -374,23 +378,27 @@ impl GridPattern {
     /// Expands and resolves every stage, then forms the product of the slots.
     pub(crate) fn expand(&self) -> Result<Grid, ParseError> {
         let lists = self.resolve()?;
-        let (lods, sils) = self.resolve_options()?;
-        let total = lists.iter().map(Vec::len).product::<usize>().saturating_mul(lods.len() * sils.len());
+        let (lods, sils, curved) = self.resolve_options()?;
+        let total =
+            lists.iter().map(Vec::len).product::<usize>().saturating_mul(lods.len() * sils.len() * curved.len());
         if total > MAX_CELLS {
             let pos = self.options.first().map_or(self.end, |o| o.pos);
             return Err(err(pos, "", format!("the grid has more than {MAX_CELLS} pipelines")));
         }
-        Ok(Grid::product_with_options(self.name.clone(), lists, &lods, &sils))
+        Ok(Grid::product_with_options(self.name.clone(), lists, &lods, &sils, &curved))
     }
 
     /// Expands and resolves the option entries: the distinct values of each option in
-    /// declaration order (`[zero]`, `[none]` for an option left out).
-    pub fn resolve_options(&self) -> Result<(Vec<Lod>, Vec<Silhouette>), ParseError> {
+    /// declaration order (`[zero]`, `[none]`, `[None]` (the flat tile) for an option left out).
+    #[allow(clippy::type_complexity)]
+    pub fn resolve_options(&self) -> Result<(Vec<Lod>, Vec<Silhouette>, Vec<Option<Curved>>), ParseError> {
         let (mut lods, mut sils): (Option<Vec<Lod>>, Option<Vec<Silhouette>>) = (None, None);
+        let mut curved: Option<Vec<Option<Curved>>> = None;
         for op in &self.options {
             let given = match op.key {
                 OptionKey::Lod => lods.is_some(),
                 OptionKey::Silhouette => sils.is_some(),
+                OptionKey::Curved => curved.is_some(),
             };
             if given {
                 return Err(err(op.pos, op.key.name(), format!("the {} option is given twice", op.key)));
@@ -398,12 +406,13 @@ impl GridPattern {
             if op.values.is_empty() {
                 return Err(err(op.pos, op.key.name(), format!("the {} option's list is empty", op.key)));
             }
-            let (mut l, mut s) = (Vec::new(), Vec::new());
+            let (mut l, mut s, mut c) = (Vec::new(), Vec::new(), Vec::new());
             for v in &op.values {
                 for raw in v.expand()? {
                     match resolve_option(op.key, &raw)? {
                         OptionValue::Lod(x) if !l.contains(&x) => l.push(x),
                         OptionValue::Silhouette(x) if !s.contains(&x) => s.push(x),
+                        OptionValue::Curved(x) if !c.contains(&Some(x)) => c.push(Some(x)),
                         _ => {}
                     }
                 }
@@ -411,9 +420,10 @@ impl GridPattern {
             match op.key {
                 OptionKey::Lod => lods = Some(l),
                 OptionKey::Silhouette => sils = Some(s),
+                OptionKey::Curved => curved = Some(c),
             }
         }
-        Ok((lods.unwrap_or(vec![Lod::Zero]), sils.unwrap_or(vec![Silhouette::None])))
+        Ok((lods.unwrap_or(vec![Lod::Zero]), sils.unwrap_or(vec![Silhouette::None]), curved.unwrap_or(vec![None])))
     }
 
     /// The pattern as one pipeline: each slot must hold one stage with one value per
@@ -439,13 +449,13 @@ impl GridPattern {
             one(Slot::Shadow, s)?,
             one(Slot::Ao, a)?,
         );
-        let (lods, sils) = self.resolve_options()?;
-        let (&[lod], &[sil]) = (lods.as_slice(), sils.as_slice()) else {
+        let (lods, sils, curved) = self.resolve_options()?;
+        let (&[lod], &[sil], &[cur]) = (lods.as_slice(), sils.as_slice(), curved.as_slice()) else {
             let op = self.options.iter().find(|o| o.values.len() > 1).or(self.options.first());
             let (pos, key) = op.map_or((self.end, ""), |o| (o.pos, o.key.name()));
             return Err(err(pos, key, format!("the {key} option declares several values where a pipeline has one")));
         };
-        Ok(p.with_lod(lod).with_silhouette(sil))
+        Ok(p.with_lod(lod).with_silhouette(sil).with_curved(cur))
     }
 
     /// Expands and resolves every stage: the distinct stages of each slot in declaration

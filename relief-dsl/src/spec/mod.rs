@@ -3,7 +3,7 @@
 //!
 //! # Text form
 //!
-//! `COARSE[+REFINE][+shadow=SHADOW][+ao=AO][+lod=LOD][+silhouette=SILHOUETTE]`, for example
+//! `COARSE[+REFINE][+shadow=SHADOW][+ao=AO][+lod=LOD][+silhouette=SILHOUETTE][+curved=CURVED]`, for example
 //! `linear(10)+binary(5)` or `linear(10)+interval(3)+shadow=soft(30)+lod=auto`. Names are lower_snake. Parameters are positional
 //! or named (`linear(steps=10)`, `csm(15, form=textbook, sample=min4)`), and a parameter may itself be a
 //! stage (`shadow=hard(linear(20))`). Slots may also be named explicitly
@@ -12,8 +12,9 @@
 //! named options only where they differ from the default, `none` slots left out.
 //!
 //! After the slots come the pipeline-level [`options`]: `lod=zero|auto|level(k)` (which mip
-//! level the stages sample, default `zero`) and `silhouette=none|clip` (default `none`),
-//! printed only where they differ from the default. Grids and the macros take them as
+//! level the stages sample, default `zero`), `silhouette=none|clip` (default `none`) and
+//! `curved=none|quadric|prism` (absent: the flat tile; present: a mesh module), printed only
+//! where they differ from the default. Grids and the macros take them as
 //! entries like the slots (`lod: [zero, auto]`), a grid repeating its pipelines once per
 //! value.
 //!
@@ -57,7 +58,7 @@ pub use catalog::{
 pub use choice::{Choice, ConeForm, SampleChoice, StartChoice};
 pub use echo::{echo, one_line, ECHO_MAX, LINE_MAX};
 pub use grid::Grid;
-pub use options::{Lod, OptionKey, Silhouette, MAX_LOD_LEVEL};
+pub use options::{Curved, Lod, OptionKey, Silhouette, MAX_LOD_LEVEL};
 pub use parse::ParseError;
 // The parser's pieces for the macros (relief-macros): not part of the documented surface,
 // reached through `crate::__private`.
@@ -205,12 +206,15 @@ pub struct Pipeline {
     /// What happens where the ray leaves the tile (`silhouette=`, default
     /// [`Silhouette::None`]); carried and printed, its behaviour is the composer's.
     pub silhouette: Silhouette,
+    /// The mesh module's correction for a curved base surface (`curved=`); `None` (absent):
+    /// the flat tile's module.
+    pub curved: Option<Curved>,
 }
 
 impl Pipeline {
     /// A pipeline from its four stages, with the default options.
     pub fn new(coarse: StageSpec, refine: StageSpec, shadow: StageSpec, ao: StageSpec) -> Self {
-        Pipeline { coarse, refine, shadow, ao, lod: Lod::Zero, silhouette: Silhouette::None }
+        Pipeline { coarse, refine, shadow, ao, lod: Lod::Zero, silhouette: Silhouette::None, curved: None }
     }
     /// The pipeline with option `lod`.
     pub fn with_lod(mut self, lod: Lod) -> Self {
@@ -220,6 +224,11 @@ impl Pipeline {
     /// The pipeline with option `silhouette`.
     pub fn with_silhouette(mut self, silhouette: Silhouette) -> Self {
         self.silhouette = silhouette;
+        self
+    }
+    /// The pipeline with option `curved` (`None`: the flat tile).
+    pub fn with_curved(mut self, curved: Option<Curved>) -> Self {
+        self.curved = curved;
         self
     }
     /// The stage in `slot`.
@@ -506,6 +515,9 @@ impl fmt::Display for Pipeline {
         }
         if self.silhouette != Silhouette::None {
             write!(f, "+silhouette={}", self.silhouette)?;
+        }
+        if let Some(c) = self.curved {
+            write!(f, "+curved={c}")?;
         }
         Ok(())
     }

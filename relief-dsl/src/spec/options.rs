@@ -6,6 +6,12 @@
 //! | --- | --- | --- |
 //! | `lod` | `zero`, `auto`, `level(k)` with k in `0..=15` | `zero` |
 //! | `silhouette` | `none`, `clip` | `none` |
+//! | `curved` | `none`, `quadric`, `prism` | absent: the flat tile |
+//!
+//! `curved=` makes the composer write a *mesh module* instead of the flat tile's
+//! ([`crate::compose::mesh`], docs/meshes-shaders.md). Unlike the other options its absence
+//! is not one of its values: `curved=none` is the tangent-space march on a mesh, and a
+//! pipeline without `curved=` is today's flat-tile module, so `curved=none` is printed.
 //!
 //! A value is written like a stage (a bare word, or `level(k)`), so a grid can list several
 //! (`lod: [zero, auto, level(1..=3)]`). Defaults are left out of the canonical text.
@@ -63,6 +69,40 @@ impl fmt::Display for Silhouette {
     }
 }
 
+/// How the pipeline runs on a curved mesh (`curved=`): which correction for the curvature
+/// of the base surface the mesh module's fragment makes (docs/meshes-shaders.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Curved {
+    /// The tangent-space march of the flat tile in the interpolated frame of each fragment:
+    /// what engines ship, the baseline.
+    None,
+    /// The per-vertex quadric of Oliveira & Policarpo 2005: the ray's height above the
+    /// curved reference surface, a ray that leaves the shell discarded (the silhouette).
+    Quadric,
+    /// Each triangle extruded into a prism as deep as the relief, the search from the
+    /// prism face's entry point to the ray's exit from the prism.
+    Prism,
+}
+
+impl Curved {
+    /// Every value, in the order errors list them.
+    pub const ALL: [Curved; 3] = [Curved::None, Curved::Quadric, Curved::Prism];
+    /// The value's name in the text form.
+    pub fn name(self) -> &'static str {
+        match self {
+            Curved::None => "none",
+            Curved::Quadric => "quadric",
+            Curved::Prism => "prism",
+        }
+    }
+}
+
+impl fmt::Display for Curved {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// The pipeline options by name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum OptionKey {
@@ -70,16 +110,19 @@ pub enum OptionKey {
     Lod,
     /// [`Silhouette`].
     Silhouette,
+    /// [`Curved`].
+    Curved,
 }
 
 impl OptionKey {
     /// All options in the order the canonical text prints them.
-    pub const ALL: [OptionKey; 2] = [OptionKey::Lod, OptionKey::Silhouette];
+    pub const ALL: [OptionKey; 3] = [OptionKey::Lod, OptionKey::Silhouette, OptionKey::Curved];
     /// The option's name in the text form.
     pub fn name(self) -> &'static str {
         match self {
             OptionKey::Lod => "lod",
             OptionKey::Silhouette => "silhouette",
+            OptionKey::Curved => "curved",
         }
     }
     /// The values, as written in errors.
@@ -87,6 +130,7 @@ impl OptionKey {
         match self {
             OptionKey::Lod => vec!["zero".into(), "auto".into(), format!("level(0..={MAX_LOD_LEVEL})")],
             OptionKey::Silhouette => vec!["none".into(), "clip".into()],
+            OptionKey::Curved => Curved::ALL.iter().map(|c| c.name().to_string()).collect(),
         }
     }
 }
@@ -130,6 +174,8 @@ pub(crate) enum OptionValue {
     Lod(Lod),
     /// A `silhouette` value.
     Silhouette(Silhouette),
+    /// A `curved` value.
+    Curved(Curved),
 }
 
 fn unknown(key: OptionKey, raw: &RawStage, words: &[&str]) -> ParseError {
@@ -205,6 +251,13 @@ pub(crate) fn resolve_option(key: OptionKey, raw: &RawStage) -> Result<OptionVal
             no_args(key, raw)?;
             Ok(OptionValue::Silhouette(s))
         }
+        OptionKey::Curved => {
+            let Some(c) = Curved::ALL.into_iter().find(|c| c.name() == raw.name) else {
+                return Err(unknown(key, raw, &Curved::ALL.map(Curved::name)));
+            };
+            no_args(key, raw)?;
+            Ok(OptionValue::Curved(c))
+        }
     }
 }
 
@@ -238,6 +291,23 @@ mod tests {
             assert_eq!(p.to_string(), canonical, "{text}");
             assert_eq!(canonical.parse::<Pipeline>().unwrap(), p, "{text}");
         }
+        // curved=none is a value of its own (a mesh module), printed; absent is the flat tile.
+        for (text, canonical, curved) in [
+            ("linear(32)+curved=none", "linear(32)+curved=none", Some(Curved::None)),
+            (
+                "linear(32)+binary(5)+curved=quadric+lod=level(2)",
+                "linear(32)+binary(5)+lod=level(2)+curved=quadric",
+                Some(Curved::Quadric),
+            ),
+            ("coarse=csm(15)+curved=prism", "csm(15)+curved=prism", Some(Curved::Prism)),
+            ("linear(32)", "linear(32)", None),
+        ] {
+            let p: Pipeline = text.parse().unwrap();
+            assert_eq!(p.curved, curved, "{text}");
+            assert_eq!(p.to_string(), canonical, "{text}");
+            assert_eq!(canonical.parse::<Pipeline>().unwrap(), p, "{text}");
+        }
+        assert_ne!("linear+curved=none".parse::<Pipeline>().unwrap(), "linear".parse::<Pipeline>().unwrap());
         // level(0) and zero sample the same level but are different pipelines as written.
         assert_ne!("linear+lod=level(0)".parse::<Pipeline>().unwrap(), "linear".parse::<Pipeline>().unwrap());
     }
@@ -254,6 +324,11 @@ mod tests {
             ("linear(32)+lodd=auto", 11, "lodd", "unknown slot or option", Some("lod")),
             ("linear(32)+lod=auto+binary(5)", 20, "binary", "options come after the slots", None),
             ("linear(32)+lod=auto+lod=zero", 20, "lod", "given twice", None),
+            ("linear(32)+curved=quadrc", 18, "quadrc", "unknown curved value `quadrc`", Some("quadric")),
+            ("linear(32)+curved=prizm", 18, "prizm", "unknown curved value", Some("prism")),
+            ("linear(32)+curved=prism(2)", 18, "prism", "takes no parameters", None),
+            ("linear(32)+curve=prism", 11, "curve", "unknown slot or option", Some("curved")),
+            ("linear(32)+curved=none+curved=prism", 23, "curved", "given twice", None),
         ] {
             let e = text.parse::<Pipeline>().unwrap_err();
             assert_eq!((e.pos, e.token.as_str()), (pos, token), "{text}: {e}");
@@ -286,6 +361,14 @@ mod tests {
         let e = "coarse: linear\nlod: [zero, aut]".parse::<Grid>().unwrap_err();
         assert_eq!((e.line_column, e.token.as_str()), (Some((2, 13)), "aut"), "{e}");
         assert_eq!(e.suggestion.as_deref(), Some("auto"));
+        let g: Grid = "coarse: linear(8)\ncurved: [none, prism]".parse().unwrap();
+        let texts: Vec<String> = g.iter().map(|p| p.to_string()).collect();
+        assert_eq!(texts, ["linear(8)+curved=none", "linear(8)+curved=prism"]);
+        let e = "coarse: linear\ncurved: [none, quadrc]".parse::<Grid>().unwrap_err();
+        assert_eq!(
+            (e.line_column, e.token.as_str(), e.suggestion.as_deref()),
+            (Some((2, 16)), "quadrc", Some("quadric"))
+        );
         let e = "coarse: linear\nlod: auto\nlod: zero".parse::<Grid>().unwrap_err();
         assert!(e.message.contains("given twice"), "{e}");
     }

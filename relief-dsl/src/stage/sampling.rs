@@ -48,7 +48,35 @@ pub(crate) fn sample_level_global(m: &crate::ir::ModuleCtx) -> naga::Handle<naga
     m.private::<f32>(SAMPLE_LEVEL)
 }
 
+/// The private `vec2` global of the quadric's coefficients under `curved=quadric` (Oliveira &
+/// Policarpo 2005; Szirmay-Kalos & Umenhoffer 2008, §5.1, eq. 13 with the mixed term 0 in the
+/// frame of the principal directions): the reference surface lies
+/// `a·Δu² + b·Δv²` (in units of the relief's depth, negative where the surface curves away
+/// from its tangent plane) above the tangent plane of the point [`QUADRIC_ORIGIN`], Δ the
+/// offset in texture coordinates from it. The mesh module's fragment stores both before it
+/// traces.
+pub(crate) const QUADRIC_COEFFS: &str = "relief_quadric";
+/// The private `vec2` global of the texture point the quadric is centred on (the ray's
+/// entry, then the hit for the shadow and ao stages).
+pub(crate) const QUADRIC_ORIGIN: &str = "relief_quadric_origin";
+
 impl<'a> FnBuilder<'a> {
+    /// The quadric's height at `uv` ([`QUADRIC_COEFFS`]) where the function's policy warps
+    /// heights, else `None`. Warping the height field by the quadric is the survey's warping
+    /// of the ray turned around (Szirmay-Kalos & Umenhoffer 2008, §5.1: the ray's height
+    /// above the curved surface is its height above the tangent plane less the quadric's),
+    /// so every stage keeps its straight ray and its algorithm box.
+    fn quadric_at(&'a self, uv: Val<'a, Vec2>) -> Option<Val<'a, f32>> {
+        if !self.policy().quadric_warp() {
+            return None;
+        }
+        let m = self.module();
+        let c = self.load::<Vec2>(self.global_ptr(m.private::<Vec2>(QUADRIC_COEFFS)));
+        let o = self.load::<Vec2>(self.global_ptr(m.private::<Vec2>(QUADRIC_ORIGIN)));
+        let d = uv - o;
+        Some(c.x() * d.x() * d.x() + c.y() * d.y() * d.y())
+    }
+
     /// The level 2D samples are taken at: `None` under `lod=zero` (level 0, the explicit
     /// `SampleLevel::Zero` of every sample before the option), else the stage-wide level in
     /// [`SAMPLE_LEVEL`]. Stage bodies never see it: every sampling method below reads it.
@@ -202,7 +230,14 @@ impl<'a> FnBuilder<'a> {
     /// The four heights a bilinear sample at `uv` blends (see [`FnBuilder::map_gather`]), at the
     /// stage-wide level.
     pub fn height_gather(&'a self, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
-        self.gather_2d(Image::Height, uv)
+        let g = self.gather_2d(Image::Height, uv);
+        match self.quadric_at(uv) {
+            // The four corners take the quadric at `uv`, not at their own texel centres: an
+            // approximation that moves a corner by at most the quadric's change over one
+            // texel (docs/meshes-shaders.md).
+            Some(q) => g + q.splat::<Vec4>(),
+            None => g,
+        }
     }
 
     /// Only maps with a mip chain of their own level's data ([`MapReq::has_levels`]) may be
@@ -315,7 +350,11 @@ impl<'a> FnBuilder<'a> {
 
     /// GETHEIGHT of the algorithm boxes: the height map at `uv`, bilinear.
     pub fn height(&'a self, uv: Val<'a, Vec2>) -> Val<'a, f32> {
-        self.sample(Image::Height, uv, Filter::Linear).x()
+        let h = self.sample(Image::Height, uv, Filter::Linear).x();
+        match self.quadric_at(uv) {
+            Some(q) => h + q,
+            None => h,
+        }
     }
 
     /// The member `p` of the `Params` uniform block ([`crate::abi::Params`]).

@@ -57,6 +57,16 @@ impl Program {
         p: &relief_dsl::Pipeline,
         options: &relief_dsl::compose::Options,
     ) -> Result<Program, relief_dsl::CompileError> {
+        if let Some(c) = p.curved {
+            // The mesh module has other entry points and a vertex layout; drawing meshes is a
+            // later step of issue 38.
+            return Err(relief_dsl::CompileError {
+                stage: "mesh".into(),
+                message: format!(
+                    "curved={c} composes a mesh module (docs/meshes-shaders.md), which relief cannot render or probe yet; `relief gen` writes it"
+                ),
+            });
+        }
         let maps = p.required_maps();
         for (i, a) in maps.iter().enumerate() {
             if let Some(b) = maps[..i].iter().find(|b| b.binding() == a.binding()) {
