@@ -48,15 +48,18 @@ pub fn load_mesh_file(path: &Path, name: Option<&str>) -> Result<(Mesh, MeshNote
     let mut notes = MeshNotes::default();
     let mut meshes = Vec::new();
     for r in raws {
-        let (mesh, generated) = finish(r).map_err(err)?;
+        let (mesh, generated, skipped) = finish(r).map_err(err)?;
         if generated {
             notes.generated_tangents.push(mesh.name.clone());
         }
-        let (mesh, skipped) = mesh.checked().map_err(err)?;
         notes.degenerate_triangles += skipped;
         meshes.push(mesh);
     }
-    Ok((Mesh::join(meshes), notes))
+    let mesh = Mesh::join(meshes);
+    if mesh.triangles.is_empty() {
+        return Err(err(format!("no triangle left ({} degenerate ones skipped)", notes.degenerate_triangles)));
+    }
+    Ok((mesh, notes))
 }
 
 /// All meshes, or the one named `name` (an error naming those there are).
@@ -74,8 +77,10 @@ fn pick(raws: Vec<Raw>, name: Option<&str>) -> Result<Vec<Raw>, String> {
     Ok(chosen)
 }
 
-/// Normals made where missing, tangents generated where missing (`true` then), as a [`Mesh`].
-fn finish(r: Raw) -> Result<(Mesh, bool), String> {
+/// Normals made where missing, the triangles checked (`Mesh::checked`: degenerate ones
+/// skipped, their count returned), then tangents generated where missing (`true` then): after
+/// the checks, so that MikkTSpace never sees a non-finite or degenerate triangle.
+fn finish(r: Raw) -> Result<(Mesh, bool, usize), String> {
     let n = r.positions.len();
     if r.uvs.len() != n {
         return Err(format!("mesh `{}` has no texture coordinates (a height map needs them)", r.name));
@@ -87,18 +92,15 @@ fn finish(r: Raw) -> Result<(Mesh, bool), String> {
         Some(v) if v.len() == n => v.into_iter().map(|v| v.normalize_or_zero()).collect(),
         _ => face_normals(&r.positions, &r.triangles),
     };
-    let mut mesh =
-        Mesh { name: r.name, positions: r.positions, normals, tangents: vec![], uvs: r.uvs, triangles: r.triangles };
-    match r.tangents {
-        Some(t) if t.len() == n => {
-            mesh.tangents = t;
-            Ok((mesh, false))
-        }
-        _ => {
-            tangent::generate(&mut mesh).map_err(|e| format!("mesh `{}`: {e}", mesh.name))?;
-            Ok((mesh, true))
-        }
+    let given = r.tangents.filter(|t| t.len() == n);
+    let generate = given.is_none();
+    let tangents = given.unwrap_or_else(|| vec![Vec4::new(1.0, 0.0, 0.0, 1.0); n]);
+    let mesh = Mesh { name: r.name, positions: r.positions, normals, tangents, uvs: r.uvs, triangles: r.triangles };
+    let (mut mesh, skipped) = mesh.checked()?;
+    if generate {
+        tangent::generate(&mut mesh).map_err(|e| format!("mesh `{}`: {e}", mesh.name))?;
     }
+    Ok((mesh, generate, skipped))
 }
 
 /// Vertex normals as the area-weighted average of the normals of the faces around each vertex.

@@ -148,10 +148,17 @@ impl Mesh {
     }
 }
 
-/// Whether a triangle cannot carry relief: a non-finite value, or an area that is zero (to
-/// rounding: below 1e-12 of its squared longest side) in position or in uv.
+/// The largest coordinate (position or uv) relief takes as finite: products of two stay far
+/// inside f32 (MikkTSpace works in f32).
+pub const MAX_COORDINATE: f32 = 1e12;
+
+/// Whether a triangle cannot carry relief: a non-finite value (or one beyond
+/// [`MAX_COORDINATE`]), or an area that is zero (to rounding: below 1e-12 of its squared
+/// longest side) in position or in uv.
 fn degenerate(p: [Vec3; 3], uv: [Vec2; 3], n: [Vec3; 3]) -> bool {
-    let finite = p.iter().all(|v| v.is_finite()) && uv.iter().all(|v| v.is_finite()) && n.iter().all(|v| v.is_finite());
+    let ok3 = |v: &Vec3| v.is_finite() && v.abs().max_element() <= MAX_COORDINATE;
+    let ok2 = |v: &Vec2| v.is_finite() && v.abs().max_element() <= MAX_COORDINATE;
+    let finite = p.iter().all(ok3) && uv.iter().all(ok2) && n.iter().all(ok3);
     if !finite {
         return true;
     }

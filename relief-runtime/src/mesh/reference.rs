@@ -100,6 +100,9 @@ impl MeshReference {
         if map.width == 0 || map.height == 0 {
             return Err("the height map has no texels".into());
         }
+        if mesh.triangles.is_empty() {
+            return Err("the mesh has no triangles".into());
+        }
         let tris: Vec<Tri> = mesh.triangles.iter().map(|&t| Tri::new(mesh, t, size)).collect();
         let mut cells = 0usize;
         for t in &tris {
