@@ -167,5 +167,5 @@ fn degenerate(p: [Vec3; 3], uv: [Vec2; 3], n: [Vec3; 3]) -> bool {
     let side3 = (p[1] - p[0]).length().max((p[2] - p[0]).length()).max((p[2] - p[1]).length());
     let area2 = (uv[1] - uv[0]).perp_dot(uv[2] - uv[0]).abs();
     let side2 = (uv[1] - uv[0]).length().max((uv[2] - uv[0]).length()).max((uv[2] - uv[1]).length());
-    !(area3 > 1e-12 * side3 * side3) || !(area2 > 1e-12 * side2 * side2)
+    area3 <= 1e-12 * side3 * side3 || area2 <= 1e-12 * side2 * side2
 }
