@@ -173,7 +173,7 @@ fn compare(r: &MeshReference, tw: &Twin, rays: &[(DVec3, DVec3)]) -> (usize, usi
         let near = (0..8).any(|i| {
             let phi = i as f64 * std::f64::consts::FRAC_PI_4;
             let oo = o + (a * phi.cos() + b * phi.sin()) * shift;
-            agrees(oo, d, rh.map(|t| t))
+            agrees(oo, d, rh)
         });
         assert!(
             near,
@@ -359,7 +359,7 @@ pub(crate) fn glb(meshes: &[GlbMesh]) -> Vec<u8> {
         |bin: &mut Vec<u8>, bytes: &[u8], count: usize, ty: &str, comp: u32, minmax: Option<([f32; 3], [f32; 3])>| {
             let off = bin.len();
             bin.extend_from_slice(bytes);
-            while bin.len() % 4 != 0 {
+            while !bin.len().is_multiple_of(4) {
                 bin.push(0);
             }
             views.push(format!(r#"{{"buffer":0,"byteOffset":{off},"byteLength":{}}}"#, bytes.len()));
@@ -397,7 +397,7 @@ pub(crate) fn glb(meshes: &[GlbMesh]) -> Vec<u8> {
         views.join(","),
         bin.len()
     );
-    while json.len() % 4 != 0 {
+    while !json.len().is_multiple_of(4) {
         json.push(' ');
     }
     let total = 12 + 8 + json.len() + 8 + bin.len();
