@@ -9,7 +9,7 @@
 //!
 //! [`builtin`] the sphere, cylinder and torus; [`mod@file`] glTF 2.0 and OBJ files;
 //! [`tangent`] MikkTSpace tangents; [`surface`] the displaced surface and its proven boxes;
-//! [`reference`] the exact trace over a BVH of patches; [`scene`] a scene with its mesh and
+//! [`mod@reference`] the exact trace over a BVH of patches; [`scene`] a scene with its mesh and
 //! its per-pixel rays.
 
 use glam::{Vec2, Vec3, Vec4};
