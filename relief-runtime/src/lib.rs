@@ -23,6 +23,7 @@ pub mod io;
 pub mod lock;
 pub mod maps;
 pub mod measure;
+pub mod mesh;
 pub mod metrics;
 mod picture;
 mod reference;
@@ -43,8 +44,8 @@ pub use error::{Error, Result};
 // scale, edge mode, maps), named views and scene-file overrides.
 pub use heightmap::{Channel, EdgeMode, HeightMap, HeightMapError, LoadOptions};
 pub use scene::{
-    camera_json, load_scene_file, scene_from_arg, scene_spec, Camera, NormalMap, Overrides, ProbeRay, RealScene,
-    Rgba8Image, Scene, SceneError, SceneFileError, View, REAL_SCENES,
+    camera_json, load_scene_file, scene_from_arg, scene_spec, Camera, MeshSource, NormalMap, Overrides, ProbeRay,
+    RealScene, Rgba8Image, Scene, SceneError, SceneFileError, View, REAL_SCENES,
 };
 
 // Maps: the kinds a pipeline reads and their parameters (built by `maps::build`).

@@ -326,6 +326,117 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
         a.push(d.join("sweep-costs").into());
         add(format!("sweep --gpu-costs {}", f.display()), a);
     }
+    // Mesh files and mesh scenes under `relief scene check` (docs/meshes.md): truncated and
+    // garbled .glb, .gltf with a damaged JSON or buffer, .obj with NaN, bad indices or garbage,
+    // huge counts, several meshes and a missing name; each loaded by a scene file and, when
+    // it loads, traced (`--reference 8`).
+    {
+        use super::meshes::{glb, square, GlbMesh};
+        let m = d.join("meshes");
+        std::fs::create_dir_all(&m).unwrap();
+        image::GrayImage::from_pixel(4, 4, image::Luma([128])).save(m.join("h.png")).unwrap();
+        let good = glb(&[square("A", 0.0, true), square("B", 1.0, true)]);
+        let mut files: Vec<(String, Vec<u8>)> = Vec::new();
+        for cut in [0, 4, 11, 12, 20, 28, good.len() / 2, good.len() - 1] {
+            files.push((format!("cut{cut}.glb"), good[..cut].to_vec()));
+        }
+        let mut frng = Rng(38);
+        for i in 0..40 {
+            let mut g = good.clone();
+            for _ in 0..1 + frng.below(8) {
+                let k = frng.below(g.len());
+                g[k] = frng.below(256) as u8;
+            }
+            files.push((format!("flip{i}.glb"), g));
+        }
+        let tri = |positions: Vec<[f32; 3]>, indices: Vec<u32>| GlbMesh {
+            name: "T",
+            positions,
+            uvs: Some(vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]),
+            indices,
+        };
+        let p3 = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        files.push((
+            "nan.glb".into(),
+            glb(&[tri(vec![[f32::NAN, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, f32::INFINITY]], vec![0, 1, 2])]),
+        ));
+        files.push(("oob.glb".into(), glb(&[tri(p3.clone(), vec![0, 1, 7])])));
+        files.push((
+            "huge_uv.glb".into(),
+            glb(&[GlbMesh { uvs: Some(vec![[0.0, 0.0], [1e30, 0.0], [0.0, 1e30]]), ..tri(p3.clone(), vec![0, 1, 2]) }]),
+        ));
+        // The good file's JSON as a .gltf beside its buffer, then with its counts and offsets
+        // damaged.
+        let jlen = u32::from_le_bytes(good[12..16].try_into().unwrap()) as usize;
+        let json = String::from_utf8(good[20..20 + jlen].to_vec()).unwrap();
+        let bin = good[20 + jlen + 8..].to_vec();
+        std::fs::write(m.join("m.bin"), &bin).unwrap();
+        let gltf = json.replace(r#""buffers":[{"byteLength""#, r#""buffers":[{"uri":"m.bin","byteLength""#);
+        for (i, bad) in [
+            gltf.clone(),
+            gltf.replacen(r#""count":4"#, r#""count":4000000000"#, 1),
+            gltf.replacen(r#""count":6"#, r#""count":18446744073709551615"#, 1),
+            gltf.replacen(r#""byteOffset":0"#, r#""byteOffset":4294967295"#, 1),
+            gltf.replace("m.bin", "no-such.bin"),
+            gltf.replace("m.bin", "f.png"),
+            gltf.replace("m.bin", "folder.png"),
+            gltf.replace(r#""nodes":[0,1]"#, r#""nodes":[0,0,1,1]"#),
+            gltf.replace(r#"{"mesh":1}"#, r#"{"mesh":1,"children":[1]}"#),
+            gltf[..gltf.len() / 2].to_string(),
+            "{".repeat(10000),
+        ]
+        .iter()
+        .enumerate()
+        {
+            files.push((format!("g{i}.gltf"), bad.clone().into_bytes()));
+        }
+        for (i, obj) in [
+            "v nan nan nan\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 99999999999/3\n",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 -9/3\n",
+            "v 1e39 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1e30 0\nvt 0 1e30\nf 1/1 2/2 3/3\n",
+            "v 0 0 0\nv 1 0\nf 1 2\n",
+            "f 1/1/1 2/2/2 3/3/3\n",
+            "\u{0}\u{1}garbage\u{ff}",
+            "",
+        ]
+        .iter()
+        .enumerate()
+        {
+            files.push((format!("o{i}.obj"), obj.as_bytes().to_vec()));
+        }
+        files.push(("raw.bin".into(), vec![0u8; 64]));
+        for (name, bytes) in &files {
+            std::fs::write(m.join(name), bytes).unwrap();
+            for mesh_name in ["", "name = \"Nope\"\n"] {
+                let sc = m.join(format!("{name}{}.toml", mesh_name.len()));
+                let body = format!("[height_map]\npath = \"h.png\"\n[mesh]\npath = \"{name}\"\n{mesh_name}");
+                std::fs::write(&sc, body).unwrap();
+                let mut a = os(&["scene", "check", "--reference", "8"]);
+                a.push(sc.into());
+                add(format!("scene check {name} {mesh_name:?}"), a);
+            }
+        }
+        if made {
+            let sc = m.join("fifo.toml");
+            std::fs::write(
+                &sc,
+                format!("[height_map]\npath = \"h.png\"\n[mesh]\npath = {:?}\n", fifo.display().to_string()),
+            )
+            .unwrap();
+            let mut a = os(&["scene", "check"]);
+            a.push(sc.into());
+            add("scene check on a FIFO mesh".into(), a);
+        }
+        for v in ["0", "-1", "nan", "99999"] {
+            let sc = m.join("good.toml");
+            std::fs::write(&sc, "[height_map]\npath = \"h.png\"\n[mesh]\nbuiltin = \"torus\"\n").unwrap();
+            let mut a = os(&["scene", "check", &format!("--reference={v}")]);
+            a.push(sc.into());
+            add(format!("scene check --reference={v}"), a);
+        }
+    }
     // Corrupted results rows under `relief report` (each folder one kind of damage).
     let row = r#"{"grid":"g","pipeline":"linear(10)","scene":"scene:step","size":16,"adapter":"a","status":"ok","error":"","relief_version":"0","cell_dir":""}"#;
     let damages = [

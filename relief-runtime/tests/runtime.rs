@@ -13,6 +13,7 @@ mod gpu;
 mod heightmap;
 mod lod;
 mod maps;
+mod meshes;
 mod reference;
 mod report;
 mod report_add;

@@ -40,7 +40,7 @@ use glam::Vec3;
 use serde::Deserialize;
 
 use crate::heightmap::{Channel, EdgeMode, HeightMap, LoadOptions};
-use crate::scene::{Camera, NormalMap, Rgba8Image, Scene, View};
+use crate::scene::{Camera, MeshSource, NormalMap, Rgba8Image, Scene, View};
 
 /// The keys of a scene file with the type each holds: `number`, `string`, `table` or
 /// `array of 3 numbers`.
@@ -58,12 +58,17 @@ pub(crate) const KEYS: &[(&str, &str)] = &[
     ("camera.azimuth", "number"),
     ("camera.distance", "number"),
     ("camera.fov", "number"),
+    ("camera.target", "array of 3 numbers"),
     ("light", "array of 3 numbers"),
     ("albedo", "string"),
     ("normal_map", "string"),
     ("normal_green", "string"),
     ("lod", "string"),
     ("view", "string"),
+    ("mesh", "table"),
+    ("mesh.builtin", "string"),
+    ("mesh.path", "string"),
+    ("mesh.name", "string"),
 ];
 
 /// Why a scene file could not be read. Displays as one line: `FILE: key `KEY`: MESSAGE`.
@@ -93,6 +98,15 @@ struct FileSpec {
     normal_green: Option<String>,
     lod: Option<String>,
     view: Option<String>,
+    mesh: Option<MeshSpec>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MeshSpec {
+    builtin: Option<String>,
+    path: Option<String>,
+    name: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -110,6 +124,7 @@ struct CameraSpec {
     azimuth: Option<f32>,
     distance: Option<f32>,
     fov: Option<f32>,
+    target: Option<[f32; 3]>,
 }
 
 /// The TOML table of the file at `path` (a scene or a room file): a missing or unreadable file
@@ -277,7 +292,21 @@ fn build(path: &Path, f: FileSpec) -> Result<Scene, KeyError> {
         Some("clamp") => EdgeMode::Clamp,
         Some(o) => return Err(("edge", format!("`{o}`: expected `repeat` or `clamp`"))),
     };
+    if let Some(m) = &f.mesh {
+        s.mesh = Some(mesh_source(dir, m)?);
+        // A mesh scene looks at the origin from 3 units away unless its camera keys say
+        // otherwise (docs/meshes.md: built-in meshes are about one unit across, at the origin).
+        s.camera.target = Vec3::ZERO;
+        s.camera.distance = 3.0;
+    }
     let c = f.camera.unwrap_or_default();
+    if let Some(t) = c.target {
+        let v = Vec3::from(t);
+        if !v.is_finite() {
+            return Err(("camera.target", format!("{t:?}: must be a finite point")));
+        }
+        s.camera.target = v;
+    }
     if let Some(a) = c.angle {
         check_angle(a).map_err(|m| ("camera.angle", m))?;
         s.camera.angle_deg = a;
@@ -322,6 +351,27 @@ fn build(path: &Path, f: FileSpec) -> Result<Scene, KeyError> {
         s.normal = Some(load_normal_map(&dir.join(n), green_up).map_err(|m| ("normal_map", m))?);
     }
     Ok(s)
+}
+
+/// The built-in meshes a scene's `mesh.builtin` may name (built by `crate::mesh::builtin`).
+pub(crate) const BUILTIN_MESHES: &[&str] = &["sphere", "cylinder", "torus"];
+
+/// The `[mesh]` table as a [`MeshSource`]: exactly one of `builtin` and `path`; `name` only
+/// with a file (it picks one of the file's meshes).
+fn mesh_source(dir: &Path, m: &MeshSpec) -> Result<MeshSource, KeyError> {
+    match (&m.builtin, &m.path) {
+        (Some(b), None) => {
+            if m.name.is_some() {
+                return Err(("mesh.name", "names one mesh of a file: it needs `mesh.path`, not `mesh.builtin`".into()));
+            }
+            if !BUILTIN_MESHES.contains(&b.as_str()) {
+                return Err(("mesh.builtin", format!("`{b}`: expected one of {}", BUILTIN_MESHES.join(", "))));
+            }
+            Ok(MeshSource::Builtin(b.clone()))
+        }
+        (None, Some(p)) => Ok(MeshSource::File { path: dir.join(p), name: m.name.clone() }),
+        _ => Err(("mesh", "needs exactly one of `builtin = \"sphere\"` and `path = \"mesh.glb\"`".into())),
+    }
 }
 
 /// The largest depth scale accepted: a relief MAX_DEPTH_SCALE times as deep as its texture

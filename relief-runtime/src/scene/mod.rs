@@ -96,6 +96,24 @@ pub struct Scene {
     /// The scene's sampling level policy (a scene file's `lod`): the `lod` of every pipeline
     /// measured on it that names none ([`Scene::pipeline_for`]). `None`: the pipeline's own.
     pub lod: Option<relief_dsl::spec::Lod>,
+    /// The mesh the relief covers (a scene file's `[mesh]`, docs/meshes.md); `None`: the
+    /// flat quad. Loaded by `crate::mesh`.
+    pub mesh: Option<MeshSource>,
+}
+
+/// The mesh a scene names (docs/meshes.md).
+#[derive(Clone, Debug, PartialEq)]
+pub enum MeshSource {
+    /// A built-in mesh: `sphere`, `cylinder` or `torus`.
+    Builtin(String),
+    /// A glTF 2.0 (`.gltf`, `.glb`) or OBJ file, resolved against the scene file's folder;
+    /// `name` picks one of its meshes (all of them when `None`).
+    File {
+        /// The mesh file.
+        path: std::path::PathBuf,
+        /// The one mesh to draw, by name.
+        name: Option<String>,
+    },
 }
 
 impl Scene {
@@ -113,6 +131,7 @@ impl Scene {
             camera: Camera::default_for(1.0),
             light_dir: Vec3::new(-0.4, -0.5, 0.75).normalize(),
             lod: None,
+            mesh: None,
         }
     }
 

@@ -11,6 +11,7 @@ mod maps;
 mod render;
 mod report;
 mod room;
+mod scene;
 mod serve;
 mod stability;
 mod sweep;
@@ -64,6 +65,8 @@ enum Command {
     /// A room behind a window, interior mapping with relief on every wall (Amaro & Gustafsson 2022), against
     /// the same room as real geometry: frame.png, baseline.png, diff.png, metrics.json.
     Room(room::RoomArgs),
+    /// Scene files: `relief scene check FILE` loads one (and its mesh) and says what it holds.
+    Scene(scene::SceneArgs),
     /// Serve a report folder on this machine over HTTP (127.0.0.1 unless `--bind` says
     /// otherwise): files inside the folder only; prints the URL.
     Serve(serve::ServeArgs),
@@ -161,6 +164,7 @@ fn main() {
         Command::Report(a) => report::run(a),
         Command::Room(a) => room::run(a),
         Command::Serve(a) => serve::run(a),
+        Command::Scene(a) => scene::run(a),
     };
     if let Err(e) = result {
         // One line: the error and its causes (a cause its error already quotes is not
