@@ -228,6 +228,27 @@ fn format_named(s: &str) -> wgpu::TextureFormat {
     }
 }
 
+/// A `tsl` bundle's `relief.json` lists no nearest sampler (the `tsl` form reads its
+/// nearest textures with `textureLoad`, and three.js binds no sampler for a NearestFilter
+/// texture), and lists every resource the library's functions take: each name on the
+/// header's `+ resource arguments:` lines is a binding of the json.
+fn check_tsl_bindings(out: &Path, j: &serde_json::Value, pipe: &str) {
+    let bindings = j["bindings"].as_array().unwrap();
+    let nearest_sampler = bindings.iter().find(|b| b["kind"] == "sampler" && b["filter"] == "nearest");
+    assert!(nearest_sampler.is_none(), "{pipe} (tsl): relief.json lists a nearest sampler: {nearest_sampler:?}");
+    let names: Vec<&str> = bindings.iter().filter_map(|b| b["name"].as_str()).collect();
+    let lib = std::fs::read_to_string(out.join(j["library"][0].as_str().unwrap())).unwrap();
+    let args: Vec<&str> = lib
+        .lines()
+        .filter_map(|l| l.split("+ resource arguments: ").nth(1))
+        .flat_map(|l| l.split(", ").map(str::trim))
+        .collect();
+    assert!(args.iter().any(|a| a.ends_with("_nearest")), "{pipe} (tsl): the library reads no nearest map: {args:?}");
+    for a in &args {
+        assert!(names.contains(a), "{pipe} (tsl): the library reads `{a}`, which relief.json does not list: {names:?}");
+    }
+}
+
 /// `relief export` (issue 39, item 2): `relief.json` lists exactly the textures and samplers
 /// of the module's binding table (`Compiled::bindings`, less the normal and albedo maps that
 /// only relief's own shading reads), each texture's file read back with the `ktx2` crate is
@@ -239,9 +260,12 @@ fn export_writes_a_bundle_whose_relief_json_is_the_binding_table() {
     use std::collections::BTreeSet;
     let scene = Scene::by_name("step", None).unwrap();
     let ups = gpu::scene_uploads(&scene, true);
-    for (pipe, target) in
-        [("csm(64)", "glsl-es"), ("maxmip(96)", "wgsl"), ("linear(32)+binary(5)+shadow=soft(16)", "hlsl")]
-    {
+    for (pipe, target) in [
+        ("csm(64)", "glsl-es"),
+        ("maxmip(96)", "wgsl"),
+        ("linear(32)+binary(5)+shadow=soft(16)", "hlsl"),
+        ("csm(64)", "tsl"),
+    ] {
         let out = tmp("export").join("bundle");
         run_ok(&["export", pipe, "--scene", "scene:step", "--target", target, "--out"], &out);
         let j: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("relief.json")).unwrap()).unwrap();
@@ -299,7 +323,10 @@ fn export_writes_a_bundle_whose_relief_json_is_the_binding_table() {
         for (name, want) in [("normal", &ups.normal), ("albedo", &ups.albedo), ("height", &ups.height)] {
             check_ktx2(&out.join(s(&j["textures"][name]["file"])), want, name);
         }
-        if pipe == "csm(64)" {
+        if target == "tsl" {
+            check_tsl_bindings(&out, &j, pipe);
+        }
+        if target == "glsl-es" {
             assert!(j["paste"].as_array().unwrap().iter().any(|l| l == "#define RELIEF_EDGE_REPEAT"), "{}", j["paste"]);
         }
         // The folder now holds the bundle: refused without --force, in one line; rewritten with it.
