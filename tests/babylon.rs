@@ -40,7 +40,7 @@ const CASES: [(&str, &str); 3] = [
 /// The `relief` command line of this build: `target/PROFILE/relief`, beside the test
 /// binary's `deps/`. The facade cannot name another package's binary, so it is looked up
 /// there; a missing or stale one is a failure that says how to build it.
-fn relief_exe() -> PathBuf {
+pub(crate) fn relief_exe() -> PathBuf {
     let me = std::env::current_exe().unwrap();
     let exe = me.parent().and_then(Path::parent).unwrap().join("relief");
     let built = |p: &Path| p.metadata().and_then(|m| m.modified()).ok();
@@ -76,7 +76,7 @@ fn walk(dir: &Path) -> Vec<PathBuf> {
     out
 }
 
-fn relief_render(g: &Gpu, p: &Pipeline, scene: &Scene) -> Vec<u8> {
+pub(crate) fn relief_render(g: &Gpu, p: &Pipeline, scene: &Scene) -> Vec<u8> {
     let program = Program::new(p).unwrap();
     let mut tex = SceneTextures::new(g, scene);
     tex.add_maps(g, scene, &p.required_maps()).unwrap();
@@ -84,7 +84,7 @@ fn relief_render(g: &Gpu, p: &Pipeline, scene: &Scene) -> Vec<u8> {
 }
 
 /// The page's pictures come back as hex (RGBA8, top row first).
-fn from_hex(s: &str) -> Vec<u8> {
+pub(crate) fn from_hex(s: &str) -> Vec<u8> {
     assert!(s.len().is_multiple_of(2) && s.is_ascii(), "a picture's hex has an odd length or stray characters");
     (0..s.len()).step_by(2).map(|i| u8::from_str_radix(&s[i..i + 2], 16).expect("a picture's hex")).collect()
 }

@@ -1,151 +1,84 @@
-//! three.js as a client of relief's libraries, in a real browser: headless Chromium
-//! (SwiftShader) draws the relief quad with three.js (`tests/browser/pages/threejs.html`,
-//! npm `three` pinned by `tests/browser/package-lock.json`) twice per pipeline:
+//! three.js as a client of `relief export` (issue 39), in a real browser: for each pipeline
+//! the test runs `relief export PIPELINE --scene MAP --target glsl-es|tsl --out DIR`, serves
+//! the folders, and headless Chromium (SwiftShader) draws the relief quad with three.js
+//! (`tests/browser/pages/threejs.html`, npm `three` pinned by
+//! `tests/browser/package-lock.json`) twice per pipeline:
 //!
-//! - WebGL2: the `glsl-es` library in a `ShaderMaterial` (GLSL3), compiled by ANGLE;
-//! - WebGPU: the `tsl` library (WGSL with the resources as arguments) included by a TSL
-//!   `wgslFn`, on three's `WebGPURenderer`, compiled by Tint.
+//! - WebGL2: the `glsl-es` bundle's library in a `ShaderMaterial` (GLSL3), compiled by ANGLE;
+//! - WebGPU: the `tsl` bundle's library (WGSL with the resources as arguments) included by a
+//!   TSL `wgslFn`, on three's `WebGPURenderer`, compiled by Tint.
 //!
-//! Each picture is compared with `relief render`'s frame (the render entry relief composes
-//! itself, drawn by wgpu here) for the same scene, camera and pipeline. The page gets what
-//! relief's own render uses: the textures in the layouts the runtime uploads (heights,
-//! normals, albedo with their mip chains, the acceleration maps), the same filters and edge
-//! mode, the scene's `view_proj`, eye, light and ambient share; the material shades as the
-//! render entry does and writes sRGB like relief's `Rgba8UnormSrgb` target.
+//! The page reads `relief.json`, the library and the `.ktx2` files it names, as a three.js
+//! user would: every texture through three's own `KTX2Loader` (its data-texture path for
+//! uncompressed formats, which needs no Basis transcoder), with the filter and address mode
+//! the json gives. The harness hands the page only the camera (relief's `view_proj` and
+//! eye); no texture goes to the page but through the bundles' files.
 //!
-//! The goal (the bar of `tests/integrate.rs`): a mean absolute difference of at most 1 of
+//! Each picture is compared with `relief render`'s frame for the same scene, camera and
+//! pipeline, by the bar of `tests/integrate.rs`: a mean absolute difference of at most 1 of
 //! 255 per channel and at most 1 % of the pixels differing by more than 8 in a channel.
 
+use crate::babylon::{from_hex, relief_exe, relief_render};
 use crate::common::{browser, frames};
 
-use std::path::{Path, PathBuf};
+use std::process::Command;
 use std::time::Duration;
 
 use browser::{run_page, Page};
 use relief::dsl::emit::{library_forms, LibraryForm, LibraryOptions};
-use relief::runtime::gpu::{self, Gpu, MapKey, Program, SceneTextures, Upload};
-use relief::runtime::EdgeMode;
-use relief::runtime::Scene;
+use relief::runtime::gpu::Gpu;
+use relief::runtime::scene_from_arg;
 use relief::Pipeline;
-use serde_json::{json, Value};
+use serde_json::json;
 
 /// The frame's side, pixels.
 const SIZE: u32 = 128;
 
-/// The pipelines and scenes drawn: a linear search with binary refinement and a soft shadow
-/// on a real height map, a safe cone method on a rough procedural surface, and the max-mip
-/// traversal on one-texel walls and pillars with clamped edges.
-const CASES: [(&str, &str, EdgeMode); 3] = [
-    ("linear(32)+binary(5)+shadow=soft(16)", "lion", EdgeMode::Repeat),
-    ("csm(64)", "rock_bump", EdgeMode::Repeat),
-    ("maxmip(96)", "shapes", EdgeMode::Clamp),
+/// The pipelines and scenes (as `relief export --scene` takes them): a linear search with
+/// binary refinement and a soft shadow on a real height map, a safe cone method (its cell
+/// cone map read with nearest filtering) on a rough procedural surface, and the max-mip
+/// traversal (its chain read at every level) on one-texel walls and pillars.
+const CASES: [(&str, &str); 3] = [
+    ("linear(32)+binary(5)+shadow=soft(16)", "scene:lion"),
+    ("csm(64)", "scene:rock_bump"),
+    ("maxmip(96)", "scene:shapes"),
 ];
 
-fn relief_render(g: &Gpu, p: &Pipeline, scene: &Scene) -> Vec<u8> {
-    let program = Program::new(p).unwrap();
-    let mut tex = SceneTextures::new(g, scene);
-    tex.add_maps(g, scene, &p.required_maps()).unwrap();
-    gpu::render(g, &program, scene, &tex, SIZE, 0, 1).unwrap().rgba
-}
-
-/// Writes an upload's levels as raw files `NAME_L{k}.bin` and returns its manifest entry.
-fn write_upload(dir: &Path, name: &str, u: &Upload) -> Value {
-    assert_eq!(u.depth, 1, "{name}: the page draws 2D textures only");
-    let levels: Vec<Value> = u
-        .levels
-        .iter()
-        .enumerate()
-        .map(|(k, bytes)| {
-            let file = format!("{name}_L{k}.bin");
-            std::fs::write(dir.join(&file), bytes).unwrap();
-            json!({ "file": file, "width": (u.width >> k).max(1), "height": (u.height >> k).max(1) })
-        })
-        .collect();
-    json!({ "format": format!("{:?}", u.format), "levels": levels })
-}
-
-/// One case's folder: its textures and its manifest entry (libraries, camera, bindings).
-fn write_case(dir: &Path, i: usize, p: &Pipeline, scene: &Scene, float32: bool) -> Value {
-    let sub = format!("case{i}");
-    let cdir = dir.join(&sub);
-    std::fs::create_dir_all(&cdir).unwrap();
-    let u = gpu::scene_uploads(scene, float32);
-    let mut textures = serde_json::Map::new();
-    textures.insert("height".into(), write_upload(&cdir, "height", &u.height));
-    textures.insert("normal".into(), write_upload(&cdir, "normal", &u.normal));
-    textures.insert("albedo".into(), write_upload(&cdir, "albedo", &u.albedo));
-    let reqs = p.required_maps();
-    for req in &reqs {
-        let Some(key) = MapKey::of(*req) else { continue };
-        let name = format!("map_{}", req.name());
-        textures.insert(name.clone(), write_upload(&cdir, &name, &gpu::map_upload_of(scene, key).unwrap()));
-    }
-    let opts = LibraryOptions { edge_clamp: scene.edge == EdgeMode::Clamp, ..Default::default() };
-    // Both forms of every case: a pipeline the glsl-es form refused would fail here.
-    let lib = library_forms(p, &opts, &[LibraryForm::Tsl, LibraryForm::GlslEs]).unwrap_or_else(|e| panic!("{p}: {e}"));
-    // What each of the library's resources takes, as `examples/integrate.rs` binds them.
-    let bindings: Vec<Value> = lib
-        .bindings
-        .iter()
-        .map(|b| {
-            let base = b.name.strip_prefix("relief_").unwrap_or(&b.name);
-            let nearest = base == "sampler_nearest" || base.ends_with("_nearest");
-            let source = match base {
-                "sampler" | "sampler_nearest" => "height".to_string(),
-                "height" | "height_nearest" => "height".to_string(),
-                other => {
-                    let map = other.strip_suffix("_nearest").unwrap_or(other);
-                    assert!(reqs.iter().any(|r| r.name() == map), "{p}: the library reads `{}`", b.name);
-                    format!("map_{map}")
-                }
-            };
-            let kind = if base.starts_with("sampler") { "sampler" } else { "texture" };
-            json!({ "name": b.name, "kind": kind, "source": source, "filter": if nearest { "nearest" } else { "linear" } })
-        })
-        .collect();
-    let eye = scene.camera.camera_position();
-    let l = scene.light_dir.normalize();
-    json!({
-        "pipeline": p.to_string(),
-        "scene": scene.name,
-        "dir": sub,
-        "tsl": lib.files[0].text,
-        "glsl_es": lib.files[1].text,
-        "has_shadow": lib.has_shadow,
-        "has_ao": lib.has_ao,
-        "view_proj": scene.camera.view_proj(1.0).to_cols_array(),
-        "eye": [eye.x, eye.y, eye.z, scene.depth_scale],
-        "light": [l.x, l.y, l.z, gpu::AMBIENT],
-        "tiling": scene.tiling,
-        "edge": if scene.edge == EdgeMode::Clamp { "clamp" } else { "repeat" },
-        "textures": textures,
-        "bindings": bindings,
-    })
-}
-
-/// The page's pictures come back as hex (RGBA8, top row first).
-fn from_hex(s: &str) -> Vec<u8> {
-    assert!(s.len().is_multiple_of(2) && s.is_ascii(), "a picture's hex has an odd length or stray characters");
-    (0..s.len()).step_by(2).map(|i| u8::from_str_radix(&s[i..i + 2], 16).expect("a picture's hex")).collect()
-}
-
-fn temp_dir() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("relief-threejs-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// `relief export PIPE --scene ARG --target TARGET --out DIR`, which must succeed.
+fn export(pipe: &str, arg: &str, target: &str, dir: &std::path::Path) {
+    let out = Command::new(relief_exe())
+        .args(["export", pipe, "--scene", arg, "--target", target, "--out"])
+        .arg(dir)
+        .env("LP_NUM_THREADS", "1")
+        .env("NODEVICE_SELECT", "1")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "relief export {pipe} --target {target}: {}", String::from_utf8_lossy(&out.stderr));
 }
 
 #[test]
-fn threejs_draws_relief_renders_frame_in_webgl2_and_webgpu() {
+fn threejs_draws_relief_renders_frame_from_export_bundles_in_webgl2_and_webgpu() {
     let g = Gpu::new().unwrap();
-    let dir = temp_dir();
+    let dir = std::env::temp_dir().join(format!("relief-threejs-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
     let mut cases = Vec::new();
     let mut references = Vec::new();
-    for (i, (pipe, scene, edge)) in CASES.iter().enumerate() {
+    for (i, (pipe, arg)) in CASES.iter().enumerate() {
+        // One bundle per API: the glsl-es library for WebGL2, the tsl library for WebGPU.
+        let (es, tsl) = (format!("case{i}_glsl_es"), format!("case{i}_tsl"));
+        export(pipe, arg, "glsl-es", &dir.join(&es));
+        export(pipe, arg, "tsl", &dir.join(&tsl));
         let p: Pipeline = pipe.parse().unwrap();
-        let mut scene = Scene::by_name(scene, Some(64)).unwrap();
-        scene.edge = *edge;
-        cases.push(write_case(&dir, i, &p, &scene, g.float32_filterable));
+        let scene = scene_from_arg(arg).unwrap();
+        let eye = scene.camera.camera_position();
+        // The camera only: the page takes everything else from the bundles.
+        cases.push(json!({
+            "webgl2": es,
+            "webgpu": tsl,
+            "view_proj": scene.camera.view_proj(1.0).to_cols_array(),
+            "eye": [eye.x, eye.y, eye.z],
+        }));
         references.push(relief_render(&g, &p, &scene));
     }
     std::fs::write(dir.join("manifest.json"), json!({ "size": SIZE, "cases": cases }).to_string()).unwrap();
@@ -157,7 +90,7 @@ fn threejs_draws_relief_renders_frame_in_webgl2_and_webgpu() {
     let keep = std::env::var_os("RELIEF_THREEJS_KEEP").is_some();
     let mut failures = Vec::new();
     let mut drawn = 0;
-    for (i, (pipe, scene, _)) in CASES.iter().enumerate() {
+    for (i, (pipe, arg)) in CASES.iter().enumerate() {
         for api in ["webgl2", "webgpu"] {
             let pic = &r["cases"][i][api];
             assert!(!pic.is_null(), "{pipe}: no {api} picture: {}", r["cases"][i]);
@@ -165,7 +98,8 @@ fn threejs_draws_relief_renders_frame_in_webgl2_and_webgpu() {
             assert_eq!(rgba.len(), (SIZE * SIZE * 4) as usize, "{pipe} {api}: picture size");
             let (mad, share) = frames::frame_difference(&rgba, &references[i]);
             println!(
-                "{pipe} on {scene}, {api} (three.js): mean |difference| {mad:.4} of 255, {:.3} % of pixels off by more than 8",
+                "{pipe} on {arg}, {api} (three.js {}, KTX2Loader): mean |difference| {mad:.4} of 255, {:.3} % of pixels off by more than 8",
+                r["three"],
                 share * 100.0
             );
             let lit = rgba.chunks(4).filter(|px| px[0] > 20 || px[1] > 20 || px[2] > 20).count();
@@ -177,12 +111,16 @@ fn threejs_draws_relief_renders_frame_in_webgl2_and_webgpu() {
             }
             if mad > 1.0 || share > 0.01 {
                 failures.push(format!(
-                    "{pipe} on {scene}, {api}: mean |difference| {mad:.4}, {:.3} % off by > 8 (pictures in {})",
+                    "{pipe} on {arg}, {api}: mean |difference| {mad:.4}, {:.3} % off by > 8 (pictures in {})",
                     share * 100.0,
                     dir.display()
                 ));
             }
-            assert!(lit > (SIZE * SIZE / 3) as usize, "{pipe} {api}: only {lit} lit pixels");
+            assert!(
+                lit > (SIZE * SIZE / 3) as usize,
+                "{pipe} {api}: only {lit} lit pixels (pictures in {})",
+                dir.display()
+            );
             drawn += 1;
         }
     }
