@@ -14,7 +14,7 @@ status=0
 i=0
 for case in "linear(32)+binary(5)+shadow=soft(16)|scene:lion" "csm(64)|scene:rock_bump" "maxmip(96)|scene:shapes"; do
     pipe="${case%|*}"; scene="${case#*|}"
-    "$relief" export "$pipe" --scene "$scene" --target wgsl --out "$work/bundle$i" > /dev/null
+    "$relief" export "$pipe" --scene "$scene" --target wgsl --out "$work/bundle$i" > /dev/null 2>&1
     "$relief" render "$pipe" --scene "$scene" --size 128 --frames 1 --out "$work/render$i" > /dev/null
     "$bevy" "$work/bundle$i" "$work/render$i" "$work/bevy$i.png" 2> "$work/bevy$i.log" || { status=1; tail -5 "$work/bevy$i.log"; }
     i=$((i + 1))

@@ -458,8 +458,11 @@ fn compare(captured: On<ScreenshotCaptured>, run: Res<Run>, mut exit: MessageWri
     }
     let (mad, share) = frame_difference(&rgba, &run.reference);
     let met = mad <= BAR_MAD && share <= BAR_SHARE;
+    let pairs = || rgba.chunks(4).zip(run.reference.chunks(4));
+    let differ = pairs().filter(|(a, b)| a[..3] != b[..3]).count();
+    let largest = pairs().flat_map(|(a, b)| (0..3).map(move |c| a[c].abs_diff(b[c]))).max().unwrap_or(0);
     println!(
-        "{}: Bevy against relief render at {}²: mean |difference| {mad:.4} of 255, {:.3} % of pixels off by more than 8 (bar ≤ {BAR_MAD}, ≤ {} %: {})",
+        "{}: Bevy against relief render at {}²: mean |difference| {mad:.4} of 255, {:.3} % of pixels off by more than 8 (bar ≤ {BAR_MAD}, ≤ {} %: {}); {differ} pixels differ, by at most {largest}",
         run.pipeline,
         run.size,
         share * 100.0,
@@ -509,4 +512,70 @@ fn write_png_rgba8(path: &Path, size: u32, rgba: &[u8]) -> Result<(), String> {
     enc.set_color(png::ColorType::Rgba);
     enc.set_depth(png::BitDepth::Eight);
     enc.write_header().and_then(|mut w| w.write_image_data(rgba)).map_err(|e| e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `csm(64)`'s bindings as `relief export` lists them (textures and samplers interleaved,
+    /// the nearest sampler before the texture that can lend it).
+    fn csm_json() -> Value {
+        serde_json::json!({
+            "has_shadow": false, "has_ao": false,
+            "bindings": [
+                { "name": "relief_height", "binding": 0, "kind": "texture_2d", "file": "height.ktx2", "filter": "linear", "address_mode": "repeat" },
+                { "name": "relief_sampler", "binding": 1, "kind": "sampler", "filter": "linear", "address_mode": "repeat" },
+                { "name": "relief_sampler_nearest", "binding": 2, "kind": "sampler", "filter": "nearest", "address_mode": "repeat" },
+                { "name": "relief_cell_cone_nearest", "binding": 3, "kind": "texture_2d", "file": "cell_cone.ktx2", "filter": "nearest", "address_mode": "repeat" }
+            ]
+        })
+    }
+
+    #[test]
+    fn samplers_are_lent_by_textures_of_the_same_filter_and_address() {
+        let s = slots(&csm_json()).unwrap();
+        let at = |n: &str| s.iter().find(|x| x.name == n).unwrap().slot;
+        assert_eq!(
+            [at("relief_height"), at("relief_sampler"), at("relief_cell_cone_nearest"), at("relief_sampler_nearest")],
+            [100, 101, 102, 103]
+        );
+    }
+
+    #[test]
+    fn a_sampler_no_texture_can_lend_is_refused() {
+        let mut j = csm_json();
+        j["bindings"][3]["filter"] = "linear".into();
+        let e = slots(&j).unwrap_err();
+        assert!(e.contains("relief_sampler_nearest") && e.contains("nearest repeat"), "{e}");
+    }
+
+    #[test]
+    fn the_library_moves_to_the_material_group_and_gets_shims() {
+        let j = csm_json();
+        let s = slots(&j).unwrap();
+        let lib = "@group(0) @binding(0) \nvar relief_height: texture_2d<f32>;\n@group(0) @binding(3) \nvar relief_cell_cone_nearest: texture_2d<f32>;\n@group(0) @binding(2) \nvar relief_sampler_nearest: sampler;\n@group(0) @binding(1) \nvar relief_sampler: sampler;\n";
+        let out = library_for_bevy(lib, &j, &s).unwrap();
+        let expected = "#define_import_path relief::bundle\n\
+            @group(#{MATERIAL_BIND_GROUP}) @binding(100)\nvar relief_height: texture_2d<f32>;\n\
+            @group(#{MATERIAL_BIND_GROUP}) @binding(102)\nvar relief_cell_cone_nearest: texture_2d<f32>;\n\
+            @group(#{MATERIAL_BIND_GROUP}) @binding(103)\nvar relief_sampler_nearest: sampler;\n\
+            @group(#{MATERIAL_BIND_GROUP}) @binding(101)\nvar relief_sampler: sampler;\n\
+            fn relief_shadow(hit: ReliefHit, light_ts: vec3<f32>, depth_scale: f32) -> f32 { return 1.0; }\n\
+            fn relief_ao(hit: ReliefHit) -> f32 { return 1.0; }\n";
+        assert_eq!(out, expected);
+        // A global that relief.json does not name at that binding, or one left out, is refused.
+        let swapped = lib.replace("binding(0)", "binding(9)");
+        assert!(library_for_bevy(&swapped, &j, &s).unwrap_err().contains("binding 9"));
+        let wrong = lib.replace("var relief_height", "var relief_other");
+        assert!(library_for_bevy(&wrong, &j, &s).unwrap_err().contains("does not declare relief_height"));
+    }
+
+    /// Two 2-pixel frames worked by hand: pixel 0 differs by (3, 0, 9), pixel 1 by (0, 8, 0).
+    #[test]
+    fn frame_difference_of_two_hand_made_frames() {
+        let (mad, share) = frame_difference(&[10, 20, 30, 255, 0, 100, 255, 0], &[13, 20, 21, 0, 0, 108, 255, 255]);
+        assert!((mad - 20.0 / 6.0).abs() < 1e-12, "{mad}");
+        assert_eq!(share, 0.5);
+    }
 }
