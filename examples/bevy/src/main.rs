@@ -32,7 +32,8 @@ use bevy::mesh::{Indices, PrimitiveTopology};
 use bevy::pbr::{ExtendedMaterial, MaterialExtension};
 use bevy::prelude::*;
 use bevy::render::RenderPlugin;
-use bevy::render::render_resource::{AsBindGroup, TextureFormat, TextureUsages};
+use bevy::render::error_handler::{RenderErrorHandler, RenderErrorPolicy};
+use bevy::render::render_resource::{AsBindGroup, TextureDimension, TextureFormat, TextureUsages};
 use bevy::render::view::Msaa;
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
 use bevy::shader::ShaderRef;
@@ -163,8 +164,18 @@ fn setup_app() -> Result<App, String> {
     let setup = Setup { json, metrics, slots, size, library };
     let pipeline = setup.json["pipeline"].as_str().unwrap_or("?").to_string();
     app.insert_resource(PendingRun(Some((setup, reference, PathBuf::from(out), pipeline))));
+    // Without Bevy's log plugin (not built here) a render error would end the app silently.
+    app.insert_resource(RenderErrorHandler(|error, main_world, _| {
+        eprintln!(
+            "error: Bevy's renderer: {:?}: {}",
+            error.ty,
+            error.description.split_whitespace().collect::<Vec<_>>().join(" ")
+        );
+        main_world.write_message(AppExit::error());
+        RenderErrorPolicy::StopRendering
+    }));
     app.add_systems(Startup, spawn_scene);
-    app.add_systems(Update, capture_when_ready);
+    app.add_systems(Update, (keep_maps_2d, capture_when_ready).chain());
     Ok(app)
 }
 
@@ -402,6 +413,19 @@ fn quad(tiling: f32) -> Mesh {
         .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, vec![[0.0f32, 0.0, 1.0]; 4])
         .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, c.to_vec())
         .with_inserted_indices(Indices::U32(vec![0, 1, 2, 2, 1, 3]))
+}
+
+/// Bevy's KTX2 loader makes a file one texel high a 1D texture (`TextureDimension::D1`),
+/// which a `texture_2d` binding refuses (the `rocks` scene's albedo is 1×1): such a map is
+/// made 2D again in the frame it arrives, before the render world prepares it.
+fn keep_maps_2d(run: Res<Run>, mut images: ResMut<Assets<Image>>) {
+    for h in &run.images {
+        if images.get(h.id()).is_some_and(|i| i.texture_descriptor.dimension == TextureDimension::D1)
+            && let Some(mut image) = images.get_mut(h.id())
+        {
+            image.texture_descriptor.dimension = TextureDimension::D2;
+        }
+    }
 }
 
 /// Waits until every map and the material shader are loaded, lets a few frames pass (the
