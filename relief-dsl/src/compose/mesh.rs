@@ -12,7 +12,11 @@
 //!   then shadow and ao, shading as relief's own fragment; writes colour and the hit's depth
 //!   (`frag_depth`, the NDC depth of the hit point under `params.view_proj`);
 //! - `fs_mesh_depth`: the same trace and the same discards, writing only the depth: the
-//!   depth pre-pass and the shadow caster (with the light's `view_proj` and `camera`).
+//!   depth pre-pass and the shadow caster (with the light's `view_proj` and `camera`);
+//! - `fs_mesh_probe` (only with `compose::Options::mesh_probe`, for the runtime's
+//!   measurement): the same trace and the same discards, writing the hit's depth and, to an
+//!   `rgba32float` target, `(u, v, distance, 1)`: the hit's texture coordinates and its
+//!   distance from the eye along the fragment's unit view ray, object units.
 //!
 //! `Params` for a mesh: `view_proj` object → clip, `camera.xyz` the eye in object space,
 //! `camera.w` the relief's depth in object units, `light` toward the light in object space
@@ -413,9 +417,28 @@ fn depth_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curve
     entry_point(DEPTH_ENTRY, ShaderStage::Fragment, f, [0; 3])
 }
 
+/// `fs_mesh_probe`: the same trace and discards as `fs_mesh`, writing `(u, v, distance, 1)`
+/// and the hit's depth. The distance is the fragment's own distance from the eye plus
+/// [`depth_offset`], the hit's place along the same unit view ray that `fs_mesh`'s depth
+/// is taken at, so the probe's distance and the frame's depth are one point.
+fn probe_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curved) -> naga::EntryPoint {
+    let s = m.function(PROBE_ENTRY, &fragment_args(m), policy);
+    let (inputs, point) = varying_inputs(&s);
+    let mr = mesh_ray(&s, curved, &inputs);
+    let hit = mesh_trace(&s, fns, curved, &mr);
+    let depth_out = hit_depth(&s, &mr, point, &hit);
+    let camera = s.param::<Vec4>(Param::Camera);
+    let distance = (point - camera.xyz()).length() + depth_offset(&mr, &hit, camera.w());
+    let out_ty = super::fragment_output_with_depth(m);
+    let record = s.vec4(s.vec3(hit.uv, distance), 1.0);
+    let v = s.make_struct(out_ty, &[record.handle(), depth_out.handle()]);
+    let f = s.finish(Some((out_ty, None, v)));
+    entry_point(PROBE_ENTRY, ShaderStage::Fragment, f, [0; 3])
+}
+
 /// Builds the mesh module of `p` (`p.curved` is `Some`), not yet validated, with its binding
-/// table.
-pub(crate) fn compose_mesh(p: &Pipeline, curved: Curved) -> Result<(Module, Bindings), CompileError> {
+/// table; `probe` adds the measurement entry `fs_mesh_probe`.
+pub(crate) fn compose_mesh(p: &Pipeline, curved: Curved, probe: bool) -> Result<(Module, Bindings), CompileError> {
     check_mesh_options(p, curved)?;
     let m = ModuleCtx::new();
     let policy = MeshPolicy { plain: Plain { lod: p.lod }, quadric: curved == Curved::Quadric };
@@ -423,8 +446,11 @@ pub(crate) fn compose_mesh(p: &Pipeline, curved: Curved) -> Result<(Module, Bind
     let vs = vertex_entry(&m, &policy);
     let fs = fragment_entry(&m, &policy, &fns, curved);
     let ds = depth_entry(&m, &policy, &fns, curved);
+    // The probe shares the stage functions; the other entries are the same without it.
+    let ps = probe.then(|| probe_entry(&m, &policy, &fns, curved));
     let (mut module, bindings) = super::finish(m)?;
     module.entry_points.extend([vs, fs, ds]);
+    module.entry_points.extend(ps);
     Ok((module, bindings))
 }
 
@@ -442,6 +468,9 @@ pub fn tangent_ray_dir(view: [f64; 3], t: [f64; 3], b: [f64; 3], n: [f64; 3], sc
 
 /// The name of the depth-only entry.
 pub const DEPTH_ENTRY: &str = "fs_mesh_depth";
+
+/// The name of the measurement entry (`compose::Options::mesh_probe`).
+pub const PROBE_ENTRY: &str = "fs_mesh_probe";
 
 /// The quadric's height `a·Δu² + b·Δv²` (object units) at texture offset (Δu, Δv) from its
 /// vertex: the host's statement of what the shader adds to every height read (divided by the

@@ -75,7 +75,7 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create output folder {}", a.out.display()))?;
     let g = Gpu::new()?;
     let mut prep = Prepared::new(&g, scene, a.size)?;
-    let options = relief_dsl::compose::Options { frag_depth: a.write_depth };
+    let options = relief_dsl::compose::Options { frag_depth: a.write_depth, ..Default::default() };
     let measured = measure_with(&g, &mut prep, &pipeline, &options, 5, a.frames)?;
     write_images(&a.out, &prep, &measured)?;
     if let Some(depth) = &measured.frame.depth {
