@@ -109,7 +109,7 @@ fn relief_runtime_imports_point_down() {
         &["reference", "mesh"],
         &["gpu"],
         &["metrics", "simd", "cost", "error"],
-        &["measure"],
+        &["measure", "mesh_measure"],
         &["sweep", "stability", "room", "tune"],
         &["report"],
     ];

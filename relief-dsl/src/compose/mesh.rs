@@ -311,6 +311,22 @@ pub(crate) fn recentre_quadric<'a>(s: &'a FnBuilder<'a>, uv: Val<'a, Vec2>) {
     s.store(s.global_ptr(s.module().private::<Vec2>(QUADRIC_ORIGIN)), uv.handle());
 }
 
+/// How far (in units of the relief's depth) the point a search returned may lie above the
+/// warped surface and still count as a hit: a refined hit lies within its last bracket of the
+/// surface, a few thousandths of the depth for the usual step counts; 1/32 (the default
+/// linear search's step) keeps those and tells them from a search that ran out at the floor
+/// plane with the surface still below it (a goal, checked by `relief scene measure`).
+const QUADRIC_SLACK: f32 = 1.0 / 32.0;
+
+/// Whether the search's point lies above the (quadric-warped) surface by more than
+/// [`QUADRIC_SLACK`]: the search ended at the floor plane without meeting the surface (the
+/// searches report `found` there too: the flat tile's floor is always met), so the ray has
+/// left the shell.
+fn above_surface<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, traced: &Hit<'a>) -> Val<'a, bool> {
+    let p = ray.at(traced.t);
+    (p.z() - s.height(p.xy())).gt(QUADRIC_SLACK)
+}
+
 /// Whether the traced hit is drawn under `curved` (`none`: always): the rules of the mode
 /// (the module's doc). `prism` is the prism's texture-space corners.
 pub(crate) fn covered<'a>(
@@ -324,7 +340,7 @@ pub(crate) fn covered<'a>(
         Curved::None => s.lit_bool(true),
         // No hit: the ray left the shell above the curved surface or reached the floor
         // first (Oliveira & Policarpo 2005): the silhouette.
-        Curved::Quadric => traced.found,
+        Curved::Quadric => traced.found & !above_surface(s, &mr.ray, traced),
         Curved::Prism => {
             let exit = prism_exit(s, &mr.ray, prism[0], prism[1], prism[2]);
             // Entered through the floor (looking up from below the relief): nothing to see.

@@ -5,6 +5,7 @@
 //! wrong (ARCHITECTURE.md, "Environment facts").
 
 mod device;
+pub mod mesh;
 mod probe;
 mod render;
 mod resources;
@@ -18,6 +19,7 @@ pub use render::{
     SHADING_FORMULA,
 };
 pub(crate) use render::{paired_blocks, render_pipeline, timed_frames, Clock, Draw, Renderer, MIN_BLOCK_MS};
+pub use mesh::{MeshProbe, MeshProgram};
 pub use resources::{map_upload_of, scene_uploads, upload_of_map, SceneTextures, SceneUploads, Upload, AMBIENT};
 pub(crate) use resources::{params_for, resource_at};
 
@@ -58,12 +60,11 @@ impl Program {
         options: &relief_dsl::compose::Options,
     ) -> Result<Program, relief_dsl::CompileError> {
         if let Some(c) = p.curved {
-            // The mesh module has other entry points and a vertex layout; drawing meshes is a
-            // later step of issue 38.
+            // The mesh module has other entry points and a vertex layout: `gpu::mesh` draws it.
             return Err(relief_dsl::CompileError {
                 stage: "mesh".into(),
                 message: format!(
-                    "curved={c} composes a mesh module (docs/meshes-shaders.md), which relief cannot render or probe yet; `relief gen` writes it"
+                    "curved={c} composes a mesh module (docs/meshes-shaders.md), drawn on a mesh scene (`relief scene measure`), not on the flat tile"
                 ),
             });
         }
