@@ -141,7 +141,10 @@ fn quadric_and_prism_silhouettes_are_closer_to_the_reference_than_the_base_mesh(
                 })
                 .into();
             let none = &figures[0];
-            assert!(none.extra > 0 && none.missing == 0, "{name} {edge:?}: none covers the base mesh, outside S: {none:?}");
+            assert!(
+                none.extra > 0 && none.missing == 0,
+                "{name} {edge:?}: none covers the base mesh, outside S: {none:?}"
+            );
             for (mode, f) in ["quadric", "prism"].iter().zip(&figures[1..]) {
                 assert!(f.extra < none.extra, "{name} {edge:?} {mode}: {f:?} vs none {none:?}");
             }

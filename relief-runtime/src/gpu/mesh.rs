@@ -69,7 +69,11 @@ fn upload(gpu: &Gpu, ms: &MeshScene, curved: Curved) -> Result<MeshBuffers, GpuE
         gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
     };
     Ok(MeshBuffers {
-        vertices: buffer("mesh vertices", bytemuck::cast_slice::<MeshVertex, u8>(&vertices), wgpu::BufferUsages::VERTEX),
+        vertices: buffer(
+            "mesh vertices",
+            bytemuck::cast_slice::<MeshVertex, u8>(&vertices),
+            wgpu::BufferUsages::VERTEX,
+        ),
         indices: buffer("mesh indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX),
         count,
     })
@@ -111,8 +115,7 @@ fn renderer(
     )?;
     // Object space is world space: the scene's camera, light and depth are the mesh's Params.
     let params = SceneTextures::params(gpu, &ms.scene, 1.0, 0.0);
-    let bind_group =
-        tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), bindings, &prog.program, &params, &[])?;
+    let bind_group = tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), bindings, &prog.program, &params, &[])?;
     let target = Target::with_format(gpu, size, true, clear, format);
     Ok(Renderer { pipeline, bind_group, target, mesh: Some(upload(gpu, ms, prog.curved)?) })
 }

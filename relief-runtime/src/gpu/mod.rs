@@ -12,6 +12,7 @@ mod resources;
 
 pub use crate::maps::MapKey;
 pub use device::{adapters, choose, Gpu, GpuError, ADAPTER_VAR};
+pub use mesh::{MeshProbe, MeshProgram};
 pub(crate) use probe::dispatch;
 pub use probe::{probe, GpuHit};
 pub use render::{
@@ -19,7 +20,6 @@ pub use render::{
     SHADING_FORMULA,
 };
 pub(crate) use render::{paired_blocks, render_pipeline, timed_frames, Clock, Draw, Renderer, MIN_BLOCK_MS};
-pub use mesh::{MeshProbe, MeshProgram};
 pub use resources::{map_upload_of, scene_uploads, upload_of_map, SceneTextures, SceneUploads, Upload, AMBIENT};
 pub(crate) use resources::{params_for, resource_at};
 

@@ -112,7 +112,9 @@ pub fn curvature(mesh: &Mesh, scales: &[[f64; 2]]) -> Vec<[f64; 2]> {
             let (a, b) = (t[k], t[(k + 1) % 3]);
             for (x, y) in [(a, b), (b, a)] {
                 let list = &mut neighbours[welded[x as usize]];
-                if welded[y as usize] != welded[x as usize] && !list.iter().any(|&z| welded[z as usize] == welded[y as usize]) {
+                if welded[y as usize] != welded[x as usize]
+                    && !list.iter().any(|&z| welded[z as usize] == welded[y as usize])
+                {
                     list.push(y);
                 }
             }
