@@ -607,6 +607,28 @@ mod tests {
         }
     }
 
+    /// The measurement entry is added only when asked for, and the shipped entries are the
+    /// same text with or without it (naga writes each function from the same IR).
+    #[test]
+    fn the_probe_entry_leaves_the_shipped_entries_as_they_are() {
+        for mode in ["none", "quadric", "prism"] {
+            let p: Pipeline = format!("linear(32)+binary(5)+shadow=soft(8)+curved={mode}").parse().unwrap();
+            let plain = crate::emit::wgsl(&crate::compose::compile(&p).unwrap()).unwrap();
+            let options = crate::compose::Options { mesh_probe: true, ..Default::default() };
+            let probed = crate::emit::wgsl(&crate::compose::compile_with(&p, &options).unwrap()).unwrap();
+            assert!(!plain.contains(PROBE_ENTRY) && probed.contains(&format!("fn {PROBE_ENTRY}(")), "{mode}");
+            let entry = |text: &str, name: &str| {
+                let start = text.find(&format!("fn {name}(")).unwrap();
+                let body = &text[start..];
+                body[..body.find("\n}\n").unwrap()].to_string()
+            };
+            for name in ["vs_mesh", "fs_mesh", DEPTH_ENTRY] {
+                assert_eq!(entry(&plain, name), entry(&probed, name), "{mode} {name}");
+            }
+            assert!(plain.len() < probed.len());
+        }
+    }
+
     #[test]
     fn options_of_the_flat_tile_are_refused_by_name() {
         for (text, names) in [

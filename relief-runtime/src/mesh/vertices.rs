@@ -50,7 +50,7 @@ fn derivatives(mesh: &Mesh, t: [u32; 3]) -> Option<(DVec3, DVec3, f64)> {
     let uv = t.map(|i| mesh.uvs[i as usize].as_dvec2());
     let m = DMat2::from_cols(uv[1] - uv[0], uv[2] - uv[0]);
     let det = m.determinant();
-    if !(det.abs() > 0.0) {
+    if det.abs().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
     let inv = m.inverse();
@@ -133,13 +133,13 @@ pub fn curvature(mesh: &Mesh, scales: &[[f64; 2]]) -> Vec<[f64; 2]> {
             for &j in &neighbours[welded[i]] {
                 let e = mesh.positions[j as usize].as_dvec3() - p;
                 let len2 = e.length_squared();
-                if !(len2 > 0.0) {
+                if len2.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
                     continue;
                 }
                 let k = (mesh.normals[j as usize].as_dvec3() - nrm).dot(e) / len2;
                 let d = e - nrm * nrm.dot(e);
                 let dl = d.length();
-                if !(dl > 0.0) || !k.is_finite() {
+                if dl.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || !k.is_finite() {
                     continue;
                 }
                 let (c, s) = (d.dot(t) / dl, d.dot(b) / dl);
@@ -174,7 +174,7 @@ fn solve3(a: [[f64; 3]; 3], y: [f64; 3]) -> Option<[f64; 3]> {
     };
     let d = det(a);
     let scale: f64 = a.iter().map(|r| r.iter().map(|x| x * x).sum::<f64>().sqrt()).product();
-    if !(d.abs() > 1e-9 * scale) {
+    if d.abs().partial_cmp(&(1e-9 * scale)) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
     let mut x = [0.0; 3];
