@@ -1,7 +1,7 @@
 //! A mesh scene drawn with a `curved=` pipeline's mesh module (relief-dsl's `compose/mesh.rs`,
 //! docs/meshes.md): its vertices from [`crate::mesh::vertices`], the scene's textures and
 //! maps as the flat tile binds them ([`SceneTextures`]), a depth buffer with the depth test
-//! `Less` (the fragment writes the hit's depth), every pipeline from one [`Draw`].
+//! `Less` (the fragment writes the hit's depth), every pipeline from the runtime's one `Draw`.
 //!
 //! Three draws of the same vertices: the picture (`vs_mesh` + `fs_mesh`), the measurement
 //! (`fs_mesh_probe` into an `Rgba32Float` target: hit u, v, distance along the view ray, 1;
