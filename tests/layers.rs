@@ -1,7 +1,7 @@
 //! The layers of ARCHITECTURE.md, checked on the source: no module names one above it.
 //!
 //! relief-dsl: abi → spec → ir → stage → compose → emit. relief-runtime: the leaves (io,
-//! lock, results, picture, timing), then heightmap, scene, maps, reference and mesh → gpu → metrics, simd → measure →
+//! lock, results, picture, timing), then heightmap, scene, maps, reference and mesh → gpu → metrics, simd → measure, mesh_measure →
 //! sweep, stability, room → report; the command line (src/bin) is above everything, and nothing in
 //! the library names it. A module may name its own layer and any below it (`crate::X` paths
 //! and `use crate::{X, ...}` groups are both read). A file's unit tests (from its
@@ -109,7 +109,7 @@ fn relief_runtime_imports_point_down() {
         &["reference", "mesh"],
         &["gpu"],
         &["metrics", "simd", "cost", "error"],
-        &["measure"],
+        &["measure", "mesh_measure"],
         &["sweep", "stability", "room", "tune"],
         &["report"],
     ];

@@ -48,6 +48,9 @@ pub enum Error {
     /// No device, or work on it failed.
     #[error(transparent)]
     Gpu(#[from] GpuError),
+    /// A mesh scene's mesh could not be made, or its reference built.
+    #[error(transparent)]
+    Mesh(#[from] crate::mesh::MeshError),
     /// The GPU compiler's statistics could not be read (`cost`).
     #[error(transparent)]
     Cost(#[from] CostError),

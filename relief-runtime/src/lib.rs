@@ -24,6 +24,7 @@ pub mod lock;
 pub mod maps;
 pub mod measure;
 pub mod mesh;
+pub mod mesh_measure;
 pub mod metrics;
 mod picture;
 mod reference;

@@ -348,3 +348,47 @@ fn serve_answers_files_inside_its_folder_and_nothing_outside() {
 }
 #[path = "cli/hostile.rs"]
 mod hostile;
+
+/// `relief render` on a scene file that names a mesh draws the mesh with a `curved=` pipeline
+/// (`frame.png`, relief where the sphere is and the clear colour in the corners), and refuses
+/// a flat pipeline there in one line; `relief scene measure` prints one row per mode.
+#[test]
+fn render_and_measure_draw_a_mesh_scene() {
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/meshes/sphere_rocks.toml");
+    let out = tmp("mesh_render");
+    let o = relief()
+        .args(["render", "--size", "32", "--scene"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(&out)
+        .arg("linear(16)+curved=quadric")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(out.join("frame.png")).unwrap().to_rgba8();
+    let (corner, centre) = (img.get_pixel(0, 0).0, img.get_pixel(16, 16).0);
+    assert_ne!(corner, centre, "the sphere covers the centre, not the corner");
+    let o = relief()
+        .args(["render", "--size", "32", "--scene"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(&out)
+        .arg("linear(16)")
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && e.contains("curved=") && e.trim().lines().filter(|l| !l.contains("XDG")).count() == 1,
+        "{e}"
+    );
+    let o = relief()
+        .args(["scene", "measure", "--size", "16", "--pairs", "0", "--pipeline", "linear(8)"])
+        .arg(&scene)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for mode in ["none", "quadric", "prism"] {
+        assert!(text.lines().any(|l| l.starts_with(mode)), "{text}");
+    }
+}

@@ -436,6 +436,24 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
             a.push(sc.into());
             add(format!("scene check --reference={v}"), a);
         }
+        // `relief scene measure`: a bad size, a pipeline that does not parse or names curved=
+        // itself, a flat scene (no mesh); each refused before the device is asked for.
+        let good = m.join("good.toml");
+        let flat = m.join("flat.toml");
+        std::fs::write(&flat, "[height_map]\npath = \"h.png\"\n").unwrap();
+        for (what, file, args) in [
+            ("size 0", &good, vec!["--pipeline", "linear(8)", "--size", "0"]),
+            ("size nan", &good, vec!["--pipeline", "linear(8)", "--size", "nan"]),
+            ("bad pipeline", &good, vec!["--pipeline", "linear(8"]),
+            ("curved pipeline", &good, vec!["--pipeline", "linear(8)+curved=prism"]),
+            ("pairs", &good, vec!["--pipeline", "linear(8)", "--pairs", "99999"]),
+            ("flat scene", &flat, vec!["--pipeline", "linear(8)"]),
+        ] {
+            let mut a = os(&["scene", "measure"]);
+            a.push(file.clone().into());
+            a.extend(os(&args));
+            add(format!("scene measure {what}"), a);
+        }
     }
     // Corrupted results rows under `relief report` (each folder one kind of damage).
     let row = r#"{"grid":"g","pipeline":"linear(10)","scene":"scene:step","size":16,"adapter":"a","status":"ok","error":"","relief_version":"0","cell_dir":""}"#;

@@ -14,6 +14,7 @@ mod heightmap;
 mod lod;
 mod maps;
 mod meshes;
+mod meshes_gpu;
 mod reference;
 mod report;
 mod report_add;

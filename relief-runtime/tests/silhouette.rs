@@ -71,7 +71,7 @@ fn check(g: &Gpu, scene: Scene, pipeline: &str) {
     assert!(outside < judged, "{name}: some rays must hit");
 
     let p: relief_dsl::Pipeline = format!("{pipeline}+silhouette=clip").parse().unwrap();
-    let m = measure_with(g, &mut prep, &p, &Options { frag_depth: true }, 0, 1).unwrap();
+    let m = measure_with(g, &mut prep, &p, &Options { frag_depth: true, ..Default::default() }, 0, 1).unwrap();
     let depth = m.frame.depth.as_ref().expect("frag_depth keeps the depth buffer");
     let mut wrong_probe = Vec::new();
     let mut wrong_pixel = Vec::new();

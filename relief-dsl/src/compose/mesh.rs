@@ -12,7 +12,11 @@
 //!   then shadow and ao, shading as relief's own fragment; writes colour and the hit's depth
 //!   (`frag_depth`, the NDC depth of the hit point under `params.view_proj`);
 //! - `fs_mesh_depth`: the same trace and the same discards, writing only the depth: the
-//!   depth pre-pass and the shadow caster (with the light's `view_proj` and `camera`).
+//!   depth pre-pass and the shadow caster (with the light's `view_proj` and `camera`);
+//! - `fs_mesh_probe` (only with `compose::Options::mesh_probe`, for the runtime's
+//!   measurement): the same trace and the same discards, writing the hit's depth and, to an
+//!   `rgba32float` target, `(u, v, distance, 1)`: the hit's texture coordinates and its
+//!   distance from the eye along the fragment's unit view ray, object units.
 //!
 //! `Params` for a mesh: `view_proj` object → clip, `camera.xyz` the eye in object space,
 //! `camera.w` the relief's depth in object units, `light` toward the light in object space
@@ -307,6 +311,22 @@ pub(crate) fn recentre_quadric<'a>(s: &'a FnBuilder<'a>, uv: Val<'a, Vec2>) {
     s.store(s.global_ptr(s.module().private::<Vec2>(QUADRIC_ORIGIN)), uv.handle());
 }
 
+/// How far (in units of the relief's depth) the point a search returned may lie above the
+/// warped surface and still count as a hit: a refined hit lies within its last bracket of the
+/// surface, a few thousandths of the depth for the usual step counts; 1/32 (the default
+/// linear search's step) keeps those and tells them from a search that ran out at the floor
+/// plane with the surface still below it (a goal, checked by `relief scene measure`).
+const QUADRIC_SLACK: f32 = 1.0 / 32.0;
+
+/// Whether the search's point lies above the (quadric-warped) surface by more than
+/// [`QUADRIC_SLACK`]: the search ended at the floor plane without meeting the surface (the
+/// searches report `found` there too: the flat tile's floor is always met), so the ray has
+/// left the shell.
+fn above_surface<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, traced: &Hit<'a>) -> Val<'a, bool> {
+    let p = ray.at(traced.t);
+    (p.z() - s.height(p.xy())).gt(QUADRIC_SLACK)
+}
+
 /// Whether the traced hit is drawn under `curved` (`none`: always): the rules of the mode
 /// (the module's doc). `prism` is the prism's texture-space corners.
 pub(crate) fn covered<'a>(
@@ -320,7 +340,7 @@ pub(crate) fn covered<'a>(
         Curved::None => s.lit_bool(true),
         // No hit: the ray left the shell above the curved surface or reached the floor
         // first (Oliveira & Policarpo 2005): the silhouette.
-        Curved::Quadric => traced.found,
+        Curved::Quadric => traced.found & !above_surface(s, &mr.ray, traced),
         Curved::Prism => {
             let exit = prism_exit(s, &mr.ray, prism[0], prism[1], prism[2]);
             // Entered through the floor (looking up from below the relief): nothing to see.
@@ -413,9 +433,28 @@ fn depth_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curve
     entry_point(DEPTH_ENTRY, ShaderStage::Fragment, f, [0; 3])
 }
 
+/// `fs_mesh_probe`: the same trace and discards as `fs_mesh`, writing `(u, v, distance, 1)`
+/// and the hit's depth. The distance is the fragment's own distance from the eye plus
+/// [`depth_offset`], the hit's place along the same unit view ray that `fs_mesh`'s depth
+/// is taken at, so the probe's distance and the frame's depth are one point.
+fn probe_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curved) -> naga::EntryPoint {
+    let s = m.function(PROBE_ENTRY, &fragment_args(m), policy);
+    let (inputs, point) = varying_inputs(&s);
+    let mr = mesh_ray(&s, curved, &inputs);
+    let hit = mesh_trace(&s, fns, curved, &mr);
+    let depth_out = hit_depth(&s, &mr, point, &hit);
+    let camera = s.param::<Vec4>(Param::Camera);
+    let distance = (point - camera.xyz()).length() + depth_offset(&mr, &hit, camera.w());
+    let out_ty = super::fragment_output_with_depth(m);
+    let record = s.vec4(s.vec3(hit.uv, distance), 1.0);
+    let v = s.make_struct(out_ty, &[record.handle(), depth_out.handle()]);
+    let f = s.finish(Some((out_ty, None, v)));
+    entry_point(PROBE_ENTRY, ShaderStage::Fragment, f, [0; 3])
+}
+
 /// Builds the mesh module of `p` (`p.curved` is `Some`), not yet validated, with its binding
-/// table.
-pub(crate) fn compose_mesh(p: &Pipeline, curved: Curved) -> Result<(Module, Bindings), CompileError> {
+/// table; `probe` adds the measurement entry `fs_mesh_probe`.
+pub(crate) fn compose_mesh(p: &Pipeline, curved: Curved, probe: bool) -> Result<(Module, Bindings), CompileError> {
     check_mesh_options(p, curved)?;
     let m = ModuleCtx::new();
     let policy = MeshPolicy { plain: Plain { lod: p.lod }, quadric: curved == Curved::Quadric };
@@ -423,8 +462,11 @@ pub(crate) fn compose_mesh(p: &Pipeline, curved: Curved) -> Result<(Module, Bind
     let vs = vertex_entry(&m, &policy);
     let fs = fragment_entry(&m, &policy, &fns, curved);
     let ds = depth_entry(&m, &policy, &fns, curved);
+    // The probe shares the stage functions; the other entries are the same without it.
+    let ps = probe.then(|| probe_entry(&m, &policy, &fns, curved));
     let (mut module, bindings) = super::finish(m)?;
     module.entry_points.extend([vs, fs, ds]);
+    module.entry_points.extend(ps);
     Ok((module, bindings))
 }
 
@@ -442,6 +484,9 @@ pub fn tangent_ray_dir(view: [f64; 3], t: [f64; 3], b: [f64; 3], n: [f64; 3], sc
 
 /// The name of the depth-only entry.
 pub const DEPTH_ENTRY: &str = "fs_mesh_depth";
+
+/// The name of the measurement entry (`compose::Options::mesh_probe`).
+pub const PROBE_ENTRY: &str = "fs_mesh_probe";
 
 /// The quadric's height `a·Δu² + b·Δv²` (object units) at texture offset (Δu, Δv) from its
 /// vertex: the host's statement of what the shader adds to every height read (divided by the
@@ -559,6 +604,28 @@ mod tests {
                 );
                 assert!((-z - exact).abs() > bound, "{dir:?} z={z}: the flat depth is within the bound too");
             }
+        }
+    }
+
+    /// The measurement entry is added only when asked for, and the shipped entries are the
+    /// same text with or without it (naga writes each function from the same IR).
+    #[test]
+    fn the_probe_entry_leaves_the_shipped_entries_as_they_are() {
+        for mode in ["none", "quadric", "prism"] {
+            let p: Pipeline = format!("linear(32)+binary(5)+shadow=soft(8)+curved={mode}").parse().unwrap();
+            let plain = crate::emit::wgsl(&crate::compose::compile(&p).unwrap()).unwrap();
+            let options = crate::compose::Options { mesh_probe: true, ..Default::default() };
+            let probed = crate::emit::wgsl(&crate::compose::compile_with(&p, &options).unwrap()).unwrap();
+            assert!(!plain.contains(PROBE_ENTRY) && probed.contains(&format!("fn {PROBE_ENTRY}(")), "{mode}");
+            let entry = |text: &str, name: &str| {
+                let start = text.find(&format!("fn {name}(")).unwrap();
+                let body = &text[start..];
+                body[..body.find("\n}\n").unwrap()].to_string()
+            };
+            for name in ["vs_mesh", "fs_mesh", DEPTH_ENTRY] {
+                assert_eq!(entry(&plain, name), entry(&probed, name), "{mode} {name}");
+            }
+            assert!(plain.len() < probed.len());
         }
     }
 

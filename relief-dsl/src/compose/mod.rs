@@ -323,6 +323,10 @@ pub struct Options {
     /// depth of the hit point `(uv, (z - 1)·depth_scale)` under `params.view_proj`, so that
     /// a depth buffer holds the relief's surface, not the quad's.
     pub frag_depth: bool,
+    /// A mesh module (`curved=`) also gets the measurement entry
+    /// [`mesh::PROBE_ENTRY`] (`fs_mesh_probe`, docs/meshes-shaders.md); the other entries are
+    /// the same with or without it. Ignored for a flat-tile module.
+    pub mesh_probe: bool,
 }
 
 /// Whether the hit's (u, v) lies outside the quad's square `[0, tiling]²` (`params.quad.x`
@@ -585,7 +589,7 @@ pub(crate) fn finish(m: ModuleCtx) -> Result<(Module, Bindings), CompileError> {
 /// Builds the module for `p` with `options` (not yet validated), with its binding table.
 pub(crate) fn compose_module_with(p: &Pipeline, options: &Options) -> Result<(Module, Bindings), CompileError> {
     if let Some(curved) = p.curved {
-        return mesh::compose_mesh(p, curved);
+        return mesh::compose_mesh(p, curved, options.mesh_probe);
     }
     let m = ModuleCtx::new();
     let policy = Plain { lod: p.lod };

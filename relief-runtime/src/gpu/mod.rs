@@ -5,12 +5,14 @@
 //! wrong (ARCHITECTURE.md, "Environment facts").
 
 mod device;
+pub mod mesh;
 mod probe;
 mod render;
 mod resources;
 
 pub use crate::maps::MapKey;
 pub use device::{adapters, choose, Gpu, GpuError, ADAPTER_VAR};
+pub use mesh::{MeshProbe, MeshProgram};
 pub(crate) use probe::dispatch;
 pub use probe::{probe, GpuHit};
 pub use render::{
@@ -58,12 +60,11 @@ impl Program {
         options: &relief_dsl::compose::Options,
     ) -> Result<Program, relief_dsl::CompileError> {
         if let Some(c) = p.curved {
-            // The mesh module has other entry points and a vertex layout; drawing meshes is a
-            // later step of issue 38.
+            // The mesh module has other entry points and a vertex layout: `gpu::mesh` draws it.
             return Err(relief_dsl::CompileError {
                 stage: "mesh".into(),
                 message: format!(
-                    "curved={c} composes a mesh module (docs/meshes-shaders.md), which relief cannot render or probe yet; `relief gen` writes it"
+                    "curved={c} composes a mesh module (docs/meshes-shaders.md), drawn on a mesh scene (`relief scene measure`), not on the flat tile"
                 ),
             });
         }

@@ -52,6 +52,8 @@ fn attachment(gpu: &Gpu, label: &str, size: u32, format: wgpu::TextureFormat) ->
 /// `with_depth`, a `Depth32Float` depth cleared to 1.
 pub(crate) struct Target {
     color: wgpu::Texture,
+    /// Bytes per colour texel (4 for [`FORMAT`], 16 for the mesh probe's `Rgba32Float`).
+    texel_bytes: u32,
     view: wgpu::TextureView,
     depth: Option<(wgpu::Texture, wgpu::TextureView)>,
     size: u32,
@@ -61,14 +63,26 @@ pub(crate) struct Target {
 impl Target {
     /// A new target (see the type's doc).
     pub(crate) fn new(gpu: &Gpu, size: u32, with_depth: bool, clear: wgpu::Color) -> Target {
-        let color = attachment(gpu, "frame", size, FORMAT);
+        Target::with_format(gpu, size, with_depth, clear, FORMAT)
+    }
+
+    /// A new target whose colour has `format` (one of 4 or 16 bytes a texel).
+    pub(crate) fn with_format(
+        gpu: &Gpu,
+        size: u32,
+        with_depth: bool,
+        clear: wgpu::Color,
+        format: wgpu::TextureFormat,
+    ) -> Target {
+        let color = attachment(gpu, "frame", size, format);
+        let texel_bytes = format.block_copy_size(None).unwrap_or(4);
         let view = color.create_view(&Default::default());
         let depth = with_depth.then(|| {
             let t = attachment(gpu, "depth", size, DEPTH_FORMAT);
             let v = t.create_view(&Default::default());
             (t, v)
         });
-        Target { color, view, depth, size, clear }
+        Target { color, texel_bytes, view, depth, size, clear }
     }
 
     /// A render pass into the target, cleared, with `ts`.
@@ -114,11 +128,11 @@ impl Target {
     /// The last frame drawn (and its depth), read back, with `frame_ms` as the frame times.
     pub(crate) fn read(&self, gpu: &Gpu, frame_ms: Vec<f64>) -> Result<Frames, GpuError> {
         let mut enc = gpu.device.create_command_encoder(&Default::default());
-        let pixels = Readback::new(gpu, &mut enc, &self.color, wgpu::TextureAspect::All, self.size);
+        let pixels = Readback::new(gpu, &mut enc, &self.color, wgpu::TextureAspect::All, self.size, self.texel_bytes);
         let depth_pixels = self
             .depth
             .as_ref()
-            .map(|(t, _)| Readback::new(gpu, &mut enc, t, wgpu::TextureAspect::DepthOnly, self.size));
+            .map(|(t, _)| Readback::new(gpu, &mut enc, t, wgpu::TextureAspect::DepthOnly, self.size, 4));
         gpu.queue.submit([enc.finish()]);
         let rgba = pixels.read(gpu)?;
         let depth = match depth_pixels {
@@ -221,10 +235,19 @@ impl Clock {
 
 /// A pipeline ready to draw: its render pipeline and bind group on a scene, and its target.
 pub(crate) struct Renderer {
-    pipeline: wgpu::RenderPipeline,
-    bind_group: wgpu::BindGroup,
+    pub(crate) pipeline: wgpu::RenderPipeline,
+    pub(crate) bind_group: wgpu::BindGroup,
     /// Where its frames go.
     pub target: Target,
+    /// The vertex and index buffers of a mesh (`gpu::mesh`); `None` for relief's quad.
+    pub(crate) mesh: Option<MeshBuffers>,
+}
+
+/// A mesh's vertex and index buffers on the device, and its index count.
+pub(crate) struct MeshBuffers {
+    pub(crate) vertices: wgpu::Buffer,
+    pub(crate) indices: wgpu::Buffer,
+    pub(crate) count: u32,
 }
 
 /// The background of the renders: linear RGBA, written to the sRGB target as
@@ -257,6 +280,8 @@ pub(crate) struct Draw<'a> {
     pub topology: wgpu::PrimitiveTopology,
     /// The depth test, when the pass has a depth buffer (depth is then written).
     pub depth: Option<wgpu::CompareFunction>,
+    /// The colour target's format: [`FORMAT`] for pictures, `Rgba32Float` for the mesh probe.
+    pub format: wgpu::TextureFormat,
 }
 
 /// The render pipeline of `draw` over `module`, its bind group layout derived from the module.
@@ -288,7 +313,7 @@ pub(crate) fn render_pipeline(
                 module,
                 entry_point: Some(draw.entries.1),
                 compilation_options: Default::default(),
-                targets: &[Some(FORMAT.into())],
+                targets: &[Some(draw.format.into())],
             }),
             multiview_mask: None,
             cache: None,
@@ -317,19 +342,27 @@ impl Renderer {
                 topology: wgpu::PrimitiveTopology::TriangleStrip,
                 // The render entry writes the hit's depth itself: every fragment is kept.
                 depth: program.writes_depth.then_some(wgpu::CompareFunction::Always),
+                format: FORMAT,
             },
         )?;
         let params = SceneTextures::params(gpu, scene, 1.0, scene.camera.pixel_size(size));
         let bind_group =
             tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), &program.render_bindings, program, &params, &[])?;
-        Ok(Renderer { pipeline, bind_group, target: Target::new(gpu, size, program.writes_depth, CLEAR) })
+        Ok(Renderer { pipeline, bind_group, target: Target::new(gpu, size, program.writes_depth, CLEAR), mesh: None })
     }
 
-    /// Records one frame's draw into `pass`.
+    /// Records one frame's draw into `pass`: the quad, or the mesh's indexed triangles.
     pub(crate) fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.bind_group, &[]);
-        pass.draw(0..4, 0..1);
+        match &self.mesh {
+            None => pass.draw(0..4, 0..1),
+            Some(m) => {
+                pass.set_vertex_buffer(0, m.vertices.slice(..));
+                pass.set_index_buffer(m.indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..m.count, 0, 0..1);
+            }
+        }
     }
 }
 
@@ -485,12 +518,13 @@ pub(crate) fn paired_blocks(
     Ok(out)
 }
 
-/// A copy of a `size²` attachment of 4-byte texels (RGBA8, or one aspect such as a
+/// A copy of a `size²` attachment (RGBA8, `Rgba32Float`, or one aspect such as a
 /// `Depth32Float` depth) into a mappable buffer, rows padded to wgpu's 256-byte alignment.
 struct Readback {
     buffer: wgpu::Buffer,
     row: u32,
     size: u32,
+    texel_bytes: u32,
 }
 
 impl Readback {
@@ -501,8 +535,9 @@ impl Readback {
         texture: &wgpu::Texture,
         aspect: wgpu::TextureAspect,
         size: u32,
+        texel_bytes: u32,
     ) -> Readback {
-        let row = (size * 4).div_ceil(256) * 256;
+        let row = (size * texel_bytes).div_ceil(256) * 256;
         let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: None,
             size: (row * size) as u64,
@@ -517,13 +552,13 @@ impl Readback {
             },
             wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
         );
-        Readback { buffer, row, size }
+        Readback { buffer, row, size, texel_bytes }
     }
 
     /// The texels' bytes, rows unpadded, top row first.
     fn read(&self, gpu: &Gpu) -> Result<Vec<u8>, GpuError> {
         let padded = gpu.read_buffer(&self.buffer)?;
-        let (row, width) = (self.row as usize, self.size as usize * 4);
+        let (row, width) = (self.row as usize, (self.size * self.texel_bytes) as usize);
         Ok((0..self.size as usize).flat_map(|y| padded[y * row..y * row + width].iter().copied()).collect())
     }
 }

@@ -10,7 +10,8 @@
 //! [`builtin`] the sphere, cylinder and torus; [`mod@file`] glTF 2.0 and OBJ files;
 //! [`tangent`] MikkTSpace tangents; [`surface`] the displaced surface and its proven boxes;
 //! [`mod@reference`] the exact trace over a BVH of patches; [`scene`] a scene with its mesh and
-//! its per-pixel rays.
+//! its per-pixel rays; [`vertices`] the mesh as the mesh module's vertices for each `curved=`
+//! mode.
 
 use glam::{Vec2, Vec3, Vec4};
 
@@ -20,6 +21,7 @@ pub mod reference;
 pub mod scene;
 pub mod surface;
 pub mod tangent;
+pub mod vertices;
 
 pub use reference::{MeshHit, MeshReference};
 pub use scene::{MeshRay, MeshScene};

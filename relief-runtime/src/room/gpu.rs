@@ -230,6 +230,7 @@ pub(crate) fn render_interior(
             buffers: &[],
             topology: wgpu::PrimitiveTopology::TriangleStrip,
             depth: None,
+            format: crate::gpu::FORMAT,
         },
     )?;
     let (p, r) = room_params(room, 1.0);

@@ -177,6 +177,7 @@ pub fn render_geometry(
             buffers: &buffers,
             topology: wgpu::PrimitiveTopology::TriangleList,
             depth: Some(wgpu::CompareFunction::Less),
+            format: crate::gpu::FORMAT,
         },
     )?;
     let (l, kind) = match room.light {

@@ -74,8 +74,11 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     let scene = overrides.apply(scene_from_arg(&scene_spec(&a.scene))?);
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create output folder {}", a.out.display()))?;
     let g = Gpu::new()?;
+    if scene.mesh.is_some() {
+        return render_mesh_scene(&g, a, &pipeline, scene);
+    }
     let mut prep = Prepared::new(&g, scene, a.size)?;
-    let options = relief_dsl::compose::Options { frag_depth: a.write_depth };
+    let options = relief_dsl::compose::Options { frag_depth: a.write_depth, ..Default::default() };
     let measured = measure_with(&g, &mut prep, &pipeline, &options, 5, a.frames)?;
     write_images(&a.out, &prep, &measured)?;
     if let Some(depth) = &measured.frame.depth {
@@ -165,5 +168,30 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
         m.avg_fetches,
         a.out.display()
     );
+    Ok(())
+}
+
+/// `relief render` on a scene that names a mesh: one frame of the `curved=` pipeline on the
+/// mesh, written as `frame.png` (docs/meshes.md; `relief scene measure` measures it).
+fn render_mesh_scene(
+    g: &Gpu,
+    a: &RenderArgs,
+    pipeline: &relief_dsl::Pipeline,
+    scene: relief_runtime::Scene,
+) -> anyhow::Result<()> {
+    use relief_runtime::gpu::mesh::{mesh_textures, render_mesh, MeshProgram};
+    anyhow::ensure!(
+        pipeline.curved.is_some(),
+        "the scene names a mesh: the pipeline needs curved=none, quadric or prism (`{pipeline}` has none)"
+    );
+    let ms = relief_runtime::mesh::MeshScene::from_scene(scene)?;
+    if let Some(w) = ms.notes.warning() {
+        eprintln!("{w}");
+    }
+    let prog = MeshProgram::new(pipeline)?;
+    let tex = mesh_textures(g, &ms, &prog)?;
+    let f = render_mesh(g, &prog, &ms, &tex, a.size)?;
+    relief_runtime::io::png::write_rgba8(&a.out.join("frame.png"), a.size, a.size, f.rgba)?;
+    println!("{}: {} on mesh {} -> {}", ms.scene.name, pipeline, ms.mesh.name, a.out.join("frame.png").display());
     Ok(())
 }

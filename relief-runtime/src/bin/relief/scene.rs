@@ -1,8 +1,13 @@
 //! `relief scene check FILE`: a scene file loaded, with its mesh if it names one, and what was
 //! found printed, or one error line. With `--reference N`, the mesh's exact reference of an
 //! N × N frame is traced and timed (docs/meshes.md).
+//!
+//! `relief scene measure FILE --pipeline P`: the pipeline under `curved=none`, `quadric` and
+//! `prism` on the scene's mesh against the exact reference, one table row per mode
+//! (`relief_runtime::mesh_measure`), and with `--out DIR` each mode's coverage picture and
+//! picture (docs/meshes.md, "Measuring").
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::Context;
@@ -27,10 +32,35 @@ pub enum SceneCommand {
         #[arg(long, value_name = "N")]
         reference: Option<u32>,
     },
+    /// Draw the scene's mesh with a pipeline under curved=none, quadric and prism and measure
+    /// each against the exact reference: coverage error, IoU, t, uv and depth error, and
+    /// frame time over curved=none (paired blocks).
+    Measure {
+        /// The scene file (`.toml`), which names a mesh.
+        file: PathBuf,
+        /// The pipeline's stages, without `curved=` (each mode is added to it).
+        #[arg(long)]
+        pipeline: String,
+        /// Frame side in pixels.
+        #[arg(long, default_value_t = 128)]
+        size: u32,
+        /// Pairs of timed blocks per mode (0: no timing).
+        #[arg(long, default_value_t = 10)]
+        pairs: u32,
+        /// Write `coverage_MODE.png` (agree-hit grey, agree-miss black, extra red, missing
+        /// blue) and `frame_MODE.png` for each mode here.
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+    },
 }
 
 pub fn run(a: &SceneArgs) -> anyhow::Result<()> {
-    let SceneCommand::Check { file, reference } = &a.command;
+    let (file, reference) = match &a.command {
+        SceneCommand::Check { file, reference } => (file, reference),
+        SceneCommand::Measure { file, pipeline, size, pairs, out } => {
+            return measure(file, pipeline, *size, *pairs, out.as_deref())
+        }
+    };
     let scene = relief_runtime::load_scene_file(file)?;
     println!("{scene}");
     if scene.mesh.is_none() {
@@ -55,6 +85,65 @@ pub fn run(a: &SceneArgs) -> anyhow::Result<()> {
             total - built,
             hits.len()
         );
+    }
+    Ok(())
+}
+
+/// `relief scene measure` (the module doc).
+fn measure(file: &Path, pipeline: &str, size: u32, pairs: u32, out: Option<&Path>) -> anyhow::Result<()> {
+    use relief_dsl::spec::Curved;
+    use relief_runtime::gpu::mesh::{mesh_textures, render_mesh, MeshProgram};
+    anyhow::ensure!((8..=2048).contains(&size), "--size {size}: expected a frame side from 8 to 2048");
+    anyhow::ensure!(pairs <= 1000, "--pairs {pairs}: expected at most 1000");
+    let base: relief_dsl::Pipeline = pipeline.parse().map_err(|e| anyhow::anyhow!("--pipeline: {e}"))?;
+    anyhow::ensure!(
+        base.curved.is_none(),
+        "--pipeline `{pipeline}` names curved=; the command measures each of none, quadric and prism"
+    );
+    let scene = relief_runtime::load_scene_file(file)?;
+    let ms = MeshScene::from_scene(scene)?;
+    if let Some(w) = ms.notes.warning() {
+        eprintln!("{w}");
+    }
+    let gpu = relief_runtime::Gpu::new()?;
+    let reference = ms.reference_hits(size, size).context("the exact reference")?;
+    let modes = [Curved::None, Curved::Quadric, Curved::Prism];
+    let rows = relief_runtime::mesh_measure::measure_modes(&gpu, &ms, &base, &modes, &reference, size, pairs)?;
+    println!("{} with {} at {size}x{size} on {}", ms.mesh.name, base, gpu.adapter);
+    println!(
+        "{:<8} {:>10} {:>7} {:>10} {:>10} {:>9} {:>9} {:>7} {:>7}  time/none (95 %)",
+        "curved", "coverage%", "IoU", "rms_t/d", "earliest/d", "uv_texel", "depth", "extra", "missing"
+    );
+    for (mode, r) in modes.iter().zip(&rows) {
+        let s = &r.score;
+        let time = match &r.time {
+            Some(t) => format!("{:.3} [{:.3}, {:.3}]", t.ratio, t.lo, t.hi),
+            None => "-".into(),
+        };
+        println!(
+            "{:<8} {:>10.3} {:>7.4} {:>10.2e} {:>10.2e} {:>9.3} {:>9.2e} {:>7} {:>7}  {time}",
+            mode.to_string(),
+            100.0 * s.coverage_error,
+            s.iou,
+            s.rms_t,
+            s.earliest,
+            s.uv_texels,
+            s.depth,
+            s.extra,
+            s.missing
+        );
+    }
+    if let Some(dir) = out {
+        std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create the folder", dir.display()))?;
+        for (mode, r) in modes.iter().zip(&rows) {
+            let pic = relief_runtime::mesh_measure::coverage_picture(&r.probe, &reference);
+            relief_runtime::io::png::write_rgba8(&dir.join(format!("coverage_{mode}.png")), size, size, pic)?;
+            let prog = MeshProgram::new(&r.pipeline)?;
+            let tex = mesh_textures(&gpu, &ms, &prog)?;
+            let f = render_mesh(&gpu, &prog, &ms, &tex, size)?;
+            relief_runtime::io::png::write_rgba8(&dir.join(format!("frame_{mode}.png")), size, size, f.rgba)?;
+        }
+        println!("pictures in {}", dir.display());
     }
     Ok(())
 }

@@ -1,0 +1,184 @@
+//! A mesh scene drawn with a `curved=` pipeline's mesh module (relief-dsl's `compose/mesh.rs`,
+//! docs/meshes.md): its vertices from [`crate::mesh::vertices`], the scene's textures and
+//! maps as the flat tile binds them ([`SceneTextures`]), a depth buffer with the depth test
+//! `Less` (the fragment writes the hit's depth), every pipeline from the runtime's one `Draw`.
+//!
+//! Three draws of the same vertices: the picture (`vs_mesh` + `fs_mesh`), the measurement
+//! (`fs_mesh_probe` into an `Rgba32Float` target: hit u, v, distance along the view ray, 1;
+//! cleared to 0, so w = 0 is a miss) and the paired timing of two modes' pictures.
+
+use relief_dsl::compose::mesh::{MeshVertex, PROBE_ENTRY};
+use relief_dsl::spec::{Curved, Lod};
+use relief_dsl::{CompileError, Pipeline};
+use wgpu::util::DeviceExt;
+
+use super::render::{MeshBuffers, Target};
+use super::{paired_blocks, render_pipeline, Clock, Draw, Frames, Gpu, GpuError, PairedBlocks, Program, Renderer};
+use super::{SceneTextures, CLEAR, FORMAT};
+use crate::mesh::vertices::mesh_vertices;
+use crate::mesh::MeshScene;
+
+/// A `curved=` pipeline compiled for the device, with its measurement entry.
+pub struct MeshProgram {
+    /// The module as the device loads it; `render_bindings` are those of `vs_mesh` and
+    /// `fs_mesh`, `probe_bindings` those of `vs_mesh` and `fs_mesh_probe`.
+    pub program: Program,
+    /// The pipeline's mode.
+    pub curved: Curved,
+    /// The pipeline's `lod` (the level its maps are read at).
+    pub lod: Lod,
+}
+
+impl MeshProgram {
+    /// Compiles `p`, which must have a `curved=` option (else a one-line error).
+    pub fn new(p: &Pipeline) -> Result<MeshProgram, CompileError> {
+        let Some(curved) = p.curved else {
+            return Err(CompileError {
+                stage: "mesh".into(),
+                message: format!("`{p}` has no curved= option: a mesh is drawn with curved=none, quadric or prism"),
+            });
+        };
+        let options = relief_dsl::compose::Options { mesh_probe: true, ..Default::default() };
+        let c = relief_dsl::compose::compile_with(p, &options)?;
+        let wgsl = relief_dsl::emit::wgsl(&c)?;
+        let used = |names: &[&str]| super::used_bindings(&c, names);
+        let program = Program {
+            wgsl,
+            bindings: c.bindings.clone(),
+            render_bindings: used(&["vs_mesh", "fs_mesh"]),
+            probe_bindings: used(&["vs_mesh", PROBE_ENTRY]),
+            maps: p.required_maps(),
+            writes_depth: true,
+            map_levels: p.lod != Lod::Zero,
+        };
+        Ok(MeshProgram { program, curved, lod: p.lod })
+    }
+}
+
+/// The vertex layout of [`MeshVertex`]: member k at location k, each a `vec4<f32>`.
+const ATTRIBUTES: [wgpu::VertexAttribute; 7] = wgpu::vertex_attr_array![
+    0 => Float32x4, 1 => Float32x4, 2 => Float32x4, 3 => Float32x4, 4 => Float32x4, 5 => Float32x4, 6 => Float32x4
+];
+
+/// The mesh of `ms` as `curved`'s vertices, uploaded.
+fn upload(gpu: &Gpu, ms: &MeshScene, curved: Curved) -> Result<MeshBuffers, GpuError> {
+    let (vertices, indices) = mesh_vertices(&ms.mesh, curved);
+    let count = u32::try_from(indices.len())
+        .map_err(|_| GpuError::Device(format!("{} indices: more than one draw takes", indices.len())))?;
+    let buffer = |label, contents: &[u8], usage| {
+        gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+    };
+    Ok(MeshBuffers {
+        vertices: buffer(
+            "mesh vertices",
+            bytemuck::cast_slice::<MeshVertex, u8>(&vertices),
+            wgpu::BufferUsages::VERTEX,
+        ),
+        indices: buffer("mesh indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX),
+        count,
+    })
+}
+
+/// The renderer of `prog`'s picture (`fs_mesh` into [`FORMAT`] over [`CLEAR`]) or, with
+/// `probe`, its measurement (`fs_mesh_probe` into `Rgba32Float` over 0) on `ms` at `size²`,
+/// with a depth buffer and the test `Less`.
+fn renderer(
+    gpu: &Gpu,
+    prog: &MeshProgram,
+    ms: &MeshScene,
+    tex: &SceneTextures,
+    size: u32,
+    probe: bool,
+) -> Result<Renderer, GpuError> {
+    let (entry, format, clear, bindings) = if probe {
+        (PROBE_ENTRY, wgpu::TextureFormat::Rgba32Float, wgpu::Color::TRANSPARENT, &prog.program.probe_bindings)
+    } else {
+        ("fs_mesh", FORMAT, CLEAR, &prog.program.render_bindings)
+    };
+    let module = prog.program.shader_module(gpu)?;
+    let layout = [Some(wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<MeshVertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &ATTRIBUTES,
+    })];
+    let pipeline = render_pipeline(
+        gpu,
+        &module,
+        &Draw {
+            label: "mesh",
+            entries: ("vs_mesh", entry),
+            buffers: &layout,
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            depth: Some(wgpu::CompareFunction::Less),
+            format,
+        },
+    )?;
+    // Object space is world space: the scene's camera, light and depth are the mesh's Params.
+    let params = SceneTextures::params(gpu, &ms.scene, 1.0, 0.0);
+    let bind_group = tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), bindings, &prog.program, &params, &[])?;
+    let target = Target::with_format(gpu, size, true, clear, format);
+    Ok(Renderer { pipeline, bind_group, target, mesh: Some(upload(gpu, ms, prog.curved)?) })
+}
+
+/// The scene's textures with the maps `prog` reads.
+pub fn mesh_textures(gpu: &Gpu, ms: &MeshScene, prog: &MeshProgram) -> Result<SceneTextures, crate::maps::MapError> {
+    let mut tex = SceneTextures::new(gpu, &ms.scene);
+    tex.add_maps_lod(gpu, &ms.scene, &prog.program.maps, prog.lod)?;
+    Ok(tex)
+}
+
+/// One frame of `prog` on `ms`, `size²`: the picture (RGBA8 sRGB) and its depth.
+pub fn render_mesh(
+    gpu: &Gpu,
+    prog: &MeshProgram,
+    ms: &MeshScene,
+    tex: &SceneTextures,
+    size: u32,
+) -> Result<Frames, GpuError> {
+    let r = renderer(gpu, prog, ms, tex, size, false)?;
+    r.target.untimed(gpu, 1, &|p| r.draw(p))?;
+    r.target.read(gpu, Vec::new())
+}
+
+/// The measurement of one frame: per pixel, row-major from the top.
+pub struct MeshProbe {
+    /// `(u, v, distance, 1)` where the frame shows relief, `(0, 0, 0, 0)` where it does not.
+    pub hits: Vec<[f32; 4]>,
+    /// The depth buffer (NDC depth, cleared to 1).
+    pub depth: Vec<f32>,
+}
+
+/// `prog`'s measurement entry on `ms`, `size²` (the same trace, discards and depth test as
+/// the picture).
+pub fn probe_mesh(
+    gpu: &Gpu,
+    prog: &MeshProgram,
+    ms: &MeshScene,
+    tex: &SceneTextures,
+    size: u32,
+) -> Result<MeshProbe, GpuError> {
+    let r = renderer(gpu, prog, ms, tex, size, true)?;
+    r.target.untimed(gpu, 1, &|p| r.draw(p))?;
+    let f = r.target.read(gpu, Vec::new())?;
+    let floats: Vec<f32> = bytemuck::pod_collect_to_vec(&f.rgba);
+    let hits = floats.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect();
+    Ok(MeshProbe { hits, depth: f.depth.unwrap_or_default() })
+}
+
+/// Frame times of `a` and `b` (their pictures) on `ms`, `size²`, in `pairs` alternating
+/// pairs of blocks ([`PairedBlocks`]; each side's block length calibrated first).
+pub fn paired_mesh_time(
+    gpu: &Gpu,
+    a: (&MeshProgram, &SceneTextures),
+    b: (&MeshProgram, &SceneTextures),
+    ms: &MeshScene,
+    size: u32,
+    pairs: u32,
+) -> Result<PairedBlocks, GpuError> {
+    let clock = Clock::new(gpu)?;
+    let ra = renderer(gpu, a.0, ms, a.1, size, false)?;
+    let rb = renderer(gpu, b.0, ms, b.1, size, false)?;
+    let ka = clock.calibrate(gpu, &ra.target, &|p| ra.draw(p))?;
+    let kb = clock.calibrate(gpu, &rb.target, &|p| rb.draw(p))?;
+    paired_blocks(gpu, &clock, &ra, &rb, [ka, kb], pairs)
+}
