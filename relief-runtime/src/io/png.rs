@@ -6,8 +6,8 @@ use super::FileError;
 
 /// Writes an RGBA8 image as PNG, atomically ([`super::write_atomic`]): as RGB when every
 /// pixel is opaque (frames, error maps and strips are; the alpha channel would add bytes and
-/// nothing else), with adaptive row filters (a quarter smaller than the encoder's default on
-/// relief's frames). Read back as RGBA8 it gives the same pixels. Pixels that do not fill
+/// nothing else), with adaptive row filters (together a measured 26 % off the main job's
+/// `cells/`, not a tested figure). Read back as RGBA8 it gives the same pixels. Pixels that do not fill
 /// `w × h` exactly are a [`FileError::Encode`].
 pub fn write_rgba8(path: &Path, w: u32, h: u32, rgba: Vec<u8>) -> Result<(), FileError> {
     use image::codecs::png::{CompressionType, FilterType, PngEncoder};
