@@ -12,21 +12,14 @@ use crate::common::frames;
 #[allow(dead_code)]
 mod example;
 
-use relief::runtime::gpu::{self, Gpu, Program, SceneTextures};
+use relief::runtime::gpu::{Gpu, SceneTextures};
 use relief::runtime::Scene;
 use relief::Pipeline;
-
-fn relief_render(p: &Pipeline, scene: &Scene, size: u32) -> Vec<u8> {
-    let g = Gpu::new().unwrap();
-    let program = Program::new(p).unwrap();
-    let mut tex = SceneTextures::new(&g, scene);
-    tex.add_maps(&g, scene, &p.required_maps()).unwrap();
-    gpu::render(&g, &program, scene, &tex, size, 0, 1).unwrap().rgba
-}
 
 #[test]
 fn the_integration_example_matches_relief_render() {
     let size = 128;
+    let g = Gpu::new().unwrap();
     for (pipe, scene) in [
         ("linear(32)+binary(5)+shadow=soft(16)", "lion"),
         ("csm(15)+binary(4)+shadow=soft_ratio(10)+ao=cone_ratio", "rock_bump"),
@@ -36,7 +29,7 @@ fn the_integration_example_matches_relief_render() {
         let scene = Scene::by_name(scene, Some(64)).unwrap();
         let frame = example::run(&p, &scene, size).unwrap();
         let ours = frame.rgba;
-        let theirs = relief_render(&p, &scene, size);
+        let theirs = frames::relief_render(&g, &p, &scene, size);
         let (mean, share) = frames::frame_difference(&ours, &theirs);
         println!(
             "{pipe} on {}: mean |difference| {mean:.4} of 255, {:.3} % of pixels off by more than 8",

@@ -18,10 +18,12 @@
 //! pipeline, by the bar of `tests/integrate.rs`: a mean absolute difference of at most 1 of
 //! 255 per channel and at most 1 % of the pixels differing by more than 8 in a channel.
 
-use crate::babylon::{from_hex, relief_exe, relief_render};
-use crate::common::{browser, frames};
+use crate::common::browser;
+use crate::common::exe::export;
+use crate::common::frames::{
+    self, engine_picture, from_hex, relief_render, ENGINE_CASES as CASES, ENGINE_SIZE as SIZE,
+};
 
-use std::process::Command;
 use std::time::Duration;
 
 use browser::{run_page, Page};
@@ -30,31 +32,6 @@ use relief::runtime::gpu::Gpu;
 use relief::runtime::scene_from_arg;
 use relief::Pipeline;
 use serde_json::json;
-
-/// The frame's side, pixels.
-const SIZE: u32 = 128;
-
-/// The pipelines and scenes (as `relief export --scene` takes them): a linear search with
-/// binary refinement and a soft shadow on a real height map, a safe cone method (its cell
-/// cone map read with nearest filtering) on a rough procedural surface, and the max-mip
-/// traversal (its chain read at every level) on one-texel walls and pillars.
-const CASES: [(&str, &str); 3] = [
-    ("linear(32)+binary(5)+shadow=soft(16)", "scene:lion"),
-    ("csm(64)", "scene:rock_bump"),
-    ("maxmip(96)", "scene:shapes"),
-];
-
-/// `relief export PIPE --scene ARG --target TARGET --out DIR`, which must succeed.
-fn export(pipe: &str, arg: &str, target: &str, dir: &std::path::Path) {
-    let out = Command::new(relief_exe())
-        .args(["export", pipe, "--scene", arg, "--target", target, "--out"])
-        .arg(dir)
-        .env("LP_NUM_THREADS", "1")
-        .env("NODEVICE_SELECT", "1")
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "relief export {pipe} --target {target}: {}", String::from_utf8_lossy(&out.stderr));
-}
 
 #[test]
 fn threejs_draws_relief_renders_frame_from_export_bundles_in_webgl2_and_webgpu() {
@@ -79,7 +56,7 @@ fn threejs_draws_relief_renders_frame_from_export_bundles_in_webgl2_and_webgpu()
             "view_proj": scene.camera.view_proj(1.0).to_cols_array(),
             "eye": [eye.x, eye.y, eye.z],
         }));
-        references.push(relief_render(&g, &p, &scene));
+        references.push(relief_render(&g, &p, &scene, SIZE));
     }
     std::fs::write(dir.join("manifest.json"), json!({ "size": SIZE, "cases": cases }).to_string()).unwrap();
     let mut page = Page::new("pages/threejs.html");
@@ -95,32 +72,9 @@ fn threejs_draws_relief_renders_frame_from_export_bundles_in_webgl2_and_webgpu()
             let pic = &r["cases"][i][api];
             assert!(!pic.is_null(), "{pipe}: no {api} picture: {}", r["cases"][i]);
             let rgba = from_hex(pic["rgba"].as_str().unwrap_or_else(|| panic!("{pipe} {api}: {pic}")));
-            assert_eq!(rgba.len(), (SIZE * SIZE * 4) as usize, "{pipe} {api}: picture size");
-            let (mad, share) = frames::frame_difference(&rgba, &references[i]);
-            println!(
-                "{pipe} on {arg}, {api} (three.js {}, KTX2Loader): mean |difference| {mad:.4} of 255, {:.3} % of pixels off by more than 8",
-                r["three"],
-                share * 100.0
-            );
-            let lit = rgba.chunks(4).filter(|px| px[0] > 20 || px[1] > 20 || px[2] > 20).count();
-            if mad > 1.0 || share > 0.01 || lit <= (SIZE * SIZE / 3) as usize || keep {
-                for (what, px) in [("threejs", &rgba), ("relief", &references[i])] {
-                    let file = dir.join(format!("case{i}_{api}_{what}.png"));
-                    relief::runtime::io::png::write_rgba8(&file, SIZE, SIZE, px.clone()).unwrap();
-                }
-            }
-            if mad > 1.0 || share > 0.01 {
-                failures.push(format!(
-                    "{pipe} on {arg}, {api}: mean |difference| {mad:.4}, {:.3} % off by > 8 (pictures in {})",
-                    share * 100.0,
-                    dir.display()
-                ));
-            }
-            assert!(
-                lit > (SIZE * SIZE / 3) as usize,
-                "{pipe} {api}: only {lit} lit pixels (pictures in {})",
-                dir.display()
-            );
+            let what = format!("{pipe} on {arg}, {api} (three.js {}, KTX2Loader)", r["three"]);
+            let stem = format!("case{i}_{api}");
+            failures.extend(engine_picture("three.js", &what, &rgba, &references[i], &dir, &stem, keep));
             drawn += 1;
         }
     }

@@ -442,6 +442,9 @@ pub const GPU_COLUMNS: &[&str] = &[
 /// The file rows are appended to, in a sweep folder.
 pub(crate) const JSONL: &str = "results.jsonl";
 
+/// The name of the rows' CSV copy in a sweep's folder.
+pub(crate) const CSV: &str = "results.csv";
+
 /// What [`read`] found.
 #[derive(Clone, Debug, Default)]
 pub struct ReadRows {
@@ -610,7 +613,7 @@ pub(crate) fn csv_bytes(rows: &[Row]) -> Result<Vec<u8>, ResultsError> {
 
 /// Rewrites `dir/results.csv` from `rows`, atomically ([`crate::io::write_atomic`]).
 pub fn write_csv(dir: &Path, rows: &[Row]) -> Result<(), ResultsError> {
-    Ok(crate::io::write_atomic(&dir.join("results.csv"), &csv_bytes(rows)?)?)
+    Ok(crate::io::write_atomic(&dir.join(CSV), &csv_bytes(rows)?)?)
 }
 
 /// Parses one results line; numbers written as `null` (NaN or infinite when measured) come

@@ -451,9 +451,8 @@ fn model(
     let Ok(each) = compiler.cost_each(&pipelines, &["navi21".to_string()], false) else { return };
     for (c, costs) in cands[..shown].iter_mut().zip(each) {
         if let (Ok(costs), Some(h)) = (costs, hits.get(&c.pipeline)) {
-            let mut m = crate::results::Metrics::default();
-            crate::cost::set_columns(&mut m, &costs, &prep.rays, h);
-            c.model_navi21 = m.gpu_navi21_instr_px;
+            let navi21 = costs.iter().find(|cost| cost.family == "navi21");
+            c.model_navi21 = navi21.map(|cost| crate::cost::modeled(cost, &prep.rays, h).instr_px);
         }
     }
 }

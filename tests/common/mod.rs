@@ -1,7 +1,9 @@
 //! Helpers the tests share: finding the Khronos tools and running them (here), driving the
-//! browser harness (`browser`) and comparing frames (`frames`).
+//! browser harness (`browser`), comparing frames (`frames`) and running this build's `relief`
+//! (`exe`).
 
 pub mod browser;
+pub mod exe;
 pub mod frames;
 
 use std::process::Command;

@@ -4,15 +4,27 @@ use std::path::Path;
 
 use super::FileError;
 
-/// Writes an RGBA8 image as PNG, atomically ([`super::write_atomic`]). Pixels that do not
-/// fill `w × h` exactly are a [`FileError::Encode`].
+/// Writes an RGBA8 image as PNG, atomically ([`super::write_atomic`]): as RGB when every
+/// pixel is opaque (frames, error maps and strips are; the alpha channel would add bytes and
+/// nothing else), with adaptive row filters (together a measured 26 % off the main job's
+/// `cells/`, not a tested figure). Read back as RGBA8 it gives the same pixels. Pixels that do not fill
+/// `w × h` exactly are a [`FileError::Encode`].
 pub fn write_rgba8(path: &Path, w: u32, h: u32, rgba: Vec<u8>) -> Result<(), FileError> {
+    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+    use image::ImageEncoder as _;
     let encode = |message: String| FileError::Encode { path: path.to_path_buf(), message };
-    let len = rgba.len();
-    let img = image::RgbaImage::from_raw(w, h, rgba)
-        .ok_or_else(|| encode(format!("{len} bytes of RGBA8 pixels for a {w}x{h} image")))?;
+    if rgba.len() as u64 != u64::from(w) * u64::from(h) * 4 {
+        return Err(encode(format!("{} bytes of RGBA8 pixels for a {w}x{h} image", rgba.len())));
+    }
+    let (pixels, color) = if rgba.chunks_exact(4).all(|p| p[3] == u8::MAX) {
+        (rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect(), image::ExtendedColorType::Rgb8)
+    } else {
+        (rgba, image::ExtendedColorType::Rgba8)
+    };
     let mut bytes = Vec::new();
-    img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png).map_err(|e| encode(e.to_string()))?;
+    PngEncoder::new_with_quality(&mut bytes, CompressionType::Default, FilterType::Adaptive)
+        .write_image(&pixels, w, h, color)
+        .map_err(|e| encode(e.to_string()))?;
     super::write_atomic(path, &bytes)
 }
 
@@ -46,4 +58,34 @@ pub(crate) fn write_unorm(
     };
     image::save_buffer_with_format(path, &bytes, w as u32, h as u32, color, image::ImageFormat::Png)
         .map_err(|e| e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An opaque picture is stored as RGB and a translucent one as RGBA, and both read back
+    /// as the RGBA8 pixels written, byte for byte (a gradient and noise, so every row filter
+    /// has work to do).
+    #[test]
+    fn rgba8_pictures_read_back_as_written_and_opaque_ones_are_stored_as_rgb() {
+        let dir = std::env::temp_dir().join(format!("relief-png-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (w, h) = (37u32, 23u32);
+        let px = |i: u32, alpha: bool| {
+            let n = i.wrapping_mul(2_654_435_761) >> 24;
+            [(i % w * 7) as u8, (i / w * 11) as u8, n as u8, if alpha { (i % 3 * 100) as u8 } else { 255 }]
+        };
+        for (alpha, want_color) in [(false, image::ColorType::Rgb8), (true, image::ColorType::Rgba8)] {
+            let rgba: Vec<u8> = (0..w * h).flat_map(|i| px(i, alpha)).collect();
+            let path = dir.join(format!("alpha_{alpha}.png"));
+            write_rgba8(&path, w, h, rgba.clone()).unwrap();
+            let back = image::open(&path).unwrap();
+            assert_eq!(back.color(), want_color, "alpha {alpha}");
+            assert_eq!(back.to_rgba8().into_raw(), rgba, "alpha {alpha}");
+        }
+        let short = write_rgba8(&dir.join("short.png"), w, h, vec![0; 5]).unwrap_err().to_string();
+        assert!(short.contains("5 bytes of RGBA8 pixels for a 37x23 image") && !short.contains('\n'), "{short}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }

@@ -10,7 +10,8 @@
 //!   probe entry);
 //! - `browser/scenes/SCENE/NAME.js`: the height, normal and albedo textures and the
 //!   acceleration maps, in the layouts the runtime uploads ([`crate::gpu::scene_uploads`],
-//!   [`crate::gpu::map_upload`]);
+//!   [`crate::gpu::map_upload`]); a scene seen from another view (`rocks@angle=70`) has the
+//!   same height map, and its manifest entry names the first view's files ([`data_file`]);
 //! - `browser/scenes/SCENE/probe_SIZE.js`: the probe rays of the measured view (the ABI's
 //!   32-byte records; every `stride`-th ray of [`Scene::rays`]). Their exact hits are not
 //!   shipped: the page reads none, and `--add` traces them again ([`probe_set`]).
@@ -157,9 +158,36 @@ pub(crate) fn pack(bytes: &[u8], elem: usize) -> Result<Vec<u8>> {
         .map_err(|e| Error::Input(format!("cannot compress the browser data: {e}")))
 }
 
+/// The data files written so far, and which holds what: a scene seen from two views (`rocks`
+/// and `rocks@angle=70`) has the same height map and so the same textures and maps, which
+/// are written once and named by both scenes' manifest entries.
+#[derive(Default)]
+struct Files {
+    /// Every file written, in order.
+    written: Vec<PathBuf>,
+    /// The name of the file holding each content ([`content_key`]).
+    by_content: std::collections::HashMap<u64, String>,
+}
+
+/// A data file's content as a 64-bit hash of its meta, element size and bytes: two files
+/// with equal keys are taken to be equal (a chance collision among the few hundred files
+/// of a sweep is about 1e-15).
+fn content_key(meta: &Value, bytes: &[u8], elem: usize) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    (meta.to_string(), elem, bytes).hash(&mut h);
+    h.finish()
+}
+
 /// One data file: `window.RELIEF_DATA[name] = { meta, gz, shuffle, bytes }`, `gz` the
 /// base64 of `bytes` packed by [`pack`] with element size `shuffle`, `bytes` their length.
-fn data_file(dir: &Path, name: &str, meta: Value, bytes: &[u8], elem: usize, files: &mut Vec<PathBuf>) -> Result<()> {
+/// Returns the name to load it by: `name`, or that of a file already written with the same
+/// content ([`Files`]).
+fn data_file(dir: &Path, name: &str, meta: Value, bytes: &[u8], elem: usize, files: &mut Files) -> Result<String> {
+    let key = content_key(&meta, bytes, elem);
+    if let Some(same) = files.by_content.get(&key) {
+        return Ok(same.clone());
+    }
     let path = dir.join(format!("{name}.js"));
     if let Some(parent) = path.parent() {
         crate::io::create_dir_all(parent)?;
@@ -168,11 +196,12 @@ fn data_file(dir: &Path, name: &str, meta: Value, bytes: &[u8], elem: usize, fil
     let body = json!({ "meta": meta, "gz": crate::io::base64::encode(&gz), "shuffle": elem, "bytes": bytes.len() });
     let text = format!("(window.RELIEF_DATA = window.RELIEF_DATA || {{}})[{}] = {};\n", json!(name), body);
     crate::io::write_atomic(&path, text.as_bytes())?;
-    files.push(path);
-    Ok(())
+    files.written.push(path);
+    files.by_content.insert(key, name.to_string());
+    Ok(name.to_string())
 }
 
-fn texture_file(dir: &Path, name: &str, u: &Upload, files: &mut Vec<PathBuf>) -> Result<()> {
+fn texture_file(dir: &Path, name: &str, u: &Upload, files: &mut Files) -> Result<String> {
     let dimension = if u.dimension == wgpu::TextureDimension::D3 { "3d" } else { "2d" };
     let view = match u.view {
         wgpu::TextureViewDimension::D3 => "3d",
@@ -227,7 +256,7 @@ pub(crate) fn write(datas: &[&Data], dir: &Path) -> Result<Written> {
     }
     crate::io::create_dir_all(&out)?;
     let mut w = Written::default();
-    let mut files = Vec::new();
+    let mut files = Files::default();
 
     // The pipelines: every ok row's, and the exact one.
     let mut pipelines: BTreeMap<String, Shipped> = BTreeMap::new();
@@ -271,12 +300,19 @@ pub(crate) fn write(datas: &[&Data], dir: &Path) -> Result<Written> {
     let mut pjson = Vec::new();
     for s in pipelines.values() {
         let wgsl = relief_dsl::emit::emit(&s.pipeline)?.wgsl;
-        data_file(&out, &format!("wgsl/{}", s.stem), json!({ "pipeline": s.text }), wgsl.as_bytes(), 1, &mut files)?;
+        let wgsl = data_file(
+            &out,
+            &format!("wgsl/{}", s.stem),
+            json!({ "pipeline": s.text }),
+            wgsl.as_bytes(),
+            1,
+            &mut files,
+        )?;
         let render = bindings_json(&s.program.render_bindings, &s.program)?;
         let probe = bindings_json(&s.program.probe_bindings, &s.program)?;
         let maps: Vec<String> = s.program.maps.iter().filter_map(|r| MapKey::of(*r)).map(map_slug).collect();
         pjson.push(json!({
-            "pipeline": s.text, "wgsl": format!("wgsl/{}", s.stem), "render_bindings": render, "probe_bindings": probe,
+            "pipeline": s.text, "wgsl": wgsl, "render_bindings": render, "probe_bindings": probe,
             "maps": maps, "writes_depth": s.program.writes_depth,
         }));
     }
@@ -315,7 +351,7 @@ pub(crate) fn write(datas: &[&Data], dir: &Path) -> Result<Written> {
     let path = out.join("manifest.js");
     crate::io::write_atomic(&path, format!("window.RELIEF_MANIFEST = {manifest};\n").as_bytes())?;
     w.files.push(path);
-    w.files.extend(files);
+    w.files.extend(files.written);
     w.pipelines = pipelines.len();
     Ok(w)
 }
@@ -365,14 +401,14 @@ fn write_scene<'a>(
     scene: &Scene,
     sizes: &[u32],
     pipelines: impl Iterator<Item = &'a Shipped>,
-    files: &mut Vec<PathBuf>,
+    files: &mut Files,
 ) -> Result<Value> {
     let slug = scene_slug(label);
     let base = format!("scenes/{slug}");
     let u = gpu::scene_uploads(scene, true);
-    texture_file(out, &format!("{base}/height"), &u.height, files)?;
-    texture_file(out, &format!("{base}/normal"), &u.normal, files)?;
-    texture_file(out, &format!("{base}/albedo"), &u.albedo, files)?;
+    let height = texture_file(out, &format!("{base}/height"), &u.height, files)?;
+    let normal = texture_file(out, &format!("{base}/normal"), &u.normal, files)?;
+    let albedo = texture_file(out, &format!("{base}/albedo"), &u.albedo, files)?;
     let mut keys: Vec<MapKey> = Vec::new();
     for p in pipelines {
         for k in p.program.maps.iter().filter_map(|r| MapKey::of(*r)) {
@@ -384,7 +420,7 @@ fn write_scene<'a>(
     let mut maps = serde_json::Map::new();
     for k in keys {
         let name = format!("{base}/map_{}", map_slug(k));
-        texture_file(out, &name, &gpu::map_upload_of(scene, k)?, files)?;
+        let name = texture_file(out, &name, &gpu::map_upload_of(scene, k)?, files)?;
         maps.insert(map_slug(k), json!(name));
     }
     let on_device = on_device(scene, &u);
@@ -395,7 +431,7 @@ fn write_scene<'a>(
         // and the page reads none.
         let (rays, all, stride) = shipped_rays(&on_device, size);
         let name = format!("{base}/probe_{size}");
-        data_file(
+        let name = data_file(
             out,
             &name,
             json!({ "rays": rays.len(), "all_rays": all, "stride": stride }),
@@ -414,7 +450,7 @@ fn write_scene<'a>(
         "depth_scale": scene.depth_scale, "tiling": scene.tiling, "edge": if scene.edge == EdgeMode::Clamp { "clamp" } else { "repeat" },
         "light_dir": [scene.light_dir.x, scene.light_dir.y, scene.light_dir.z],
         "height_size": [scene.height.width, scene.height.height],
-        "textures": { "height": format!("{base}/height"), "normal": format!("{base}/normal"), "albedo": format!("{base}/albedo") },
+        "textures": { "height": height, "normal": normal, "albedo": albedo },
         "maps": maps, "probe": probes, "params_measured": measured, "sizes": sizes,
     }))
 }
@@ -467,6 +503,24 @@ mod tests {
         for ((name, _, off, _), f) in members.iter().zip(fields) {
             assert_eq!(*off, f - base, "{name}");
         }
+    }
+
+    /// The same content under a second name is not written again: the second name loads the
+    /// first file; other bytes or another meta make a file of their own.
+    #[test]
+    fn a_content_written_twice_is_one_file() {
+        let dir = std::env::temp_dir().join(format!("relief-browser-files-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut files = Files::default();
+        let bytes: Vec<u8> = (0..64u8).collect();
+        let a = data_file(&dir, "a/height", json!({ "width": 4 }), &bytes, 4, &mut files).unwrap();
+        let b = data_file(&dir, "b/height", json!({ "width": 4 }), &bytes, 4, &mut files).unwrap();
+        let c = data_file(&dir, "c/height", json!({ "width": 8 }), &bytes, 4, &mut files).unwrap();
+        let d = data_file(&dir, "d/height", json!({ "width": 4 }), &bytes[1..], 4, &mut files).unwrap();
+        assert_eq!((a.as_str(), b.as_str(), c.as_str(), d.as_str()), ("a/height", "a/height", "c/height", "d/height"));
+        assert_eq!(files.written.len(), 3);
+        assert!(!dir.join("b/height.js").exists());
+        std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]

@@ -74,7 +74,7 @@ pub(crate) fn build(dirs: &[PathBuf], out: &Path) -> Result<Built> {
         ..Default::default()
     };
     if !dirs.iter().any(|d| same_dir(d, dir)) {
-        write_file(&dir.join("results.csv"), &crate::results::csv_bytes(&all_rows)?, &mut summary.files)?;
+        write_file(&dir.join(crate::results::CSV), &crate::results::csv_bytes(&all_rows)?, &mut summary.files)?;
     }
 
     let diss = diss::Diss::load();

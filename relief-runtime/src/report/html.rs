@@ -162,7 +162,7 @@ pub(crate) fn page(data: &Data, summary: &ReportSummary, sections: &[PageSection
         let _ = write!(h, "<a href=\"#{}\">{}</a>", s.id, esc(&s.nav));
     }
     h.push_str("<a href=\"tables.md\">tables.md</a><a href=\"pareto.md\">pareto.md</a>");
-    if data.dir.join("results.csv").is_file() {
+    if data.dir.join(crate::results::CSV).is_file() {
         h.push_str("<a href=\"results.csv\">results.csv</a>");
     }
     h.push_str("</nav></header>\n");

@@ -132,7 +132,8 @@ pub(crate) fn write_all(data: &Data, tables: &[ReportTable], sub: &Path, warning
         }
         let name = format!("strip_{}.png", super::text::file_safe(&t.key));
         let path = sub.join(&name);
-        match canvas.save(&path) {
+        let (w, h) = canvas.dimensions();
+        match crate::io::png::write_rgba8(&path, w, h, canvas.into_raw()) {
             Ok(()) => out.push(Strip {
                 key: t.key.clone(),
                 file: format!("report/{name}"),

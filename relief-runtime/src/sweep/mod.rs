@@ -28,7 +28,7 @@ use crate::measure::{measure_paired, write_images, Prepared};
 use crate::results::{self, Metrics, Row};
 use crate::scene::{scene_from_arg, Overrides, Scene};
 pub use grids::NamedGrid;
-pub use plan::{Done, Plan};
+pub use plan::{Done, Plan, Settings};
 use progress::Progress;
 
 /// What `relief sweep` measures.

@@ -10,6 +10,7 @@ use super::{Options, Summary};
 use crate::error::{Error, Result};
 use crate::room::measure::RoomSetup;
 use crate::room::sweep::{self as rooms, RoomSweep};
+use crate::scene::Overrides;
 
 /// The name of the room comparison (Amaro & Gustafsson 2022 §3).
 pub const ROOMS: &str = "rooms";
@@ -53,6 +54,34 @@ fn room_names(scenes: Option<&[String]>) -> Vec<String> {
     match scenes {
         Some(s) if !s.is_empty() => s.to_vec(),
         _ => rooms::DEFAULT_ROOMS.iter().map(|s| s.to_string()).collect(),
+    }
+}
+
+/// How [`Plan::run`] measures, whatever the grid: [`Options`] without its grid.
+pub struct Settings {
+    /// Side of the square frame, in pixels.
+    pub size: u32,
+    /// Timed blocks per cell ([`Options::frames`]).
+    pub frames: u32,
+    /// Untimed frames rendered before the timed ones.
+    pub warmup: u32,
+    /// The output folder (created if missing).
+    pub out: std::path::PathBuf,
+    /// Show a progress bar.
+    pub progress: bool,
+    /// Overrides applied to every scene ([`Options::overrides`]).
+    pub overrides: Overrides,
+    /// Measure only shard K of N ([`Options::shard`]).
+    pub shard: Option<(u32, u32)>,
+    /// The GPU compiler's modeled cost in every row ([`Options::gpu_cost`]).
+    pub gpu_cost: Option<crate::cost::Compiler>,
+}
+
+impl Settings {
+    /// The options that measure `grid` with these settings.
+    pub fn options(self, grid: NamedGrid) -> Options {
+        let Settings { size, frames, warmup, out, progress, overrides, shard, gpu_cost } = self;
+        Options { grid, size, frames, warmup, out, progress, overrides, shard, gpu_cost }
     }
 }
 
@@ -108,38 +137,35 @@ impl Plan {
     /// The file the rows go to in `out`.
     pub fn rows_path(&self, out: &std::path::Path) -> std::path::PathBuf {
         match self {
-            Plan::Cells(_) => out.join("results.csv"),
+            Plan::Cells(_) => out.join(crate::results::CSV),
             Plan::Rooms(_) => rooms::rows_path(out),
         }
     }
 
-    /// Measures the plan with the options `options` makes for its grid (for the room
-    /// comparison, a grid named `rooms` without cells: its rooms are the plan's). The room
-    /// comparison sets its camera and depth scales in its room files and is not sharded:
-    /// overrides and a shard are refused for it, naming them.
-    pub fn run(self, options: impl FnOnce(NamedGrid) -> Options) -> Result<Done> {
+    /// Measures the plan with `settings`. The room comparison sets its camera and depth scales
+    /// in its room files and is not sharded: overrides and a shard are refused for it, naming
+    /// them.
+    pub fn run(self, settings: Settings) -> Result<Done> {
         match self {
-            Plan::Cells(grid) => Ok(Done::Cells(super::run(&options(grid))?)),
+            Plan::Cells(grid) => Ok(Done::Cells(super::run(&settings.options(grid))?)),
             Plan::Rooms(names) => {
-                let opts =
-                    options(NamedGrid { name: ROOMS.to_string(), description: String::new(), cells: Vec::new() });
-                if !opts.overrides.is_empty() {
+                if !settings.overrides.is_empty() {
                     return Err(Error::Input(
                         "--view, --angle, --azimuth, --depth-scale and --tiling are not implemented for the room grid \
                          (set the camera and depth scales in a room file)"
                             .to_string(),
                     ));
                 }
-                if opts.shard.is_some() {
+                if settings.shard.is_some() {
                     return Err(Error::Input("--shard is not implemented for the room grid".to_string()));
                 }
                 let setup = RoomSetup {
-                    size: opts.size,
+                    size: settings.size,
                     grid: crate::room::mesh::DEFAULT_GRID,
-                    warmup: opts.warmup,
-                    frames: opts.frames,
+                    warmup: settings.warmup,
+                    frames: settings.frames,
                 };
-                Ok(Done::Rooms(rooms::run(&names, &setup, &opts.out)?))
+                Ok(Done::Rooms(rooms::run(&names, &setup, &settings.out)?))
             }
         }
     }

@@ -78,8 +78,7 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
         std::env::current_exe().ok().map(relief_runtime::cost::Compiler::new)
     };
     let start = std::time::Instant::now();
-    let done = plan.run(|grid| sweep::Options {
-        grid,
+    let done = plan.run(sweep::Settings {
         size: a.size,
         frames: a.frames,
         warmup: 3,
