@@ -285,9 +285,9 @@ fn fraction<'a>(g: &Grid<'a>, cell: Val<'a, Vec2>, t: Val<'a, f32>) -> Val<'a, V
 /// - B < 0: `(√disc − B) / 2A`, a root ≥ 0 only when A > 0 (the one positive root; with
 ///   A ≤ 0 both roots are negative, or the quotient is negative or −∞).
 ///
-/// One division and no second root to order; `disc = B² + (2A)(−2C)` reuses the two products
-/// the root needs (the same value as `B² − 4AC`: the factors 2 are exact). The root counts
-/// where `from + root ≤ to`, the point the march then stands on.
+/// One division and no second root to order; `B² − 4AC` is written `B² + (2A)(−2C)`, with
+/// the two products the root needs. The root counts where `from + root ≤ to`, the point the
+/// march then stands on.
 pub(super) fn patch_meet<'a>(
     s: &'a FnBuilder<'a>,
     ray: &Ray<'a>,
