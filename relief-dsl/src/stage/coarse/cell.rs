@@ -173,9 +173,9 @@ fn step_or_meet<'a>(
         cone.ge(c.exit),
         |_| t.set(cone.min(c.grid.t_max)),
         |s| {
-            let root = c.patch_root(s, ray, t.get());
-            hit.set(root.ge(0.0));
-            t.set(s.select(hit.get(), root, c.exit));
+            let meet = c.patch_meet(s, ray, t.get());
+            hit.set(meet.hit);
+            t.set(meet.t);
         },
     );
     hit.get()
@@ -255,9 +255,10 @@ impl<'a> Cell<'a> {
         bottom + (top - bottom) * f.y()
     }
 
-    /// The first t in `[from, exit]` where the ray meets the cell's patch, or -1.
-    pub(super) fn patch_root(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, from: Val<'a, f32>) -> Val<'a, f32> {
-        patch_root(s, ray, &self.grid, self.cell, self.corners(s), from, self.exit)
+    /// The first t in `[from, exit]` where the ray meets the cell's patch, else the exit
+    /// ([`patch_meet`]).
+    pub(super) fn patch_meet(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, from: Val<'a, f32>) -> PatchMeet<'a> {
+        patch_meet(s, ray, &self.grid, self.cell, self.corners(s), from, self.exit)
     }
 }
 
@@ -270,10 +271,11 @@ fn fraction<'a>(g: &Grid<'a>, cell: Val<'a, Vec2>, t: Val<'a, f32>) -> Val<'a, V
     (g.x0 - cell) + g.speed * t
 }
 
-/// The first t in `[from, to]` where the ray meets the bilinear patch of `cell` (corner
-/// heights `corners` in gather order), or -1. Along the ray the patch height is quadratic in
-/// t: with the corner heights h00, h10, h01, h11 and fractions (fx, fy) moving at (ax, ay) per
-/// unit t, `h - z = A s² + B s + C`, `s = t - from`.
+/// Where the ray goes from `from` in `cell` (corner heights `corners` in gather order): to the
+/// first t in `[from, to]` where it meets the cell's bilinear patch (`hit`), else to `to`.
+/// Along the ray the patch height is quadratic in t: with the corner heights h00, h10, h01,
+/// h11 and fractions (fx, fy) moving at (ax, ay) per unit t, `h - z = A s² + B s + C`,
+/// `s = t - from`.
 ///
 /// From above the patch (C < 0) the first root in `s ≥ 0` is, in a form without cancellation
 /// for either sign of B (the textbook `(−B ± √disc)/2A` loses the root of near-vertical rays,
@@ -283,8 +285,10 @@ fn fraction<'a>(g: &Grid<'a>, cell: Val<'a, Vec2>, t: Val<'a, f32>) -> Val<'a, V
 /// - B < 0: `(√disc − B) / 2A`, a root ≥ 0 only when A > 0 (the one positive root; with
 ///   A ≤ 0 both roots are negative, or the quotient is negative or −∞).
 ///
-/// One division and no second root to order.
-pub(super) fn patch_root<'a>(
+/// One division and no second root to order; `B² − 4AC` is written `B² + (2A)(−2C)`, with
+/// the two products the root needs. The root counts where `from + root ≤ to`, the point the
+/// march then stands on.
+pub(super) fn patch_meet<'a>(
     s: &'a FnBuilder<'a>,
     ray: &Ray<'a>,
     g: &Grid<'a>,
@@ -292,7 +296,7 @@ pub(super) fn patch_root<'a>(
     corners: Val<'a, Vec4>,
     from: Val<'a, f32>,
     to: Val<'a, f32>,
-) -> Val<'a, f32> {
+) -> PatchMeet<'a> {
     let f = fraction(g, cell, from);
     let z = 1.0 + ray.dir.z() * from;
     let (h01, h11, h10, h00) = (corners.x(), corners.y(), corners.z(), corners.w());
@@ -302,13 +306,24 @@ pub(super) fn patch_root<'a>(
     let big_a = k * (a.x() * a.y());
     let big_b = dx * a.x() + dy * a.y() + k * (f.x() * a.y() + f.y() * a.x()) - ray.dir.z();
     let big_c = h00 + dx * f.x() + dy * f.y() + k * (f.x() * f.y()) - z;
-    let disc = big_b * big_b - 4.0 * big_a * big_c;
+    let (minus_2c, two_a) = (-2.0 * big_c, 2.0 * big_a);
+    let disc = big_b * big_b + two_a * minus_2c;
     let root_disc = disc.max(0.0).sqrt();
     let up = big_b.ge(0.0);
-    let root = s.select(up, -2.0 * big_c, root_disc - big_b) / s.select(up, big_b + root_disc, 2.0 * big_a);
-    let meets = disc.ge(0.0) & root.ge(0.0) & root.le(to - from);
+    let root = s.select(up, minus_2c, root_disc - big_b) / s.select(up, big_b + root_disc, two_a);
+    let at = from + root;
+    let meets = disc.ge(0.0) & root.ge(0.0) & at.le(to);
     // Already under the patch at `from` (C ≥ 0): the hit is there.
-    s.select(big_c.ge(0.0), from, s.select(meets, from + root, -1.0))
+    let under = big_c.ge(0.0);
+    PatchMeet { t: s.select(under, from, s.select(meets, at, to)), hit: under | meets }
+}
+
+/// What [`patch_meet`] found: the t the ray goes to, and whether it is a hit on the patch.
+pub(super) struct PatchMeet<'a> {
+    /// The first hit in `[from, to]`, else `to`.
+    pub t: Val<'a, f32>,
+    /// Whether `t` is a hit.
+    pub hit: Val<'a, bool>,
 }
 
 /// A method's step in a cell march: from the ray point `p` in cell `c`, how far (in t) the

@@ -8,7 +8,7 @@
 //! descends; in a single cell it meets the bilinear patch exactly (a quadratic in t).
 //! Each pass through the loop is one node visit.
 
-use super::cell::{patch_root, Grid};
+use super::cell::{patch_meet, Grid};
 use crate::ir::{FnBuilder, Val, Vec2};
 use crate::spec::{MapReq, MethodDef, ParamDef};
 use crate::stage::{Bracket, Ray, StageFn};
@@ -71,9 +71,9 @@ pub(crate) fn maxmip<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bra
         let cell = (g.x0 + g.speed * down + g.ahead).floor();
         // The four corners in one gather at the cell's centre: (i, j+1), (i+1, j+1), (i+1, j), (i, j).
         let corners = s.height_gather((cell + 1.0) * g.inv_size);
-        let root = patch_root(s, ray, &g, cell, corners, down, exit);
-        hit.set(root.ge(0.0));
-        t.set(s.select(hit.get(), root, exit));
+        let meet = patch_meet(s, ray, &g, cell, corners, down, exit);
+        hit.set(meet.hit);
+        t.set(meet.t);
     });
     // Reaching the floor is a hit (every height is at least 0). Out of steps, the ray is
     // known to be above the surface up to where the traversal stopped.

@@ -93,9 +93,9 @@ pub(super) fn relaxing_march<'a>(
                 t.set((t + w * reach).min(g.t_max));
             },
             |l| {
-                let root = c.patch_root(l, ray, t.get());
-                hit.set(root.ge(0.0));
-                proven.set(l.select(hit.get(), root, c.exit));
+                let meet = c.patch_meet(l, ray, t.get());
+                hit.set(meet.hit);
+                proven.set(meet.t);
                 t.set(proven);
                 last_t.set(proven);
             },
