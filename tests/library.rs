@@ -953,3 +953,117 @@ fn the_header_says_at_which_levels_each_texture_is_read() {
     }
     assert!(zero > 10 && chain >= 2, "level 0: {zero}, chain: {chain}");
 }
+
+/// Runs `relief ARGS… DIR` and returns its output (status and stderr unchecked).
+fn relief_out(args: &[&str], dir: &Path) -> std::process::Output {
+    Command::new(crate::babylon::relief_exe()).args(args).arg(dir).output().unwrap()
+}
+
+/// `relief export --target wgsl --group 2 --import-path relief::bundle` (issue 39, Bevy): the
+/// exported library is a naga_oil module `relief::bundle` that a user module `#import`s into
+/// a module naga validates, with every global in group 2; `relief.json`'s group and each
+/// binding's (name, group, binding) are the library file's as naga itself parses it. Without
+/// the options the library is byte for byte `relief gen --library --target wgsl`'s (what
+/// export wrote before them) and relief.json names no group; with them it is `relief gen
+/// --library --group 2 --import-path relief::bundle`'s. `--group` for a target without groups
+/// and `--import-path` for one other than wgsl are refused in one line naming the target.
+#[test]
+fn export_group_and_import_path_make_a_library_naga_oil_composes() {
+    use naga_oil::compose::{ComposableModuleDescriptor, Composer, NagaModuleDescriptor};
+    let dir = std::env::temp_dir().join(format!("relief-library-export-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    for pipe in ["linear(32)+binary(5)+shadow=soft(16)", "csm(64)", "maxmip(96)"] {
+        let p: Pipeline = pipe.parse().unwrap();
+        let lib_name = format!("{}.lib.wgsl", p.file_stem());
+        let read_json = |d: &Path| -> serde_json::Value {
+            serde_json::from_slice(&std::fs::read(d.join("relief.json")).unwrap()).unwrap()
+        };
+        let ok =
+            |o: std::process::Output| assert!(o.status.success(), "{pipe}: {}", String::from_utf8_lossy(&o.stderr));
+        let export = ["export", pipe, "--scene", "scene:step", "--target", "wgsl"];
+        // Without the options: gen's library, no group recorded.
+        let (plain, gen_plain) = (dir.join("plain"), dir.join("gen-plain"));
+        ok(relief_out(&[&export[..], &["--out"]].concat(), &plain));
+        ok(relief_out(&["gen", pipe, "--library", "--target", "wgsl", "--edge", "repeat", "--out"], &gen_plain));
+        let plain_lib = std::fs::read(plain.join(&lib_name)).unwrap();
+        assert_eq!(plain_lib, std::fs::read(gen_plain.join(&lib_name)).unwrap(), "{pipe}: the default library");
+        let j = read_json(&plain);
+        assert!(j.get("group").is_none() && j.get("import_path").is_none(), "{pipe}: {j}");
+        // With them.
+        let (bevy, gen_bevy) = (dir.join("bevy"), dir.join("gen-bevy"));
+        let opts = ["--group", "2", "--import-path", "relief::bundle"];
+        ok(relief_out(&[&export[..], &opts, &["--out"]].concat(), &bevy));
+        ok(relief_out(
+            &[&["gen", pipe, "--library", "--target", "wgsl", "--edge", "repeat"][..], &opts, &["--out"]].concat(),
+            &gen_bevy,
+        ));
+        let text = std::fs::read_to_string(bevy.join(&lib_name)).unwrap();
+        assert_eq!(text, std::fs::read_to_string(gen_bevy.join(&lib_name)).unwrap(), "{pipe}: gen's library");
+        let j = read_json(&bevy);
+        assert_eq!((j["group"].as_u64(), j["import_path"].as_str()), (Some(2), Some("relief::bundle")), "{pipe}");
+        // naga's own reading of the file (the import line is naga_oil's, not WGSL).
+        let body = text.strip_prefix("#define_import_path relief::bundle\n").expect("the import line first");
+        let parsed = naga_wgsl(body, pipe);
+        let mut declared: Vec<(String, u32, u32)> = parsed
+            .global_variables
+            .iter()
+            .filter_map(|(_, g)| g.binding.map(|b| (g.name.clone().unwrap_or_default(), b.group, b.binding)))
+            .collect();
+        let mut listed: Vec<(String, u32, u32)> = j["bindings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|b| {
+                let n = |k: &str| b[k].as_u64().unwrap_or_else(|| panic!("{pipe}: {k} of {b}")) as u32;
+                (b["name"].as_str().unwrap().to_string(), n("group"), n("binding"))
+            })
+            .collect();
+        declared.sort();
+        listed.sort();
+        assert!(!declared.is_empty(), "{pipe}: no globals");
+        assert_eq!(listed, declared, "{pipe}: relief.json against the library");
+        // naga_oil composes a user module that imports it; every global lands in group 2.
+        let mut composer = Composer::default();
+        if let Err(e) = composer.add_composable_module(ComposableModuleDescriptor {
+            source: &text,
+            file_path: &lib_name,
+            ..Default::default()
+        }) {
+            panic!("{pipe}: naga_oil refused the library: {}", e.emit_to_string(&composer));
+        }
+        let mut user = format!(
+            "#import relief::bundle::{{relief_trace{}}}\n\
+             @fragment fn user_main(@location(0) uv: vec2<f32>, @location(1) view: vec3<f32>) -> @location(0) vec4<f32> {{\n\
+             let hit = relief_trace(uv, normalize(view), {DEPTH});\n    var shade = 1.0;\n",
+            if j["has_shadow"] == true { ", relief_shadow" } else { "" }
+        );
+        if j["has_shadow"] == true {
+            user += &format!("    shade *= relief_shadow(hit, normalize(vec3(0.3, 0.2, 0.9)), {DEPTH});\n");
+        }
+        user += "    return vec4(hit.uv, hit.height + hit.t, shade);\n}\n";
+        let module = composer
+            .make_naga_module(NagaModuleDescriptor { source: &user, file_path: "user.wgsl", ..Default::default() })
+            .unwrap_or_else(|e| panic!("{pipe}: naga_oil could not compose: {}", e.emit_to_string(&composer)));
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default())
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{pipe}: the composed module does not validate: {e:?}"));
+        let groups: Vec<u32> = module.global_variables.iter().filter_map(|(_, g)| g.binding.map(|b| b.group)).collect();
+        assert_eq!(groups.len(), declared.len(), "{pipe}: the composed module's globals");
+        assert!(groups.iter().all(|g| *g == 2), "{pipe}: groups {groups:?}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+    // Refusals, one line each, naming the target.
+    for (target, opt, val, says) in [
+        ("msl", "--group", "1", "--target msl has no groups"),
+        ("glsl-es", "--group", "0", "--target glsl-es has no groups"),
+        ("tsl", "--group", "2", "--target tsl has no groups"),
+        ("wesl", "--import-path", "relief::bundle", "(wesl names its module otherwise)"),
+        ("hlsl", "--import-path", "relief::bundle", "(hlsl names its module otherwise)"),
+    ] {
+        let o =
+            relief_out(&["export", "csm(64)", "--scene", "scene:step", "--target", target, opt, val, "--out"], &dir);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(says) && err.trim().lines().count() == 1, "{target} {opt}: {err}");
+        assert!(!dir.exists(), "{target} {opt}: refused after writing");
+    }
+}

@@ -16,9 +16,10 @@
 //! `OUT.png`, prints the mean absolute difference (of 255) and the share of pixels off by more
 //! than 8 against `frame.png`, and exits 1 when the bar (≤ 1 of 255, ≤ 1 %) is missed.
 //!
-//! The library is the bundle's file, with two edits a Bevy user makes too (`library_for_bevy`):
-//! its globals move from `@group(0)` (relief's default, Bevy's view group) to the material's
-//! group and bindings, and a `#define_import_path` line names it for naga_oil.
+//! The bundle is exported with `--group 3 --import-path relief::bundle`: its library declares
+//! its globals in Bevy 0.19's material group (`MATERIAL_BIND_GROUP_INDEX`) and names itself
+//! for naga_oil. The example checks both in `relief.json` and makes one edit a Bevy user makes
+//! too (`library_for_bevy`): each global moves to the binding of its `AsBindGroup` slot.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -29,7 +30,7 @@ use bevy::camera::RenderTarget;
 use bevy::core_pipeline::tonemapping::{DebandDither, Tonemapping};
 use bevy::image::{ImageAddressMode, ImageFilterMode, ImageLoaderSettings, ImageSampler, ImageSamplerDescriptor};
 use bevy::mesh::{Indices, PrimitiveTopology};
-use bevy::pbr::{ExtendedMaterial, MaterialExtension};
+use bevy::pbr::{ExtendedMaterial, MATERIAL_BIND_GROUP_INDEX, MaterialExtension};
 use bevy::prelude::*;
 use bevy::render::RenderPlugin;
 use bevy::render::error_handler::{RenderErrorHandler, RenderErrorPolicy};
@@ -238,16 +239,27 @@ fn slots(json: &Value) -> Result<Vec<Slot>, String> {
     Ok(out)
 }
 
-/// The bundle's library as a naga_oil module `relief::bundle` for Bevy's material group:
-/// each `@group(0) @binding(k)` becomes `@group(#{MATERIAL_BIND_GROUP}) @binding(slot)`
-/// (group 0 is Bevy's view), and a library without a shadow or ambient-occlusion stage gets
-/// `relief_shadow` / `relief_ao` returning 1, the value `relief render` shades with then.
+/// The import path the material shader imports the library by.
+const IMPORT_PATH: &str = "relief::bundle";
+
+/// The bundle's library (exported with `--group 3 --import-path relief::bundle`, which
+/// `relief.json` must say) with each `@group(3) @binding(k)` at the binding of its slot
+/// (Bevy's `AsBindGroup` pairs a texture with its sampler), and a library without a shadow or
+/// ambient-occlusion stage given `relief_shadow` / `relief_ao` returning 1, the value `relief
+/// render` shades with then.
 fn library_for_bevy(text: &str, json: &Value, slots: &[Slot]) -> Result<String, String> {
-    let mut out = String::from("#define_import_path relief::bundle\n");
+    let group = MATERIAL_BIND_GROUP_INDEX as u64;
+    if json["group"].as_u64() != Some(group) || json["import_path"] != IMPORT_PATH {
+        return Err(format!(
+            "the bundle was not exported for Bevy's material group: pass `relief export … --group {group} --import-path {IMPORT_PATH}`"
+        ));
+    }
+    let mut out = String::new();
     let mut moved = 0;
     let lines: Vec<&str> = text.lines().collect();
+    let at = format!("@group({group}) @binding(");
     for (i, line) in lines.iter().enumerate() {
-        let Some(rest) = line.trim_start().strip_prefix("@group(0) @binding(") else {
+        let Some(rest) = line.trim_start().strip_prefix(at.as_str()) else {
             out.push_str(line);
             out.push('\n');
             continue;
@@ -260,7 +272,7 @@ fn library_for_bevy(text: &str, json: &Value, slots: &[Slot]) -> Result<String, 
         if !decl.contains(&format!(" {}:", slot.name)) {
             return Err(format!("library binding {k} does not declare {}", slot.name));
         }
-        out.push_str(&format!("@group(#{{MATERIAL_BIND_GROUP}}) @binding({})\n", slot.slot));
+        out.push_str(&format!("@group({group}) @binding({})\n", slot.slot));
         moved += 1;
     }
     if moved != slots.len() {
@@ -546,7 +558,7 @@ mod tests {
     /// the nearest sampler before the texture that can lend it).
     fn csm_json() -> Value {
         serde_json::json!({
-            "has_shadow": false, "has_ao": false,
+            "has_shadow": false, "has_ao": false, "group": 3, "import_path": "relief::bundle",
             "bindings": [
                 { "name": "relief_height", "binding": 0, "kind": "texture_2d", "file": "height.ktx2", "filter": "linear", "address_mode": "repeat" },
                 { "name": "relief_sampler", "binding": 1, "kind": "sampler", "filter": "linear", "address_mode": "repeat" },
@@ -575,16 +587,16 @@ mod tests {
     }
 
     #[test]
-    fn the_library_moves_to_the_material_group_and_gets_shims() {
+    fn the_library_moves_to_its_slots_and_gets_shims() {
         let j = csm_json();
         let s = slots(&j).unwrap();
-        let lib = "@group(0) @binding(0) \nvar relief_height: texture_2d<f32>;\n@group(0) @binding(3) \nvar relief_cell_cone_nearest: texture_2d<f32>;\n@group(0) @binding(2) \nvar relief_sampler_nearest: sampler;\n@group(0) @binding(1) \nvar relief_sampler: sampler;\n";
+        let lib = "#define_import_path relief::bundle\n@group(3) @binding(0) \nvar relief_height: texture_2d<f32>;\n@group(3) @binding(3) \nvar relief_cell_cone_nearest: texture_2d<f32>;\n@group(3) @binding(2) \nvar relief_sampler_nearest: sampler;\n@group(3) @binding(1) \nvar relief_sampler: sampler;\n";
         let out = library_for_bevy(lib, &j, &s).unwrap();
         let expected = "#define_import_path relief::bundle\n\
-            @group(#{MATERIAL_BIND_GROUP}) @binding(100)\nvar relief_height: texture_2d<f32>;\n\
-            @group(#{MATERIAL_BIND_GROUP}) @binding(102)\nvar relief_cell_cone_nearest: texture_2d<f32>;\n\
-            @group(#{MATERIAL_BIND_GROUP}) @binding(103)\nvar relief_sampler_nearest: sampler;\n\
-            @group(#{MATERIAL_BIND_GROUP}) @binding(101)\nvar relief_sampler: sampler;\n\
+            @group(3) @binding(100)\nvar relief_height: texture_2d<f32>;\n\
+            @group(3) @binding(102)\nvar relief_cell_cone_nearest: texture_2d<f32>;\n\
+            @group(3) @binding(103)\nvar relief_sampler_nearest: sampler;\n\
+            @group(3) @binding(101)\nvar relief_sampler: sampler;\n\
             fn relief_shadow(hit: ReliefHit, light_ts: vec3<f32>, depth_scale: f32) -> f32 { return 1.0; }\n\
             fn relief_ao(hit: ReliefHit) -> f32 { return 1.0; }\n";
         assert_eq!(out, expected);
@@ -593,6 +605,13 @@ mod tests {
         assert!(library_for_bevy(&swapped, &j, &s).unwrap_err().contains("binding 9"));
         let wrong = lib.replace("var relief_height", "var relief_other");
         assert!(library_for_bevy(&wrong, &j, &s).unwrap_err().contains("does not declare relief_height"));
+        // A bundle exported without the options (group 0, no import path), or for group 2, is refused.
+        for (k, v) in [("group", Value::Null), ("group", 2.into()), ("import_path", Value::Null)] {
+            let mut other = j.clone();
+            other[k] = v;
+            let e = library_for_bevy(&lib.replace("@group(3)", "@group(0)"), &other, &s).unwrap_err();
+            assert!(e.contains("--group 3 --import-path relief::bundle"), "{e}");
+        }
     }
 
     /// Two 2-pixel frames worked by hand: pixel 0 differs by (3, 0, 9), pixel 1 by (0, 8, 0).

@@ -89,4 +89,16 @@ impl LibraryForm {
             ),
         })
     }
+
+    /// Why this form's resources carry no group (bind group, descriptor set, register space)
+    /// to set, or `None` where they do: WGSL and WESL declare `@group`, GLSL 450 `set` (under
+    /// `VULKAN`), HLSL `space`.
+    pub fn without_groups(self) -> Option<&'static str> {
+        match self {
+            LibraryForm::Wgsl | LibraryForm::Wesl | LibraryForm::Glsl | LibraryForm::Hlsl => None,
+            LibraryForm::GlslEs => Some("WebGL 2 binds its uniforms by name"),
+            LibraryForm::Tsl | LibraryForm::Msl => Some("its resources are function arguments"),
+            LibraryForm::Unity | LibraryForm::Unreal => Some("the engine passes its textures as node inputs"),
+        }
+    }
 }

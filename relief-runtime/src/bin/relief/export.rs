@@ -3,6 +3,7 @@
 //!
 //! ```text
 //! relief export PIPELINE --scene MAP --target T --out DIR [--container ktx2|dds] [--force]
+//!               [--group N] [--import-path PATH]
 //! relief export 'csm(64)' --scene scene:rock_bump --target glsl-es --out bundle/
 //! ```
 //!
@@ -11,7 +12,8 @@
 //! (`height.ktx2`, `cell_cone.ktx2`, …), the scene's `height`, `normal` and `albedo`
 //! textures (shading needs the last two even where the library does not read them), and
 //! `relief.json`: per binding its global, group and binding, the file, format, filter,
-//! address mode, the levels in the file and the levels read; the edge mode and its define;
+//! address mode, the levels in the file and the levels read (`--group`, and `--import-path`
+//! for wgsl, as `relief gen --library` takes them; both recorded); the edge mode and its define;
 //! the depth scale; the row order; the lines to paste; the shading of `relief render`. A
 //! folder that holds other files is refused unless `--force`.
 
@@ -38,6 +40,14 @@ pub struct ExportArgs {
     /// The texture container: ktx2 (three.js, Babylon.js, Bevy, Godot) or dds (Unity, Unreal).
     #[arg(long, default_value = "ktx2")]
     pub container: String,
+    /// The bind group (descriptor set, register space) the library declares its resources in
+    /// (default 0), for the targets whose resources carry one: wgsl, wesl, glsl, hlsl.
+    #[arg(long)]
+    pub group: Option<u32>,
+    /// For --target wgsl: start the library with `#define_import_path PATH` (naga_oil, Bevy);
+    /// `NAME` in PATH becomes the pipeline's file name (`-` → `_`), e.g. `relief::NAME`.
+    #[arg(long)]
+    pub import_path: Option<String>,
     /// Output folder.
     #[arg(long)]
     pub out: PathBuf,
@@ -134,6 +144,21 @@ pub(crate) fn check_out(out: &Path, force: bool) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Refuses `--group` for a target whose resources carry no group, and `--import-path` for a
+/// target other than wgsl (the one form naga_oil imports by a `#define_import_path` line).
+fn check_library_options(form: LibraryForm, a: &ExportArgs) -> anyhow::Result<()> {
+    if let (Some(g), Some(why)) = (a.group, form.without_groups()) {
+        bail!("--group {g}: --target {} has no groups ({why}); groups exist for wgsl, wesl, glsl, hlsl", form.name());
+    }
+    if a.import_path.is_some() && form != LibraryForm::Wgsl {
+        bail!(
+            "--import-path: only --target wgsl carries a `#define_import_path` line ({} names its module otherwise)",
+            form.name()
+        );
+    }
+    Ok(())
+}
+
 /// Runs `relief export`.
 pub fn run(a: &ExportArgs) -> anyhow::Result<()> {
     let p: relief_dsl::Pipeline =
@@ -143,7 +168,13 @@ pub fn run(a: &ExportArgs) -> anyhow::Result<()> {
     let container = a.container.to_ascii_lowercase();
     let scene = scene_from_arg(&scene_spec(&a.scene))?;
     let edge = if scene.edge == EdgeMode::Clamp { "clamp" } else { "repeat" };
-    let opts = LibraryOptions { edge_clamp: scene.edge == EdgeMode::Clamp, ..LibraryOptions::default() };
+    check_library_options(form, a)?;
+    let opts = LibraryOptions {
+        edge_clamp: scene.edge == EdgeMode::Clamp,
+        group: a.group.unwrap_or(0),
+        import_path: a.import_path.as_deref().map(|t| crate::gen::import_path_of(t, &p)),
+        ..LibraryOptions::default()
+    };
     let lib = relief_dsl::emit::library_forms(&p, &opts, &[form]).with_context(|| format!("pipeline {p}"))?;
     prepare_out(&a.out, a.force)?;
     for f in &lib.files {
@@ -216,7 +247,7 @@ pub fn run(a: &ExportArgs) -> anyhow::Result<()> {
         );
     }
     let c = gpu::CLEAR;
-    let json = serde_json::json!({
+    let mut json = serde_json::json!({
         "pipeline": p.to_string(),
         "scene": scene.name,
         "target": form.name(),
@@ -239,6 +270,13 @@ pub fn run(a: &ExportArgs) -> anyhow::Result<()> {
             "clear_color_linear": [c.r, c.g, c.b, c.a],
         },
     });
+    // Recorded only when asked for, so a bundle exported without them is unchanged.
+    if let Some(g) = a.group {
+        json["group"] = g.into();
+    }
+    if let Some(path) = &opts.import_path {
+        json["import_path"] = path.as_str().into();
+    }
     relief_runtime::io::write_atomic(&a.out.join("relief.json"), serde_json::to_string_pretty(&json)?.as_bytes())?;
     eprintln!(
         "{}: {} for {} on {}: {} file(s) and relief.json",

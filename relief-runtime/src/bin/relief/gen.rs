@@ -95,15 +95,20 @@ pub fn forms(args: &GenArgs) -> anyhow::Result<Vec<LibraryForm>> {
     Ok(forms)
 }
 
+/// The import path `--import-path TEMPLATE` gives `p`'s library (`relief gen` and `relief
+/// export`): `NAME` becomes the pipeline's file name with `-` as `_` (an identifier).
+pub fn import_path_of(template: &str, p: &Pipeline) -> String {
+    template.replace("NAME", &p.file_stem().replace('-', "_"))
+}
+
 /// Writes the library files of `p` in `forms` into `out`; returns their names.
 pub fn write_library(p: &Pipeline, args: &GenArgs, forms: &[LibraryForm], out: &Path) -> anyhow::Result<Vec<String>> {
-    let stem = p.file_stem();
     let opts = relief_dsl::emit::LibraryOptions {
         prefix: args.prefix.clone(),
         group: args.group,
         binding: args.binding,
         edge_clamp: args.edge == "clamp",
-        import_path: args.import_path.as_ref().map(|t| t.replace("NAME", &stem.replace('-', "_"))),
+        import_path: args.import_path.as_deref().map(|t| import_path_of(t, p)),
     };
     let lib = relief_dsl::emit::library_forms(p, &opts, forms).with_context(|| format!("pipeline {p}"))?;
     for f in &lib.files {

@@ -120,6 +120,8 @@ pub fn run(a: &TuneArgs) -> anyhow::Result<()> {
             container: a.container.clone(),
             out: out.clone(),
             force: a.force,
+            group: None,
+            import_path: None,
         })?;
     }
     Ok(())
