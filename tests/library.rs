@@ -956,7 +956,7 @@ fn the_header_says_at_which_levels_each_texture_is_read() {
 
 /// Runs `relief ARGS… DIR` and returns its output (status and stderr unchecked).
 fn relief_out(args: &[&str], dir: &Path) -> std::process::Output {
-    Command::new(crate::babylon::relief_exe()).args(args).arg(dir).output().unwrap()
+    Command::new(crate::common::exe::relief_exe()).args(args).arg(dir).output().unwrap()
 }
 
 /// `relief export --target wgsl --group 2 --import-path relief::bundle` (issue 39, Bevy): the
