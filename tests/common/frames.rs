@@ -64,13 +64,25 @@ pub const ENGINE_SIZE: u32 = 128;
 
 /// The pipelines and scenes the engine tests draw (as `relief export --scene` takes them): a
 /// linear search with binary refinement and a soft shadow on a real height map, a safe cone
-/// method (its cell cone map read with nearest filtering) on a rough procedural surface, and
-/// the max-mip traversal (its chain read at every level) on one-texel walls and pillars.
-pub const ENGINE_CASES: [(&str, &str); 3] = [
+/// method (its cell cone map read with nearest filtering) on a rough procedural surface, the
+/// max-mip traversal (its chain read at every level) on one-texel walls and pillars — all
+/// three scenes repeat at their edges — and the safe cone method again on `rocks` with
+/// clamped edges (a scene file), so that the bundle's `clamp_to_edge` and
+/// `RELIEF_EDGE_CLAMP` are drawn too.
+pub const ENGINE_CASES: [(&str, &str); 4] = [
     ("linear(32)+binary(5)+shadow=soft(16)", "scene:lion"),
     ("csm(64)", "scene:rock_bump"),
     ("maxmip(96)", "scene:shapes"),
+    ("csm(64)", CLAMP_SCENE),
 ];
+
+/// The clamp-edge case's scene file (`edge = "clamp"`), relative to the workspace root.
+pub const CLAMP_SCENE: &str = "relief-runtime/scenes/rocks_clamp.toml";
+
+/// The index in [`ENGINE_CASES`] of the clamp-edge case, which the engine tests draw once
+/// more with every texture's address mode forced to repeat in the page: that picture must
+/// miss the bar, or the case would not show that the engines take the bundle's address mode.
+pub const CLAMP_CASE: usize = 3;
 
 /// An engine's `ENGINE_SIZE`² picture `rgba` of `what` against relief render's `reference`,
 /// by the bar of `tests/integrate.rs`: the figures printed; a picture with a third of its
