@@ -25,7 +25,8 @@
 use crate::common::browser;
 use crate::common::exe::{export, relief_exe};
 use crate::common::frames::{
-    engine_picture, from_hex, relief_render, CLAMP_CASE, ENGINE_CASES as CASES, ENGINE_SIZE as SIZE,
+    assert_clamp_bundle, engine_picture, from_hex, relief_render, CLAMP_CASE, ENGINE_CASES as CASES,
+    ENGINE_SIZE as SIZE,
 };
 
 use std::time::Duration;
@@ -47,6 +48,9 @@ fn babylon_draws_relief_renders_frame_from_an_export_bundle() {
     for (i, (pipe, arg)) in CASES.iter().enumerate() {
         let sub = format!("case{i}");
         export(pipe, arg, "glsl-es", &dir.join(&sub));
+        if i == CLAMP_CASE {
+            assert_clamp_bundle(&dir.join(&sub));
+        }
         let p: Pipeline = pipe.parse().unwrap();
         let scene = scene_from_arg(arg).unwrap();
         let eye = scene.camera.camera_position();

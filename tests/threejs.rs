@@ -23,7 +23,8 @@
 use crate::common::browser;
 use crate::common::exe::export;
 use crate::common::frames::{
-    self, engine_picture, from_hex, relief_render, CLAMP_CASE, ENGINE_CASES as CASES, ENGINE_SIZE as SIZE,
+    self, assert_clamp_bundle, engine_picture, from_hex, relief_render, CLAMP_CASE, ENGINE_CASES as CASES,
+    ENGINE_SIZE as SIZE,
 };
 
 use std::time::Duration;
@@ -48,6 +49,10 @@ fn threejs_draws_relief_renders_frame_from_export_bundles_in_webgl2_and_webgpu()
         let (es, tsl) = (format!("case{i}_glsl_es"), format!("case{i}_tsl"));
         export(pipe, arg, "glsl-es", &dir.join(&es));
         export(pipe, arg, "tsl", &dir.join(&tsl));
+        if i == CLAMP_CASE {
+            assert_clamp_bundle(&dir.join(&es));
+            assert_clamp_bundle(&dir.join(&tsl));
+        }
         let p: Pipeline = pipe.parse().unwrap();
         let scene = scene_from_arg(arg).unwrap();
         let eye = scene.camera.camera_position();

@@ -84,6 +84,20 @@ pub const CLAMP_SCENE: &str = "relief-runtime/scenes/rocks_clamp.toml";
 /// miss the bar, or the case would not show that the engines take the bundle's address mode.
 pub const CLAMP_CASE: usize = 3;
 
+/// The `relief.json` of the clamp-edge case's bundle in `dir` says clamp everywhere an
+/// engine reads it: `edge` and `edge_define`, and every binding's `address_mode` (the pages
+/// set each texture's wrap from it; the forced-repeat picture shows the wrap matters).
+pub fn assert_clamp_bundle(dir: &std::path::Path) {
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(dir.join("relief.json")).unwrap()).unwrap();
+    assert_eq!(json["edge"], "clamp", "{}: edge", dir.display());
+    assert_eq!(json["edge_define"], "RELIEF_EDGE_CLAMP", "{}: edge_define", dir.display());
+    let bindings = json["bindings"].as_array().unwrap();
+    assert!(!bindings.is_empty(), "{}: no bindings", dir.display());
+    for b in bindings {
+        assert_eq!(b["address_mode"], "clamp_to_edge", "{}: {b}", dir.display());
+    }
+}
+
 /// An engine's `ENGINE_SIZE`² picture `rgba` of `what` against relief render's `reference`,
 /// by the bar of `tests/integrate.rs`: the figures printed; a picture with a third of its
 /// pixels or fewer lit fails at once; a mean absolute difference above 1 of 255 or more
