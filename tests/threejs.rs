@@ -16,12 +16,15 @@
 //!
 //! Each picture is compared with `relief render`'s frame for the same scene, camera and
 //! pipeline, by the bar of `tests/integrate.rs`: a mean absolute difference of at most 1 of
-//! 255 per channel and at most 1 % of the pixels differing by more than 8 in a channel.
+//! 255 per channel and at most 1 % of the pixels differing by more than 8 in a channel. The
+//! clamp-edge case is drawn once more with every texture's address mode forced to repeat in
+//! the page, and those pictures must miss the bar.
 
 use crate::common::browser;
 use crate::common::exe::export;
 use crate::common::frames::{
-    self, engine_picture, from_hex, relief_render, ENGINE_CASES as CASES, ENGINE_SIZE as SIZE,
+    self, assert_clamp_bundle, engine_picture, from_hex, relief_render, CLAMP_CASE, ENGINE_CASES as CASES,
+    ENGINE_SIZE as SIZE,
 };
 
 use std::time::Duration;
@@ -46,6 +49,10 @@ fn threejs_draws_relief_renders_frame_from_export_bundles_in_webgl2_and_webgpu()
         let (es, tsl) = (format!("case{i}_glsl_es"), format!("case{i}_tsl"));
         export(pipe, arg, "glsl-es", &dir.join(&es));
         export(pipe, arg, "tsl", &dir.join(&tsl));
+        if i == CLAMP_CASE {
+            assert_clamp_bundle(&dir.join(&es));
+            assert_clamp_bundle(&dir.join(&tsl));
+        }
         let p: Pipeline = pipe.parse().unwrap();
         let scene = scene_from_arg(arg).unwrap();
         let eye = scene.camera.camera_position();
@@ -58,6 +65,10 @@ fn threejs_draws_relief_renders_frame_from_export_bundles_in_webgl2_and_webgpu()
         }));
         references.push(relief_render(&g, &p, &scene, SIZE));
     }
+    // The clamp-edge case once more, its textures forced to repeat in the page.
+    let mut forced = cases[CLAMP_CASE].clone();
+    forced["address_override"] = "repeat".into();
+    cases.push(forced);
     std::fs::write(dir.join("manifest.json"), json!({ "size": SIZE, "cases": cases }).to_string()).unwrap();
     let mut page = Page::new("pages/threejs.html");
     page.mounts.push(("data", &dir));
@@ -77,6 +88,15 @@ fn threejs_draws_relief_renders_frame_from_export_bundles_in_webgl2_and_webgpu()
             failures.extend(engine_picture("three.js", &what, &rgba, &references[i], &dir, &stem, keep));
             drawn += 1;
         }
+    }
+    let (pipe, arg) = CASES[CLAMP_CASE];
+    for api in ["webgl2", "webgpu"] {
+        let pic = &r["cases"][CASES.len()][api];
+        let rgba = from_hex(pic["rgba"].as_str().unwrap_or_else(|| panic!("the forced-repeat case, {api}: {pic}")));
+        let what = format!("{pipe} on {arg} with every address mode forced to repeat, {api} (three.js)");
+        let stem = format!("forced_repeat_{api}");
+        let forced = engine_picture("three.js", &what, &rgba, &references[CLAMP_CASE], &dir, &stem, keep);
+        assert!(forced.is_some(), "{what}: within the bar, so the clamp case does not show the address mode is taken");
     }
     assert!(failures.is_empty(), "three.js's pictures differ from relief render's:\n{}", failures.join("\n"));
     assert_eq!(drawn, 2 * CASES.len(), "pictures drawn");

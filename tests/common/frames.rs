@@ -64,13 +64,39 @@ pub const ENGINE_SIZE: u32 = 128;
 
 /// The pipelines and scenes the engine tests draw (as `relief export --scene` takes them): a
 /// linear search with binary refinement and a soft shadow on a real height map, a safe cone
-/// method (its cell cone map read with nearest filtering) on a rough procedural surface, and
-/// the max-mip traversal (its chain read at every level) on one-texel walls and pillars.
-pub const ENGINE_CASES: [(&str, &str); 3] = [
+/// method (its cell cone map read with nearest filtering) on a rough procedural surface, the
+/// max-mip traversal (its chain read at every level) on one-texel walls and pillars — all
+/// three scenes repeat at their edges — and the safe cone method again on `rocks` with
+/// clamped edges (a scene file), so that the bundle's `clamp_to_edge` and
+/// `RELIEF_EDGE_CLAMP` are drawn too.
+pub const ENGINE_CASES: [(&str, &str); 4] = [
     ("linear(32)+binary(5)+shadow=soft(16)", "scene:lion"),
     ("csm(64)", "scene:rock_bump"),
     ("maxmip(96)", "scene:shapes"),
+    ("csm(64)", CLAMP_SCENE),
 ];
+
+/// The clamp-edge case's scene file (`edge = "clamp"`), relative to the workspace root.
+pub const CLAMP_SCENE: &str = "relief-runtime/scenes/rocks_clamp.toml";
+
+/// The index in [`ENGINE_CASES`] of the clamp-edge case, which the engine tests draw once
+/// more with every texture's address mode forced to repeat in the page: that picture must
+/// miss the bar, or the case would not show that the engines take the bundle's address mode.
+pub const CLAMP_CASE: usize = 3;
+
+/// The `relief.json` of the clamp-edge case's bundle in `dir` says clamp everywhere an
+/// engine reads it: `edge` and `edge_define`, and every binding's `address_mode` (the pages
+/// set each texture's wrap from it; the forced-repeat picture shows the wrap matters).
+pub fn assert_clamp_bundle(dir: &std::path::Path) {
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(dir.join("relief.json")).unwrap()).unwrap();
+    assert_eq!(json["edge"], "clamp", "{}: edge", dir.display());
+    assert_eq!(json["edge_define"], "RELIEF_EDGE_CLAMP", "{}: edge_define", dir.display());
+    let bindings = json["bindings"].as_array().unwrap();
+    assert!(!bindings.is_empty(), "{}: no bindings", dir.display());
+    for b in bindings {
+        assert_eq!(b["address_mode"], "clamp_to_edge", "{}: {b}", dir.display());
+    }
+}
 
 /// An engine's `ENGINE_SIZE`² picture `rgba` of `what` against relief render's `reference`,
 /// by the bar of `tests/integrate.rs`: the figures printed; a picture with a third of its
