@@ -275,7 +275,7 @@ impl<'a> Solid<'a> {
                 let tol = 1e-9;
                 if l1 >= -tol && l2 >= -tol && l1 + l2 <= 1.0 + tol {
                     let q = uv[0] * (1.0 - l1 - l2) + uv[1] * l1 + uv[2] * l2;
-                    let h = self.map.bilinear(q.x as f64, q.y as f64, self.edge);
+                    let h = self.map.bilinear(q.x, q.y, self.edge);
                     out.push(Place { k: 1.0 - d / self.depth, h, edge: l1.min(l2).min(1.0 - l1 - l2) });
                 }
             }
@@ -353,7 +353,7 @@ fn the_worst_t_errors_are_hits_off_s_and_the_reference_is_the_first_hit() {
         let rays = ms.rays(size, size);
         for mode in [Curved::None, Curved::Quadric, Curved::Prism] {
             let prog = MeshProgram::new(&pipeline(mode)).unwrap();
-            let tex = mesh_textures(&g, &ms, &prog).unwrap();
+            let tex = mesh_textures(&g, ms, &prog).unwrap();
             let probe = probe_mesh(&g, &prog, ms, &tex, size).unwrap();
             let mut both: Vec<(usize, f64)> = probe
                 .hits
