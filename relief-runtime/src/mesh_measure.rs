@@ -10,6 +10,12 @@
 //!   distance from the eye along the pixel's ray, **in units of the relief's depth**
 //!   (`depth_scale`): `(t_gpu − t_ref) / depth`; the flat tile's t (t = 1 descends the
 //!   depth along the normal) is this times the view's cosine, so it is never larger;
+//!   A pixel whose GPU hit lies on another part of the surface than the reference's (the
+//!   ray passes above S where the mode's approximate surface stops it, and the reference
+//!   hits a bump further on or the far side of a torus's tube) adds tens of depths, so the
+//!   RMS is dominated by a few such pixels (docs/notes/meshes.md); hence also:
+//! - **median t**: the median of `|t_gpu − t_ref| / depth` on pixels both hit;
+//! - **far**: the pixels both hit whose hits lie more than one depth apart along the ray;
 //! - **earliest**: the largest `(t_ref − t_gpu) / depth` on pixels both hit: how far a hit
 //!   came before the reference's (positive: in front of the exact first hit);
 //! - **uv error**: RMS of the hit's texture-space distance, in texels (repeat edges: the
@@ -44,6 +50,10 @@ pub struct MeshScore {
     pub iou: f64,
     /// RMS of `(t_gpu − t_ref) / depth` on pixels both hit (NaN when none).
     pub rms_t: f64,
+    /// The median of `|t_gpu − t_ref| / depth` on pixels both hit (NaN when none).
+    pub median_t: f64,
+    /// Pixels both hit with `|t_gpu − t_ref| / depth > 1`.
+    pub far: usize,
     /// The largest `(t_ref − t_gpu) / depth` on pixels both hit (−∞ when none).
     pub earliest: f64,
     /// RMS uv distance in texels on pixels both hit.
@@ -106,12 +116,14 @@ pub fn score(gpu: &MeshProbe, reference: &[Option<MeshHit>], ms: &MeshScene) -> 
     let wrap = |d: f64| if ms.scene.edge == EdgeMode::Repeat { d - d.round() } else { d };
     let (mut both, mut extra, mut missing) = (0, 0, 0);
     let (mut st, mut suv, mut sd, mut earliest) = (0.0, 0.0, 0.0, f64::NEG_INFINITY);
+    let mut dts = Vec::new();
     for (i, (g, r)) in gpu.hits.iter().zip(reference).enumerate() {
         match (g[3] > 0.5, r) {
             (true, Some(r)) => {
                 both += 1;
                 let dt = (g[2] as f64 - r.t) / depth;
                 st += dt * dt;
+                dts.push(dt.abs());
                 earliest = earliest.max(-dt);
                 let (du, dv) = (wrap(g[0] as f64 - r.u) * w, wrap(g[1] as f64 - r.v) * h);
                 suv += du * du + dv * dv;
@@ -127,6 +139,13 @@ pub fn score(gpu: &MeshProbe, reference: &[Option<MeshHit>], ms: &MeshScene) -> 
     }
     let rms = |s: f64| if both > 0 { (s / both as f64).sqrt() } else { f64::NAN };
     let union = both + extra + missing;
+    dts.sort_by(f64::total_cmp);
+    let median_t = match dts.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => dts[n / 2],
+        n => 0.5 * (dts[n / 2 - 1] + dts[n / 2]),
+    };
+    let far = dts.iter().filter(|&&d| d > 1.0).count();
     MeshScore {
         pixels,
         both,
@@ -135,6 +154,8 @@ pub fn score(gpu: &MeshProbe, reference: &[Option<MeshHit>], ms: &MeshScene) -> 
         coverage_error: (extra + missing) as f64 / pixels.max(1) as f64,
         iou: if union > 0 { both as f64 / union as f64 } else { 1.0 },
         rms_t: rms(st),
+        median_t,
+        far,
         earliest,
         uv_texels: rms(suv),
         depth: rms(sd),

@@ -536,7 +536,7 @@ fn mesh_trace_fn(
     let covered = s.select(mesh::covered(&s, curved, &mr, &traced, prism), 1.0f32, 0.0f32);
     let t = traced.t.clamp(0.0, mr.ray.t_max());
     let hit = Hit::at_found(&mr.ray, t, traced.found);
-    let offset = mesh::depth_offset(&mr, &hit, depth);
+    let offset = mesh::depth_offset(&mr, &hit);
     let values = [hit.uv.handle(), hit.z.handle(), t.handle(), offset.handle(), covered.handle()];
     let out = s.make_struct(public_hit, &values);
     let f = s.finish(Some((public_hit, None, out)));
@@ -576,7 +576,9 @@ fn mesh_shadow_fn(
     let frame =
         mesh::frame(&s, s.vec4(s.arg::<Vec3>(2), 0.0), s.arg::<Vec4>(3), s.vec4(s.vec3(uv, scale.x()), scale.y()));
     let (l_uv, l_n) = frame.to_texture(s.arg::<Vec3>(1).normalize());
-    let light_n = s.vec3(l_uv * (s.arg::<f32>(5) / l_n.max(1e-3)), 1.0);
+    // The relief's depth along the unit normal, as the trace takes it (`MeshRay::depth`).
+    let depth = s.arg::<f32>(5) * s.arg::<Vec3>(2).length();
+    let light_n = s.vec3(l_uv * (depth / l_n.max(1e-3)), 1.0);
     let v = s.call(shadow, &[hv, light_n.handle(), l_n.handle()], true).unwrap();
     let f = s.finish(Some((m.ty(f32::inner()), None, v)));
     m.add_function(f)

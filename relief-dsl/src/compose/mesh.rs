@@ -246,6 +246,10 @@ pub(crate) struct MeshRay<'a> {
     /// The unit view ray, object space.
     view: Val<'a, Vec3>,
     pub(crate) frame: Frame<'a>,
+    /// The relief's depth along the unit normal at the fragment: `depth · |N|`, N the
+    /// interpolated normal before renormalizing, as S = P − depth·(1 − h)·N descends
+    /// (docs/meshes.md); t = 1 of the ray descends this far.
+    pub(crate) depth: Val<'a, f32>,
 }
 
 /// What the fragment knows of its place on the mesh, from the vertex entry's varyings or a
@@ -273,18 +277,20 @@ pub(crate) struct MeshInputs<'a> {
 /// entry.
 pub(crate) fn mesh_ray<'a>(s: &'a FnBuilder<'a>, curved: Curved, i: &MeshInputs<'a>) -> MeshRay<'a> {
     let frame = frame(s, i.normal, i.tangent, i.uv);
+    // S's layers lie depth·|N| apart along the unit normal (N interpolated, not renormalized).
+    let depth = i.depth * i.normal.xyz().length();
     let (v_uv, v_n) = frame.to_texture(i.view);
     let cos_view = descent(v_n);
-    let dir = s.vec3(v_uv * (i.depth / cos_view), -1.0);
+    let dir = s.vec3(v_uv * (depth / cos_view), -1.0);
     let t_entry = match curved {
         Curved::Prism => s.lit(1.0) - i.layer,
         Curved::None | Curved::Quadric => s.lit(0.0),
     };
     let origin = i.uv.xy() - dir.xy() * t_entry;
     if curved == Curved::Quadric {
-        set_quadric(s, i.curvature / i.depth, i.uv.xy());
+        set_quadric(s, i.curvature / depth, i.uv.xy());
     }
-    MeshRay { ray: Ray { origin, dir, cos_view }, t_entry, view: i.view, frame }
+    MeshRay { ray: Ray { origin, dir, cos_view }, t_entry, view: i.view, frame, depth }
 }
 
 /// The fragment entries' inputs: the varyings and the `Params` block.
@@ -366,16 +372,16 @@ fn mesh_trace<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, curved: Curved, mr: &Mes
 /// The NDC depth of the hit: the point the unit view ray reaches after descending
 /// `(t − t_entry)·depth` along the normal, `(t − t_entry)·depth / cos_view` along the ray.
 fn hit_depth<'a>(s: &'a FnBuilder<'a>, mr: &MeshRay<'a>, point: Val<'a, Vec3>, hit: &Hit<'a>) -> Val<'a, f32> {
-    let depth = s.param::<Vec4>(Param::Camera).w();
-    let world = point + mr.view * depth_offset(mr, hit, depth);
+    let world = point + mr.view * depth_offset(mr, hit);
     let clip = s.param::<Mat4>(Param::ViewProj) * s.vec4(world, 1.0);
     clip.z() / clip.w()
 }
 
 /// How far the hit lies behind the fragment along the unit view ray: it is `(t − t_entry)·depth`
-/// below the entry along the normal, and the view ray descends `cos_view` per unit length.
-pub(crate) fn depth_offset<'a>(mr: &MeshRay<'a>, hit: &Hit<'a>, depth: Val<'a, f32>) -> Val<'a, f32> {
-    (hit.t - mr.t_entry) * depth / mr.ray.cos_view
+/// below the entry along the unit normal (`depth` the ray's, [`MeshRay::depth`]), and the view
+/// ray descends `cos_view` per unit length.
+pub(crate) fn depth_offset<'a>(mr: &MeshRay<'a>, hit: &Hit<'a>) -> Val<'a, f32> {
+    (hit.t - mr.t_entry) * mr.depth / mr.ray.cos_view
 }
 
 fn fragment_args(m: &ModuleCtx) -> Vec<(&'static str, naga::Handle<naga::Type>, Option<Binding>)> {
@@ -397,7 +403,7 @@ fn fragment_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Cu
     }
     let hv = s.pack(&hit);
     let light = s.param::<Vec4>(Param::Light);
-    let depth = s.param::<Vec4>(Param::Camera).w();
+    let depth = mr.depth;
     let (l_uv, l_n) = mr.frame.to_texture(light.xyz());
     let visibility = match fns.shadow {
         Some(f) => {
@@ -444,7 +450,7 @@ fn probe_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curve
     let hit = mesh_trace(&s, fns, curved, &mr);
     let depth_out = hit_depth(&s, &mr, point, &hit);
     let camera = s.param::<Vec4>(Param::Camera);
-    let distance = (point - camera.xyz()).length() + depth_offset(&mr, &hit, camera.w());
+    let distance = (point - camera.xyz()).length() + depth_offset(&mr, &hit);
     let out_ty = super::fragment_output_with_depth(m);
     let record = s.vec4(s.vec3(hit.uv, distance), 1.0);
     let v = s.make_struct(out_ty, &[record.handle(), depth_out.handle()]);

@@ -111,8 +111,18 @@ fn measure(file: &Path, pipeline: &str, size: u32, pairs: u32, out: Option<&Path
     let rows = relief_runtime::mesh_measure::measure_modes(&gpu, &ms, &base, &modes, &reference, size, pairs)?;
     println!("{} with {} at {size}x{size} on {}", ms.mesh.name, base, gpu.adapter);
     println!(
-        "{:<8} {:>10} {:>7} {:>10} {:>10} {:>9} {:>9} {:>7} {:>7}  time/none (95 %)",
-        "curved", "coverage%", "IoU", "rms_t/d", "earliest/d", "uv_texel", "depth", "extra", "missing"
+        "{:<8} {:>10} {:>7} {:>10} {:>10} {:>6} {:>10} {:>9} {:>9} {:>7} {:>7}  time/none (95 %)",
+        "curved",
+        "coverage%",
+        "IoU",
+        "rms_t/d",
+        "median_t/d",
+        "far",
+        "earliest/d",
+        "uv_texel",
+        "depth",
+        "extra",
+        "missing"
     );
     for (mode, r) in modes.iter().zip(&rows) {
         let s = &r.score;
@@ -121,11 +131,13 @@ fn measure(file: &Path, pipeline: &str, size: u32, pairs: u32, out: Option<&Path
             None => "-".into(),
         };
         println!(
-            "{:<8} {:>10.3} {:>7.4} {:>10.2e} {:>10.2e} {:>9.3} {:>9.2e} {:>7} {:>7}  {time}",
+            "{:<8} {:>10.3} {:>7.4} {:>10.2e} {:>10.2e} {:>6} {:>10.2e} {:>9.3} {:>9.2e} {:>7} {:>7}  {time}",
             mode.to_string(),
             100.0 * s.coverage_error,
             s.iou,
             s.rms_t,
+            s.median_t,
+            s.far,
             s.earliest,
             s.uv_texels,
             s.depth,
