@@ -458,7 +458,7 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
         // mesh scene with a flat pipeline or with a target that has no mesh form, mesh files
         // that do not load, a bad mode; and the good case, which must succeed or fail in one line.
         let bad_mesh = m.join("o0.obj0.toml");
-        let export_cases: Vec<(&str, std::ffi::OsString, &str, &str)> = vec![
+        let export_cases: [(&str, std::ffi::OsString, &str, &str); 11] = [
             ("curved on a flat file", flat.clone().into(), "linear(8)+curved=prism", "glsl-es"),
             ("curved on a built-in", "scene:rock_bump".into(), "linear(8)+curved=prism", "glsl-es"),
             ("flat on a mesh", good.clone().into(), "linear(8)", "glsl-es"),

@@ -84,13 +84,11 @@ fn glb(vertices: &[MeshVertex], indices: &[u32], curved: Curved, name: &str) -> 
         });
         if at.gltf == "POSITION" {
             // glTF requires the bounds of POSITION.
-            let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-            for v in vertices {
-                for c in 0..3 {
-                    lo[c] = lo[c].min(v.position[c]);
-                    hi[c] = hi[c].max(v.position[c]);
-                }
-            }
+            let bound = |c: usize, pick: fn(f32, f32) -> f32, start: f32| {
+                vertices.iter().map(|v| v.position[c]).fold(start, pick)
+            };
+            let lo: [f32; 3] = std::array::from_fn(|c| bound(c, f32::min, f32::INFINITY));
+            let hi: [f32; 3] = std::array::from_fn(|c| bound(c, f32::max, f32::NEG_INFINITY));
             acc["min"] = json!(lo);
             acc["max"] = json!(hi);
         }
