@@ -37,6 +37,9 @@ fn tmp(name: &str) -> PathBuf {
     dir
 }
 
+/// A `MeshVertex` member, read from the record.
+type Member = fn(&MeshVertex) -> [f32; 4];
+
 /// The f32 values of the accessor of `semantic`, `N` per vertex.
 fn read<const N: usize>(
     prim: &gltf::Primitive<'_>,
@@ -106,7 +109,7 @@ fn export_writes_the_mesh_as_relief_draws_it_and_the_gltf_crate_reads_it_back() 
                 custom => Semantic::Extras(custom.strip_prefix('_').expect("a custom attribute starts with _").into()),
             };
             // The member's components in the record, by name: the independent statement.
-            let (field, first, n): (fn(&MeshVertex) -> [f32; 4], usize, usize) = match member.as_str() {
+            let (field, first, n): (Member, usize, usize) = match member.as_str() {
                 "position.xyz" => (|v| v.position, 0, 3),
                 "position.w" => (|v| v.position, 3, 1),
                 "normal.xyz" => (|v| v.normal, 0, 3),
