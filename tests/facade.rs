@@ -17,6 +17,7 @@ mod report_browser;
 mod room_modules;
 mod text_form;
 mod threejs;
+mod threejs_mesh;
 
 /// Every `tests/*.rs` file of the facade and of relief-runtime is a module of its crate's one
 /// test binary: a file added without its `mod` line would otherwise never be compiled or run.

@@ -454,6 +454,30 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
             a.extend(os(&args));
             add(format!("scene measure {what}"), a);
         }
+        // `relief export` with meshes: a curved= pipeline on a flat scene (file or built-in), a
+        // mesh scene with a flat pipeline or with a target that has no mesh form, mesh files
+        // that do not load, a bad mode; and the good case, which must succeed or fail in one line.
+        let bad_mesh = m.join("o0.obj0.toml");
+        let export_cases: [(&str, std::ffi::OsString, &str, &str); 11] = [
+            ("curved on a flat file", flat.clone().into(), "linear(8)+curved=prism", "glsl-es"),
+            ("curved on a built-in", "scene:rock_bump".into(), "linear(8)+curved=prism", "glsl-es"),
+            ("flat on a mesh", good.clone().into(), "linear(8)", "glsl-es"),
+            ("tsl", good.clone().into(), "linear(8)+curved=prism", "tsl"),
+            ("unity", good.clone().into(), "linear(8)+curved=quadric", "unity"),
+            ("unreal", good.clone().into(), "linear(8)+curved=none", "unreal"),
+            ("bad mesh file", bad_mesh.into(), "linear(8)+curved=prism", "glsl-es"),
+            ("bad glTF", m.join("g9.gltf0.toml").into(), "linear(8)+curved=prism", "wgsl"),
+            ("bad mode", good.clone().into(), "linear(8)+curved=prisms", "glsl-es"),
+            ("good prism", good.clone().into(), "linear(8)+curved=prism", "glsl-es"),
+            ("good quadric", good.clone().into(), "linear(8)+curved=quadric", "hlsl"),
+        ];
+        for (i, (what, scene, pipe, target)) in export_cases.into_iter().enumerate() {
+            let mut a = os(&["export", pipe, "--target", target, "--scene"]);
+            a.push(scene);
+            a.push("--out".into());
+            a.push(d.join(format!("export-mesh{i}")).into());
+            add(format!("export {what}"), a);
+        }
     }
     // Corrupted results rows under `relief report` (each folder one kind of damage).
     let row = r#"{"grid":"g","pipeline":"linear(10)","scene":"scene:step","size":16,"adapter":"a","status":"ok","error":"","relief_version":"0","cell_dir":""}"#;

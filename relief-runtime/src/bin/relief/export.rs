@@ -16,12 +16,18 @@
 //! for wgsl, as `relief gen --library` takes them; both recorded); the edge mode and its define;
 //! the depth scale; the row order; the lines to paste; the shading of `relief render`. A
 //! folder that holds other files is refused unless `--force`.
+//!
+//! A `curved=` pipeline takes a mesh scene (a scene file with `[mesh]`) and adds the mesh as
+//! relief draws it for that mode (`mesh.glb` and `relief.json`'s `mesh`, [`crate::export_mesh`]);
+//! a `curved=` pipeline on a flat scene, a flat pipeline on a mesh scene and a target with no
+//! mesh form are refused in one line before anything is written.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context};
 use relief_dsl::emit::{LibraryBinding, LibraryForm, LibraryOptions, ResourceKind};
 use relief_dsl::ir::{Filter, Image, Resource};
+use relief_dsl::spec::Curved;
 use relief_runtime::gpu::{self, Upload};
 use relief_runtime::{scene_from_arg, scene_spec, EdgeMode, MapKey};
 
@@ -115,6 +121,42 @@ fn paste_lines(form: LibraryForm, lib: &relief_dsl::emit::LibraryForms, depth: f
     v
 }
 
+/// The lines to paste into a fragment shader of `form` for a mesh library (`curved`): the
+/// varyings are the `MeshVertex` members the vertex stage passes on (docs/libraries.md).
+fn mesh_paste_lines(
+    form: LibraryForm,
+    lib: &relief_dsl::emit::LibraryForms,
+    curved: Curved,
+    edge: &str,
+) -> Vec<String> {
+    let first = if curved == Curved::Prism { "vec3(uv, layer)" } else { "uv" };
+    let extra = match curved {
+        Curved::None => "",
+        Curved::Quadric => ", curvature",
+        Curved::Prism => ", prism_a, prism_b.xy",
+    };
+    let call =
+        format!("relief_trace({first}, normalize(position - eye), normal, tangent, uv_scale{extra}, depth_scale)");
+    let mut v = Vec::new();
+    match form {
+        LibraryForm::Wgsl | LibraryForm::Wesl => v.push(format!("let hit = {call};")),
+        _ => {
+            if form == LibraryForm::GlslEs {
+                v.push(format!("#define RELIEF_EDGE_{}", edge.to_ascii_uppercase()));
+            }
+            v.push(format!("ReliefHit hit = {call};"));
+        }
+    }
+    v.push("if hit.covered == 0: discard; depth at position + normalize(position - eye) * hit.depth_offset".into());
+    if lib.has_shadow {
+        v.push("shadow = relief_shadow(hit, light, normal, tangent, uv_scale, depth_scale)".into());
+    }
+    if lib.has_ao {
+        v.push("ao = relief_ao(hit)".into());
+    }
+    v
+}
+
 /// Refuses a container other than ktx2 or dds.
 pub(crate) fn check_container(container: &str) -> anyhow::Result<()> {
     if !matches!(container.to_ascii_lowercase().as_str(), "ktx2" | "dds") {
@@ -169,6 +211,25 @@ pub fn run(a: &ExportArgs) -> anyhow::Result<()> {
     let scene = scene_from_arg(&scene_spec(&a.scene))?;
     let edge = if scene.edge == EdgeMode::Clamp { "clamp" } else { "repeat" };
     check_library_options(form, a)?;
+    // A curved= pipeline draws the scene's mesh, which goes into the bundle too.
+    let mesh_scene = match (p.curved, scene.mesh.is_some()) {
+        (Some(c), false) => bail!(
+            "pipeline `{p}` has curved={c}: its bundle holds a mesh, and the scene {} names none (a scene file with `[mesh]`, e.g. relief-runtime/scenes/meshes/sphere_rocks.toml)",
+            scene.name
+        ),
+        (None, true) => bail!(
+            "the scene {} names a mesh: the pipeline needs curved=none, quadric or prism (`{p}` has none)",
+            scene.name
+        ),
+        (Some(_), true) => {
+            let ms = relief_runtime::mesh::MeshScene::from_scene(scene.clone())?;
+            if let Some(w) = ms.notes.warning() {
+                eprintln!("{w}");
+            }
+            Some(ms)
+        }
+        (None, false) => None,
+    };
     let opts = LibraryOptions {
         edge_clamp: scene.edge == EdgeMode::Clamp,
         group: a.group.unwrap_or(0),
@@ -270,6 +331,10 @@ pub fn run(a: &ExportArgs) -> anyhow::Result<()> {
             "clear_color_linear": [c.r, c.g, c.b, c.a],
         },
     });
+    if let (Some(ms), Some(curved)) = (&mesh_scene, p.curved) {
+        json["mesh"] = crate::export_mesh::write_mesh(&a.out, ms, curved)?;
+        json["paste"] = mesh_paste_lines(form, &lib, curved, edge).into();
+    }
     // Recorded only when asked for, so a bundle exported without them is unchanged.
     if let Some(g) = a.group {
         json["group"] = g.into();
@@ -284,7 +349,7 @@ pub fn run(a: &ExportArgs) -> anyhow::Result<()> {
         p,
         form.name(),
         scene.name,
-        lib.files.len() + written.len()
+        lib.files.len() + written.len() + usize::from(mesh_scene.is_some())
     );
     Ok(())
 }

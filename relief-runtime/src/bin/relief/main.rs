@@ -6,6 +6,7 @@ mod adapters;
 mod compare;
 mod cost;
 mod export;
+mod export_mesh;
 mod gen;
 mod maps;
 mod render;
