@@ -6,6 +6,12 @@
 /// decade is a sixth of the bar).
 pub(crate) const ERROR_SCALE: (f64, f64) = (1e-6, 1.0);
 
+/// Steps of the heat scale: an error's place on [`ERROR_SCALE`] is rounded to a multiple of
+/// 1/240 (40 steps a decade, each a factor of 1.06 in error), so that a map has at most 244
+/// colours (241 heat, magenta, the background, the legend's text) and is stored as an indexed
+/// PNG ([`crate::io::png::write_rgba8`]) at about half the bytes of RGB.
+pub(crate) const HEAT_LEVELS: u32 = 240;
+
 /// Per-pixel |t − t_ref| as a heat map on [`ERROR_SCALE`] (black = exact, red = 1e-3,
 /// yellow = 1 or more, magenta = no finite hit), with a legend bar and its range below the
 /// image.
@@ -17,7 +23,7 @@ pub(crate) fn error_map(size: u32, errors: &[(u32, u32, f64)]) -> (u32, u32, Vec
         px.copy_from_slice(&[40, 40, 48, 255]);
     }
     let (lo, max) = ERROR_SCALE;
-    let scale = |e: f64| ((e.max(lo) / lo).ln() / (max / lo).ln()).clamp(0.0, 1.0);
+    let scale = |e: f64| step(((e.max(lo) / lo).ln() / (max / lo).ln()).clamp(0.0, 1.0));
     let mut put = |x: u32, y: u32, c: [u8; 3]| {
         if x < w && y < h {
             let i = ((y * w + x) * 4) as usize;
@@ -31,13 +37,18 @@ pub(crate) fn error_map(size: u32, errors: &[(u32, u32, f64)]) -> (u32, u32, Vec
     // Legend: the colour bar from `lo` (left) to `max` (right), labelled with both.
     for x in 0..w {
         for y in size + 2..size + 8 {
-            put(x, y, heat(x as f64 / (w - 1).max(1) as f64));
+            put(x, y, heat(step(x as f64 / (w - 1).max(1) as f64)));
         }
     }
     draw_text(&mut put, 2, size + 11, &format!("{lo:.0e}"));
     let label = format!("{max:.0e}");
     draw_text(&mut put, w.saturating_sub(4 * label.len() as u32 + 2), size + 11, &label);
     (w, h, img)
+}
+
+/// `f` in [0, 1] rounded to the nearest of the scale's [`HEAT_LEVELS`] steps.
+fn step(f: f64) -> f64 {
+    (f * f64::from(HEAT_LEVELS)).round() / f64::from(HEAT_LEVELS)
 }
 
 fn heat(f: f64) -> [u8; 3] {
@@ -117,5 +128,22 @@ mod tests {
         let loud = error_map(96, &[(0, 0, 1e-4), (1, 0, 0.5)]);
         assert_eq!(colour(&quiet, 0), colour(&loud, 0));
         assert_eq!(colour(&quiet, 1), [0, 0, 0]);
+    }
+
+    /// Errors spread over every decade of the scale, and beyond it, give a map of at most 256
+    /// colours (so it is stored indexed), and errors a factor of 1.2 apart (more than a step,
+    /// 1.06) still get different colours.
+    #[test]
+    fn a_map_has_at_most_256_colours_and_its_steps_still_part_errors() {
+        let size = 96u32;
+        let errors: Vec<(u32, u32, f64)> = (0..size * size)
+            .map(|i| (i % size, i / size, 10f64.powf(-8.0 + 9.0 * f64::from(i) / f64::from(size * size))))
+            .chain([(0, 0, f64::INFINITY)])
+            .collect();
+        let map = error_map(size, &errors);
+        let colours: std::collections::HashSet<&[u8]> = map.2.chunks_exact(4).collect();
+        assert!(colours.len() <= 256 && colours.len() > 200, "{} colours", colours.len());
+        let apart = error_map(96, &[(0, 0, 1e-4), (1, 0, 1.2e-4)]);
+        assert_ne!(colour(&apart, 0), colour(&apart, 1));
     }
 }

@@ -4,11 +4,13 @@ use std::path::Path;
 
 use super::FileError;
 
-/// Writes an RGBA8 image as PNG, atomically ([`super::write_atomic`]): as RGB when every
-/// pixel is opaque (frames, error maps and strips are; the alpha channel would add bytes and
-/// nothing else), with adaptive row filters (together a measured 26 % off the main job's
-/// `cells/`, not a tested figure). Read back as RGBA8 it gives the same pixels. Pixels that do not fill
-/// `w × h` exactly are a [`FileError::Encode`].
+/// Writes an RGBA8 image as PNG, atomically ([`super::write_atomic`]): as an indexed image
+/// (a palette of at most 256 colours, one byte a pixel) when every pixel is opaque and it has
+/// at most 256 colours (the error maps, whose heat scale has `picture::HEAT_LEVELS`
+/// steps), else as RGB when every pixel is opaque (frames; the alpha channel would add bytes
+/// and nothing else), else RGBA, with adaptive row filters (RGB and the filters were a measured
+/// 26 % off the main job's `cells/`, not a tested figure). Read back as RGBA8 it gives the
+/// same pixels. Pixels that do not fill `w × h` exactly are a [`FileError::Encode`].
 pub fn write_rgba8(path: &Path, w: u32, h: u32, rgba: Vec<u8>) -> Result<(), FileError> {
     use image::codecs::png::{CompressionType, FilterType, PngEncoder};
     use image::ImageEncoder as _;
@@ -16,7 +18,14 @@ pub fn write_rgba8(path: &Path, w: u32, h: u32, rgba: Vec<u8>) -> Result<(), Fil
     if rgba.len() as u64 != u64::from(w) * u64::from(h) * 4 {
         return Err(encode(format!("{} bytes of RGBA8 pixels for a {w}x{h} image", rgba.len())));
     }
-    let (pixels, color) = if rgba.chunks_exact(4).all(|p| p[3] == u8::MAX) {
+    let opaque = rgba.chunks_exact(4).all(|p| p[3] == u8::MAX);
+    if opaque {
+        if let Some((palette, indices)) = palette_of(&rgba) {
+            let bytes = indexed_png(w, h, &palette, &indices).map_err(|e| encode(e.to_string()))?;
+            return super::write_atomic(path, &bytes);
+        }
+    }
+    let (pixels, color) = if opaque {
         (rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect(), image::ExtendedColorType::Rgb8)
     } else {
         (rgba, image::ExtendedColorType::Rgba8)
@@ -26,6 +35,45 @@ pub fn write_rgba8(path: &Path, w: u32, h: u32, rgba: Vec<u8>) -> Result<(), Fil
         .write_image(&pixels, w, h, color)
         .map_err(|e| encode(e.to_string()))?;
     super::write_atomic(path, &bytes)
+}
+
+/// The colours of opaque RGBA8 pixels as a PNG palette (RGB triples, in order of first
+/// appearance) and one index a pixel, or `None` when there are more than 256.
+fn palette_of(rgba: &[u8]) -> Option<(Vec<u8>, Vec<u8>)> {
+    let mut index = std::collections::HashMap::<[u8; 3], u8>::new();
+    let mut palette = Vec::new();
+    let mut indices = Vec::with_capacity(rgba.len() / 4);
+    for p in rgba.chunks_exact(4) {
+        let c = [p[0], p[1], p[2]];
+        let i = match index.get(&c) {
+            Some(&i) => i,
+            None => {
+                let i = u8::try_from(index.len()).ok()?;
+                index.insert(c, i);
+                palette.extend_from_slice(&c);
+                i
+            }
+        };
+        indices.push(i);
+    }
+    Some((palette, indices))
+}
+
+/// An 8-bit indexed PNG of `w × h` palette indices, through the `png` crate (the image
+/// crate's encoder writes no palettes). No row filter: a palette's indices are labels, not
+/// intensities, so differences between neighbours predict nothing.
+fn indexed_png(w: u32, h: u32, palette: &[u8], indices: &[u8]) -> Result<Vec<u8>, png::EncodingError> {
+    let mut bytes = Vec::new();
+    let mut enc = png::Encoder::new(&mut bytes, w, h);
+    enc.set_color(png::ColorType::Indexed);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.set_palette(palette);
+    enc.set_compression(png::Compression::Balanced);
+    enc.set_filter(png::Filter::NoFilter);
+    let mut writer = enc.write_header()?;
+    writer.write_image_data(indices)?;
+    writer.finish()?;
+    Ok(bytes)
 }
 
 /// Writes `w × h` pixels of `channels` (1 gray, 2 gray+alpha, 3 RGB, 4 RGBA) unsigned
@@ -84,6 +132,29 @@ mod tests {
             assert_eq!(back.color(), want_color, "alpha {alpha}");
             assert_eq!(back.to_rgba8().into_raw(), rgba, "alpha {alpha}");
         }
+        // At most 256 colours, opaque: an indexed image, the same pixels read back.
+        let few: Vec<u8> = (0..w * h)
+            .flat_map(|i| {
+                let k = (i * 7 % 200) as u8;
+                [k, 255 - k, k / 3, 255]
+            })
+            .collect();
+        let path = dir.join("few.png");
+        write_rgba8(&path, w, h, few.clone()).unwrap();
+        let raw = std::fs::read(&path).unwrap();
+        // IHDR's colour type byte (offset 8 + 4 + 4 + 9 = 25): 3 is indexed colour.
+        assert_eq!(raw[25], 3, "colour type");
+        assert_eq!(image::open(&path).unwrap().to_rgba8().into_raw(), few);
+        // 257 colours: not indexed (RGB), the same pixels.
+        let many: Vec<u8> = (0..w * h)
+            .flat_map(|i| {
+                let k = i % 257;
+                [(k % 256) as u8, (k / 256) as u8, 0, 255]
+            })
+            .collect();
+        write_rgba8(&path, w, h, many.clone()).unwrap();
+        assert_eq!(std::fs::read(&path).unwrap()[25], 2, "colour type");
+        assert_eq!(image::open(&path).unwrap().to_rgba8().into_raw(), many);
         let short = write_rgba8(&dir.join("short.png"), w, h, vec![0; 5]).unwrap_err().to_string();
         assert!(short.contains("5 bytes of RGBA8 pixels for a 37x23 image") && !short.contains('\n'), "{short}");
         std::fs::remove_dir_all(&dir).ok();
