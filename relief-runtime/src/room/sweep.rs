@@ -84,12 +84,18 @@ pub fn read_rows(dir: &Path) -> Result<Vec<Row>, ResultsError> {
     Ok(rows)
 }
 
-/// Adds to `rows` the rows of `dir/rooms.jsonl` (an older relief's) whose cell `rows` lacks;
-/// whether the file was there.
+/// Adds to `rows` the rows of `dir/rooms.jsonl` (an older relief's) whose cell (room, variant,
+/// pipeline, size and wall grid; the older rows have no adapter) `rows` lacks; whether the
+/// file was there.
 pub(crate) fn add_legacy(dir: &Path, rows: &mut Vec<Row>) -> Result<bool, ResultsError> {
     let Some(old) = legacy::read(&legacy_path(dir))? else { return Ok(false) };
-    let keys: Vec<_> = rows.iter().map(crate::results::cell_key).collect();
-    rows.extend(old.into_iter().filter(|r| !keys.contains(&crate::results::cell_key(r))));
+    // The cell without its adapter, which the older rows do not record.
+    let cell = |r: &Row| {
+        let (pipeline, scene, size, _, room) = crate::results::cell_key(r);
+        (pipeline, scene, size, room)
+    };
+    let keys: Vec<_> = rows.iter().map(cell).collect();
+    rows.extend(old.into_iter().filter(|r| !keys.contains(&cell(r))));
     Ok(true)
 }
 
