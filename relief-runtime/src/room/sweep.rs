@@ -77,7 +77,7 @@ pub fn legacy_path(dir: &Path) -> PathBuf {
 /// The room cells' rows of the sweep folder `dir`, typed once: those of `results.jsonl`
 /// ([`crate::results::read`]: unreadable lines are left out there, and named by the
 /// report), then those of an older relief's `rooms.jsonl` whose cell `results.jsonl` does not
-/// hold ([`legacy`]). Empty when the folder holds no room cell.
+/// hold (read by `legacy.rs`, beside this file). Empty when the folder holds no room cell.
 pub fn read_rows(dir: &Path) -> Result<Vec<Row>, ResultsError> {
     let mut rows: Vec<Row> = crate::results::read(dir)?.rows.into_iter().filter(|r| r.room.is_some()).collect();
     add_legacy(dir, &mut rows)?;
