@@ -8,6 +8,11 @@
 //! A metric written as `null` (NaN or infinite when measured) reads back as NaN, and so
 //! does a metric that older rows lack, never a silent 0.
 //! `DIR/results.csv` holds the same rows in the [`COLUMNS`] order.
+//!
+//! A row of the room comparison (`relief sweep --grid rooms`) is a results row too: its
+//! [`Row::room`] holds what a room cell has beyond [`Metrics`] ([`RoomCells`]: the variant,
+//! the real-geometry baseline's time, the per-wall accuracy); a plain cell has none, and its
+//! line is written without the column.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -31,7 +36,7 @@ pub enum ResultsError {
         /// `lines N, M: …` for rows that repeat one cell.
         text: String,
     },
-    /// A line of a rows file that must be whole (`rooms.jsonl`) is not a row.
+    /// A line of a rows file that must be whole (an older relief's `rooms.jsonl`) is not a row.
     #[error("{}: line {line}: {source}", path.display())]
     Line {
         /// The rows file.
@@ -372,8 +377,68 @@ pub struct Row {
     pub error: String,
     /// The version of relief-runtime that measured the row.
     pub relief_version: String,
-    /// The cell's folder, relative to the sweep's folder (holds frame.png and error.png).
+    /// The cell's folder, relative to the sweep's folder (holds frame.png and error.png; a
+    /// room cell's frame.png, baseline.png and diff.png).
     pub cell_dir: String,
+    /// A room cell's own columns (`relief sweep --grid rooms`); `None` for every other cell,
+    /// whose line has no `room` column.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub room: Option<RoomCells>,
+}
+
+/// What a room cell (`crate::room::sweep`) records beyond [`Metrics`]. In its row the
+/// metrics hold the pipeline on every wall, the room's name as the scene, the median interior
+/// frame time (`frame_ms_median`), the RMS t error over all walls (`ref_err_t_rms`) and the
+/// skipped and past rates over all walls; the metrics a room cell does not measure are NaN.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct RoomCells {
+    /// The variant of the comparison (`crate::room::sweep::Variant::label`): with the room,
+    /// the size and `wall_grid`, the cell's key (two variants share a pipeline).
+    pub variant: String,
+    /// Light-scattering samples (0: off).
+    pub scatter: u32,
+    /// Vertices a side of each wall's grid in the real-geometry baseline.
+    pub wall_grid: usize,
+    /// Median frame time of the real-geometry baseline, ms.
+    #[serde(deserialize_with = "null_as_nan")]
+    pub geometry_ms: f64,
+    /// Mean |interior − baseline| per 8-bit channel.
+    #[serde(deserialize_with = "null_as_nan")]
+    pub mean_abs_diff: f64,
+    /// Each wall's accuracy.
+    #[serde(default)]
+    pub per_wall: Vec<WallCells>,
+}
+
+impl RoomCells {
+    /// The interior's median frame time over the baseline's.
+    pub fn ratio(&self, m: &Metrics) -> f64 {
+        m.frame_ms_median / self.geometry_ms
+    }
+}
+
+/// One wall's accuracy in a room cell ([`RoomCells::per_wall`]).
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct WallCells {
+    /// The wall.
+    pub wall: String,
+    /// Rays the host sends to it.
+    pub rays: usize,
+    /// RMS t error.
+    #[serde(deserialize_with = "null_as_nan")]
+    pub t_err_rms: f64,
+    /// Share that jumped over geometry (`crate::room::accuracy::WallAccuracy::skipped_rate`).
+    #[serde(deserialize_with = "null_as_nan")]
+    pub skipped_rate: f64,
+    /// Share past the exact hit by more than a texel of travel
+    /// (`crate::room::accuracy::WallAccuracy::past_rate`).
+    #[serde(deserialize_with = "null_as_nan")]
+    pub past_rate: f64,
+}
+
+/// A number written as `null` (NaN or infinite when measured) reads back as NaN.
+pub(crate) fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 /// The columns of `results.csv`, in order.
@@ -439,6 +504,10 @@ pub const GPU_COLUMNS: &[&str] = &[
     "gpu_gfx1100_loop_body",
 ];
 
+/// A room cell's columns ([`RoomCells`], less its per-wall list), after the others in
+/// `results.csv` when any row is a room cell's.
+pub const ROOM_COLUMNS: &[&str] = &["variant", "scatter", "wall_grid", "geometry_ms", "mean_abs_diff"];
+
 /// The file rows are appended to, in a sweep folder.
 pub(crate) const JSONL: &str = "results.jsonl";
 
@@ -502,10 +571,15 @@ pub fn read(dir: &Path) -> Result<ReadRows, FileError> {
     Ok(out)
 }
 
-/// A cell's key: the pipeline's canonical text, the scene, the size and the adapter. A
-/// results file holds one row per key.
-pub(crate) fn cell_key(m: &Metrics) -> (String, String, u32, String) {
-    (m.pipeline.to_string(), m.scene.clone(), m.size, m.adapter.clone())
+/// A cell's key ([`cell_key`]).
+pub(crate) type CellKey = (String, String, u32, String, Option<(String, usize)>);
+
+/// A cell's key: the pipeline's canonical text, the scene, the size and the adapter, and a
+/// room cell's variant and wall grid. A results file holds one row per key.
+pub(crate) fn cell_key(r: &Row) -> CellKey {
+    let m = &r.metrics;
+    let room = r.room.as_ref().map(|c| (c.variant.clone(), c.wall_grid));
+    (m.pipeline.to_string(), m.scene.clone(), m.size, m.adapter.clone(), room)
 }
 
 /// `rows` (with their line numbers) less every row whose cell key ([`cell_key`]) is on
@@ -515,7 +589,7 @@ pub(crate) fn cell_key(m: &Metrics) -> (String, String, u32, String) {
 /// or a file was edited), so neither is chosen.
 fn without_duplicates(rows: Vec<(usize, Row)>) -> (Vec<Row>, Vec<(usize, String)>) {
     let mut lines_of: std::collections::HashMap<_, Vec<usize>> = std::collections::HashMap::new();
-    let keys: Vec<_> = rows.iter().map(|(_, r)| cell_key(&r.metrics)).collect();
+    let keys: Vec<_> = rows.iter().map(|(_, r)| cell_key(r)).collect();
     for ((line, _), k) in rows.iter().zip(&keys) {
         lines_of.entry(k.clone()).or_default().push(*line);
     }
@@ -530,13 +604,16 @@ fn without_duplicates(rows: Vec<(usize, Row)>) -> (Vec<Row>, Vec<(usize, String)
             messages.push((
                 line,
                 format!(
-                "lines {}: {} rows for one cell (pipeline {}, scene {}, size {}, adapter {}), all left out: keep one",
+                "lines {}: {} rows for one cell (pipeline {}, scene {}, size {}, adapter {}{}), all left out: keep one",
                 list.join(", "),
                 lines.len(),
                 relief_dsl::spec::echo(&k.0),
                 relief_dsl::spec::echo(&k.1),
                 k.2,
-                relief_dsl::spec::echo(&k.3)
+                relief_dsl::spec::echo(&k.3),
+                k.4.as_ref()
+                    .map(|(v, g)| format!(", variant {}, wall grid {g}", relief_dsl::spec::echo(v)))
+                    .unwrap_or_default()
             ),
             ));
         }
@@ -595,12 +672,17 @@ pub(crate) fn csv_bytes(rows: &[Row]) -> Result<Vec<u8>, ResultsError> {
     if rows.iter().any(|r| r.metrics.gpu_driver.is_some()) {
         columns.extend(GPU_COLUMNS);
     }
+    let plain = columns.len();
+    if rows.iter().any(|r| r.room.is_some()) {
+        columns.extend(ROOM_COLUMNS);
+    }
     w.write_record(&columns).map_err(|e| encode(&e))?;
     for r in rows {
         let v = serde_json::to_value(r).map_err(|e| encode(&e))?;
         let record: Vec<String> = columns
             .iter()
-            .map(|c| match &v[*c] {
+            .enumerate()
+            .map(|(i, c)| match if i < plain { &v[*c] } else { &v["room"][*c] } {
                 serde_json::Value::String(s) => s.clone(),
                 serde_json::Value::Null => String::new(),
                 other => other.to_string(),
@@ -695,6 +777,48 @@ const LATER_FIELDS: &[&str] = &[
     "mse_worst1_share",
     "skipped_rate",
     "past_rate",
+];
+
+impl Metrics {
+    /// The metrics of a cell that measures none but the ones its caller sets: the naming
+    /// columns given, every number NaN (never a silent 0), the counts 0.
+    pub(crate) fn not_measured(pipeline: relief_dsl::Pipeline, scene: String, size: u32, adapter: String) -> Metrics {
+        let mut m = Metrics { pipeline, scene, size, adapter, ..Default::default() };
+        for f in NUMBERS {
+            set_nan(&mut m, f);
+        }
+        m
+    }
+}
+
+/// Every `f64` metric [`set_nan`] knows.
+const NUMBERS: &[&str] = &[
+    "frame_ms_median",
+    "frame_ms_mean",
+    "avg_coarse_steps",
+    "avg_refine_steps",
+    "nonconverged_rate",
+    "frame_ms_p10",
+    "frame_ms_p90",
+    "mse_dissertation",
+    "mse_dissertation_mean",
+    "ref_err_t_rms",
+    "ref_err_uv_texels_rms",
+    "missed_rate",
+    "past_rate",
+    "skipped_rate",
+    "ref_err_t_median",
+    "ref_err_t_p90",
+    "ref_err_t_p99",
+    "mse_worst1_share",
+    "false_hit_rate",
+    "avg_iterations",
+    "avg_fetches",
+    "simd32_steps",
+    "simd64_steps",
+    "simd32_fetches",
+    "simd32_divergence",
+    "timestamp_period_ns",
 ];
 
 fn set_nan(m: &mut Metrics, field: &str) {

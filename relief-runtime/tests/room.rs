@@ -346,33 +346,43 @@ fn maps_not_at_height_1_on_their_border_are_warned_about() {
 
 #[test]
 fn the_report_has_a_room_section_from_a_room_grid() {
-    use relief_runtime::room::sweep::{read_rows, rows_path, variants, RoomRow};
+    use relief_runtime::results::{Metrics, RoomCells, Row, Status};
+    use relief_runtime::room::sweep::{read_rows, variants, GRID};
     let dir = std::env::temp_dir().join(format!("relief-room-report-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
     std::fs::create_dir_all(&dir).unwrap();
     // Rows as `relief sweep --grid rooms` writes them (values made up: the section only
     // reports them); POM is 4× faster than geometry, effects add cost.
-    let rows: Vec<RoomRow> = variants()
+    let rows: Vec<Row> = variants()
         .iter()
         .enumerate()
-        .map(|(i, v)| RoomRow {
-            room: "room:default".into(),
-            variant: v.label.into(),
-            pipeline: v.pipeline.into(),
-            scatter: v.scatter.unwrap_or(0),
-            size: 64,
-            grid: 320,
-            frame_ms: 1.0 + i as f64,
-            baseline_ms: 8.0,
-            ratio: (1.0 + i as f64) / 8.0,
-            status: relief_runtime::results::Status::Ok,
+        .map(|(i, v)| Row {
+            grid: GRID.into(),
+            metrics: Metrics {
+                pipeline: v.pipeline.parse().unwrap(),
+                scene: "room:default".into(),
+                size: 64,
+                frame_ms_median: 1.0 + i as f64,
+                ..Default::default()
+            },
+            status: Status::Ok,
+            room: Some(RoomCells {
+                variant: v.label.into(),
+                scatter: v.scatter.unwrap_or(0),
+                wall_grid: 320,
+                geometry_ms: 8.0,
+                ..Default::default()
+            }),
             ..Default::default()
         })
         .collect();
-    let text: String = rows.iter().map(|r| serde_json::to_string(r).unwrap() + "\n").collect();
-    std::fs::write(rows_path(&dir), text).unwrap();
-    assert_eq!(read_rows(&dir).unwrap().unwrap(), rows);
+    for r in &rows {
+        relief_runtime::results::append(&dir, r).unwrap();
+    }
+    assert_eq!(read_rows(&dir).unwrap(), rows);
     relief_runtime::report::write(&dir).unwrap();
     let md = std::fs::read_to_string(dir.join("tables.md")).unwrap();
+    assert!(md.starts_with("# relief report: rooms\n"), "{md}");
     assert!(md.contains("Interior mapping in room:default"), "{md}");
     for v in variants() {
         assert!(md.contains(&format!("| {} |", v.label)), "{}: {md}", v.label);
@@ -380,8 +390,11 @@ fn the_report_has_a_room_section_from_a_room_grid() {
     // 8 ms of geometry against 2 ms of interior + POM: 4×, the paper's ordering.
     assert!(md.contains("4.00× the frame time of interior mapping + POM: the ordering holds"), "{md}");
     assert!(md.contains("rising, as in the paper"), "{md}");
+    // Only the room section: the sections of sweep rows are left out of a rooms-only report.
+    assert_eq!(md.matches("\n## ").count(), 1, "{md}");
     let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
     assert!(html.contains("id=\"rooms\""));
+    assert!(!html.contains("id=\"answer\"") && !dir.join("pareto.md").exists(), "{html}");
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -470,21 +483,54 @@ fn the_room_grid_resumes_where_it_stopped() {
     std::fs::remove_dir_all(&dir).ok();
     let setup = RoomSetup { size: 24, grid: 16, warmup: 0, frames: 1 };
     let rooms = vec!["room:default".to_string()];
+    // A plain sweep's row already in the folder: the room cells go beside it, and it stays.
+    let plain = relief_runtime::Row {
+        grid: "t4.1".into(),
+        metrics: relief_runtime::Metrics {
+            pipeline: "linear(8)".parse().unwrap(),
+            scene: "scene:lion".into(),
+            size: 24,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    std::fs::create_dir_all(&dir).unwrap();
+    relief_runtime::results::append(&dir, &plain).unwrap();
     let first = sweep::run(&rooms, &setup, &dir).unwrap();
     assert_eq!((first.measured, first.skipped), (sweep::variants().len(), 0));
     assert!(first.rows.iter().all(|r| r.status.is_ok()), "{:?}", first.rows);
+    // The rows round-trip through the typed reader: the plain row first, as it was, then each
+    // room cell's row as the run returned it (compared as JSON, where NaN, a metric a room
+    // cell does not measure, is null on both sides), its room columns set.
+    let read = relief_runtime::results::read(&dir).unwrap();
+    assert!(read.bad_lines.is_empty(), "{:?}", read.bad_lines);
+    assert_eq!(read.rows.len(), 1 + first.rows.len());
+    assert_eq!(read.rows[0], plain);
+    let json = |r: &relief_runtime::Row| serde_json::to_string(r).unwrap();
+    for (back, written) in read.rows[1..].iter().zip(&first.rows) {
+        assert_eq!(json(back), json(written));
+        let c = back.room.as_ref().unwrap();
+        assert_eq!((back.grid.as_str(), c.wall_grid, c.per_wall.len()), (sweep::GRID, 16, WALLS));
+        assert!(back.metrics.frame_ms_median > 0.0 && c.geometry_ms > 0.0, "{back:?}");
+        assert!(back.metrics.ref_err_t_rms.is_finite() && back.metrics.avg_fetches.is_nan(), "{back:?}");
+    }
     let again = sweep::run(&rooms, &setup, &dir).unwrap();
     assert_eq!((again.measured, again.skipped), (0, sweep::variants().len()));
     // The kept rows are the first run's (its frame times, which a re-measure would not repeat;
     // JSON keeps them to the digit).
-    let key = |rows: &[sweep::RoomRow]| {
-        rows.iter().map(|r| (r.room.clone(), r.variant.clone(), r.frame_ms, r.baseline_ms)).collect::<Vec<_>>()
+    let key = |rows: &[relief_runtime::Row]| {
+        rows.iter()
+            .map(|r| {
+                let c = r.room.as_ref().unwrap();
+                (r.metrics.scene.clone(), c.variant.clone(), r.metrics.frame_ms_median, c.geometry_ms)
+            })
+            .collect::<Vec<_>>()
     };
     assert_eq!(key(&again.rows), key(&first.rows));
     // Another frame size is other cells.
     let bigger = sweep::run(&rooms, &RoomSetup { size: 32, ..setup }, &dir).unwrap();
     assert_eq!(bigger.measured, sweep::variants().len());
-    assert_eq!(sweep::read_rows(&dir).unwrap().unwrap().len(), 2 * sweep::variants().len());
+    assert_eq!(sweep::read_rows(&dir).unwrap().len(), 2 * sweep::variants().len());
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -537,17 +583,54 @@ fn a_room_hit_three_texels_past_a_flat_wall_is_past_but_not_skipped() {
 /// `past_rate` and has no `skipped_rate` (NaN, shown as a dash, never a 0).
 #[test]
 fn an_older_room_row_reads_missed_rate_as_past_rate() {
-    use relief_runtime::room::sweep::{read_rows, rows_path};
+    use relief_runtime::room::sweep::{legacy_path, read_rows};
     let dir = std::env::temp_dir().join(format!("relief-room-old-row-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
     std::fs::create_dir_all(&dir).unwrap();
     let line = r#"{"room":"room:default","variant":"+ POM","pipeline":"linear(8)","scatter":0,"size":64,"grid":320,"frame_ms":1.0,"baseline_ms":2.0,"ratio":0.5,"t_err_rms":0.01,"missed_rate":0.25,"mean_abs_diff":1.0,"status":"ok","error":"","per_wall":[{"wall":"back","rays":4,"t_err_rms":0.01,"missed_rate":0.5}]}"#;
-    std::fs::write(rows_path(&dir), format!("{line}\n")).unwrap();
-    let rows = read_rows(&dir).unwrap().unwrap();
-    assert_eq!((rows[0].past_rate, rows[0].per_wall[0].past_rate), (0.25, 0.5));
-    assert!(rows[0].skipped_rate.is_nan() && rows[0].per_wall[0].skipped_rate.is_nan(), "{:?}", rows[0]);
+    std::fs::write(legacy_path(&dir), format!("{line}\n")).unwrap();
+    let rows = read_rows(&dir).unwrap();
+    let (m, c) = (&rows[0].metrics, rows[0].room.as_ref().unwrap());
+    assert_eq!((m.past_rate, c.per_wall[0].past_rate), (0.25, 0.5));
+    assert!(m.skipped_rate.is_nan() && c.per_wall[0].skipped_rate.is_nan(), "{:?}", rows[0]);
+    assert_eq!(
+        (m.scene.as_str(), c.variant.as_str(), m.frame_ms_median, c.geometry_ms),
+        ("room:default", "+ POM", 1.0, 2.0)
+    );
     relief_runtime::report::write(&dir).unwrap();
     let md = std::fs::read_to_string(dir.join("tables.md")).unwrap();
     assert!(md.contains("| t err rms | skipped | past |"), "{md}");
     assert!(md.contains("| 1.000e-2 | — | 25.0% |"), "{md}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The room tables as they were: `tests/data/rooms_before/` holds the rows an older relief's
+/// `relief sweep --grid rooms --size 24 --frames 2` wrote (`rooms.jsonl`) and the `tables.md`
+/// that relief's `relief report` wrote from them (before room rows were results rows). The
+/// report of those rows read through the older shape, and again after the next room sweep
+/// moved them into `results.jsonl` as typed rows (measuring nothing: every cell is kept),
+/// writes that same `tables.md`, byte for byte.
+#[test]
+fn the_room_tables_of_an_older_folder_are_unchanged_before_and_after_its_rows_move() {
+    use relief_runtime::room::measure::RoomSetup;
+    use relief_runtime::room::sweep;
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/rooms_before");
+    let want = std::fs::read_to_string(data.join("tables.md")).unwrap();
+    let dir = std::env::temp_dir().join(format!("relief-room-before-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(data.join("rooms.jsonl"), sweep::legacy_path(&dir)).unwrap();
+    relief_runtime::report::write(&dir).unwrap();
+    assert_eq!(std::fs::read_to_string(dir.join("tables.md")).unwrap(), want);
+    let rooms: Vec<String> = sweep::DEFAULT_ROOMS.iter().map(|r| r.to_string()).collect();
+    let setup = RoomSetup { size: 24, grid: relief_runtime::room::mesh::DEFAULT_GRID, warmup: 0, frames: 1 };
+    let moved = sweep::run(&rooms, &setup, &dir).unwrap();
+    assert_eq!((moved.measured, moved.skipped, moved.rows.len()), (0, 8, 8));
+    assert!(!sweep::legacy_path(&dir).exists());
+    let read = relief_runtime::results::read(&dir).unwrap();
+    assert_eq!((read.rows.len(), read.bad_lines.len()), (8, 0));
+    assert!(read.rows.iter().all(|r| r.room.is_some() && r.grid == sweep::GRID));
+    relief_runtime::report::write(&dir).unwrap();
+    assert_eq!(std::fs::read_to_string(dir.join("tables.md")).unwrap(), want);
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -148,9 +148,22 @@ fn the_room_grid_refuses_view_overrides_and_shards_in_one_line() {
         let e = String::from_utf8_lossy(&o.stderr);
         let e = e.lines().filter(|l| !l.contains("XDG_RUNTIME_DIR")).collect::<Vec<_>>();
         assert!(!o.status.success() && e.len() == 1 && e[0].contains(says), "{flag}: {e:?}");
-        assert!(!dir.join("rooms.jsonl").exists(), "{flag}: a room was measured");
+        assert!(!dir.join("results.jsonl").exists(), "{flag}: a room was measured");
     }
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `relief cost --grid rooms` asks the sweep's plan what the grid is and refuses the room
+/// comparison in one line (its walls are not relief pipelines), pricing nothing.
+#[test]
+fn relief_cost_refuses_the_room_grid_in_one_line() {
+    let o = relief().args(["cost", "--grid", "rooms"]).output().unwrap();
+    let e = String::from_utf8_lossy(&o.stderr);
+    let e = e.lines().filter(|l| !l.contains("XDG_RUNTIME_DIR")).collect::<Vec<_>>();
+    assert!(
+        !o.status.success() && e.len() == 1 && e[0].contains("--grid rooms: the room grid's pipelines are not priced"),
+        "{e:?}"
+    );
 }
 
 /// Two maps of one kind with different parameters (mcns's K) must not share an upload: the

@@ -142,7 +142,7 @@ pub fn add(dir: &Path, files: &[PathBuf], replace: bool) -> Result<Vec<Added>> {
         // The sweep: the ok cells of the other adapters, with their grid.
         let sweep: HashMap<(Pipeline, String, u32), String> = rows
             .iter()
-            .filter(|r| r.status.is_ok())
+            .filter(|r| r.status.is_ok() && r.room.is_none())
             .map(|r| ((r.metrics.pipeline.clone(), r.metrics.scene.clone(), r.metrics.size), r.grid.clone()))
             .collect();
         let mut added = Added {
@@ -183,6 +183,7 @@ pub fn add(dir: &Path, files: &[PathBuf], replace: bool) -> Result<Vec<Added>> {
                         error: String::new(),
                         relief_version: f.relief_version.clone(),
                         cell_dir: String::new(),
+                        room: None,
                     });
                     added.rows += 1;
                 }

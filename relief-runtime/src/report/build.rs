@@ -9,20 +9,14 @@ use super::sections::Report;
 use super::summary::ReportSummary;
 use super::{adapters, agreement, answer, browser, charts, conclusions, data, diss, gpu_cost, pareto, strips, tables};
 use crate::error::{Error, Result};
-use crate::room::sweep::RoomRow;
+use crate::results::Row;
 
-/// What the folders hold: a sweep's rows (a report), or only a room grid's.
-pub(crate) enum Built {
-    /// The rows of a sweep, and what was built from them.
-    Sweep(Box<Report>),
-    /// No sweep rows, only a room grid's (`relief sweep --grid rooms`): the out folder and
-    /// the rows.
-    RoomsOnly(PathBuf, Vec<RoomRow>),
-}
-
-/// Reads the rows of `dirs` (merged, each adapter's apart) and builds and writes everything
-/// the sections show, into `out` (see `super::write_many`).
-pub(crate) fn build(dirs: &[PathBuf], out: &Path) -> Result<Built> {
+/// Reads the rows of `dirs` (merged, each adapter's apart; the room cells' apart from the
+/// others) and builds and writes everything the sections show, into `out` (see
+/// `super::write_many`). Folders that hold only room cells (`relief sweep --grid rooms`)
+/// give a report with no sweep rows: nothing is built from those, and only the sections that
+/// show no sweep rows render (`super::sections::Section::of_sweep`).
+pub(crate) fn build(dirs: &[PathBuf], out: &Path) -> Result<Box<Report>> {
     if dirs.is_empty() {
         return Err(Error::NoSweepFolders);
     }
@@ -33,24 +27,22 @@ pub(crate) fn build(dirs: &[PathBuf], out: &Path) -> Result<Built> {
     }
     let dir = out;
     crate::io::create_dir_all(dir)?;
-    let (all_rows, bad_lines) = data::read_merged(dirs, dir)?;
+    let (merged, bad_lines) = data::read_merged(dirs, dir)?;
+    let (mut room_rows, all_rows): (Vec<Row>, Vec<Row>) = merged.iter().cloned().partition(|r| r.room.is_some());
+    // An older relief's room rows, in `rooms.jsonl` beside `results.jsonl`.
+    for d in dirs {
+        crate::room::sweep::add_legacy(d, &mut room_rows)?;
+    }
     let mut adapters = data::by_adapter(all_rows.clone());
     let primary = if adapters.is_empty() { Vec::new() } else { adapters.remove(0).1 };
     let data = data::Data::from_rows(dir, primary, bad_lines);
     let others: Vec<(String, data::Data)> =
         adapters.into_iter().map(|(a, rows)| (a, data::Data::from_rows(dir, rows, Vec::new()))).collect();
-    let mut room_rows = None;
-    for d in dirs {
-        if let Some(rr) = crate::room::sweep::read_rows(d)? {
-            room_rows = Some(rr);
-            break;
-        }
-    }
     if data.rows.is_empty() {
-        if let Some(rr) = room_rows {
-            return Ok(Built::RoomsOnly(dir.to_path_buf(), rr));
+        if room_rows.is_empty() {
+            return Err(Error::NoResults { dir: dir.to_path_buf(), bad_lines: data.bad_lines });
         }
-        return Err(Error::NoResults { dir: dir.to_path_buf(), bad_lines: data.bad_lines });
+        return Ok(rooms_only(dirs, data, room_rows));
     }
     let sub = dir.join("report");
     crate::io::create_dir_all(&sub)?;
@@ -74,7 +66,7 @@ pub(crate) fn build(dirs: &[PathBuf], out: &Path) -> Result<Built> {
         ..Default::default()
     };
     if !dirs.iter().any(|d| same_dir(d, dir)) {
-        write_file(&dir.join(crate::results::CSV), &crate::results::csv_bytes(&all_rows)?, &mut summary.files)?;
+        write_file(&dir.join(crate::results::CSV), &crate::results::csv_bytes(&merged)?, &mut summary.files)?;
     }
 
     let diss = diss::Diss::load();
@@ -109,7 +101,7 @@ pub(crate) fn build(dirs: &[PathBuf], out: &Path) -> Result<Built> {
     if let Err(e) = &shipped {
         summary.warnings.push(format!("no browser data: {e}"));
     }
-    Ok(Built::Sweep(Box::new(Report {
+    Ok(Box::new(Report {
         data,
         diss,
         summary,
@@ -129,7 +121,46 @@ pub(crate) fn build(dirs: &[PathBuf], out: &Path) -> Result<Built> {
         gpu,
         room_rows,
         shipped,
-    })))
+    }))
+}
+
+/// The report of folders whose rows are all room cells': their summary, and nothing built
+/// from the (absent) sweep rows; no file is written here.
+fn rooms_only(dirs: &[PathBuf], data: data::Data, room_rows: Vec<Row>) -> Box<Report> {
+    let summary = ReportSummary {
+        dir: data.dir.clone(),
+        rows: room_rows.len(),
+        ok: room_rows.iter().filter(|r| r.status.is_ok()).count(),
+        failed: room_rows
+            .iter()
+            .filter(|r| !r.status.is_ok())
+            .map(|r| (r.metrics.pipeline.to_string(), r.metrics.scene.clone(), r.error.clone()))
+            .collect(),
+        bad_lines: data.bad_lines.clone(),
+        sources: dirs.to_vec(),
+        ..Default::default()
+    };
+    Box::new(Report {
+        sub: data.dir.join("report"),
+        data,
+        diss: diss::Diss::load(),
+        summary,
+        tables: Vec::new(),
+        conclusions: Vec::new(),
+        per_adapter: None,
+        per_adapter_cells: None,
+        agreement: Default::default(),
+        charts: Vec::new(),
+        strips: Vec::new(),
+        fronts: Vec::new(),
+        pareto_svgs: Vec::new(),
+        answers: Vec::new(),
+        answer_charts: Vec::new(),
+        scene_maps: Vec::new(),
+        gpu: None,
+        room_rows,
+        shipped: Err(Error::Input("no sweep rows: only room cells".into())),
+    })
 }
 
 impl Report {

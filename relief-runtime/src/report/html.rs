@@ -148,20 +148,32 @@ pub(crate) fn page(data: &Data, summary: &ReportSummary, sections: &[PageSection
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\
          <meta name=\"color-scheme\" content=\"light dark\"><title>relief report</title><link rel=\"icon\" href=\"data:,\"><style>{STYLE}</style></head><body>"
     );
-    let _ =
-        writeln!(h, "<header><h1>relief report: which relief-mapping search is fastest at the accuracy you need?</h1>");
-    let _ = writeln!(
-        h,
-        "<p class=\"lead\">{} rows ({} ok) on {} · Burger 2018, chapter 4, reproduced below the answer.</p>",
-        summary.rows,
-        summary.ok,
-        esc(&data.distinct(|r| r.metrics.adapter.clone()).join("; "))
-    );
+    // No sweep rows: the folders hold only room cells (`relief sweep --grid rooms`).
+    let rooms_only = data.rows.is_empty();
+    if rooms_only {
+        let _ = writeln!(h, "<header><h1>relief report: rooms</h1>");
+        let _ = writeln!(h, "<p class=\"lead\">{} room cells ({} ok).</p>", summary.rows, summary.ok);
+    } else {
+        let _ = writeln!(
+            h,
+            "<header><h1>relief report: which relief-mapping search is fastest at the accuracy you need?</h1>"
+        );
+        let _ = writeln!(
+            h,
+            "<p class=\"lead\">{} rows ({} ok) on {} · Burger 2018, chapter 4, reproduced below the answer.</p>",
+            summary.rows,
+            summary.ok,
+            esc(&data.distinct(|r| r.metrics.adapter.clone()).join("; "))
+        );
+    }
     h.push_str("<nav class=\"toc\">");
     for s in sections {
         let _ = write!(h, "<a href=\"#{}\">{}</a>", s.id, esc(&s.nav));
     }
-    h.push_str("<a href=\"tables.md\">tables.md</a><a href=\"pareto.md\">pareto.md</a>");
+    h.push_str("<a href=\"tables.md\">tables.md</a>");
+    if !rooms_only {
+        h.push_str("<a href=\"pareto.md\">pareto.md</a>");
+    }
     if data.dir.join(crate::results::CSV).is_file() {
         h.push_str("<a href=\"results.csv\">results.csv</a>");
     }

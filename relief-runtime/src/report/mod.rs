@@ -46,7 +46,7 @@ mod text;
 use std::path::{Path, PathBuf};
 
 use crate::error::Result;
-use build::{write_file, Built};
+use build::write_file;
 use sections::Section;
 
 pub use add::{add, Added};
@@ -85,24 +85,29 @@ pub fn write(dir: &Path) -> Result<ReportSummary> {
 /// differ: each adapter's rows are kept apart (see the module docs). With `out` outside
 /// `dirs`, the merged rows are written to `out/results.csv` too.
 pub fn write_many(dirs: &[PathBuf], out: &Path) -> Result<ReportSummary> {
-    let mut r = match build::build(dirs, out)? {
-        Built::Sweep(r) => r,
-        Built::RoomsOnly(dir, rows) => return sections::rooms::write_only(&dir, &rows),
-    };
+    let mut r = build::build(dirs, out)?;
     let dir = r.summary.dir.clone();
-    let mut in_md: Vec<(u8, &dyn Section)> = SECTIONS.iter().filter_map(|&(place, s)| Some((place?, s))).collect();
+    // Folders holding only room cells: no sweep rows, so only the sections of other rows.
+    let rooms_only = r.data.rows.is_empty();
+    let sections: Vec<(Option<u8>, &dyn Section)> =
+        SECTIONS.iter().copied().filter(|(_, s)| !rooms_only || !s.of_sweep()).collect();
+    let mut in_md: Vec<(u8, &dyn Section)> = sections.iter().filter_map(|&(place, s)| Some((place?, s))).collect();
     in_md.sort_by_key(|(place, _)| *place);
-    let mut md = String::from("# relief report: Burger 2018, chapter 4, reproduced\n\n");
+    let mut md = String::from(if rooms_only {
+        "# relief report: rooms\n\n"
+    } else {
+        "# relief report: Burger 2018, chapter 4, reproduced\n\n"
+    });
     for (_, s) in in_md {
         md.extend(s.markdown(&r));
     }
     write_file(&dir.join("tables.md"), md.as_bytes(), &mut r.summary.files)?;
-    for (_, s) in SECTIONS {
+    for (_, s) in &sections {
         if let Some((name, text)) = s.file(&r) {
             write_file(&dir.join(name), text.as_bytes(), &mut r.summary.files)?;
         }
     }
-    let page: Vec<_> = SECTIONS.iter().filter_map(|(_, s)| s.html(&r)).collect();
+    let page: Vec<_> = sections.iter().filter_map(|(_, s)| s.html(&r)).collect();
     let page = html::page(&r.data, &r.summary, &page);
     write_file(&dir.join("index.html"), page.as_bytes(), &mut r.summary.files)?;
     Ok(r.finish())

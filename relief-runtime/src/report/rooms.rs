@@ -1,6 +1,6 @@
 //! The room section: Amaro & Gustafsson 2022's comparison (§3.1.3) of interior mapping
-//! alone, + POM, + soft shadows, + light scattering, against real geometry, from
-//! `DIR/rooms.jsonl` (`relief sweep --grid rooms`).
+//! alone, + POM, + soft shadows, + light scattering, against real geometry, from the room
+//! cells' results rows (`relief sweep --grid rooms`; [`crate::results::RoomCells`]).
 //!
 //! The paper measured GPU utilisation and power on an RTX 3070 Ti (nvtop); relief measures
 //! render-pass frame times on the device at hand. The two are shown side by side, not
@@ -8,7 +8,7 @@
 //! interior mapping with POM; each added effect costs more).
 
 use super::text::{fmt_ms, fmt_num, fmt_pct, fmt_sci, TextTable, DASH};
-use crate::room::sweep::RoomRow;
+use crate::results::{RoomCells, Row};
 
 /// The paper's figures per variant (§3.1.3): GPU utilisation and power.
 fn seed(variant: &str) -> (&'static str, &'static str) {
@@ -29,17 +29,18 @@ fn rate(x: f64) -> String {
     fmt_pct(Some(100.0 * x))
 }
 
-/// The room tables: one per room.
-pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
+/// The room tables: one per room, from the rows that are room cells'.
+pub(crate) fn tables(rows: &[Row]) -> Vec<TextTable> {
+    let cells: Vec<(&Row, &RoomCells)> = rows.iter().filter_map(|r| Some((r, r.room.as_ref()?))).collect();
     let mut rooms: Vec<&str> = Vec::new();
-    for r in rows {
-        if !rooms.contains(&r.room.as_str()) {
-            rooms.push(&r.room);
+    for (r, _) in &cells {
+        if !rooms.contains(&r.metrics.scene.as_str()) {
+            rooms.push(&r.metrics.scene);
         }
     }
     let mut out = Vec::new();
     for room in rooms {
-        let mine: Vec<&RoomRow> = rows.iter().filter(|r| r.room == room).collect();
+        let mine: Vec<&(&Row, &RoomCells)> = cells.iter().filter(|(r, _)| r.metrics.scene == room).collect();
         let mut t = TextTable {
             title: format!("Interior mapping in {room} (Amaro & Gustafsson 2022, §3.1.3)"),
             header: [
@@ -59,42 +60,43 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
             .to_vec(),
             ..Default::default()
         };
-        if let Some(r) = mine.first() {
+        if let Some((r, c)) = mine.first() {
             t.notes.push(format!(
                 "{}² pixels; real geometry: every wall's height map on a {}² grid (the paper's 320²), depth-buffered, Lambert lighting, no shadows. The paper's baseline: {} GPU utilisation, {}. Scattering: {} samples.",
-                r.size,
-                r.grid,
+                r.metrics.size,
+                c.wall_grid,
                 PAPER_BASELINE.0,
                 PAPER_BASELINE.1,
-                mine.iter().map(|r| r.scatter).max().unwrap_or(0)
+                mine.iter().map(|(_, c)| c.scatter).max().unwrap_or(0)
             ));
         }
-        for r in &mine {
-            let (util, power) = seed(&r.variant);
+        for (r, c) in &mine {
+            let (util, power) = seed(&c.variant);
             if !r.status.is_ok() {
-                t.rows.push(vec![r.variant.clone(), r.pipeline.clone(), "error".into(), r.error.clone()]);
+                t.rows.push(vec![c.variant.clone(), r.metrics.pipeline.to_string(), "error".into(), r.error.clone()]);
                 continue;
             }
+            let m = &r.metrics;
             t.rows.push(vec![
-                r.variant.clone(),
+                c.variant.clone(),
                 format!(
                     "{}{}",
-                    r.pipeline,
-                    if r.scatter > 0 { format!(" + scatter({})", r.scatter) } else { String::new() }
+                    m.pipeline,
+                    if c.scatter > 0 { format!(" + scatter({})", c.scatter) } else { String::new() }
                 ),
-                fmt_ms(r.frame_ms),
-                fmt_ms(r.baseline_ms),
-                fmt_num(r.ratio, 3),
-                fmt_sci(r.t_err_rms),
-                rate(r.skipped_rate),
-                rate(r.past_rate),
-                fmt_num(r.mean_abs_diff, 2),
+                fmt_ms(m.frame_ms_median),
+                fmt_ms(c.geometry_ms),
+                fmt_num(c.ratio(m), 3),
+                fmt_sci(m.ref_err_t_rms),
+                rate(m.skipped_rate),
+                rate(m.past_rate),
+                fmt_num(c.mean_abs_diff, 2),
                 util.into(),
                 power.into(),
             ]);
         }
-        for r in mine.iter().filter(|r| r.status.is_ok() && r.variant == "+ POM") {
-            let walls: Vec<String> = r
+        for (_, c) in mine.iter().filter(|(r, c)| r.status.is_ok() && c.variant == "+ POM") {
+            let walls: Vec<String> = c
                 .per_wall
                 .iter()
                 .map(|w| {
@@ -107,7 +109,9 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
         }
         // The paper's ordering, checked on our frame times.
         let ms = |label: &str| {
-            mine.iter().find(|r| r.variant == label && r.status.is_ok()).map(|r| (r.frame_ms, r.baseline_ms))
+            mine.iter()
+                .find(|(r, c)| c.variant == label && r.status.is_ok())
+                .map(|(r, c)| (r.metrics.frame_ms_median, c.geometry_ms))
         };
         if let Some((pom, geo)) = ms("+ POM") {
             let holds = pom < geo;
@@ -135,7 +139,7 @@ pub(crate) fn tables(rows: &[RoomRow]) -> Vec<TextTable> {
 }
 
 /// The section in Markdown.
-pub(crate) fn to_markdown(rows: &[RoomRow]) -> String {
+pub(crate) fn to_markdown(rows: &[Row]) -> String {
     let mut md = String::from("## Rooms: interior mapping against real geometry (Amaro & Gustafsson 2022)\n\n");
     for t in tables(rows) {
         md.push_str(&t.to_markdown(3));
@@ -144,7 +148,7 @@ pub(crate) fn to_markdown(rows: &[RoomRow]) -> String {
 }
 
 /// The section in HTML.
-pub(crate) fn to_html(rows: &[RoomRow]) -> String {
+pub(crate) fn to_html(rows: &[Row]) -> String {
     let mut h =
         String::from("<h2 id=\"rooms\">Rooms: interior mapping against real geometry (Amaro & Gustafsson 2022)</h2>\n");
     for t in tables(rows) {

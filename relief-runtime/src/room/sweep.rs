@@ -1,24 +1,26 @@
 //! The room grid of `relief sweep --grid rooms`: Amaro & Gustafsson 2022's comparison (§3.1.3) of interior
 //! mapping alone, + POM, + soft shadows, + light scattering, each against the same room as
-//! real geometry, on every room asked for. Rows go to `DIR/rooms.jsonl` (rewritten whole,
-//! atomically, after every cell, so a kill loses at most the cell in flight), pictures to
-//! `DIR/rooms/ROOM/VARIANT/`; a rerun keeps the cells already measured at the same size and
-//! grid and measures the rest (a failed cell again). `relief report DIR` reads the rows into
-//! its room section.
+//! real geometry, on every room asked for. Each cell's row is a results row
+//! ([`crate::results::Row`], its room columns in [`Row::room`]) appended to
+//! `DIR/results.jsonl` like any sweep's (so a kill loses at most the cell in flight),
+//! pictures go to `DIR/rooms/ROOM/VARIANT/`; a rerun keeps the cells already measured at the
+//! same size and wall grid and measures the rest (a failed cell again). `relief report DIR`
+//! reads the rows into its room section. An older relief wrote the rows to `DIR/rooms.jsonl`
+//! in a shape of their own: [`read_rows`] still reads them, and the next [`run`] moves them
+//! into `results.jsonl`.
 
 use std::path::{Path, PathBuf};
-
-use relief_dsl::compose::interior::RoomOptions;
-use relief_dsl::Pipeline;
-use serde::{Deserialize, Serialize};
 
 use super::accuracy::WallAccuracy;
 use super::measure::{measure_room, write_images, RoomSetup};
 use super::room_from_arg;
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
-use crate::io::FileError;
-use crate::results::ResultsError;
+use crate::results::{Metrics, ResultsError, RoomCells, Row, Status, WallCells};
+use relief_dsl::compose::interior::RoomOptions;
+use relief_dsl::Pipeline;
+
+mod legacy;
 
 /// One variant of the paper's comparison: a label, the pipeline on every wall, scattering.
 #[derive(Clone, Debug, PartialEq)]
@@ -46,125 +48,55 @@ pub fn variants() -> Vec<Variant> {
 /// The rooms measured when none are named.
 pub const DEFAULT_ROOMS: [&str; 2] = ["room:default", "room:window"];
 
-/// One cell: a variant in a room, against that room's geometry.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct RoomRow {
-    /// The room.
-    pub room: String,
-    /// The variant's label ([`Variant::label`]).
-    pub variant: String,
-    /// The pipeline on every wall.
-    pub pipeline: String,
-    /// Scattering samples (0: off).
-    pub scatter: u32,
-    /// Frame size.
-    pub size: u32,
-    /// Vertices a side of each wall's baseline grid.
-    pub grid: usize,
-    /// Median interior frame time, ms.
-    pub frame_ms: f64,
-    /// Median baseline frame time, ms.
-    pub baseline_ms: f64,
-    /// `frame_ms / baseline_ms`.
-    pub ratio: f64,
-    /// RMS t error over all walls.
-    pub t_err_rms: f64,
-    /// Share of rays that jumped over geometry, over all walls
-    /// ([`WallAccuracy::skipped_rate`]); NaN in a row written before it was measured.
-    #[serde(default = "not_recorded", deserialize_with = "null_as_nan")]
-    pub skipped_rate: f64,
-    /// Share of rays more than a texel of travel past the exact hit, over all walls
-    /// ([`WallAccuracy::past_rate`]); a row written before it had the name reads
-    /// `missed_rate`.
-    #[serde(default = "not_recorded", deserialize_with = "null_as_nan")]
-    pub past_rate: f64,
-    /// The old name of `past_rate`, written beside it (the same value) for one release.
-    #[serde(default = "not_recorded", deserialize_with = "null_as_nan")]
-    pub missed_rate: f64,
-    /// Mean |interior − baseline| per 8-bit channel.
-    pub mean_abs_diff: f64,
-    /// Measured or failed (`ok` or `error` in the file).
-    pub status: crate::results::Status,
-    /// The error, when the cell failed.
-    pub error: String,
-    /// Per wall (names and the same measures).
-    #[serde(default)]
-    pub per_wall: Vec<WallRow>,
-}
+/// The grid name a room cell's row carries ([`Row::grid`]).
+pub const GRID: &str = "rooms";
 
-/// A wall's accuracy in a [`RoomRow`].
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct WallRow {
-    /// The wall.
-    pub wall: String,
-    /// Rays on it.
-    pub rays: usize,
-    /// RMS t error.
-    pub t_err_rms: f64,
-    /// Share that jumped over geometry ([`WallAccuracy::skipped_rate`]).
-    #[serde(default = "not_recorded", deserialize_with = "null_as_nan")]
-    pub skipped_rate: f64,
-    /// Share past the exact hit by more than a texel of travel ([`WallAccuracy::past_rate`]).
-    #[serde(default = "not_recorded", deserialize_with = "null_as_nan")]
-    pub past_rate: f64,
-    /// The old name of `past_rate` (the same value), for one release.
-    #[serde(default = "not_recorded", deserialize_with = "null_as_nan")]
-    pub missed_rate: f64,
-}
-
-impl From<&WallAccuracy> for WallRow {
-    fn from(a: &WallAccuracy) -> WallRow {
-        WallRow {
+impl From<&WallAccuracy> for WallCells {
+    fn from(a: &WallAccuracy) -> WallCells {
+        WallCells {
             wall: a.wall.clone(),
             rays: a.rays,
             t_err_rms: a.t_err_rms,
             skipped_rate: a.skipped_rate,
             past_rate: a.past_rate,
-            missed_rate: a.past_rate,
         }
     }
 }
 
-/// A measure a row does not hold: NaN, shown as such, never a silent 0.
-fn not_recorded() -> f64 {
-    f64::NAN
-}
-
-/// A number written as `null` (NaN when measured) reads back as NaN.
-fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
-}
-
-/// A row written before `past_rate` had the name holds it as `missed_rate`.
-fn past_from_missed(past: &mut f64, missed: f64) {
-    if past.is_nan() {
-        *past = missed;
-    }
-}
-
-/// The rows file of a sweep folder.
+/// The rows file of a sweep folder: `results.jsonl`, where every cell's row goes.
 pub fn rows_path(dir: &Path) -> PathBuf {
+    dir.join(crate::results::JSONL)
+}
+
+/// The rows file of an older relief, which kept the room cells apart (read by
+/// [`read_rows`], folded into `results.jsonl` by the next [`run`]).
+pub fn legacy_path(dir: &Path) -> PathBuf {
     dir.join("rooms.jsonl")
 }
 
-/// Reads `DIR/rooms.jsonl`; `None` when there is none. Unreadable lines are errors.
-pub fn read_rows(dir: &Path) -> Result<Option<Vec<RoomRow>>, ResultsError> {
-    let p = rows_path(dir);
-    if !p.exists() {
-        return Ok(None);
-    }
-    let text = crate::io::read_regular_to_string(&p).map_err(|e| FileError::read(&p, e))?;
-    let mut out = Vec::new();
-    for (i, line) in text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty()) {
-        let mut row: RoomRow =
-            serde_json::from_str(line).map_err(|source| ResultsError::Line { path: p.clone(), line: i + 1, source })?;
-        past_from_missed(&mut row.past_rate, row.missed_rate);
-        for w in &mut row.per_wall {
-            past_from_missed(&mut w.past_rate, w.missed_rate);
-        }
-        out.push(row);
-    }
-    Ok(Some(out))
+/// The room cells' rows of the sweep folder `dir`, typed once: those of `results.jsonl`
+/// ([`crate::results::read`]: unreadable lines are left out there, and named by the
+/// report), then those of an older relief's `rooms.jsonl` whose cell `results.jsonl` does not
+/// hold (read by `legacy.rs`, beside this file). Empty when the folder holds no room cell.
+pub fn read_rows(dir: &Path) -> Result<Vec<Row>, ResultsError> {
+    let mut rows: Vec<Row> = crate::results::read(dir)?.rows.into_iter().filter(|r| r.room.is_some()).collect();
+    add_legacy(dir, &mut rows)?;
+    Ok(rows)
+}
+
+/// Adds to `rows` the rows of `dir/rooms.jsonl` (an older relief's) whose cell (room, variant,
+/// pipeline, size and wall grid; the older rows have no adapter) `rows` lacks; whether the
+/// file was there.
+pub(crate) fn add_legacy(dir: &Path, rows: &mut Vec<Row>) -> Result<bool, ResultsError> {
+    let Some(old) = legacy::read(&legacy_path(dir))? else { return Ok(false) };
+    // The cell without its adapter, which the older rows do not record.
+    let cell = |r: &Row| {
+        let (pipeline, scene, size, _, room) = crate::results::cell_key(r);
+        (pipeline, scene, size, room)
+    };
+    let keys: Vec<_> = rows.iter().map(cell).collect();
+    rows.extend(old.into_iter().filter(|r| !keys.contains(&cell(r))));
+    Ok(true)
 }
 
 fn folder(s: &str) -> String {
@@ -173,8 +105,8 @@ fn folder(s: &str) -> String {
 
 /// What [`run`] did.
 pub struct RoomSweep {
-    /// Every row of the folder: those kept from earlier runs, then the new ones.
-    pub rows: Vec<RoomRow>,
+    /// Every room cell's row in the folder: those kept from earlier runs, then the new ones.
+    pub rows: Vec<Row>,
     /// Cells measured by this run.
     pub measured: usize,
     /// Cells kept from an earlier run.
@@ -182,16 +114,33 @@ pub struct RoomSweep {
 }
 
 /// Measures every variant in every room of `rooms` (`room:NAME` or room files) that the
-/// folder's rows do not already hold (ok, same size and grid) and writes the rows.
+/// folder's rows do not already hold (ok, same size and wall grid) and appends a row for each
+/// to `results.jsonl`, beside any other cells' rows, which it keeps as they are. Failed room
+/// cells are measured again: their rows are dropped first (the file rewritten once,
+/// atomically), and so is an older relief's `rooms.jsonl`, whose rows move into
+/// `results.jsonl`.
 pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> Result<RoomSweep> {
     crate::io::create_dir_all(out)?;
-    let earlier = read_rows(out)?.unwrap_or_default();
-    let same_cell = |r: &RoomRow, room: &str, variant: &str| {
-        r.room == room && r.variant == variant && r.size == setup.size && r.grid == setup.grid
+    let mut all = crate::results::read_for_append(out)?;
+    let before = all.len();
+    let legacy = add_legacy(out, &mut all)?;
+    let same_cell = |r: &Row, room: &str, variant: &str| {
+        r.metrics.scene == room
+            && r.metrics.size == setup.size
+            && r.room.as_ref().is_some_and(|c| c.variant == variant && c.wall_grid == setup.grid)
     };
     let gpu = Gpu::new()?;
+    let adapter = format!("{} ({})", gpu.adapter, gpu.driver);
     // Failed cells are measured again: only ok rows are kept.
-    let mut rows: Vec<RoomRow> = earlier.into_iter().filter(|r| r.status.is_ok()).collect();
+    all.retain(|r| r.room.is_none() || r.status.is_ok());
+    if legacy || all.len() != before {
+        crate::results::write_jsonl(out, &all)?;
+        crate::results::write_csv(out, &all)?;
+        if legacy {
+            let old = legacy_path(out);
+            std::fs::remove_file(&old).map_err(|e| crate::io::FileError::write(&old, e))?;
+        }
+    }
     let (mut measured, mut skipped) = (0, 0);
     for arg in rooms {
         let (room, warnings) = room_from_arg(Some(arg), None).map_err(Error::Room)?;
@@ -199,50 +148,53 @@ pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> Result<RoomSweep>
             eprintln!("relief: warning: {w}");
         }
         for v in variants() {
-            if rows.iter().any(|r| same_cell(r, &room.name, v.label)) {
+            if all.iter().any(|r| same_cell(r, &room.name, v.label)) {
                 skipped += 1;
                 continue;
             }
             measured += 1;
             let p: Pipeline = v.pipeline.parse().map_err(|e| Error::from(e).in_pipeline(v.pipeline))?;
-            let mut row = RoomRow {
-                room: room.name.clone(),
-                variant: v.label.into(),
-                pipeline: p.to_string(),
-                scatter: v.scatter.unwrap_or(0),
-                size: setup.size,
-                grid: setup.grid,
-                status: crate::results::Status::Ok,
-                ..Default::default()
+            let cell_dir = format!("rooms/{}/{}", folder(&room.name), folder(v.label));
+            let mut row = Row {
+                grid: GRID.into(),
+                metrics: Metrics::not_measured(p.clone(), room.name.clone(), setup.size, adapter.clone()),
+                status: Status::Ok,
+                error: String::new(),
+                relief_version: env!("CARGO_PKG_VERSION").into(),
+                cell_dir: cell_dir.clone(),
+                room: None,
             };
-            let dir = out.join("rooms").join(folder(&room.name)).join(folder(v.label));
+            let mut cells = RoomCells {
+                variant: v.label.into(),
+                scatter: v.scatter.unwrap_or(0),
+                wall_grid: setup.grid,
+                geometry_ms: f64::NAN,
+                mean_abs_diff: f64::NAN,
+                per_wall: Vec::new(),
+            };
             match measure_room(&gpu, &room, &p, &RoomOptions { scatter: v.scatter }, setup)
-                .and_then(|m| Ok((write_images(&dir, setup.size, &m)?, m)))
+                .and_then(|m| Ok((write_images(&out.join(&cell_dir), setup.size, &m)?, m)))
             {
                 Ok((diff, m)) => {
-                    row.frame_ms = m.frame_ms;
-                    row.baseline_ms = m.baseline_ms;
-                    row.ratio = m.frame_ms / m.baseline_ms;
-                    row.t_err_rms = m.t_err_rms();
-                    row.skipped_rate = m.skipped_rate();
-                    row.past_rate = m.past_rate();
-                    row.missed_rate = row.past_rate;
-                    row.mean_abs_diff = diff;
-                    row.per_wall = m.per_wall.iter().map(WallRow::from).collect();
+                    row.metrics.frame_ms_median = m.frame_ms;
+                    row.metrics.ref_err_t_rms = m.t_err_rms();
+                    row.metrics.skipped_rate = m.skipped_rate();
+                    row.metrics.past_rate = m.past_rate();
+                    row.metrics.missed_rate = row.metrics.past_rate;
+                    cells.geometry_ms = m.baseline_ms;
+                    cells.mean_abs_diff = diff;
+                    cells.per_wall = m.per_wall.iter().map(WallCells::from).collect();
                 }
                 Err(e) => {
-                    row.status = crate::results::Status::Error;
+                    row.status = Status::Error;
                     row.error = e.to_string();
                 }
             }
-            rows.push(row);
-            let text: String = rows
-                .iter()
-                .map(|r| serde_json::to_string(r).map(|s| s + "\n"))
-                .collect::<Result<_, _>>()
-                .map_err(|e| ResultsError::Encode(e.to_string()))?;
-            crate::io::write_atomic(&rows_path(out), text.as_bytes())?;
+            row.room = Some(cells);
+            crate::results::append(out, &row)?;
+            all.push(row);
+            crate::results::write_csv(out, &all)?;
         }
     }
-    Ok(RoomSweep { rows, measured, skipped })
+    Ok(RoomSweep { rows: all.into_iter().filter(|r| r.room.is_some()).collect(), measured, skipped })
 }

@@ -113,8 +113,8 @@ pub struct Summary {
 }
 
 /// The key that says a cell is done: its row's [`results::cell_key`].
-fn key(pipeline: &str, scene: &str, size: u32, adapter: &str) -> (String, String, u32, String) {
-    (pipeline.to_string(), scene.to_string(), size, adapter.to_string())
+fn key(pipeline: &str, scene: &str, size: u32, adapter: &str) -> results::CellKey {
+    (pipeline.to_string(), scene.to_string(), size, adapter.to_string(), None)
 }
 
 /// Runs the sweep.
@@ -127,7 +127,7 @@ pub fn run(opts: &Options) -> Result<Summary> {
     let label = |arg: &str| scene_label(arg) + &opts.overrides.suffix();
     // Rows of other adapters (another device, a browser's rows added to the folder) are
     // other cells.
-    let done: HashSet<_> = rows.iter().map(|r| results::cell_key(&r.metrics)).collect();
+    let done: HashSet<_> = rows.iter().map(results::cell_key).collect();
     // Each scene once: a cell is recorded under the pipeline as measured on its scene (the
     // scene's lod policy applied), so that is what resuming compares.
     let mut scenes: HashMap<String, Result<Scene, String>> = HashMap::new();

@@ -1,6 +1,7 @@
 //! What `relief sweep --grid NAME` measures, as one entry for every grid: the cells of a
-//! built-in grid or a grid file ([`super::run`], rows in `results.jsonl`), or the room
-//! comparison `rooms` ([`crate::room::sweep`], rows in `rooms.jsonl`). The command line asks
+//! built-in grid or a grid file ([`super::run`]), or the room comparison `rooms`
+//! ([`crate::room::sweep`], its rows with their room columns); both append to
+//! `results.jsonl`. The command line asks
 //! [`Plan::load`], lists [`listing`] and runs [`Plan::run`]; it knows no grid by name.
 
 use std::fmt;
@@ -134,12 +135,10 @@ impl Plan {
         grids::load(arg, scenes).map(Plan::Cells)
     }
 
-    /// The file the rows go to in `out`.
+    /// The file the rows go to in `out`: `results.csv` (beside `results.jsonl`), for a grid
+    /// of cells and for the room comparison alike.
     pub fn rows_path(&self, out: &std::path::Path) -> std::path::PathBuf {
-        match self {
-            Plan::Cells(_) => out.join(crate::results::CSV),
-            Plan::Rooms(_) => rooms::rows_path(out),
-        }
+        out.join(crate::results::CSV)
     }
 
     /// Measures the plan with `settings`. The room comparison sets its camera and depth scales

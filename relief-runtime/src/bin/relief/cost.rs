@@ -82,13 +82,14 @@ pub fn run(a: &CostArgs) -> anyhow::Result<()> {
         );
     }
     for g in &a.grid {
-        if g == "rooms" {
-            anyhow::bail!(
-                "--grid rooms: the room grid's pipelines are not priced (its walls are not relief pipelines)"
-            );
-        }
         let scenes = if a.scene.is_empty() { None } else { Some(a.scene.as_slice()) };
-        let grid = relief_runtime::sweep::grids::load(g, scenes)?;
+        // What `relief sweep --grid` would measure: a grid of cells, or the room comparison.
+        let grid = match relief_runtime::sweep::Plan::load(g, scenes)? {
+            relief_runtime::sweep::Plan::Cells(grid) => grid,
+            relief_runtime::sweep::Plan::Rooms(_) => anyhow::bail!(
+                "--grid {g}: the room grid's pipelines are not priced (its walls are not relief pipelines)"
+            ),
+        };
         pipelines.extend(relief_runtime::sweep::measured_pipelines(&grid, &overrides));
     }
     if !a.pipelines.is_empty() {

@@ -33,7 +33,7 @@ use super::strips::Strip;
 use super::summary::ReportSummary;
 use super::tables::ReportTable;
 use super::text::TextTable;
-use crate::room::sweep::RoomRow;
+use crate::results::Row;
 
 /// One part of the report: what it adds to `tables.md`, to `index.html` and as a file of
 /// its own. Each method gives nothing unless the section has that part.
@@ -49,6 +49,11 @@ pub(crate) trait Section: Sync {
     /// A file of its own in the report's folder: its name and its text.
     fn file(&self, _r: &Report) -> Option<(&'static str, String)> {
         None
+    }
+    /// Whether the section shows the sweep's rows (every section but the rooms'): a report
+    /// of folders holding only room cells has none, and leaves such sections out.
+    fn of_sweep(&self) -> bool {
+        true
     }
 }
 
@@ -80,7 +85,9 @@ pub(crate) struct Report {
     /// The height map picture of each answer's scene, in order.
     pub scene_maps: Vec<Option<String>>,
     pub gpu: Option<GpuSection>,
-    pub room_rows: Option<Vec<RoomRow>>,
+    /// The room cells' rows (`relief sweep --grid rooms`), apart from `data`'s; empty when
+    /// the folders hold none.
+    pub room_rows: Vec<Row>,
     /// The browser data the live section reads, or why there is none.
     pub shipped: crate::error::Result<Written>,
 }
