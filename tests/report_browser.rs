@@ -265,7 +265,9 @@ fn fnv(bytes: &[u8]) -> u64 {
 /// section's loader (gzip inflated by the browser's `DecompressionStream`, byte planes put
 /// back), each file's length and FNV-1a hash compared with those of the bytes the runtime
 /// uploads, computed here from the scene (`gpu::scene_uploads`, `gpu::map_upload_of`,
-/// `Scene::rays`) and the WGSL from `emit`, not from the files.
+/// `Scene::rays`) and the WGSL from `emit`, not from the files; and the probe rays, which are
+/// not shipped but computed by the page (`probeRays`, from the f32 terms in the manifest),
+/// equal to `Scene::rays` bit for bit at 32², 256² and 300² (there every second ray).
 #[test]
 fn the_page_inflates_the_browser_data_to_the_runtimes_bytes() {
     use relief::runtime::{gpu, scene_from_arg, MapKey, Program};
@@ -288,7 +290,15 @@ fn the_page_inflates_the_browser_data_to_the_runtimes_bytes() {
     want.insert("height".into(), u.height.levels.concat());
     want.insert("normal".into(), u.normal.levels.concat());
     want.insert("albedo".into(), u.albedo.levels.concat());
-    want.insert("probe:32".into(), bytemuck::cast_slice(&scene.rays(32)).to_vec());
+    // The probe rays, which the page computes: Scene::rays, every stride-th ray above 65 536
+    // (300² has 90 000 pixels, most of which see the quad: stride 2).
+    for size in [32u32, 256, 300] {
+        let all = scene.rays(size);
+        let stride = all.len().div_ceil(65_536).max(1);
+        assert_eq!(stride, if size == 300 { 2 } else { 1 }, "{size}²: {} rays", all.len());
+        let kept: Vec<_> = all.into_iter().step_by(stride).collect();
+        want.insert(format!("probe:{size}"), bytemuck::cast_slice(&kept).to_vec());
+    }
     for text in ["csm(8)", "sphere(16)", "maxmip(96)"] {
         let p: relief::Pipeline = text.parse().unwrap();
         want.insert(format!("wgsl:{p}"), relief::dsl::emit::emit(&p).unwrap().wgsl.into_bytes());

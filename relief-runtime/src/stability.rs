@@ -321,6 +321,9 @@ pub fn worst_table(cells: &[Cell]) -> String {
 }
 
 /// A method × condition heat map as SVG, darker = worse (log scale over the metric's range).
+/// Every cell is a 14 × 14 `<rect>` with its value as a `<title>`; the cells sit in one group
+/// that gives them their grey stroke and a white fill, so a cell states its fill only when it
+/// is not white, as `#rrggbb`.
 fn heat_map(metric: &str, cells: &[Cell], f: fn(&Cell) -> f64) -> String {
     let mut methods: Vec<String> = vec![];
     let mut conditions: Vec<(String, f32)> = vec![];
@@ -333,6 +336,8 @@ fn heat_map(metric: &str, cells: &[Cell], f: fn(&Cell) -> f64) -> String {
             conditions.push(cond);
         }
     }
+    let by_key: std::collections::HashMap<(&str, &str, u32), &Cell> =
+        cells.iter().rev().map(|c| ((c.method.as_str(), c.scene.as_str(), c.angle.to_bits()), c)).collect();
     let (cw, ch, left, top) = (14.0, 14.0, 230.0, 120.0);
     let width = left + cw * conditions.len() as f64 + 20.0;
     let height = top + ch * methods.len() as f64 + 40.0;
@@ -353,8 +358,12 @@ fn heat_map(metric: &str, cells: &[Cell], f: fn(&Cell) -> f64) -> String {
     for (i, m) in methods.iter().enumerate() {
         let y = top + ch * i as f64;
         let _ = writeln!(s, "<text x=\"{}\" y=\"{}\" text-anchor=\"end\">{m}</text>", left - 4.0, y + ch - 3.0);
+    }
+    s.push_str("<g fill=\"#fff\" stroke=\"#ddd\">\n");
+    for (i, m) in methods.iter().enumerate() {
+        let y = top + ch * i as f64;
         for (j, cond) in conditions.iter().enumerate() {
-            let Some(c) = cells.iter().find(|c| &c.method == m && c.scene == cond.0 && c.angle == cond.1) else {
+            let Some(c) = by_key.get(&(m.as_str(), cond.0.as_str(), cond.1.to_bits())) else {
                 continue;
             };
             let v = f(c);
@@ -365,19 +374,18 @@ fn heat_map(metric: &str, cells: &[Cell], f: fn(&Cell) -> f64) -> String {
             } else {
                 0.15 + 0.85 * ((v / floor).ln() / (max / floor).ln()).clamp(0.0, 1.0)
             };
-            let (r, g, b) = (255.0 - 100.0 * k, 255.0 * (1.0 - k), 255.0 * (1.0 - k));
+            let (r, g, b) = ((255.0 - 100.0 * k) as u8, (255.0 * (1.0 - k)) as u8, (255.0 * (1.0 - k)) as u8);
+            let fill =
+                if (r, g, b) == (255, 255, 255) { String::new() } else { format!(" fill=\"#{r:02x}{g:02x}{b:02x}\"") };
             let _ = writeln!(
                 s,
-                "<rect x=\"{}\" y=\"{y}\" width=\"{cw}\" height=\"{ch}\" fill=\"rgb({},{},{})\" stroke=\"#ddd\"><title>{m} on {} at {}°: {v:.4e}</title></rect>",
+                "<rect x=\"{}\" y=\"{y}\" width=\"{cw}\" height=\"{ch}\"{fill}><title>{m} on {} at {}°: {v:.4e}</title></rect>",
                 left + cw * j as f64,
-                r as u8,
-                g as u8,
-                b as u8,
                 cond.0,
                 cond.1
             );
         }
     }
-    s.push_str("</svg>\n");
+    s.push_str("</g>\n</svg>\n");
     s
 }

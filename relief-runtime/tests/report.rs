@@ -164,10 +164,24 @@ fn report_writes_tables_charts_strips_and_checks_conclusions() {
     assert!(svg.contains("drawn at the floor"));
     assert!(!dir.join("report/f4.10_mse_dissertation_mean.svg").exists(), "no rows of f4.10");
 
-    // Strips: one per table with images, rows stacked.
-    let strip = image::open(dir.join("report/strip_t4.1.png")).expect("strip").to_rgba8();
-    assert_eq!(strip.height(), 13 * 256 + 12 * 4, "tiles 256 pixels high");
-    assert!(!dir.join("report/strip_t4.9.png").exists());
+    // Strips: one page per table with images, its rows stacked in table order, each showing
+    // the cell's own frame and error (linked, not copied: no PNG strip is written).
+    let strip = std::fs::read_to_string(dir.join("report/strip_t4.1.html")).expect("strip");
+    assert_eq!(strip.matches("<div class=\"row\">").count(), 13, "one row per table row");
+    assert!(strip.contains(".row img{height:256px;"), "tiles 256 pixels high");
+    let srcs: Vec<&str> = strip.split("<img src=\"").skip(1).map(|s| &s[..s.find('"').unwrap()]).collect();
+    // Table 4.1's rows with a cell: the seven linear rows (frame and error each), in order.
+    let want: Vec<String> = [5, 10, 15, 20, 25, 30, 40]
+        .iter()
+        .flat_map(|n| ["frame", "error"].map(|w| format!("../cells/lion/linear_{n}/{w}.png")))
+        .collect();
+    assert_eq!(srcs, want);
+    for src in &srcs {
+        assert!(dir.join("report").join(src).is_file(), "{src} resolves from report/");
+    }
+    assert_eq!(strip.matches("<div class=\"none\"></div>").count(), 2 * (13 - 7), "grey tiles for rows without a cell");
+    assert!(!dir.join("report/strip_t4.1.png").exists(), "no copy of the pictures");
+    assert!(!dir.join("report/strip_t4.9.html").exists());
 
     // Pareto.
     let pareto = std::fs::read_to_string(dir.join("pareto.md")).unwrap();
@@ -176,7 +190,7 @@ fn report_writes_tables_charts_strips_and_checks_conclusions() {
 
     let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
     assert!(html.contains("<img src=\"report/f4.8_mse_dissertation_mean.svg\""));
-    assert!(html.contains("report/strip_t4.1.png"));
+    assert!(html.contains("<a href=\"report/strip_t4.1.html\">all rows on one page</a>"));
     assert!(html.contains("<td class=\"holds\">") || html.contains("class=\"holds\""));
     assert!(!html.contains("http://") || html.matches("http://").count() == 0);
     let _ = std::fs::remove_dir_all(&dir);
@@ -193,7 +207,7 @@ fn a_conclusion_that_our_rows_contradict_does_not_hold() {
     let md = std::fs::read_to_string(dir.join("tables.md")).unwrap();
     assert!(md.contains("does not hold"));
     // No images anywhere: no strips, and no failure.
-    assert!(!dir.join("report/strip_t4.1.png").exists());
+    assert!(!dir.join("report/strip_t4.1.html").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -268,6 +268,57 @@ fn the_worst_condition_is_the_one_that_skipped_geometry() {
     assert!(md.contains("| `linear(8)` | spikes at 60° | 5.00% | 30.0% |"), "{md}");
 }
 
+/// A heat map has one `<rect>` per cell, in the group that strokes them grey and fills them
+/// white; a cell at zero states no fill, the worst one is dark red (155, 0, 0), one in between
+/// is lighter, and every cell's value is in its `<title>`.
+#[test]
+fn heat_maps_fill_only_the_cells_that_are_not_white() {
+    let cell = |method: &str, scene: &str, angle: f32, skipped: f64| stability::Cell {
+        method: method.into(),
+        scene: scene.into(),
+        angle,
+        rays: 100,
+        nan_count: 0,
+        outside_count: 0,
+        skipped_rate: skipped,
+        past_rate: 0.0,
+        missed_rate: 0.0,
+        nonconverged_rate: 0.0,
+        above_surface_rate: 0.0,
+        past_count: 0,
+        ref_err_t_max: 0.1,
+        ref_err_t_rms: 0.01,
+    };
+    let cells = [
+        cell("linear(8)", "scene:flat1", 0.0, 0.0),
+        cell("linear(8)", "scene:spikes", 60.0, 0.5),
+        cell("csm(8)", "scene:flat1", 0.0, 0.01),
+        cell("csm(8)", "scene:spikes", 60.0, 0.0),
+    ];
+    let dir = std::env::temp_dir().join(format!("relief-stability-svg-{}", std::process::id()));
+    stability::write(&dir, &cells).unwrap();
+    let svg = std::fs::read_to_string(dir.join("stability_skipped_rate.svg")).unwrap();
+    let group = &svg[svg.find("<g fill=\"#fff\" stroke=\"#ddd\">").expect("the cells' group")..];
+    assert_eq!(group.matches("<rect ").count(), 4, "{svg}");
+    assert_eq!(svg.matches("<rect ").count(), 4, "every rect in the group: {svg}");
+    let rect = |m: &str, s: &str, a: u32| -> &str {
+        let title = format!("<title>{m} on scene:{s} at {a}°: ");
+        let end = group.find(&title).unwrap_or_else(|| panic!("{title} in {svg}"));
+        &group[group[..end].rfind("<rect ").unwrap()..end]
+    };
+    // Columns flat1 0°, spikes 60°; rows linear(8), csm(8); cells 14 wide from x = 230, y = 120.
+    assert_eq!(rect("linear(8)", "flat1", 0), "<rect x=\"230\" y=\"120\" width=\"14\" height=\"14\">");
+    assert_eq!(
+        rect("linear(8)", "spikes", 60),
+        "<rect x=\"244\" y=\"120\" width=\"14\" height=\"14\" fill=\"#9b0000\">"
+    );
+    assert_eq!(rect("csm(8)", "spikes", 60), "<rect x=\"244\" y=\"134\" width=\"14\" height=\"14\">");
+    // 0.01 is the floor of the log scale: k = 0.15, so (255 - 15, 255·0.85, 255·0.85) = (240, 216, 216).
+    assert_eq!(rect("csm(8)", "flat1", 0), "<rect x=\"230\" y=\"134\" width=\"14\" height=\"14\" fill=\"#f0d8d8\">");
+    assert!(group.contains("at 60°: 5.0000e-1</title>"), "{svg}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn robust_statistics_match_a_hand_computed_list() {
     use relief_runtime::{EdgeMode, HeightMap};

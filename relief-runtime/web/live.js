@@ -240,6 +240,41 @@
     return { bytes: new Uint8Array(buf, 0, n * M.ray_bytes), count: n };
   }
 
+  // The probe rays of the measured view at size², as the runtime's Scene::rays gives them (every
+  // `stride`-th when the frame has more than the manifest says): computed from the f32 terms the
+  // manifest ships as bit patterns (`rays_from`), every operation rounded to f32 in Rust's order,
+  // so the records are the runtime's bit for bit (tests/report_browser.rs checks it).
+  function probeRays(scene, size) {
+    var F = Math.fround, t = scene.rays_from, word = new DataView(new ArrayBuffer(4));
+    function f32(b) { word.setUint32(0, b, true); return word.getFloat32(0, true); }
+    function vec(b) { return b.map(f32); }
+    var e = vec(t.eye), fw = vec(t.forward), r = vec(t.right), u = vec(t.up), ty = f32(t.tan_half_fov);
+    var depth = f32(t.depth_scale), tiling = f32(t.tiling), w = F(size), h = F(size), aspect = F(w / h);
+    var ps = F(F(2 * ty) / h), out = [], n = 0;
+    for (var py = 0; py < size; py++) for (var px = 0; px < size; px++) {
+      var nx = F(F(F(2 * F(px + 0.5)) / w) - 1), ny = F(1 - F(F(2 * F(py + 0.5)) / h));
+      var a = F(F(nx * ty) * aspect), b = F(ny * ty), v = [0, 1, 2].map(function (i) { return F(F(fw[i] + F(a * r[i])) + F(b * u[i])); });
+      var rec = F(1 / F(Math.sqrt(F(F(F(v[0] * v[0]) + F(v[1] * v[1])) + F(v[2] * v[2])))));
+      v = v.map(function (c) { return F(c * rec); });
+      if (!(e[2] > 0 && v[2] < 0)) continue;
+      var s = F(-e[2] / v[2]), x = F(e[0] + F(s * v[0])), y = F(e[1] + F(s * v[1]));
+      if (!(x >= 0 && x <= tiling && y >= 0 && y <= tiling)) continue;
+      var k = F(depth / -v[2]);
+      out.push([x, y, F(v[0] * k), F(v[1] * k), px, py]);
+      n++;
+    }
+    var stride = Math.max(1, Math.ceil(n / M.max_probe_rays)), kept = Math.ceil(n / stride);
+    var buf = new ArrayBuffer(kept * M.ray_bytes), dv = new DataView(buf);
+    for (var i = 0; i < kept; i++) {
+      var q = out[i * stride], o = i * M.ray_bytes;
+      [q[0], q[1], q[2], q[3], -1].forEach(function (c, j) { dv.setFloat32(o + 4 * j, c, true); });
+      dv.setUint32(o + 20, q[4], true);
+      dv.setUint32(o + 24, q[5], true);
+      dv.setFloat32(o + 28, ps, true);
+    }
+    return { meta: { rays: kept, all_rays: n, stride: stride }, bytes: new Uint8Array(buf) };
+  }
+
   // ---------------------------------------------------------------------------------------
   // Drawing, timing and probing.
   function pipelineOf(text) { return M.pipelines.find(function (p) { return p.pipeline === text; }); }
@@ -416,7 +451,9 @@
       if (progress) progress(i, cells.length, c);
       var tm = await time(c.pipeline, c.scene, c.size, blocks || 10);
       timer = tm.timer;
-      var pd = await load(scene.probe[String(c.size)]);
+      var pd = probeRays(scene, c.size), want = scene.probe[String(c.size)];
+      if (pd.meta.rays !== want.rays || pd.meta.stride !== want.stride)
+        throw new Error(c.scene + " at " + c.size + "²: the page computed " + pd.meta.rays + " probe rays (stride " + pd.meta.stride + "), the manifest says " + want.rays + " (stride " + want.stride + ")");
       var n = pd.meta.rays;
       var hits = await probe(c.pipeline, c.scene, pd.bytes.subarray(0, n * M.ray_bytes), n);
       rows.push({ pipeline: c.pipeline, scene: c.scene, size: c.size, frame_ms: tm.frame_ms, frames_per_block: tm.frames_per_block,
@@ -426,7 +463,7 @@
       user_agent: navigator.userAgent, rows: rows };
   }
 
-  window.reliefLive = { gpu: gpu, frame: frame, time: time, probe: probe, measureAll: measureAll, manifest: M, load: load };
+  window.reliefLive = { gpu: gpu, frame: frame, time: time, probe: probe, measureAll: measureAll, manifest: M, load: load, probeRays: probeRays };
 
   // ---------------------------------------------------------------------------------------
   // The section: two pipelines side by side.

@@ -5,16 +5,17 @@
 //! - `browser/manifest.js`: the `Params` layout (from the ABI's member list), the binding
 //!   numbers, every measured pipeline (its files, the source of each binding its render and
 //!   probe entries read), every scene (camera, depth scale, tiling, edge mode, light, the
-//!   `Params` of the measured view, its textures, maps and probe rays) and every ok row;
+//!   `Params` of the measured view, its textures and maps, its probe rays' counts and the
+//!   terms they are computed from) and every ok row;
 //! - `browser/wgsl/STEM.js`: a pipeline's module as `relief gen` writes it (render pair and
 //!   probe entry);
 //! - `browser/scenes/SCENE/NAME.js`: the height, normal and albedo textures and the
 //!   acceleration maps, in the layouts the runtime uploads ([`crate::gpu::scene_uploads`],
 //!   [`crate::gpu::map_upload`]); a scene seen from another view (`rocks@angle=70`) has the
 //!   same height map, and its manifest entry names the first view's files ([`data_file`]);
-//! - `browser/scenes/SCENE/probe_SIZE.js`: the probe rays of the measured view (the ABI's
-//!   32-byte records; every `stride`-th ray of [`Scene::rays`]). Their exact hits are not
-//!   shipped: the page reads none, and `--add` traces them again ([`probe_set`]).
+//! - no probe rays: the manifest gives what [`Scene::rays`] computes them from ([`rays_from`])
+//!   and the page computes them bit for bit (`probeRays`, every `stride`-th ray). Their exact
+//!   hits are not shipped: the page reads none, and `--add` traces them again ([`probe_set`]).
 //!
 //! A data file sets `window.RELIEF_DATA[NAME] = { meta, gz, shuffle, bytes }`: its bytes split
 //! into `shuffle`-byte planes ([`shuffle`]), gzip-compressed and base64-encoded ([`pack`]),
@@ -47,10 +48,10 @@ use super::data::Data;
 /// with enough steps to finish every ray, Tevs, Ihrke & Seidel 2008).
 pub(crate) const EXACT: &str = "maxmip(96)";
 
-/// The most probe rays shipped per scene and size: above it every `stride`-th ray.
+/// The most probe rays the page probes per scene and size: above it every `stride`-th ray.
 pub(crate) const MAX_PROBE_RAYS: usize = 65536;
 
-/// The stride of the shipped probe rays for `n` rays ([`MAX_PROBE_RAYS`]).
+/// The stride of the probed rays for `n` rays ([`MAX_PROBE_RAYS`]).
 pub(crate) fn probe_stride(n: usize) -> usize {
     n.div_ceil(MAX_PROBE_RAYS).max(1)
 }
@@ -335,6 +336,7 @@ pub(crate) fn write(datas: &[&Data], dir: &Path) -> Result<Written> {
                       "normal": binding::NORMAL, "albedo": binding::ALBEDO, "nearest_offset": binding::NEAREST_OFFSET, "rays": binding::RAYS, "hits": binding::HITS },
         "probe_workgroup": relief_dsl::abi::PROBE_WORKGROUP,
         "ray_bytes": std::mem::size_of::<relief_dsl::abi::ProbeRay>(),
+        "max_probe_rays": MAX_PROBE_RAYS,
         "hit_bytes": std::mem::size_of::<relief_dsl::abi::ProbeHit>(),
         "ambient": gpu::AMBIENT,
         "clear": [0.02, 0.02, 0.03, 1.0],
@@ -368,7 +370,7 @@ pub(crate) fn on_device(scene: &Scene, uploads: &gpu::SceneUploads) -> Scene {
     s
 }
 
-/// The probe rays the browser data ships for one scene and size, with their exact hits.
+/// The probe rays the page probes for one scene and size, with their exact hits.
 pub(crate) struct ProbeSet {
     /// Every `stride`-th ray of [`Scene::rays`].
     pub rays: Vec<ProbeRay>,
@@ -378,7 +380,7 @@ pub(crate) struct ProbeSet {
     pub refs: Vec<Option<RefHit>>,
 }
 
-/// The shipped probe rays of `on_device` (a scene from [`on_device`], labelled `label`) at
+/// The probed rays of `on_device` (a scene from [`on_device`], labelled `label`) at
 /// `size²` and their exact hits: what the page probes and what `--add` scores it against.
 pub(crate) fn probe_set(label: &str, on_device: &Scene, size: u32) -> Result<ProbeSet> {
     let (rays, _, stride) = shipped_rays(on_device, size);
@@ -386,7 +388,7 @@ pub(crate) fn probe_set(label: &str, on_device: &Scene, size: u32) -> Result<Pro
     Ok(ProbeSet { rays, stride, refs })
 }
 
-/// The probe rays shipped for `scene` at `size²`: every `stride`-th ray of [`Scene::rays`],
+/// The probe rays the page probes for `scene` at `size²`: every `stride`-th ray of [`Scene::rays`],
 /// with the frame's ray count and the stride.
 fn shipped_rays(scene: &Scene, size: u32) -> (Vec<ProbeRay>, usize, usize) {
     let all = scene.rays(size);
@@ -394,7 +396,24 @@ fn shipped_rays(scene: &Scene, size: u32) -> (Vec<ProbeRay>, usize, usize) {
     (all.iter().step_by(stride).copied().collect(), all.len(), stride)
 }
 
-/// One scene's textures, maps and probe data, and its manifest entry.
+/// The f32 values [`Scene::rays`] computes a frame's rays from, as bit patterns (`u32`, so
+/// that no decimal round trip can change them): the eye, the camera's basis and
+/// `tan(fov_y / 2)` ([`crate::scene::Camera::ray_terms`]), the depth scale and the tiling.
+/// The page's `probeRays` (`web/live.js`) repeats `Scene::rays` on them with every operation
+/// rounded to f32 (`Math.fround`), which gives the same bits: `+ − × ÷ √` computed in f64 and
+/// rounded to f32 are the f32 operations' correctly rounded results.
+pub(crate) fn rays_from(scene: &Scene) -> Value {
+    let c = &scene.camera;
+    let (f, r, u, ty) = c.ray_terms();
+    let bits = |v: glam::Vec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
+    json!({
+        "eye": bits(c.camera_position()), "forward": bits(f), "right": bits(r), "up": bits(u),
+        "tan_half_fov": ty.to_bits(), "depth_scale": scene.depth_scale.to_bits(), "tiling": scene.tiling.to_bits(),
+    })
+}
+
+/// One scene's textures and maps, and its manifest entry (with what the page needs to compute
+/// the probe rays).
 fn write_scene<'a>(
     out: &Path,
     label: &str,
@@ -423,23 +442,13 @@ fn write_scene<'a>(
         let name = texture_file(out, &name, &gpu::map_upload_of(scene, k)?, files)?;
         maps.insert(map_slug(k), json!(name));
     }
-    let on_device = on_device(scene, &u);
     let mut probes = serde_json::Map::new();
     let mut measured = serde_json::Map::new();
     for &size in sizes {
-        // The rays only: their exact hits are traced again where they are scored (`--add`),
-        // and the page reads none.
-        let (rays, all, stride) = shipped_rays(&on_device, size);
-        let name = format!("{base}/probe_{size}");
-        let name = data_file(
-            out,
-            &name,
-            json!({ "rays": rays.len(), "all_rays": all, "stride": stride }),
-            bytemuck::cast_slice(&rays),
-            4,
-            files,
-        )?;
-        probes.insert(size.to_string(), json!(name));
+        // The rays are not shipped: the page computes them from `rays_from` (`probeRays` in
+        // `web/live.js`), and `--add` traces their exact hits again.
+        let (rays, all, stride) = shipped_rays(scene, size);
+        probes.insert(size.to_string(), json!({ "rays": rays.len(), "all_rays": all, "stride": stride }));
         let p = gpu::params_for(scene, 1.0, scene.camera.pixel_size(size));
         measured.insert(size.to_string(), json!(bytemuck::cast_slice::<Params, f32>(&[p])));
     }
@@ -451,7 +460,7 @@ fn write_scene<'a>(
         "light_dir": [scene.light_dir.x, scene.light_dir.y, scene.light_dir.z],
         "height_size": [scene.height.width, scene.height.height],
         "textures": { "height": height, "normal": normal, "albedo": albedo },
-        "maps": maps, "probe": probes, "params_measured": measured, "sizes": sizes,
+        "maps": maps, "probe": probes, "rays_from": rays_from(scene), "params_measured": measured, "sizes": sizes,
     }))
 }
 

@@ -192,6 +192,7 @@ fn remove_stale(sub: &Path) {
     for e in rd.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
         let ours = ((name.starts_with("strip_") || name.starts_with("scene_")) && name.ends_with(".png"))
+            || (name.starts_with("strip_") && name.ends_with(".html"))
             || ((name.starts_with('f')
                 || name.starts_with("pareto_")
                 || name.starts_with("answer_")

@@ -7,7 +7,8 @@
 //!   and error relative to each row's base row), then the conclusions, checked.
 //! - `pareto.md`: the least-error method for each frame-time budget, per scene.
 //! - `report/*.svg`: charts like Figures 4.5 and 4.7–4.11, one per error metric.
-//! - `report/strip_*.png`: frame and error images of each table's cells, stacked.
+//! - `report/strip_*.html`: frame and error images of each table's cells, stacked (the
+//!   cells' own files, linked).
 //! - `index.html`: all of it, readable offline.
 //!
 //! The dissertation's numbers are embedded (`data/dissertation_tables.csv`), so a report

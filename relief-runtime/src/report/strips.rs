@@ -1,9 +1,8 @@
-//! Image strips: for each table, each row's frame and error images side by side, rows
-//! stacked in table order (a grey tile where a row has no image), at least 256 pixels high.
+//! Image strips: for each table, a page with each row's frame and error images side by side,
+//! rows stacked in table order (a grey tile where a row has no image), 256 pixels high; the
+//! page links the cells' pictures, it does not copy them.
 
 use std::path::Path;
-
-use image::{imageops, Rgba, RgbaImage};
 
 use super::tables::ReportTable;
 use super::{data::Data, text::fmt_ms, text::fmt_num, text::fmt_sci};
@@ -71,69 +70,39 @@ pub(crate) fn caption_values(r: Option<&crate::results::Row>) -> String {
     }
 }
 
+/// Writes one strip page per table with at least one picture: `report/strip_KEY.html`, each
+/// row's frame and error side by side in table order, at [`TILE`] pixels high (a grey tile
+/// where a row has none). The page links the cells' own `frame.png` and `error.png`: the
+/// pictures are not copied (a 256² frame is shown pixel for pixel, as the stacked PNG that
+/// used to be written held it).
 pub(crate) fn write_all(data: &Data, tables: &[ReportTable], sub: &Path, warnings: &mut Vec<String>) -> Vec<Strip> {
     let mut out = Vec::new();
     for t in tables {
-        let mut tiles: Vec<(Option<RgbaImage>, Option<RgbaImage>)> = Vec::new();
         let mut labels = Vec::new();
         let mut frames = Vec::new();
         for (i, e) in t.entries.iter().enumerate() {
             let row = t.row(data, i).filter(|r| r.status.is_ok() && !r.cell_dir.is_empty());
-            let load = |name: &str, warnings: &mut Vec<String>| -> Option<RgbaImage> {
+            let rel = |name: &str| {
                 let r = row?;
-                let path = data.dir.join(&r.cell_dir).join(name);
-                if !path.exists() {
-                    return None;
-                }
-                match crate::io::open_image(&path) {
-                    Ok(img) => Some(scale(&img.to_rgba8())),
-                    Err(err) => {
-                        warnings.push(format!("cannot read picture {err}"));
-                        None
-                    }
-                }
-            };
-            let f = load("frame.png", warnings);
-            let er = load("error.png", warnings);
-            let rel = |name: &str, present: bool| {
-                present.then(|| format!("{}/{name}", row.map(|r| r.cell_dir.as_str()).unwrap_or("")))
+                let file = format!("{}/{name}", r.cell_dir);
+                data.dir.join(&file).is_file().then_some(file)
             };
             frames.push(Frame {
                 number: Some(i + 1),
                 label: e.label.clone(),
-                frame: rel("frame.png", f.is_some()),
-                error: rel("error.png", er.is_some()),
+                frame: rel("frame.png"),
+                error: rel("error.png"),
                 values: caption_values(t.row(data, i)),
             });
-            tiles.push((f, er));
             labels.push(format!("{}. {}", i + 1, e.label));
         }
-        let with_images = tiles.iter().filter(|(a, b)| a.is_some() || b.is_some()).count();
+        let with_images = frames.iter().filter(|f| f.frame.is_some() || f.error.is_some()).count();
         if with_images == 0 {
             continue;
         }
-        let width_of = |x: &Option<RgbaImage>| x.as_ref().map(|i| i.width()).unwrap_or(TILE);
-        let left = tiles.iter().map(|(a, _)| width_of(a)).max().unwrap_or(TILE);
-        let right = tiles.iter().map(|(_, b)| width_of(b)).max().unwrap_or(TILE);
-        let n = tiles.len() as u32;
-        let (w, h) = (left + GAP + right, n * TILE + n.saturating_sub(1) * GAP);
-        let mut canvas = RgbaImage::from_pixel(w, h, Rgba([255, 255, 255, 255]));
-        for (k, (a, b)) in tiles.iter().enumerate() {
-            let y = k as u32 * (TILE + GAP);
-            for (img, x) in [(a, 0u32), (b, left + GAP)] {
-                match img {
-                    Some(img) => imageops::overlay(&mut canvas, img, x as i64, y as i64),
-                    None => {
-                        let grey = RgbaImage::from_pixel(TILE, TILE, Rgba([200, 200, 200, 255]));
-                        imageops::overlay(&mut canvas, &grey, x as i64, y as i64);
-                    }
-                }
-            }
-        }
-        let name = format!("strip_{}.png", super::text::file_safe(&t.key));
+        let name = format!("strip_{}.html", super::text::file_safe(&t.key));
         let path = sub.join(&name);
-        let (w, h) = canvas.dimensions();
-        match crate::io::png::write_rgba8(&path, w, h, canvas.into_raw()) {
+        match crate::io::write_atomic(&path, page(&t.key, &frames).as_bytes()) {
             Ok(()) => out.push(Strip {
                 key: t.key.clone(),
                 file: format!("report/{name}"),
@@ -147,12 +116,36 @@ pub(crate) fn write_all(data: &Data, tables: &[ReportTable], sub: &Path, warning
     out
 }
 
-/// Scales an image to TILE pixels high, keeping its aspect (at most 2 TILE wide).
-fn scale(img: &RgbaImage) -> RgbaImage {
-    let (w, h) = img.dimensions();
-    if w == 0 || h == 0 {
-        return RgbaImage::from_pixel(TILE, TILE, Rgba([200, 200, 200, 255]));
+/// A strip page: the rows stacked, each its frame and error image ([`TILE`] pixels high,
+/// `GAP` pixels apart) and its caption; image paths are relative to the sweep folder, the
+/// page sits one folder below it.
+fn page(key: &str, frames: &[Frame]) -> String {
+    use super::html::esc;
+    use std::fmt::Write as _;
+    let mut h = format!(
+        "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>Table {k}: frame and error of each row</title>\n\
+         <style>body{{font-family:sans-serif;margin:8px}}.row{{display:flex;gap:{GAP}px;margin-bottom:{GAP}px;align-items:flex-start}}\
+         .row img{{height:{TILE}px;display:block}}.none{{width:{TILE}px;height:{TILE}px;background:#c8c8c8}}\
+         .cap{{font-size:12px;max-width:30em}}</style></head><body>\n<h1>Table {k}: frame and error of each row</h1>\n",
+        k = esc(key)
+    );
+    for f in frames {
+        h.push_str("<div class=\"row\">");
+        for (img, what) in [(&f.frame, "frame"), (&f.error, "error")] {
+            match img {
+                Some(src) => {
+                    let _ = write!(
+                        h,
+                        "<a href=\"../{s}\"><img src=\"../{s}\" alt=\"{what} of {}\"></a>",
+                        esc(&f.label),
+                        s = esc(src)
+                    );
+                }
+                None => h.push_str("<div class=\"none\"></div>"),
+            }
+        }
+        let _ = writeln!(h, "<div class=\"cap\"><code>{}</code><br>{}</div></div>", esc(&f.numbered()), esc(&f.values));
     }
-    let nw = ((w as u64 * TILE as u64) / h as u64).clamp(1, 2 * TILE as u64) as u32;
-    imageops::resize(img, nw, TILE, imageops::FilterType::Triangle)
+    h.push_str("</body></html>\n");
+    h
 }

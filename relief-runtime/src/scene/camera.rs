@@ -75,9 +75,16 @@ impl Camera {
     /// the camera basis directly (equal, up to rounding, to unprojecting with
     /// [`Camera::view_proj`], without its loss of precision).
     pub(crate) fn ray_dir(&self, ndc_x: f32, ndc_y: f32, aspect: f32) -> Vec3 {
-        let (f, r, u) = self.basis();
-        let ty = (0.5 * self.fov_deg.to_radians()).tan();
+        let (f, r, u, ty) = self.ray_terms();
         (f + ndc_x * ty * aspect * r + ndc_y * ty * u).normalize()
+    }
+
+    /// What [`Camera::ray_dir`] builds a direction from: the basis (forward, right, up) and
+    /// `tan(fov_y / 2)`. The report's browser data ships these (with the eye) as f32 bit
+    /// patterns, and the page computes the probe rays from them with the same f32 operations.
+    pub(crate) fn ray_terms(&self) -> (Vec3, Vec3, Vec3, f32) {
+        let (f, r, u) = self.basis();
+        (f, r, u, (0.5 * self.fov_deg.to_radians()).tan())
     }
 
     /// The size δ of one pixel of a frame `height` pixels tall on the image plane at unit

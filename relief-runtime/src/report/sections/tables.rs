@@ -51,7 +51,7 @@ fn page(p: &Report) -> PageSection {
             let _ = writeln!(
                 after,
                 "<h4>Pictures: frame and error of each row</h4><p><small>{} of {} rows with images; click a picture for full size; \
-                 <a href=\"{f}\">all rows as one image</a>. Error images, one scale for all: |t − t_ref| black at 1e-6 or \
+                 <a href=\"{f}\">all rows on one page</a>. Error images, one scale for all: |t − t_ref| black at 1e-6 or \
                  less, red at 1e-3, yellow at 1 (log scale), magenta = no finite hit.</small></p><div class=\"shots\">",
                 st.with_images,
                 st.rows.len(),
