@@ -8,6 +8,11 @@
 //! A metric written as `null` (NaN or infinite when measured) reads back as NaN, and so
 //! does a metric that older rows lack, never a silent 0.
 //! `DIR/results.csv` holds the same rows in the [`COLUMNS`] order.
+//!
+//! A row of the mesh grid (`relief sweep --grid meshes`) is a results row too: its
+//! [`Row::mesh`] holds what a mesh cell measures beyond [`Metrics`] ([`MeshCells`]: coverage,
+//! IoU, t, uv and depth error against the exact mesh reference); every other row has none,
+//! and its line is written without the column, as before.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -372,8 +377,57 @@ pub struct Row {
     pub error: String,
     /// The version of relief-runtime that measured the row.
     pub relief_version: String,
-    /// The cell's folder, relative to the sweep's folder (holds frame.png and error.png).
+    /// The cell's folder, relative to the sweep's folder (holds frame.png and error.png; a
+    /// mesh cell's frame.png and coverage.png).
     pub cell_dir: String,
+    /// A mesh cell's own columns (`relief sweep --grid meshes`); `None` for every other cell,
+    /// whose line has no `mesh` column.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<MeshCells>,
+}
+
+/// What a mesh cell (`crate::sweep::meshes`) records beyond [`Metrics`]: one `curved=` mode's
+/// figures against the exact mesh reference (`crate::mesh_measure::MeshScore`, whose doc
+/// defines each). In its row the metrics hold the pipeline with its `curved=` option, the
+/// scene argument with its view, and the frame time over `curved=none`'s with the same stages
+/// (`baseline`, `frame_ratio_to_baseline` and its interval, paired blocks; none for
+/// `curved=none` itself); the metrics a mesh cell does not measure are NaN.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct MeshCells {
+    /// The mesh drawn (`sphere`, `torus`, a file's mesh).
+    pub name: String,
+    /// Pixels in the frame.
+    pub pixels: usize,
+    /// Pixels both the pipeline and the reference hit.
+    pub both: usize,
+    /// Pixels the pipeline draws and the reference does not hit.
+    pub extra: usize,
+    /// Pixels the reference hits and the pipeline does not draw.
+    pub missing: usize,
+    /// `(extra + missing) / pixels` (a share, not a percentage).
+    #[serde(deserialize_with = "null_as_nan")]
+    pub coverage_error: f64,
+    /// `both / (both + extra + missing)`.
+    #[serde(deserialize_with = "null_as_nan")]
+    pub iou: f64,
+    /// RMS of `(t − t_ref) / depth` on pixels both hit (NaN when none).
+    #[serde(deserialize_with = "null_as_nan")]
+    pub rms_t: f64,
+    /// The largest `(t_ref − t) / depth` on pixels both hit: how far a hit came before the
+    /// exact first hit (NaN when none).
+    #[serde(deserialize_with = "null_as_nan")]
+    pub earliest: f64,
+    /// RMS uv distance in texels on pixels both hit.
+    #[serde(deserialize_with = "null_as_nan")]
+    pub uv_texels: f64,
+    /// RMS NDC depth difference on pixels both hit.
+    #[serde(deserialize_with = "null_as_nan")]
+    pub depth: f64,
+}
+
+/// A number written as `null` (NaN or infinite when measured) reads back as NaN.
+pub(crate) fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 /// The columns of `results.csv`, in order.
@@ -437,6 +491,22 @@ pub const GPU_COLUMNS: &[&str] = &[
     "gpu_gfx1100_vgprs",
     "gpu_gfx1100_instructions",
     "gpu_gfx1100_loop_body",
+];
+
+/// A mesh cell's columns ([`MeshCells`], each field `F` as `mesh_F`), after the others in
+/// `results.csv` when any row is a mesh cell's.
+pub const MESH_COLUMNS: &[&str] = &[
+    "mesh_name",
+    "mesh_pixels",
+    "mesh_both",
+    "mesh_extra",
+    "mesh_missing",
+    "mesh_coverage_error",
+    "mesh_iou",
+    "mesh_rms_t",
+    "mesh_earliest",
+    "mesh_uv_texels",
+    "mesh_depth",
 ];
 
 /// The file rows are appended to, in a sweep folder.
@@ -595,12 +665,17 @@ pub(crate) fn csv_bytes(rows: &[Row]) -> Result<Vec<u8>, ResultsError> {
     if rows.iter().any(|r| r.metrics.gpu_driver.is_some()) {
         columns.extend(GPU_COLUMNS);
     }
+    let plain = columns.len();
+    if rows.iter().any(|r| r.mesh.is_some()) {
+        columns.extend(MESH_COLUMNS);
+    }
     w.write_record(&columns).map_err(|e| encode(&e))?;
     for r in rows {
         let v = serde_json::to_value(r).map_err(|e| encode(&e))?;
         let record: Vec<String> = columns
             .iter()
-            .map(|c| match &v[*c] {
+            .enumerate()
+            .map(|(i, c)| match if i < plain { &v[*c] } else { &v["mesh"][&c["mesh_".len()..]] } {
                 serde_json::Value::String(s) => s.clone(),
                 serde_json::Value::Null => String::new(),
                 other => other.to_string(),
@@ -695,6 +770,48 @@ const LATER_FIELDS: &[&str] = &[
     "mse_worst1_share",
     "skipped_rate",
     "past_rate",
+];
+
+impl Metrics {
+    /// The metrics of a cell that measures none but the ones its caller sets: the naming
+    /// columns given, every number NaN (never a silent 0), the counts 0.
+    pub(crate) fn not_measured(pipeline: relief_dsl::Pipeline, scene: String, size: u32, adapter: String) -> Metrics {
+        let mut m = Metrics { pipeline, scene, size, adapter, ..Default::default() };
+        for f in NUMBERS {
+            set_nan(&mut m, f);
+        }
+        m
+    }
+}
+
+/// Every `f64` metric [`set_nan`] knows.
+const NUMBERS: &[&str] = &[
+    "frame_ms_median",
+    "frame_ms_mean",
+    "avg_coarse_steps",
+    "avg_refine_steps",
+    "nonconverged_rate",
+    "frame_ms_p10",
+    "frame_ms_p90",
+    "mse_dissertation",
+    "mse_dissertation_mean",
+    "ref_err_t_rms",
+    "ref_err_uv_texels_rms",
+    "missed_rate",
+    "past_rate",
+    "skipped_rate",
+    "ref_err_t_median",
+    "ref_err_t_p90",
+    "ref_err_t_p99",
+    "mse_worst1_share",
+    "false_hit_rate",
+    "avg_iterations",
+    "avg_fetches",
+    "simd32_steps",
+    "simd64_steps",
+    "simd32_fetches",
+    "simd32_divergence",
+    "timestamp_period_ns",
 ];
 
 fn set_nan(m: &mut Metrics, field: &str) {

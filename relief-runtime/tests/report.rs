@@ -42,6 +42,7 @@ fn row(pipeline: &str, ms: f64, mse: f64, ref_t: f64, skipped: f64) -> Row {
         error: String::new(),
         relief_version: "test".into(),
         cell_dir: format!("cells/lion/{}", relief_dsl::spec::file_safe(pipeline)),
+        mesh: None,
     }
 }
 

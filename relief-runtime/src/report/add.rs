@@ -183,6 +183,7 @@ pub fn add(dir: &Path, files: &[PathBuf], replace: bool) -> Result<Vec<Added>> {
                         error: String::new(),
                         relief_version: f.relief_version.clone(),
                         cell_dir: String::new(),
+                        mesh: None,
                     });
                     added.rows += 1;
                 }

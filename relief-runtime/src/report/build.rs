@@ -9,6 +9,7 @@ use super::sections::Report;
 use super::summary::ReportSummary;
 use super::{adapters, agreement, answer, browser, charts, conclusions, data, diss, gpu_cost, pareto, strips, tables};
 use crate::error::{Error, Result};
+use crate::results::Row;
 use crate::room::sweep::RoomRow;
 
 /// What the folders hold: a sweep's rows (a report), or only a room grid's.
@@ -18,10 +19,14 @@ pub(crate) enum Built {
     /// No sweep rows, only a room grid's (`relief sweep --grid rooms`): the out folder and
     /// the rows.
     RoomsOnly(PathBuf, Vec<RoomRow>),
+    /// No sweep rows, only the mesh grid's (`relief sweep --grid meshes`): the out folder and
+    /// the rows.
+    MeshesOnly(PathBuf, Vec<Row>),
 }
 
-/// Reads the rows of `dirs` (merged, each adapter's apart) and builds and writes everything
-/// the sections show, into `out` (see `super::write_many`).
+/// Reads the rows of `dirs` (merged, each adapter's apart; the mesh grid's apart from the
+/// others, for its own section) and builds and writes everything the sections show, into
+/// `out` (see `super::write_many`).
 pub(crate) fn build(dirs: &[PathBuf], out: &Path) -> Result<Built> {
     if dirs.is_empty() {
         return Err(Error::NoSweepFolders);
@@ -33,7 +38,9 @@ pub(crate) fn build(dirs: &[PathBuf], out: &Path) -> Result<Built> {
     }
     let dir = out;
     crate::io::create_dir_all(dir)?;
-    let (all_rows, bad_lines) = data::read_merged(dirs, dir)?;
+    let (merged, bad_lines) = data::read_merged(dirs, dir)?;
+    let (mesh_rows, all_rows): (Vec<Row>, Vec<Row>) =
+        merged.iter().cloned().partition(super::sections::meshes::is_mesh_row);
     let mut adapters = data::by_adapter(all_rows.clone());
     let primary = if adapters.is_empty() { Vec::new() } else { adapters.remove(0).1 };
     let data = data::Data::from_rows(dir, primary, bad_lines);
@@ -49,6 +56,9 @@ pub(crate) fn build(dirs: &[PathBuf], out: &Path) -> Result<Built> {
     if data.rows.is_empty() {
         if let Some(rr) = room_rows {
             return Ok(Built::RoomsOnly(dir.to_path_buf(), rr));
+        }
+        if !mesh_rows.is_empty() {
+            return Ok(Built::MeshesOnly(dir.to_path_buf(), mesh_rows));
         }
         return Err(Error::NoResults { dir: dir.to_path_buf(), bad_lines: data.bad_lines });
     }
@@ -74,7 +84,7 @@ pub(crate) fn build(dirs: &[PathBuf], out: &Path) -> Result<Built> {
         ..Default::default()
     };
     if !dirs.iter().any(|d| same_dir(d, dir)) {
-        write_file(&dir.join(crate::results::CSV), &crate::results::csv_bytes(&all_rows)?, &mut summary.files)?;
+        write_file(&dir.join(crate::results::CSV), &crate::results::csv_bytes(&merged)?, &mut summary.files)?;
     }
 
     let diss = diss::Diss::load();
@@ -128,6 +138,7 @@ pub(crate) fn build(dirs: &[PathBuf], out: &Path) -> Result<Built> {
         scene_maps,
         gpu,
         room_rows,
+        mesh_rows,
         shipped,
     })))
 }

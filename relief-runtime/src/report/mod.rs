@@ -70,6 +70,7 @@ const SECTIONS: &[(Option<u8>, &dyn Section)] = &[
     (Some(8), &sections::views::Views),
     (Some(2), &sections::gpu::Gpu),
     (Some(9), &sections::rooms::Rooms),
+    (Some(9), &sections::meshes::Meshes),
     (Some(10), &sections::failed::Failed),
     (Some(0), &sections::about::About),
 ];
@@ -88,6 +89,7 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> Result<ReportSummary> {
     let mut r = match build::build(dirs, out)? {
         Built::Sweep(r) => r,
         Built::RoomsOnly(dir, rows) => return sections::rooms::write_only(&dir, &rows),
+        Built::MeshesOnly(dir, rows) => return sections::meshes::write_only(&dir, &rows),
     };
     let dir = r.summary.dir.clone();
     let mut in_md: Vec<(u8, &dyn Section)> = SECTIONS.iter().filter_map(|&(place, s)| Some((place?, s))).collect();
