@@ -13,6 +13,11 @@
 //! [`Row::room`] holds what a room cell has beyond [`Metrics`] ([`RoomCells`]: the variant,
 //! the real-geometry baseline's time, the per-wall accuracy); a plain cell has none, and its
 //! line is written without the column.
+//!
+//! A row of the mesh grid (`relief sweep --grid meshes`) is a results row too: its
+//! [`Row::mesh`] holds what a mesh cell measures beyond [`Metrics`] ([`MeshCells`]: coverage,
+//! IoU, t, uv and depth error against the exact mesh reference); every other row has none,
+//! and its line is written without the column, as before.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -378,12 +383,55 @@ pub struct Row {
     /// The version of relief-runtime that measured the row.
     pub relief_version: String,
     /// The cell's folder, relative to the sweep's folder (holds frame.png and error.png; a
-    /// room cell's frame.png, baseline.png and diff.png).
+    /// room cell's frame.png, baseline.png and diff.png; a mesh cell's frame.png and coverage.png).
     pub cell_dir: String,
     /// A room cell's own columns (`relief sweep --grid rooms`); `None` for every other cell,
     /// whose line has no `room` column.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub room: Option<RoomCells>,
+    /// A mesh cell's own columns (`relief sweep --grid meshes`); `None` for every other cell,
+    /// whose line has no `mesh` column.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<MeshCells>,
+}
+
+/// What a mesh cell (`crate::sweep::meshes`) records beyond [`Metrics`]: one `curved=` mode's
+/// figures against the exact mesh reference (`crate::mesh_measure::MeshScore`, whose doc
+/// defines each). In its row the metrics hold the pipeline with its `curved=` option, the
+/// scene argument with its view, and the frame time over `curved=none`'s with the same stages
+/// (`baseline`, `frame_ratio_to_baseline` and its interval, paired blocks; none for
+/// `curved=none` itself); the metrics a mesh cell does not measure are NaN.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct MeshCells {
+    /// The mesh drawn (`sphere`, `torus`, a file's mesh).
+    pub name: String,
+    /// Pixels in the frame.
+    pub pixels: usize,
+    /// Pixels both the pipeline and the reference hit.
+    pub both: usize,
+    /// Pixels the pipeline draws and the reference does not hit.
+    pub extra: usize,
+    /// Pixels the reference hits and the pipeline does not draw.
+    pub missing: usize,
+    /// `(extra + missing) / pixels` (a share, not a percentage).
+    #[serde(deserialize_with = "null_as_nan")]
+    pub coverage_error: f64,
+    /// `both / (both + extra + missing)`.
+    #[serde(deserialize_with = "null_as_nan")]
+    pub iou: f64,
+    /// RMS of `(t − t_ref) / depth` on pixels both hit (NaN when none).
+    #[serde(deserialize_with = "null_as_nan")]
+    pub rms_t: f64,
+    /// The largest `(t_ref − t) / depth` on pixels both hit: how far a hit came before the
+    /// exact first hit (NaN when none).
+    #[serde(deserialize_with = "null_as_nan")]
+    pub earliest: f64,
+    /// RMS uv distance in texels on pixels both hit.
+    #[serde(deserialize_with = "null_as_nan")]
+    pub uv_texels: f64,
+    /// RMS NDC depth difference on pixels both hit.
+    #[serde(deserialize_with = "null_as_nan")]
+    pub depth: f64,
 }
 
 /// What a room cell (`crate::room::sweep`) records beyond [`Metrics`]. In its row the
@@ -507,6 +555,21 @@ pub const GPU_COLUMNS: &[&str] = &[
 /// A room cell's columns ([`RoomCells`], less its per-wall list), after the others in
 /// `results.csv` when any row is a room cell's.
 pub const ROOM_COLUMNS: &[&str] = &["variant", "scatter", "wall_grid", "geometry_ms", "mean_abs_diff"];
+/// A mesh cell's columns ([`MeshCells`], each field `F` as `mesh_F`), after the others in
+/// `results.csv` when any row is a mesh cell's.
+pub const MESH_COLUMNS: &[&str] = &[
+    "mesh_name",
+    "mesh_pixels",
+    "mesh_both",
+    "mesh_extra",
+    "mesh_missing",
+    "mesh_coverage_error",
+    "mesh_iou",
+    "mesh_rms_t",
+    "mesh_earliest",
+    "mesh_uv_texels",
+    "mesh_depth",
+];
 
 /// The file rows are appended to, in a sweep folder.
 pub(crate) const JSONL: &str = "results.jsonl";
@@ -676,16 +739,27 @@ pub(crate) fn csv_bytes(rows: &[Row]) -> Result<Vec<u8>, ResultsError> {
     if rows.iter().any(|r| r.room.is_some()) {
         columns.extend(ROOM_COLUMNS);
     }
+    if rows.iter().any(|r| r.mesh.is_some()) {
+        columns.extend(MESH_COLUMNS);
+    }
     w.write_record(&columns).map_err(|e| encode(&e))?;
     for r in rows {
         let v = serde_json::to_value(r).map_err(|e| encode(&e))?;
         let record: Vec<String> = columns
             .iter()
             .enumerate()
-            .map(|(i, c)| match if i < plain { &v[*c] } else { &v["room"][*c] } {
-                serde_json::Value::String(s) => s.clone(),
-                serde_json::Value::Null => String::new(),
-                other => other.to_string(),
+            .map(|(i, c)| {
+                match if i < plain {
+                    &v[*c]
+                } else if let Some(field) = c.strip_prefix("mesh_") {
+                    &v["mesh"][field]
+                } else {
+                    &v["room"][*c]
+                } {
+                    serde_json::Value::String(s) => s.clone(),
+                    serde_json::Value::Null => String::new(),
+                    other => other.to_string(),
+                }
             })
             .collect();
         w.write_record(&record).map_err(|e| encode(&e))?;

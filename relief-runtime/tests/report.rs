@@ -43,6 +43,7 @@ fn row(pipeline: &str, ms: f64, mse: f64, ref_t: f64, skipped: f64) -> Row {
         relief_version: "test".into(),
         cell_dir: format!("cells/lion/{}", relief_dsl::spec::file_safe(pipeline)),
         room: None,
+        mesh: None,
     }
 }
 

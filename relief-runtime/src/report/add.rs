@@ -184,6 +184,7 @@ pub fn add(dir: &Path, files: &[PathBuf], replace: bool) -> Result<Vec<Added>> {
                         relief_version: f.relief_version.clone(),
                         cell_dir: String::new(),
                         room: None,
+                        mesh: None,
                     });
                     added.rows += 1;
                 }

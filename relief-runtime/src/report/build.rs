@@ -11,9 +11,9 @@ use super::{adapters, agreement, answer, browser, charts, conclusions, data, dis
 use crate::error::{Error, Result};
 use crate::results::Row;
 
-/// Reads the rows of `dirs` (merged, each adapter's apart; the room cells' apart from the
-/// others) and builds and writes everything the sections show, into `out` (see
-/// `super::write_many`). Folders that hold only room cells (`relief sweep --grid rooms`)
+/// Reads the rows of `dirs` (merged, each adapter's apart; the room cells' and the mesh grid's apart
+/// from the others) and builds and writes everything the sections show, into `out` (see
+/// `super::write_many`). Folders that hold only room cells or mesh cells (`relief sweep --grid rooms`, `meshes`)
 /// give a report with no sweep rows: nothing is built from those, and only the sections that
 /// show no sweep rows render (`super::sections::Section::of_sweep`).
 pub(crate) fn build(dirs: &[PathBuf], out: &Path) -> Result<Box<Report>> {
@@ -33,16 +33,18 @@ pub(crate) fn build(dirs: &[PathBuf], out: &Path) -> Result<Box<Report>> {
     for d in dirs {
         crate::room::sweep::add_legacy(d, &mut room_rows)?;
     }
+    let (mesh_rows, all_rows): (Vec<Row>, Vec<Row>) =
+        all_rows.into_iter().partition(super::sections::meshes::is_mesh_row);
     let mut adapters = data::by_adapter(all_rows.clone());
     let primary = if adapters.is_empty() { Vec::new() } else { adapters.remove(0).1 };
     let data = data::Data::from_rows(dir, primary, bad_lines);
     let others: Vec<(String, data::Data)> =
         adapters.into_iter().map(|(a, rows)| (a, data::Data::from_rows(dir, rows, Vec::new()))).collect();
     if data.rows.is_empty() {
-        if room_rows.is_empty() {
+        if room_rows.is_empty() && mesh_rows.is_empty() {
             return Err(Error::NoResults { dir: dir.to_path_buf(), bad_lines: data.bad_lines });
         }
-        return Ok(rooms_only(dirs, data, room_rows));
+        return Ok(rooms_only(dirs, data, room_rows, mesh_rows));
     }
     let sub = dir.join("report");
     crate::io::create_dir_all(&sub)?;
@@ -120,19 +122,20 @@ pub(crate) fn build(dirs: &[PathBuf], out: &Path) -> Result<Box<Report>> {
         scene_maps,
         gpu,
         room_rows,
+        mesh_rows,
         shipped,
     }))
 }
 
-/// The report of folders whose rows are all room cells': their summary, and nothing built
-/// from the (absent) sweep rows; no file is written here.
-fn rooms_only(dirs: &[PathBuf], data: data::Data, room_rows: Vec<Row>) -> Box<Report> {
+/// The report of folders whose rows are all room cells' or mesh cells': their summary, and
+/// nothing built from the (absent) sweep rows; no file is written here.
+fn rooms_only(dirs: &[PathBuf], data: data::Data, room_rows: Vec<Row>, mesh_rows: Vec<Row>) -> Box<Report> {
+    let apart = || room_rows.iter().chain(&mesh_rows);
     let summary = ReportSummary {
         dir: data.dir.clone(),
-        rows: room_rows.len(),
-        ok: room_rows.iter().filter(|r| r.status.is_ok()).count(),
-        failed: room_rows
-            .iter()
+        rows: apart().count(),
+        ok: apart().filter(|r| r.status.is_ok()).count(),
+        failed: apart()
             .filter(|r| !r.status.is_ok())
             .map(|r| (r.metrics.pipeline.to_string(), r.metrics.scene.clone(), r.error.clone()))
             .collect(),
@@ -159,7 +162,8 @@ fn rooms_only(dirs: &[PathBuf], data: data::Data, room_rows: Vec<Row>) -> Box<Re
         scene_maps: Vec::new(),
         gpu: None,
         room_rows,
-        shipped: Err(Error::Input("no sweep rows: only room cells".into())),
+        mesh_rows,
+        shipped: Err(Error::Input("no sweep rows: only room or mesh cells".into())),
     })
 }
 

@@ -141,18 +141,20 @@ pub(crate) fn folded(t: &TextTable, level: usize, open: bool, after: &str) -> St
 }
 
 /// The whole page: a header with the navigation, then `sections` in order.
-pub(crate) fn page(data: &Data, summary: &ReportSummary, sections: &[PageSection]) -> String {
+/// `apart`: what a report without sweep rows holds, as its title and as a noun for its cells
+/// (`("rooms", "room")`).
+pub(crate) fn page(data: &Data, summary: &ReportSummary, sections: &[PageSection], apart: (&str, &str)) -> String {
     let mut h = String::new();
     let _ = writeln!(
         h,
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\
          <meta name=\"color-scheme\" content=\"light dark\"><title>relief report</title><link rel=\"icon\" href=\"data:,\"><style>{STYLE}</style></head><body>"
     );
-    // No sweep rows: the folders hold only room cells (`relief sweep --grid rooms`).
+    // No sweep rows: the folders hold only room or mesh cells (`relief sweep --grid rooms`, `meshes`).
     let rooms_only = data.rows.is_empty();
     if rooms_only {
-        let _ = writeln!(h, "<header><h1>relief report: rooms</h1>");
-        let _ = writeln!(h, "<p class=\"lead\">{} room cells ({} ok).</p>", summary.rows, summary.ok);
+        let _ = writeln!(h, "<header><h1>relief report: {}</h1>", apart.0);
+        let _ = writeln!(h, "<p class=\"lead\">{} {} cells ({} ok).</p>", summary.rows, apart.1, summary.ok);
     } else {
         let _ = writeln!(
             h,

@@ -71,6 +71,7 @@ const SECTIONS: &[(Option<u8>, &dyn Section)] = &[
     (Some(8), &sections::views::Views),
     (Some(2), &sections::gpu::Gpu),
     (Some(9), &sections::rooms::Rooms),
+    (Some(9), &sections::meshes::Meshes),
     (Some(10), &sections::failed::Failed),
     (Some(0), &sections::about::About),
 ];
@@ -88,17 +89,23 @@ pub fn write(dir: &Path) -> Result<ReportSummary> {
 pub fn write_many(dirs: &[PathBuf], out: &Path) -> Result<ReportSummary> {
     let mut r = build::build(dirs, out)?;
     let dir = r.summary.dir.clone();
-    // Folders holding only room cells: no sweep rows, so only the sections of other rows.
+    // Folders holding only room or mesh cells: no sweep rows, so only the sections of other rows.
     let rooms_only = r.data.rows.is_empty();
     let sections: Vec<(Option<u8>, &dyn Section)> =
         SECTIONS.iter().copied().filter(|(_, s)| !rooms_only || !s.of_sweep()).collect();
     let mut in_md: Vec<(u8, &dyn Section)> = sections.iter().filter_map(|&(place, s)| Some((place?, s))).collect();
     in_md.sort_by_key(|(place, _)| *place);
-    let mut md = String::from(if rooms_only {
-        "# relief report: rooms\n\n"
+    // What the folders hold apart from sweep rows, for the title of a report without them.
+    let apart = match (r.room_rows.is_empty(), r.mesh_rows.is_empty()) {
+        (false, true) => ("rooms", "room"),
+        (true, false) => ("meshes", "mesh"),
+        _ => ("rooms and meshes", "room and mesh"),
+    };
+    let mut md = if rooms_only {
+        format!("# relief report: {}\n\n", apart.0)
     } else {
-        "# relief report: Burger 2018, chapter 4, reproduced\n\n"
-    });
+        "# relief report: Burger 2018, chapter 4, reproduced\n\n".to_string()
+    };
     for (_, s) in in_md {
         md.extend(s.markdown(&r));
     }
@@ -109,7 +116,7 @@ pub fn write_many(dirs: &[PathBuf], out: &Path) -> Result<ReportSummary> {
         }
     }
     let page: Vec<_> = sections.iter().filter_map(|(_, s)| s.html(&r)).collect();
-    let page = html::page(&r.data, &r.summary, &page);
+    let page = html::page(&r.data, &r.summary, &page, apart);
     write_file(&dir.join("index.html"), page.as_bytes(), &mut r.summary.files)?;
     Ok(r.finish())
 }

@@ -163,6 +163,7 @@ pub fn run(rooms: &[String], setup: &RoomSetup, out: &Path) -> Result<RoomSweep>
                 relief_version: env!("CARGO_PKG_VERSION").into(),
                 cell_dir: cell_dir.clone(),
                 room: None,
+                mesh: None,
             };
             let mut cells = RoomCells {
                 variant: v.label.into(),

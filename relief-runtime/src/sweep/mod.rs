@@ -16,6 +16,7 @@
 //! share of the cells (`shard_of`); the report merges the shards' folders.
 
 pub mod grids;
+pub mod meshes;
 pub mod plan;
 pub(crate) mod progress;
 

@@ -1,12 +1,14 @@
 //! What `relief sweep --grid NAME` measures, as one entry for every grid: the cells of a
-//! built-in grid or a grid file ([`super::run`]), or the room comparison `rooms`
-//! ([`crate::room::sweep`], its rows with their room columns); both append to
+//! built-in grid or a grid file ([`super::run`]), the room comparison `rooms`
+//! ([`crate::room::sweep`], its rows with their room columns), or the mesh grid `meshes`
+//! ([`super::meshes`], its rows with their mesh columns); all append to
 //! `results.jsonl`. The command line asks
 //! [`Plan::load`], lists [`listing`] and runs [`Plan::run`]; it knows no grid by name.
 
 use std::fmt;
 
 use super::grids::{self, GridError, NamedGrid};
+use super::meshes::{self, MESHES};
 use super::{Options, Summary};
 use crate::error::{Error, Result};
 use crate::room::measure::RoomSetup;
@@ -22,6 +24,9 @@ pub enum Plan {
     Cells(NamedGrid),
     /// The room comparison's four variants in each of these rooms (`room:NAME` or room files).
     Rooms(Vec<String>),
+    /// A pipeline under each `curved=` mode on each of these mesh scenes (scene files, a
+    /// view after `@`).
+    Meshes(Vec<String>),
 }
 
 /// One line of `relief sweep --list`: a grid's name, its cell count and what it measures.
@@ -47,6 +52,17 @@ pub fn listing(scenes: Option<&[String]>) -> Vec<Listed> {
         description: "Amaro & Gustafsson 2022 §3: interior mapping alone, + POM, + soft shadows, + scattering, each \
                       against real geometry, on rooms"
             .to_string(),
+    });
+    let mesh_scenes = meshes::scene_names(scenes);
+    all.push(Listed {
+        name: MESHES.to_string(),
+        cells: meshes::cells(&mesh_scenes).len(),
+        description: format!(
+            "issue 38: {} under curved=none, quadric and prism on mesh scenes against the exact mesh reference \
+             (coverage, IoU, t, uv and depth error, time over curved=none), {}² unless --size",
+            meshes::PIPELINE,
+            meshes::DEFAULT_SIZE
+        ),
     });
     all
 }
@@ -104,6 +120,10 @@ impl Done {
     }
 }
 
+/// Why a mesh grid's rows have no GPU compiler columns when the run asked for them.
+const MESH_GPU_NOTE: &str =
+    "the GPU compiler's model is not implemented for mesh modules (curved=): the mesh rows have no GPU columns";
+
 impl fmt::Display for Done {
     /// The summary line (without the time and the rows' path, which the caller adds).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -132,6 +152,9 @@ impl Plan {
         if arg == ROOMS {
             return Ok(Plan::Rooms(room_names(scenes)));
         }
+        if arg == MESHES {
+            return Ok(Plan::Meshes(meshes::scene_names(scenes)));
+        }
         grids::load(arg, scenes).map(Plan::Cells)
     }
 
@@ -141,9 +164,18 @@ impl Plan {
         out.join(crate::results::CSV)
     }
 
+    /// The frame side and timed blocks a run of the plan takes when the command line gives
+    /// none: the mesh grid's are smaller ([`meshes::DEFAULT_SIZE`], [`meshes::DEFAULT_FRAMES`]).
+    pub fn default_size_frames(&self) -> (u32, u32) {
+        match self {
+            Plan::Meshes(_) => (meshes::DEFAULT_SIZE, meshes::DEFAULT_FRAMES),
+            Plan::Cells(_) | Plan::Rooms(_) => (256, 50),
+        }
+    }
+
     /// Measures the plan with `settings`. The room comparison sets its camera and depth scales
     /// in its room files and is not sharded: overrides and a shard are refused for it, naming
-    /// them.
+    /// them; so does the mesh grid, whose scenes name their views (`FILE.toml@angle=30`).
     pub fn run(self, settings: Settings) -> Result<Done> {
         match self {
             Plan::Cells(grid) => Ok(Done::Cells(super::run(&settings.options(grid))?)),
@@ -165,6 +197,24 @@ impl Plan {
                     frames: settings.frames,
                 };
                 Ok(Done::Rooms(rooms::run(&names, &setup, &settings.out)?))
+            }
+            Plan::Meshes(scenes) => {
+                if !settings.overrides.is_empty() {
+                    return Err(Error::Input(
+                        "--view, --angle, --azimuth, --depth-scale and --tiling are not implemented for the meshes grid \
+                         (name a mesh scene's view as --scene FILE.toml@angle=30)"
+                            .to_string(),
+                    ));
+                }
+                if settings.shard.is_some() {
+                    return Err(Error::Input("--shard is not implemented for the meshes grid".to_string()));
+                }
+                let setup = meshes::MeshSetup { size: settings.size, frames: settings.frames, out: settings.out };
+                let mut summary = meshes::run(&scenes, &setup)?;
+                if settings.gpu_cost.is_some() {
+                    summary.gpu_note = Some(MESH_GPU_NOTE.to_string());
+                }
+                Ok(Done::Cells(summary))
             }
         }
     }

@@ -83,11 +83,14 @@ pub fn run(a: &CostArgs) -> anyhow::Result<()> {
     }
     for g in &a.grid {
         let scenes = if a.scene.is_empty() { None } else { Some(a.scene.as_slice()) };
-        // What `relief sweep --grid` would measure: a grid of cells, or the room comparison.
+        // What `relief sweep --grid` would measure: a grid of cells, the room comparison or the mesh grid.
         let grid = match relief_runtime::sweep::Plan::load(g, scenes)? {
             relief_runtime::sweep::Plan::Cells(grid) => grid,
             relief_runtime::sweep::Plan::Rooms(_) => anyhow::bail!(
                 "--grid {g}: the room grid's pipelines are not priced (its walls are not relief pipelines)"
+            ),
+            relief_runtime::sweep::Plan::Meshes(_) => anyhow::bail!(
+                "--grid {g}: the mesh grid's pipelines are not priced (the GPU compiler's model is not implemented for mesh modules)"
             ),
         };
         pipelines.extend(relief_runtime::sweep::measured_pipelines(&grid, &overrides));

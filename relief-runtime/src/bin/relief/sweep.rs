@@ -9,7 +9,8 @@ use relief_runtime::sweep;
 pub struct SweepArgs {
     /// A built-in grid (`t4.1` … `t4.15`, `f4.5`, `f4.7` … `f4.11`, `dissertation`, `lod`, `frontier`),
     /// `rooms` (Amaro & Gustafsson 2022's interior-mapping comparison on rooms, `--scene room:NAME` or room
-    /// files), or a grid file.
+    /// files), `meshes` (curved=none, quadric and prism on mesh scenes, `--scene FILE.toml@angle=30`), or a
+    /// grid file.
     #[arg(long, required_unless_present = "list")]
     pub grid: Option<String>,
     /// Scenes to measure on (`scene:NAME`, a bare NAME, a TOML scene file or a height-map
@@ -18,14 +19,15 @@ pub struct SweepArgs {
     pub scene: Vec<String>,
     #[command(flatten)]
     pub overrides: crate::OverrideArgs,
-    /// Frame size in pixels (square).
-    #[arg(long, default_value_t = 256)]
-    pub size: u32,
+    /// Frame size in pixels (square). Default 256 (`meshes`: 96).
+    #[arg(long)]
+    pub size: Option<u32>,
     /// Timed blocks per cell, the cell's and the baseline's together: frames/2 pairs (at
-    /// least 2) alternating with the baseline `linear(32)+binary(5)`, after 3 warm-up frames;
-    /// a block is as many frames as last 2 ms (one frame on lavapipe).
-    #[arg(long, default_value_t = 50)]
-    pub frames: u32,
+    /// least 2) alternating with the baseline `linear(32)+binary(5)` (`meshes`: with the same
+    /// stages under curved=none), after 3 warm-up frames; a block is as many frames as last
+    /// 2 ms (one frame on lavapipe). Default 50 (`meshes`: 12).
+    #[arg(long)]
+    pub frames: Option<u32>,
     /// Measure only shard K of N (K/N, e.g. 2/4): the grid's cells sorted and dealt round
     /// robin, so that N machines given the same grid measure every cell once between them.
     #[arg(long, value_parser = sweep::parse_shard)]
@@ -60,14 +62,16 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
         }
         return Ok(());
     }
-    if a.size == 0 || a.size > 4096 {
-        anyhow::bail!("--size {} is out of range: allowed 1..=4096", a.size);
-    }
-    if a.frames == 0 {
-        anyhow::bail!("--frames 0: at least one timed frame is needed");
-    }
     let overrides = a.overrides.checked()?;
     let plan = sweep::Plan::load(a.grid.as_deref().unwrap_or_default(), scenes)?;
+    let (default_size, default_frames) = plan.default_size_frames();
+    let (size, frames) = (a.size.unwrap_or(default_size), a.frames.unwrap_or(default_frames));
+    if size == 0 || size > 4096 {
+        anyhow::bail!("--size {size} is out of range: allowed 1..=4096");
+    }
+    if frames == 0 {
+        anyhow::bail!("--frames 0: at least one timed frame is needed");
+    }
     let rows = plan.rows_path(&a.out);
     let _lock = crate::lock_folders(&[&a.out], a.wait)?;
     let gpu_cost = if a.no_gpu_cost {
@@ -79,8 +83,8 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<()> {
     };
     let start = std::time::Instant::now();
     let done = plan.run(sweep::Settings {
-        size: a.size,
-        frames: a.frames,
+        size,
+        frames,
         warmup: 3,
         out: a.out.clone(),
         progress: std::io::IsTerminal::is_terminal(&std::io::stderr()),

@@ -12,6 +12,7 @@ pub(crate) mod failed;
 pub(crate) mod gpu;
 pub(crate) mod live;
 pub(crate) mod lod;
+pub(crate) mod meshes;
 pub(crate) mod pareto;
 pub(crate) mod rooms;
 pub(crate) mod stability;
@@ -88,6 +89,9 @@ pub(crate) struct Report {
     /// The room cells' rows (`relief sweep --grid rooms`), apart from `data`'s; empty when
     /// the folders hold none.
     pub room_rows: Vec<Row>,
+    /// The mesh grid's rows (`relief sweep --grid meshes`), apart from `data`'s; empty when
+    /// the folders hold none.
+    pub mesh_rows: Vec<crate::results::Row>,
     /// The browser data the live section reads, or why there is none.
     pub shipped: crate::error::Result<Written>,
 }

@@ -108,6 +108,7 @@ pub(super) fn read(path: &Path) -> Result<Option<Vec<Row>>, ResultsError> {
                 mean_abs_diff: old.mean_abs_diff,
                 per_wall,
             }),
+            mesh: None,
         });
     }
     Ok(Some(out))
