@@ -127,16 +127,7 @@ pub fn run(scenes: &[String], setup: &MeshSetup) -> Result<Summary> {
         let measured = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
             measure_scene(&gpu, scene, &base, &todo, setup, &adapter)
         }))
-        .unwrap_or_else(|panic| {
-            Err(Error::Input(format!(
-                "panicked: {}",
-                panic
-                    .downcast_ref::<String>()
-                    .cloned()
-                    .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
-                    .unwrap_or_default()
-            )))
-        });
+        .unwrap_or_else(|panic| Err(Error::Input(format!("panicked: {}", super::panic_text(&*panic)))));
         let new_rows = match measured {
             Ok(r) => {
                 summary.measured += r.len();

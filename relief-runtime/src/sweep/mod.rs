@@ -199,14 +199,7 @@ pub fn run(opts: &Options) -> Result<Summary> {
                 }));
                 match outcome {
                     Ok(r) => r.map_err(|e| e.to_string()),
-                    Err(panic) => Err(format!(
-                        "panicked: {}",
-                        panic
-                            .downcast_ref::<String>()
-                            .cloned()
-                            .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
-                            .unwrap_or_default()
-                    )),
+                    Err(panic) => Err(format!("panicked: {}", panic_text(&*panic))),
                 }
             }
         };
@@ -370,6 +363,16 @@ fn scene_spec(arg: &str) -> String {
 pub fn cell_dir(label: &str, size: u32, adapter: &str, pipeline: &relief_dsl::Pipeline) -> String {
     let (scene, adapter) = (crate::io::path_component(label), crate::io::path_component(adapter));
     format!("cells/{scene}/{size}/{adapter}/{}", pipeline.file_stem())
+}
+
+/// The message a caught panic carries (`panic!` with a format string gives a `String`, with
+/// a literal a `&str`), or nothing.
+pub(crate) fn panic_text(panic: &(dyn std::any::Any + Send)) -> String {
+    panic
+        .downcast_ref::<String>()
+        .cloned()
+        .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+        .unwrap_or_default()
 }
 
 #[cfg(test)]
