@@ -137,7 +137,9 @@ impl Rng {
 /// The fuzz-and-fault test, bounded in count (a fixed list and a fixed number of
 /// seeded mutations) and in time (each command killed after 20 s, which counts as a hang):
 /// malformed pipelines and parameters, bad numbers for every numeric flag, FIFOs and
-/// folders given as inputs, corrupted results rows under `relief report`. Every command must
+/// folders given as inputs, damaged mesh files and mesh scenes (`relief scene check`, `relief
+/// sweep --grid meshes`, `relief export`), corrupted results rows under `relief report`, and
+/// an older relief's damaged room rows under `relief report` and `relief sweep --grid rooms`. Every command must
 /// end by itself, with status 0 or a plain failure (never a panic, exit 101, or a signal),
 /// and a failure must be one line on stderr. The concurrent sweeps with the lock and the
 /// kill-and-resume runs are in tests/sweep.rs. The count of commands run is printed.
@@ -414,8 +416,15 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
                 let body = format!("[height_map]\npath = \"h.png\"\n[mesh]\npath = \"{name}\"\n{mesh_name}");
                 std::fs::write(&sc, body).unwrap();
                 let mut a = os(&["scene", "check", "--reference", "8"]);
-                a.push(sc.into());
+                a.push(sc.clone().into());
                 add(format!("scene check {name} {mesh_name:?}"), a);
+                // The same scene under the mesh grid: failed rows or measured ones, never a
+                // panic or a hang (8² frames, so a mesh that loads is traced quickly).
+                let mut a = os(&["sweep", "--grid", "meshes", "--size", "8", "--frames", "1", "--scene"]);
+                a.push(sc.into());
+                a.push("--out".into());
+                a.push(d.join(format!("mesh-sweep-{name}{}", mesh_name.len())).into());
+                add(format!("sweep --grid meshes {name} {mesh_name:?}"), a);
             }
         }
         if made {
@@ -501,6 +510,57 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
         let mut a = os(&["report"]);
         a.push(dir.into());
         add(format!("report with line {bad:.40?}"), a);
+    }
+    // An older relief's room rows (`rooms.jsonl`, read once into results rows by `relief
+    // report` and moved by the next `relief sweep --grid rooms`), damaged: hand-picked
+    // replacements, cuts, and seeded byte flips of the committed older folder's file. The
+    // sweep runs at that folder's size, so intact rows are kept and not measured again.
+    let legacy =
+        std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/rooms_before/rooms.jsonl"))
+            .unwrap();
+    let text = String::from_utf8(legacy.clone()).unwrap();
+    let mut olds: Vec<Vec<u8>> = [
+        text.replacen("\"ok\"", "\"maybe\"", 1),
+        text.replacen("\"pipeline\":\"none\"", "\"pipeline\":\"nosuch(1)\"", 1),
+        text.replacen("\"size\":24", "\"size\":-24", 1),
+        text.replacen("\"size\":24", "\"size\":4294967297", 1),
+        text.replacen("\"rays\":140", "\"rays\":-1", 1),
+        text.replacen("\"frame_ms\":", "\"frame_ms\":null,\"x\":", 1),
+        text.replacen("\"per_wall\":[", "\"per_wall\":7,\"y\":[", 1),
+        text.replacen("\"room\":\"room:default\"", "\"room\":\"room:nosuch\"", 1),
+        text.replacen("\"variant\":\"", "\"variant\":\"../../", 1),
+        "{".repeat(10000),
+        String::new(),
+    ]
+    .into_iter()
+    .map(String::into_bytes)
+    .collect();
+    for cut in [1, legacy.len() / 3, legacy.len() - 2] {
+        olds.push(legacy[..cut].to_vec());
+    }
+    olds.push(vec![0xff, 0xfe, b'{']);
+    let mut lrng = Rng(40);
+    for _ in 0..12 {
+        let mut b = legacy.clone();
+        for _ in 0..1 + lrng.below(6) {
+            let k = lrng.below(b.len());
+            b[k] = lrng.below(256) as u8;
+        }
+        olds.push(b);
+    }
+    for (i, bad) in olds.iter().enumerate() {
+        for cmd in ["report", "sweep"] {
+            let dir = d.join(format!("legacy-{cmd}{i}"));
+            std::fs::create_dir_all(&dir).unwrap();
+            std::fs::write(dir.join("rooms.jsonl"), bad).unwrap();
+            let mut a = if cmd == "report" {
+                os(&["report"])
+            } else {
+                os(&["sweep", "--grid", "rooms", "--size", "24", "--frames", "1", "--out"])
+            };
+            a.push(dir.into());
+            add(format!("{cmd} over older room rows #{i}"), a);
+        }
     }
     let total = cases.len();
     let mut failures = Vec::new();
