@@ -865,65 +865,48 @@ impl Metrics {
     }
 }
 
-/// Every `f64` metric [`set_nan`] knows.
-const NUMBERS: &[&str] = &[
-    "frame_ms_median",
-    "frame_ms_mean",
-    "avg_coarse_steps",
-    "avg_refine_steps",
-    "nonconverged_rate",
-    "frame_ms_p10",
-    "frame_ms_p90",
-    "mse_dissertation",
-    "mse_dissertation_mean",
-    "ref_err_t_rms",
-    "ref_err_uv_texels_rms",
-    "missed_rate",
-    "past_rate",
-    "skipped_rate",
-    "ref_err_t_median",
-    "ref_err_t_p90",
-    "ref_err_t_p99",
-    "mse_worst1_share",
-    "false_hit_rate",
-    "avg_iterations",
-    "avg_fetches",
-    "simd32_steps",
-    "simd64_steps",
-    "simd32_fetches",
-    "simd32_divergence",
-    "timestamp_period_ns",
-];
+/// The `f64` metrics a row may leave unmeasured, named once: [`NUMBERS`] lists them and
+/// [`set_nan`] sets one by its column name.
+macro_rules! numbers {
+    ($($field:ident),* $(,)?) => {
+        /// Every `f64` metric [`set_nan`] knows.
+        const NUMBERS: &[&str] = &[$(stringify!($field)),*];
 
-fn set_nan(m: &mut Metrics, field: &str) {
-    let f = match field {
-        "frame_ms_median" => &mut m.frame_ms_median,
-        "frame_ms_mean" => &mut m.frame_ms_mean,
-        "avg_coarse_steps" => &mut m.avg_coarse_steps,
-        "avg_refine_steps" => &mut m.avg_refine_steps,
-        "nonconverged_rate" => &mut m.nonconverged_rate,
-        "frame_ms_p10" => &mut m.frame_ms_p10,
-        "frame_ms_p90" => &mut m.frame_ms_p90,
-        "mse_dissertation" => &mut m.mse_dissertation,
-        "mse_dissertation_mean" => &mut m.mse_dissertation_mean,
-        "ref_err_t_rms" => &mut m.ref_err_t_rms,
-        "ref_err_uv_texels_rms" => &mut m.ref_err_uv_texels_rms,
-        "missed_rate" => &mut m.missed_rate,
-        "past_rate" => &mut m.past_rate,
-        "skipped_rate" => &mut m.skipped_rate,
-        "ref_err_t_median" => &mut m.ref_err_t_median,
-        "ref_err_t_p90" => &mut m.ref_err_t_p90,
-        "ref_err_t_p99" => &mut m.ref_err_t_p99,
-        "mse_worst1_share" => &mut m.mse_worst1_share,
-        "false_hit_rate" => &mut m.false_hit_rate,
-        "avg_iterations" => &mut m.avg_iterations,
-        "avg_fetches" => &mut m.avg_fetches,
-        "simd32_steps" => &mut m.simd32_steps,
-        "simd64_steps" => &mut m.simd64_steps,
-        "simd32_fetches" => &mut m.simd32_fetches,
-        "simd32_divergence" => &mut m.simd32_divergence,
-        "timestamp_period_ns" => &mut m.timestamp_period_ns,
-        _ => return,
+        /// Sets the `f64` metric named `field` to NaN (a name not in [`NUMBERS`] is left alone).
+        fn set_nan(m: &mut Metrics, field: &str) {
+            match field {
+                $(stringify!($field) => m.$field = f64::NAN,)*
+                _ => {}
+            }
+        }
     };
-    *f = f64::NAN;
 }
+
+numbers!(
+    frame_ms_median,
+    frame_ms_mean,
+    avg_coarse_steps,
+    avg_refine_steps,
+    nonconverged_rate,
+    frame_ms_p10,
+    frame_ms_p90,
+    mse_dissertation,
+    mse_dissertation_mean,
+    ref_err_t_rms,
+    ref_err_uv_texels_rms,
+    missed_rate,
+    past_rate,
+    skipped_rate,
+    ref_err_t_median,
+    ref_err_t_p90,
+    ref_err_t_p99,
+    mse_worst1_share,
+    false_hit_rate,
+    avg_iterations,
+    avg_fetches,
+    simd32_steps,
+    simd64_steps,
+    simd32_fetches,
+    simd32_divergence,
+    timestamp_period_ns,
+);
