@@ -317,7 +317,131 @@ fn the_page_inflates_the_browser_data_to_the_runtimes_bytes() {
         let what = f["what"].as_str().unwrap();
         let bytes = &want[what];
         assert_eq!(f["len"].as_u64(), Some(bytes.len() as u64), "{what}");
-        assert_eq!(f["fnv"].as_u64(), Some(fnv(bytes)), "{what}: the inflated bytes differ from the runtime's");
+        assert_eq!(f["fnv"].as_u64(), Some(fnv(bytes)), "{what}: the page's bytes differ from the runtime's");
+        // The distance field is computed by the page, not shipped; every other map is a file.
+        let field = what.starts_with("map:distance_field");
+        assert_eq!(f["computed"].as_str(), field.then_some("distance_field"), "{what}: {f}");
+        if what.starts_with("map:") {
+            assert_eq!(f["name"].is_null(), field, "{what}: {f}");
+        }
+        if field {
+            eprintln!("the page computed {what} of rocks in {:.0} ms", f["ms"].as_f64().unwrap());
+        }
+    }
+    let shipped: Vec<String> = walk(&dir.join("browser")).iter().map(|p| p.display().to_string()).collect();
+    assert!(shipped.iter().any(|p| p.contains("/map_")), "{shipped:?}");
+    assert!(!shipped.iter().any(|p| p.contains("distance_field")), "a distance field was shipped: {shipped:?}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Every file under `dir`, recursively.
+fn walk(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(walk(&p));
+        } else {
+            out.push(p);
+        }
+    }
+    out
+}
+
+/// A height map of `w × h` with the features that make a distance field hard: one-texel
+/// spikes to the top, one-texel walls (a row and a column, wrapping round with `Repeat`), a
+/// one-texel pit, flat plateaus at heights that are no short binary fraction, and pseudo-random
+/// low ground between them (a fixed linear congruential sequence, no crate).
+fn spiky(w: usize, h: usize) -> relief::runtime::HeightMap {
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = || {
+        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let mut data: Vec<f32> = (0..w * h).map(|_| 0.3 * next()).collect();
+    for y in 0..h {
+        for x in 0..w {
+            let v = &mut data[y * w + x];
+            if x == w / 3 || y == h - 1 {
+                *v = 0.9; // walls, one texel thick; the row at the last y meets the first with Repeat
+            } else if (x + 7 * y) % 13 == 0 {
+                *v = 1.0; // spikes
+            } else if x > 2 * w / 3 && y < h / 2 {
+                *v = 0.1 + 0.6 / 7.0; // a plateau
+            }
+        }
+    }
+    data[(h / 2) * w + w / 2] = 0.0; // a pit
+    relief::runtime::HeightMap::new(w, h, data)
+}
+
+/// The distance field the live section computes (`distanceField` in `web/live.js`, from the
+/// heights) equals the runtime's generator (`maps::build` of `distance_field`) bit for bit: on
+/// the real map `rocks` as its scene loads it (256², and two non-square crops of it), on the
+/// procedural `lion` (one-texel edges and grooves, 256²) and on a map of one-texel spikes and
+/// walls ([`spiky`], non-square), with both edge modes, at z resolutions 64 (the main job's
+/// 256² × 64) and others. The page compares the values as bit patterns and reports the hash of
+/// its bytes, checked here against the runtime's. The page's time at 256² × 64 is printed.
+#[test]
+fn the_page_computes_the_runtimes_distance_field_bit_for_bit() {
+    use relief::runtime::{maps, scene_from_arg, EdgeMode, HeightMap, MapKind, MapParams};
+    let dir = std::env::temp_dir().join(format!("relief-field-page-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    let rocks = scene_from_arg("scene:rocks").unwrap().height;
+    let lion = scene_from_arg("scene:lion").unwrap().height;
+    assert_eq!((rocks.width, rocks.height, lion.width, lion.height), (256, 256, 256, 256));
+    let crop = |m: &HeightMap, x0: usize, y0: usize, w: usize, h: usize| {
+        HeightMap::new(w, h, (0..h).flat_map(|y| (0..w).map(move |x| m.data[(y0 + y) * m.width + x0 + x])).collect())
+    };
+    let maps_of: Vec<(&str, HeightMap, u32)> = vec![
+        ("rocks", rocks.clone(), 64),
+        ("rocks 96x40", crop(&rocks, 17, 101, 96, 40), 64),
+        ("rocks 33x70", crop(&rocks, 140, 3, 33, 70), 17),
+        ("lion", lion, 64),
+        ("spiky 50x23", spiky(50, 23), 64),
+        ("spiky 1x9", spiky(1, 9), 5),
+    ];
+    let mut cases = Vec::new();
+    let mut want_fnv = std::collections::BTreeMap::new();
+    for (i, (name, hm, depth)) in maps_of.iter().enumerate() {
+        std::fs::write(dir.join(format!("h{i}.bin")), bytemuck::cast_slice::<f32, u8>(&hm.data)).unwrap();
+        for (edge, edge_name) in [(EdgeMode::Repeat, "repeat"), (EdgeMode::Clamp, "clamp")] {
+            let params = MapParams { z_resolution: *depth, ..MapParams::default() };
+            let field = maps::build(hm, MapKind::DistanceField, &params, edge).unwrap();
+            assert_eq!(field.data.len(), hm.width * hm.height * *depth as usize);
+            let bytes = bytemuck::cast_slice::<f32, u8>(&field.data);
+            let case = format!("{name} {edge_name} z{depth}");
+            std::fs::write(dir.join(format!("w{i}{edge_name}.bin")), bytes).unwrap();
+            want_fnv.insert(case.clone(), fnv(bytes));
+            cases.push(serde_json::json!({
+                "name": case, "width": hm.width, "height": hm.height, "depth": depth, "edge": edge_name,
+                "heights": format!("h{i}.bin"), "want": format!("w{i}{edge_name}.bin"),
+            }));
+        }
+    }
+    std::fs::write(dir.join("cases.json"), serde_json::to_vec(&cases).unwrap()).unwrap();
+
+    let web = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("relief-runtime/web");
+    let mut page = Page::new("pages/field.html");
+    page.mounts.push(("web", &web));
+    page.mounts.push(("cases", &dir));
+    page.timeout = Duration::from_secs(300);
+    let r = run_page(&page);
+    assert_eq!(r["ok"], true, "{r}");
+    let got = r["cases"].as_array().unwrap();
+    assert_eq!(got.len(), want_fnv.len(), "{r}");
+    for c in got {
+        let name = c["name"].as_str().unwrap();
+        eprintln!(
+            "{name}: {} values, {} differ, {:.0} ms in the page",
+            c["len"],
+            c["differ"],
+            c["ms"].as_f64().unwrap()
+        );
+        assert_eq!(c["len"], c["want_len"], "{name}");
+        assert_eq!(c["differ"], 0, "{name}: the page's field differs from the runtime's, first at {}", c["first"]);
+        assert_eq!(c["fnv"].as_u64(), Some(want_fnv[name]), "{name}: the page's bytes hash differently");
     }
     std::fs::remove_dir_all(&dir).ok();
 }
