@@ -59,13 +59,15 @@ fn the_report_page_answers_above_the_fold_and_its_tables_and_links_work() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// A 6-cell sweep (three pipelines on a real and a procedural height map at 64²) as the
-/// live section's script draws it in Chromium (SwiftShader's WebGPU, pages/live.html): on the
+/// An 8-cell sweep (four pipelines on a real and a procedural height map at 64², one of them
+/// `sphere(16)`, which reads the distance field the page computes) as the live section's
+/// script draws it in Chromium (SwiftShader's WebGPU, pages/live.html): on the
 /// real map `rocks` every pipeline at its measured view equals the sweep's own frame
 /// (`relief render`'s renderer on lavapipe) within the goals, a mean absolute difference of
 /// at most 1/255 and at most 1 % of pixels off by more than 8 in a channel. On the procedural
-/// `lion` (one-texel walls) the same is measured and printed, not asserted: two of its three
-/// pipelines miss the goals, with the runtime's own Params block as well as the page's,
+/// `lion` (one-texel walls) the same is measured and printed, not asserted: three of its four
+/// pipelines miss the goals (two of the three without `sphere(16)`, measured with the runtime's
+/// own Params block as well as the page's),
 /// because SwiftShader's rasteriser shifts every pixel's ray by about 1/32 px and lion's
 /// frames are the more sensitive to it (docs/browser.md). The page's Params for the measured
 /// view are the runtime's.
@@ -81,12 +83,12 @@ fn the_live_section_draws_and_measures_the_sweep_in_chromium() {
     let dir = std::env::temp_dir().join(format!("relief-live-page-{}", std::process::id()));
     std::fs::remove_dir_all(&dir).ok();
     let grid = grids::parse_grid_file(
-        "coarse: [linear(16), csm(16)]\nrefine: binary(5)\n---\ncoarse: linear_dynamic(1, 32)\nrefine: interval(1)\n",
+        "coarse: [linear(16), csm(16)]\nrefine: binary(5)\n---\ncoarse: linear_dynamic(1, 32)\nrefine: interval(1)\n---\ncoarse: sphere(16)\nrefine: binary(5)\n",
     )
     .unwrap();
     let cells: Vec<_> =
         ["rocks", "lion"].iter().flat_map(|s| grid.iter().map(move |p| (p.clone(), s.to_string()))).collect();
-    assert_eq!(cells.len(), 6);
+    assert_eq!(cells.len(), 8);
     let grid = NamedGrid { name: "live".into(), description: "the live section test".into(), cells };
     sweep_and_report(&dir, grid, 64);
 
@@ -116,7 +118,7 @@ fn the_live_section_draws_and_measures_the_sweep_in_chromium() {
         }
     }
     let frames = r["frames"].as_array().unwrap();
-    assert_eq!(frames.len(), 6, "{r}");
+    assert_eq!(frames.len(), 8, "{r}");
     for f in frames {
         let name = format!("{} on {}", f["pipeline"], f["scene"]);
         let got = relief::runtime::io::base64::decode(f["rgba"].as_str().unwrap()).unwrap();
@@ -156,12 +158,12 @@ fn the_live_section_draws_and_measures_the_sweep_in_chromium() {
     std::fs::write(&file, serde_json::to_vec(results).unwrap()).unwrap();
     let added = relief::runtime::report::add(&dir, std::slice::from_ref(&file), false).expect("add");
     assert_eq!(added.len(), 1);
-    assert_eq!(added[0].rows, 6, "{:?}", added[0].set_aside);
+    assert_eq!(added[0].rows, 8, "{:?}", added[0].set_aside);
     assert!(added[0].set_aside.is_empty(), "{:?}", added[0].set_aside);
     let adapter = added[0].adapter.clone();
     eprintln!("browser rows added under `{adapter}`");
     let rows = relief::runtime::results::read(&dir).unwrap().rows;
-    assert_eq!(rows.len(), 12);
+    assert_eq!(rows.len(), 16);
     eprintln!("| pipeline | scene | lavapipe frame ms | browser frame ms | lavapipe ref_err_t_rms | browser ref_err_t_rms | |Δ| |");
     for b in rows.iter().filter(|r| r.metrics.adapter == adapter) {
         let m = &b.metrics;
@@ -200,12 +202,12 @@ fn the_live_section_draws_and_measures_the_sweep_in_chromium() {
     let tables = std::fs::read_to_string(dir.join("tables.md")).unwrap();
     assert!(tables.contains("Per adapter: frame time and accuracy"), "no per-adapter table");
     assert!(tables.contains(&format!("{adapter}: frame ms (median)")), "no column set for {adapter}");
-    // Again: refused; with replace, the six rows are replaced.
+    // Again: refused; with replace, the eight rows are replaced.
     let again = relief::runtime::report::add(&dir, std::slice::from_ref(&file), false).unwrap_err().to_string();
-    assert!(again.contains("already holds 6 rows") && again.contains("--replace") && !again.contains('\n'), "{again}");
+    assert!(again.contains("already holds 8 rows") && again.contains("--replace") && !again.contains('\n'), "{again}");
     let replaced = relief::runtime::report::add(&dir, std::slice::from_ref(&file), true).expect("replace");
-    assert_eq!((replaced[0].rows, replaced[0].replaced), (6, 6));
-    assert_eq!(relief::runtime::results::read(&dir).unwrap().rows.len(), 12);
+    assert_eq!((replaced[0].rows, replaced[0].replaced), (8, 8));
+    assert_eq!(relief::runtime::results::read(&dir).unwrap().rows.len(), 16);
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -317,7 +319,131 @@ fn the_page_inflates_the_browser_data_to_the_runtimes_bytes() {
         let what = f["what"].as_str().unwrap();
         let bytes = &want[what];
         assert_eq!(f["len"].as_u64(), Some(bytes.len() as u64), "{what}");
-        assert_eq!(f["fnv"].as_u64(), Some(fnv(bytes)), "{what}: the inflated bytes differ from the runtime's");
+        assert_eq!(f["fnv"].as_u64(), Some(fnv(bytes)), "{what}: the page's bytes differ from the runtime's");
+        // The distance field is computed by the page, not shipped; every other map is a file.
+        let field = what.starts_with("map:distance_field");
+        assert_eq!(f["computed"].as_str(), field.then_some("distance_field"), "{what}: {f}");
+        if what.starts_with("map:") {
+            assert_eq!(f["name"].is_null(), field, "{what}: {f}");
+        }
+        if field {
+            eprintln!("the page computed {what} of rocks in {:.0} ms", f["ms"].as_f64().unwrap());
+        }
+    }
+    let shipped: Vec<String> = walk(&dir.join("browser")).iter().map(|p| p.display().to_string()).collect();
+    assert!(shipped.iter().any(|p| p.contains("/map_")), "{shipped:?}");
+    assert!(!shipped.iter().any(|p| p.contains("distance_field")), "a distance field was shipped: {shipped:?}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Every file under `dir`, recursively.
+fn walk(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(walk(&p));
+        } else {
+            out.push(p);
+        }
+    }
+    out
+}
+
+/// A height map of `w × h` with the features that make a distance field hard: one-texel
+/// spikes to the top, one-texel walls (a row and a column, wrapping round with `Repeat`), a
+/// one-texel pit, flat plateaus at heights that are no short binary fraction, and pseudo-random
+/// low ground between them (a fixed linear congruential sequence, no crate).
+fn spiky(w: usize, h: usize) -> relief::runtime::HeightMap {
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = || {
+        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let mut data: Vec<f32> = (0..w * h).map(|_| 0.3 * next()).collect();
+    for y in 0..h {
+        for x in 0..w {
+            let v = &mut data[y * w + x];
+            if x == w / 3 || y == h - 1 {
+                *v = 0.9; // walls, one texel thick; the row at the last y meets the first with Repeat
+            } else if (x + 7 * y) % 13 == 0 {
+                *v = 1.0; // spikes
+            } else if x > 2 * w / 3 && y < h / 2 {
+                *v = 0.1 + 0.6 / 7.0; // a plateau
+            }
+        }
+    }
+    data[(h / 2) * w + w / 2] = 0.0; // a pit
+    relief::runtime::HeightMap::new(w, h, data)
+}
+
+/// The distance field the live section computes (`distanceField` in `web/live.js`, from the
+/// heights) equals the runtime's generator (`maps::build` of `distance_field`) bit for bit: on
+/// the real map `rocks` as its scene loads it (256², and two non-square crops of it), on the
+/// procedural `lion` (one-texel edges and grooves, 256²) and on a map of one-texel spikes and
+/// walls ([`spiky`], non-square), with both edge modes, at z resolutions 64 (the main job's
+/// 256² × 64) and others. The page compares the values as bit patterns and reports the hash of
+/// its bytes, checked here against the runtime's. The page's time at 256² × 64 is printed.
+#[test]
+fn the_page_computes_the_runtimes_distance_field_bit_for_bit() {
+    use relief::runtime::{maps, scene_from_arg, EdgeMode, HeightMap, MapKind, MapParams};
+    let dir = std::env::temp_dir().join(format!("relief-field-page-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    let rocks = scene_from_arg("scene:rocks").unwrap().height;
+    let lion = scene_from_arg("scene:lion").unwrap().height;
+    assert_eq!((rocks.width, rocks.height, lion.width, lion.height), (256, 256, 256, 256));
+    let crop = |m: &HeightMap, x0: usize, y0: usize, w: usize, h: usize| {
+        HeightMap::new(w, h, (0..h).flat_map(|y| (0..w).map(move |x| m.data[(y0 + y) * m.width + x0 + x])).collect())
+    };
+    let maps_of: Vec<(&str, HeightMap, u32)> = vec![
+        ("rocks", rocks.clone(), 64),
+        ("rocks 96x40", crop(&rocks, 17, 101, 96, 40), 64),
+        ("rocks 33x70", crop(&rocks, 140, 3, 33, 70), 17),
+        ("lion", lion, 64),
+        ("spiky 50x23", spiky(50, 23), 64),
+        ("spiky 1x9", spiky(1, 9), 5),
+    ];
+    let mut cases = Vec::new();
+    let mut want_fnv = std::collections::BTreeMap::new();
+    for (i, (name, hm, depth)) in maps_of.iter().enumerate() {
+        std::fs::write(dir.join(format!("h{i}.bin")), bytemuck::cast_slice::<f32, u8>(&hm.data)).unwrap();
+        for (edge, edge_name) in [(EdgeMode::Repeat, "repeat"), (EdgeMode::Clamp, "clamp")] {
+            let params = MapParams { z_resolution: *depth, ..MapParams::default() };
+            let field = maps::build(hm, MapKind::DistanceField, &params, edge).unwrap();
+            assert_eq!(field.data.len(), hm.width * hm.height * *depth as usize);
+            let bytes = bytemuck::cast_slice::<f32, u8>(&field.data);
+            let case = format!("{name} {edge_name} z{depth}");
+            std::fs::write(dir.join(format!("w{i}{edge_name}.bin")), bytes).unwrap();
+            want_fnv.insert(case.clone(), fnv(bytes));
+            cases.push(serde_json::json!({
+                "name": case, "width": hm.width, "height": hm.height, "depth": depth, "edge": edge_name,
+                "heights": format!("h{i}.bin"), "want": format!("w{i}{edge_name}.bin"),
+            }));
+        }
+    }
+    std::fs::write(dir.join("cases.json"), serde_json::to_vec(&cases).unwrap()).unwrap();
+
+    let web = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("relief-runtime/web");
+    let mut page = Page::new("pages/field.html");
+    page.mounts.push(("web", &web));
+    page.mounts.push(("cases", &dir));
+    page.timeout = Duration::from_secs(300);
+    let r = run_page(&page);
+    assert_eq!(r["ok"], true, "{r}");
+    let got = r["cases"].as_array().unwrap();
+    assert_eq!(got.len(), want_fnv.len(), "{r}");
+    for c in got {
+        let name = c["name"].as_str().unwrap();
+        eprintln!(
+            "{name}: {} values, {} differ, {:.0} ms in the page",
+            c["len"],
+            c["differ"],
+            c["ms"].as_f64().unwrap()
+        );
+        assert_eq!(c["len"], c["want_len"], "{name}");
+        assert_eq!(c["differ"], 0, "{name}: the page's field differs from the runtime's, first at {}", c["first"]);
+        assert_eq!(c["fnv"].as_u64(), Some(want_fnv[name]), "{name}: the page's bytes hash differently");
     }
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -104,21 +104,33 @@
     return t.createView({ dimension: m.view });
   }
 
-  // A scene's textures, maps and samplers on the device, loaded once.
+  // A scene's textures and samplers on the device, loaded once; its maps are added by
+  // `withMaps` when a pipeline that reads them is first drawn or probed.
   var sceneCache = {};
   function sceneRes(scene) {
     if (sceneCache[scene.label]) return sceneCache[scene.label];
     sceneCache[scene.label] = (async function () {
       var device = (await gpu()).device;
-      var r = { maps: {} };
+      var r = { maps: {}, mapTextures: {} };
       for (var k of ["height", "normal", "albedo"]) r[k] = texture(device, await load(scene.textures[k]));
-      for (var slug in scene.maps) r.maps[slug] = texture(device, await load(scene.maps[slug]));
       var mode = scene.edge === "clamp" ? "clamp-to-edge" : "repeat";
       r.linear = device.createSampler({ addressModeU: mode, addressModeV: mode, magFilter: "linear", minFilter: "linear" });
       r.nearest = device.createSampler({ addressModeU: mode, addressModeV: mode, magFilter: "nearest", minFilter: "nearest" });
       return r;
     })();
     return sceneCache[scene.label];
+  }
+  // The scene's resources with every map pipeline `p` binds on the device (each loaded or
+  // computed once, `loadMap`).
+  async function withMaps(p, scene) {
+    var res = await sceneRes(scene), device = (await gpu()).device;
+    var slugs = p.render_bindings.concat(p.probe_bindings).map(function (b) { return b[1]; })
+      .filter(function (src) { return src.indexOf("map:") === 0; }).map(function (src) { return src.slice(4); });
+    for (var slug of slugs) {
+      if (!res.mapTextures[slug]) res.mapTextures[slug] = loadMap(scene, slug).then(function (d) { return texture(device, d); });
+      res.maps[slug] = await res.mapTextures[slug];
+    }
+    return res;
   }
 
   // A pipeline's shader module, checked, loaded once.
@@ -276,6 +288,130 @@
   }
 
   // ---------------------------------------------------------------------------------------
+  // The 3D distance field (relief-runtime/src/maps/distance_field.rs), not shipped but computed
+  // here from the scene's f32 heights (level 0 of the height file): the box bound from the
+  // 3×3 maxima, one Felzenszwalb–Huttenlocher lower envelope along x then along y per slice
+  // (wrapping lines unrolled three times), max(0, B − δ), rounded down to f32. Every f64
+  // operation is the generator's, in its order (JS numbers are f64 and Math.sqrt is correctly
+  // rounded), so the field is the runtime's bit for bit (tests/report_browser.rs checks it).
+
+  // out[i] = min over j of (spacing (i − j))² + f[j] on n values; v, z scratch of n and n + 1.
+  function envelope(f, n, spacing, out, v, z) {
+    var k = 0;
+    v[0] = 0;
+    z[0] = -Infinity;
+    z[1] = Infinity;
+    for (var q = 1; q < n; q++) {
+      var pq = q * spacing, fq = f[q] + pq * pq;
+      for (;;) {
+        var p = v[k], pp = p * spacing;
+        var s = (fq - (f[p] + pp * pp)) / (2 * (pq - pp));
+        if (s <= z[k] && k > 0) { k--; continue; }
+        if (s <= z[k]) { v[0] = q; z[1] = Infinity; break; }
+        k++;
+        v[k] = q;
+        z[k] = s;
+        z[k + 1] = Infinity;
+        break;
+      }
+    }
+    k = 0;
+    for (var i = 0; i < n; i++) {
+      var pi = i * spacing;
+      while (z[k + 1] < pi) k++;
+      var d = pi - v[k] * spacing;
+      out[i] = d * d + f[v[k]];
+    }
+  }
+  // One line, wrapping (three copies, the middle one kept) or not; `sc` holds scratch for 3n.
+  function envelopeLine(f, n, spacing, wrap, out, sc) {
+    if (wrap && n > 1) {
+      for (var c = 0; c < 3; c++) sc.ext.set(f.subarray(0, n), c * n);
+      envelope(sc.ext, 3 * n, spacing, sc.res, sc.v, sc.z);
+      out.set(sc.res.subarray(n, 2 * n));
+    } else {
+      envelope(f, n, spacing, out, sc.v, sc.z);
+    }
+  }
+  // The largest f32 not above v (encode.rs, f32_down): Math.fround rounds to nearest, so one
+  // step down when it rounded up, through the bit pattern (0 steps to −2^-149).
+  var downF = new Float32Array(1), downU = new Uint32Array(downF.buffer);
+  function f32Down(v) {
+    var f = Math.fround(v);
+    if (!(f > v)) return f;
+    if (f === 0) return -Math.pow(2, -149);
+    downF[0] = f;
+    downU[0] = f > 0 ? downU[0] - 1 : downU[0] + 1;
+    return downF[0];
+  }
+  // The field of `heights` (w × h f32 values, row-major) with edge mode `edge` ("repeat" or
+  // "clamp") and `depth` slices: w·h·depth f32 values, slice-major, slice 0 at the bottom.
+  function distanceField(heights, w, h, edge, depth) {
+    if (edge !== "repeat" && edge !== "clamp") throw new Error("edge mode " + edge + " is neither repeat nor clamp");
+    if (heights.length !== w * h || w < 1 || h < 1 || !(depth >= 1)) throw new Error("a " + w + " × " + h + " × " + depth + " distance field from " + heights.length + " heights");
+    var wrap = edge === "repeat";
+    var at = function (i, n) { return wrap ? ((i % n) + n) % n : Math.min(Math.max(i, 0), n - 1); };
+    // H_q: the largest of the 3×3 texels around q (f32's max, which passes over NaN).
+    var hmax = new Float64Array(w * h);
+    for (var y = 0; y < h; y++) for (var x = 0; x < w; x++) {
+      var m = -Infinity;
+      for (var dy = -1; dy <= 1; dy++) for (var dx = -1; dx <= 1; dx++) {
+        var t = heights[at(y + dy, h) * w + at(x + dx, w)];
+        if (t > m) m = t;
+      }
+      hmax[y * w + x] = m;
+    }
+    var a = 1 / w, b = 1 / h, c = 1 / depth, diag = Math.sqrt(a * a + b * b + c * c) * (1 + 1e-12);
+    var n3 = 3 * Math.max(w, h);
+    var sc = { ext: new Float64Array(n3), res: new Float64Array(n3), v: new Int32Array(n3), z: new Float64Array(n3 + 1) };
+    var out = new Float32Array(w * h * depth), g = new Float64Array(w * h);
+    var rowOut = new Float64Array(w), col = new Float64Array(h), colOut = new Float64Array(h);
+    for (var k = 0; k < depth; k++) {
+      var zk = (k + 0.5) / depth;
+      for (var i = 0; i < w * h; i++) {
+        var d = zk - hmax[i];
+        d = d > 0 ? d : 0; // f64::max(d, 0.0): NaN gives 0
+        g[i] = d * d;
+      }
+      for (y = 0; y < h; y++) {
+        envelopeLine(g.subarray(y * w, (y + 1) * w), w, 1 / w, wrap, rowOut, sc);
+        g.set(rowOut, y * w);
+      }
+      var base = k * w * h;
+      for (x = 0; x < w; x++) {
+        for (y = 0; y < h; y++) col[y] = g[y * w + x];
+        envelopeLine(col, h, 1 / h, wrap, colOut, sc);
+        for (y = 0; y < h; y++) {
+          var sq = colOut[y] > 0 ? colOut[y] : 0, e = Math.sqrt(sq) - diag;
+          out[base + y * w + x] = f32Down(e > 0 ? e : 0);
+        }
+      }
+    }
+    return out;
+  }
+
+  // A scene's map by its slug: its data file, or, for a map the manifest marks
+  // `computed_in_page` (the distance field), computed here from the scene's height file, once.
+  var computed = {};
+  function loadMap(scene, slug) {
+    var m = scene.maps[slug];
+    if (m === undefined) return Promise.reject(new Error("scene " + scene.label + " has no map " + slug));
+    if (typeof m === "string") return load(m);
+    var key = scene.label + "|" + slug;
+    if (!computed[key]) computed[key] = (async function () {
+      if (m.computed_in_page !== "distance_field") throw new Error("the page cannot compute a map of kind " + m.computed_in_page);
+      var hd = await load(scene.textures.height), w = m.size[0], h = m.size[1], depth = m.size[2];
+      if (hd.meta.format !== "r32float" || hd.meta.width !== w || hd.meta.height !== h)
+        throw new Error(scene.label + ": the height file is " + hd.meta.width + " × " + hd.meta.height + " " + hd.meta.format + ", the " + slug + " map wants " + w + " × " + h + " r32float");
+      // Level 0 of the height file: the heights the runtime builds its maps from.
+      var heights = new Float32Array(hd.bytes.buffer.slice(hd.bytes.byteOffset, hd.bytes.byteOffset + w * h * 4));
+      var field = distanceField(heights, w, h, m.edge, depth), dim = depth > 1 ? "3d" : "2d";
+      return { meta: { width: w, height: h, depth: depth, format: "r32float", dimension: dim, view: dim, levels: [field.byteLength] }, bytes: new Uint8Array(field.buffer) };
+    })();
+    return computed[key];
+  }
+
+  // ---------------------------------------------------------------------------------------
   // Drawing, timing and probing.
   function pipelineOf(text) { return M.pipelines.find(function (p) { return p.pipeline === text; }); }
   function sceneOf(label) { return M.scenes.find(function (s) { return s.label === label; }); }
@@ -286,7 +422,7 @@
     if (!renderCache[key]) renderCache[key] = (async function () {
       var device = (await gpu()).device;
       var module = await shaderModule(p);
-      var res = await sceneRes(scene);
+      var res = await withMaps(p, scene);
       var pipe = await device.createRenderPipelineAsync({
         layout: "auto",
         vertex: { module: module, entryPoint: "vs_main" },
@@ -405,7 +541,7 @@
   async function probe(text, label, rayBytes, count, v) {
     var device = (await gpu()).device;
     var p = pipelineOf(text), scene = sceneOf(label);
-    var module = await shaderModule(p), res = await sceneRes(scene);
+    var module = await shaderModule(p), res = await withMaps(p, scene);
     var pipe = await device.createComputePipelineAsync({ layout: "auto", compute: { module: module, entryPoint: "probe" } });
     var n = Math.max(count, 1);
     var rb = device.createBuffer({ size: n * M.ray_bytes, usage: GPUBufferUsage.STORAGE | GPUBufferUsage.COPY_DST });
@@ -463,7 +599,7 @@
       user_agent: navigator.userAgent, rows: rows };
   }
 
-  window.reliefLive = { gpu: gpu, frame: frame, time: time, probe: probe, measureAll: measureAll, manifest: M, load: load, probeRays: probeRays };
+  window.reliefLive = { gpu: gpu, frame: frame, time: time, probe: probe, measureAll: measureAll, manifest: M, load: load, loadMap: loadMap, probeRays: probeRays, distanceField: distanceField };
 
   // ---------------------------------------------------------------------------------------
   // The section: two pipelines side by side.

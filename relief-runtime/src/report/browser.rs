@@ -13,6 +13,11 @@
 //!   acceleration maps, in the layouts the runtime uploads ([`crate::gpu::scene_uploads`],
 //!   [`crate::gpu::map_upload`]); a scene seen from another view (`rocks@angle=70`) has the
 //!   same height map, and its manifest entry names the first view's files ([`data_file`]);
+//! - no distance field: the manifest names it as computed in the page, with its z resolution,
+//!   edge mode and size ([`computed_in_page`]), and the page builds it from the height file's
+//!   level 0 (`distanceField` in `web/live.js`, the generator's f64 operations in its order,
+//!   rounded down to f32: the runtime's values bit for bit), when a pipeline that reads it is
+//!   first drawn or probed;
 //! - no probe rays: the manifest gives what [`Scene::rays`] computes them from ([`rays_from`])
 //!   and the page computes them bit for bit (`probeRays`, every `stride`-th ray). Their exact
 //!   hits are not shipped: the page reads none, and `--add` traces them again ([`probe_set`]).
@@ -38,7 +43,7 @@ use serde_json::{json, Value};
 use crate::error::{Error, Result};
 use crate::gpu::{self, GpuError, Program, Upload};
 use crate::heightmap::EdgeMode;
-use crate::maps::MapKey;
+use crate::maps::{MapKey, MapKind};
 use crate::reference::{reference_hits, RefHit, Sampling};
 use crate::scene::{scene_from_arg, ProbeRay, Scene};
 
@@ -412,6 +417,49 @@ pub(crate) fn rays_from(scene: &Scene) -> Value {
     })
 }
 
+/// The manifest entry of a map the page computes itself from the scene's height file instead
+/// of loading it, or `None` for a map shipped as a data file. The distance field is computed
+/// (`distanceField` in `web/live.js`, a port of [`crate::maps::distance_field`] that gives its
+/// f32 values bit for bit): at 256² × 64 it was a third of `browser/` in the main job (21.2 of
+/// 67.9 MB), and headless Chromium rebuilds it from the heights in 0.3 to 2 s (on a loaded
+/// two-core machine), once per scene, when a pipeline that reads it is first drawn or probed.
+/// The entry names its kind, z resolution,
+/// edge mode and size (width, height, slices); the heights are level 0 of the scene's height
+/// file, which is the map the runtime builds from ([`gpu::scene_uploads`]).
+fn computed_in_page(scene: &Scene, k: MapKey) -> Option<Value> {
+    match k.kind {
+        MapKind::DistanceField => {
+            let z = k.params.z_resolution;
+            Some(json!({
+                "computed_in_page": k.kind.name(), "z_resolution": z, "edge": edge_name(scene.edge),
+                "size": [scene.height.width, scene.height.height, z],
+            }))
+        }
+        MapKind::Cone
+        | MapKind::QuadCone
+        | MapKind::RelaxedCone
+        | MapKind::ConeNormal
+        | MapKind::RelaxedConeNormal
+        | MapKind::MultiCone
+        | MapKind::PiecewiseCone
+        | MapKind::MaxMip
+        | MapKind::CellCone
+        | MapKind::CellQuadCone
+        | MapKind::CellRelaxedCone
+        | MapKind::CellConeNormal
+        | MapKind::CellMultiCone
+        | MapKind::CellPiecewiseCone => None,
+    }
+}
+
+/// The edge mode as the manifest and the page name it.
+fn edge_name(edge: EdgeMode) -> &'static str {
+    match edge {
+        EdgeMode::Clamp => "clamp",
+        EdgeMode::Repeat => "repeat",
+    }
+}
+
 /// One scene's textures and maps, and its manifest entry (with what the page needs to compute
 /// the probe rays).
 fn write_scene<'a>(
@@ -438,9 +486,14 @@ fn write_scene<'a>(
     }
     let mut maps = serde_json::Map::new();
     for k in keys {
-        let name = format!("{base}/map_{}", map_slug(k));
-        let name = texture_file(out, &name, &gpu::map_upload_of(scene, k)?, files)?;
-        maps.insert(map_slug(k), json!(name));
+        let entry = match computed_in_page(scene, k) {
+            Some(entry) => entry,
+            None => {
+                let name = format!("{base}/map_{}", map_slug(k));
+                json!(texture_file(out, &name, &gpu::map_upload_of(scene, k)?, files)?)
+            }
+        };
+        maps.insert(map_slug(k), entry);
     }
     let mut probes = serde_json::Map::new();
     let mut measured = serde_json::Map::new();
@@ -456,7 +509,7 @@ fn write_scene<'a>(
     Ok(json!({
         "label": label, "slug": slug,
         "camera": { "angle_deg": c.angle_deg, "azimuth_deg": c.azimuth_deg, "distance": c.distance, "fov_deg": c.fov_deg, "target": [c.target.x, c.target.y, c.target.z] },
-        "depth_scale": scene.depth_scale, "tiling": scene.tiling, "edge": if scene.edge == EdgeMode::Clamp { "clamp" } else { "repeat" },
+        "depth_scale": scene.depth_scale, "tiling": scene.tiling, "edge": edge_name(scene.edge),
         "light_dir": [scene.light_dir.x, scene.light_dir.y, scene.light_dir.z],
         "height_size": [scene.height.width, scene.height.height],
         "textures": { "height": height, "normal": normal, "albedo": albedo },
