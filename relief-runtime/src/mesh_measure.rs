@@ -18,6 +18,9 @@
 //! - **far**: the pixels both hit whose hits lie more than one depth apart along the ray;
 //! - **earliest**: the largest `(t_ref − t_gpu) / depth` on pixels both hit: how far a hit
 //!   came before the reference's (positive: in front of the exact first hit);
+//! - **past**: the pixels both hit whose GPU hit lies after the reference's by more than
+//!   [`past_slack`] (what the flat matrix's `past_count` counts, on a mesh); **t max** the
+//!   largest `|t_gpu − t_ref| / depth` on pixels both hit;
 //! - **uv error**: RMS of the hit's texture-space distance, in texels (repeat edges: the
 //!   difference taken modulo one tile);
 //! - **depth error**: RMS of the NDC depth difference, the reference's hit point projected
@@ -56,6 +59,10 @@ pub struct MeshScore {
     pub far: usize,
     /// The largest `(t_ref − t_gpu) / depth` on pixels both hit (−∞ when none).
     pub earliest: f64,
+    /// Pixels both hit whose GPU hit lies after the reference's by more than [`past_slack`].
+    pub past: usize,
+    /// The largest `|t_gpu − t_ref| / depth` on pixels both hit (NaN when none).
+    pub t_max: f64,
     /// RMS uv distance in texels on pixels both hit.
     pub uv_texels: f64,
     /// RMS NDC depth difference on pixels both hit.
@@ -107,6 +114,15 @@ pub fn coverage_picture(gpu: &MeshProbe, reference: &[Option<MeshHit>]) -> Vec<u
     agreement(gpu, reference).iter().flat_map(|a| a.colour()).collect()
 }
 
+/// How far after the reference's hit, in units of the depth along the ray, a GPU hit may lie
+/// and not count as past it: the flat matrix's [`crate::metrics::PAST_SLACK`], plus the
+/// reference's own error (its tolerance ε, [`crate::mesh::MeshReference::default_tolerance`])
+/// and sixteen f32 roundings of the distance `t_ref` (16 · 2⁻²⁴ < 1e-6 of it), both in
+/// world units over `depth`.
+pub fn past_slack(tolerance: f64, t_ref: f64, depth: f64) -> f64 {
+    crate::metrics::PAST_SLACK + (tolerance + 1e-6 * t_ref.abs()) / depth
+}
+
 /// The figures of `gpu` against `reference` on `ms` (module doc).
 pub fn score(gpu: &MeshProbe, reference: &[Option<MeshHit>], ms: &MeshScene) -> MeshScore {
     let pixels = reference.len();
@@ -117,6 +133,8 @@ pub fn score(gpu: &MeshProbe, reference: &[Option<MeshHit>], ms: &MeshScene) -> 
     let (mut both, mut extra, mut missing) = (0, 0, 0);
     let (mut st, mut suv, mut sd, mut earliest) = (0.0, 0.0, 0.0, f64::NEG_INFINITY);
     let mut dts = Vec::new();
+    let tolerance = crate::mesh::MeshReference::default_tolerance(&ms.mesh, depth);
+    let mut past = 0;
     for (i, (g, r)) in gpu.hits.iter().zip(reference).enumerate() {
         match (g[3] > 0.5, r) {
             (true, Some(r)) => {
@@ -125,6 +143,7 @@ pub fn score(gpu: &MeshProbe, reference: &[Option<MeshHit>], ms: &MeshScene) -> 
                 st += dt * dt;
                 dts.push(dt.abs());
                 earliest = earliest.max(-dt);
+                past += usize::from(dt > past_slack(tolerance, r.t, depth));
                 let (du, dv) = (wrap(g[0] as f64 - r.u) * w, wrap(g[1] as f64 - r.v) * h);
                 suv += du * du + dv * dv;
                 let p = DVec3::from(r.point).as_vec3();
@@ -146,6 +165,7 @@ pub fn score(gpu: &MeshProbe, reference: &[Option<MeshHit>], ms: &MeshScene) -> 
         n => 0.5 * (dts[n / 2 - 1] + dts[n / 2]),
     };
     let far = dts.iter().filter(|&&d| d > 1.0).count();
+    let t_max = dts.last().copied().unwrap_or(f64::NAN);
     MeshScore {
         pixels,
         both,
@@ -157,6 +177,8 @@ pub fn score(gpu: &MeshProbe, reference: &[Option<MeshHit>], ms: &MeshScene) -> 
         median_t,
         far,
         earliest,
+        past,
+        t_max,
         uv_texels: rms(suv),
         depth: rms(sd),
     }

@@ -6,6 +6,17 @@
 //! Rays: `size²` entry points on a regular grid over the map, all with the same view
 //! direction (azimuth 30°, the given angle from the normal, the scene's depth scale), so
 //! that an angle means the same thing on every scene.
+//!
+//! **Mesh conditions** (issue 38): the built-in sphere and torus with the 64² `rocks` map
+//! ([`MESH_SCENES`]) at the grazing angles [`MESH_ANGLES`], each of [`mesh_methods`] under
+//! `curved=none`, `quadric` and `prism` ([`run_meshes`]), against the exact mesh reference.
+//! An angle means the same on each mesh: the ray through the frame's centre meets the smooth
+//! surface (the analytic sphere or torus, not its facets) at the point on its outer equator
+//! on +x, (1, 0, 0) or (1.5, 0, 0), where the normal is +x, at that angle from the normal;
+//! the eye is 1.5 units from that point, in the x–z plane on the +z side ([`mesh_scene`]).
+//! A frame is `size²` pixels, one pixel-centre ray each. A mesh cell is a [`Cell`] whose
+//! `coverage_error`, `extra` and `missing` are set; its t figures are in units of the
+//! relief's depth along the ray (`crate::mesh_measure`), not the flat tile's t.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -15,10 +26,13 @@ use crate::io::FileError;
 use relief_dsl::spec::{catalog, Slot};
 use relief_dsl::Pipeline;
 
+use crate::gpu::mesh::{probe_mesh, MeshProgram};
 use crate::gpu::{self, Gpu, GpuHit, Program, SceneTextures};
 use crate::heightmap::{EdgeMode, HeightMap};
+use crate::mesh::MeshScene;
 use crate::reference::{reference_hits, RefHit, Sampling};
 use crate::scene::{ProbeRay, Scene};
+use relief_dsl::spec::Curved;
 
 /// View angles from the surface normal, in degrees.
 pub const ANGLES: [f32; 7] = [0.0, 30.0, 60.0, 75.0, 85.0, 89.0, 89.9];
@@ -87,6 +101,20 @@ pub struct Cell {
     pub ref_err_t_max: f64,
     /// RMS of t − t_ref over the rays the reference hits.
     pub ref_err_t_rms: f64,
+    /// A mesh cell's share of pixels whose hit/miss disagrees with the reference's (`extra` +
+    /// `missing` over `rays`); `None` (an empty CSV field) for a flat cell.
+    pub coverage_error: Option<f64>,
+    /// A mesh cell's pixels the pipeline draws and the reference does not hit.
+    pub extra: Option<usize>,
+    /// A mesh cell's pixels the reference hits and the pipeline does not draw.
+    pub missing: Option<usize>,
+}
+
+impl Cell {
+    /// Whether the cell is a mesh condition's ([`run_meshes`]).
+    pub fn is_mesh(&self) -> bool {
+        self.coverage_error.is_some()
+    }
 }
 
 /// Boxes of random heights on a floor at 0.05, with one-texel walls (full height) and
@@ -193,6 +221,9 @@ pub fn score(
         past_count: a.past,
         ref_err_t_max: a.t_abs_max,
         ref_err_t_rms: a.t_rms(),
+        coverage_error: None,
+        extra: None,
+        missing: None,
     }
 }
 
@@ -253,11 +284,146 @@ pub fn run(
     Ok(cells)
 }
 
+/// The meshes of the mesh conditions, each with the flat matrix's 64² `rocks` map: (built-in
+/// mesh, depth in world units). The depths are the mesh grid's (`relief sweep --grid meshes`);
+/// tiling 2, repeat edges.
+pub const MESH_SCENES: [(&str, f32); 2] = [("sphere", 0.08), ("torus", 0.05)];
+
+/// The height map of the mesh conditions (a name of the flat matrix, at 64²).
+pub const MESH_MAP: &str = "rocks";
+
+/// The grazing angles of the mesh conditions, degrees from the normal at the frame's centre.
+pub const MESH_ANGLES: [f32; 3] = [75.0, 85.0, 89.0];
+
+/// The mesh condition `mesh` (a built-in of [`MESH_SCENES`]) with [`MESH_MAP`], seen at
+/// `angle` degrees from the normal at the frame's centre (the module doc). Its name is
+/// `MESH:MAP`, e.g. `sphere:rocks`.
+pub fn mesh_scene(mesh: &str, angle: f32) -> Result<MeshScene> {
+    let (_, depth) = MESH_SCENES
+        .iter()
+        .find(|(m, _)| *m == mesh)
+        .ok_or_else(|| Error::Input(format!("no mesh condition `{}`", relief_dsl::spec::echo(mesh))))?;
+    let mut s = scene(MESH_MAP, 64)?;
+    s.name = format!("{mesh}:{MESH_MAP}");
+    s.depth_scale = *depth;
+    s.tiling = 2.0;
+    s.edge = EdgeMode::Repeat;
+    s.mesh = Some(crate::scene::MeshSource::Builtin(mesh.to_string()));
+    // The outer equator's point on +x: the unit sphere's, the torus's (centre line 1, tube ½).
+    let x = if mesh == "torus" { 1.5 } else { 1.0 };
+    s.camera = crate::scene::Camera {
+        angle_deg: 90.0 - angle,
+        azimuth_deg: 0.0,
+        distance: 1.5,
+        fov_deg: 40.0,
+        target: glam::Vec3::new(x, 0.0, 0.0),
+    };
+    Ok(MeshScene::from_scene(s)?)
+}
+
+/// The methods of the mesh conditions: every coarse method of [`methods`] at its default
+/// parameters, each with `binary`'s default refinement (the refinement the mesh grid uses),
+/// and `linear` with every refinement; three `curved=` modes each ([`run_meshes`]). Not the
+/// whole product: it would take `relief stability --size 64` ~10× the flat matrix's time.
+pub fn mesh_methods() -> Vec<Pipeline> {
+    methods().into_iter().filter(|p| p.refine.name == "binary" || p.coarse.name == "linear").collect()
+}
+
+/// One mode's figures on a mesh condition as a [`Cell`]: `rays` the frame's pixels,
+/// `nan_count` the pixels whose GPU output holds NaN or Inf, `past_count`, `ref_err_t_max`
+/// and `ref_err_t_rms` from [`crate::mesh_measure::score`] (in units of the depth along the
+/// ray); `outside_count` 0 and the flat rates NaN (a mesh has no volume of t ∈ [0, 1]).
+pub fn mesh_cell(
+    method: &str,
+    ms: &MeshScene,
+    angle: f32,
+    probe: &crate::gpu::mesh::MeshProbe,
+    refs: &[Option<crate::mesh::MeshHit>],
+) -> Cell {
+    let s = crate::mesh_measure::score(probe, refs, ms);
+    Cell {
+        method: method.to_string(),
+        scene: ms.scene.name.clone(),
+        angle,
+        rays: s.pixels,
+        nan_count: probe.hits.iter().filter(|h| h.iter().any(|v| !v.is_finite())).count(),
+        outside_count: 0,
+        skipped_rate: f64::NAN,
+        past_rate: f64::NAN,
+        missed_rate: f64::NAN,
+        nonconverged_rate: f64::NAN,
+        above_surface_rate: f64::NAN,
+        past_count: s.past,
+        ref_err_t_max: s.t_max,
+        ref_err_t_rms: s.rms_t,
+        coverage_error: Some(s.coverage_error),
+        extra: Some(s.extra),
+        missing: Some(s.missing),
+    }
+}
+
+/// The mesh conditions: each of `methods` (with no `curved=` option) under each of `modes`
+/// on each mesh of `meshes` ([`MESH_SCENES`] names) at each of `angles`, in a `size²`
+/// frame; `progress` is told each finished (mesh, angle). The reference is traced once per
+/// condition on the heights as the device stores them.
+pub fn run_meshes(
+    gpu: &Gpu,
+    size: u32,
+    methods: &[Pipeline],
+    modes: &[Curved],
+    meshes: &[&str],
+    angles: &[f32],
+    mut progress: impl FnMut(&str, f32),
+) -> Result<Vec<Cell>> {
+    let programs: Vec<(String, MeshProgram)> = methods
+        .iter()
+        .flat_map(|p| modes.iter().map(move |&m| p.clone().with_curved(Some(m))))
+        .map(|p| Ok((p.to_string(), MeshProgram::new(&p)?)))
+        .collect::<Result<_, relief_dsl::CompileError>>()?;
+    let mut cells = Vec::new();
+    for &mesh in meshes {
+        for &angle in angles {
+            let ms = mesh_scene(mesh, angle)?;
+            let name = ms.scene.name.clone();
+            cells.extend(mesh_condition(gpu, size, &programs, ms, angle)?);
+            progress(&name, angle);
+        }
+    }
+    Ok(cells)
+}
+
+/// One mesh condition: each of `programs` (text form, compiled module) probed on `ms` in a
+/// `size²` frame and scored ([`mesh_cell`]) against the exact reference, traced once on the
+/// heights as the device stores them; `angle` labels the cells.
+pub fn mesh_condition(
+    gpu: &Gpu,
+    size: u32,
+    programs: &[(String, MeshProgram)],
+    mut ms: MeshScene,
+    angle: f32,
+) -> Result<Vec<Cell>> {
+    let name = ms.scene.name.clone();
+    let mut tex = SceneTextures::new(gpu, &ms.scene);
+    ms.scene.height.data = tex.heights_on_device.clone();
+    let refs = ms.reference_hits(size, size)?;
+    let mut cells = Vec::new();
+    for (text, prog) in programs {
+        tex.add_maps_lod(gpu, &ms.scene, &prog.program.maps, prog.lod)?;
+        let probe = probe_mesh(gpu, prog, &ms, &tex, size)
+            .map_err(|e| Error::from(e).in_scene(format!("{name} at {angle}°")).in_pipeline(text))?;
+        cells.push(mesh_cell(text, &ms, angle, &probe, &refs));
+    }
+    Ok(cells)
+}
+
 /// A named column of a [`Cell`], as a number.
 type CellMetric = fn(&Cell) -> f64;
 
-/// Writes `stability.csv`, one heat map per metric (`stability_METRIC.svg`) and
-/// `worst.md` (the worst condition of each method).
+/// Writes `stability.csv` (every cell, flat and mesh), one heat map per metric of the flat
+/// cells (`stability_METRIC.svg`), one per metric of the mesh cells when there are any
+/// (`stability_meshes_METRIC.svg`: coverage error, RMS t, past count) and `worst.md` (the
+/// worst condition of each method; the mesh cells' in a second table, only when there are
+/// any).
 pub fn write(out: &Path, cells: &[Cell]) -> Result<()> {
     crate::io::create_dir_all(out)?;
     let path = out.join("stability.csv");
@@ -267,6 +433,7 @@ pub fn write(out: &Path, cells: &[Cell]) -> Result<()> {
         w.serialize(c).map_err(|e| encode(&e))?;
     }
     crate::io::write_atomic(&path, &w.into_inner().map_err(|e| encode(&e))?)?;
+    let (mesh, flat): (Vec<Cell>, Vec<Cell>) = cells.iter().cloned().partition(Cell::is_mesh);
     let metrics: [(&str, CellMetric); 8] = [
         ("nan_count", |c| c.nan_count as f64),
         ("outside_count", |c| c.outside_count as f64),
@@ -278,10 +445,60 @@ pub fn write(out: &Path, cells: &[Cell]) -> Result<()> {
         ("ref_err_t_rms", |c| c.ref_err_t_rms),
     ];
     for (name, f) in metrics {
-        crate::io::write_atomic(&out.join(format!("stability_{name}.svg")), heat_map(name, cells, f).as_bytes())?;
+        crate::io::write_atomic(&out.join(format!("stability_{name}.svg")), heat_map(name, &flat, f).as_bytes())?;
     }
-    crate::io::write_atomic(&out.join("worst.md"), worst_table(cells).as_bytes())?;
+    if !mesh.is_empty() {
+        let metrics: [(&str, CellMetric); 3] = [
+            ("coverage_error", |c| c.coverage_error.unwrap_or(f64::NAN)),
+            ("ref_err_t_rms", |c| c.ref_err_t_rms),
+            ("past_count", |c| c.past_count as f64),
+        ];
+        for (name, f) in metrics {
+            let title = format!("meshes {name}");
+            let svg = heat_map(&title, &mesh, f);
+            crate::io::write_atomic(&out.join(format!("stability_meshes_{name}.svg")), svg.as_bytes())?;
+        }
+    }
+    let mut md = worst_table(&flat);
+    if !mesh.is_empty() {
+        md.push('\n');
+        md.push_str(&worst_mesh_table(&mesh));
+    }
+    crate::io::write_atomic(&out.join("worst.md"), md.as_bytes())?;
     Ok(())
+}
+
+/// The worst mesh condition of each method (with its `curved=` mode), by coverage error,
+/// then RMS t: a heading, a line saying what the figures are, and the table.
+pub fn worst_mesh_table(cells: &[Cell]) -> String {
+    let mut s = String::from(
+        "### Mesh conditions (grazing views)\n\nThe sphere and the torus with `rocks` at 75°, 85° and 89° from the normal at the frame's centre, against the exact mesh reference; coverage error: pixels whose hit/miss disagrees (extra + missing); t in units of the relief's depth along the ray, on pixels both hit; past: pixels both hit whose hit lies after the exact first hit.\n\n| method | worst condition | coverage error | extra | missing | RMS t | max t | past | NaN |\n|---|---|---|---|---|---|---|---|---|\n",
+    );
+    let mut seen = std::collections::HashSet::new();
+    for m in cells.iter().map(|c| c.method.as_str()) {
+        if !seen.insert(m) {
+            continue;
+        }
+        let key = |c: &Cell| (c.coverage_error.unwrap_or(f64::NAN), c.ref_err_t_rms);
+        let of_m = || cells.iter().filter(move |c| c.method == m);
+        let Some(c) = of_m().max_by(|a, b| key(a).partial_cmp(&key(b)).unwrap_or(std::cmp::Ordering::Equal)) else {
+            continue;
+        };
+        let nan: usize = of_m().map(|x| x.nan_count).sum();
+        let _ = writeln!(
+            s,
+            "| `{m}` | {} at {}° | {:.2}% | {} | {} | {:.3} | {:.3} | {} | {nan} |",
+            c.scene,
+            c.angle,
+            100.0 * c.coverage_error.unwrap_or(f64::NAN),
+            c.extra.unwrap_or(0),
+            c.missing.unwrap_or(0),
+            c.ref_err_t_rms,
+            c.ref_err_t_max,
+            c.past_count
+        );
+    }
+    s
 }
 
 /// The worst condition of each method, by skipped rate, then past rate, then RMS error.
@@ -367,6 +584,17 @@ fn heat_map(metric: &str, cells: &[Cell], f: fn(&Cell) -> f64) -> String {
                 continue;
             };
             let v = f(c);
+            if v.is_nan() {
+                // Not measured (a mesh cell with no pixel both hit has no t error): grey.
+                let _ = writeln!(
+                    s,
+                    "<rect x=\"{}\" y=\"{y}\" width=\"{cw}\" height=\"{ch}\" fill=\"#bbbbbb\"><title>{m} on {} at {}°: none</title></rect>",
+                    left + cw * j as f64,
+                    cond.0,
+                    cond.1
+                );
+                continue;
+            }
             let k = if v <= 0.0 || max <= 0.0 {
                 0.0
             } else if max <= floor {

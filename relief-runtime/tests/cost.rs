@@ -232,3 +232,49 @@ fn a_sweep_writes_the_gpu_columns_and_the_report_shows_the_model() {
     assert!(!std::fs::read_to_string(without.join("tables.md")).unwrap().contains("GPU compiler's model"));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `relief cost` prices mesh modules: every method of the stability matrix's mesh conditions
+/// under each `curved=` mode compiles on RDNA2 and RDNA3 (nothing valid is refused), each of
+/// `vs_mesh`, `fs_mesh` and `fs_mesh_depth` has registers and instructions, the colour and
+/// depth entries of a marching search hold its loop, and the depth-only entry, the same trace
+/// with no shading, has fewer instructions than the colour entry.
+#[test]
+fn mesh_modules_are_priced_on_rdna2_and_rdna3() {
+    use relief_dsl::spec::Curved;
+    let families: Vec<String> = relief_runtime::cost::DEFAULT_FAMILIES.iter().map(|s| s.to_string()).collect();
+    let pipelines: Vec<relief_dsl::Pipeline> = relief_runtime::stability::mesh_methods()
+        .into_iter()
+        .flat_map(|p| Curved::ALL.map(|m| p.clone().with_curved(Some(m))))
+        .collect();
+    let each = compiler().cost_mesh_each(&pipelines, &families, false).unwrap();
+    let refused: Vec<String> =
+        pipelines.iter().zip(&each).filter_map(|(p, c)| c.as_ref().err().map(|e| format!("{p}: {e}"))).collect();
+    assert!(refused.is_empty(), "{}", refused.join("\n"));
+    for (p, costs) in pipelines.iter().zip(each) {
+        let costs = costs.unwrap();
+        assert_eq!(costs.iter().map(|c| c.family.as_str()).collect::<Vec<_>>(), ["navi21", "gfx1100"]);
+        for c in &costs {
+            for (what, s) in [("vs_mesh", &c.vertex), ("fs_mesh", &c.fragment), ("fs_mesh_depth", &c.depth)] {
+                assert!(s.instructions > 0 && s.vgprs > 0 && s.code_bytes > 0, "{p} on {}: {what} {s:?}", c.family);
+            }
+            assert!(c.depth.instructions < c.fragment.instructions, "{p} on {}: depth-only has no shading", c.family);
+            if p.coarse.name == "linear" {
+                assert!(c.fragment_loop_body() > 0, "{p} on {}: linear's march is a loop", c.family);
+                assert!(!c.depth.shape.loops.is_empty(), "{p} on {}: and so is the depth entry's", c.family);
+            }
+        }
+    }
+    // The command line prints the three entries per family, for a pipeline and for the mesh grid.
+    let out = Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(["cost", "linear(32)+binary(5)+curved=prism", "--grid", "meshes"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.contains("a model, not a clock"), "{text}");
+    for what in ["vs", "fs", "depth"] {
+        let lines =
+            text.lines().filter(|l| l.trim_start().starts_with(&format!("{what} ")) && l.contains("instr")).count();
+        assert_eq!(lines, 3 * 2, "{what}: the grid's three modes (prism once) on two families:\n{text}");
+    }
+}

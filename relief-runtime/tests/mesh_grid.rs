@@ -247,3 +247,35 @@ fn sweep_list_shows_the_meshes_grid_with_its_cell_count() {
     let text = list(&["--scene", SCENE]);
     assert!(text.lines().any(|l| l.starts_with("meshes ") && l.contains(" 3 cells")), "{text}");
 }
+
+/// Mesh rows that carry the GPU compiler's counts for `fs_mesh` (`cost::set_mesh_columns`,
+/// here set by hand) get two columns in the figures table, labelled as a model; rows without
+/// them leave the table as it was, with its note saying the model is not there.
+#[test]
+fn the_figures_table_shows_the_mesh_modules_counts_only_when_rows_have_them() {
+    let dir = fresh("report-gpu");
+    std::fs::create_dir_all(&dir).unwrap();
+    let plain = [mesh_row(Curved::None, 0.05, 0.3, None), mesh_row(Curved::Prism, 0.004, 2e-3, Some((1.8, 1.5, 2.5)))];
+    write_rows(&dir, &plain);
+    relief_runtime::report::write(&dir).unwrap();
+    let before = std::fs::read_to_string(dir.join("tables.md")).unwrap();
+    assert!(before.contains("The GPU compiler's modeled cost is not implemented for mesh modules."));
+    assert!(!before.contains("fs_mesh instr"));
+    let mut priced = plain.clone();
+    for (r, (i, v, l)) in priced.iter_mut().zip([(237, 32, 25), (338, 48, 25)]) {
+        r.metrics.gpu_driver = Some("radv Mesa 22.3.6".into());
+        (r.metrics.gpu_navi21_instructions, r.metrics.gpu_navi21_vgprs, r.metrics.gpu_navi21_loop_body) =
+            (Some(i), Some(v), Some(l));
+    }
+    write_rows(&dir, &priced);
+    relief_runtime::report::write(&dir).unwrap();
+    let after = std::fs::read_to_string(dir.join("tables.md")).unwrap();
+    assert!(after.contains("a model, not a clock") && !after.contains("is not implemented for mesh modules"));
+    assert!(
+        after.contains("| fs_mesh instr / VGPRs / loop (navi21) | fs_mesh instr / VGPRs / loop (gfx1100) |"),
+        "{after}"
+    );
+    let prism = after.lines().find(|l| l.contains("curved=prism") && l.contains("338")).expect("prism's figures row");
+    assert!(prism.ends_with("| 338 / 48 / 25 | — |"), "{prism}");
+    std::fs::remove_dir_all(&dir).ok();
+}

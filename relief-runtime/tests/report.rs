@@ -1307,3 +1307,62 @@ fn the_view_conclusions_note_the_pre_asymptotic_view_and_one_view_verdicts() {
     assert!(safe.ends_with("| one view only |"), "{safe}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The stability section with mesh cells (`relief stability`'s files written by
+/// `stability::write`): their heat maps are shown, with the paragraph that says what they are,
+/// and the mesh table is in the folded worst table; a folder whose stability run had no mesh
+/// cells gives the same page as before this paragraph existed (no paragraph, no mesh maps).
+#[test]
+fn the_stability_section_shows_the_mesh_conditions_only_when_there_are_some() {
+    use relief_runtime::stability::{self, Cell};
+    let flat = Cell {
+        method: "linear(8)".into(),
+        scene: "scene:flat1".into(),
+        angle: 60.0,
+        rays: 100,
+        nan_count: 0,
+        outside_count: 0,
+        skipped_rate: 0.1,
+        past_rate: 0.0,
+        missed_rate: 0.0,
+        nonconverged_rate: 0.0,
+        above_surface_rate: 0.0,
+        past_count: 0,
+        ref_err_t_max: 0.1,
+        ref_err_t_rms: 0.01,
+        coverage_error: None,
+        extra: None,
+        missing: None,
+    };
+    let mesh = Cell {
+        method: "linear(32)+binary(5)+curved=prism".into(),
+        scene: "torus:rocks".into(),
+        angle: 89.0,
+        rays: 400,
+        coverage_error: Some(0.01),
+        extra: Some(1),
+        missing: Some(3),
+        ..flat.clone()
+    };
+    let page = |cells: &[Cell], name: &str| {
+        let dir = fresh_dir(name);
+        write_rows(&dir, &[row("linear(5)", 0.45, 0.02, 0.1, 0.01)], true);
+        stability::write(&dir.join("stability"), cells).unwrap();
+        report::write(&dir).expect("report");
+        let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+        let stab = html[html.find("<section id=\"stability\"").expect("stability section")..].to_string();
+        let _ = std::fs::remove_dir_all(&dir);
+        stab[..stab.find("</section>").unwrap()].to_string()
+    };
+    let with = page(&[flat.clone(), mesh], "stab-mesh");
+    let without = page(std::slice::from_ref(&flat), "stab-flat");
+    assert!(with.contains("stability/stability_meshes_coverage_error.svg"), "{with}");
+    assert!(with.contains("are the mesh conditions"), "{with}");
+    assert!(
+        with.contains(
+            "<td><code>linear(32)+binary(5)+curved=prism</code></td><td>torus:rocks at 89°</td><td>1.00%</td>"
+        ),
+        "{with}"
+    );
+    assert!(!without.contains("meshes") && !without.contains("mesh conditions"), "{without}");
+}

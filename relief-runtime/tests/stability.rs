@@ -262,6 +262,9 @@ fn the_worst_condition_is_the_one_that_skipped_geometry() {
         past_count: 0,
         ref_err_t_max: 0.1,
         ref_err_t_rms: 0.01,
+        coverage_error: None,
+        extra: None,
+        missing: None,
     };
     let md = stability::worst_table(&[cell("flat1", 0.0, 0.9), cell("spikes", 0.05, 0.3)]);
     assert!(md.contains("| skipped rate | past rate |"), "{md}");
@@ -288,6 +291,9 @@ fn heat_maps_fill_only_the_cells_that_are_not_white() {
         past_count: 0,
         ref_err_t_max: 0.1,
         ref_err_t_rms: 0.01,
+        coverage_error: None,
+        extra: None,
+        missing: None,
     };
     let cells = [
         cell("linear(8)", "scene:flat1", 0.0, 0.0),
@@ -366,4 +372,202 @@ fn robust_statistics_match_a_hand_computed_list() {
     // The worst 1 % is ⌈1.01⌉ = 2 rays: (0.100² + 0.099²) / Σ (i/1000)² = 0.019801 / 0.33835.
     let share = 0.019801 / 0.33835;
     assert!((m.mse_worst1_share - share).abs() < 1e-4 * share, "worst 1 %: {} (want {share})", m.mse_worst1_share);
+}
+
+/// The mesh conditions' cells checked against an independent computation on a hand-built
+/// case: a flat square (−1..1)² in z = 0, normal +z, uv = (p + 1)/2, with a constant height
+/// h (as the device stores ½) and clamp edges, so that S is the square lowered to
+/// z = −depth·(1 − h), with no walls. Per pixel-centre ray, in closed form: the base square is
+/// drawn where the ray meets it (`curved=none` draws exactly those pixels, its search finding
+/// the lowered plane below every drawn pixel), the reference hits where the ray meets the
+/// lowered square. So `extra` is the pixels whose ray meets the square but not the lowered one,
+/// `missing` the reverse, and on pixels both hit the GPU's t lies within the search's last
+/// bracket of the plane's: `linear(32)+binary(5)` ends within 1/1024 of the depth along the
+/// normal, 1/(1024·|d.z|) depths along the ray. The cell's RMS t and past count must match the
+/// test's own from the GPU's hits and the plane's t, within the reference's ε (a hit within ε
+/// of S lies within ε/|d.z| of the plane along the ray).
+#[test]
+fn a_mesh_cell_matches_the_closed_form_on_a_lowered_square() {
+    use glam::{DVec3, Vec2, Vec3, Vec4};
+    use relief_dsl::spec::Curved;
+    use relief_runtime::gpu::mesh::{probe_mesh, MeshProgram};
+    use relief_runtime::gpu::SceneTextures;
+    use relief_runtime::mesh::{Mesh, MeshReference, MeshScene};
+    let g = Gpu::new().unwrap();
+    let mut sc = relief_runtime::Scene::from_height_map("square", relief_runtime::HeightMap::new(8, 8, vec![0.5; 64]));
+    sc.edge = relief_runtime::EdgeMode::Clamp;
+    sc.depth_scale = 0.1;
+    sc.camera.angle_deg = 70.0;
+    sc.camera.azimuth_deg = -60.0;
+    sc.camera.distance = 2.5;
+    sc.camera.fov_deg = 60.0;
+    sc.camera.target = Vec3::ZERO;
+    let corners =
+        [Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(-1.0, 1.0, 0.0)];
+    let mesh = Mesh {
+        name: "square".into(),
+        positions: corners.to_vec(),
+        normals: vec![Vec3::Z; 4],
+        tangents: vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 4],
+        uvs: corners.iter().map(|c| Vec2::new(c.x + 1.0, c.y + 1.0) * 0.5).collect(),
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+    };
+    let ms = MeshScene { scene: sc, mesh, notes: Default::default() };
+    let h = SceneTextures::new(&g, &ms.scene).heights_on_device[0] as f64;
+    let depth = ms.scene.depth_scale as f64;
+    let eps = MeshReference::default_tolerance(&ms.mesh, depth);
+    let size = 24;
+    let text = "linear(32)+binary(5)+curved=none";
+    let pipeline: relief_dsl::Pipeline = text.parse().unwrap();
+    assert_eq!(pipeline.curved, Some(Curved::None));
+    let programs = vec![(text.to_string(), MeshProgram::new(&pipeline).unwrap())];
+    let cells = stability::mesh_condition(&g, size, &programs, ms.clone(), 70.0).unwrap();
+    assert_eq!(cells.len(), 1);
+    let cell = &cells[0];
+    assert!(cell.is_mesh());
+    // The test's own: closed-form coverage, and the GPU's t against the plane's.
+    let probe = probe_mesh(&g, &programs[0].1, &ms, &SceneTextures::new(&g, &ms.scene), size).unwrap();
+    let plane = -depth * (1.0 - h);
+    let meets = |o: DVec3, d: DVec3, z: f64| {
+        let t = (z - o.z) / d.z;
+        let p = o + t * d;
+        (t > 0.0 && p.x.abs() <= 1.0 && p.y.abs() <= 1.0).then_some(t)
+    };
+    let (mut extra, mut missing, mut both) = (0, 0, 0);
+    let (mut sum, mut past_lo, mut past_hi, mut dz_min) = (0.0, 0, 0, f64::INFINITY);
+    for (r, hit) in ms.rays(size, size).iter().zip(&probe.hits) {
+        let (o, d) = (DVec3::from(r.origin.map(f64::from)), DVec3::from(r.dir.map(f64::from)));
+        let (top, low) = (meets(o, d, 0.0), meets(o, d, plane));
+        assert_eq!(hit[3] > 0.5, top.is_some(), "pixel ({}, {}): curved=none draws the base square", r.x, r.y);
+        match (top, low) {
+            (Some(_), None) => extra += 1,
+            (None, Some(_)) => missing += 1,
+            (Some(_), Some(t)) => {
+                both += 1;
+                let dt = (hit[2] as f64 - t) / depth;
+                let bound = 1.0 / (1024.0 * d.z.abs()) + 1e-4;
+                assert!(dt.abs() <= bound, "pixel ({}, {}): t off by {dt} depths (bound {bound})", r.x, r.y);
+                sum += dt * dt;
+                dz_min = dz_min.min(d.z.abs());
+                // The cell's slack, with the reference's t anywhere within ε/|d.z| of the plane's.
+                let slack = |t_ref: f64| relief_runtime::mesh_measure::past_slack(eps, t_ref, depth);
+                let shift = eps / d.z.abs() / depth;
+                past_lo += usize::from(dt - shift > slack(t) + shift);
+                past_hi += usize::from(dt + shift > slack(t) - shift);
+            }
+            (None, None) => {}
+        }
+    }
+    assert!(extra > 0 && missing > 0 && both > 100, "the view shows both edges: {extra} {missing} {both}");
+    assert_eq!((cell.extra, cell.missing, cell.rays), (Some(extra), Some(missing), (size * size) as usize));
+    let cov = (extra + missing) as f64 / (size * size) as f64;
+    assert!((cell.coverage_error.unwrap() - cov).abs() < 1e-12, "{cell:?}");
+    let rms = (sum / both as f64).sqrt();
+    let tol = eps / dz_min / depth;
+    assert!((cell.ref_err_t_rms - rms).abs() <= tol, "RMS t {} against {rms} (±{tol})", cell.ref_err_t_rms);
+    assert!((past_lo..=past_hi).contains(&cell.past_count), "past {} not in {past_lo}..={past_hi}", cell.past_count);
+    assert_eq!((cell.nan_count, cell.outside_count), (0, 0));
+}
+
+/// `relief stability`'s files with mesh cells: `stability.csv` holds them with their
+/// coverage columns (empty for flat cells) and parses back, `worst.md` gains the mesh table,
+/// and the mesh heat maps exist with one `<rect>` per mesh cell; without mesh cells none of
+/// that is written and the flat files are the same bytes.
+#[test]
+fn mesh_cells_appear_in_the_csv_the_worst_table_and_their_heat_maps() {
+    let flat = |method: &str, skipped: f64| stability::Cell {
+        method: method.into(),
+        scene: "scene:flat1".into(),
+        angle: 60.0,
+        rays: 100,
+        nan_count: 0,
+        outside_count: 0,
+        skipped_rate: skipped,
+        past_rate: 0.0,
+        missed_rate: 0.0,
+        nonconverged_rate: 0.0,
+        above_surface_rate: 0.0,
+        past_count: 0,
+        ref_err_t_max: 0.1,
+        ref_err_t_rms: 0.01,
+        coverage_error: None,
+        extra: None,
+        missing: None,
+    };
+    let mesh = |mode: &str, angle: f32, extra: usize, missing: usize| stability::Cell {
+        method: format!("linear(32)+binary(5)+curved={mode}"),
+        scene: "sphere:rocks".into(),
+        angle,
+        rays: 400,
+        skipped_rate: f64::NAN,
+        past_rate: f64::NAN,
+        missed_rate: f64::NAN,
+        nonconverged_rate: f64::NAN,
+        above_surface_rate: f64::NAN,
+        past_count: 3,
+        ref_err_t_rms: 0.25,
+        coverage_error: Some((extra + missing) as f64 / 400.0),
+        extra: Some(extra),
+        missing: Some(missing),
+        ..flat("x", 0.0)
+    };
+    let flat_cells = vec![flat("linear(8)", 0.1), flat("csm(8)", 0.0)];
+    let mut cells = flat_cells.clone();
+    cells.extend([
+        mesh("none", 75.0, 8, 0),
+        mesh("none", 89.0, 12, 0),
+        mesh("prism", 75.0, 0, 4),
+        mesh("prism", 89.0, 1, 1),
+    ]);
+    let base = std::env::temp_dir().join(format!("relief-stability-mesh-{}", std::process::id()));
+    let (with, without) = (base.join("with"), base.join("without"));
+    stability::write(&with, &cells).unwrap();
+    stability::write(&without, &flat_cells).unwrap();
+    // The CSV parses back: 6 records, the mesh ones with their coverage columns.
+    let mut r = csv::Reader::from_path(with.join("stability.csv")).unwrap();
+    let headers = r.headers().unwrap().clone();
+    let col = |n: &str| headers.iter().position(|h| h == n).unwrap_or_else(|| panic!("no column {n}"));
+    let records: Vec<csv::StringRecord> = r.records().map(Result::unwrap).collect();
+    assert_eq!(records.len(), 6);
+    let meshes: Vec<_> = records.iter().filter(|r| !r[col("coverage_error")].is_empty()).collect();
+    assert_eq!(meshes.len(), 4);
+    assert_eq!(meshes[1][col("extra")].parse::<usize>().unwrap(), 12);
+    assert_eq!(meshes[1][col("coverage_error")].parse::<f64>().unwrap(), 0.03);
+    assert_eq!(&meshes[3][col("method")], "linear(32)+binary(5)+curved=prism");
+    // worst.md: the flat table, then the mesh table with each mode's worst condition.
+    let worst = std::fs::read_to_string(with.join("worst.md")).unwrap();
+    let flat_md = std::fs::read_to_string(without.join("worst.md")).unwrap();
+    assert!(worst.starts_with(&flat_md) && !flat_md.contains("Mesh conditions"), "{worst}");
+    assert!(worst.contains("| `linear(32)+binary(5)+curved=none` | sphere:rocks at 89° | 3.00% | 12 | 0 |"), "{worst}");
+    assert!(worst.contains("| `linear(32)+binary(5)+curved=prism` | sphere:rocks at 75° | 1.00% | 0 | 4 |"), "{worst}");
+    for metric in ["coverage_error", "ref_err_t_rms", "past_count"] {
+        let name = format!("stability_meshes_{metric}.svg");
+        let svg = std::fs::read_to_string(with.join(&name)).unwrap();
+        assert_eq!(svg.matches("<rect ").count(), 4, "{name}: one rect per mesh cell");
+        assert!(!without.join(&name).exists(), "{name} without mesh cells");
+    }
+    for f in ["stability_skipped_rate.svg", "stability_ref_err_t_rms.svg"] {
+        let a = std::fs::read(with.join(f)).unwrap();
+        assert_eq!(a, std::fs::read(without.join(f)).unwrap(), "{f}: the flat maps hold the flat cells only");
+    }
+    std::fs::remove_dir_all(&base).ok();
+}
+
+/// The mesh conditions' angle is the view's angle from the normal at the frame's centre:
+/// the ray through the centre meets the smooth sphere and torus at their outer equator's
+/// point on +x (normal +x) at that angle.
+#[test]
+fn a_mesh_condition_sees_the_frames_centre_at_its_angle() {
+    for (mesh, x) in [("sphere", 1.0f32), ("torus", 1.5)] {
+        for angle in stability::MESH_ANGLES {
+            let ms = stability::mesh_scene(mesh, angle).unwrap();
+            let eye = ms.scene.camera.camera_position();
+            let to_eye = (eye - glam::Vec3::new(x, 0.0, 0.0)).normalize();
+            let seen = to_eye.dot(glam::Vec3::X).clamp(-1.0, 1.0).acos().to_degrees();
+            assert!((seen - angle).abs() < 1e-3, "{mesh} at {angle}°: {seen}°");
+            // The frame's centre ray (of an even frame, between the four middle pixels) points at it.
+            let forward = ms.scene.camera.basis().0;
+            assert!((forward + to_eye).length() < 1e-5, "{mesh}: the camera looks at the point");
+        }
+    }
 }

@@ -45,7 +45,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::gpu::Program;
 pub use isa::{IsaLoop, IsaShape};
-pub use model::{modeled, set_columns, GpuModel};
+pub use model::{modeled, set_columns, set_mesh_columns, GpuModel};
 
 /// The families `relief cost` and the sweep compile for when none is asked: one RDNA2
 /// (`navi21`, a Radeon RX 6800/6900) and one RDNA3 (`gfx1100`, a Radeon RX 7900).
@@ -308,6 +308,8 @@ fn jobs_of(text: &str, program: &Program) -> Result<(radv::Job, radv::Job), Cost
             vert: entry(naga::ShaderStage::Vertex, "vs_main")?,
             frag: entry(naga::ShaderStage::Fragment, "fs_main")?,
             depth: program.writes_depth,
+            entries: ["vs_main".into(), "fs_main".into()],
+            vertex_attributes: 0,
         },
         bindings: bindings.clone(),
     };
@@ -634,6 +636,142 @@ impl Compiler {
         let exes = answer.results[0].as_ref().map_err(|e| fail(e))?;
         let exe = exes.iter().find(|e| e.name.contains("Compute")).ok_or_else(|| fail("no compute shader"))?;
         Ok(ShaderCost::from_executable(exe, keep_isa))
+    }
+}
+
+/// A `curved=` pipeline's mesh module (relief-dsl's `compose/mesh.rs`) compiled for one
+/// family: the compiler's figures for its three render entries. Like [`PipelineCost`], these
+/// are the compiler's counts, a model of the cost and not a clock.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MeshCost {
+    /// The pipeline's text form (with its `curved=` option).
+    pub pipeline: String,
+    /// The family (`RADV_FORCE_FAMILY`).
+    pub family: String,
+    /// The device name RADV gave.
+    pub device: String,
+    /// The driver and its version.
+    pub driver: String,
+    /// `vs_mesh`, the vertex shader (compiled beside `fs_mesh`).
+    pub vertex: ShaderCost,
+    /// `fs_mesh`, the colour entry's fragment shader.
+    pub fragment: ShaderCost,
+    /// `fs_mesh_depth`, the depth-only / shadow-caster entry's fragment shader.
+    pub depth: ShaderCost,
+}
+
+impl MeshCost {
+    /// The body of `fs_mesh`'s top-level loops, summed (0 when the compiler unrolled them):
+    /// the instructions one pass of every search loop takes.
+    pub fn fragment_loop_body(&self) -> u32 {
+        self.fragment.shape.top_level().map(|l| l.body).sum()
+    }
+}
+
+/// The mesh module's two graphics jobs, from the WGSL the runtime loads
+/// ([`crate::gpu::mesh::MeshProgram`]): `vs_mesh` + `fs_mesh`, and `vs_mesh` + `fs_mesh_depth`,
+/// the vertex shader reading [`relief_dsl::compose::mesh::MeshVertex`]'s `vec4` members.
+fn mesh_jobs(p: &Pipeline) -> Result<[radv::Job; 2], CostError> {
+    use relief_dsl::compose::mesh::{MeshVertex, DEPTH_ENTRY};
+    let text = p.to_string();
+    let err = |m: String| CostError::Spirv { pipeline: text.clone(), message: relief_dsl::spec::one_line(&m) };
+    let program = crate::gpu::mesh::MeshProgram::new(p).map_err(|e| err(e.to_string()))?.program;
+    let module = naga::front::wgsl::parse_str(&program.wgsl).map_err(|e| err(e.to_string()))?;
+    let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default())
+        .validate(&module)
+        .map_err(|e| err(e.to_string()))?;
+    let options = wgpu_spirv_options();
+    let entry = |stage: naga::ShaderStage, name: &str| -> Result<Vec<u32>, CostError> {
+        let (m, i) =
+            naga::back::pipeline_constants::process_overrides(&module, &info, Some((stage, name)), &Default::default())
+                .map_err(|e| err(e.to_string()))?;
+        let po = naga::back::spv::PipelineOptions { shader_stage: stage, entry_point: name.to_string() };
+        naga::back::spv::write_vec(&m, &i, &options, Some(&po)).map_err(|e| err(e.to_string()))
+    };
+    let attributes = (std::mem::size_of::<MeshVertex>() / 16) as u32;
+    let vert = entry(naga::ShaderStage::Vertex, "vs_mesh")?;
+    let bindings = descriptors(&module);
+    let job = |frag: &str| -> Result<radv::Job, CostError> {
+        Ok(radv::Job {
+            name: format!("{text} ({frag})"),
+            shaders: radv::Shaders::Graphics {
+                vert: vert.clone(),
+                frag: entry(naga::ShaderStage::Fragment, frag)?,
+                depth: true,
+                entries: ["vs_mesh".into(), frag.into()],
+                vertex_attributes: attributes,
+            },
+            bindings: bindings.clone(),
+        })
+    };
+    Ok([job("fs_mesh")?, job(DEPTH_ENTRY)?])
+}
+
+impl Compiler {
+    /// Prices the mesh modules of `pipelines` (each with a `curved=` option) on each of
+    /// `families`: per pipeline, its costs in the order of `families`, or why it could not be
+    /// priced. A recorded compiler ([`Compiler::from_recorded`]) holds flat pipelines only
+    /// and refuses.
+    pub fn cost_mesh_each(
+        &self,
+        pipelines: &[Pipeline],
+        families: &[String],
+        keep_isa: bool,
+    ) -> Result<Vec<Result<Vec<MeshCost>, CostError>>, CostError> {
+        for f in families {
+            family(f)?;
+        }
+        if let Some(r) = &self.recorded {
+            return Err(CostError::RecordedFile {
+                file: r.file.display().to_string(),
+                message: "recorded costs are not implemented for mesh modules (curved=); price them with RADV".into(),
+            });
+        }
+        if !Compiler::radv_present() {
+            return Err(CostError::NoRadv);
+        }
+        let mut jobs = vec![];
+        let plan: Vec<Result<usize, CostError>> = pipelines
+            .iter()
+            .map(|p| {
+                let [colour, depth] = mesh_jobs(p)?;
+                jobs.push(colour);
+                jobs.push(depth);
+                Ok(jobs.len() - 2)
+            })
+            .collect();
+        if jobs.is_empty() {
+            return Ok(plan.into_iter().map(|r| r.map(|_| vec![])).collect());
+        }
+        let answers: Vec<Result<radv::Answer, CostError>> = std::thread::scope(|s| {
+            let handles: Vec<_> = families.iter().map(|f| s.spawn(|| self.run(f, &jobs))).collect();
+            handles.into_iter().map(|h| h.join().expect("compiling thread")).collect()
+        });
+        let answers: Vec<radv::Answer> = answers.into_iter().collect::<Result<_, _>>()?;
+        let one = |p: &Pipeline, first: usize| -> Result<Vec<MeshCost>, CostError> {
+            let mut costs = vec![];
+            for (family, answer) in families.iter().zip(&answers) {
+                let fail =
+                    |m: &str| CostError::Driver { family: family.clone(), message: relief_dsl::spec::one_line(m) };
+                let get = |i: usize| answer.results[i].as_ref().map_err(|e| fail(e));
+                let exe = |xs: &[radv::Executable], what: &str| -> Result<ShaderCost, CostError> {
+                    let e =
+                        xs.iter().find(|e| e.name.contains(what)).ok_or_else(|| fail(&format!("no {what} shader")))?;
+                    Ok(ShaderCost::from_executable(e, keep_isa))
+                };
+                costs.push(MeshCost {
+                    pipeline: p.to_string(),
+                    family: family.clone(),
+                    device: answer.device.clone(),
+                    driver: answer.driver.clone(),
+                    vertex: exe(get(first)?, "Vertex")?,
+                    fragment: exe(get(first)?, "Fragment")?,
+                    depth: exe(get(first + 1)?, "Fragment")?,
+                });
+            }
+            Ok(costs)
+        };
+        Ok(pipelines.iter().zip(plan).map(|(p, first)| first.and_then(|i| one(p, i))).collect())
     }
 }
 

@@ -91,6 +91,24 @@ pub fn set_columns(m: &mut crate::results::Metrics, costs: &[PipelineCost], rays
     }
 }
 
+/// Writes a mesh row's GPU columns from its mode's mesh module costs per family: `fs_mesh`'s
+/// VGPRs, instructions and top-level loop bodies (`gpu_FAMILY_vgprs`, `_instructions`,
+/// `_loop_body`) and `gpu_driver`. The per-pixel model (`_instr_px`, `_instr_w32`) stays
+/// empty: the mesh module's measurement entry has no pass counters.
+pub fn set_mesh_columns(m: &mut crate::results::Metrics, costs: &[super::MeshCost]) {
+    for c in costs {
+        let slots = match c.family.as_str() {
+            "navi21" => (&mut m.gpu_navi21_vgprs, &mut m.gpu_navi21_instructions, &mut m.gpu_navi21_loop_body),
+            "gfx1100" => (&mut m.gpu_gfx1100_vgprs, &mut m.gpu_gfx1100_instructions, &mut m.gpu_gfx1100_loop_body),
+            _ => continue,
+        };
+        *slots.0 = Some(c.fragment.vgprs);
+        *slots.1 = Some(c.fragment.instructions);
+        *slots.2 = Some(c.fragment_loop_body());
+        m.gpu_driver = Some(c.driver.clone());
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

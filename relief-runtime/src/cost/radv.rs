@@ -26,8 +26,11 @@ pub(crate) enum Descriptor {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub(crate) enum Shaders {
     /// A vertex and fragment pair, drawn into one colour attachment (and a depth attachment
-    /// when the fragment writes depth).
-    Graphics { vert: Vec<u32>, frag: Vec<u32>, depth: bool },
+    /// when the fragment writes depth): the entries `entries` (vertex, fragment), the vertex
+    /// shader reading `vertex_attributes` `vec4<f32>` attributes at locations 0, 1, … from one
+    /// interleaved buffer (0 for relief's quad, which reads none; 7 for a mesh module's
+    /// `MeshVertex`).
+    Graphics { vert: Vec<u32>, frag: Vec<u32>, depth: bool, entries: [String; 2], vertex_attributes: u32 },
     /// A compute shader.
     Compute { comp: Vec<u32> },
 }
@@ -187,20 +190,44 @@ impl Radv {
                 | vk::PipelineCreateFlags::CAPTURE_INTERNAL_REPRESENTATIONS_KHR;
             let result = (|| -> Result<vk::Pipeline, String> {
                 match &job.shaders {
-                    Shaders::Graphics { vert, frag, depth } => {
+                    Shaders::Graphics { vert, frag, depth, entries, vertex_attributes } => {
                         stages.push(self.module(vert)?);
                         stages.push(self.module(frag)?);
+                        let name = |n: &str| {
+                            std::ffi::CString::new(n).map_err(|_| format!("entry point name {n:?} holds a NUL"))
+                        };
+                        let (vs, fs) = (name(&entries[0])?, name(&entries[1])?);
                         let infos = [
                             vk::PipelineShaderStageCreateInfo::default()
                                 .stage(vk::ShaderStageFlags::VERTEX)
                                 .module(stages[0])
-                                .name(c"vs_main"),
+                                .name(&vs),
                             vk::PipelineShaderStageCreateInfo::default()
                                 .stage(vk::ShaderStageFlags::FRAGMENT)
                                 .module(stages[1])
-                                .name(c"fs_main"),
+                                .name(&fs),
                         ];
-                        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
+                        let n = *vertex_attributes;
+                        let buffers = [vk::VertexInputBindingDescription::default()
+                            .binding(0)
+                            .stride(16 * n)
+                            .input_rate(vk::VertexInputRate::VERTEX)];
+                        let attributes: Vec<vk::VertexInputAttributeDescription> = (0..n)
+                            .map(|k| {
+                                vk::VertexInputAttributeDescription::default()
+                                    .location(k)
+                                    .binding(0)
+                                    .format(vk::Format::R32G32B32A32_SFLOAT)
+                                    .offset(16 * k)
+                            })
+                            .collect();
+                        let vertex_input = if n == 0 {
+                            vk::PipelineVertexInputStateCreateInfo::default()
+                        } else {
+                            vk::PipelineVertexInputStateCreateInfo::default()
+                                .vertex_binding_descriptions(&buffers)
+                                .vertex_attribute_descriptions(&attributes)
+                        };
                         let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
                             .topology(vk::PrimitiveTopology::TRIANGLE_STRIP);
                         let viewport =

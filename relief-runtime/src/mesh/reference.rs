@@ -141,8 +141,14 @@ impl MeshReference {
             obvhs::BvhBuildParams::medium_build(),
             &mut std::time::Duration::default(),
         );
-        let eps = 1e-6 * (radius as f64 + depth);
+        let eps = MeshReference::default_tolerance(mesh, depth);
         Ok(MeshReference { tris, patches, bvh, map: map.clone(), edge, depth, size, eps })
+    }
+
+    /// The tolerance ε a reference over `mesh` with relief `depth` takes unless
+    /// [`MeshReference::with_tolerance`] sets it: 1e-6 of the mesh's radius plus the depth.
+    pub fn default_tolerance(mesh: &Mesh, depth: f64) -> f64 {
+        1e-6 * (mesh.bounds().1 as f64 + depth)
     }
 
     /// The same reference with leaves of box diagonal at most `eps` (world units).

@@ -103,6 +103,11 @@ pub struct MeshSetup {
     pub frames: u32,
     /// The output folder (created if missing).
     pub out: PathBuf,
+    /// The GPU compiler that prices each mode's mesh module (`vs_mesh`, `fs_mesh`,
+    /// `fs_mesh_depth`) on [`crate::cost::DEFAULT_FAMILIES`]; its `fs_mesh` figures go into the
+    /// row's `gpu_FAMILY_vgprs`, `_instructions` and `_loop_body` columns
+    /// ([`crate::cost::set_mesh_columns`]). `None`: no GPU columns.
+    pub gpu_cost: Option<crate::cost::Compiler>,
 }
 
 /// Measures the grid's cells on `scenes` into `setup.out` (the module doc).
@@ -117,6 +122,7 @@ pub fn run(scenes: &[String], setup: &MeshSetup) -> Result<Summary> {
     let is_done = |p: &Pipeline, s: &str| done.contains(&(p.to_string(), label(s), setup.size, adapter.clone(), None));
     let mut summary = Summary { cells: all.len(), ..Default::default() };
     let base = base_pipeline();
+    let costs = mesh_costs(setup.gpu_cost.as_ref(), &base, &mut summary);
     for scene in scenes {
         let todo: Vec<Curved> =
             MODES.iter().copied().filter(|&m| !is_done(&base.clone().with_curved(Some(m)), scene)).collect();
@@ -125,7 +131,7 @@ pub fn run(scenes: &[String], setup: &MeshSetup) -> Result<Summary> {
             continue;
         }
         let measured = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            measure_scene(&gpu, scene, &base, &todo, setup, &adapter)
+            measure_scene(&gpu, scene, &base, &todo, setup, &adapter, &costs)
         }))
         .unwrap_or_else(|panic| Err(Error::Input(format!("panicked: {}", super::panic_text(&*panic)))));
         let new_rows = match measured {
@@ -165,6 +171,36 @@ pub fn run(scenes: &[String], setup: &MeshSetup) -> Result<Summary> {
     Ok(summary)
 }
 
+/// Each mode's mesh module priced by `compiler` on the default families, by the pipeline's
+/// text form; a failure is said once in `summary.gpu_note` and leaves the rows without GPU
+/// columns.
+fn mesh_costs(
+    compiler: Option<&crate::cost::Compiler>,
+    base: &Pipeline,
+    summary: &mut Summary,
+) -> std::collections::HashMap<String, Vec<crate::cost::MeshCost>> {
+    let mut out = std::collections::HashMap::new();
+    let Some(compiler) = compiler else {
+        return out;
+    };
+    let families: Vec<String> = crate::cost::DEFAULT_FAMILIES.iter().map(|s| s.to_string()).collect();
+    let pipelines: Vec<Pipeline> = MODES.iter().map(|&m| base.clone().with_curved(Some(m))).collect();
+    match compiler.cost_mesh_each(&pipelines, &families, false) {
+        Ok(each) => {
+            for (p, c) in pipelines.iter().zip(each) {
+                match c {
+                    Ok(c) => {
+                        out.insert(p.to_string(), c);
+                    }
+                    Err(e) => summary.gpu_note = Some(format!("no GPU compiler columns for {p}: {e}")),
+                }
+            }
+        }
+        Err(e) => summary.gpu_note = Some(format!("no GPU compiler columns for the mesh modules: {e}")),
+    }
+    out
+}
+
 /// The rows of `modes` on `scene`, their pictures written.
 fn measure_scene(
     gpu: &Gpu,
@@ -173,6 +209,7 @@ fn measure_scene(
     modes: &[Curved],
     setup: &MeshSetup,
     adapter: &str,
+    costs: &std::collections::HashMap<String, Vec<crate::cost::MeshCost>>,
 ) -> Result<Vec<Row>> {
     let label = crate::scene::scene_spec(scene);
     let ms = MeshScene::from_scene(crate::scene::scene_from_arg(&locate(scene))?)?;
@@ -197,6 +234,9 @@ fn measure_scene(
             metrics.frame_ratio_to_baseline_lo = Some(t.lo);
             metrics.frame_ratio_to_baseline_hi = Some(t.hi);
             metrics.timing_pairs = t.pairs;
+        }
+        if let Some(c) = costs.get(&pipeline.to_string()) {
+            crate::cost::set_mesh_columns(&mut metrics, c);
         }
         rows.push(Row {
             grid: MESHES.into(),

@@ -121,9 +121,6 @@ impl Done {
 }
 
 /// Why a mesh grid's rows have no GPU compiler columns when the run asked for them.
-const MESH_GPU_NOTE: &str =
-    "the GPU compiler's model is not implemented for mesh modules (curved=): the mesh rows have no GPU columns";
-
 impl fmt::Display for Done {
     /// The summary line (without the time and the rows' path, which the caller adds).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -209,12 +206,13 @@ impl Plan {
                 if settings.shard.is_some() {
                     return Err(Error::Input("--shard is not implemented for the meshes grid".to_string()));
                 }
-                let setup = meshes::MeshSetup { size: settings.size, frames: settings.frames, out: settings.out };
-                let mut summary = meshes::run(&scenes, &setup)?;
-                if settings.gpu_cost.is_some() {
-                    summary.gpu_note = Some(MESH_GPU_NOTE.to_string());
-                }
-                Ok(Done::Cells(summary))
+                let setup = meshes::MeshSetup {
+                    size: settings.size,
+                    frames: settings.frames,
+                    out: settings.out,
+                    gpu_cost: settings.gpu_cost,
+                };
+                Ok(Done::Cells(meshes::run(&scenes, &setup)?))
             }
         }
     }

@@ -89,9 +89,11 @@ pub fn run(a: &CostArgs) -> anyhow::Result<()> {
             relief_runtime::sweep::Plan::Rooms(_) => anyhow::bail!(
                 "--grid {g}: the room grid's pipelines are not priced (its walls are not relief pipelines)"
             ),
-            relief_runtime::sweep::Plan::Meshes(_) => anyhow::bail!(
-                "--grid {g}: the mesh grid's pipelines are not priced (the GPU compiler's model is not implemented for mesh modules)"
-            ),
+            relief_runtime::sweep::Plan::Meshes(scenes) => {
+                // Each mode's pipeline once: the mesh modules are priced, not the scenes.
+                pipelines.extend(relief_runtime::sweep::meshes::cells(&scenes).into_iter().map(|(p, _)| p));
+                continue;
+            }
         };
         pipelines.extend(relief_runtime::sweep::measured_pipelines(&grid, &overrides));
     }
@@ -113,7 +115,18 @@ pub fn run(a: &CostArgs) -> anyhow::Result<()> {
         a.gpu.iter().map(|f| cost::family(f)).collect::<Result<_, _>>()?
     };
     let exe = std::env::current_exe().context("cannot find relief's own program to run the compiler in")?;
-    let costs: Vec<PipelineCost> = Compiler::new(exe).cost(&pipelines, &families, a.isa.is_some())?;
+    let compiler = Compiler::new(exe);
+    let (mesh, pipelines): (Vec<Pipeline>, Vec<Pipeline>) = pipelines.into_iter().partition(|p| p.curved.is_some());
+    if !mesh.is_empty() && a.json.is_some() {
+        anyhow::bail!("--json is not implemented for curved= pipelines (their mesh modules); leave it out or price flat pipelines only");
+    }
+    if !mesh.is_empty() {
+        mesh_costs(&compiler, &mesh, &families, a.isa.as_deref())?;
+    }
+    if pipelines.is_empty() {
+        return Ok(());
+    }
+    let costs: Vec<PipelineCost> = compiler.cost(&pipelines, &families, a.isa.is_some())?;
     let mut last_family = String::new();
     for c in &costs {
         if c.family != last_family {
@@ -139,6 +152,47 @@ pub fn run(a: &CostArgs) -> anyhow::Result<()> {
     if let Some(path) = &a.json {
         let text = serde_json::to_string_pretty(&costs)?;
         relief_runtime::io::write_atomic(path, text.as_bytes())?;
+    }
+    Ok(())
+}
+
+/// Prices and prints the mesh modules of `mesh` (`curved=` pipelines): `vs_mesh`, `fs_mesh`
+/// and `fs_mesh_depth` per family, and their disassembly into `isa` when given.
+fn mesh_costs(
+    compiler: &Compiler,
+    mesh: &[Pipeline],
+    families: &[String],
+    isa: Option<&std::path::Path>,
+) -> anyhow::Result<()> {
+    let each = compiler.cost_mesh_each(mesh, families, isa.is_some())?;
+    let each: Vec<Vec<cost::MeshCost>> = each.into_iter().collect::<Result<_, _>>()?;
+    println!("mesh modules (the compiler's counts: a model, not a clock); loops: body in instructions, (^) nested");
+    for (f, family) in families.iter().enumerate() {
+        let mut first = true;
+        for costs in &each {
+            let c = &costs[f];
+            if first {
+                println!("{family} ({}, {})", c.device, c.driver);
+                first = false;
+            }
+            println!("{}  [fs_mesh loop bodies: {}]", c.pipeline, c.fragment_loop_body());
+            println!("{}", line("vs", &c.vertex));
+            println!("{}", line("fs", &c.fragment));
+            println!("{}", line("depth", &c.depth));
+        }
+    }
+    if let Some(dir) = isa {
+        relief_runtime::io::create_dir_all(dir)?;
+        for (costs, p) in each.iter().zip(mesh) {
+            let stem = p.file_stem();
+            for c in costs {
+                for (what, s) in [("vs_mesh", &c.vertex), ("fs_mesh", &c.fragment), ("fs_mesh_depth", &c.depth)] {
+                    let path = dir.join(format!("{stem}.{}.{what}.s", c.family));
+                    relief_runtime::io::write_atomic(&path, s.isa.as_deref().unwrap_or("").as_bytes())?;
+                }
+            }
+        }
+        println!("wrote the mesh modules' disassembly to {}", dir.display());
     }
     Ok(())
 }

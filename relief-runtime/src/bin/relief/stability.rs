@@ -18,6 +18,14 @@ pub struct StabilityArgs {
     /// height-map file); repeatable. Default: the whole stability matrix.
     #[arg(long)]
     pub scene: Vec<String>,
+    /// Mesh conditions to probe (`sphere`, `torus`: the built-in mesh with `rocks` at 75°, 85°
+    /// and 89°, each method under curved=none, quadric and prism); repeatable. Default: both
+    /// when no --scene is given, none otherwise.
+    #[arg(long)]
+    pub mesh: Vec<String>,
+    /// Leave the mesh conditions out.
+    #[arg(long, conflicts_with = "mesh")]
+    pub no_meshes: bool,
     /// When another relief process holds the output folder's lock (`OUT/.relief.lock`),
     /// wait for it instead of refusing.
     #[arg(long)]
@@ -36,24 +44,59 @@ pub fn run(a: &StabilityArgs) -> anyhow::Result<()> {
     let methods = stability::methods();
     let scenes: Vec<&str> =
         if a.scene.is_empty() { stability::SCENES.to_vec() } else { a.scene.iter().map(String::as_str).collect() };
-    let total = (scenes.len() * stability::ANGLES.len()) as u64;
+    let meshes: Vec<&str> = if a.no_meshes {
+        vec![]
+    } else if a.mesh.is_empty() && a.scene.is_empty() {
+        stability::MESH_SCENES.iter().map(|(m, _)| *m).collect()
+    } else {
+        a.mesh.iter().map(String::as_str).collect()
+    };
+    for m in &meshes {
+        if !stability::MESH_SCENES.iter().any(|(n, _)| n == m) {
+            anyhow::bail!("--mesh {}: no such mesh condition (sphere, torus)", relief_dsl::spec::echo(m));
+        }
+    }
+    let flat_conditions = scenes.len() * stability::ANGLES.len();
+    let total = (flat_conditions + meshes.len() * stability::MESH_ANGLES.len()) as u64;
     let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
         indicatif::ProgressBar::new(total)
     } else {
         indicatif::ProgressBar::hidden()
     };
-    let cells = stability::run(&gpu, a.size, &methods, &scenes, &stability::ANGLES, |scene, angle| {
+    let tick = |scene: &str, angle: f32| {
         bar.set_message(format!("{scene} at {angle}°"));
         bar.inc(1);
-    })?;
+    };
+    let mut cells = stability::run(&gpu, a.size, &methods, &scenes, &stability::ANGLES, tick)?;
+    let mesh_methods = stability::mesh_methods();
+    if !meshes.is_empty() {
+        let modes = relief_dsl::spec::Curved::ALL;
+        cells.extend(stability::run_meshes(
+            &gpu,
+            a.size,
+            &mesh_methods,
+            &modes,
+            &meshes,
+            &stability::MESH_ANGLES,
+            tick,
+        )?);
+    }
     bar.finish_and_clear();
     stability::write(&a.out, &cells)?;
     let nan: usize = cells.iter().map(|c| c.nan_count).sum();
     let outside: usize = cells.iter().map(|c| c.outside_count).sum();
+    let mesh_part = if meshes.is_empty() {
+        String::new()
+    } else {
+        format!(
+            ", {} methods × 3 curved= modes × {} mesh conditions",
+            mesh_methods.len(),
+            meshes.len() * stability::MESH_ANGLES.len()
+        )
+    };
     println!(
-        "{} methods × {} conditions: {nan} NaN hits, {outside} hits outside the volume → {}",
+        "{} methods × {flat_conditions} conditions{mesh_part}: {nan} NaN hits, {outside} hits outside the volume → {}",
         methods.len(),
-        total,
         a.out.join("stability.csv").display()
     );
     Ok(())

@@ -147,6 +147,7 @@ fn goals_table(gs: &[Group]) -> TextTable {
 
 /// The figures table: one row per cell. `link` gives the coverage picture's cell, if any.
 fn figures_table(gs: &[Group], link: &dyn Fn(&Row) -> Option<String>) -> TextTable {
+    let priced = gs.iter().flat_map(|g| &g.rows).any(|r| r.metrics.gpu_driver.is_some());
     let header = [
         "scene",
         "pipeline",
@@ -169,6 +170,16 @@ fn figures_table(gs: &[Group], link: &dyn Fn(&Row) -> Option<String>) -> TextTab
         header: header.map(String::from).to_vec(),
         ..Default::default()
     };
+    if priced {
+        // Only when a row has them, so that a report without them is unchanged.
+        let note = &mut t.notes[0];
+        *note = note.replace(
+            " The GPU compiler's modeled cost is not implemented for mesh modules.",
+            " The GPU compiler's counts for the mode's `fs_mesh` (AMD's compiler through RADV's null device: a model, not a clock; docs/notes/gpu-cost.md): instructions, VGPRs and the top-level loops' bodies, on RDNA2 (navi21) and RDNA3 (gfx1100); no per-pixel figure (the mesh measurement has no pass counters).",
+        );
+        t.header
+            .extend(["fs_mesh instr / VGPRs / loop (navi21)".into(), "fs_mesh instr / VGPRs / loop (gfx1100)".into()]);
+    }
     for g in gs {
         for r in &g.rows {
             let m = &r.metrics;
@@ -195,6 +206,14 @@ fn figures_table(gs: &[Group], link: &dyn Fn(&Row) -> Option<String>) -> TextTab
                     ]);
                 }
                 _ => row.extend(["error".to_string(), r.error.clone()]),
+            }
+            if priced && r.status.is_ok() {
+                let fmt = |i: Option<u32>, v: Option<u32>, l: Option<u32>| match (i, v, l) {
+                    (Some(i), Some(v), Some(l)) => format!("{i} / {v} / {l}"),
+                    _ => DASH.to_string(),
+                };
+                row.push(fmt(m.gpu_navi21_instructions, m.gpu_navi21_vgprs, m.gpu_navi21_loop_body));
+                row.push(fmt(m.gpu_gfx1100_instructions, m.gpu_gfx1100_vgprs, m.gpu_gfx1100_loop_body));
             }
             t.rows.push(row);
         }
