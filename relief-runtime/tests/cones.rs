@@ -339,3 +339,85 @@ fn safe_cone_stepping_converges_with_more_steps() {
     let converged = h32.iter().filter(|h| h.converged == 1).count();
     assert!(converged * 10 > h32.len() * 9, "cns(32): {converged} of {} converged", h32.len());
 }
+
+/// Cells of the unbounded cell grid (`floor(u·N − ½)` per axis) that the exact ray visits
+/// from its entry to `t`: one, plus one per cell side it crosses.
+fn cells_crossed(r: &ProbeRay, t: f64, texels: f64) -> u64 {
+    let cell = |o: f32, d: f32, t: f64| ((o as f64 + d as f64 * t) * texels - 0.5).floor();
+    let along = |o: f32, d: f32| (cell(o, d, t) - cell(o, d, 0.0)).abs() as u64;
+    1 + along(r.origin[0], r.dir[0]) + along(r.origin[1], r.dir[1])
+}
+
+#[test]
+fn safe_marches_take_no_empty_pass_on_a_1024_map_at_grazing_views() {
+    // A pass of the safe march that does not end the search moves the ray to where it leaves
+    // its cell or beyond, and the next pass picks the cell past that side by a nudge of 1e-4
+    // cells. The exit is `cell·(1/speed) + (side − x0)/speed`, with no term of t, so a pass
+    // whose exit rounded short of the side by more than the nudge would find the same cell,
+    // the same exit and the same t in every pass after it: the ray would stall there until
+    // its steps ran out. The rounding grows with the cell coordinates: here a 1024² map of
+    // low noise (heights in [0, 0.02]: a ray crawls cell by cell over the last few percent of
+    // its depth, where most passes meet a patch and leave by the exit), rays 80° to 89° from
+    // the normal at a depth scale of 0.0175 that travel up to one map width from anywhere on
+    // the map, so the cell coordinates run from −1024 to 2048, both edge modes. Every ray
+    // must end at the first hit (converged, never past it) after at most one pass per cell
+    // of the unbounded grid it crosses to the hit, and one more: the probe counts the pass
+    // that finds the search over.
+    let g = Gpu::new().unwrap();
+    let texels = 1024;
+    let mut next = lcg(51);
+    let map = HeightMap::from_fn(texels, texels, |_, _| 0.02 * next());
+    let mut failures = vec![];
+    for (i, edge) in [EdgeMode::Repeat, EdgeMode::Clamp].into_iter().enumerate() {
+        let mut probe = Probe::new("low noise 1024", map.clone(), edge, 52 + i as u64);
+        probe.scene.depth_scale = 0.0175;
+        let mut next = lcg(60 + i as u64);
+        probe.rays = (0..4096)
+            .map(|k| {
+                let (u, v) = (next(), next());
+                let reach = (80.0 + 9.0 * next()).to_radians().tan() * probe.scene.depth_scale;
+                let az = next() * std::f32::consts::TAU;
+                ProbeRay {
+                    origin: [u, v],
+                    dir: [reach * az.cos(), reach * az.sin(), -1.0],
+                    x: k as u32,
+                    y: 0,
+                    pixel_size: 0.0,
+                }
+            })
+            .collect();
+        probe.refs = reference_hits(&probe.scene, &probe.rays, Sampling::Bilinear).unwrap();
+        let crossed: Vec<u64> =
+            probe.rays.iter().zip(&probe.refs).map(|(r, rf)| cells_crossed(r, rf.unwrap().t, texels as f64)).collect();
+        let most = crossed.iter().max().copied().unwrap_or(0);
+        for method in ["csm(2048)", "qcsm(2048)", "cns(2048)"] {
+            let hits = probe.run(&g, method);
+            let past = probe.past(&hits, |_| T_SLACK);
+            let stalled: Vec<(usize, u32, u64)> = hits
+                .iter()
+                .zip(&crossed)
+                .enumerate()
+                .filter(|(_, (h, &c))| h.converged != 1 || h.coarse_steps as u64 > c + 1)
+                .map(|(k, (h, &c))| (k, h.coarse_steps, c))
+                .collect();
+            let passes = hits.iter().map(|h| h.coarse_steps).max().unwrap_or(0);
+            eprintln!(
+                "{method} on {}: {} rays with more passes than cells crossed + 1 or not converged, {} past the first hit; at most {passes} passes, {most} cells crossed",
+                probe.label,
+                stalled.len(),
+                past.len()
+            );
+            if !stalled.is_empty() || !past.is_empty() {
+                failures.push(format!(
+                    "{method} on {}: {} rays stall or overrun (ray, passes, cells crossed) {:?}; {} past the first hit {:?}",
+                    probe.label,
+                    stalled.len(),
+                    &stalled[..stalled.len().min(3)],
+                    past.len(),
+                    &past[..past.len().min(3)]
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

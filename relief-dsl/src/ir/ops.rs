@@ -211,6 +211,16 @@ impl<'a, T: Float> Val<'a, T> {
     pub fn exp2(self) -> Self {
         self.math(MathFunction::Exp2, &[])
     }
+    /// `self · m + a` as one fused multiply-add (`fma`; GLSL versions without `fma` get the
+    /// product and the sum). For values whose rounding does not matter (a sample's
+    /// coordinate): a compiler keeps it one instruction where it may otherwise factor
+    /// `x·s + s·k` into an add and a multiply.
+    pub fn mul_add(self, m: impl IntoSame<'a, T>, a: impl IntoSame<'a, T>) -> Self {
+        let s = self.builder();
+        let m = m.into_same(s);
+        let a = a.into_same(s);
+        self.math(MathFunction::Fma, &[m.handle(), a.handle()])
+    }
     /// Linear interpolation `mix(self, o, f)`.
     pub fn mix(self, o: impl IntoSame<'a, T>, f: impl IntoSame<'a, T>) -> Self {
         let s = self.builder();

@@ -289,18 +289,22 @@ impl<'a> FnBuilder<'a> {
         self.image_sample(tex, p.handle(), Filter::Linear, false, SampleLevel::Zero, true).x()
     }
 
+    /// The size in texels of level 0 of `image`, declared for reads through `filter` (as
+    /// floats). Level 0 only: under a `lod` the maps of all levels share one atlas, whose
+    /// size is no level's.
+    pub(crate) fn image_size(&'a self, image: Image, filter: Filter) -> Val<'a, Vec2> {
+        let tex = texture_2d(self, image, filter);
+        let image = self.expr(Expression::GlobalVariable(tex));
+        let level = self.lit_u32(0).handle();
+        let size = self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::Size { level: Some(level) } });
+        self.wrap(self.expr(Expression::As { expr: size, kind: ScalarKind::Float, convert: Some(4) }))
+    }
+
     /// The size of level 0 of the height map in texels, as floats (its users address level-0
     /// cells, and read maps that [`FnBuilder::map_texel`] refuses at another level).
     pub fn height_map_size(&'a self) -> Val<'a, Vec2> {
         match self.sample_level() {
-            None => {
-                let tex = texture_2d(self, Image::Height, Filter::Linear);
-                let image = self.expr(Expression::GlobalVariable(tex));
-                let level = self.lit_u32(0).handle();
-                let size =
-                    self.expr(Expression::ImageQuery { image, query: naga::ImageQuery::Size { level: Some(level) } });
-                self.wrap(self.expr(Expression::As { expr: size, kind: ScalarKind::Float, convert: Some(4) }))
-            }
+            None => self.image_size(Image::Height, Filter::Linear),
             Some(l) => self.level_size(Image::Height, l),
         }
     }

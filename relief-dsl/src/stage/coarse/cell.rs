@@ -65,6 +65,8 @@ pub(super) struct Grid<'a> {
     pub x0: Val<'a, Vec2>,
     /// The ray's horizontal speed in cells per unit t, `d.xy·N`.
     pub speed: Val<'a, Vec2>,
+    /// `speed.x · speed.y`, the patch's quadratic term per unit of twist ([`patch_meet`]).
+    speed_xy: Val<'a, f32>,
     /// [`ahead`] of the speed.
     pub ahead: Val<'a, Vec2>,
     /// Per axis, 1 where the ray moves up the axis (it leaves a cell by its upper side), else 0.
@@ -84,18 +86,28 @@ pub(super) struct Grid<'a> {
 }
 
 impl<'a> Grid<'a> {
-    /// The grid of `ray` over the height map the stage samples (call before the loop).
-    pub(super) fn of(s: &'a FnBuilder<'a>, ray: &Ray<'a>) -> Grid<'a> {
+    /// The grid of `ray` over the height map the stage samples (call before the loop), with
+    /// `cells` the cell map the march reads, if any.
+    ///
+    /// The cell map's entry coordinate is scaled by its own size, queried here: N cells per
+    /// axis under repeat, N + 1 under clamp (see [`Cell::cones`]). Querying the map before
+    /// the loop also loads its descriptor there, where AMD's compiler then reuses it in every
+    /// pass instead of loading it again in each (`docs/notes/safe-step.md`, round 8).
+    pub(super) fn of(s: &'a FnBuilder<'a>, ray: &Ray<'a>, cells: Option<MapReq>) -> Grid<'a> {
         let size = s.height_map_size().named("size");
         let speed = (ray.dir.xy() * size).named("speed");
         let clamp = s.edge_is_clamp();
-        // Cells stored per axis: N under repeat, N + 1 under clamp (see [`Cell::cones`]).
-        let cell_scale = 1.0 / (size + s.select(clamp, 1.0, 0.0));
+        let stored = match (cells, s.sample_level()) {
+            (Some(map), None) => s.image_size(Image::of(map), Filter::Nearest),
+            _ => size + s.select(clamp, 1.0, 0.0),
+        };
+        let cell_scale = 1.0 / stored;
         Grid {
             size,
             inv_size: (1.0 / size).named("inv_size"),
             x0: (ray.origin * size - 0.5).named("x0"),
             speed,
+            speed_xy: (speed.x() * speed.y()).named("speed_xy"),
             ahead: ahead(s, speed).named("ahead"),
             side: s.vec2(s.select(speed.x().ge(0.0), 1.0, 0.0), s.select(speed.y().ge(0.0), 1.0, 0.0)).named("side"),
             inv_speed: s.vec2(inverse_speed(s, speed.x()), inverse_speed(s, speed.y())).named("inv_speed"),
@@ -131,6 +143,13 @@ pub(super) struct Cell<'a> {
 }
 
 /// The cell of the ray point at `t`.
+///
+/// The exit is `t + (cell + side − X(t))/speed`, not the shorter `(cell + side − x0)/speed`
+/// with a per-ray `(side − x0)/speed` (three instructions fewer a pass): rounded at the cell
+/// coordinates of a 1024² map that one fell short of the cell's side by more than the
+/// [`AHEAD_CELLS`] nudge, the next pass found the same cell and exit, and the ray stalled
+/// there (`relief-runtime/tests/cones.rs`, `safe_marches_take_no_empty_pass_…`: 2 of 4096
+/// grazing rays under clamp ran out of 2048 passes; `docs/notes/safe-step.md`, round 8).
 pub(super) fn cell_at<'a>(g: Grid<'a>, t: Val<'a, f32>) -> Cell<'a> {
     let x = g.x0 + g.speed * t;
     let cell = (x + g.ahead).floor().named("cell");
@@ -153,7 +172,8 @@ pub(super) fn ahead<'a>(s: &'a FnBuilder<'a>, speed: Val<'a, Vec2>) -> Val<'a, V
 }
 
 /// One pass of a safe march at `t` in cell `c`: the cone step to `cone` when it leaves the
-/// cell (never past the floor); otherwise the cell's patch decides: its first hit, or the
+/// cell (possibly past the floor: the march ends there, and clamps its t to the floor's once,
+/// after the loop); otherwise the cell's patch decides: its first hit, or the
 /// cell's exit. Returns whether the patch was hit (`t` is then the hit).
 ///
 /// Why: the cell's cone keeps the surface below it only from the cell's highest corner up, so
@@ -171,7 +191,7 @@ fn step_or_meet<'a>(
     let hit = s.var("patch_hit", false);
     s.if_else(
         cone.ge(c.exit),
-        |_| t.set(cone.min(c.grid.t_max)),
+        |_| t.set(cone),
         |s| {
             let meet = c.patch_meet(s, ray, t.get());
             hit.set(meet.hit);
@@ -235,7 +255,7 @@ impl<'a> Cell<'a> {
     fn corners(&self, s: &'a FnBuilder<'a>) -> Val<'a, Vec4> {
         match self.kept.get() {
             Some(c) => c,
-            None => s.height_gather((self.cell + 1.0) * self.grid.inv_size).named("corners"),
+            None => s.height_gather(self.cell.mul_add(self.grid.inv_size, self.grid.inv_size)).named("corners"),
         }
     }
 
@@ -243,6 +263,14 @@ impl<'a> Cell<'a> {
     /// over `apex` (no pad outside a clamp-mode map: the module's proof).
     pub(super) fn clearance(&self, p_z: Val<'a, f32>, apex: Val<'a, f32>) -> Val<'a, f32> {
         (p_z - apex).max(0.0)
+    }
+
+    /// The point's height over `apex`, negative below it: for a conservative cone step in
+    /// [`safe_march`], where a step from below the apex is negative and so, like a step of 0,
+    /// short of the cell's exit: the pass meets the patch either way, and no `max` is spent
+    /// on it. (Not for [`Cell::clearance`]'s other users, which need a step ≥ 0.)
+    pub(super) fn over(&self, p_z: Val<'a, f32>, apex: Val<'a, f32>) -> Val<'a, f32> {
+        p_z - apex
     }
 
     /// The bilinear surface at `p` (within the cell), from the corners kept for the pass.
@@ -303,7 +331,7 @@ pub(super) fn patch_meet<'a>(
     let a = g.speed;
     let (dx, dy) = (h10 - h00, h01 - h00);
     let k = h11 - h10 - dy;
-    let big_a = k * (a.x() * a.y());
+    let big_a = k * g.speed_xy;
     let big_b = dx * a.x() + dy * a.y() + k * (f.x() * a.y() + f.y() * a.x()) - ray.dir.z();
     let big_c = h00 + dx * f.x() + dy * f.y() + k * (f.x() * f.y()) - z;
     let (minus_2c, two_a) = (-2.0 * big_c, 2.0 * big_a);
@@ -344,8 +372,16 @@ impl<'a, F: Fn(&'a FnBuilder<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32>> Cel
 ///
 /// Returns the bracket `[hit, hit]`, or, out of steps, the point reached (above the surface
 /// everywhere before it).
-pub(super) fn safe_march<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, step: impl CellStep<'a>) -> Bracket<'a> {
-    let g = Grid::of(s, ray);
+///
+/// `cells` is the cell map `step` reads, if any ([`Grid::of`]).
+pub(super) fn safe_march<'a>(
+    s: &'a FnBuilder<'a>,
+    ray: &Ray<'a>,
+    steps: u32,
+    cells: Option<MapReq>,
+    step: impl CellStep<'a>,
+) -> Bracket<'a> {
+    let g = Grid::of(s, ray, cells);
     let t = s.var("t", 0.0);
     let found = s.var("found", false);
     s.repeat(steps, |l| {
@@ -359,7 +395,8 @@ pub(super) fn safe_march<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, st
         // 4. A hit on the patch or the floor ends the search.
         found.set(patch_hit | t.ge(g.t_max));
     });
-    Bracket::searched(t.get(), t.get(), found.get())
+    let end = t.get().min(g.t_max);
+    Bracket::searched(end, end, found.get())
 }
 
 /// The march of the `form=safe` relaxed cone methods (`step(p, cell)` is a relaxed cone step:
@@ -373,13 +410,16 @@ pub(super) fn safe_march<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, st
 /// 4. where that step would stay in the cell, the patch decides instead ([`step_or_meet`], as
 ///    in [`safe_march`]): at a hit on the patch the search is over with the bracket
 ///    `[hit, hit]`, else the ray moves on to the cell's exit.
+///
+/// `cells` is the cell map `step` reads ([`Grid::of`]).
 pub(super) fn relaxed_march<'a>(
     s: &'a FnBuilder<'a>,
     ray: &Ray<'a>,
     steps: u32,
+    cells: MapReq,
     step: impl CellStep<'a>,
 ) -> Bracket<'a> {
-    let g = Grid::of(s, ray);
+    let g = Grid::of(s, ray, Some(cells));
     let t = s.var("t", 0.0);
     let t_prev = s.var("t_prev", 0.0);
     let found = s.var("found", false);
@@ -401,5 +441,5 @@ pub(super) fn relaxed_march<'a>(
             found.set(true);
         });
     });
-    Bracket::searched(t_prev.get(), t.get(), found.get())
+    Bracket::searched(t_prev.get(), t.get().min(g.t_max), found.get())
 }

@@ -164,7 +164,10 @@ pub(crate) fn csm<'a>(
     sample: ConeSample,
 ) -> Bracket<'a> {
     match form {
-        ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| cell_cone_step(s, ray, p, c)),
+        ConeForm::Safe => safe_march(s, ray, steps, Some(MapReq::CellCone), |s, p, c| {
+            let (cone, apex) = c.cones_and_apex(s, MapReq::CellCone);
+            cone_step(c.grid.horiz, ray, cone.x().named("r"), c.over(p.z(), apex))
+        }),
         ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let r = ratio(s, p.xy(), sample).named("r");
             cone_step(ray.dir.xy().length(), ray, r, p.z() - h)
@@ -221,10 +224,10 @@ fn quadrant<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, q: Val<'a, crate::ir::Vec4>
 /// the cone of the quadrant the ray is heading into (channels `+u+v, -u+v, -u-v, +u-v`).
 pub(crate) fn qcsm<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
     match form {
-        ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| {
+        ConeForm::Safe => safe_march(s, ray, steps, Some(MapReq::CellQuadCone), |s, p, c| {
             let (cones, apex) = c.cones_and_apex(s, MapReq::CellQuadCone);
             let r = quadrant(s, ray, cones).named("r");
-            cone_step(c.grid.horiz, ray, r, c.clearance(p.z(), apex))
+            cone_step(c.grid.horiz, ray, r, c.over(p.z(), apex))
         }),
         ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let r = quadrant(s, ray, s.map(MapReq::QuadCone, p.xy(), Filter::Nearest)).named("r");
@@ -267,7 +270,7 @@ pub(crate) fn rcs<'a>(
     start: RelaxedStart,
 ) -> Bracket<'a> {
     match form {
-        ConeForm::Safe => relaxed_march(s, ray, steps, |s, p, c| {
+        ConeForm::Safe => relaxed_march(s, ray, steps, MapReq::CellRelaxedCone, |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellRelaxedCone);
             let r = cone.x().named("r");
             cone_step(c.grid.horiz, ray, r, c.clearance(p.z(), apex))
@@ -315,10 +318,10 @@ fn rcs_stage<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, a: &Args) -> Result<Bracke
 /// side, stepping by the ray-plane intersection of eq. 3.2.
 pub(crate) fn cns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
     match form {
-        ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| {
+        ConeForm::Safe => safe_march(s, ray, steps, Some(MapReq::CellConeNormal), |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellConeNormal);
             let n_z = cone.x().named("n_z");
-            cone_normal_step(c.grid.horiz, ray, n_z, c.clearance(p.z(), apex))
+            cone_normal_step(c.grid.horiz, ray, n_z, c.over(p.z(), apex))
         }),
         ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {
             let n_z = s.map(MapReq::ConeNormal, p.xy(), Filter::Nearest).x().named("n_z");
@@ -344,7 +347,7 @@ pub(crate) fn cns_def() -> MethodDef {
 /// returns the bracket around the crossing (from J, the last point above the surface).
 pub(crate) fn rcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
     match form {
-        ConeForm::Safe => relaxed_march(s, ray, steps, |s, p, c| {
+        ConeForm::Safe => relaxed_march(s, ray, steps, MapReq::CellRelaxedCone, |s, p, c| {
             let (cone, apex) = c.cones_and_apex(s, MapReq::CellRelaxedCone);
             let r = cone.x();
             cone_normal_step(c.grid.horiz, ray, normal_of(r).named("n_z"), c.clearance(p.z(), apex))
@@ -393,7 +396,7 @@ pub(crate) fn mcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, k: u32, 
         step
     };
     match form {
-        ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| {
+        ConeForm::Safe => safe_march(s, ray, steps, Some(MapReq::CellMultiCone(k)), |s, p, c| {
             let (cones, apex) = c.cones_and_apex(s, MapReq::CellMultiCone(k));
             longest(p, apex, channels(cones, k), Some(c))
         }),
@@ -445,7 +448,7 @@ pub(crate) fn pcns<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, k: u32, 
         step.max(0.0)
     };
     match form {
-        ConeForm::Safe => safe_march(s, ray, steps, |s, p, c| {
+        ConeForm::Safe => safe_march(s, ray, steps, Some(MapReq::CellPiecewiseCone(k)), |s, p, c| {
             let (cones, apex) = c.cones_and_apex(s, MapReq::CellPiecewiseCone(k));
             leave(s, p, apex, channels(cones, k))
         }),

@@ -27,12 +27,14 @@ use crate::stage::{Bracket, Ray, StageFn};
 pub(crate) fn maxmip<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     // Cell coordinates: cell i spans X in [i, i + 1), X = u·N - 1/2; the per-ray terms once,
     // before the loop (see [`Grid`]).
-    let g = Grid::of(s, ray);
+    let g = Grid::of(s, ray, None);
     let size = g.size;
     let top = size.x().max(size.y()).log2().floor();
     let inv_fall = (1.0 / ray.dir.z()).named("inv_fall");
     let t = s.var("t", 0.0);
-    let mut level = s.var("level", top);
+    // The level as a whole number, so that a pass reads its node with no conversion.
+    let top_level = top.to_u32().named("top_level");
+    let level = s.var("level", top_level);
     // `2^level`, halved and doubled with the level (exact), not an `exp2` a pass.
     let span = s.var("span", top.exp2());
     let hit = s.var("hit", false);
@@ -46,7 +48,7 @@ pub(crate) fn maxmip<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bra
         let wrapped = node - nodes * (node / nodes).floor();
         let clamped = node.clamp(0.0, nodes - 1.0);
         let at = s.vec2(s.select(g.clamp, clamped.x(), wrapped.x()), s.select(g.clamp, clamped.y(), wrapped.y()));
-        let node_max = s.map_texel(MapReq::MaxMip, at.to_u32(), level.get().to_u32()).x().named("node_max");
+        let node_max = s.map_texel(MapReq::MaxMip, at.to_u32(), level.get()).x().named("node_max");
         let to_side = ((node + g.side) * span - x) * g.inv_speed;
         let (exit_x, exit_y) = (to_side.x().abs(), to_side.y().abs());
         let exit = t + exit_x.min(exit_y).min(g.t_max - t);
@@ -55,22 +57,22 @@ pub(crate) fn maxmip<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bra
         //    leaves the parent node too ([`leaves_parent`]).
         l.if_(!down.lt(exit), |l| {
             t.set(exit);
-            let up = leaves_parent(l, node, g.speed, exit_x.le(exit_y)) & level.lt(top);
-            level.set(l.select(up, level + 1.0, level.get()));
+            let up = leaves_parent(l, node, g.speed, exit_x.le(exit_y)) & level.lt(top_level);
+            level.set(l.select(up, level + 1u32, level.get()));
             span.set(l.select(up, span * 2.0, span.get()));
             l.continue_();
         });
         // 3. Below it, on a coarser level: descend.
-        l.if_(level.gt(0.0), |l| {
+        l.if_(level.gt(0u32), |l| {
             t.set(down);
-            level -= 1.0;
+            level.set(level - 1u32);
             span.set(span * 0.5);
             l.continue_();
         });
         // 4. One cell: its bilinear patch, exactly, from `down` to `exit`.
         let cell = (g.x0 + g.speed * down + g.ahead).floor();
         // The four corners in one gather at the cell's centre: (i, j+1), (i+1, j+1), (i+1, j), (i, j).
-        let corners = s.height_gather((cell + 1.0) * g.inv_size);
+        let corners = s.height_gather(cell.mul_add(g.inv_size, g.inv_size));
         let meet = patch_meet(s, ray, &g, cell, corners, down, exit);
         hit.set(meet.hit);
         t.set(meet.t);

@@ -59,9 +59,10 @@ pub(super) fn relaxing_march<'a>(
     s: &'a FnBuilder<'a>,
     ray: &Ray<'a>,
     steps: u32,
+    cells: Option<MapReq>,
     step: impl CellStep<'a>,
 ) -> Bracket<'a> {
-    let g = Grid::of(s, ray);
+    let g = Grid::of(s, ray, cells);
     let t = s.var("t", 0.0);
     let proven = s.var("proven", 0.0);
     let last_t = s.var("last_t", 0.0);
@@ -110,7 +111,7 @@ pub(super) fn relaxing_march<'a>(
 /// [`relaxing_march`]. Exact as the safe `csm` is; fewer passes where the cones' steps shrink
 /// slowly (grazing rays over open ground), one wasted pass per step back.
 pub(crate) fn csm_relax<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
-    relaxing_march(s, ray, steps, |s, p, c| super::cone::cell_cone_step(s, ray, p, c))
+    relaxing_march(s, ray, steps, Some(MapReq::CellCone), |s, p, c| super::cone::cell_cone_step(s, ray, p, c))
 }
 
 /// `csm_relax(steps)`: [`csm_relax`] in the catalogue.
@@ -128,7 +129,7 @@ pub(crate) fn csm_relax_def() -> MethodDef {
 /// [`relaxing_march`]; the field's spheres are symmetric, so a probe's sphere reaches back as
 /// far as forward.
 pub(crate) fn sphere_relax<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
-    relaxing_march(s, ray, steps, |s, p, _| super::sphere::sphere_step(s, ray, p))
+    relaxing_march(s, ray, steps, None, |s, p, _| super::sphere::sphere_step(s, ray, p))
 }
 
 /// `sphere_relax(steps)`: [`sphere_relax`] in the catalogue.

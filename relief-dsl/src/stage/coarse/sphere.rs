@@ -14,7 +14,7 @@ use crate::stage::{Bracket, Ray, StageFn};
 /// gap exactly ([`super::cell::safe_march`]), so the search neither stalls nor passes the
 /// first hit.
 pub(crate) fn sphere<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
-    super::cell::safe_march(s, ray, steps, |s, p, _| sphere_step(s, ray, p))
+    super::cell::safe_march(s, ray, steps, None, |s, p, _| sphere_step(s, ray, p))
 }
 
 /// The sphere-tracing step from the ray point `p`: the field's distance, in t.
