@@ -222,13 +222,9 @@ pub enum PrismMiss {
     /// prism's texture-space map (the fragment's frame, the planar walls) loses the hit.
     AfterExit,
     /// (c) The fragment's straight ray crosses the height field between its entry and its exit,
-    /// but the search starts at the virtual entry (t = 0, height 1, outside the prism) and its
-    /// ray crosses the height field there first, before the entry: the hit is "before the
-    /// entry" and discarded.
-    SearchStart,
-    /// (c) The straight ray's first crossing lies between the entry and the exit, and the
-    /// search (`linear` then `binary`, emulated) does not end there: its steps skip it.
-    SearchSteps,
+    /// and the search (`linear` then `binary` from the entry, emulated) does not end there:
+    /// its steps skip the crossing.
+    Search,
     /// (b) Every face met is a fragment whose view ray does not descend along the fragment's
     /// normal (`v·N ≥ 0`, N the interpolated normal): the shader takes it for a ray entering
     /// from below and discards it. These are rays that enter the shell through a side wall near
@@ -242,22 +238,15 @@ pub enum PrismMiss {
 
 impl PrismMiss {
     /// Every cause, in the order the note's table gives them.
-    pub const ALL: [PrismMiss; 6] = [
-        PrismMiss::NoFace,
-        PrismMiss::AfterExit,
-        PrismMiss::FacingAway,
-        PrismMiss::SearchStart,
-        PrismMiss::SearchSteps,
-        PrismMiss::Other,
-    ];
+    pub const ALL: [PrismMiss; 5] =
+        [PrismMiss::NoFace, PrismMiss::AfterExit, PrismMiss::FacingAway, PrismMiss::Search, PrismMiss::Other];
 
     /// The cause's short name (`relief scene measure --causes`).
     pub fn name(self) -> &'static str {
         match self {
             PrismMiss::NoFace => "no-face",
             PrismMiss::AfterExit => "after-exit",
-            PrismMiss::SearchStart => "search-start",
-            PrismMiss::SearchSteps => "search-steps",
+            PrismMiss::Search => "search",
             PrismMiss::FacingAway => "facing-away",
             PrismMiss::Other => "other",
         }
@@ -290,12 +279,14 @@ fn height_at(ms: &MeshScene, uv: DVec2) -> f64 {
     crate::mesh::surface::Cell::new(map, ms.scene.edge, i, j).h(x, y)
 }
 
-/// The search `linear(steps)` then `binary(refine)` on the fragment's ray, as the stages write
-/// it (`stage/coarse/linear.rs`, `stage/refine/binary.rs`): the t it returns.
+/// The search `linear(steps)` then `binary(refine)` of a prism fragment, as the stages write
+/// it (`stage/coarse/linear.rs`, `stage/refine/binary.rs`) and the fragment runs it
+/// (`compose/mesh.rs`, `search`): from the entry, at height 1 over heights lifted by
+/// `t_entry`; the t it returns, on the ray from the virtual entry (`t_entry` added).
 fn emulate_linear_binary(ms: &MeshScene, f: &PrismFragment, steps: u32, refine: u32) -> f64 {
     let below = |t: f64| {
-        let p = f.origin + f.dir.truncate() * t;
-        height_at(ms, p) >= 1.0 + f.dir.z * t
+        let p = f.origin + f.dir.truncate() * (t + f.t_entry);
+        height_at(ms, p) + f.t_entry >= 1.0 + f.dir.z * t
     };
     let step = 1.0 / steps as f64;
     let mut t = 0.0;
@@ -307,7 +298,7 @@ fn emulate_linear_binary(ms: &MeshScene, f: &PrismFragment, steps: u32, refine: 
     }
     let (above, bottom) = ((t - step).max(0.0), t);
     if refine == 0 {
-        return bottom;
+        return bottom + f.t_entry;
     }
     let mut half = (bottom - above) / 2.0;
     let mut t = bottom - half;
@@ -316,7 +307,7 @@ fn emulate_linear_binary(ms: &MeshScene, f: &PrismFragment, steps: u32, refine: 
         half /= 2.0;
         t += if b { -half } else { half };
     }
-    t
+    t + f.t_entry
 }
 
 /// The first t in [`from`, 1] where the fragment's straight texture-space ray meets the height
@@ -418,9 +409,8 @@ fn prism_fragment(face: [&MeshVertex; 3], b: (f64, f64), eye: DVec3, depth: f64)
 /// ray meets (either side: the mesh pipeline does not cull) is a fragment the shader ran;
 /// the pixel's cause is the first of these that holds: none is met (`NoFace`); the CPU's
 /// emulation draws one of them (`Other`); on one of them the straight texture-space ray,
-/// from its entry on, first crosses the height field before its exit, and the search either
-/// stopped at a crossing before the entry (`SearchStart`) or stepped over it (`SearchSteps`);
-/// else `AfterExit`, or `FacingAway` where every face met is one the shader takes for a ray
+/// from its entry on, first crosses the height field before its exit, and the search stepped
+/// over it (`Search`); else `AfterExit`, or `FacingAway` where every face met is one the shader takes for a ray
 /// entering from below.
 pub fn prism_miss_causes(
     ms: &MeshScene,
@@ -479,12 +469,8 @@ fn classify(ms: &MeshScene, fragments: &[(f64, PrismFragment)], steps: u32, refi
     for (_, f) in fragments.iter().filter(|(_, f)| !f.from_below) {
         // The straight ray's first crossing from the entry on: the hit a search between the
         // entry and the exit would find.
-        let from_entry = first_crossing(ms, f, f.t_entry.max(0.0));
-        if inside(f, from_entry) {
-            let from_zero = first_crossing(ms, f, 0.0);
-            let cause =
-                if from_zero < f.t_entry - PRISM_SLACK { PrismMiss::SearchStart } else { PrismMiss::SearchSteps };
-            found = Some(found.map_or(cause, |c: PrismMiss| c.min(cause)));
+        if inside(f, first_crossing(ms, f, f.t_entry.max(0.0))) {
+            found = Some(PrismMiss::Search);
         }
     }
     match (found, fragments.iter().any(|(_, f)| !f.from_below)) {
