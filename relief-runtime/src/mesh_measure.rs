@@ -351,10 +351,9 @@ fn prism_fragment(face: [&MeshVertex; 3], b: (f64, f64), eye: DVec3, depth: f64)
     let w = [1.0 - b.0 - b.1, b.0, b.1];
     let mix = |get: &dyn Fn(&MeshVertex) -> [f32; 4]| {
         let mut out = [0.0f64; 4];
-        for (k, v) in face.iter().enumerate() {
-            let a = get(v);
-            for c in 0..4 {
-                out[c] += w[k] * a[c] as f64;
+        for (wk, v) in w.iter().zip(face) {
+            for (o, x) in out.iter_mut().zip(get(v)) {
+                *o += wk * x as f64;
             }
         }
         out
@@ -366,7 +365,7 @@ fn prism_fragment(face: [&MeshVertex; 3], b: (f64, f64), eye: DVec3, depth: f64)
         let k = (1.0 - p[3]) * depth;
         [(p[0] - n[0] * k) as f32, (p[1] - n[1] * k) as f32, (p[2] - n[2] * k) as f32, v.position[3]]
     };
-    let point = mix(&|v| point_of(v));
+    let point = mix(&point_of);
     let normal = mix(&|v| v.normal);
     let tangent = mix(&|v| v.tangent);
     let uv = mix(&|v| v.uv);

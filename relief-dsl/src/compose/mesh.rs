@@ -33,7 +33,7 @@
 //! - `prism`: the mesh is drawn as prisms (each triangle extruded along its vertex normals as
 //!   deep as the relief, [`MeshVertex::position`]`.w` the layer); the ray enters where the
 //!   prism face is rasterized, at texture point (u, v, w), and the search runs from there (over
-//!   heights lifted by `1 − w`, [`search`]) to the ray's exit from the prism in texture space
+//!   heights lifted by `1 − w`, `search`) to the ray's exit from the prism in texture space
 //!   (`prism_exit`); a hit after the exit or none at all is discarded.
 //!
 //! Limitation of `prism`: the side walls are *planar in texture space* (vertical over the
