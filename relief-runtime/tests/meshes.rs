@@ -536,3 +536,112 @@ fn the_mesh_scene_files_load() {
     }
     assert!(n >= 4);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Why curved=prism misses a pixel (mesh_measure::prism_miss_causes)
+// ---------------------------------------------------------------------------------------------
+
+/// The classification of prism's missing pixels on a case whose answer follows from plane
+/// geometry alone: a flat square (two triangles A below the diagonal y = x, B above it; normals
+/// +z, so the prisms are exact and vertical) under a constant height ½, seen at 60°. The probe
+/// says that the GPU drew nothing, so every pixel the surface holds is "missing". Each pixel's
+/// hit (the ray at z = −depth/2) is computed here; the hit is handed to the classifier as its
+/// own triangle's (that prism's fragment finds it on the CPU: `Other`, nothing the prism
+/// method lacks) or as the other triangle's, and then where the ray meets the other's prism
+/// decides, from the ray's points at z = 0 (the top), −depth/2 (the hit) and −depth (the
+/// floor): the ray enters the other's top (its straight ray crosses the plane past its wall:
+/// `AfterExit`), it crosses into the other below the
+/// hit (the other's wall fragment enters below the plane: its search, from the entry, ends at
+/// the entry, inside that prism, and the CPU draws it: `Other`; before the search ran from the
+/// entry it stopped at the plane in front of the entry, the cause the fix removed), it stays in
+/// its own triangle (`NoFace`).
+#[test]
+fn prism_miss_causes_follow_the_prisms_geometry_on_a_flat_square() {
+    use glam::{Vec2, Vec4};
+    use relief_runtime::gpu::mesh::MeshProbe;
+    use relief_runtime::mesh::MeshHit;
+    use relief_runtime::mesh_measure::{prism_miss_causes, PrismMiss};
+    let mut sc = {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/meshes/sphere_rocks.toml");
+        relief_runtime::load_scene_file(&path).unwrap()
+    };
+    sc.height = HeightMap::new(8, 8, vec![0.5; 64]);
+    sc.depth_scale = 0.1;
+    sc.camera.angle_deg = 60.0;
+    sc.camera.azimuth_deg = -90.0;
+    sc.camera.distance = 4.0;
+    sc.camera.fov_deg = 40.0;
+    sc.camera.target = Vec3::ZERO;
+    let corners = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]].map(|[x, y]| Vec3::new(x, y, 0.0));
+    let mesh = Mesh {
+        name: "square".into(),
+        positions: corners.to_vec(),
+        normals: vec![Vec3::Z; 4],
+        tangents: vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 4],
+        uvs: corners.iter().map(|c| Vec2::new(c.x + 1.0, c.y + 1.0) * 0.5).collect(),
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+    };
+    let ms = MeshScene { scene: sc, mesh, notes: Default::default() };
+    let depth = ms.scene.depth_scale as f64;
+    let size = 48u32;
+    // Where a point lies: in A or B by more than `m` from the diagonal and the square's border.
+    let m = 2e-3;
+    let inside = |p: DVec3| p.x.abs() < 1.0 - m && p.y.abs() < 1.0 - m;
+    // Triangle 0 (A) lies below the diagonal y = x, triangle 1 (B) above it.
+    let in_tri = |p: DVec3, k: u32| inside(p) && if k == 0 { p.x - p.y > m } else { p.y - p.x > m };
+    let mut reference = Vec::new();
+    let mut want = Vec::new();
+    for (i, r) in ms.rays(size, size).iter().enumerate() {
+        let (o, d) = (DVec3::from(r.origin.map(f64::from)), DVec3::from(r.dir.map(f64::from)));
+        let at = |z: f64| o + d * ((z - o.z) / d.z);
+        let (top, hit, floor) = (at(0.0), at(-0.5 * depth), at(-depth));
+        let Some(own) = (0..2).find(|&k| in_tri(hit, k)).filter(|_| inside(top) && inside(floor)) else {
+            reference.push(None);
+            continue;
+        };
+        let other = 1 - own;
+        let mk = |triangle| {
+            Some(MeshHit {
+                t: (hit - o).length(),
+                u: (hit.x + 1.0) * 0.5,
+                v: (hit.y + 1.0) * 0.5,
+                triangle,
+                point: hit.to_array(),
+            })
+        };
+        // Where the ray meets the other triangle's prism, if the hit is handed to it.
+        let expect = if in_tri(top, other) {
+            Some(PrismMiss::AfterExit)
+        } else if in_tri(top, own) && in_tri(floor, other) {
+            Some(PrismMiss::Other)
+        } else if in_tri(top, own) && in_tri(floor, own) {
+            Some(PrismMiss::NoFace)
+        } else {
+            None // within the margin of the diagonal: not asserted
+        };
+        // Every other pixel keeps its own triangle (drawn by its prism on the CPU: Other); the
+        // others are handed to the other triangle.
+        match expect {
+            Some(c) if i % 2 == 0 => {
+                reference.push(mk(other));
+                want.push((i, c));
+            }
+            Some(_) => {
+                reference.push(mk(own));
+                want.push((i, PrismMiss::Other));
+            }
+            None => reference.push(None),
+        }
+    }
+    let probe = MeshProbe { hits: vec![[0.0; 4]; (size * size) as usize], depth: vec![1.0; (size * size) as usize] };
+    let got = prism_miss_causes(&ms, &reference, &probe, size, 32, 5);
+    let got: std::collections::HashMap<usize, PrismMiss> = got.into_iter().collect();
+    let mut seen = std::collections::HashMap::new();
+    for (i, c) in &want {
+        assert_eq!(got.get(i), Some(c), "pixel {i}");
+        *seen.entry(*c).or_insert(0) += 1;
+    }
+    for c in [PrismMiss::NoFace, PrismMiss::AfterExit, PrismMiss::Other] {
+        assert!(seen.get(&c).copied().unwrap_or(0) >= 5, "too few pixels of {c:?}: {seen:?}");
+    }
+}

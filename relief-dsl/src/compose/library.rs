@@ -43,6 +43,8 @@ struct LibraryPolicy {
     edge: Handle<naga::Constant>,
     /// Heights carry the quadric (`curved=quadric`).
     quadric: bool,
+    /// Heights carry the prism's lift (`curved=prism`).
+    lift: bool,
 }
 
 impl Policy for LibraryPolicy {
@@ -51,6 +53,9 @@ impl Policy for LibraryPolicy {
     }
     fn quadric_warp(&self) -> bool {
         self.quadric
+    }
+    fn prism_lift(&self) -> bool {
+        self.lift
     }
 }
 
@@ -273,7 +278,8 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
             .constants
             .append(naga::Constant { name: Some(format!("{prefix}_edge_clamp")), ty, init }, naga::Span::UNDEFINED)
     };
-    let policy = LibraryPolicy { edge, quadric: p.curved == Some(Curved::Quadric) };
+    let policy =
+        LibraryPolicy { edge, quadric: p.curved == Some(Curved::Quadric), lift: p.curved == Some(Curved::Prism) };
     let fns = write_stage_fns(&m, p, &policy, false)?;
     let f32_ty = m.ty(f32::inner());
     let vec2_ty = m.ty(Vec2::inner());
@@ -373,7 +379,8 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
     for (h, g) in module.global_variables.iter_mut() {
         let name = g.name.as_deref().unwrap_or("");
         if let Some(rest) = quadric_global(g) {
-            // The quadric's private state (`curved=quadric`), set by `P_trace`.
+            // The quadric's private state (`curved=quadric`) or the prism's lift
+            // (`curved=prism`), set by `P_trace`.
             g.name = Some(format!("{prefix}_{rest}"));
             continue;
         }
@@ -469,12 +476,13 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
     Ok(Library { module, info, bindings, has_shadow: fns.shadow.is_some(), has_ao: fns.ao.is_some(), curved: p.curved })
 }
 
-/// The name of a quadric global after `relief_` (`quadric`, `quadric_origin`), if `g` is one.
+/// The name of a quadric or prism-lift global after `relief_` (`quadric`, `quadric_origin`,
+/// `prism_lift`), if `g` is one.
 fn quadric_global(g: &naga::GlobalVariable) -> Option<String> {
-    use crate::stage::sampling::{QUADRIC_COEFFS, QUADRIC_ORIGIN};
+    use crate::stage::sampling::{PRISM_LIFT, QUADRIC_COEFFS, QUADRIC_ORIGIN};
     let name = g.name.as_deref()?;
     let private = matches!(g.space, naga::AddressSpace::Private);
-    (private && (name == QUADRIC_COEFFS || name == QUADRIC_ORIGIN))
+    (private && (name == QUADRIC_COEFFS || name == QUADRIC_ORIGIN || name == PRISM_LIFT))
         .then(|| name.trim_start_matches("relief_").to_string())
 }
 
@@ -528,7 +536,7 @@ fn mesh_trace_fn(
         depth,
     };
     let mr = mesh::mesh_ray(&s, curved, &inputs);
-    let traced: Hit = s.unpack(s.call(fns.trace, &[s.pack(&mr.ray)], true).unwrap());
+    let traced = mesh::search(&s, fns, curved, &mr);
     let prism = match curved {
         Curved::Prism => [s.arg::<Vec4>(5).xy(), s.arg::<Vec4>(5).zw(), s.arg::<Vec2>(6)],
         Curved::None | Curved::Quadric => [uv; 3],

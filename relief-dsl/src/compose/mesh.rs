@@ -32,9 +32,9 @@
 //!   no hit has left the shell (or reached the floor) and is discarded: the silhouette;
 //! - `prism`: the mesh is drawn as prisms (each triangle extruded along its vertex normals as
 //!   deep as the relief, [`MeshVertex::position`]`.w` the layer); the ray enters where the
-//!   prism face is rasterized, at texture point (u, v, w), and the search runs from there to
-//!   the ray's exit from the prism in texture space (`prism_exit`); a hit outside
-//!   `[entry, exit]` or none at all is discarded.
+//!   prism face is rasterized, at texture point (u, v, w), and the search runs from there (over
+//!   heights lifted by `1 − w`, `search`) to the ray's exit from the prism in texture space
+//!   (`prism_exit`); a hit after the exit or none at all is discarded.
 //!
 //! Limitation of `prism`: the side walls are *planar in texture space* (vertical over the
 //! triangle's uv edges), the prism mapped to texture space by the fragment's tangent frame;
@@ -49,7 +49,7 @@ use super::{entry_point, location, write_stage_fns, StageFns};
 use crate::abi::{abi_record, Param};
 use crate::ir::{Bindings, FnBuilder, Image, Mat4, ModuleCtx, Plain, Policy, Ty, Val, Vec2, Vec3, Vec4};
 use crate::spec::{Curved, Lod, Pipeline, Silhouette};
-use crate::stage::sampling::{QUADRIC_COEFFS, QUADRIC_ORIGIN};
+use crate::stage::sampling::{PRISM_LIFT, QUADRIC_COEFFS, QUADRIC_ORIGIN};
 use crate::stage::{Filter, Hit, Ray};
 use crate::CompileError;
 
@@ -86,10 +86,11 @@ pub struct MeshVertex {
 }
 
 /// The mesh module's policy: relief's plain one, with the quadric added to every height read
-/// under `curved=quadric`.
+/// under `curved=quadric` and the prism's lift under `curved=prism`.
 struct MeshPolicy {
     plain: Plain,
     quadric: bool,
+    lift: bool,
 }
 
 impl Policy for MeshPolicy {
@@ -98,6 +99,9 @@ impl Policy for MeshPolicy {
     }
     fn quadric_warp(&self) -> bool {
         self.quadric
+    }
+    fn prism_lift(&self) -> bool {
+        self.lift
     }
 }
 
@@ -241,7 +245,12 @@ fn prism_exit<'a>(
 /// What a mesh fragment traces: its ray, where the ray enters the relief volume in t (0 but
 /// for a prism entered through a wall or the floor), and the view ray's data the depth needs.
 pub(crate) struct MeshRay<'a> {
+    /// The ray through the entry, started at height 1 (for `prism`, `1 − w` before the entry):
+    /// the t of every hit, exit and depth is this ray's.
     pub(crate) ray: Ray<'a>,
+    /// The ray the search runs on: `ray` for `none` and `quadric`; for `prism` the same
+    /// direction started at the entry, searched over heights lifted by `1 − w` ([`search`]).
+    search: Ray<'a>,
     pub(crate) t_entry: Val<'a, f32>,
     /// The unit view ray, object space.
     view: Val<'a, Vec3>,
@@ -290,7 +299,12 @@ pub(crate) fn mesh_ray<'a>(s: &'a FnBuilder<'a>, curved: Curved, i: &MeshInputs<
     if curved == Curved::Quadric {
         set_quadric(s, i.curvature / depth, i.uv.xy());
     }
-    MeshRay { ray: Ray { origin, dir, cos_view }, t_entry, view: i.view, frame, depth }
+    let ray = Ray { origin, dir, cos_view };
+    let search = match curved {
+        Curved::Prism => Ray { origin: i.uv.xy(), dir, cos_view },
+        Curved::None | Curved::Quadric => ray,
+    };
+    MeshRay { ray, search, t_entry, view: i.view, frame, depth }
 }
 
 /// The fragment entries' inputs: the varyings and the `Params` block.
@@ -358,10 +372,28 @@ pub(crate) fn covered<'a>(
     }
 }
 
+/// The search of a mesh fragment, its hit on [`MeshRay::ray`]. For `prism` it runs from the
+/// fragment's entry: on [`MeshRay::search`] with every height lifted by `1 − w`
+/// ([`PRISM_LIFT`], set back to 0 after), so that relief in front of the entry (outside the
+/// prism, where the fragment's frame extends the ray back to height 1) does not stop it; its t
+/// is then `t_entry` more on `ray`.
+pub(crate) fn search<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, curved: Curved, mr: &MeshRay<'a>) -> Hit<'a> {
+    match curved {
+        Curved::Prism => {
+            let lift = s.global_ptr(s.module().private::<f32>(PRISM_LIFT));
+            s.store(lift, mr.t_entry.handle());
+            let traced: Hit = s.unpack(s.call(fns.trace, &[s.pack(&mr.search)], true).unwrap());
+            s.store(lift, s.lit(0.0).handle());
+            Hit::at_found(&mr.ray, traced.t + mr.t_entry, traced.found)
+        }
+        Curved::None | Curved::Quadric => s.unpack(s.call(fns.trace, &[s.pack(&mr.ray)], true).unwrap()),
+    }
+}
+
 /// The trace both fragment entries share: the search, then the discards of the mode; returns
 /// the hit, kept inside the volume as relief's own fragment keeps it.
 fn mesh_trace<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, curved: Curved, mr: &MeshRay<'a>) -> Hit<'a> {
-    let traced: Hit = s.unpack(s.call(fns.trace, &[s.pack(&mr.ray)], true).unwrap());
+    let traced = search(s, fns, curved, mr);
     if curved != Curved::None {
         let prism = [s.arg::<Vec4>(5).xy(), s.arg::<Vec4>(5).zw(), s.arg::<Vec4>(6).xy()];
         s.if_(!covered(s, curved, mr, &traced, prism), |s| s.discard());
@@ -463,7 +495,8 @@ fn probe_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curve
 pub(crate) fn compose_mesh(p: &Pipeline, curved: Curved, probe: bool) -> Result<(Module, Bindings), CompileError> {
     check_mesh_options(p, curved)?;
     let m = ModuleCtx::new();
-    let policy = MeshPolicy { plain: Plain { lod: p.lod }, quadric: curved == Curved::Quadric };
+    let policy =
+        MeshPolicy { plain: Plain { lod: p.lod }, quadric: curved == Curved::Quadric, lift: curved == Curved::Prism };
     let fns = write_stage_fns(&m, p, &policy, false)?;
     let vs = vertex_entry(&m, &policy);
     let fs = fragment_entry(&m, &policy, &fns, curved);

@@ -41,6 +41,12 @@ pub(crate) trait Policy {
     fn quadric_warp(&self) -> bool {
         false
     }
+    /// Whether every height read adds the prism's lift (a mesh module or library under
+    /// `curved=prism`, so that the search runs from the prism fragment's entry): see
+    /// [`crate::stage::sampling::PRISM_LIFT`].
+    fn prism_lift(&self) -> bool {
+        false
+    }
 }
 
 /// Where a policy declares a texture: its name and binding in the module, and the room wall
@@ -93,5 +99,8 @@ impl Policy for Counting<'_> {
     }
     fn quadric_warp(&self) -> bool {
         self.inner.quadric_warp()
+    }
+    fn prism_lift(&self) -> bool {
+        self.inner.prism_lift()
     }
 }

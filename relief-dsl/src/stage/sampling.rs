@@ -59,6 +59,14 @@ pub(crate) const QUADRIC_COEFFS: &str = "relief_quadric";
 /// The private `vec2` global of the texture point the quadric is centred on (the ray's
 /// entry, then the hit for the shadow and ao stages).
 pub(crate) const QUADRIC_ORIGIN: &str = "relief_quadric_origin";
+/// The private `f32` global of the lift every height read adds under `curved=prism` (in units
+/// of the relief's depth): the fragment's ray enters its prism at layer w, below the volume's
+/// top, and the stages' rays start at height 1; with every height raised by `1 − w` while the
+/// fragment's search runs, a ray started at the entry at height 1 meets the raised field where
+/// the true ray (from height w) meets the true one, so the search covers the prism from its
+/// entry on and sees nothing in front of it. The mesh module's fragment stores it before the
+/// search and sets it back to 0 after (shadow and ao read the true heights).
+pub(crate) const PRISM_LIFT: &str = "relief_prism_lift";
 
 impl<'a> FnBuilder<'a> {
     /// The quadric's height at `uv` ([`QUADRIC_COEFFS`]) where the function's policy warps
@@ -75,6 +83,14 @@ impl<'a> FnBuilder<'a> {
         let o = self.load::<Vec2>(self.global_ptr(m.private::<Vec2>(QUADRIC_ORIGIN)));
         let d = uv - o;
         Some(c.x() * d.x() * d.x() + c.y() * d.y() * d.y())
+    }
+
+    /// The prism's lift ([`PRISM_LIFT`]) where the function's policy lifts heights, else `None`.
+    fn lift(&'a self) -> Option<Val<'a, f32>> {
+        if !self.policy().prism_lift() {
+            return None;
+        }
+        Some(self.load::<f32>(self.global_ptr(self.module().private::<f32>(PRISM_LIFT))))
     }
 
     /// The level 2D samples are taken at: `None` under `lod=zero` (level 0, the explicit
@@ -231,11 +247,15 @@ impl<'a> FnBuilder<'a> {
     /// stage-wide level.
     pub fn height_gather(&'a self, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
         let g = self.gather_2d(Image::Height, uv);
-        match self.quadric_at(uv) {
+        let g = match self.quadric_at(uv) {
             // The four corners take the quadric at `uv`, not at their own texel centres: an
             // approximation that moves a corner by at most the quadric's change over one
             // texel (docs/meshes-shaders.md).
             Some(q) => g + q.splat::<Vec4>(),
+            None => g,
+        };
+        match self.lift() {
+            Some(l) => g + l.splat::<Vec4>(),
             None => g,
         }
     }
@@ -355,8 +375,12 @@ impl<'a> FnBuilder<'a> {
     /// GETHEIGHT of the algorithm boxes: the height map at `uv`, bilinear.
     pub fn height(&'a self, uv: Val<'a, Vec2>) -> Val<'a, f32> {
         let h = self.sample(Image::Height, uv, Filter::Linear).x();
-        match self.quadric_at(uv) {
+        let h = match self.quadric_at(uv) {
             Some(q) => h + q,
+            None => h,
+        };
+        match self.lift() {
+            Some(l) => h + l,
             None => h,
         }
     }

@@ -51,14 +51,19 @@ pub enum SceneCommand {
         /// blue) and `frame_MODE.png` for each mode here.
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
+        /// Also sort prism's missing pixels by cause (no face of the hit's prism met, first
+        /// crossing before the entry or after the exit, the search, other;
+        /// `mesh_measure::prism_miss_causes`); the pipeline must be `linear(n)+binary(m)`.
+        #[arg(long)]
+        causes: bool,
     },
 }
 
 pub fn run(a: &SceneArgs) -> anyhow::Result<()> {
     let (file, reference) = match &a.command {
         SceneCommand::Check { file, reference } => (file, reference),
-        SceneCommand::Measure { file, pipeline, size, pairs, out } => {
-            return measure(file, pipeline, *size, *pairs, out.as_deref())
+        SceneCommand::Measure { file, pipeline, size, pairs, out, causes } => {
+            return measure(file, pipeline, *size, *pairs, out.as_deref(), *causes)
         }
     };
     let scene = relief_runtime::load_scene_file(file)?;
@@ -90,7 +95,7 @@ pub fn run(a: &SceneArgs) -> anyhow::Result<()> {
 }
 
 /// `relief scene measure` (the module doc).
-fn measure(file: &Path, pipeline: &str, size: u32, pairs: u32, out: Option<&Path>) -> anyhow::Result<()> {
+fn measure(file: &Path, pipeline: &str, size: u32, pairs: u32, out: Option<&Path>, causes: bool) -> anyhow::Result<()> {
     use relief_dsl::spec::Curved;
     use relief_runtime::gpu::mesh::{mesh_textures, render_mesh, MeshProgram};
     anyhow::ensure!((8..=2048).contains(&size), "--size {size}: expected a frame side from 8 to 2048");
@@ -99,6 +104,13 @@ fn measure(file: &Path, pipeline: &str, size: u32, pairs: u32, out: Option<&Path
     anyhow::ensure!(
         base.curved.is_none(),
         "--pipeline `{pipeline}` names curved=; the command measures each of none, quadric and prism"
+    );
+    // The search the causes emulate: linear(n) then binary(m) (or no refinement).
+    let search = (base.coarse.name == "linear" && ["binary", "none"].contains(&base.refine.name.as_str()))
+        .then(|| (base.coarse.int("steps"), if base.refine.name == "none" { 0 } else { base.refine.int("steps") }));
+    anyhow::ensure!(
+        !causes || search.is_some(),
+        "--causes emulates linear(n)+binary(m) only, and the pipeline is `{pipeline}`"
     );
     let scene = relief_runtime::load_scene_file(file)?;
     let ms = MeshScene::from_scene(scene)?;
@@ -144,6 +156,16 @@ fn measure(file: &Path, pipeline: &str, size: u32, pairs: u32, out: Option<&Path
             s.extra,
             s.missing
         );
+    }
+    if let (true, Some((steps, refine))) = (causes, search) {
+        let prism = modes.iter().position(|&m| m == Curved::Prism).map(|k| &rows[k].probe);
+        let found =
+            relief_runtime::mesh_measure::prism_miss_causes(&ms, &reference, prism.unwrap(), size, steps, refine);
+        let counts: Vec<String> = relief_runtime::mesh_measure::PrismMiss::ALL
+            .iter()
+            .map(|c| format!("{} {}", c.name(), found.iter().filter(|(_, f)| f == c).count()))
+            .collect();
+        println!("prism missing {}: {}", found.len(), counts.join(", "));
     }
     if let Some(dir) = out {
         std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create the folder", dir.display()))?;
