@@ -285,23 +285,48 @@ pub fn wgpu_spirv_options() -> naga::back::spv::Options<'static> {
     }
 }
 
+/// A WGSL module the runtime loads, parsed and validated, whose entry points are written as
+/// SPIR-V the way wgpu writes them ([`wgpu_spirv_options`]); errors name `pipeline`.
+struct Spirv {
+    pipeline: String,
+    module: naga::Module,
+    info: naga::valid::ModuleInfo,
+}
+
+impl Spirv {
+    fn of(pipeline: &str, wgsl: &str) -> Result<Spirv, CostError> {
+        let pipeline = pipeline.to_string();
+        let err = |e: String| CostError::Spirv { pipeline: pipeline.clone(), message: relief_dsl::spec::one_line(&e) };
+        let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| err(e.to_string()))?;
+        let info =
+            naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default())
+                .validate(&module)
+                .map_err(|e| err(e.to_string()))?;
+        Ok(Spirv { pipeline, module, info })
+    }
+
+    /// The entry point `name` of `stage`, its overrides processed, as SPIR-V words.
+    fn entry(&self, stage: naga::ShaderStage, name: &str) -> Result<Vec<u32>, CostError> {
+        let err =
+            |e: String| CostError::Spirv { pipeline: self.pipeline.clone(), message: relief_dsl::spec::one_line(&e) };
+        let (m, i) = naga::back::pipeline_constants::process_overrides(
+            &self.module,
+            &self.info,
+            Some((stage, name)),
+            &Default::default(),
+        )
+        .map_err(|e| err(e.to_string()))?;
+        let po = naga::back::spv::PipelineOptions { shader_stage: stage, entry_point: name.to_string() };
+        naga::back::spv::write_vec(&m, &i, &wgpu_spirv_options(), Some(&po)).map_err(|e| err(e.to_string()))
+    }
+}
+
 /// The compile jobs of one pipeline: its render pair and its probe, from the WGSL the
 /// runtime loads.
 fn jobs_of(text: &str, program: &Program) -> Result<(radv::Job, radv::Job), CostError> {
-    let err = |m: String| CostError::Spirv { pipeline: text.to_string(), message: relief_dsl::spec::one_line(&m) };
-    let module = naga::front::wgsl::parse_str(&program.wgsl).map_err(|e| err(e.to_string()))?;
-    let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default())
-        .validate(&module)
-        .map_err(|e| err(e.to_string()))?;
-    let options = wgpu_spirv_options();
-    let entry = |stage: naga::ShaderStage, name: &str| -> Result<Vec<u32>, CostError> {
-        let (m, i) =
-            naga::back::pipeline_constants::process_overrides(&module, &info, Some((stage, name)), &Default::default())
-                .map_err(|e| err(e.to_string()))?;
-        let po = naga::back::spv::PipelineOptions { shader_stage: stage, entry_point: name.to_string() };
-        naga::back::spv::write_vec(&m, &i, &options, Some(&po)).map_err(|e| err(e.to_string()))
-    };
-    let bindings = descriptors(&module);
+    let spirv = Spirv::of(text, &program.wgsl)?;
+    let entry = |stage, name: &str| spirv.entry(stage, name);
+    let bindings = descriptors(&spirv.module);
     let render = radv::Job {
         name: format!("{text} (render)"),
         shaders: radv::Shaders::Graphics {
@@ -676,21 +701,11 @@ fn mesh_jobs(p: &Pipeline) -> Result<[radv::Job; 2], CostError> {
     let text = p.to_string();
     let err = |m: String| CostError::Spirv { pipeline: text.clone(), message: relief_dsl::spec::one_line(&m) };
     let program = crate::gpu::mesh::MeshProgram::new(p).map_err(|e| err(e.to_string()))?.program;
-    let module = naga::front::wgsl::parse_str(&program.wgsl).map_err(|e| err(e.to_string()))?;
-    let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default())
-        .validate(&module)
-        .map_err(|e| err(e.to_string()))?;
-    let options = wgpu_spirv_options();
-    let entry = |stage: naga::ShaderStage, name: &str| -> Result<Vec<u32>, CostError> {
-        let (m, i) =
-            naga::back::pipeline_constants::process_overrides(&module, &info, Some((stage, name)), &Default::default())
-                .map_err(|e| err(e.to_string()))?;
-        let po = naga::back::spv::PipelineOptions { shader_stage: stage, entry_point: name.to_string() };
-        naga::back::spv::write_vec(&m, &i, &options, Some(&po)).map_err(|e| err(e.to_string()))
-    };
+    let spirv = Spirv::of(&text, &program.wgsl)?;
+    let entry = |stage, name: &str| spirv.entry(stage, name);
     let attributes = (std::mem::size_of::<MeshVertex>() / 16) as u32;
     let vert = entry(naga::ShaderStage::Vertex, "vs_mesh")?;
-    let bindings = descriptors(&module);
+    let bindings = descriptors(&spirv.module);
     let job = |frag: &str| -> Result<radv::Job, CostError> {
         Ok(radv::Job {
             name: format!("{text} ({frag})"),
