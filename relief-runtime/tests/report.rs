@@ -1315,25 +1315,7 @@ fn the_view_conclusions_note_the_pre_asymptotic_view_and_one_view_verdicts() {
 #[test]
 fn the_stability_section_shows_the_mesh_conditions_only_when_there_are_some() {
     use relief_runtime::stability::{self, Cell};
-    let flat = Cell {
-        method: "linear(8)".into(),
-        scene: "scene:flat1".into(),
-        angle: 60.0,
-        rays: 100,
-        nan_count: 0,
-        outside_count: 0,
-        skipped_rate: 0.1,
-        past_rate: 0.0,
-        missed_rate: 0.0,
-        nonconverged_rate: 0.0,
-        above_surface_rate: 0.0,
-        past_count: 0,
-        ref_err_t_max: 0.1,
-        ref_err_t_rms: 0.01,
-        coverage_error: None,
-        extra: None,
-        missing: None,
-    };
+    let flat = super::stability::flat_cell("linear(8)", "scene:flat1", 60.0, 0.1);
     let mesh = Cell {
         method: "linear(32)+binary(5)+curved=prism".into(),
         scene: "torus:rocks".into(),

@@ -138,7 +138,8 @@ impl Rng {
 /// seeded mutations) and in time (each command killed after 20 s, which counts as a hang):
 /// malformed pipelines and parameters, bad numbers for every numeric flag, FIFOs and
 /// folders given as inputs, damaged mesh files and mesh scenes (`relief scene check`, `relief
-/// sweep --grid meshes`, `relief export`), corrupted results rows under `relief report`, and
+/// sweep --grid meshes`, `relief export`, `relief scene measure --causes`), `relief stability`'s mesh
+/// names, corrupted results rows under `relief report`, and
 /// an older relief's damaged room rows under `relief report` and `relief sweep --grid rooms`. Every command must
 /// end by itself, with status 0 or a plain failure (never a panic, exit 101, or a signal),
 /// and a failure must be one line on stderr. The concurrent sweeps with the lock and the
@@ -457,6 +458,8 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
             ("curved pipeline", &good, vec!["--pipeline", "linear(8)+curved=prism"]),
             ("pairs", &good, vec!["--pipeline", "linear(8)", "--pairs", "99999"]),
             ("flat scene", &flat, vec!["--pipeline", "linear(8)"]),
+            ("causes of a cone march", &good, vec!["--pipeline", "csm(8)", "--causes", "--size", "8"]),
+            ("causes", &good, vec!["--pipeline", "linear(8)+binary(2)", "--causes", "--size", "8", "--pairs", "1"]),
         ] {
             let mut a = os(&["scene", "measure"]);
             a.push(file.clone().into());
@@ -511,6 +514,15 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
         a.push(dir.into());
         add(format!("report with line {bad:.40?}"), a);
     }
+    // `relief stability`'s mesh conditions: names that are none, and a flag that excludes them.
+    for v in ["nosuch", "", "sphere,torus", "SPHERE", "\u{1b}"] {
+        let mut a = os(&["stability", "--scene", "flat0", "--size", "8", &format!("--mesh={v}"), "--out"]);
+        a.push(d.join("stability-mesh").into());
+        add(format!("stability --mesh={v:?}"), a);
+    }
+    let mut a = os(&["stability", "--mesh", "sphere", "--no-meshes", "--out"]);
+    a.push(d.join("stability-mesh").into());
+    add("stability --mesh with --no-meshes".into(), a);
     // An older relief's room rows (`rooms.jsonl`, read once into results rows by `relief
     // report` and moved by the next `relief sweep --grid rooms`), damaged: hand-picked
     // replacements, cuts, and seeded byte flips of the committed older folder's file. The

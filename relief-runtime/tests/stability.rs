@@ -243,40 +243,10 @@ fn a_hit_three_texels_past_a_flat_floor_is_past_but_not_skipped() {
     }
 }
 
-/// `worst.md` picks each method's worst condition by skipped rate first: a condition where
-/// every ray ends a little past the hit is not worse than one where some jumped geometry.
-#[test]
-fn the_worst_condition_is_the_one_that_skipped_geometry() {
-    let cell = |scene: &str, skipped: f64, past: f64| stability::Cell {
-        method: "linear(8)".into(),
-        scene: scene.into(),
-        angle: 60.0,
-        rays: 100,
-        nan_count: 0,
-        outside_count: 0,
-        skipped_rate: skipped,
-        past_rate: past,
-        missed_rate: past,
-        nonconverged_rate: 0.0,
-        above_surface_rate: 0.0,
-        past_count: 0,
-        ref_err_t_max: 0.1,
-        ref_err_t_rms: 0.01,
-        coverage_error: None,
-        extra: None,
-        missing: None,
-    };
-    let md = stability::worst_table(&[cell("flat1", 0.0, 0.9), cell("spikes", 0.05, 0.3)]);
-    assert!(md.contains("| skipped rate | past rate |"), "{md}");
-    assert!(md.contains("| `linear(8)` | spikes at 60° | 5.00% | 30.0% |"), "{md}");
-}
-
-/// A heat map has one `<rect>` per cell, in the group that strokes them grey and fills them
-/// white; a cell at zero states no fill, the worst one is dark red (155, 0, 0), one in between
-/// is lighter, and every cell's value is in its `<title>`.
-#[test]
-fn heat_maps_fill_only_the_cells_that_are_not_white() {
-    let cell = |method: &str, scene: &str, angle: f32, skipped: f64| stability::Cell {
+/// A flat condition's cell for the tests of the written files: 100 rays, `skipped` the
+/// skipped rate, nothing past, no NaN, t error 0.1 at most and 0.01 RMS, no mesh figures.
+pub(crate) fn flat_cell(method: &str, scene: &str, angle: f32, skipped: f64) -> stability::Cell {
+    stability::Cell {
         method: method.into(),
         scene: scene.into(),
         angle,
@@ -294,12 +264,33 @@ fn heat_maps_fill_only_the_cells_that_are_not_white() {
         coverage_error: None,
         extra: None,
         missing: None,
+    }
+}
+
+/// `worst.md` picks each method's worst condition by skipped rate first: a condition where
+/// every ray ends a little past the hit is not worse than one where some jumped geometry.
+#[test]
+fn the_worst_condition_is_the_one_that_skipped_geometry() {
+    let cell = |scene: &str, skipped: f64, past: f64| stability::Cell {
+        past_rate: past,
+        missed_rate: past,
+        ..flat_cell("linear(8)", scene, 60.0, skipped)
     };
+    let md = stability::worst_table(&[cell("flat1", 0.0, 0.9), cell("spikes", 0.05, 0.3)]);
+    assert!(md.contains("| skipped rate | past rate |"), "{md}");
+    assert!(md.contains("| `linear(8)` | spikes at 60° | 5.00% | 30.0% |"), "{md}");
+}
+
+/// A heat map has one `<rect>` per cell, in the group that strokes them grey and fills them
+/// white; a cell at zero states no fill, the worst one is dark red (155, 0, 0), one in between
+/// is lighter, and every cell's value is in its `<title>`.
+#[test]
+fn heat_maps_fill_only_the_cells_that_are_not_white() {
     let cells = [
-        cell("linear(8)", "scene:flat1", 0.0, 0.0),
-        cell("linear(8)", "scene:spikes", 60.0, 0.5),
-        cell("csm(8)", "scene:flat1", 0.0, 0.01),
-        cell("csm(8)", "scene:spikes", 60.0, 0.0),
+        flat_cell("linear(8)", "scene:flat1", 0.0, 0.0),
+        flat_cell("linear(8)", "scene:spikes", 60.0, 0.5),
+        flat_cell("csm(8)", "scene:flat1", 0.0, 0.01),
+        flat_cell("csm(8)", "scene:spikes", 60.0, 0.0),
     ];
     let dir = std::env::temp_dir().join(format!("relief-stability-svg-{}", std::process::id()));
     stability::write(&dir, &cells).unwrap();
@@ -475,25 +466,7 @@ fn a_mesh_cell_matches_the_closed_form_on_a_lowered_square() {
 /// that is written and the flat files are the same bytes.
 #[test]
 fn mesh_cells_appear_in_the_csv_the_worst_table_and_their_heat_maps() {
-    let flat = |method: &str, skipped: f64| stability::Cell {
-        method: method.into(),
-        scene: "scene:flat1".into(),
-        angle: 60.0,
-        rays: 100,
-        nan_count: 0,
-        outside_count: 0,
-        skipped_rate: skipped,
-        past_rate: 0.0,
-        missed_rate: 0.0,
-        nonconverged_rate: 0.0,
-        above_surface_rate: 0.0,
-        past_count: 0,
-        ref_err_t_max: 0.1,
-        ref_err_t_rms: 0.01,
-        coverage_error: None,
-        extra: None,
-        missing: None,
-    };
+    let flat = |method: &str, skipped: f64| flat_cell(method, "scene:flat1", 60.0, skipped);
     let mesh = |mode: &str, angle: f32, extra: usize, missing: usize| stability::Cell {
         method: format!("linear(32)+binary(5)+curved={mode}"),
         scene: "sphere:rocks".into(),

@@ -40,7 +40,6 @@ pub fn run(a: &StabilityArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&a.out)
         .map_err(|e| anyhow::anyhow!("cannot create output folder {}: {e}", a.out.display()))?;
     let _lock = crate::lock_folders(&[&a.out], a.wait)?;
-    let gpu = Gpu::new()?;
     let methods = stability::methods();
     let scenes: Vec<&str> =
         if a.scene.is_empty() { stability::SCENES.to_vec() } else { a.scene.iter().map(String::as_str).collect() };
@@ -56,6 +55,8 @@ pub fn run(a: &StabilityArgs) -> anyhow::Result<()> {
             anyhow::bail!("--mesh {}: no such mesh condition (sphere, torus)", relief_dsl::spec::echo(m));
         }
     }
+    // The device is opened once the arguments are known good: a refusal waits on no GPU.
+    let gpu = Gpu::new()?;
     let flat_conditions = scenes.len() * stability::ANGLES.len();
     let total = (flat_conditions + meshes.len() * stability::MESH_ANGLES.len()) as u64;
     let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
