@@ -26,18 +26,16 @@ fn used_by(c: &relief::dsl::Compiled, entry: &str) -> Vec<String> {
     out
 }
 
+/// The module's entry points, in order, each with its stage.
+fn entry_points(c: &relief::dsl::Compiled) -> Vec<(&str, naga::ShaderStage)> {
+    c.module.entry_points.iter().map(|e| (e.name.as_str(), e.stage)).collect()
+}
+
 #[test]
 fn module_has_the_render_pair_and_the_probe() {
+    use naga::ShaderStage::{Compute, Fragment, Vertex};
     let c = relief::compile(&p("linear(10)+binary(5)")).unwrap();
-    let names: Vec<_> = c.module.entry_points.iter().map(|e| (e.name.as_str(), e.stage)).collect();
-    assert_eq!(
-        names,
-        [
-            ("vs_main", naga::ShaderStage::Vertex),
-            ("fs_main", naga::ShaderStage::Fragment),
-            ("probe", naga::ShaderStage::Compute)
-        ]
-    );
+    assert_eq!(entry_points(&c), [("vs_main", Vertex), ("fs_main", Fragment), ("probe", Compute)]);
 }
 
 #[test]
@@ -286,14 +284,10 @@ fn mesh_wgsl_snapshots() {
     for mode in ["none", "quadric"] {
         let text = format!("linear(32)+binary(5)+curved={mode}");
         let c = relief::compile(&p(&text)).unwrap();
-        let entries: Vec<_> = c.module.entry_points.iter().map(|e| (e.name.as_str(), e.stage)).collect();
+        let (vertex, fragment) = (naga::ShaderStage::Vertex, naga::ShaderStage::Fragment);
         assert_eq!(
-            entries,
-            [
-                ("vs_mesh", naga::ShaderStage::Vertex),
-                ("fs_mesh", naga::ShaderStage::Fragment),
-                ("fs_mesh_depth", naga::ShaderStage::Fragment)
-            ],
+            entry_points(&c),
+            [("vs_mesh", vertex), ("fs_mesh", fragment), ("fs_mesh_depth", fragment)],
             "{text}"
         );
         let wgsl = emit::wgsl(&c).unwrap();
