@@ -7,8 +7,8 @@
 //! direction (azimuth 30°, the given angle from the normal, the scene's depth scale), so
 //! that an angle means the same thing on every scene.
 //!
-//! **Mesh conditions** (issue 38): the built-in sphere and torus with the 64² `rocks` map
-//! ([`MESH_SCENES`]) at the grazing angles [`MESH_ANGLES`], each of [`mesh_methods`] under
+//! **Mesh conditions** (issue 38): the built-in sphere and torus ([`MESH_SCENES`]), each with
+//! the real maps [`MESH_MAPS`] at 64², at the grazing angles [`MESH_ANGLES`], each of [`mesh_methods`] under
 //! `curved=none`, `quadric` and `prism` ([`run_meshes`]), against the exact mesh reference.
 //! An angle means the same on each mesh: the ray through the frame's centre meets the smooth
 //! surface (the analytic sphere or torus, not its facets) at the point on its outer equator
@@ -26,10 +26,10 @@ use crate::io::FileError;
 use relief_dsl::spec::{catalog, Slot};
 use relief_dsl::Pipeline;
 
-use crate::gpu::mesh::{probe_mesh, MeshProgram};
+use crate::gpu::mesh::{MeshProber, MeshProgram};
 use crate::gpu::{self, Gpu, GpuHit, Program, SceneTextures};
 use crate::heightmap::{EdgeMode, HeightMap};
-use crate::mesh::MeshScene;
+use crate::mesh::{MeshHit, MeshReference, MeshScene};
 use crate::reference::{reference_hits, RefHit, Sampling};
 use crate::scene::{ProbeRay, Scene};
 use relief_dsl::spec::Curved;
@@ -284,27 +284,30 @@ pub fn run(
     Ok(cells)
 }
 
-/// The meshes of the mesh conditions, each with the flat matrix's 64² `rocks` map: (built-in
-/// mesh, depth in world units). The depths are the mesh grid's (`relief sweep --grid meshes`);
+/// The meshes of the mesh conditions, each with every map of [`MESH_MAPS`]: (built-in mesh,
+/// depth in world units). The depths are the mesh grid's (`relief sweep --grid meshes`);
 /// tiling 2, repeat edges.
 pub const MESH_SCENES: [(&str, f32); 2] = [("sphere", 0.08), ("torus", 0.05)];
 
-/// The height map of the mesh conditions (a name of the flat matrix, at 64²).
-pub const MESH_MAP: &str = "rocks";
+/// The height maps of the mesh conditions: two real maps of the flat matrix, at 64² as it
+/// loads them, `rocks` (rounded rocks) and `four` (four shapes with flat tops, slopes and
+/// sharp rims), so that a conclusion is checked on more than one real map.
+pub const MESH_MAPS: [&str; 2] = ["rocks", "four"];
 
 /// The grazing angles of the mesh conditions, degrees from the normal at the frame's centre.
 pub const MESH_ANGLES: [f32; 3] = [75.0, 85.0, 89.0];
 
-/// The mesh condition `mesh` (a built-in of [`MESH_SCENES`]) with [`MESH_MAP`], seen at
-/// `angle` degrees from the normal at the frame's centre (the module doc). Its name is
-/// `MESH:MAP`, e.g. `sphere:rocks`.
-pub fn mesh_scene(mesh: &str, angle: f32) -> Result<MeshScene> {
+/// The mesh condition `mesh` (a built-in of [`MESH_SCENES`]) with the height map `map` (a
+/// flat matrix's scene name, at 64²; the conditions' are [`MESH_MAPS`]), seen at `angle`
+/// degrees from the normal at the frame's centre (the module doc). Its name is `MESH:MAP`,
+/// e.g. `sphere:rocks`.
+pub fn mesh_scene(mesh: &str, map: &str, angle: f32) -> Result<MeshScene> {
     let (_, depth) = MESH_SCENES
         .iter()
         .find(|(m, _)| *m == mesh)
         .ok_or_else(|| Error::Input(format!("no mesh condition `{}`", relief_dsl::spec::echo(mesh))))?;
-    let mut s = scene(MESH_MAP, 64)?;
-    s.name = format!("{mesh}:{MESH_MAP}");
+    let mut s = scene(map, 64)?;
+    s.name = format!("{mesh}:{map}");
     s.depth_scale = *depth;
     s.tiling = 2.0;
     s.edge = EdgeMode::Repeat;
@@ -363,15 +366,19 @@ pub fn mesh_cell(
 }
 
 /// The mesh conditions: each of `methods` (with no `curved=` option) under each of `modes`
-/// on each mesh of `meshes` ([`MESH_SCENES`] names) at each of `angles`, in a `size²`
-/// frame; `progress` is told each finished (mesh, angle). The reference is traced once per
-/// condition on the heights as the device stores them.
+/// on each mesh of `meshes` ([`MESH_SCENES`] names) with each height map of `maps` at each
+/// of `angles`, in a `size²` frame; `progress` is told each finished (`MESH:MAP`, angle).
+/// The reference is traced once per condition on the heights as the device stores them. A
+/// mesh with a map is one scene but for its camera, so its textures, maps and reference
+/// (its BVH) are built once for all the angles.
+#[allow(clippy::too_many_arguments)]
 pub fn run_meshes(
     gpu: &Gpu,
     size: u32,
     methods: &[Pipeline],
     modes: &[Curved],
     meshes: &[&str],
+    maps: &[&str],
     angles: &[f32],
     mut progress: impl FnMut(&str, f32),
 ) -> Result<Vec<Cell>> {
@@ -380,13 +387,27 @@ pub fn run_meshes(
         .flat_map(|p| modes.iter().map(move |&m| p.clone().with_curved(Some(m))))
         .map(|p| Ok((p.to_string(), MeshProgram::new(&p)?)))
         .collect::<Result<_, relief_dsl::CompileError>>()?;
+    // Each program's pipeline is compiled once, for every condition.
+    let probers = probers(gpu, &programs)?;
     let mut cells = Vec::new();
     for &mesh in meshes {
-        for &angle in angles {
-            let ms = mesh_scene(mesh, angle)?;
-            let name = ms.scene.name.clone();
-            cells.extend(mesh_condition(gpu, size, &programs, ms, angle)?);
-            progress(&name, angle);
+        for &map in maps {
+            let mut built: Option<(SceneTextures, MeshReference)> = None;
+            for &angle in angles {
+                let mut ms = mesh_scene(mesh, map, angle)?;
+                let (tex, reference) = match &mut built {
+                    Some(b) => b,
+                    None => {
+                        let tex = SceneTextures::new(gpu, &ms.scene);
+                        ms.scene.height.data = tex.heights_on_device.clone();
+                        built.insert((tex, ms.reference()?))
+                    }
+                };
+                ms.scene.height.data = tex.heights_on_device.clone();
+                let refs = reference.trace_all(&ms.rays(size, size));
+                cells.extend(probe_condition(gpu, size, &probers, &ms, angle, tex, &refs)?);
+                progress(&ms.scene.name, angle);
+            }
         }
     }
     Ok(cells)
@@ -402,16 +423,43 @@ pub fn mesh_condition(
     mut ms: MeshScene,
     angle: f32,
 ) -> Result<Vec<Cell>> {
-    let name = ms.scene.name.clone();
     let mut tex = SceneTextures::new(gpu, &ms.scene);
     ms.scene.height.data = tex.heights_on_device.clone();
     let refs = ms.reference_hits(size, size)?;
+    probe_condition(gpu, size, &probers(gpu, programs)?, &ms, angle, &mut tex, &refs)
+}
+
+/// Each of `programs` (text form, compiled module) with its measurement pipeline.
+fn probers<'a>(gpu: &Gpu, programs: &'a [(String, MeshProgram)]) -> Result<Vec<(&'a str, MeshProber<'a>)>> {
+    programs
+        .iter()
+        .map(|(text, prog)| {
+            let prober = MeshProber::new(gpu, prog).map_err(|e| Error::from(e).in_pipeline(text))?;
+            Ok((text.as_str(), prober))
+        })
+        .collect()
+}
+
+/// Each program of `probers` probed on `ms` (its heights as the device stores them, `tex` its
+/// textures) and scored against the reference's hits `refs`.
+fn probe_condition(
+    gpu: &Gpu,
+    size: u32,
+    probers: &[(&str, MeshProber)],
+    ms: &MeshScene,
+    angle: f32,
+    tex: &mut SceneTextures,
+    refs: &[Option<MeshHit>],
+) -> Result<Vec<Cell>> {
+    let name = &ms.scene.name;
     let mut cells = Vec::new();
-    for (text, prog) in programs {
+    for (text, prober) in probers {
+        let prog = prober.program();
         tex.add_maps_lod(gpu, &ms.scene, &prog.program.maps, prog.lod)?;
-        let probe = probe_mesh(gpu, prog, &ms, &tex, size)
-            .map_err(|e| Error::from(e).in_scene(format!("{name} at {angle}°")).in_pipeline(text))?;
-        cells.push(mesh_cell(text, &ms, angle, &probe, &refs));
+        let probe = prober
+            .probe(gpu, ms, tex, size)
+            .map_err(|e| Error::from(e).in_scene(format!("{name} at {angle}°")).in_pipeline(*text))?;
+        cells.push(mesh_cell(text, ms, angle, &probe, refs));
     }
     Ok(cells)
 }
@@ -471,8 +519,9 @@ pub fn write(out: &Path, cells: &[Cell]) -> Result<()> {
 /// The worst mesh condition of each method (with its `curved=` mode), by coverage error,
 /// then RMS t: a heading, a line saying what the figures are, and the table.
 pub fn worst_mesh_table(cells: &[Cell]) -> String {
-    let mut s = String::from(
-        "### Mesh conditions (grazing views)\n\nThe sphere and the torus with `rocks` at 75°, 85° and 89° from the normal at the frame's centre, against the exact mesh reference; coverage error: pixels whose hit/miss disagrees (extra + missing); t in units of the relief's depth along the ray, on pixels both hit; past: pixels both hit whose hit lies after the exact first hit.\n\n| method | worst condition | coverage error | extra | missing | RMS t | max t | past | NaN |\n|---|---|---|---|---|---|---|---|---|\n",
+    let mut s = format!(
+        "### Mesh conditions (grazing views)\n\nThe sphere and the torus, each with {}, at 75°, 85° and 89° from the normal at the frame's centre, against the exact mesh reference; coverage error: pixels whose hit/miss disagrees (extra + missing); t in units of the relief's depth along the ray, on pixels both hit; past: pixels both hit whose hit lies after the exact first hit.\n\n| method | worst condition | coverage error | extra | missing | RMS t | max t | past | NaN |\n|---|---|---|---|---|---|---|---|---|\n",
+        mesh_maps_named("`", "`"),
     );
     let mut seen = std::collections::HashSet::new();
     for m in cells.iter().map(|c| c.method.as_str()) {
@@ -499,6 +548,15 @@ pub fn worst_mesh_table(cells: &[Cell]) -> String {
         );
     }
     s
+}
+
+/// The maps of [`MESH_MAPS`] in words, each between `open` and `close`: "`rocks` and `four`".
+pub fn mesh_maps_named(open: &str, close: &str) -> String {
+    let names: Vec<String> = MESH_MAPS.iter().map(|m| format!("{open}{m}{close}")).collect();
+    match names.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => names.concat(),
+    }
 }
 
 /// The worst condition of each method, by skipped rate, then past rate, then RMS error.

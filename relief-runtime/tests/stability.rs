@@ -528,12 +528,22 @@ fn mesh_cells_appear_in_the_csv_the_worst_table_and_their_heat_maps() {
 
 /// The mesh conditions' angle is the view's angle from the normal at the frame's centre:
 /// the ray through the centre meets the smooth sphere and torus at their outer equator's
-/// point on +x (normal +x) at that angle.
+/// point on +x (normal +x) at that angle, whichever map they carry; each carries its map as
+/// the flat matrix loads it (64², the same heights), and the maps are two real maps, not one.
 #[test]
 fn a_mesh_condition_sees_the_frames_centre_at_its_angle() {
+    assert_eq!(stability::MESH_MAPS.len(), 2);
+    for map in stability::MESH_MAPS {
+        assert!(stability::SCENES.contains(&map), "{map} is not a scene of the flat matrix");
+        assert!(relief_runtime::REAL_SCENES.iter().any(|r| r.name == map), "{map} is not a real map");
+    }
     for (mesh, x) in [("sphere", 1.0f32), ("torus", 1.5)] {
-        for angle in stability::MESH_ANGLES {
-            let ms = stability::mesh_scene(mesh, angle).unwrap();
+        for (map, angle) in stability::MESH_MAPS.iter().flat_map(|m| stability::MESH_ANGLES.map(|a| (*m, a))) {
+            let ms = stability::mesh_scene(mesh, map, angle).unwrap();
+            assert_eq!(ms.scene.name, format!("{mesh}:{map}"));
+            let flat = stability::scene(map, 64).unwrap();
+            assert_eq!((ms.scene.height.width, ms.scene.height.height), (64, 64), "{mesh}:{map}");
+            assert!(ms.scene.height.data == flat.height.data, "{mesh}:{map}: not the flat matrix's heights");
             let eye = ms.scene.camera.camera_position();
             let to_eye = (eye - glam::Vec3::new(x, 0.0, 0.0)).normalize();
             let seen = to_eye.dot(glam::Vec3::X).clamp(-1.0, 1.0).acos().to_degrees();
@@ -542,5 +552,42 @@ fn a_mesh_condition_sees_the_frames_centre_at_its_angle() {
             let forward = ms.scene.camera.basis().0;
             assert!((forward + to_eye).length() < 1e-5, "{mesh}: the camera looks at the point");
         }
+    }
+}
+
+/// `run_meshes` builds a mesh-with-map's textures, maps and reference once for all its angles,
+/// and each program's pipeline once for all conditions: its cells must be the cells of each
+/// condition measured on its own (`mesh_condition`, which builds everything afresh), field for
+/// field (NaN as NaN), for programs that read an acceleration map (`csm`) and the prism's.
+#[test]
+fn the_mesh_conditions_run_together_measure_as_each_alone() {
+    use relief_dsl::spec::Curved;
+    use relief_runtime::gpu::mesh::MeshProgram;
+    let g = Gpu::new().unwrap();
+    let size = 16;
+    let methods: Vec<relief_dsl::Pipeline> =
+        ["linear(8)+binary(3)", "csm(8)+binary(3)"].iter().map(|t| t.parse().unwrap()).collect();
+    let modes = [Curved::None, Curved::Prism];
+    let angles = [75.0, 89.0];
+    let mut seen = vec![];
+    let together = stability::run_meshes(&g, size, &methods, &modes, &["torus"], &["four"], &angles, |s, a| {
+        seen.push((s.to_string(), a))
+    })
+    .unwrap();
+    assert_eq!(seen, [("torus:four".to_string(), 75.0), ("torus:four".to_string(), 89.0)]);
+    let programs: Vec<(String, MeshProgram)> = methods
+        .iter()
+        .flat_map(|p| modes.map(|m| p.clone().with_curved(Some(m))))
+        .map(|p| (p.to_string(), MeshProgram::new(&p).unwrap()))
+        .collect();
+    let mut alone = vec![];
+    for angle in angles {
+        let ms = stability::mesh_scene("torus", "four", angle).unwrap();
+        alone.extend(stability::mesh_condition(&g, size, &programs, ms, angle).unwrap());
+    }
+    assert_eq!(together.len(), 8);
+    assert!(together.iter().any(|c| c.extra.unwrap() + c.missing.unwrap() + c.past_count > 0), "nothing to compare");
+    for (a, b) in together.iter().zip(&alone) {
+        assert_eq!(format!("{a:?}"), format!("{b:?}"));
     }
 }

@@ -90,18 +90,31 @@ fn renderer(
     size: u32,
     probe: bool,
 ) -> Result<Renderer, GpuError> {
-    let (entry, format, clear, bindings) = if probe {
+    let pipeline = mesh_pipeline(gpu, prog, probe)?;
+    renderer_with(gpu, prog, pipeline, ms, tex, size, probe)
+}
+
+/// The target format, its clear colour and the bindings of `prog`'s picture or, with `probe`,
+/// its measurement.
+fn output(prog: &MeshProgram, probe: bool) -> (&'static str, wgpu::TextureFormat, wgpu::Color, &[u32]) {
+    if probe {
         (PROBE_ENTRY, wgpu::TextureFormat::Rgba32Float, wgpu::Color::TRANSPARENT, &prog.program.probe_bindings)
     } else {
         ("fs_mesh", FORMAT, CLEAR, &prog.program.render_bindings)
-    };
+    }
+}
+
+/// `prog`'s render pipeline of the picture or, with `probe`, of the measurement: the part of a
+/// renderer that depends on the program only (the device compiles the shaders here).
+fn mesh_pipeline(gpu: &Gpu, prog: &MeshProgram, probe: bool) -> Result<wgpu::RenderPipeline, GpuError> {
+    let (entry, format, _, _) = output(prog, probe);
     let module = prog.program.shader_module(gpu)?;
     let layout = [Some(wgpu::VertexBufferLayout {
         array_stride: std::mem::size_of::<MeshVertex>() as u64,
         step_mode: wgpu::VertexStepMode::Vertex,
         attributes: &ATTRIBUTES,
     })];
-    let pipeline = render_pipeline(
+    render_pipeline(
         gpu,
         &module,
         &Draw {
@@ -112,7 +125,21 @@ fn renderer(
             depth: Some(wgpu::CompareFunction::Less),
             format,
         },
-    )?;
+    )
+}
+
+/// [`renderer`] with its pipeline already built ([`mesh_pipeline`] of the same `prog` and
+/// `probe`): the scene's parameters, bind group, target and vertices.
+fn renderer_with(
+    gpu: &Gpu,
+    prog: &MeshProgram,
+    pipeline: wgpu::RenderPipeline,
+    ms: &MeshScene,
+    tex: &SceneTextures,
+    size: u32,
+    probe: bool,
+) -> Result<Renderer, GpuError> {
+    let (_, format, clear, bindings) = output(prog, probe);
     // Object space is world space: the scene's camera, light and depth are the mesh's Params.
     let params = SceneTextures::params(gpu, &ms.scene, 1.0, 0.0);
     let bind_group = tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), bindings, &prog.program, &params, &[])?;
@@ -157,12 +184,37 @@ pub fn probe_mesh(
     tex: &SceneTextures,
     size: u32,
 ) -> Result<MeshProbe, GpuError> {
-    let r = renderer(gpu, prog, ms, tex, size, true)?;
-    r.target.untimed(gpu, 1, &|p| r.draw(p))?;
-    let f = r.target.read(gpu, Vec::new())?;
-    let floats: Vec<f32> = bytemuck::pod_collect_to_vec(&f.rgba);
-    let hits = floats.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect();
-    Ok(MeshProbe { hits, depth: f.depth.unwrap_or_default() })
+    MeshProber::new(gpu, prog)?.probe(gpu, ms, tex, size)
+}
+
+/// A program's measurement pipeline, compiled once for the device, to probe many scenes with
+/// ([`probe_mesh`] compiles it per call; `relief stability` probes each program on every mesh
+/// condition).
+pub struct MeshProber<'a> {
+    prog: &'a MeshProgram,
+    pipeline: wgpu::RenderPipeline,
+}
+
+impl<'a> MeshProber<'a> {
+    /// Compiles `prog`'s measurement pipeline on `gpu`.
+    pub fn new(gpu: &Gpu, prog: &'a MeshProgram) -> Result<MeshProber<'a>, GpuError> {
+        Ok(MeshProber { prog, pipeline: mesh_pipeline(gpu, prog, true)? })
+    }
+
+    /// The program it measures.
+    pub fn program(&self) -> &'a MeshProgram {
+        self.prog
+    }
+
+    /// The measurement of `ms`, `size²`, as [`probe_mesh`] (`gpu` the device it was compiled on).
+    pub fn probe(&self, gpu: &Gpu, ms: &MeshScene, tex: &SceneTextures, size: u32) -> Result<MeshProbe, GpuError> {
+        let r = renderer_with(gpu, self.prog, self.pipeline.clone(), ms, tex, size, true)?;
+        r.target.untimed(gpu, 1, &|p| r.draw(p))?;
+        let f = r.target.read(gpu, Vec::new())?;
+        let floats: Vec<f32> = bytemuck::pod_collect_to_vec(&f.rgba);
+        let hits = floats.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect();
+        Ok(MeshProbe { hits, depth: f.depth.unwrap_or_default() })
+    }
 }
 
 /// Frame times of `a` and `b` (their pictures) on `ms`, `size²`, in `pairs` alternating

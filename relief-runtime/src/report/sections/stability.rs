@@ -36,7 +36,11 @@ fn page(p: &Report) -> Option<PageSection> {
     maps.sort();
     let _ = writeln!(h, "<p>Heat maps of method × scene and angle{csv}.</p>");
     if maps.iter().any(|m| m.starts_with("stability_meshes_")) {
-        h.push_str("<p>The maps named <code>meshes_…</code> are the mesh conditions: the built-in sphere and torus with <code>rocks</code> at 75°, 85° and 89° from the normal at the frame's centre, each method under <code>curved=none</code>, <code>quadric</code> and <code>prism</code>, against the exact mesh reference (coverage error, RMS t in depths along the ray, hits past the first hit); their worst conditions are the second table below.</p>\n");
+        let _ = writeln!(
+            h,
+            "<p>The maps named <code>meshes_…</code> are the mesh conditions: the built-in sphere and torus, each with {}, at 75°, 85° and 89° from the normal at the frame's centre, each method under <code>curved=none</code>, <code>quadric</code> and <code>prism</code>, against the exact mesh reference (coverage error, RMS t in depths along the ray, hits past the first hit); their worst conditions are the second table below.</p>",
+            crate::stability::mesh_maps_named("<code>", "</code>")
+        );
     }
     h.push_str("<div class=\"heat\">");
     for m in &maps {

@@ -21,12 +21,8 @@ struct OldRow {
     frame_ms: f64,
     baseline_ms: f64,
     t_err_rms: f64,
-    #[serde(default = "not_recorded", deserialize_with = "null_as_nan")]
-    skipped_rate: f64,
-    #[serde(default = "not_recorded", deserialize_with = "null_as_nan")]
-    past_rate: f64,
-    #[serde(default = "not_recorded", deserialize_with = "null_as_nan")]
-    missed_rate: f64,
+    #[serde(flatten)]
+    rates: OldRates,
     mean_abs_diff: f64,
     status: Status,
     error: String,
@@ -39,6 +35,13 @@ struct OldWall {
     wall: String,
     rays: usize,
     t_err_rms: f64,
+    #[serde(flatten)]
+    rates: OldRates,
+}
+
+/// The rates a row and each of its walls carry, each absent or null in some older rows.
+#[derive(Deserialize)]
+struct OldRates {
     #[serde(default = "not_recorded", deserialize_with = "null_as_nan")]
     skipped_rate: f64,
     #[serde(default = "not_recorded", deserialize_with = "null_as_nan")]
@@ -47,18 +50,20 @@ struct OldWall {
     missed_rate: f64,
 }
 
+impl OldRates {
+    /// The past rate: a row written before `past_rate` had the name holds it as `missed_rate`.
+    fn past(&self) -> f64 {
+        if self.past_rate.is_nan() {
+            self.missed_rate
+        } else {
+            self.past_rate
+        }
+    }
+}
+
 /// A measure the row does not hold: NaN, shown as such, never a silent 0.
 fn not_recorded() -> f64 {
     f64::NAN
-}
-
-/// A row written before `past_rate` had the name holds it as `missed_rate`.
-fn past_or_missed(past: f64, missed: f64) -> f64 {
-    if past.is_nan() {
-        missed
-    } else {
-        past
-    }
 }
 
 /// The rows of `path`, or `None` when there is none. A line that is not such a row, or
@@ -78,8 +83,8 @@ pub(super) fn read(path: &Path) -> Result<Option<Vec<Row>>, ResultsError> {
         let mut metrics = Metrics::not_measured(pipeline, old.room, old.size, String::new());
         metrics.frame_ms_median = old.frame_ms;
         metrics.ref_err_t_rms = old.t_err_rms;
-        metrics.skipped_rate = old.skipped_rate;
-        metrics.past_rate = past_or_missed(old.past_rate, old.missed_rate);
+        metrics.skipped_rate = old.rates.skipped_rate;
+        metrics.past_rate = old.rates.past();
         metrics.missed_rate = metrics.past_rate;
         let per_wall = old
             .per_wall
@@ -88,8 +93,8 @@ pub(super) fn read(path: &Path) -> Result<Option<Vec<Row>>, ResultsError> {
                 wall: w.wall,
                 rays: w.rays,
                 t_err_rms: w.t_err_rms,
-                skipped_rate: w.skipped_rate,
-                past_rate: past_or_missed(w.past_rate, w.missed_rate),
+                skipped_rate: w.rates.skipped_rate,
+                past_rate: w.rates.past(),
             })
             .collect();
         let cell_dir = format!("rooms/{}/{}", super::folder(&metrics.scene), super::folder(&old.variant));
