@@ -458,7 +458,10 @@ impl<'a> Sentinel<'a> {
 
     /// After the loop: where the march ended, the first hit solved exactly in the cell found
     /// ([`hit_in`], the cell found again from where the ray entered it, `−t`, with the loop's
-    /// own [`cell_at`]), else `t` at most the floor's; and whether a cell was found.
+    /// own [`cell_at`], so that the loop carries no cell from pass to pass), else `t` at most
+    /// the floor's; and whether a cell was found. (Two copies of `cell_at` rounded apart could
+    /// differ only for an entry within an ulp of a cell side; the answer is then the entry,
+    /// never a point past the hit: `docs/notes/safe-step.md`, round 9.)
     pub(super) fn solve(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> (Val<'a, f32>, Val<'a, bool>) {
         let in_cell = t.bits().ge(0x8000_0000u32).named("in_cell");
         let end = s.var("end", t.min(self.grid.t_max));
