@@ -272,6 +272,12 @@ impl<'a> Val<'a, f32> {
     pub fn to_u32(self) -> Val<'a, u32> {
         self.derive(Expression::As { expr: self.handle(), kind: ScalarKind::Uint, convert: Some(4) })
     }
+    /// The value's IEEE 754 bits as a `u32` (WGSL's `bitcast<u32>`): for floats ≥ +0 their
+    /// order is the bits' order, and every float with its sign bit set (−0 included) is above
+    /// them all.
+    pub fn bits(self) -> Val<'a, u32> {
+        self.derive(Expression::As { expr: self.handle(), kind: ScalarKind::Uint, convert: None })
+    }
 }
 
 impl<'a> Val<'a, u32> {

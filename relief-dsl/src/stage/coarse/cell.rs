@@ -26,9 +26,11 @@
 //! gave 0 past the first hit without it, and went red with the pad's sign flipped).
 //!
 //! Where that step would end inside C (the point is below A_C, or C's cone is narrow), the
-//! march meets C's patch exactly (a quadratic in t) and either stops at the hit or moves to
-//! where the ray leaves C. So every pass leaves a cell or ends the search, none stalls, and
-//! the search never ends past the first intersection.
+//! march decides exactly whether C's patch holds a hit (the ray's height over the patch is a
+//! quadratic in t; [`Patch::meets_within`] decides without solving it) and either stops in C
+//! or moves to where the ray leaves C. So every pass leaves a cell or ends the search, none
+//! stalls, and the search never ends past the first intersection: the hit in the cell it
+//! stopped in is solved once, after the loop ([`hit_in`]).
 //!
 //! A pass that leaves its cell by the cone step needs only the cone and `A_C`, which the cell
 //! map carries in one texel where they fit ([`crate::abi::cell_apex_on_device`]); the four
@@ -36,7 +38,7 @@
 //! where it meets a patch (a map without the apex gathers the corners every pass, as the
 //! patch's pass then reuses them).
 
-use crate::ir::{FnBuilder, Image, Val, Var, Vec2, Vec3, Vec4};
+use crate::ir::{FnBuilder, Image, Val, Vec2, Vec3, Vec4};
 use crate::spec::MapReq;
 use crate::stage::{Bracket, Filter, Ray};
 use std::cell::Cell as Kept;
@@ -65,7 +67,7 @@ pub(super) struct Grid<'a> {
     pub x0: Val<'a, Vec2>,
     /// The ray's horizontal speed in cells per unit t, `d.xy·N`.
     pub speed: Val<'a, Vec2>,
-    /// `speed.x · speed.y`, the patch's quadratic term per unit of twist ([`patch_meet`]).
+    /// `speed.x · speed.y`, the patch's quadratic term per unit of twist ([`Patch`]).
     speed_xy: Val<'a, f32>,
     /// [`ahead`] of the speed.
     pub ahead: Val<'a, Vec2>,
@@ -153,10 +155,17 @@ pub(super) struct Cell<'a> {
 pub(super) fn cell_at<'a>(g: Grid<'a>, t: Val<'a, f32>) -> Cell<'a> {
     let x = g.x0 + g.speed * t;
     let cell = (x + g.ahead).floor().named("cell");
-    // To the cell's side the ray moves toward, along each axis, in t: `(cell + side − X)/speed`.
-    let to_side = (cell + g.side - x) * g.inv_speed;
-    let exit = (t + to_side.x().min(to_side.y())).min(g.t_max);
+    let exit = g.exit(cell, x, t);
     Cell { grid: g, cell, kept: Kept::new(None), exit: exit.named("exit") }
+}
+
+impl<'a> Grid<'a> {
+    /// Where the ray, at `x` (texel-centre coordinates) at `t`, leaves `cell`: to the cell's
+    /// side it moves toward, along each axis, in t `(cell + side − X)/speed`; at most the floor.
+    pub(super) fn exit(&self, cell: Val<'a, Vec2>, x: Val<'a, Vec2>, t: Val<'a, f32>) -> Val<'a, f32> {
+        let to_side = (cell + self.side - x) * self.inv_speed;
+        (t + to_side.x().min(to_side.y())).min(self.t_max)
+    }
 }
 
 fn sign<'a>(s: &'a FnBuilder<'a>, v: Val<'a, f32>) -> Val<'a, f32> {
@@ -169,36 +178,6 @@ fn sign<'a>(s: &'a FnBuilder<'a>, v: Val<'a, f32>) -> Val<'a, f32> {
 /// ended rays up to 1.3e-4 in t past the first hit in relief's cone tests).
 pub(super) fn ahead<'a>(s: &'a FnBuilder<'a>, speed: Val<'a, Vec2>) -> Val<'a, Vec2> {
     s.vec2(sign(s, speed.x()), sign(s, speed.y())) * AHEAD_CELLS
-}
-
-/// One pass of a safe march at `t` in cell `c`: the cone step to `cone` when it leaves the
-/// cell (possibly past the floor: the march ends there, and clamps its t to the floor's once,
-/// after the loop); otherwise the cell's patch decides: its first hit, or the
-/// cell's exit. Returns whether the patch was hit (`t` is then the hit).
-///
-/// Why: the cell's cone keeps the surface below it only from the cell's highest corner up, so
-/// from a point below that corner (or under a narrow cone) the cone step is zero or tiny and
-/// a march of cone steps alone would stall there; the patch's exact quadratic either finds
-/// the hit or proves the ray above the patch to the cell's exit, so every pass leaves its
-/// cell or ends the search.
-fn step_or_meet<'a>(
-    s: &'a FnBuilder<'a>,
-    ray: &Ray<'a>,
-    c: &Cell<'a>,
-    t: Var<'a, f32>,
-    cone: Val<'a, f32>,
-) -> Val<'a, bool> {
-    let hit = s.var("patch_hit", false);
-    s.if_else(
-        cone.ge(c.exit),
-        |_| t.set(cone),
-        |s| {
-            let meet = c.patch_meet(s, ray, t.get());
-            hit.set(meet.hit);
-            t.set(meet.t);
-        },
-    );
-    hit.get()
 }
 
 impl<'a> Cell<'a> {
@@ -283,10 +262,10 @@ impl<'a> Cell<'a> {
         bottom + (top - bottom) * f.y()
     }
 
-    /// The first t in `[from, exit]` where the ray meets the cell's patch, else the exit
-    /// ([`patch_meet`]).
-    pub(super) fn patch_meet(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, from: Val<'a, f32>) -> PatchMeet<'a> {
-        patch_meet(s, ray, &self.grid, self.cell, self.corners(s), from, self.exit)
+    /// Whether the ray meets the cell's patch between `from` and the cell's exit
+    /// ([`Patch::meets_within`]: no root, no division).
+    pub(super) fn holds_hit(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, from: Val<'a, f32>) -> Val<'a, bool> {
+        Patch::of(ray, &self.grid, self.cell, self.corners(s), from).meets_within(self.exit - from)
     }
 }
 
@@ -299,59 +278,102 @@ fn fraction<'a>(g: &Grid<'a>, cell: Val<'a, Vec2>, t: Val<'a, f32>) -> Val<'a, V
     (g.x0 - cell) + g.speed * t
 }
 
-/// Where the ray goes from `from` in `cell` (corner heights `corners` in gather order): to the
-/// first t in `[from, to]` where it meets the cell's bilinear patch (`hit`), else to `to`.
-/// Along the ray the patch height is quadratic in t: with the corner heights h00, h10, h01,
-/// h11 and fractions (fx, fy) moving at (ax, ay) per unit t, `h - z = A s² + B s + C`,
-/// `s = t - from`.
-///
-/// From above the patch (C < 0) the first root in `s ≥ 0` is, in a form without cancellation
-/// for either sign of B (the textbook `(−B ± √disc)/2A` loses the root of near-vertical rays,
-/// where A is tiny: relief's cone tests caught rays passing 12 texels through the surface):
-/// - B ≥ 0: `−2C / (B + √disc)` (the smaller of two positive roots when A < 0, the one
-///   positive root when A > 0, the linear root −C/B when A = 0);
-/// - B < 0: `(√disc − B) / 2A`, a root ≥ 0 only when A > 0 (the one positive root; with
-///   A ≤ 0 both roots are negative, or the quotient is negative or −∞).
-///
-/// One division and no second root to order; `B² − 4AC` is written `B² + (2A)(−2C)`, with
-/// the two products the root needs. The root counts where `from + root ≤ to`, the point the
-/// march then stands on.
-pub(super) fn patch_meet<'a>(
+/// The ray over a cell's bilinear patch from `from`: along the ray the patch height is
+/// quadratic in t. With the corner heights h00, h10, h01, h11 and the fractions (fx, fy)
+/// moving at (ax, ay) per unit t, `h − z = A s² + B s + C`, `s = t − from`.
+pub(super) struct Patch<'a> {
+    a: Val<'a, f32>,
+    b: Val<'a, f32>,
+    /// `h − z` at `from`: negative where the ray is above the patch.
+    c: Val<'a, f32>,
+}
+
+impl<'a> Patch<'a> {
+    /// The quadratic of the ray from `from` over `cell` (corner heights `corners` in gather
+    /// order).
+    pub(super) fn of(
+        ray: &Ray<'a>,
+        g: &Grid<'a>,
+        cell: Val<'a, Vec2>,
+        corners: Val<'a, Vec4>,
+        from: Val<'a, f32>,
+    ) -> Patch<'a> {
+        let f = fraction(g, cell, from);
+        let z = 1.0 + ray.dir.z() * from;
+        let (h01, h11, h10, h00) = (corners.x(), corners.y(), corners.z(), corners.w());
+        let a = g.speed;
+        let (dx, dy) = (h10 - h00, h01 - h00);
+        let k = h11 - h10 - dy;
+        Patch {
+            a: k * g.speed_xy,
+            b: dx * a.x() + dy * a.y() + k * (f.x() * a.y() + f.y() * a.x()) - ray.dir.z(),
+            c: h00 + dx * f.x() + dy * f.y() + k * (f.x() * f.y()) - z,
+        }
+    }
+
+    /// Whether the ray meets the patch in `[from, from + span]`, without a root: from above
+    /// the patch (C < 0, the march's invariant; C ≥ 0 is a hit at `from`), it is under or on
+    /// the patch at the end (`g(span) ≥ 0`, g = h − z), or it rises to the patch inside: g
+    /// rising at `from` (B > 0) and falling at the end (`g′(span) < 0`, so g is concave with
+    /// its maximum inside) and that maximum at least 0 (`B² − 4AC ≥ 0`, for A < 0). If g is
+    /// negative at both ends and the maximum is not inside, g is negative all through.
+    ///
+    /// Written as one compare, `max(C, g(span), min(B, −g′(span), B² − 4AC)) ≥ 0` (AMD's
+    /// `max3`/`min3`): where B = 0 or `g′(span)` = 0 with g negative at both ends, the maximum
+    /// is at an end and `B² − 4AC` is negative, so the inner term's `≥ 0` in place of `> 0`
+    /// changes nothing. Written with `|` and `&` the compiler branched around the inner test.
+    pub(super) fn meets_within(&self, span: Val<'a, f32>) -> Val<'a, bool> {
+        let (a, b, c) = (self.a, self.b, self.c);
+        // Horner: `u = A·span + B`, `g(span) = u·span + C`, `g′(span) = 2A·span + B = u + A·span`.
+        let u = a.mul_add(span, b);
+        let at_end = u.mul_add(span, c);
+        let slope_end = a.mul_add(span, u);
+        let disc = b * b - 4.0 * a * c;
+        let rises_inside = b.min(-slope_end).min(disc);
+        c.max(at_end).max(rises_inside).ge(0.0)
+    }
+
+    /// The first root in `s ≥ 0` from above the patch (C < 0), in a form without cancellation
+    /// for either sign of B (the textbook `(−B ± √disc)/2A` loses the root of near-vertical
+    /// rays, where A is tiny: relief's cone tests caught rays passing 12 texels through the
+    /// surface), with the discriminant `B² − 4AC`:
+    /// - B ≥ 0: `−2C / (B + √disc)` (the smaller of two positive roots when A < 0, the one
+    ///   positive root when A > 0, the linear root −C/B when A = 0);
+    /// - B < 0: `(√disc − B) / 2A`, a root ≥ 0 only when A > 0 (the one positive root; with
+    ///   A ≤ 0 both roots are negative, or the quotient is negative or −∞).
+    ///
+    /// One division and no second root to order; `B² − 4AC` is written `B² + (2A)(−2C)`, with
+    /// the two products the root needs. Where the discriminant is negative the root is taken
+    /// at `disc = 0` (the vertex, for B ≥ 0).
+    fn first_root(&self, s: &'a FnBuilder<'a>) -> (Val<'a, f32>, Val<'a, f32>) {
+        let (minus_2c, two_a) = (-2.0 * self.c, 2.0 * self.a);
+        let big_b = self.b;
+        let disc = big_b * big_b + two_a * minus_2c;
+        let root_disc = disc.max(0.0).sqrt();
+        let up = big_b.ge(0.0);
+        let root = s.select(up, minus_2c, root_disc - big_b) / s.select(up, big_b + root_disc, two_a);
+        (root, disc)
+    }
+}
+
+/// The first hit in the cell `cell` that a march found, by [`Patch::meets_within`], to hold
+/// the ray's first hit between `from` and `to` (call once, after the loop): the patch's first
+/// root ([`Patch::first_root`]), kept within `[from, to]` (rounding can put the root a little
+/// outside where the decision was made at the edge: at `to`, or at the vertex of a ray that
+/// only touches the patch), and `from` itself where the ray is already under the patch.
+pub(super) fn hit_in<'a>(
     s: &'a FnBuilder<'a>,
     ray: &Ray<'a>,
     g: &Grid<'a>,
     cell: Val<'a, Vec2>,
-    corners: Val<'a, Vec4>,
     from: Val<'a, f32>,
     to: Val<'a, f32>,
-) -> PatchMeet<'a> {
-    let f = fraction(g, cell, from);
-    let z = 1.0 + ray.dir.z() * from;
-    let (h01, h11, h10, h00) = (corners.x(), corners.y(), corners.z(), corners.w());
-    let a = g.speed;
-    let (dx, dy) = (h10 - h00, h01 - h00);
-    let k = h11 - h10 - dy;
-    let big_a = k * g.speed_xy;
-    let big_b = dx * a.x() + dy * a.y() + k * (f.x() * a.y() + f.y() * a.x()) - ray.dir.z();
-    let big_c = h00 + dx * f.x() + dy * f.y() + k * (f.x() * f.y()) - z;
-    let (minus_2c, two_a) = (-2.0 * big_c, 2.0 * big_a);
-    let disc = big_b * big_b + two_a * minus_2c;
-    let root_disc = disc.max(0.0).sqrt();
-    let up = big_b.ge(0.0);
-    let root = s.select(up, minus_2c, root_disc - big_b) / s.select(up, big_b + root_disc, two_a);
-    let at = from + root;
-    let meets = disc.ge(0.0) & root.ge(0.0) & at.le(to);
-    // Already under the patch at `from` (C ≥ 0): the hit is there.
-    let under = big_c.ge(0.0);
-    PatchMeet { t: s.select(under, from, s.select(meets, at, to)), hit: under | meets }
-}
-
-/// What [`patch_meet`] found: the t the ray goes to, and whether it is a hit on the patch.
-pub(super) struct PatchMeet<'a> {
-    /// The first hit in `[from, to]`, else `to`.
-    pub t: Val<'a, f32>,
-    /// Whether `t` is a hit.
-    pub hit: Val<'a, bool>,
+) -> Val<'a, f32> {
+    let corners = s.height_gather(cell.mul_add(g.inv_size, g.inv_size)).named("hit_corners");
+    let q = Patch::of(ray, g, cell, corners, from);
+    let (root, _) = q.first_root(s);
+    let at = (from + root.max(0.0)).min(to);
+    s.select(q.c.ge(0.0), from, at)
 }
 
 /// A method's step in a cell march: from the ray point `p` in cell `c`, how far (in t) the
@@ -365,10 +387,15 @@ impl<'a, F: Fn(&'a FnBuilder<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32>> Cel
 /// 1. stop if the search is over;
 /// 2. find the cell of the ray point at t, where the ray leaves it and how far the method's
 ///    cone lets it advance;
-/// 3. advance: by the cone step where it leaves the cell, else to the cell's patch's first
-///    hit or to the cell's exit ([`step_or_meet`]: what the safe form adds so that a pass
-///    never stalls and never passes the surface between texel centres);
-/// 4. the search is over at a hit on the patch, or on the floor (no height is below 0).
+/// 3. advance by the cone step where it leaves the cell; else the cell's patch decides
+///    whether it holds the first hit ([`Cell::holds_hit`]: the coefficients of the ray's
+///    quadratic over the patch and a few compares, no root): if it does, the search is over
+///    in this cell, else the ray moves on to the cell's exit. This is what the safe form adds
+///    so that a pass never stalls and never passes the surface between texel centres;
+/// 4. the search is also over on the floor (no height is below 0).
+///
+/// After the loop, a ray whose search ended in a cell meets that cell's patch exactly, once
+/// ([`hit_in`]): the loop's passes carry no square root and no division for the patch.
 ///
 /// Returns the bracket `[hit, hit]`, or, out of steps, the point reached (above the surface
 /// everywhere before it).
@@ -382,21 +409,69 @@ pub(super) fn safe_march<'a>(
     step: impl CellStep<'a>,
 ) -> Bracket<'a> {
     let g = Grid::of(s, ray, cells);
+    // A pass that finds its cell to hold the first hit stores `−t` ([`Sentinel`]).
     let t = s.var("t", 0.0);
-    let found = s.var("found", false);
+    let over = Sentinel::of(&g);
     s.repeat(steps, |l| {
-        // 1. Over?
-        l.break_if(found.get());
+        // 1. Over: the floor reached, or the cell of the first hit found.
+        l.break_if(over.ended(t.get()));
         // 2. The cell, its exit, and the cone step.
         let c = cell_at(g, t.get());
         let cone = t.get() + step(l, ray.at(t), &c);
-        // 3. Advance: the cone step, or the patch's answer.
-        let patch_hit = step_or_meet(l, ray, &c, t, cone);
-        // 4. A hit on the patch or the floor ends the search.
-        found.set(patch_hit | t.ge(g.t_max));
+        // 3. Advance by the cone step, or the patch decides.
+        l.if_else(
+            cone.ge(c.exit),
+            |_| t.set(cone),
+            |l| {
+                let holds = c.holds_hit(l, ray, t.get());
+                t.set(l.select(holds, -t.get(), c.exit));
+            },
+        );
     });
-    let end = t.get().min(g.t_max);
-    Bracket::searched(end, end, found.get())
+    let (end, in_cell) = over.solve(s, ray, t.get());
+    Bracket::searched(end, end, in_cell | t.ge(g.t_max))
+}
+
+/// How a cell march marks, in its own `t`, that a pass found its cell to hold the first hit:
+/// `t` becomes `−t` (exact, and `−0` where t = 0). The loop then tests one thing, whether the
+/// bits of t as an unsigned integer reach those of the floor's t: floats ≥ +0 order as their
+/// bits, and a float with its sign bit set is above them all. So the floor and a found cell
+/// end the loop by one compare, and no flag is carried from pass to pass (AMD's compiler
+/// keeps a flag as a lane mask and merges it at every exit of the loop).
+#[derive(Clone, Copy)]
+pub(super) struct Sentinel<'a> {
+    grid: Grid<'a>,
+    /// The bits of the floor's t.
+    floor_bits: Val<'a, u32>,
+}
+
+impl<'a> Sentinel<'a> {
+    /// The sentinel of a march over `g` (call before the loop).
+    pub(super) fn of(g: &Grid<'a>) -> Sentinel<'a> {
+        Sentinel { grid: *g, floor_bits: g.t_max.bits().named("floor_bits") }
+    }
+
+    /// Whether the march is over at `t`: the floor reached (or a NaN), or a cell found.
+    pub(super) fn ended(&self, t: Val<'a, f32>) -> Val<'a, bool> {
+        t.bits().ge(self.floor_bits)
+    }
+
+    /// After the loop: where the march ended, the first hit solved exactly in the cell found
+    /// ([`hit_in`], the cell found again from where the ray entered it, `−t`, with the loop's
+    /// own [`cell_at`], so that the loop carries no cell from pass to pass), else `t` at most
+    /// the floor's; and whether a cell was found. (Two copies of `cell_at` rounded apart could
+    /// differ only for an entry within an ulp of a cell side; the answer is then the entry,
+    /// never a point past the hit: `docs/notes/safe-step.md`, round 9.)
+    pub(super) fn solve(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, t: Val<'a, f32>) -> (Val<'a, f32>, Val<'a, bool>) {
+        let in_cell = t.bits().ge(0x8000_0000u32).named("in_cell");
+        let end = s.var("end", t.min(self.grid.t_max));
+        s.if_(in_cell, |s| {
+            let from = -t;
+            let c = cell_at(self.grid, from);
+            end.set(hit_in(s, ray, &self.grid, c.cell, from, c.exit));
+        });
+        (end.get(), in_cell)
+    }
 }
 
 /// The march of the `form=safe` relaxed cone methods (`step(p, cell)` is a relaxed cone step:
@@ -404,12 +479,16 @@ pub(super) fn safe_march<'a>(
 /// relaxed cone's guarantee), one pass per point visited:
 ///
 /// 1. stop if the search is over;
-/// 2. find the cell of the ray point at t; if the point is at or below the cell's patch (or
-///    on the floor), the search is over: the first crossing lies in `[previous point, t]`;
+/// 2. find the cell of the ray point at t; if the point is at or below the cell's patch, the
+///    search is over: the first crossing lies in `[previous point, t]` (the previous point is
+///    then stored negated, so that no flag is carried from pass to pass: see [`Sentinel`]);
 /// 3. take the relaxed cone step from t, remembering t as the previous point;
-/// 4. where that step would stay in the cell, the patch decides instead ([`step_or_meet`], as
-///    in [`safe_march`]): at a hit on the patch the search is over with the bracket
-///    `[hit, hit]`, else the ray moves on to the cell's exit.
+/// 4. where that step would stay in the cell, the patch decides instead, as in
+///    [`safe_march`]: if the cell holds the first hit the search is over, else the ray moves
+///    on to the cell's exit.
+///
+/// After the loop, a ray whose search ended in a cell meets that cell's patch exactly
+/// ([`Sentinel::solve`]), with the bracket `[hit, hit]`.
 ///
 /// `cells` is the cell map `step` reads ([`Grid::of`]).
 pub(super) fn relaxed_march<'a>(
@@ -422,24 +501,31 @@ pub(super) fn relaxed_march<'a>(
     let g = Grid::of(s, ray, Some(cells));
     let t = s.var("t", 0.0);
     let t_prev = s.var("t_prev", 0.0);
-    let found = s.var("found", false);
+    let over = Sentinel::of(&g);
     s.repeat(steps, |l| {
-        // 1. Over?
-        l.break_if(found.get());
-        // 2. The cell; under its patch (or at the floor), the bracket is found.
+        // 1. Over: the floor reached, or the cell of the first hit found.
+        l.break_if(over.ended(t.get()));
+        // 2. The cell; under its patch, the bracket is found.
         let c = cell_at(g, t.get());
         let p = ray.at(t);
-        found.set(c.height(l, t.get()).ge(p.z()) | t.ge(g.t_max));
-        l.break_if(found.get());
+        let under = c.height(l, t.get()).ge(p.z());
+        t_prev.set(l.select(under, -t_prev.get(), t_prev.get()));
+        l.break_if(under);
         // 3. The relaxed cone step.
         let cone = t.get() + step(l, p, &c);
         t_prev.set(t);
-        // 4. Or the patch's answer where the step stays in the cell.
-        let hit = step_or_meet(l, ray, &c, t, cone);
-        l.if_(hit, |_| {
-            t_prev.set(t);
-            found.set(true);
-        });
+        // 4. Or the patch decides where the step stays in the cell.
+        l.if_else(
+            cone.ge(c.exit),
+            |_| t.set(cone),
+            |l| {
+                let holds = c.holds_hit(l, ray, t.get());
+                t.set(l.select(holds, -t.get(), c.exit));
+            },
+        );
     });
-    Bracket::searched(t_prev.get(), t.get().min(g.t_max), found.get())
+    let (end, in_cell) = over.solve(s, ray, t.get());
+    let under = t_prev.get().bits().ge(0x8000_0000u32);
+    let above = s.select(in_cell, end, t_prev.get().abs());
+    Bracket::searched(above, end, in_cell | under | t.ge(g.t_max))
 }

@@ -8,7 +8,7 @@
 //! descends; in a single cell it meets the bilinear patch exactly (a quadratic in t).
 //! Each pass through the loop is one node visit.
 
-use super::cell::{patch_meet, Grid};
+use super::cell::{Grid, Patch, Sentinel};
 use crate::ir::{FnBuilder, Val, Vec2};
 use crate::spec::{MapReq, MethodDef, ParamDef};
 use crate::stage::{Bracket, Ray, StageFn};
@@ -22,8 +22,10 @@ use crate::stage::{Bracket, Ray, StageFn};
 /// 2. if the ray stays above the maximum through the node, skip the node, and climb a level
 ///    where it also leaves the node's parent;
 /// 3. else, above the finest level, descend into the node at `down`;
-/// 4. else (one cell) meet the cell's bilinear patch between `down` and `exit`: the hit, or
-///    on to the exit.
+/// 4. else (one cell) decide whether the cell's bilinear patch holds the first hit between
+///    `down` and `exit` (the search is then over), else on to the exit.
+///
+/// After the loop, the hit in the cell found is solved exactly, once.
 pub(crate) fn maxmip<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
     // Cell coordinates: cell i spans X in [i, i + 1), X = u·N - 1/2; the per-ray terms once,
     // before the loop (see [`Grid`]).
@@ -37,9 +39,11 @@ pub(crate) fn maxmip<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bra
     let level = s.var("level", top_level);
     // `2^level`, halved and doubled with the level (exact), not an `exp2` a pass.
     let span = s.var("span", top.exp2());
-    let hit = s.var("hit", false);
+    // A pass that finds its cell to hold the first hit stores `−t` ([`Sentinel`]), with t where
+    // the ray came down into the cell.
+    let over = Sentinel::of(&g);
     s.repeat(steps, |l| {
-        l.break_if(hit | t.ge(g.t_max));
+        l.break_if(over.ended(t.get()));
         // 1. The node, its maximum, and where the ray leaves it and comes down to it.
         let x = g.x0 + g.speed * t;
         let node = ((x + g.ahead) / span).floor();
@@ -69,18 +73,20 @@ pub(crate) fn maxmip<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bra
             span.set(span * 0.5);
             l.continue_();
         });
-        // 4. One cell: its bilinear patch, exactly, from `down` to `exit`.
+        // 4. One cell: whether its bilinear patch holds the first hit between `down` and
+        //    `exit` (the search is then over, the hit solved once after the loop), else on to
+        //    the exit.
         let cell = (g.x0 + g.speed * down + g.ahead).floor();
         // The four corners in one gather at the cell's centre: (i, j+1), (i+1, j+1), (i+1, j), (i, j).
         let corners = s.height_gather(cell.mul_add(g.inv_size, g.inv_size));
-        let meet = patch_meet(s, ray, &g, cell, corners, down, exit);
-        hit.set(meet.hit);
-        t.set(meet.t);
+        let holds = Patch::of(ray, &g, cell, corners, down).meets_within(exit - down);
+        t.set(s.select(holds, -down, exit));
     });
-    // Reaching the floor is a hit (every height is at least 0). Out of steps, the ray is
-    // known to be above the surface up to where the traversal stopped.
-    let end = t.get().min(g.t_max);
-    Bracket::searched(end, end, hit | t.ge(g.t_max))
+    // The first hit in the cell found, exactly, once. Reaching the floor is a hit (every
+    // height is at least 0). Out of steps, the ray is known to be above the surface up to
+    // where the traversal stopped.
+    let (end, in_cell) = over.solve(s, ray, t.get());
+    Bracket::searched(end, end, in_cell | t.ge(g.t_max))
 }
 
 /// Whether a ray leaving `node` (whole node coordinates at its level) through its side along x

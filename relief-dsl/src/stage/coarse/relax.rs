@@ -14,7 +14,7 @@
 //! is the plain safe one. Nothing the march reports is past the first hit: it ends at a
 //! proven point (the patch's hit, the floor, or, out of steps, `proven`).
 
-use super::cell::{cell_at, CellStep, Grid};
+use super::cell::{cell_at, CellStep, Grid, Sentinel};
 use crate::ir::{FnBuilder, Val};
 use crate::spec::{MapReq, MethodDef, ParamDef};
 use crate::stage::{Bracket, Ray, StageFn};
@@ -51,8 +51,11 @@ fn omega<'a>(
 ///    to the proven point and start again from there ([`omega`] is then 1);
 /// 4. else the ray is above the surface to `t + reach`: where that leaves the cell, it is the
 ///    new proven point and the next probe is `ω·reach` ahead; where it stays in the cell, the
-///    patch decides exactly, as in the safe march: its first hit, or the cell's exit;
-/// 5. the search is over at a hit on the patch, or with the floor proven reached.
+///    patch decides, as in the safe march, whether the cell holds the first hit (the search
+///    is then over, the cell's hit solved once after the loop), else the cell's exit is the
+///    new proven point;
+/// 5. the search is over in the cell of the first hit (`proven` then holds `−t`,
+///    [`Sentinel`]), or with the floor proven reached.
 ///
 /// Returns `[proven, proven]`: the hit, or out of steps the proven point.
 pub(super) fn relaxing_march<'a>(
@@ -67,10 +70,11 @@ pub(super) fn relaxing_march<'a>(
     let proven = s.var("proven", 0.0);
     let last_t = s.var("last_t", 0.0);
     let last_reach = s.var("last_reach", 0.0);
-    let found = s.var("found", false);
+    // A pass that finds its cell to hold the first hit stores `−t` in `proven` ([`Sentinel`]).
+    let over = Sentinel::of(&g);
     s.repeat(steps, |l| {
-        // 1. Over?
-        l.break_if(found.get());
+        // 1. Over: the floor proven reached, or the cell of the first hit found.
+        l.break_if(over.ended(proven.get()));
         // 2. The probe's cell and its step.
         let c = cell_at(g, t.get());
         let reach = step(l, ray.at(t), &c).named("reach");
@@ -84,7 +88,6 @@ pub(super) fn relaxing_march<'a>(
         // 4. Above the surface to t + reach: relax on where it leaves the cell, else the patch.
         let cone = t + reach;
         let w = omega(l, t.get(), reach, last_t.get(), last_reach.get());
-        let hit = l.var("patch_hit", false);
         l.if_else(
             cone.ge(c.exit),
             |_| {
@@ -94,17 +97,16 @@ pub(super) fn relaxing_march<'a>(
                 t.set((t + w * reach).min(g.t_max));
             },
             |l| {
-                let meet = c.patch_meet(l, ray, t.get());
-                hit.set(meet.hit);
-                proven.set(meet.t);
+                let holds = c.holds_hit(l, ray, t.get());
+                proven.set(l.select(holds, -t.get(), c.exit));
                 t.set(proven);
                 last_t.set(proven);
             },
         );
-        // 5. A hit on the patch, or the floor proven reached.
-        found.set(hit | proven.ge(g.t_max));
     });
-    Bracket::searched(proven.get(), proven.get(), found.get())
+    // The first hit in the cell found, exactly, once.
+    let (end, in_cell) = over.solve(s, ray, proven.get());
+    Bracket::searched(end, end, in_cell | proven.ge(g.t_max))
 }
 
 /// Cone step mapping on the cell cones (the safe `csm`) with exact step relaxation: see
