@@ -352,6 +352,10 @@ fn ray_triangle<'a>(
     (t, ok, s.vec2(1.0 - b1 - b2, b1))
 }
 
+/// A root of [`ray_bilinear_wall`]: the crossing's t along the ray, whether it lies on the
+/// wall, its σ along the edge and its layer w.
+type WallRoot<'a> = (Val<'a, f32>, Val<'a, bool>, Val<'a, f32>, Val<'a, f32>);
+
 /// The crossings of the ray `t·v` (from the origin, v unit) with a prism's side wall: the
 /// ruled surface `W(σ, w) = F_i + σ(F_j − F_i) + w·D_i + σw·(D_j − D_i)`, σ along the edge
 /// from corner i to j and w the layer, `F` the floor corners and `D = depth·N`. This is the
@@ -372,7 +376,7 @@ fn ray_bilinear_wall<'a>(
     fj: Val<'a, Vec3>,
     di: Val<'a, Vec3>,
     dj: Val<'a, Vec3>,
-) -> [(Val<'a, f32>, Val<'a, bool>, Val<'a, f32>, Val<'a, f32>); 2] {
+) -> [WallRoot<'a>; 2] {
     let (e, dd) = (fj - fi, dj - di);
     let on = |x: Val<'a, Vec3>| s.vec2(n1.dot(x), n2.dot(x));
     let (a, b, c, f) = (on(fi), on(e), on(di), on(dd));
