@@ -49,8 +49,8 @@
 //! relief where the chord does not, or the reverse) is lost or gained before the polish, which
 //! only moves the chord's hit onto S nearby. The rasterized faces are flat (two triangles per
 //! bilinear wall), so a ray through the exact prism may meet none of its drawn faces (and no
-//! fragment runs) where a wall twists; and every face of a prism runs the same trace (no face
-//! is culled).
+//! fragment runs) where a wall twists. Every face of a prism runs the same trace, so a runtime
+//! may cull the back faces (the prisms are wound outward; relief's runtime culls them).
 
 use bytemuck::{Pod, Zeroable};
 use naga::{Binding, BuiltIn, Module, ShaderStage, TypeInner};

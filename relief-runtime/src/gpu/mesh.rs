@@ -113,6 +113,7 @@ fn renderer(
             topology: wgpu::PrimitiveTopology::TriangleList,
             depth: Some(wgpu::CompareFunction::Less),
             format,
+            cull: (prog.curved == Curved::Prism).then_some(wgpu::Face::Back),
         },
     )?;
     // Object space is world space: the scene's camera, light and depth are the mesh's Params.
