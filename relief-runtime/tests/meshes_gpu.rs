@@ -525,6 +525,7 @@ fn the_prism_is_traced_along_the_true_ray_at_a_grazing_view() {
         let n: DVec3 = (0..3).map(|k| normals[k].as_dvec3() * b[k]).sum();
         away += (d.dot(n) >= 0.0) as usize;
     }
+    println!("{checked} pixels see the triangle, {away} of them face away; t off by at most {worst:.2e} depths");
     assert!(checked >= 100, "only {checked} pixels see the triangle ({away} face away, t off by {worst})");
     assert!(away >= 20, "only {away} rays face away from the interpolated normal (of {checked})");
     assert!(worst <= 1e-3, "t off by {worst} depths");
