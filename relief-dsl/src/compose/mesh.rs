@@ -1036,6 +1036,20 @@ mod tests {
         }
     }
 
+    /// Only `prism` reads the triangle's corners (members 7‥12, passed flat): the other modes'
+    /// vertex entries declare members 0‥6 as before, and their modules carry no corner.
+    #[test]
+    fn only_prism_reads_the_triangles_corners() {
+        for mode in Curved::ALL {
+            let text = wgsl(&format!("linear(32)+binary(5)+curved={mode}")).unwrap();
+            let prism = mode == Curved::Prism;
+            let vs = text.split("fn vs_mesh(").nth(1).and_then(|f| f.split(") ->").next()).unwrap();
+            assert_eq!(vs.matches("@location(").count(), vertex_members(mode), "{mode}");
+            assert_eq!(vertex_members(mode), if prism { 13 } else { 7 }, "{mode}");
+            assert_eq!(text.contains("prism_n2") && text.contains("@interpolate(flat)"), prism, "{mode}");
+        }
+    }
+
     #[test]
     fn options_of_the_flat_tile_are_refused_by_name() {
         for (text, names) in [
