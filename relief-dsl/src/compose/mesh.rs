@@ -35,7 +35,7 @@
 //!   triangle's corners (points, normals, uvs). Each fragment intersects the view ray with the
 //!   prism's exact volume, the map `X(b, w) = Σ bᵢ (Pᵢ − depth·(1 − w)·Nᵢ)` (N not
 //!   renormalized, as S): its flat top and floor and its three bilinear side walls
-//!   ([`ray_bilinear_wall`]); the first crossing is the entry, the last the exit, each with
+//!   (`ray_bilinear_wall`); the first crossing is the entry, the last the exit, each with
 //!   its exact (u, v, w), so every face of a prism computes the same answer (`prism_chord`).
 //!   No crossing: discarded (a neighbour's prism owns the ray). The stages search the straight
 //!   texture-space chord from the entry to the exit (over heights lifted by an affine function
