@@ -60,16 +60,20 @@ fn mesh_modules_pass_spirv_val_and_glslang() {
 }
 
 /// The arguments of `relief_trace` after the first, in a language whose 2-, 3- and
-/// 4-vectors are `v2`, `v3`, `v4`, from the user shader's inputs `n`, `t`, `q` (curvature
-/// or the prism's corners as a vec4 and a vec2), `s` (uv scale) and `view`.
+/// 4-vectors are `v2`, `v3`, `v4`, from the user shader's inputs `n`, `t`, `s` (uv scale) and
+/// `view`, and constants for the mode's own (the curvature, or the prism's corner uvs, points
+/// and normals).
 fn trace_call(p: &Pipeline, [v2, v3, v4]: [&str; 3], first: &str) -> String {
     let curved = p.curved.expect("a mesh pipeline").to_string();
     let own = match curved.as_str() {
         "none" => String::new(),
         "quadric" => format!("{v2}(-0.2, -0.1), "),
-        _ => format!("{v4}(0.0, 0.0, 1.0, 0.0), {v2}(0.0, 1.0), "),
+        // The corner uvs, the fragment's point, the corners' points and normals.
+        _ => format!(
+            "{v4}(0.0, 0.0, 1.0, 0.0), {v2}(0.0, 1.0), view, {v3}(0.0, 0.0, 0.0), {v3}(1.0, 0.0, 0.0), \
+             {v3}(0.0, 1.0, 0.0), n, n, {v3}(0.0, 0.0, 1.0), "
+        ),
     };
-    let _ = v3;
     format!("relief_trace({first}, normalize(view), normalize(n), t, s, {own}0.08)")
 }
 

@@ -89,9 +89,22 @@ fn export_writes_the_mesh_as_relief_draws_it_and_the_gltf_crate_reads_it_back() 
         let expect_members: &[&str] = match curved {
             Curved::None => &["position.xyz", "normal.xyz", "tangent", "uv.xy", "uv.zw"],
             Curved::Quadric => &["position.xyz", "normal.xyz", "tangent", "uv.xy", "uv.zw", "curvature.xy"],
-            Curved::Prism => {
-                &["position.xyz", "position.w", "normal.xyz", "tangent", "uv.xy", "uv.zw", "prism_a", "prism_b.xy"]
-            }
+            Curved::Prism => &[
+                "position.xyz",
+                "position.w",
+                "normal.xyz",
+                "tangent",
+                "uv.xy",
+                "uv.zw",
+                "prism_a",
+                "prism_b.xy",
+                "prism_p0.xyz",
+                "prism_p1.xyz",
+                "prism_p2.xyz",
+                "prism_n0.xyz",
+                "prism_n1.xyz",
+                "prism_n2.xyz",
+            ],
         };
         let mut named: Vec<&str> = members.keys().map(String::as_str).collect();
         named.sort();
@@ -119,6 +132,12 @@ fn export_writes_the_mesh_as_relief_draws_it_and_the_gltf_crate_reads_it_back() 
                 "curvature.xy" => (|v| v.curvature, 0, 2),
                 "prism_a" => (|v| v.prism_a, 0, 4),
                 "prism_b.xy" => (|v| v.prism_b, 0, 2),
+                "prism_p0.xyz" => (|v| v.prism_p0, 0, 3),
+                "prism_p1.xyz" => (|v| v.prism_p1, 0, 3),
+                "prism_p2.xyz" => (|v| v.prism_p2, 0, 3),
+                "prism_n0.xyz" => (|v| v.prism_n0, 0, 3),
+                "prism_n1.xyz" => (|v| v.prism_n1, 0, 3),
+                "prism_n2.xyz" => (|v| v.prism_n2, 0, 3),
                 other => panic!("relief.json maps an unknown member {other}"),
             };
             let got: Vec<Vec<f32>> = match n {

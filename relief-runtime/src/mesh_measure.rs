@@ -232,36 +232,29 @@ pub fn measure_modes(
 /// Why `curved=prism` left out a pixel the reference hits (issue 38's separation of its
 /// missing pixels; docs/notes/meshes.md). Decided on the CPU, in f64, by
 /// [`prism_miss_causes`], from the prism the host uploads (`mesh::vertices`) and the
-/// fragment's trace as the shader writes it (`relief-dsl`'s `compose/mesh.rs`).
+/// fragment's trace as the shader writes it (`relief-dsl`'s `compose/mesh.rs`: the exact entry
+/// and exit, the chord between them, the search on it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum PrismMiss {
     /// (a) The pixel's ray meets no face of the hit triangle's prism as it is rasterized (two
     /// planar triangles per side wall): the ray passes through the exact prism (the reference's
     /// hit is in it) but outside the drawn one, so no fragment of that prism runs.
     NoFace,
-    /// (b) A face is met, but the fragment's straight texture-space ray, from its entry on,
-    /// meets the height field only after its exit from the planar prism (or not at all): the
-    /// prism's texture-space map (the fragment's frame, the planar walls) loses the hit.
+    /// (b) A face is met, but the chord from the exact entry to the exact exit (straight in
+    /// texture space, where the view ray bends) does not meet the height field before its exit
+    /// (or the ray does not cross the exact prism twice): the chord loses the hit.
     AfterExit,
-    /// (c) The fragment's straight ray crosses the height field between its entry and its exit,
-    /// and the search (`linear` then `binary` from the entry, emulated) does not end there:
-    /// its steps skip the crossing.
+    /// (c) The chord crosses the height field before its exit, and the search (`linear` then
+    /// `binary` on the chord, emulated) does not end there: its steps skip the crossing.
     Search,
-    /// (b) Every face met is a fragment whose view ray does not descend along the fragment's
-    /// normal (`v·N ≥ 0`, N the interpolated normal): the shader takes it for a ray entering
-    /// from below and discards it. These are rays that enter the shell through a side wall near
-    /// the silhouette, level with or rising against the fragment's tangent plane, which the
-    /// fragment's frame (a descending ray in texture space) cannot express.
-    FacingAway,
-    /// (d) The CPU's emulation of one of the prism's fragments draws the pixel: the GPU's f32
+    /// (d) The CPU's emulation of the prism's fragment draws the pixel: the GPU's f32
     /// arithmetic or its rasterization rules decided otherwise.
     Other,
 }
 
 impl PrismMiss {
     /// Every cause, in the order the note's table gives them.
-    pub const ALL: [PrismMiss; 5] =
-        [PrismMiss::NoFace, PrismMiss::AfterExit, PrismMiss::FacingAway, PrismMiss::Search, PrismMiss::Other];
+    pub const ALL: [PrismMiss; 4] = [PrismMiss::NoFace, PrismMiss::AfterExit, PrismMiss::Search, PrismMiss::Other];
 
     /// The cause's short name (`relief scene measure --causes`).
     pub fn name(self) -> &'static str {
@@ -269,27 +262,150 @@ impl PrismMiss {
             PrismMiss::NoFace => "no-face",
             PrismMiss::AfterExit => "after-exit",
             PrismMiss::Search => "search",
-            PrismMiss::FacingAway => "facing-away",
             PrismMiss::Other => "other",
         }
     }
 }
 
-/// The slack in t of the shader's prism test (`PRISM_SLACK` in `compose/mesh.rs`).
+/// The shader's constants of the prism's trace (`compose/mesh.rs`): the slack past the exit in
+/// the search's t (`PRISM_SLACK`), the slack of a crossing outside its face
+/// (`PRISM_FACE_SLACK`), the chord length under which it is searched untilted
+/// (`PRISM_SHORT_CHORD`), how far above the lifted field a hit may lie (`PRISM_ABOVE_SLACK`)
+/// and the search's t at the exit.
 const PRISM_SLACK: f64 = 1e-4;
+const PRISM_FACE_SLACK: f64 = 1e-5;
+const PRISM_SHORT_CHORD: f64 = 1e-3;
+const PRISM_ABOVE_SLACK: f64 = 1.0 / 32.0;
+/// The search's t at the exit of a chord searched whole (`PRISM_CHORD_END`).
+const PRISM_CHORD_END: f64 = 15.0 / 16.0;
 
-/// The steps of the dense march that finds a fragment ray's first crossing (then refined by
-/// bisection): a crossing narrower than 1/4096 of the ray's t range can be missed by it.
+/// The steps of the dense march that finds the chord's first crossing (then refined by
+/// bisection): a crossing narrower than 1/4096 of the chord can be missed by it.
 const DENSE_STEPS: u32 = 4096;
 
-/// A prism fragment as the shader sees it, in f64: its texture-space ray, its entry, its exit
-/// from the planar prism and whether it enters from below.
-struct PrismFragment {
+/// A point where a ray crosses a prism's boundary: its distance `t` along the ray, the
+/// barycentrics of corners 0 and 1 and the layer w (1 the top, 0 the floor).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PrismCrossing {
+    /// The distance along the ray (in units of `|d|`).
+    pub t: f64,
+    /// b₀, b₁ (b₂ = 1 − b₀ − b₁).
+    pub b: DVec2,
+    /// The layer.
+    pub w: f64,
+}
+
+/// The first and the last crossing of the ray `o + t·d` with the prism of the triangle
+/// `p` (corner points), `n` (corner normals), `depth` deep: the volume
+/// `X(b, w) = Σ bᵢ (pᵢ − depth·(1 − w)·nᵢ)`, its top and floor flat triangles and its side
+/// walls bilinear patches, as `compose/mesh.rs`'s `prism_chord` intersects them (in f64,
+/// with its slacks); `None` where the ray crosses it fewer than twice. Any t, also negative.
+pub fn prism_crossings(
+    o: DVec3,
+    d: DVec3,
+    p: [DVec3; 3],
+    n: [DVec3; 3],
+    depth: f64,
+) -> Option<(PrismCrossing, PrismCrossing)> {
+    let mut all = Vec::new();
+    let floor = [0, 1, 2].map(|k| p[k] - n[k] * depth);
+    for (q, w) in [(p, 1.0), (floor, 0.0)] {
+        let (e1, e2) = (q[1] - q[0], q[2] - q[0]);
+        let pv = d.cross(e2);
+        let det = e1.dot(pv);
+        if det.abs() <= 1e-300 {
+            continue;
+        }
+        let s = o - q[0];
+        let (b1, qv) = (s.dot(pv) / det, s.cross(e1));
+        let b2 = d.dot(qv) / det;
+        if b1 >= -PRISM_FACE_SLACK && b2 >= -PRISM_FACE_SLACK && b1 + b2 <= 1.0 + PRISM_FACE_SLACK {
+            all.push(PrismCrossing { t: e2.dot(qv) / det, b: DVec2::new(1.0 - b1 - b2, b1), w });
+        }
+    }
+    // Each wall W(σ, w) = F_i + σ(F_j − F_i) + w·D_i + σw·(D_j − D_i) against the ray:
+    // W − o = t·d, three equations; with the two planes through the ray (normals ⊥ d) a
+    // quadratic in σ, as the shader solves it.
+    let dn = d.normalize();
+    let axis = if dn.x.abs() < 0.6 { DVec3::X } else { DVec3::Y };
+    let n1 = dn.cross(axis).normalize();
+    let n2 = dn.cross(n1);
+    for (i, j) in [(0usize, 1usize), (1, 2), (2, 0)] {
+        let (fi, e, di, dd) = (floor[i] - o, floor[j] - floor[i], n[i] * depth, (n[j] - n[i]) * depth);
+        let on = |x: DVec3| DVec2::new(n1.dot(x), n2.dot(x));
+        let (a, b, c, f) = (on(fi), on(e), on(di), on(dd));
+        let qa = b.x * f.y - b.y * f.x;
+        let qb = a.x * f.y + b.x * c.y - a.y * f.x - b.y * c.x;
+        let qc = a.x * c.y - a.y * c.x;
+        let disc = qb * qb - 4.0 * qa * qc;
+        if disc < 0.0 {
+            continue;
+        }
+        let q = -0.5 * (qb + qb.signum() * disc.sqrt());
+        let mut roots = Vec::new();
+        if qa != 0.0 {
+            roots.push(q / qa);
+        }
+        if q != 0.0 {
+            roots.push(qc / q);
+        }
+        for sigma in roots {
+            let (den, num) = (c + f * sigma, a + b * sigma);
+            let (dv, nv) = if den.x.abs() >= den.y.abs() { (den.x, num.x) } else { (den.y, num.y) };
+            if dv.abs() <= 1e-300 {
+                continue;
+            }
+            let w = -nv / dv;
+            let inside = |x: f64| (-PRISM_FACE_SLACK..=1.0 + PRISM_FACE_SLACK).contains(&x);
+            if !(inside(sigma) && inside(w)) {
+                continue;
+            }
+            let point = fi + e * sigma + di * w + dd * (sigma * w);
+            let mut bary = [0.0; 3];
+            bary[i] = 1.0 - sigma;
+            bary[j] = sigma;
+            all.push(PrismCrossing { t: point.dot(d) / d.length_squared(), b: DVec2::new(bary[0], bary[1]), w });
+        }
+    }
+    let first = all.iter().copied().min_by(|x, y| x.t.total_cmp(&y.t))?;
+    let last = all.iter().copied().max_by(|x, y| x.t.total_cmp(&y.t))?;
+    (first.t < last.t).then_some((first, last))
+}
+
+/// The prism's chord as the shader searches it: from the entry's uv at height 1, `dir.xy` the
+/// uv change per unit of the search's t, over heights lifted by `lift0 + slope·(uv − origin)`;
+/// the exit at the search's t = `k`.
+struct Chord {
     origin: DVec2,
-    dir: DVec3,
-    t_entry: f64,
-    exit: f64,
-    from_below: bool,
+    dir: DVec2,
+    lift0: f64,
+    slope: DVec2,
+    k: f64,
+}
+
+impl Chord {
+    /// The chord between the crossings `entry` and `exit` of the prism with corner uvs `uv`,
+    /// as `prism_chord` builds it; `None` where the shader discards it (a short chord that
+    /// does not descend).
+    fn new(entry: PrismCrossing, exit: PrismCrossing, uv: [DVec2; 3]) -> Option<Chord> {
+        let at = |c: PrismCrossing| uv[2] + (uv[0] - uv[2]) * c.b.x + (uv[1] - uv[2]) * c.b.y;
+        let (uv_in, uv_out) = (at(entry), at(exit));
+        let duv = uv_out - uv_in;
+        let r = entry.w - exit.w;
+        let long = duv.length_squared() >= PRISM_SHORT_CHORD * PRISM_SHORT_CHORD || r <= 1e-4;
+        if !long && r <= 0.0 {
+            return None;
+        }
+        let k = if long { PRISM_CHORD_END } else { r };
+        let slope = duv * (-(k - r) / duv.length_squared().max(1e-12));
+        Some(Chord { origin: uv_in, dir: duv / k, lift0: 1.0 - entry.w, slope, k })
+    }
+
+    /// Whether the search's point at t lies on or below the lifted height field.
+    fn below(&self, ms: &MeshScene, t: f64) -> bool {
+        let uv = self.origin + self.dir * t;
+        height_at(ms, uv) + self.lift0 + self.slope.dot(uv - self.origin) >= 1.0 - t
+    }
 }
 
 /// The scene's height map, bilinear between texel centres under its edge mode (the
@@ -301,138 +417,49 @@ fn height_at(ms: &MeshScene, uv: DVec2) -> f64 {
     crate::mesh::surface::Cell::new(map, ms.scene.edge, i, j).h(x, y)
 }
 
-/// The search `linear(steps)` then `binary(refine)` of a prism fragment, as the stages write
-/// it (`stage/coarse/linear.rs`, `stage/refine/binary.rs`) and the fragment runs it
-/// (`compose/mesh.rs`, `search`): from the entry, at height 1 over heights lifted by
-/// `t_entry`; the t it returns, on the ray from the virtual entry (`t_entry` added).
-fn emulate_linear_binary(ms: &MeshScene, f: &PrismFragment, steps: u32, refine: u32) -> f64 {
-    let below = |t: f64| {
-        let p = f.origin + f.dir.truncate() * (t + f.t_entry);
-        height_at(ms, p) + f.t_entry >= 1.0 + f.dir.z * t
-    };
+/// The search `linear(steps)` then `binary(refine)` on the chord, as the stages write it
+/// (`stage/coarse/linear.rs`, `stage/refine/binary.rs`), and whether the shader draws its
+/// result: not above the lifted field by more than its slack, not after the exit.
+fn emulate_linear_binary(ms: &MeshScene, c: &Chord, steps: u32, refine: u32) -> bool {
     let step = 1.0 / steps as f64;
     let mut t = 0.0;
     for _ in 0..steps {
-        if below(t) {
+        if c.below(ms, t) {
             break;
         }
         t += step;
     }
     let (above, bottom) = ((t - step).max(0.0), t);
-    if refine == 0 {
-        return bottom + f.t_entry;
-    }
-    let mut half = (bottom - above) / 2.0;
-    let mut t = bottom - half;
-    for _ in 0..refine {
-        let b = below(t);
-        half /= 2.0;
-        t += if b { -half } else { half };
-    }
-    t + f.t_entry
+    let t = if refine == 0 {
+        bottom
+    } else {
+        let mut half = (bottom - above) / 2.0;
+        let mut t = bottom - half;
+        for _ in 0..refine {
+            let b = c.below(ms, t);
+            half /= 2.0;
+            t += if b { -half } else { half };
+        }
+        t
+    };
+    let uv = c.origin + c.dir * t;
+    let lifted = height_at(ms, uv) + c.lift0 + c.slope.dot(uv - c.origin);
+    (1.0 - t) - lifted <= PRISM_ABOVE_SLACK && t <= c.k + PRISM_SLACK
 }
 
-/// The first t in [`from`, 1] where the fragment's straight texture-space ray meets the height
-/// field (`h ≥ z`), by a dense march (steps of 1/[`DENSE_STEPS`]) and bisection; 1 (the floor)
-/// at the latest.
-fn first_crossing(ms: &MeshScene, f: &PrismFragment, from: f64) -> f64 {
-    let below = |t: f64| {
-        let p = f.origin + f.dir.truncate() * t;
-        height_at(ms, p) >= 1.0 + f.dir.z * t
-    };
-    let from = from.clamp(0.0, 1.0);
-    let n = ((1.0 - from) * DENSE_STEPS as f64).ceil().max(1.0) as u32;
-    let mut prev = from;
-    for k in 0..=n {
-        let t = from + (1.0 - from) * k as f64 / n as f64;
-        if below(t) {
-            if k == 0 {
-                return from;
-            }
-            let (mut lo, mut hi) = (prev, t);
-            for _ in 0..40 {
-                let mid = 0.5 * (lo + hi);
-                if below(mid) {
-                    hi = mid;
-                } else {
-                    lo = mid;
-                }
-            }
-            return hi;
-        }
-        prev = t;
-    }
-    1.0
-}
-
-/// The fragment of the prism face `face` (three records) where the ray `o + s·d` meets it at
-/// barycentrics (b1, b2): the varyings interpolated (perspective-correct interpolation of an
-/// attribute affine over the face is its object-space barycentric mix) and the shader's ray,
-/// entry, exit and below test (`mesh_ray`, `prism_exit`, `covered` in `compose/mesh.rs`).
-fn prism_fragment(face: [&MeshVertex; 3], b: (f64, f64), eye: DVec3, depth: f64) -> PrismFragment {
-    let w = [1.0 - b.0 - b.1, b.0, b.1];
-    let mix = |get: &dyn Fn(&MeshVertex) -> [f32; 4]| {
-        let mut out = [0.0f64; 4];
-        for (wk, v) in w.iter().zip(face) {
-            for (o, x) in out.iter_mut().zip(get(v)) {
-                *o += wk * x as f64;
-            }
-        }
-        out
-    };
-    // The vertex entry's point: the layer-w vertex moved (1 − w)·depth along −N.
-    let point_of = |v: &MeshVertex| {
-        let p = v.position.map(|c| c as f64);
-        let n = v.normal.map(|c| c as f64);
-        let k = (1.0 - p[3]) * depth;
-        [(p[0] - n[0] * k) as f32, (p[1] - n[1] * k) as f32, (p[2] - n[2] * k) as f32, v.position[3]]
-    };
-    let point = mix(&point_of);
-    let normal = mix(&|v| v.normal);
-    let tangent = mix(&|v| v.tangent);
-    let uv = mix(&|v| v.uv);
-    let (pa, pb) = (face[0].prism_a, face[0].prism_b);
-    let corners = [
-        DVec2::new(pa[0] as f64, pa[1] as f64),
-        DVec2::new(pa[2] as f64, pa[3] as f64),
-        DVec2::new(pb[0] as f64, pb[1] as f64),
-    ];
-    let n_raw = DVec3::new(normal[0], normal[1], normal[2]);
-    let n = n_raw.normalize();
-    let t0 = DVec3::new(tangent[0], tangent[1], tangent[2]);
-    let t = (t0 - n * n.dot(t0)).normalize();
-    let bt = n.cross(t) * tangent[3];
-    let depth_n = depth * n_raw.length();
-    let view = (DVec3::new(point[0], point[1], point[2]) - eye).normalize();
-    let v_n = view.dot(n);
-    let cos_view = (-v_n).max(1e-6);
-    let k = depth_n / cos_view;
-    let dir = DVec3::new(view.dot(t) * uv[2] * k, view.dot(bt) * uv[3] * k, -1.0);
-    let t_entry = 1.0 - point[3];
-    let origin = DVec2::new(uv[0], uv[1]) - dir.truncate() * t_entry;
-    let mut exit = 1.0f64;
-    for (p, q, r) in [(0, 1, 2), (1, 2, 0), (2, 0, 1)] {
-        let (p, q, r) = (corners[p], corners[q], corners[r]);
-        let e = q - p;
-        let n0 = DVec2::new(-e.y, e.x);
-        let nn = if n0.dot(r - p) < 0.0 { -n0 } else { n0 };
-        let toward = nn.dot(dir.truncate());
-        if toward < 0.0 {
-            exit = exit.min(nn.dot(p - origin) / toward);
-        }
-    }
-    PrismFragment { origin, dir, t_entry, exit, from_below: v_n >= 0.0 }
+/// Whether the chord meets the height field between its entry and its exit, by a dense march
+/// (steps of 1/[`DENSE_STEPS`] of the chord).
+fn chord_crosses(ms: &MeshScene, c: &Chord) -> bool {
+    (0..=DENSE_STEPS).any(|k| c.below(ms, c.k * k as f64 / DENSE_STEPS as f64))
 }
 
 /// For each pixel that the reference hits and `probe` (a `curved=prism` measurement of `ms`
 /// with `linear(steps)+binary(refine)`, `size²`) leaves out, its index and its cause
-/// ([`PrismMiss`]). Every face of the prism of the reference's hit triangle that the pixel's
-/// ray meets (either side: the mesh pipeline does not cull) is a fragment the shader ran;
-/// the pixel's cause is the first of these that holds: none is met (`NoFace`); the CPU's
-/// emulation draws one of them (`Other`); on one of them the straight texture-space ray,
-/// from its entry on, first crosses the height field before its exit, and the search stepped
-/// over it (`Search`); else `AfterExit`, or `FacingAway` where every face met is one the shader takes for a ray
-/// entering from below.
+/// ([`PrismMiss`]). Every face of the prism of the reference's hit triangle computes the same
+/// exact entry and exit, so the prism's trace is emulated once per pixel: its ray meets no
+/// face of that prism as rasterized (`NoFace`); the CPU's emulation draws it (`Other`); the
+/// chord crosses the height field before its exit and the search stepped over it (`Search`);
+/// else `AfterExit`.
 pub fn prism_miss_causes(
     ms: &MeshScene,
     reference: &[Option<MeshHit>],
@@ -450,53 +477,50 @@ pub fn prism_miss_causes(
         let ray = &rays[i];
         let (o, d) = (DVec3::from(ray.origin.map(|c| c as f64)), DVec3::from(ray.dir.map(|c| c as f64)));
         let tri = hit.triangle as usize;
-        let mut fragments = Vec::new();
-        for f in indices[tri * 24..tri * 24 + 24].chunks_exact(3) {
-            let face = [f[0], f[1], f[2]].map(|k| &vertices[k as usize]);
-            let corner = |v: &MeshVertex| {
-                let p = v.position.map(|c| c as f64);
-                let n = v.normal.map(|c| c as f64);
-                let k = (1.0 - p[3]) * depth;
-                DVec3::new(
-                    (p[0] - n[0] * k) as f32 as f64,
-                    (p[1] - n[1] * k) as f32 as f64,
-                    (p[2] - n[2] * k) as f32 as f64,
-                )
-            };
-            let [a, b, c] = face.map(corner);
-            if let Some((s, b1, b2)) = crate::mesh::reference::ray_triangle(o, d, a, b, c) {
-                fragments.push((s, prism_fragment(face, (b1, b2), o, depth)));
-            }
-        }
-        fragments.sort_by(|x, y| x.0.total_cmp(&y.0));
-        let cause = classify(ms, &fragments, steps, refine);
+        let corner = |v: &MeshVertex| {
+            let p = v.position.map(|c| c as f64);
+            let n = v.normal.map(|c| c as f64);
+            let k = (1.0 - p[3]) * depth;
+            DVec3::new(
+                (p[0] - n[0] * k) as f32 as f64,
+                (p[1] - n[1] * k) as f32 as f64,
+                (p[2] - n[2] * k) as f32 as f64,
+            )
+        };
+        let met = indices[tri * 24..tri * 24 + 24].chunks_exact(3).any(|f| {
+            let [a, b, c] = [f[0], f[1], f[2]].map(|k| corner(&vertices[k as usize]));
+            crate::mesh::reference::ray_triangle(o, d, a, b, c).is_some()
+        });
+        let cause = if !met {
+            PrismMiss::NoFace
+        } else {
+            classify(ms, &vertices[indices[tri * 24] as usize], o, d, depth, steps, refine)
+        };
         out.push((i, cause));
     }
     out
 }
 
-/// The cause of a missing pixel from the fragments its ray makes on the hit triangle's prism,
-/// nearest first ([`prism_miss_causes`]).
-fn classify(ms: &MeshScene, fragments: &[(f64, PrismFragment)], steps: u32, refine: u32) -> PrismMiss {
-    if fragments.is_empty() {
-        return PrismMiss::NoFace;
-    }
-    let inside = |f: &PrismFragment, t: f64| t >= f.t_entry - PRISM_SLACK && t <= f.exit + PRISM_SLACK;
-    let traced: Vec<f64> = fragments.iter().map(|(_, f)| emulate_linear_binary(ms, f, steps, refine)).collect();
-    if fragments.iter().zip(&traced).any(|((_, f), &t)| !f.from_below && inside(f, t)) {
-        return PrismMiss::Other;
-    }
-    let mut found = None;
-    for (_, f) in fragments.iter().filter(|(_, f)| !f.from_below) {
-        // The straight ray's first crossing from the entry on: the hit a search between the
-        // entry and the exit would find.
-        if inside(f, first_crossing(ms, f, f.t_entry.max(0.0))) {
-            found = Some(PrismMiss::Search);
-        }
-    }
-    match (found, fragments.iter().any(|(_, f)| !f.from_below)) {
-        (Some(c), _) => c,
-        (None, true) => PrismMiss::AfterExit,
-        (None, false) => PrismMiss::FacingAway,
+/// The cause of a missing pixel whose ray meets a face of the prism whose records include
+/// `v` ([`prism_miss_causes`]).
+fn classify(ms: &MeshScene, v: &MeshVertex, o: DVec3, d: DVec3, depth: f64, steps: u32, refine: u32) -> PrismMiss {
+    let v3 = |a: [f32; 4]| DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64);
+    let p = [v.prism_p0, v.prism_p1, v.prism_p2].map(v3);
+    let n = [v.prism_n0, v.prism_n1, v.prism_n2].map(v3);
+    let (pa, pb) = (v.prism_a, v.prism_b);
+    let uv = [
+        DVec2::new(pa[0] as f64, pa[1] as f64),
+        DVec2::new(pa[2] as f64, pa[3] as f64),
+        DVec2::new(pb[0] as f64, pb[1] as f64),
+    ];
+    let Some(chord) = prism_crossings(o, d, p, n, depth).and_then(|(entry, exit)| Chord::new(entry, exit, uv)) else {
+        return PrismMiss::AfterExit;
+    };
+    if emulate_linear_binary(ms, &chord, steps, refine) {
+        PrismMiss::Other
+    } else if chord_crosses(ms, &chord) {
+        PrismMiss::Search
+    } else {
+        PrismMiss::AfterExit
     }
 }

@@ -479,10 +479,10 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
 /// The name of a quadric or prism-lift global after `relief_` (`quadric`, `quadric_origin`,
 /// `prism_lift`), if `g` is one.
 fn quadric_global(g: &naga::GlobalVariable) -> Option<String> {
-    use crate::stage::sampling::{PRISM_LIFT, QUADRIC_COEFFS, QUADRIC_ORIGIN};
+    use crate::stage::sampling::{PRISM_LIFT, PRISM_ORIGIN, QUADRIC_COEFFS, QUADRIC_ORIGIN};
     let name = g.name.as_deref()?;
     let private = matches!(g.space, naga::AddressSpace::Private);
-    (private && (name == QUADRIC_COEFFS || name == QUADRIC_ORIGIN || name == PRISM_LIFT))
+    (private && [QUADRIC_COEFFS, QUADRIC_ORIGIN, PRISM_LIFT, PRISM_ORIGIN].contains(&name))
         .then(|| name.trim_start_matches("relief_").to_string())
 }
 
@@ -498,7 +498,17 @@ fn mesh_trace_args(m: &ModuleCtx, curved: Curved) -> Vec<(&'static str, Handle<n
     match curved {
         Curved::None => {}
         Curved::Quadric => args.push(("curvature", v2, None)),
-        Curved::Prism => args.extend([("prism_a", v4, None), ("prism_b", v2, None)]),
+        Curved::Prism => args.extend([
+            ("prism_a", v4, None),
+            ("prism_b", v2, None),
+            ("position", v3, None),
+            ("prism_p0", v3, None),
+            ("prism_p1", v3, None),
+            ("prism_p2", v3, None),
+            ("prism_n0", v3, None),
+            ("prism_n1", v3, None),
+            ("prism_n2", v3, None),
+        ]),
     }
     args.push(("depth_scale", f, None));
     args
@@ -516,34 +526,47 @@ fn mesh_trace_fn(
 ) -> Handle<naga::Function> {
     let args = mesh_trace_args(m, curved);
     let s = m.function("trace", &args, policy);
-    let (uv, layer) = match curved {
-        Curved::Prism => {
-            let uvw = s.arg::<Vec3>(0);
-            (uvw.xy(), uvw.z())
+    let uv = match curved {
+        Curved::Prism => s.arg::<Vec3>(0).xy(),
+        Curved::None | Curved::Quadric => {
+            // The layer the prism no longer reads: its literal is still made, so that the
+            // `none` and `quadric` forms keep their text to the byte (naga numbers the
+            // temporaries by expression).
+            let _ = s.lit(1.0);
+            s.arg::<Vec2>(0)
         }
-        Curved::None | Curved::Quadric => (s.arg::<Vec2>(0), s.lit(1.0)),
     };
     let last = args.len() as u32 - 1;
     let depth = s.arg::<f32>(last);
     let scale = s.arg::<Vec2>(4);
+    let prism = (curved == Curved::Prism).then(|| {
+        let (a, point) = (s.arg::<Vec4>(5), s.arg::<Vec3>(7));
+        mesh::PrismCorners {
+            p: [8, 9, 10].map(|k| s.arg::<Vec3>(k) - point),
+            n: [11, 12, 13].map(|k| s.arg::<Vec3>(k)),
+            uv: [a.xy(), a.zw(), s.arg::<Vec2>(6)],
+        }
+    });
     let inputs = MeshInputs {
         view: s.arg::<Vec3>(1).normalize(),
         normal: s.vec4(s.arg::<Vec3>(2), 0.0),
         tangent: s.arg::<Vec4>(3),
         uv: s.vec4(s.vec3(uv, scale.x()), scale.y()),
-        layer,
         curvature: if curved == Curved::Quadric { s.arg::<Vec2>(5) } else { s.vec2(0.0, 0.0) },
         depth,
+        prism,
     };
-    let mr = mesh::mesh_ray(&s, curved, &inputs);
-    let traced = mesh::search(&s, fns, curved, &mr);
-    let prism = match curved {
-        Curved::Prism => [s.arg::<Vec4>(5).xy(), s.arg::<Vec4>(5).zw(), s.arg::<Vec2>(6)],
-        Curved::None | Curved::Quadric => [uv; 3],
+    let mr = mesh::mesh_ray(&s, curved, inputs);
+    let (hit, covered) = if curved == Curved::Prism {
+        let (hit, drawn) = mesh::prism_trace(&s, fns, &mr);
+        (hit, s.select(drawn, 1.0f32, 0.0f32))
+    } else {
+        let traced = mesh::search(&s, fns, &mr);
+        let covered = s.select(mesh::covered(&s, curved, &mr, &traced), 1.0f32, 0.0f32);
+        let t = traced.t.clamp(0.0, mr.ray.t_max());
+        (Hit::at_found(&mr.ray, t, traced.found), covered)
     };
-    let covered = s.select(mesh::covered(&s, curved, &mr, &traced, prism), 1.0f32, 0.0f32);
-    let t = traced.t.clamp(0.0, mr.ray.t_max());
-    let hit = Hit::at_found(&mr.ray, t, traced.found);
+    let t = hit.t;
     let offset = mesh::depth_offset(&mr, &hit);
     let values = [hit.uv.handle(), hit.z.handle(), t.handle(), offset.handle(), covered.handle()];
     let out = s.make_struct(public_hit, &values);

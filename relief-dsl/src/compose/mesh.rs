@@ -31,16 +31,26 @@
 //!   (Oliveira & Policarpo 2005; the stage layer's `QUADRIC_COEFFS`); a ray that finds
 //!   no hit has left the shell (or reached the floor) and is discarded: the silhouette;
 //! - `prism`: the mesh is drawn as prisms (each triangle extruded along its vertex normals as
-//!   deep as the relief, [`MeshVertex::position`]`.w` the layer); the ray enters where the
-//!   prism face is rasterized, at texture point (u, v, w), and the search runs from there (over
-//!   heights lifted by `1 − w`, `search`) to the ray's exit from the prism in texture space
-//!   (`prism_exit`); a hit after the exit or none at all is discarded.
+//!   deep as the relief, [`MeshVertex::position`]`.w` the layer), every vertex carrying the
+//!   triangle's corners (points, normals, uvs). Each fragment intersects the view ray with the
+//!   prism's exact volume, the map `X(b, w) = Σ bᵢ (Pᵢ − depth·(1 − w)·Nᵢ)` (N not
+//!   renormalized, as S): its flat top and floor and its three bilinear side walls
+//!   (`ray_bilinear_wall`); the first crossing is the entry, the last the exit, each with
+//!   its exact (u, v, w), so every face of a prism computes the same answer (`prism_chord`).
+//!   No crossing: discarded (a neighbour's prism owns the ray). The stages search the straight
+//!   texture-space chord from the entry to the exit (over heights lifted by an affine function
+//!   of uv so that their descending ray from height 1 is the chord); a hit that is not on the
+//!   lifted surface (the search met nothing) or after the exit is discarded; the hit is then
+//!   polished onto S along the true view ray by Newton's method (`polish_on_s`), and colour,
+//!   depth and the probe take the polished point.
 //!
-//! Limitation of `prism`: the side walls are *planar in texture space* (vertical over the
-//! triangle's uv edges), the prism mapped to texture space by the fragment's tangent frame;
-//! the bilinear side walls of Hoetzlein 2025 are not built. Where the normals of a triangle
-//! differ, the rasterized side faces (two triangles per wall) and those planes disagree by the
-//! wall's bilinear twist.
+//! Limitation of `prism`: the search runs on the chord, straight in texture space, where the
+//! view ray through the prism's map is a curve; a hit the chord passes (the ray dips below the
+//! relief where the chord does not, or the reverse) is lost or gained before the polish, which
+//! only moves the chord's hit onto S nearby. The rasterized faces are flat (two triangles per
+//! bilinear wall), so a ray through the exact prism may meet none of its drawn faces (and no
+//! fragment runs) where a wall twists. Every face of a prism runs the same trace, so a runtime
+//! may cull the back faces (the prisms are wound outward; relief's runtime culls them).
 
 use bytemuck::{Pod, Zeroable};
 use naga::{Binding, BuiltIn, Module, ShaderStage, TypeInner};
@@ -49,14 +59,15 @@ use super::{entry_point, location, write_stage_fns, StageFns};
 use crate::abi::{abi_record, Param};
 use crate::ir::{Bindings, FnBuilder, Image, Mat4, ModuleCtx, Plain, Policy, Ty, Val, Vec2, Vec3, Vec4};
 use crate::spec::{Curved, Lod, Pipeline, Silhouette};
-use crate::stage::sampling::{PRISM_LIFT, QUADRIC_COEFFS, QUADRIC_ORIGIN};
+use crate::stage::sampling::{PRISM_LIFT, PRISM_ORIGIN, QUADRIC_COEFFS, QUADRIC_ORIGIN};
 use crate::stage::{Filter, Hit, Ray};
 use crate::CompileError;
 
 abi_record! {
-/// One vertex of a mesh module (112 bytes, seven `vec4<f32>`): the vertex layout, the one
+/// One vertex of a mesh module (208 bytes, thirteen `vec4<f32>`): the vertex layout, the one
 /// statement of it. The vertex entry reads member k at `@location(k)`, in this order; every
-/// mode reads the same record, and a member a mode does not use is ignored (zero it).
+/// mode reads the same record ([`vertex_members`] of its members), and a member a mode does
+/// not use is ignored (zero it).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct MeshVertex {
     /// xyz: the point on the base surface, object space. w: the prism layer, 1 at the surface
@@ -82,7 +93,31 @@ pub struct MeshVertex {
     pub prism_a: [f32; 4],
     /// `prism`: xy the texture coordinates of corner 2; zw: 0.
     pub prism_b: [f32; 4],
+    /// `prism`: xyz corner 0's point on the base surface (object space, as its `position`);
+    /// w: 0. The same at all six vertices of the prism; read only under `curved=prism` (the
+    /// other modes' vertex entries declare members 0‥6 only).
+    pub prism_p0: [f32; 4],
+    /// `prism`: corner 1's point, as `prism_p0`.
+    pub prism_p1: [f32; 4],
+    /// `prism`: corner 2's point, as `prism_p0`.
+    pub prism_p2: [f32; 4],
+    /// `prism`: xyz corner 0's normal (as its `normal`, the one S interpolates); w: 0.
+    pub prism_n0: [f32; 4],
+    /// `prism`: corner 1's normal, as `prism_n0`.
+    pub prism_n1: [f32; 4],
+    /// `prism`: corner 2's normal, as `prism_n0`.
+    pub prism_n2: [f32; 4],
 }
+}
+
+/// How many of [`MeshVertex`]'s members the vertex entry of `curved` reads (at locations
+/// 0‥n−1): the first seven for `none` and `quadric`, all thirteen for `prism` (its triangle's
+/// corners for the exact entry and exit).
+pub fn vertex_members(curved: Curved) -> usize {
+    match curved {
+        Curved::None | Curved::Quadric => 7,
+        Curved::Prism => MeshVertex::MEMBERS.len(),
+    }
 }
 
 /// The mesh module's policy: relief's plain one, with the quadric added to every height read
@@ -124,20 +159,50 @@ fn check_mesh_options(p: &Pipeline, curved: Curved) -> Result<(), CompileError> 
     Ok(())
 }
 
-/// The vertex varyings, members 1‥7 at locations 0‥6 (member 0 is the clip position): the
+/// The vertex varyings, members 1‥ at locations 0‥ (member 0 is the clip position): the
 /// point (xyz, w the prism layer), the normal, the tangent, the uv with its scales, the
-/// curvature and the prism's corners, each as the vertex gave it.
-const VARYINGS: [&str; 7] = ["point", "normal", "tangent", "uv", "curvature", "prism_a", "prism_b"];
+/// curvature and the prism's corner uvs, each as the vertex gave it; under `prism` also the
+/// corners' points and normals, flat (the same at every vertex of a prism).
+const VARYINGS: [&str; 13] = [
+    "point",
+    "normal",
+    "tangent",
+    "uv",
+    "curvature",
+    "prism_a",
+    "prism_b",
+    "prism_p0",
+    "prism_p1",
+    "prism_p2",
+    "prism_n0",
+    "prism_n1",
+    "prism_n2",
+];
+
+/// The binding of varying `n`: perspective-interpolated, but the prism's corners (7‥12) flat.
+fn varying_binding(n: u32) -> Binding {
+    if n < 7 {
+        return location(n);
+    }
+    Binding::Location {
+        location: n,
+        interpolation: Some(naga::Interpolation::Flat),
+        sampling: None,
+        blend_src: None,
+        per_primitive: false,
+    }
+}
 
 fn vertex_input(n: u32) -> Binding {
     Binding::Location { location: n, interpolation: None, sampling: None, blend_src: None, per_primitive: false }
 }
 
 /// `vs_mesh`: the vertex, moved to its prism layer, in clip space, and the varyings.
-fn vertex_entry(m: &ModuleCtx, policy: &dyn Policy) -> naga::EntryPoint {
+fn vertex_entry(m: &ModuleCtx, policy: &dyn Policy, curved: Curved) -> naga::EntryPoint {
     let v4 = m.ty(Vec4::inner());
+    let n = vertex_members(curved);
     let args: Vec<(&str, _, _)> =
-        MeshVertex::MEMBERS.iter().enumerate().map(|(i, (n, _))| (*n, v4, Some(vertex_input(i as u32)))).collect();
+        MeshVertex::MEMBERS[..n].iter().enumerate().map(|(i, (n, _))| (*n, v4, Some(vertex_input(i as u32)))).collect();
     let s = m.function("vs_mesh", &args, policy);
     let position = s.arg::<Vec4>(0);
     let normal = s.arg::<Vec4>(1);
@@ -148,21 +213,21 @@ fn vertex_entry(m: &ModuleCtx, policy: &dyn Policy) -> naga::EntryPoint {
     let position_binding = Binding::BuiltIn(BuiltIn::Position { invariant: false });
     let mut members =
         vec![naga::StructMember { name: Some("clip".into()), ty: v4, binding: Some(position_binding), offset: 0 }];
-    for (i, name) in VARYINGS.iter().enumerate() {
+    for (i, name) in VARYINGS[..n].iter().enumerate() {
         members.push(naga::StructMember {
             name: Some((*name).into()),
             ty: v4,
-            binding: Some(location(i as u32)),
+            binding: Some(varying_binding(i as u32)),
             offset: 16 * (i as u32 + 1),
         });
     }
-    let span = 16 * (VARYINGS.len() as u32 + 1);
+    let span = 16 * (n as u32 + 1);
     let out_ty = m.module.borrow_mut().types.insert(
         naga::Type { name: Some("MeshVarying".into()), inner: TypeInner::Struct { members, span } },
         naga::Span::UNDEFINED,
     );
     let mut values = vec![clip.handle(), s.vec4(point, position.w()).handle()];
-    values.extend((1..MeshVertex::MEMBERS.len() as u32).map(|i| s.arg::<Vec4>(i).handle()));
+    values.extend((1..n as u32).map(|i| s.arg::<Vec4>(i).handle()));
     let out = s.make_struct(out_ty, &values);
     let f = s.finish(Some((out_ty, None, out)));
     entry_point("vs_mesh", ShaderStage::Vertex, f, [0; 3])
@@ -211,46 +276,215 @@ fn descent<'a>(v_n: Val<'a, f32>) -> Val<'a, f32> {
     (-v_n).max(1e-6)
 }
 
-/// How far (in t) a hit may lie outside a prism's `[entry, exit]` and still count as inside:
-/// the entry's w is interpolated across the face and the exit computed in f32, each good to a
-/// few ulps of 1; 1e-4 covers that, and a hit on a shared wall is drawn by both prisms rather
-/// than by neither (a goal, not measured yet).
+/// How far (in the search's t) a hit may lie past the prism's exit and still count as
+/// inside: the exit is computed in f32, good to a few ulps of 1; 1e-4 covers that, and a hit
+/// on a shared wall is drawn by both prisms rather than by neither (a goal, not measured yet).
 const PRISM_SLACK: f32 = 1e-4;
 
-/// The ray's exit from the prism over the texture triangle (`a`, `b`, `c`) in texture space:
-/// the prism is the triangle × [0, 1] in (u, v, height), its side walls vertical (planar),
-/// so the exit is the first of the floor (t = 1) and the walls the ray heads out of. Along
-/// each edge with inward normal n (toward the third corner), the ray `origin + t·dir.xy`
-/// leaves where `n·dir < 0`, at `t = n·(corner − origin) / n·dir`.
-fn prism_exit<'a>(
-    s: &'a FnBuilder<'a>,
-    ray: &Ray<'a>,
-    a: Val<'a, Vec2>,
-    b: Val<'a, Vec2>,
-    c: Val<'a, Vec2>,
-) -> Val<'a, f32> {
-    let mut exit = s.lit(1.0);
-    for (p, q, r) in [(a, b, c), (b, c, a), (c, a, b)] {
-        let e = q - p;
-        let n0 = s.vec2(-e.y(), e.x());
-        // Orient the normal toward the third corner.
-        let n = n0 * s.select(n0.dot(r - p).lt(0.0), s.lit(-1.0), s.lit(1.0));
-        let toward = n.dot(ray.dir.xy());
-        let t = n.dot(p - ray.origin) / toward.min(-1e-12);
-        exit = exit.min(s.select(toward.lt(0.0), t, s.lit(1.0)));
-    }
-    exit
+/// How far outside its face a crossing of the prism's boundary may lie (in barycentrics, a
+/// wall's edge parameter and the layer) and still count: a ray through a shared edge or wall
+/// is then a crossing of both prisms, not of neither; 1e-5 is a hundred f32 ulps of 1.
+const PRISM_FACE_SLACK: f32 = 1e-5;
+
+/// The texture-space length (`|Δuv|`) under which the chord is searched without the affine
+/// lift's tilt (module doc of `stage::sampling`, `PRISM_LIFT`): the tilt's slope is
+/// `(1 − r)/|Δuv|`, and with texture coordinates good to ~1e-6 a chord this short would carry
+/// an error of `1e-6 / 1e-3 = 1e-3` depths; shorter chords descend (`r > 0`) or are discarded.
+const PRISM_SHORT_CHORD: f32 = 1e-3;
+
+/// The search's t at the exit of a chord searched whole: the stages search to t = 1 and
+/// report a hit there even where they met nothing (the flat tile's floor is always met), so
+/// the exit lies short of 1 and such a search ends past it, where it is discarded as after
+/// the exit; 1/16 of the search's steps fall past the exit.
+const PRISM_CHORD_END: f32 = 15.0 / 16.0;
+
+/// The prism's triangle as the fragment gets it (`curved=prism`): each corner's point on the
+/// base surface relative to the fragment's point, its normal (N, not renormalized, as S
+/// interpolates it) and its texture coordinates, object space.
+pub(crate) struct PrismCorners<'a> {
+    pub(crate) p: [Val<'a, Vec3>; 3],
+    pub(crate) n: [Val<'a, Vec3>; 3],
+    pub(crate) uv: [Val<'a, Vec2>; 3],
 }
 
-/// What a mesh fragment traces: its ray, where the ray enters the relief volume in t (0 but
-/// for a prism entered through a wall or the floor), and the view ray's data the depth needs.
-pub(crate) struct MeshRay<'a> {
-    /// The ray through the entry, started at height 1 (for `prism`, `1 − w` before the entry):
-    /// the t of every hit, exit and depth is this ray's.
-    pub(crate) ray: Ray<'a>,
-    /// The ray the search runs on: `ray` for `none` and `quadric`; for `prism` the same
-    /// direction started at the entry, searched over heights lifted by `1 − w` ([`search`]).
+/// The view ray inside the prism: where it enters and leaves the prism's exact volume
+/// ([`prism_chord`]) and the texture-space chord between the two that the stages search.
+pub(crate) struct Chord<'a> {
+    /// Whether the ray crosses the prism's boundary twice (no crossing: a neighbour owns it).
+    crosses: Val<'a, bool>,
+    /// The entry's and the exit's distance from the fragment's point along the unit view ray.
+    t_in: Val<'a, f32>,
+    t_out: Val<'a, f32>,
+    /// The search's t of the exit: [`PRISM_CHORD_END`], or `r` where a short chord is searched
+    /// untilted.
+    k: Val<'a, f32>,
+    /// The barycentrics of corners 0 and 1 at the entry and at the exit.
+    b_in: Val<'a, Vec2>,
+    b_out: Val<'a, Vec2>,
+    /// The layer at the entry and its drop to the exit (`r = w_in − w_out`).
+    w_in: Val<'a, f32>,
+    r: Val<'a, f32>,
+    /// The lift while the search runs: `(at the entry, slope along u, slope along v)`.
+    lift: Val<'a, Vec3>,
+    /// The stages' ray: from the entry's uv at height 1 toward the exit's (`dir.xy = Δuv / k`).
     search: Ray<'a>,
+}
+
+/// The crossing of the ray `t·v` (from the origin, v unit) with the triangle `q`: t, whether
+/// it lies in the triangle (within [`PRISM_FACE_SLACK`]) and the barycentrics of corners 0
+/// and 1 there (Möller & Trumbore 1997).
+fn ray_triangle<'a>(
+    s: &'a FnBuilder<'a>,
+    v: Val<'a, Vec3>,
+    q: [Val<'a, Vec3>; 3],
+) -> (Val<'a, f32>, Val<'a, bool>, Val<'a, Vec2>) {
+    let (e1, e2) = (q[1] - q[0], q[2] - q[0]);
+    let pv = v.cross(e2);
+    let det = e1.dot(pv);
+    let usable = det.abs().gt(1e-20);
+    let inv = 1.0 / s.select(usable, det, s.lit(1.0));
+    let tv = -q[0];
+    let b1 = tv.dot(pv) * inv;
+    let qv = tv.cross(e1);
+    let b2 = v.dot(qv) * inv;
+    let t = e2.dot(qv) * inv;
+    let ok = usable & b1.ge(-PRISM_FACE_SLACK) & b2.ge(-PRISM_FACE_SLACK) & (b1 + b2).le(1.0 + PRISM_FACE_SLACK);
+    (t, ok, s.vec2(1.0 - b1 - b2, b1))
+}
+
+/// A root of [`ray_bilinear_wall`]: the crossing's t along the ray, whether it lies on the
+/// wall, its σ along the edge and its layer w.
+type WallRoot<'a> = (Val<'a, f32>, Val<'a, bool>, Val<'a, f32>, Val<'a, f32>);
+
+/// The crossings of the ray `t·v` (from the origin, v unit) with a prism's side wall: the
+/// ruled surface `W(σ, w) = F_i + σ(F_j − F_i) + w·D_i + σw·(D_j − D_i)`, σ along the edge
+/// from corner i to j and w the layer, `F` the floor corners and `D = depth·N`. This is the
+/// exact wall of the prism's map `X(b, w) = Σ bₖ (Pₖ − depth·(1 − w)·Nₖ)` where the third
+/// corner's barycentric is 0: bilinear in (σ, w), not planar where `N_i ≠ N_j` (Hoetzlein
+/// 2025's side walls), so the rasterized wall (two flat triangles) is not where the prism
+/// ends, and the fragment's own frame is not the prism's map. Why a quadratic: the ray is the
+/// meet of two planes through it (normals `n1`, `n2` ⊥ v), each plane's equation in (σ, w)
+/// is bilinear, `a + bσ + cw + fσw = 0`; eliminating w leaves a quadratic in σ (Ramsey,
+/// Potter & Hansen 2004). Returns each root's t, whether it lies on the wall, σ and w.
+#[allow(clippy::too_many_arguments)]
+fn ray_bilinear_wall<'a>(
+    s: &'a FnBuilder<'a>,
+    v: Val<'a, Vec3>,
+    n1: Val<'a, Vec3>,
+    n2: Val<'a, Vec3>,
+    fi: Val<'a, Vec3>,
+    fj: Val<'a, Vec3>,
+    di: Val<'a, Vec3>,
+    dj: Val<'a, Vec3>,
+) -> [WallRoot<'a>; 2] {
+    let (e, dd) = (fj - fi, dj - di);
+    let on = |x: Val<'a, Vec3>| s.vec2(n1.dot(x), n2.dot(x));
+    let (a, b, c, f) = (on(fi), on(e), on(di), on(dd));
+    // (a₁ + b₁σ)(c₂ + f₂σ) − (a₂ + b₂σ)(c₁ + f₁σ) = qa·σ² + qb·σ + qc.
+    let qa = b.x() * f.y() - b.y() * f.x();
+    let qb = a.x() * f.y() + b.x() * c.y() - a.y() * f.x() - b.y() * c.x();
+    let qc = a.x() * c.y() - a.y() * c.x();
+    let disc = qb * qb - 4.0 * qa * qc;
+    let root = disc.max(0.0).sqrt();
+    // The two roots without cancellation: q = −(qb ± √disc)/2, σ = q/qa and qc/q (the
+    // second is the linear root where qa is 0).
+    let q = (qb + s.select(qb.ge(0.0), root, -root)) * -0.5;
+    let sigma1 = q / s.select(qa.abs().gt(1e-30), qa, s.lit(1e-30));
+    let sigma2 = qc / s.select(q.abs().gt(1e-30), q, s.lit(1e-30));
+    [sigma1, sigma2].map(|sigma| {
+        let den = c + f * sigma;
+        let num = a + b * sigma;
+        let first = den.x().abs().ge(den.y().abs());
+        let d = s.select(first, den.x(), den.y());
+        let usable = d.abs().gt(1e-20);
+        let w = -s.select(first, num.x(), num.y()) / s.select(usable, d, s.lit(1.0));
+        let point = fi + e * sigma + di * w + dd * (sigma * w);
+        let t = point.dot(v);
+        let inside = |x: Val<'a, f32>| x.ge(-PRISM_FACE_SLACK) & x.le(1.0 + PRISM_FACE_SLACK);
+        (t, disc.ge(0.0) & usable & inside(sigma) & inside(w), sigma, w)
+    })
+}
+
+/// The view ray (unit `view`, from the fragment's point) through the prism's exact volume:
+/// the crossings of its top (layer 1) and floor (layer 0), which are flat triangles, and of its
+/// three side walls ([`ray_bilinear_wall`]); the first crossing is the entry, the last the
+/// exit, each with its exact (b₀, b₁, w) and so its (u, v, w). The chord between them in
+/// texture space is what the stages search: from the entry's uv at height 1, over heights
+/// lifted by the affine function that makes the stages' descending ray meet the lifted field
+/// where the chord meets the true one (`stage::sampling`'s `PRISM_LIFT`). The chord is defined
+/// whatever the fragment's normal, so a ray level with or rising against the fragment's
+/// tangent plane is traced like any other.
+fn prism_chord<'a>(
+    s: &'a FnBuilder<'a>,
+    view: Val<'a, Vec3>,
+    c: &PrismCorners<'a>,
+    depth: Val<'a, f32>,
+    cos_view: Val<'a, f32>,
+) -> Chord<'a> {
+    let zero3 = s.vec3(s.vec2(0.0, 0.0), 0.0);
+    let t_in = s.var("prism_t_in", 1e30);
+    let at_in = s.var("prism_at_in", zero3);
+    let t_out = s.var("prism_t_out", -1e30);
+    let at_out = s.var("prism_at_out", zero3);
+    let consider = |t: Val<'a, f32>, ok: Val<'a, bool>, at: Val<'a, Vec3>| {
+        let first = ok & t.lt(t_in.get());
+        t_in.set(s.select(first, t, t_in.get()));
+        at_in.set(s.select(first, at, at_in.get()));
+        let last = ok & t.gt(t_out.get());
+        t_out.set(s.select(last, t, t_out.get()));
+        at_out.set(s.select(last, at, at_out.get()));
+    };
+    let d = [0, 1, 2].map(|k| c.n[k] * depth);
+    let floor = [0, 1, 2].map(|k| c.p[k] - d[k]);
+    for (q, layer) in [(c.p, 1.0), (floor, 0.0)] {
+        let (t, ok, b) = ray_triangle(s, view, q);
+        consider(t, ok, s.vec3(b, layer));
+    }
+    let axis = s.select(view.x().abs().lt(0.6), s.vec3(s.vec2(1.0, 0.0), 0.0), s.vec3(s.vec2(0.0, 1.0), 0.0));
+    let n1 = view.cross(axis).normalize();
+    let n2 = view.cross(n1);
+    for (i, j) in [(0usize, 1usize), (1, 2), (2, 0)] {
+        for (t, ok, sigma, w) in ray_bilinear_wall(s, view, n1, n2, floor[i], floor[j], d[i], d[j]) {
+            // Barycentrics on the wall: corner i has 1 − σ, corner j σ, the third 0.
+            let bary = |k: usize| -> Val<'a, f32> {
+                if k == i {
+                    1.0 - sigma
+                } else if k == j {
+                    sigma
+                } else {
+                    s.lit(0.0)
+                }
+            };
+            consider(t, ok, s.vec3(s.vec2(bary(0), bary(1)), w));
+        }
+    }
+    let (t_in, at_in, t_out, at_out) = (t_in.get(), at_in.get(), t_out.get(), at_out.get());
+    let uv_at = |at: Val<'a, Vec3>| c.uv[2] + (c.uv[0] - c.uv[2]) * at.x() + (c.uv[1] - c.uv[2]) * at.y();
+    let (uv_in, uv_out) = (uv_at(at_in), uv_at(at_out));
+    let duv = uv_out - uv_in;
+    let (w_in, r) = (at_in.z(), at_in.z() - at_out.z());
+    let len2 = duv.dot(duv);
+    // A chord long enough in texture space is searched whole (the stages' t from 0 to
+    // k = [`PRISM_CHORD_END`] spans entry to exit) over a tilted lift; a shorter one descends
+    // untilted (k = r).
+    let long = len2.ge(PRISM_SHORT_CHORD * PRISM_SHORT_CHORD) | r.le(1e-4);
+    let k = s.select(long, s.lit(PRISM_CHORD_END), r);
+    // The stages' ray at t is 1 − t high; the chord there is w_in − r·t/k high; the lift is
+    // the difference, 1 − w_in − t·(1 − r/k), as a function of uv (uv − uv_in = Δuv·t/k).
+    let slope = duv * (-(k - r) / len2.max(1e-12));
+    let lift = s.vec3(s.vec2(1.0 - w_in, slope.x()), slope.y());
+    let dir = s.vec3(duv / k, -1.0);
+    let crosses = t_in.lt(t_out) & (long | r.gt(0.0));
+    let (b_in, b_out) = (at_in.xy(), at_out.xy());
+    Chord { crosses, t_in, t_out, k, b_in, b_out, w_in, r, lift, search: Ray { origin: uv_in, dir, cos_view } }
+}
+
+/// What a mesh fragment traces: its ray, where the ray enters the relief volume in t (0 for
+/// `none` and `quadric`), and the view ray's data the depth needs.
+pub(crate) struct MeshRay<'a> {
+    /// The ray the search runs on, started at height 1 (for `prism` the chord's,
+    /// [`Chord::search`]): the t of every hit and depth is this ray's but for `prism`.
+    pub(crate) ray: Ray<'a>,
     pub(crate) t_entry: Val<'a, f32>,
     /// The unit view ray, object space.
     view: Val<'a, Vec3>,
@@ -259,6 +493,10 @@ pub(crate) struct MeshRay<'a> {
     /// interpolated normal before renormalizing, as S = P − depth·(1 − h)·N descends
     /// (docs/meshes.md); t = 1 of the ray descends this far.
     pub(crate) depth: Val<'a, f32>,
+    /// `prism`: the view ray through the prism's exact volume.
+    chord: Option<Chord<'a>>,
+    /// `prism`: the triangle's corners and the relief's depth (object units), for the polish.
+    corners: Option<(PrismCorners<'a>, Val<'a, f32>)>,
 }
 
 /// What the fragment knows of its place on the mesh, from the vertex entry's varyings or a
@@ -271,49 +509,66 @@ pub(crate) struct MeshInputs<'a> {
     pub(crate) normal: Val<'a, Vec4>,
     pub(crate) tangent: Val<'a, Vec4>,
     pub(crate) uv: Val<'a, Vec4>,
-    /// The prism layer w at the fragment (1 on the surface; only `prism` reads it).
-    pub(crate) layer: Val<'a, f32>,
     /// The quadric's coefficients a, b in object units (only `quadric` reads them).
     pub(crate) curvature: Val<'a, Vec2>,
     /// The relief's depth in object units.
     pub(crate) depth: Val<'a, f32>,
+    /// `prism`: the prism's triangle, relative to the fragment's point.
+    pub(crate) prism: Option<PrismCorners<'a>>,
 }
 
 /// The fragment's ray, in the flat tile's convention (ARCHITECTURE.md, "Rays"): the view ray
-/// in texture units, scaled so that t = 1 descends the relief's depth. For `prism` the ray
-/// enters at the face's texture point (u, v, w), which is t = 1 − w on the ray through
-/// `(u, v, 1)` started `1 − w` earlier. Under `quadric` it also centres the quadric on the
-/// entry.
-pub(crate) fn mesh_ray<'a>(s: &'a FnBuilder<'a>, curved: Curved, i: &MeshInputs<'a>) -> MeshRay<'a> {
+/// in texture units, scaled so that t = 1 descends the relief's depth. Under `quadric` it also
+/// centres the quadric on the entry. For `prism` the ray is the chord through the prism's
+/// exact volume ([`prism_chord`]).
+pub(crate) fn mesh_ray<'a>(s: &'a FnBuilder<'a>, curved: Curved, i: MeshInputs<'a>) -> MeshRay<'a> {
     let frame = frame(s, i.normal, i.tangent, i.uv);
     // S's layers lie depth·|N| apart along the unit normal (N interpolated, not renormalized).
     let depth = i.depth * i.normal.xyz().length();
     let (v_uv, v_n) = frame.to_texture(i.view);
     let cos_view = descent(v_n);
+    if let (Curved::Prism, Some(corners)) = (curved, i.prism) {
+        let chord = prism_chord(s, i.view, &corners, i.depth, cos_view);
+        let ray = chord.search;
+        return MeshRay {
+            ray,
+            t_entry: s.lit(0.0),
+            view: i.view,
+            frame,
+            depth,
+            chord: Some(chord),
+            corners: Some((corners, i.depth)),
+        };
+    }
     let dir = s.vec3(v_uv * (depth / cos_view), -1.0);
-    let t_entry = match curved {
-        Curved::Prism => s.lit(1.0) - i.layer,
-        Curved::None | Curved::Quadric => s.lit(0.0),
-    };
+    let t_entry = s.lit(0.0);
     let origin = i.uv.xy() - dir.xy() * t_entry;
     if curved == Curved::Quadric {
         set_quadric(s, i.curvature / depth, i.uv.xy());
     }
     let ray = Ray { origin, dir, cos_view };
-    let search = match curved {
-        Curved::Prism => Ray { origin: i.uv.xy(), dir, cos_view },
-        Curved::None | Curved::Quadric => ray,
-    };
-    MeshRay { ray, search, t_entry, view: i.view, frame, depth }
+    MeshRay { ray, t_entry, view: i.view, frame, depth, chord: None, corners: None }
 }
 
 /// The fragment entries' inputs: the varyings and the `Params` block.
-fn varying_inputs<'a>(s: &'a FnBuilder<'a>) -> (MeshInputs<'a>, Val<'a, Vec3>) {
+fn varying_inputs<'a>(s: &'a FnBuilder<'a>, curved: Curved) -> (MeshInputs<'a>, Val<'a, Vec3>) {
     let [point, normal, tangent, uv, curvature] = [0, 1, 2, 3, 4].map(|i| s.arg::<Vec4>(i));
     let camera = s.param::<Vec4>(Param::Camera);
     let depth = s.name("depth_scale", camera.w());
     let view = (point.xyz() - camera.xyz()).normalize();
-    let inputs = MeshInputs { view, normal, tangent, uv, layer: point.w(), curvature: curvature.xy(), depth };
+    // The layer (`point.w`), which no mode reads since the prism's exact entry: its expression
+    // is still made, so that the `none` and `quadric` modules keep their text to the byte
+    // (naga numbers the temporaries by expression).
+    let _ = point.w();
+    let prism = (curved == Curved::Prism).then(|| {
+        let (a, b) = (s.arg::<Vec4>(5), s.arg::<Vec4>(6));
+        PrismCorners {
+            p: [7, 8, 9].map(|k| s.arg::<Vec4>(k).xyz() - point.xyz()),
+            n: [10, 11, 12].map(|k| s.arg::<Vec4>(k).xyz()),
+            uv: [a.xy(), a.zw(), b.xy()],
+        }
+    });
+    let inputs = MeshInputs { view, normal, tangent, uv, curvature: curvature.xy(), depth, prism };
     (inputs, point.xyz())
 }
 
@@ -348,55 +603,161 @@ fn above_surface<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, traced: &Hit<'a>) -> V
 }
 
 /// Whether the traced hit is drawn under `curved` (`none`: always): the rules of the mode
-/// (the module's doc). `prism` is the prism's texture-space corners.
-pub(crate) fn covered<'a>(
-    s: &'a FnBuilder<'a>,
-    curved: Curved,
-    mr: &MeshRay<'a>,
-    traced: &Hit<'a>,
-    prism: [Val<'a, Vec2>; 3],
-) -> Val<'a, bool> {
+/// (the module's doc); `prism`'s are [`prism_trace`]'s.
+pub(crate) fn covered<'a>(s: &'a FnBuilder<'a>, curved: Curved, mr: &MeshRay<'a>, traced: &Hit<'a>) -> Val<'a, bool> {
     match curved {
-        Curved::None => s.lit_bool(true),
+        Curved::None | Curved::Prism => s.lit_bool(true),
         // No hit: the ray left the shell above the curved surface or reached the floor
         // first (Oliveira & Policarpo 2005): the silhouette.
         Curved::Quadric => traced.found & !above_surface(s, &mr.ray, traced),
-        Curved::Prism => {
-            let exit = prism_exit(s, &mr.ray, prism[0], prism[1], prism[2]);
-            // Entered through the floor (looking up from below the relief): nothing to see.
-            let from_below = mr.frame.to_texture(mr.view).1.ge(0.0);
-            let before = traced.t.lt(mr.t_entry - PRISM_SLACK);
-            let after = traced.t.gt(exit + PRISM_SLACK);
-            !(from_below | !traced.found | before | after)
-        }
     }
 }
 
-/// The search of a mesh fragment, its hit on [`MeshRay::ray`]. For `prism` it runs from the
-/// fragment's entry: on [`MeshRay::search`] with every height lifted by `1 − w`
-/// ([`PRISM_LIFT`], set back to 0 after), so that relief in front of the entry (outside the
-/// prism, where the fragment's frame extends the ray back to height 1) does not stop it; its t
-/// is then `t_entry` more on `ray`.
-pub(crate) fn search<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, curved: Curved, mr: &MeshRay<'a>) -> Hit<'a> {
-    match curved {
-        Curved::Prism => {
-            let lift = s.global_ptr(s.module().private::<f32>(PRISM_LIFT));
-            s.store(lift, mr.t_entry.handle());
-            let traced: Hit = s.unpack(s.call(fns.trace, &[s.pack(&mr.search)], true).unwrap());
-            s.store(lift, s.lit(0.0).handle());
-            Hit::at_found(&mr.ray, traced.t + mr.t_entry, traced.found)
-        }
-        Curved::None | Curved::Quadric => s.unpack(s.call(fns.trace, &[s.pack(&mr.ray)], true).unwrap()),
+/// The search of a mesh fragment under `none` and `quadric`, its hit on [`MeshRay::ray`].
+pub(crate) fn search<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, mr: &MeshRay<'a>) -> Hit<'a> {
+    s.unpack(s.call(fns.trace, &[s.pack(&mr.ray)], true).unwrap())
+}
+
+/// How far (in units of the relief's depth) the point `prism`'s search returned may lie above
+/// the lifted surface and still count as a hit: as [`QUADRIC_SLACK`] (a refined hit lies
+/// within its last bracket; a search that met nothing ends at the exit, above the surface).
+const PRISM_ABOVE_SLACK: f32 = 1.0 / 32.0;
+
+/// `prism`'s trace: the stages' search on the chord from the exact entry to the exact exit
+/// ([`prism_chord`]) over the lifted heights (set for the search and back to 0 after), then
+/// the polish of its hit onto S along the view ray ([`polish_on_s`]). Returns the hit (`t`:
+/// its distance from the fragment's point along the unit view ray; `uv`, and `z` the layer of
+/// the hit) and whether it is drawn: the ray crosses the prism, the search found the surface
+/// (its point not above the lifted field by more than [`PRISM_ABOVE_SLACK`]), and not after the
+/// exit.
+pub(crate) fn prism_trace<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, mr: &MeshRay<'a>) -> (Hit<'a>, Val<'a, bool>) {
+    let ch = mr.chord.as_ref().expect("prism_trace needs the prism's chord");
+    let m = s.module();
+    let lift = s.global_ptr(m.private::<Vec3>(PRISM_LIFT));
+    s.store(lift, ch.lift.handle());
+    s.store(s.global_ptr(m.private::<Vec2>(PRISM_ORIGIN)), ch.search.origin.handle());
+    let traced: Hit = s.unpack(s.call(fns.trace, &[s.pack(&ch.search)], true).unwrap());
+    let p = ch.search.at(traced.t);
+    let above = (p.z() - s.height(p.xy())).gt(PRISM_ABOVE_SLACK);
+    s.store(lift, s.vec3(s.vec2(0.0, 0.0), 0.0).handle());
+    let after = traced.t.gt(ch.k + PRISM_SLACK);
+    let drawn = ch.crosses & traced.found & !above & !after;
+    // Along the chord: τ = t/k from the entry (0) to the exit (1).
+    let tau = (traced.t / ch.k).clamp(0.0, 1.0);
+    let uv = p.xy();
+    let layer = ch.w_in - ch.r * tau;
+    let dist = ch.t_in + (ch.t_out - ch.t_in) * tau;
+    let hit = Hit { t: dist, uv, z: layer, found: traced.found };
+    let (corners, depth) = mr.corners.as_ref().expect("prism_trace needs the prism's corners");
+    let b = ch.b_in + (ch.b_out - ch.b_in) * tau;
+    (polish_on_s(s, mr.view, corners, *depth, hit, b), drawn)
+}
+
+/// Newton steps of [`polish_on_s`]: the search's hit starts within its last bracket of S (a
+/// few thousandths of the depth) and Newton doubles the correct digits per step where h is
+/// smooth; 3 steps reach f32's resolution from there, and a fourth evaluation checks it.
+const POLISH_STEPS: usize = 3;
+
+/// How far from S (object units, in units of the relief's depth) the polished point may lie
+/// and count as converged: 1e-4 depths, a tenth of issue 38's RMS t goal, and far above the
+/// f32 rounding of points a tenth of a unit from the fragment (~1e-8).
+const POLISH_TOLERANCE: f32 = 1e-4;
+
+/// The height map bilinear at `uv` and its gradient in texture units, from the four texels a
+/// bilinear sample blends (one gather, the scene's edge mode): S's `h` exactly as the
+/// reference takes it, with the derivative Newton needs.
+fn height_and_gradient<'a>(s: &'a FnBuilder<'a>, uv: Val<'a, Vec2>) -> (Val<'a, f32>, Val<'a, Vec2>) {
+    let size = s.height_map_size();
+    let g = uv * size - 0.5;
+    let f = g - g.floor();
+    // Gather order: (i, j+1), (i+1, j+1), (i+1, j), (i, j).
+    let q = s.height_gather(uv);
+    let (h01, h11, h10, h00) = (q.x(), q.y(), q.z(), q.w());
+    let low = h00 + (h10 - h00) * f.x();
+    let high = h01 + (h11 - h01) * f.x();
+    let h = low + (high - low) * f.y();
+    let du = ((h10 - h00) * (1.0 - f.y()) + (h11 - h01) * f.y()) * size.x();
+    let dv = ((h01 - h00) * (1.0 - f.x()) + (h11 - h10) * f.x()) * size.y();
+    (h, s.vec2(du, dv))
+}
+
+/// Polishes the search's hit onto S along the true view ray. The search ran on a straight
+/// chord in texture space, which the view ray is not (the prism's map bends it), so its hit is
+/// on the chord, off S by up to the chord's bulge, and its distance along the ray is the
+/// chord's linear estimate. Newton's method on
+/// `F(t, b₀, b₁) = t·v − Σ bᵢ (Pᵢ − depth·(1 − h(uv(b)))·Nᵢ)` (the view ray from the
+/// fragment's point against S over this triangle; b₂ = 1 − b₀ − b₁, h bilinear with its
+/// gradient from the four texels, [`height_and_gradient`]) from the search's (t, b) finds the
+/// point of S on the ray near it; the 3 × 3 step by Cramer's rule. The search's hit is kept
+/// where Newton leaves the prism (a barycentric below −[`PRISM_FACE_SLACK`]), moves more than
+/// one depth along the ray (another crossing of S), or does not converge to
+/// [`POLISH_TOLERANCE`].
+fn polish_on_s<'a>(
+    s: &'a FnBuilder<'a>,
+    v: Val<'a, Vec3>,
+    c: &PrismCorners<'a>,
+    depth: Val<'a, f32>,
+    hit: Hit<'a>,
+    b: Val<'a, Vec2>,
+) -> Hit<'a> {
+    let (duv0, duv1) = (c.uv[0] - c.uv[2], c.uv[1] - c.uv[2]);
+    let uv_at = |b: Val<'a, Vec2>| c.uv[2] + duv0 * b.x() + duv1 * b.y();
+    // F at (t, b), with what the step needs: the residual, h, and the columns ∂F/∂b₀, ∂F/∂b₁.
+    let residual = |t: Val<'a, f32>, b: Val<'a, Vec2>| {
+        let w = [b.x(), b.y(), 1.0 - b.x() - b.y()];
+        let (h, grad) = height_and_gradient(s, uv_at(b));
+        let p = c.p[0] * w[0] + c.p[1] * w[1] + c.p[2] * w[2];
+        let n = c.n[0] * w[0] + c.n[1] * w[1] + c.n[2] * w[2];
+        let sink = depth * (1.0 - h);
+        let f = v * t - (p - n * sink);
+        let column = |k: usize, duv: Val<'a, Vec2>| {
+            -((c.p[k] - c.p[2]) - (c.n[k] - c.n[2]) * sink + n * (depth * grad.dot(duv)))
+        };
+        (f, h, column(0, duv0), column(1, duv1))
+    };
+    let (mut t, mut bb) = (hit.t, b);
+    for _ in 0..POLISH_STEPS {
+        let (f, _, c1, c2) = residual(t, bb);
+        let cross = c1.cross(c2);
+        let det = v.dot(cross);
+        let usable = det.abs().gt(1e-30);
+        let inv = 1.0 / s.select(usable, det, s.lit(1.0));
+        let rhs = -f;
+        let dt = rhs.dot(cross) * inv;
+        let db = s.vec2(v.dot(rhs.cross(c2)), v.dot(c1.cross(rhs))) * inv;
+        t = t + s.select(usable, dt, s.lit(0.0));
+        bb = bb + s.select(usable, db, s.vec2(0.0, 0.0));
+    }
+    let (f, h, _, _) = residual(t, bb);
+    let converged = f.length().le(depth * POLISH_TOLERANCE);
+    let inside =
+        bb.x().ge(-PRISM_FACE_SLACK) & bb.y().ge(-PRISM_FACE_SLACK) & (bb.x() + bb.y()).le(1.0 + PRISM_FACE_SLACK);
+    let near = (t - hit.t).abs().le(depth);
+    let keep = converged & inside & near;
+    Hit {
+        t: s.select(keep, t, hit.t),
+        uv: s.select(keep, uv_at(bb), hit.uv),
+        z: s.select(keep, h, hit.z),
+        found: hit.found,
     }
 }
 
 /// The trace both fragment entries share: the search, then the discards of the mode; returns
-/// the hit, kept inside the volume as relief's own fragment keeps it.
+/// the hit, kept inside the volume as relief's own fragment keeps it (`prism`: its `t` the
+/// distance along the view ray, [`prism_trace`]).
 fn mesh_trace<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, curved: Curved, mr: &MeshRay<'a>) -> Hit<'a> {
-    let traced = search(s, fns, curved, mr);
+    if curved == Curved::Prism {
+        let (hit, drawn) = prism_trace(s, fns, mr);
+        s.if_(!drawn, |s| s.discard());
+        return hit;
+    }
+    let traced = search(s, fns, mr);
     if curved != Curved::None {
-        let prism = [s.arg::<Vec4>(5).xy(), s.arg::<Vec4>(5).zw(), s.arg::<Vec4>(6).xy()];
-        s.if_(!covered(s, curved, mr, &traced, prism), |s| s.discard());
+        // The prism's corner uvs (varyings 5, 6), which `quadric` does not read: their
+        // expressions are still made, so that its module keeps its text to the byte (naga
+        // numbers the temporaries by expression).
+        let _ = [s.arg::<Vec4>(5).xy(), s.arg::<Vec4>(5).zw(), s.arg::<Vec4>(6).xy()];
+        s.if_(!covered(s, curved, mr, &traced), |s| s.discard());
     }
     Hit::at_found(&mr.ray, traced.t.clamp(0.0, mr.ray.t_max()), traced.found)
 }
@@ -411,22 +772,29 @@ fn hit_depth<'a>(s: &'a FnBuilder<'a>, mr: &MeshRay<'a>, point: Val<'a, Vec3>, h
 
 /// How far the hit lies behind the fragment along the unit view ray: it is `(t − t_entry)·depth`
 /// below the entry along the unit normal (`depth` the ray's, [`MeshRay::depth`]), and the view
-/// ray descends `cos_view` per unit length.
+/// ray descends `cos_view` per unit length; under `prism` the hit's `t` itself.
 pub(crate) fn depth_offset<'a>(mr: &MeshRay<'a>, hit: &Hit<'a>) -> Val<'a, f32> {
+    if mr.chord.is_some() {
+        return hit.t;
+    }
     (hit.t - mr.t_entry) * mr.depth / mr.ray.cos_view
 }
 
-fn fragment_args(m: &ModuleCtx) -> Vec<(&'static str, naga::Handle<naga::Type>, Option<Binding>)> {
+fn fragment_args(m: &ModuleCtx, curved: Curved) -> Vec<(&'static str, naga::Handle<naga::Type>, Option<Binding>)> {
     let v4 = m.ty(Vec4::inner());
-    VARYINGS.iter().enumerate().map(|(i, n)| (*n, v4, Some(location(i as u32)))).collect()
+    VARYINGS[..vertex_members(curved)]
+        .iter()
+        .enumerate()
+        .map(|(i, n)| (*n, v4, Some(varying_binding(i as u32))))
+        .collect()
 }
 
 /// `fs_mesh`: trace, shade (albedo, the normal map's normal in the fragment's frame, the
 /// shadow stage's visibility, ambient × ao) and write colour and depth.
 fn fragment_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curved) -> naga::EntryPoint {
-    let s = m.function("fs_mesh", &fragment_args(m), policy);
-    let (inputs, point) = varying_inputs(&s);
-    let mr = mesh_ray(&s, curved, &inputs);
+    let s = m.function("fs_mesh", &fragment_args(m, curved), policy);
+    let (inputs, point) = varying_inputs(&s, curved);
+    let mr = mesh_ray(&s, curved, inputs);
     let hit = mesh_trace(&s, fns, curved, &mr);
     let depth_out = hit_depth(&s, &mr, point, &hit);
     if curved == Curved::Quadric {
@@ -462,9 +830,9 @@ fn fragment_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Cu
 /// `fs_mesh_depth`: the same trace and discards, only the depth written (the depth pre-pass
 /// and the shadow caster).
 fn depth_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curved) -> naga::EntryPoint {
-    let s = m.function(DEPTH_ENTRY, &fragment_args(m), policy);
-    let (inputs, point) = varying_inputs(&s);
-    let mr = mesh_ray(&s, curved, &inputs);
+    let s = m.function(DEPTH_ENTRY, &fragment_args(m, curved), policy);
+    let (inputs, point) = varying_inputs(&s, curved);
+    let mr = mesh_ray(&s, curved, inputs);
     let hit = mesh_trace(&s, fns, curved, &mr);
     let depth = hit_depth(&s, &mr, point, &hit);
     let f = s.finish(Some((m.ty(f32::inner()), Some(Binding::BuiltIn(BuiltIn::FragDepth)), depth.handle())));
@@ -476,9 +844,9 @@ fn depth_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curve
 /// [`depth_offset`], the hit's place along the same unit view ray that `fs_mesh`'s depth
 /// is taken at, so the probe's distance and the frame's depth are one point.
 fn probe_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curved) -> naga::EntryPoint {
-    let s = m.function(PROBE_ENTRY, &fragment_args(m), policy);
-    let (inputs, point) = varying_inputs(&s);
-    let mr = mesh_ray(&s, curved, &inputs);
+    let s = m.function(PROBE_ENTRY, &fragment_args(m, curved), policy);
+    let (inputs, point) = varying_inputs(&s, curved);
+    let mr = mesh_ray(&s, curved, inputs);
     let hit = mesh_trace(&s, fns, curved, &mr);
     let depth_out = hit_depth(&s, &mr, point, &hit);
     let camera = s.param::<Vec4>(Param::Camera);
@@ -498,7 +866,7 @@ pub(crate) fn compose_mesh(p: &Pipeline, curved: Curved, probe: bool) -> Result<
     let policy =
         MeshPolicy { plain: Plain { lod: p.lod }, quadric: curved == Curved::Quadric, lift: curved == Curved::Prism };
     let fns = write_stage_fns(&m, p, &policy, false)?;
-    let vs = vertex_entry(&m, &policy);
+    let vs = vertex_entry(&m, &policy, curved);
     let fs = fragment_entry(&m, &policy, &fns, curved);
     let ds = depth_entry(&m, &policy, &fns, curved);
     // The probe shares the stage functions; the other entries are the same without it.
@@ -665,6 +1033,20 @@ mod tests {
                 assert_eq!(entry(&plain, name), entry(&probed, name), "{mode} {name}");
             }
             assert!(plain.len() < probed.len());
+        }
+    }
+
+    /// Only `prism` reads the triangle's corners (members 7‥12, passed flat): the other modes'
+    /// vertex entries declare members 0‥6 as before, and their modules carry no corner.
+    #[test]
+    fn only_prism_reads_the_triangles_corners() {
+        for mode in Curved::ALL {
+            let text = wgsl(&format!("linear(32)+binary(5)+curved={mode}")).unwrap();
+            let prism = mode == Curved::Prism;
+            let vs = text.split("fn vs_mesh(").nth(1).and_then(|f| f.split(") ->").next()).unwrap();
+            assert_eq!(vs.matches("@location(").count(), vertex_members(mode), "{mode}");
+            assert_eq!(vertex_members(mode), if prism { 13 } else { 7 }, "{mode}");
+            assert_eq!(text.contains("prism_n2") && text.contains("@interpolate(flat)"), prism, "{mode}");
         }
     }
 

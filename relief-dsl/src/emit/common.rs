@@ -78,7 +78,10 @@ fn mesh_interface(h: &mut String, curved: Curved, pre: &str, hit: &str, lib: &Li
     let (first, own) = match curved {
         Curved::None => ("uv: vec2<f32>", ""),
         Curved::Quadric => ("uv: vec2<f32>", " curvature: vec2<f32>,"),
-        Curved::Prism => ("uvw: vec3<f32>", " prism_a: vec4<f32>, prism_b: vec2<f32>,"),
+        Curved::Prism => (
+            "uvw: vec3<f32>",
+            " prism_a: vec4<f32>, prism_b: vec2<f32>, position: vec3<f32>, prism_p0: vec3<f32>, prism_p1: vec3<f32>, prism_p2: vec3<f32>, prism_n0: vec3<f32>, prism_n1: vec3<f32>, prism_n2: vec3<f32>,",
+        ),
     };
     let _ = writeln!(
         h,
@@ -125,7 +128,15 @@ fn mesh_interface(h: &mut String, curved: Curved, pre: &str, hit: &str, lib: &Li
             );
             let _ = writeln!(
                 h,
-                "//   uv0 (xy) and uv1 (zw), prism_b = its uv2, the same at all six vertices. Planar side walls."
+                "//   uv0 (xy) and uv1 (zw), prism_b = its uv2, the same at all six vertices; position = the"
+            );
+            let _ = writeln!(
+                h,
+                "//   fragment's point; prism_p0..2, prism_n0..2 = the triangle's corner points and normals (flat)."
+            );
+            let _ = writeln!(
+                h,
+                "//   The ray is traced through the prism's exact volume (bilinear side walls); layer is unused."
             );
         }
     }

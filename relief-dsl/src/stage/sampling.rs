@@ -59,14 +59,19 @@ pub(crate) const QUADRIC_COEFFS: &str = "relief_quadric";
 /// The private `vec2` global of the texture point the quadric is centred on (the ray's
 /// entry, then the hit for the shadow and ao stages).
 pub(crate) const QUADRIC_ORIGIN: &str = "relief_quadric_origin";
-/// The private `f32` global of the lift every height read adds under `curved=prism` (in units
-/// of the relief's depth): the fragment's ray enters its prism at layer w, below the volume's
-/// top, and the stages' rays start at height 1; with every height raised by `1 − w` while the
-/// fragment's search runs, a ray started at the entry at height 1 meets the raised field where
-/// the true ray (from height w) meets the true one, so the search covers the prism from its
-/// entry on and sees nothing in front of it. The mesh module's fragment stores it before the
-/// search and sets it back to 0 after (shadow and ao read the true heights).
+/// The private `vec3` global of the lift every height read adds under `curved=prism` (in
+/// units of the relief's depth), an affine function of the texture point:
+/// `lift.x + lift.yz · (uv − origin)`, `origin` the private `vec2` [`PRISM_ORIGIN`]. The
+/// fragment's search runs on the chord from the prism's exact entry to its exact exit, which
+/// in texture space need not descend as the stages' rays do (from height 1, `dir.z = −1`):
+/// with every height raised by the difference between the stages' ray and the chord at the
+/// same texture point, the stages' ray meets the raised field exactly where the chord meets
+/// the true one (docs/meshes-shaders.md). The mesh module's fragment stores both before the
+/// search and sets the lift back to 0 after (shadow and ao read the true heights).
 pub(crate) const PRISM_LIFT: &str = "relief_prism_lift";
+/// The private `vec2` global of the texture point the prism's lift ([`PRISM_LIFT`]) is
+/// centred on: the chord's entry.
+pub(crate) const PRISM_ORIGIN: &str = "relief_prism_origin";
 
 impl<'a> FnBuilder<'a> {
     /// The quadric's height at `uv` ([`QUADRIC_COEFFS`]) where the function's policy warps
@@ -85,12 +90,16 @@ impl<'a> FnBuilder<'a> {
         Some(c.x() * d.x() * d.x() + c.y() * d.y() * d.y())
     }
 
-    /// The prism's lift ([`PRISM_LIFT`]) where the function's policy lifts heights, else `None`.
-    fn lift(&'a self) -> Option<Val<'a, f32>> {
+    /// The prism's lift at `uv` ([`PRISM_LIFT`]) where the function's policy lifts heights,
+    /// else `None`.
+    fn lift(&'a self, uv: Val<'a, Vec2>) -> Option<Val<'a, f32>> {
         if !self.policy().prism_lift() {
             return None;
         }
-        Some(self.load::<f32>(self.global_ptr(self.module().private::<f32>(PRISM_LIFT))))
+        let m = self.module();
+        let l = self.load::<Vec3>(self.global_ptr(m.private::<Vec3>(PRISM_LIFT)));
+        let o = self.load::<Vec2>(self.global_ptr(m.private::<Vec2>(PRISM_ORIGIN)));
+        Some(l.x() + self.vec2(l.y(), l.z()).dot(uv - o))
     }
 
     /// The level 2D samples are taken at: `None` under `lod=zero` (level 0, the explicit
@@ -254,7 +263,7 @@ impl<'a> FnBuilder<'a> {
             Some(q) => g + q.splat::<Vec4>(),
             None => g,
         };
-        match self.lift() {
+        match self.lift(uv) {
             Some(l) => g + l.splat::<Vec4>(),
             None => g,
         }
@@ -379,7 +388,7 @@ impl<'a> FnBuilder<'a> {
             Some(q) => h + q,
             None => h,
         };
-        match self.lift() {
+        match self.lift(uv) {
             Some(l) => h + l,
             None => h,
         }

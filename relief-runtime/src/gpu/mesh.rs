@@ -7,7 +7,7 @@
 //! (`fs_mesh_probe` into an `Rgba32Float` target: hit u, v, distance along the view ray, 1;
 //! cleared to 0, so w = 0 is a miss) and the paired timing of two modes' pictures.
 
-use relief_dsl::compose::mesh::{MeshVertex, PROBE_ENTRY};
+use relief_dsl::compose::mesh::{vertex_members, MeshVertex, PROBE_ENTRY};
 use relief_dsl::spec::{Curved, Lod};
 use relief_dsl::{CompileError, Pipeline};
 use wgpu::util::DeviceExt;
@@ -55,9 +55,11 @@ impl MeshProgram {
     }
 }
 
-/// The vertex layout of [`MeshVertex`]: member k at location k, each a `vec4<f32>`.
-const ATTRIBUTES: [wgpu::VertexAttribute; 7] = wgpu::vertex_attr_array![
-    0 => Float32x4, 1 => Float32x4, 2 => Float32x4, 3 => Float32x4, 4 => Float32x4, 5 => Float32x4, 6 => Float32x4
+/// The vertex layout of [`MeshVertex`]: member k at location k, each a `vec4<f32>`; a mode's
+/// pipeline takes the first [`vertex_members`] of them.
+const ATTRIBUTES: [wgpu::VertexAttribute; 13] = wgpu::vertex_attr_array![
+    0 => Float32x4, 1 => Float32x4, 2 => Float32x4, 3 => Float32x4, 4 => Float32x4, 5 => Float32x4, 6 => Float32x4,
+    7 => Float32x4, 8 => Float32x4, 9 => Float32x4, 10 => Float32x4, 11 => Float32x4, 12 => Float32x4
 ];
 
 /// The mesh of `ms` as `curved`'s vertices, uploaded.
@@ -112,7 +114,7 @@ fn mesh_pipeline(gpu: &Gpu, prog: &MeshProgram, probe: bool) -> Result<wgpu::Ren
     let layout = [Some(wgpu::VertexBufferLayout {
         array_stride: std::mem::size_of::<MeshVertex>() as u64,
         step_mode: wgpu::VertexStepMode::Vertex,
-        attributes: &ATTRIBUTES,
+        attributes: &ATTRIBUTES[..vertex_members(prog.curved)],
     })];
     render_pipeline(
         gpu,
@@ -124,6 +126,7 @@ fn mesh_pipeline(gpu: &Gpu, prog: &MeshProgram, probe: bool) -> Result<wgpu::Ren
             topology: wgpu::PrimitiveTopology::TriangleList,
             depth: Some(wgpu::CompareFunction::Less),
             format,
+            cull: (prog.curved == Curved::Prism).then_some(wgpu::Face::Back),
         },
     )
 }

@@ -267,7 +267,7 @@ pub const SHADING_FORMULA: &str =
 
 /// What a render pipeline draws: relief's quad, the room's window quad, or a vertex-buffered
 /// mesh. Every render pipeline of the runtime is made from one of these by [`render_pipeline`],
-/// into [`FORMAT`] (and [`DEPTH_FORMAT`] when `depth` is set), without culling.
+/// into [`FORMAT`] (and [`DEPTH_FORMAT`] when `depth` is set), culling what `cull` says.
 pub(crate) struct Draw<'a> {
     /// The pipeline's label.
     pub label: &'a str,
@@ -282,6 +282,10 @@ pub(crate) struct Draw<'a> {
     pub depth: Option<wgpu::CompareFunction>,
     /// The colour target's format: [`FORMAT`] for pictures, `Rgba32Float` for the mesh probe.
     pub format: wgpu::TextureFormat,
+    /// The faces culled (counter-clockwise front faces): `None` but for a `curved=prism` mesh,
+    /// whose prisms are wound outward and whose every face traces the same exact entry and
+    /// exit, so that only the faces toward the eye need run.
+    pub cull: Option<wgpu::Face>,
 }
 
 /// The render pipeline of `draw` over `module`, its bind group layout derived from the module.
@@ -300,7 +304,12 @@ pub(crate) fn render_pipeline(
                 compilation_options: Default::default(),
                 buffers: draw.buffers,
             },
-            primitive: wgpu::PrimitiveState { topology: draw.topology, cull_mode: None, ..Default::default() },
+            primitive: wgpu::PrimitiveState {
+                topology: draw.topology,
+                front_face: wgpu::FrontFace::Ccw,
+                cull_mode: draw.cull,
+                ..Default::default()
+            },
             depth_stencil: draw.depth.map(|compare| wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
                 depth_write_enabled: Some(true),
@@ -343,6 +352,7 @@ impl Renderer {
                 // The render entry writes the hit's depth itself: every fragment is kept.
                 depth: program.writes_depth.then_some(wgpu::CompareFunction::Always),
                 format: FORMAT,
+                cull: None,
             },
         )?;
         let params = SceneTextures::params(gpu, scene, 1.0, scene.camera.pixel_size(size));

@@ -191,7 +191,8 @@ fn solve3(a: [[f64; 3]; 3], y: [f64; 3]) -> Option<[f64; 3]> {
 /// The prisms: each triangle extruded along its vertex normals as deep as the relief (the
 /// vertex entry moves a vertex with `position.w` = 0 the relief's depth along −N). Per
 /// triangle six records (its corners at w = 1, the top, and at w = 0, the floor), each with
-/// `prism_a`, `prism_b` the triangle's three uvs, and eight triangles: the top cap, the
+/// `prism_a`, `prism_b` the triangle's three uvs and `prism_p*`, `prism_n*` its three points and
+/// normals (for the exact entry and exit), and eight triangles: the top cap, the
 /// bottom cap and two per side wall (corners k, k+1 at the top and at the floor).
 pub fn prism_vertices(mesh: &Mesh, base: &[MeshVertex]) -> (Vec<MeshVertex>, Vec<u32>) {
     let mut vertices = Vec::with_capacity(mesh.triangles.len() * 6);
@@ -199,12 +200,22 @@ pub fn prism_vertices(mesh: &Mesh, base: &[MeshVertex]) -> (Vec<MeshVertex>, Vec
     for t in &mesh.triangles {
         let uv = t.map(|i| mesh.uvs[i as usize]);
         let first = vertices.len() as u32;
+        let point = |k: usize| {
+            let p = mesh.positions[t[k] as usize];
+            [p.x, p.y, p.z, 0.0]
+        };
+        let normal = |k: usize| {
+            let n = mesh.normals[t[k] as usize];
+            [n.x, n.y, n.z, 0.0]
+        };
         for w in [1.0, 0.0] {
             for &i in t {
                 let mut v = base[i as usize];
                 v.position[3] = w;
                 v.prism_a = [uv[0].x, uv[0].y, uv[1].x, uv[1].y];
                 v.prism_b = [uv[2].x, uv[2].y, 0.0, 0.0];
+                [v.prism_p0, v.prism_p1, v.prism_p2] = [point(0), point(1), point(2)];
+                [v.prism_n0, v.prism_n1, v.prism_n2] = [normal(0), normal(1), normal(2)];
                 vertices.push(v);
             }
         }
@@ -292,6 +303,13 @@ mod tests {
                 let uv = t.map(|i| m.uvs[i as usize]);
                 assert_eq!(r.prism_a, [uv[0].x, uv[0].y, uv[1].x, uv[1].y]);
                 assert_eq!(&r.prism_b[..2], &[uv[2].x, uv[2].y]);
+                for (k, (p, n)) in [(r.prism_p0, r.prism_n0), (r.prism_p1, r.prism_n1), (r.prism_p2, r.prism_n2)]
+                    .into_iter()
+                    .enumerate()
+                {
+                    let i = t[k] as usize;
+                    assert_eq!((&p[..3], &n[..3]), (&m.positions[i].to_array()[..], &m.normals[i].to_array()[..]));
+                }
             }
             let tri = &idx[k * 24..k * 24 + 24];
             assert!(tri.iter().all(|&i| (k * 6..k * 6 + 6).contains(&(i as usize))));

@@ -231,6 +231,7 @@ pub(crate) fn render_interior(
             topology: wgpu::PrimitiveTopology::TriangleStrip,
             depth: None,
             format: crate::gpu::FORMAT,
+            cull: None,
         },
     )?;
     let (p, r) = room_params(room, 1.0);

@@ -178,6 +178,7 @@ pub fn render_geometry(
             topology: wgpu::PrimitiveTopology::TriangleList,
             depth: Some(wgpu::CompareFunction::Less),
             format: crate::gpu::FORMAT,
+            cull: None,
         },
     )?;
     let (l, kind) = match room.light {

@@ -133,7 +133,7 @@ fn mesh_paste_lines(
     let extra = match curved {
         Curved::None => "",
         Curved::Quadric => ", curvature",
-        Curved::Prism => ", prism_a, prism_b.xy",
+        Curved::Prism => ", prism_a, prism_b.xy, position, prism_p0, prism_p1, prism_p2, prism_n0, prism_n1, prism_n2",
     };
     let call =
         format!("relief_trace({first}, normalize(position - eye), normal, tangent, uv_scale{extra}, depth_scale)");

@@ -4,8 +4,8 @@
 //! what the mesh's `Params` are.
 //!
 //! The `.glb`'s vertex buffer view is the `MeshVertex` records byte for byte as the runtime
-//! uploads them (seven `vec4<f32>`, 112 bytes each, from `mesh::vertices::mesh_vertices`),
-//! and its accessors read them in place (byte stride 112): the standard attributes where one
+//! uploads them (thirteen `vec4<f32>`, 208 bytes each, from `mesh::vertices::mesh_vertices`),
+//! and its accessors read them in place (byte stride 208): the standard attributes where one
 //! fits (`POSITION`, `NORMAL`, `TANGENT`, `TEXCOORD_0`), glTF custom attributes (a leading
 //! `_`) for the rest. The indices follow as `u32`. Written by hand (a GLB is a 12-byte header
 //! and two chunks); `tests/threejs_mesh.rs` reads it back with the `gltf` crate.
@@ -49,6 +49,14 @@ fn attributes(curved: Curved) -> Vec<Attribute> {
         Curved::Prism => {
             v.push(a("_PRISM_A", "prism_a", 80, "VEC4", 4));
             v.push(a("_PRISM_B", "prism_b.xy", 96, "VEC2", 2));
+            v.extend([
+                a("_PRISM_P0", "prism_p0.xyz", 112, "VEC3", 3),
+                a("_PRISM_P1", "prism_p1.xyz", 128, "VEC3", 3),
+                a("_PRISM_P2", "prism_p2.xyz", 144, "VEC3", 3),
+                a("_PRISM_N0", "prism_n0.xyz", 160, "VEC3", 3),
+                a("_PRISM_N1", "prism_n1.xyz", 176, "VEC3", 3),
+                a("_PRISM_N2", "prism_n2.xyz", 192, "VEC3", 3),
+            ]);
         }
     }
     v
@@ -152,13 +160,13 @@ pub fn write_mesh(dir: &std::path::Path, ms: &MeshScene, curved: Curved) -> anyh
     let members: serde_json::Map<String, serde_json::Value> =
         attributes(curved).iter().map(|a| (a.member.to_string(), a.gltf.into())).collect();
     let vertex_stage = match curved {
-        Curved::Prism => "position.xyz − normal·(1 − layer)·depth_scale, then view_proj (the floor vertices, layer 0, move the relief's depth along −N); pass position (w = layer), normal, tangent, uv, uv_scale, prism_a, prism_b to the fragment",
+        Curved::Prism => "position.xyz − normal·(1 − layer)·depth_scale, then view_proj (the floor vertices, layer 0, move the relief's depth along −N); pass position (w = layer), normal, tangent, uv, uv_scale, prism_a, prism_b and, flat, prism_p0..2 and prism_n0..2 (the triangle's corner points and normals) to the fragment",
         Curved::Quadric => "view_proj · position; pass position, normal, tangent, uv, uv_scale, curvature to the fragment",
         Curved::None => "view_proj · position; pass position, normal, tangent, uv, uv_scale to the fragment",
     };
     Ok(json!({
         "file": MESH_FILE,
-        "container": "glTF 2.0 binary (.glb): one mesh, one primitive, triangles, u32 indices; the vertex buffer view is the MeshVertex records relief uploads (112 bytes each, member k at byte 16·k)",
+        "container": "glTF 2.0 binary (.glb): one mesh, one primitive, triangles, u32 indices; the vertex buffer view is the MeshVertex records relief uploads (208 bytes each, member k at byte 16·k)",
         "name": ms.mesh.name,
         "curved": curved.name(),
         "vertices": vertices.len(),
