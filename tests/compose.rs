@@ -273,15 +273,16 @@ fn wgsl_snapshots() {
     }
 }
 
-/// The mesh modules of `curved=none` and `curved=quadric` (issue 38), whole as the runtime
+/// The mesh modules of `curved=none`, `curved=quadric` and `curved=prism` (issue 38), whole as the runtime
 /// loads them: the declarations, the stage functions (quadric's height reads carry the
 /// vertex's quadric), the vertex entry `vs_mesh`, the render entry `fs_mesh` and the depth
 /// entry `fs_mesh_depth`, which is also the shadow caster. Reviewed by eye like the flat
-/// snapshots; they also pin that a change to `curved=prism` leaves these two modules alone.
-/// (Not `curved=prism`'s module: its trace is being rewritten.)
+/// snapshots; the first two also pin that a change to `curved=prism` leaves the other modes'
+/// modules alone. `curved=prism`'s module carries the exact entry and exit through the
+/// prism's walls, the chord's lift and the polish onto S (docs/meshes-shaders.md).
 #[test]
 fn mesh_wgsl_snapshots() {
-    for mode in ["none", "quadric"] {
+    for mode in ["none", "quadric", "prism"] {
         let text = format!("linear(32)+binary(5)+curved={mode}");
         let c = relief::compile(&p(&text)).unwrap();
         let (vertex, fragment) = (naga::ShaderStage::Vertex, naga::ShaderStage::Fragment);
