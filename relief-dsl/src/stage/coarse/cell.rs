@@ -38,7 +38,7 @@
 //! where it meets a patch (a map without the apex gathers the corners every pass, as the
 //! patch's pass then reuses them).
 
-use crate::ir::{FnBuilder, Image, Val, Vec2, Vec3, Vec4};
+use crate::ir::{FnBuilder, Image, Val, Var, Vec2, Vec3, Vec4};
 use crate::spec::MapReq;
 use crate::stage::{Bracket, Filter, Ray};
 use std::cell::Cell as Kept;
@@ -267,6 +267,14 @@ impl<'a> Cell<'a> {
     pub(super) fn holds_hit(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, from: Val<'a, f32>) -> Val<'a, bool> {
         Patch::of(ray, &self.grid, self.cell, self.corners(s), from).meets_within(self.exit - from)
     }
+
+    /// Where a pass at `t` goes when its cone step stays in this cell: the patch decides
+    /// ([`Cell::holds_hit`]), and the pass either marks `t` as the cell of the first hit (`−t`,
+    /// [`Sentinel`]) or moves to the cell's exit.
+    pub(super) fn decided(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, t: Var<'a, f32>) -> Val<'a, f32> {
+        let holds = self.holds_hit(s, ray, t.get());
+        s.select(holds, -t.get(), self.exit)
+    }
 }
 
 /// The ray's position at `t` within `cell`, in cells: `(origin·N − ½ − cell) + (d.xy·N)·t`.
@@ -381,6 +389,18 @@ pub(super) fn hit_in<'a>(
 pub(super) trait CellStep<'a>: Fn(&'a FnBuilder<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32> {}
 impl<'a, F: Fn(&'a FnBuilder<'a>, Val<'a, Vec3>, &Cell<'a>) -> Val<'a, f32>> CellStep<'a> for F {}
 
+/// One pass's move once its cone step `cone` is known: to the cone step where it leaves the
+/// cell; otherwise the cell's patch decides ([`Cell::decided`]).
+///
+/// Why: the cell's cone keeps the surface below it only from the cell's highest corner up, so
+/// from a point below that corner (or under a narrow cone) the cone step is zero or tiny and a
+/// march of cone steps alone would stall there; the patch's exact decision either marks the
+/// cell of the first hit or proves the ray above the patch to the cell's exit, so every pass
+/// leaves its cell or ends the search.
+fn advance<'a>(l: &'a FnBuilder<'a>, ray: &Ray<'a>, c: &Cell<'a>, t: Var<'a, f32>, cone: Val<'a, f32>) {
+    l.if_else(cone.ge(c.exit), |_| t.set(cone), |l| t.set(c.decided(l, ray, t)));
+}
+
 /// The march of the `form=safe` conservative cone methods (the method's step rule is
 /// `step(p, cell)`, a cone step from the cell's apex), one pass per cell left:
 ///
@@ -419,14 +439,7 @@ pub(super) fn safe_march<'a>(
         let c = cell_at(g, t.get());
         let cone = t.get() + step(l, ray.at(t), &c);
         // 3. Advance by the cone step, or the patch decides.
-        l.if_else(
-            cone.ge(c.exit),
-            |_| t.set(cone),
-            |l| {
-                let holds = c.holds_hit(l, ray, t.get());
-                t.set(l.select(holds, -t.get(), c.exit));
-            },
-        );
+        advance(l, ray, &c, t, cone);
     });
     let (end, in_cell) = over.solve(s, ray, t.get());
     Bracket::searched(end, end, in_cell | t.ge(g.t_max))
@@ -515,14 +528,7 @@ pub(super) fn relaxed_march<'a>(
         let cone = t.get() + step(l, p, &c);
         t_prev.set(t);
         // 4. Or the patch decides where the step stays in the cell.
-        l.if_else(
-            cone.ge(c.exit),
-            |_| t.set(cone),
-            |l| {
-                let holds = c.holds_hit(l, ray, t.get());
-                t.set(l.select(holds, -t.get(), c.exit));
-            },
-        );
+        advance(l, ray, &c, t, cone);
     });
     let (end, in_cell) = over.solve(s, ray, t.get());
     let under = t_prev.get().bits().ge(0x8000_0000u32);

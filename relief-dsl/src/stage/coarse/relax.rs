@@ -97,8 +97,7 @@ pub(super) fn relaxing_march<'a>(
                 t.set((t + w * reach).min(g.t_max));
             },
             |l| {
-                let holds = c.holds_hit(l, ray, t.get());
-                proven.set(l.select(holds, -t.get(), c.exit));
+                proven.set(c.decided(l, ray, t));
                 t.set(proven);
                 last_t.set(proven);
             },
