@@ -414,6 +414,21 @@ pub(crate) fn glb(meshes: &[GlbMesh]) -> Vec<u8> {
     out
 }
 
+/// The square (−1..1)² in z = 0 as a mesh: two triangles, A = (0, 1, 2) below the diagonal
+/// y = x and B = (0, 2, 3) above it, normal +z, tangent +x, uv = (p + 1)/2.
+pub(crate) fn flat_square() -> Mesh {
+    use glam::{Vec2, Vec4};
+    let corners = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]].map(|[x, y]| Vec3::new(x, y, 0.0));
+    Mesh {
+        name: "square".into(),
+        positions: corners.to_vec(),
+        normals: vec![Vec3::Z; 4],
+        tangents: vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 4],
+        uvs: corners.iter().map(|c| Vec2::new(c.x + 1.0, c.y + 1.0) * 0.5).collect(),
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+    }
+}
+
 /// A unit square in the plane z = `z` (two triangles), with uvs unless `uvs` is false.
 pub(crate) fn square(name: &'static str, z: f32, uvs: bool) -> GlbMesh {
     GlbMesh {
@@ -557,7 +572,6 @@ fn the_mesh_scene_files_load() {
 /// its own triangle (`NoFace`).
 #[test]
 fn prism_miss_causes_follow_the_prisms_geometry_on_a_flat_square() {
-    use glam::{Vec2, Vec4};
     use relief_runtime::gpu::mesh::MeshProbe;
     use relief_runtime::mesh::MeshHit;
     use relief_runtime::mesh_measure::{prism_miss_causes, PrismMiss};
@@ -572,16 +586,7 @@ fn prism_miss_causes_follow_the_prisms_geometry_on_a_flat_square() {
     sc.camera.distance = 4.0;
     sc.camera.fov_deg = 40.0;
     sc.camera.target = Vec3::ZERO;
-    let corners = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]].map(|[x, y]| Vec3::new(x, y, 0.0));
-    let mesh = Mesh {
-        name: "square".into(),
-        positions: corners.to_vec(),
-        normals: vec![Vec3::Z; 4],
-        tangents: vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 4],
-        uvs: corners.iter().map(|c| Vec2::new(c.x + 1.0, c.y + 1.0) * 0.5).collect(),
-        triangles: vec![[0, 1, 2], [0, 2, 3]],
-    };
-    let ms = MeshScene { scene: sc, mesh, notes: Default::default() };
+    let ms = MeshScene { scene: sc, mesh: flat_square(), notes: Default::default() };
     let depth = ms.scene.depth_scale as f64;
     let size = 48u32;
     // Where a point lies: in A or B by more than `m` from the diagonal and the square's border.

@@ -412,32 +412,9 @@ fn the_worst_t_errors_are_hits_off_s_and_the_reference_is_the_first_hit() {
 /// the full depth along the renormalized normal is ½·(1 − cos 40°) ≈ 0.12 depths late.
 #[test]
 fn the_trace_descends_the_interpolated_normals_length_as_s_does() {
-    use glam::{Vec2, Vec3, Vec4};
     let g = gpu();
-    let mut sc = {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/meshes/sphere_rocks.toml");
-        relief_runtime::load_scene_file(&path).unwrap()
-    };
-    sc.height = relief_runtime::HeightMap::new(8, 8, vec![0.5; 64]);
-    sc.albedo = None;
-    sc.normal = None;
-    sc.depth_scale = 0.1;
-    sc.camera.angle_deg = 0.0;
-    sc.camera.fov_deg = 2.0;
-    sc.camera.distance = 2.0;
-    sc.camera.target = glam::Vec3::ZERO;
     let alpha = 40f32.to_radians();
-    let corners: Vec<Vec3> =
-        (0..3).map(|k| std::f32::consts::TAU * k as f32 / 3.0).map(|a| Vec3::new(a.cos(), a.sin(), 0.0)).collect();
-    let mesh = Mesh {
-        name: "tilted".into(),
-        positions: corners.clone(),
-        normals: corners.iter().map(|c| Vec3::new(c.x * alpha.sin(), c.y * alpha.sin(), alpha.cos())).collect(),
-        tangents: vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 3],
-        uvs: corners.iter().map(|c| Vec2::new(c.x, c.y) + 0.5).collect(),
-        triangles: vec![[0, 1, 2]],
-    };
-    let ms = MeshScene { scene: sc, mesh, notes: Default::default() };
+    let ms = splayed_triangle(alpha, 0.0, -90.0, 2.0, 2.0);
     let depth = ms.scene.depth_scale as f64;
     let plane = -0.5 * depth * (alpha as f64).cos();
     let size = 16;
@@ -468,35 +445,11 @@ fn the_trace_descends_the_interpolated_normals_length_as_s_does() {
 /// discarded as "entered from below"; at least 20 such pixels are asserted drawn.
 #[test]
 fn the_prism_is_traced_along_the_true_ray_at_a_grazing_view() {
-    use glam::{Vec2, Vec3, Vec4};
     let g = gpu();
-    let mut sc = {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/meshes/sphere_rocks.toml");
-        relief_runtime::load_scene_file(&path).unwrap()
-    };
-    sc.height = relief_runtime::HeightMap::new(8, 8, vec![0.5; 64]);
-    sc.albedo = None;
-    sc.normal = None;
-    sc.depth_scale = 0.1;
-    sc.camera.angle_deg = 80.0;
-    sc.camera.azimuth_deg = -90.0;
-    sc.camera.fov_deg = 50.0;
-    sc.camera.distance = 2.5;
-    sc.camera.target = glam::Vec3::ZERO;
     let alpha = 40f32.to_radians();
-    let corners: Vec<Vec3> =
-        (0..3).map(|k| std::f32::consts::TAU * k as f32 / 3.0).map(|a| Vec3::new(a.cos(), a.sin(), 0.0)).collect();
-    let normals: Vec<Vec3> =
-        corners.iter().map(|c| Vec3::new(c.x * alpha.sin(), c.y * alpha.sin(), alpha.cos())).collect();
-    let mesh = Mesh {
-        name: "splayed".into(),
-        positions: corners.clone(),
-        normals: normals.clone(),
-        tangents: vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 3],
-        uvs: corners.iter().map(|c| Vec2::new(c.x, c.y) + 0.5).collect(),
-        triangles: vec![[0, 1, 2]],
-    };
-    let ms = MeshScene { scene: sc, mesh, notes: Default::default() };
+    let ms = splayed_triangle(alpha, 80.0, -90.0, 50.0, 2.5);
+    let corners = ms.mesh.positions.clone();
+    let normals = ms.mesh.normals.clone();
     let depth = ms.scene.depth_scale as f64;
     let plane = -0.5 * depth * (alpha as f64).cos();
     // The layer-½ triangle: the corners moved ½·depth along their normals.
@@ -529,4 +482,36 @@ fn the_prism_is_traced_along_the_true_ray_at_a_grazing_view() {
     assert!(checked >= 100, "only {checked} pixels see the triangle ({away} face away, t off by {worst})");
     assert!(away >= 20, "only {away} rays face away from the interpolated normal (of {checked})");
     assert!(worst <= 1e-3, "t off by {worst} depths");
+}
+
+/// One flat equilateral triangle in z = 0 around the origin (corners at unit distance, uv =
+/// xy + ½), its vertex normals splayed `alpha` outwards (radially), under a constant height ½
+/// (8² map, depth 0.1, no albedo or normal map), seen from `distance` at `angle` degrees from
+/// +z and `azimuth`, with the vertical field of view `fov` (degrees), looking at the origin.
+fn splayed_triangle(alpha: f32, angle: f32, azimuth: f32, fov: f32, distance: f32) -> MeshScene {
+    use glam::{Vec2, Vec3, Vec4};
+    let mut sc = {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/meshes/sphere_rocks.toml");
+        relief_runtime::load_scene_file(&path).unwrap()
+    };
+    sc.height = relief_runtime::HeightMap::new(8, 8, vec![0.5; 64]);
+    sc.albedo = None;
+    sc.normal = None;
+    sc.depth_scale = 0.1;
+    sc.camera.angle_deg = angle;
+    sc.camera.azimuth_deg = azimuth;
+    sc.camera.fov_deg = fov;
+    sc.camera.distance = distance;
+    sc.camera.target = Vec3::ZERO;
+    let corners: Vec<Vec3> =
+        (0..3).map(|k| std::f32::consts::TAU * k as f32 / 3.0).map(|a| Vec3::new(a.cos(), a.sin(), 0.0)).collect();
+    let mesh = Mesh {
+        name: "splayed".into(),
+        positions: corners.clone(),
+        normals: corners.iter().map(|c| Vec3::new(c.x * alpha.sin(), c.y * alpha.sin(), alpha.cos())).collect(),
+        tangents: vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 3],
+        uvs: corners.iter().map(|c| Vec2::new(c.x, c.y) + 0.5).collect(),
+        triangles: vec![[0, 1, 2]],
+    };
+    MeshScene { scene: sc, mesh, notes: Default::default() }
 }

@@ -379,11 +379,11 @@ fn robust_statistics_match_a_hand_computed_list() {
 /// of S lies within ε/|d.z| of the plane along the ray).
 #[test]
 fn a_mesh_cell_matches_the_closed_form_on_a_lowered_square() {
-    use glam::{DVec3, Vec2, Vec3, Vec4};
+    use glam::{DVec3, Vec3};
     use relief_dsl::spec::Curved;
     use relief_runtime::gpu::mesh::{probe_mesh, MeshProgram};
     use relief_runtime::gpu::SceneTextures;
-    use relief_runtime::mesh::{Mesh, MeshReference, MeshScene};
+    use relief_runtime::mesh::{MeshReference, MeshScene};
     let g = Gpu::new().unwrap();
     let mut sc = relief_runtime::Scene::from_height_map("square", relief_runtime::HeightMap::new(8, 8, vec![0.5; 64]));
     sc.edge = relief_runtime::EdgeMode::Clamp;
@@ -393,17 +393,7 @@ fn a_mesh_cell_matches_the_closed_form_on_a_lowered_square() {
     sc.camera.distance = 2.5;
     sc.camera.fov_deg = 60.0;
     sc.camera.target = Vec3::ZERO;
-    let corners =
-        [Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(-1.0, 1.0, 0.0)];
-    let mesh = Mesh {
-        name: "square".into(),
-        positions: corners.to_vec(),
-        normals: vec![Vec3::Z; 4],
-        tangents: vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 4],
-        uvs: corners.iter().map(|c| Vec2::new(c.x + 1.0, c.y + 1.0) * 0.5).collect(),
-        triangles: vec![[0, 1, 2], [0, 2, 3]],
-    };
-    let ms = MeshScene { scene: sc, mesh, notes: Default::default() };
+    let ms = MeshScene { scene: sc, mesh: super::meshes::flat_square(), notes: Default::default() };
     let h = SceneTextures::new(&g, &ms.scene).heights_on_device[0] as f64;
     let depth = ms.scene.depth_scale as f64;
     let eps = MeshReference::default_tolerance(&ms.mesh, depth);
