@@ -723,19 +723,30 @@ pub enum PrismTCause {
     /// (i) The same pixel under a denser search (the `dense` probe of [`prism_t_causes`])
     /// meets the reference within [`T_BOUND`] depths: the search stepped over a crossing.
     Search,
-    /// The prism of the reference's triangle, emulated with a search that cannot step over a
-    /// crossing of its chord wider than 1/4096 of it (a dense march, then bisection), draws no
-    /// hit within [`T_BOUND`] depths of the reference's: its chord, straight in texture
-    /// space, does not meet the relief where the view ray does (prism's own).
+    /// (i) Not that, but the prism of the reference's triangle, emulated with a search that
+    /// cannot step over a crossing of its chord wider than 1/4096 of it (a dense march, then
+    /// bisection), draws a hit within [`T_BOUND`] depths of the reference's: the crossing is
+    /// narrower than the dense probe's steps, and both searches stepped over it.
+    ThinSearch,
+    /// The prism of the reference's triangle, emulated with that dense march, draws no hit
+    /// within [`T_BOUND`] depths of the reference's: its chord, straight in texture space, does
+    /// not meet the relief where the view ray does (prism's own).
     Chord,
-    /// (iv) None of the above.
+    /// (iv) The CPU's emulation does not give the GPU's t (beyond [`emulation_bound`]), so the
+    /// causes above, which read it, cannot be decided; or none of them holds.
     Other,
 }
 
 impl PrismTCause {
     /// Every cause, in the order they are decided.
-    pub const ALL: [PrismTCause; 5] =
-        [PrismTCause::Seam, PrismTCause::Polish, PrismTCause::Search, PrismTCause::Chord, PrismTCause::Other];
+    pub const ALL: [PrismTCause; 6] = [
+        PrismTCause::Seam,
+        PrismTCause::Polish,
+        PrismTCause::Search,
+        PrismTCause::ThinSearch,
+        PrismTCause::Chord,
+        PrismTCause::Other,
+    ];
 
     /// The cause's short name (`relief scene measure --causes`).
     pub fn name(self) -> &'static str {
@@ -743,6 +754,7 @@ impl PrismTCause {
             PrismTCause::Seam => "seam",
             PrismTCause::Polish => "polish",
             PrismTCause::Search => "search",
+            PrismTCause::ThinSearch => "search-thin",
             PrismTCause::Chord => "chord",
             PrismTCause::Other => "other",
         }
@@ -845,24 +857,20 @@ pub fn prism_t_causes(
         let emulated = emulate_prism_pixel(ms, &vertices, &indices, o, d, (steps, refine), PolishRule::SHADER);
         let emulated_dt = emulated.map(|e| (e.t - r.t) / depth);
         let dense_dt = dense.hits.get(i).filter(|h| h[3] > 0.5).map(|h| (h[2] as f64 - r.t) / depth);
-        let polish = emulated.is_some_and(|e| !e.polished && ((e.t - r.t) / depth - dt).abs() <= emulation_bound(&e));
+        let agrees = emulated.is_some_and(|e| ((e.t - r.t) / depth - dt).abs() <= emulation_bound(&e));
+        let tri = r.triangle as usize;
         let cause = if seam {
             PrismTCause::Seam
-        } else if polish {
+        } else if !agrees {
+            PrismTCause::Other
+        } else if emulated.is_some_and(|e| !e.polished) {
             PrismTCause::Polish
         } else if dense_dt.is_some_and(|x| x.abs() <= T_BOUND) {
             PrismTCause::Search
-        } else if !chord_draws(
-            ms,
-            &vertices[indices[r.triangle as usize * 24] as usize],
-            r.triangle as usize,
-            o,
-            d,
-            r.t,
-        ) {
-            PrismTCause::Chord
+        } else if chord_draws(ms, &vertices[indices[tri * 24] as usize], tri, o, d, r.t) {
+            PrismTCause::ThinSearch
         } else {
-            PrismTCause::Other
+            PrismTCause::Chord
         };
         out.push(PrismTError {
             index: i,
