@@ -714,7 +714,8 @@ pub const T_BOUND: f64 = 1e-3;
 pub enum PrismTCause {
     /// (iii) The GPU's hit or the reference's lies within [`T_BOUND`] depths, along the ray,
     /// of the ray's crossing with the wall of a uv seam (an edge two triangles share in space
-    /// whose heights differ on its two sides: S is open there, [`seam_walls`]).
+    /// with different uvs, where the heights on its two sides may differ and S be open,
+    /// [`seam_walls`]).
     Seam,
     /// (ii) The CPU's emulation of the prisms' fragments ([`emulate_prism_pixel`]) gives the
     /// GPU's t (within [`emulation_bound`]), and the prism that draws it did not keep its
@@ -785,13 +786,16 @@ pub struct PrismTError {
 /// The side walls of the mesh's uv seams where S is open: each edge two triangles share in
 /// space (positions equal to the bit) whose uvs differ on the two sides by other than whole
 /// tiles under repeat edges (by anything under clamp), as `(F_i, F_j, D_i, D_j)` (the floor
-/// corners and depth times the normals, [`wall_crossings`]'s arguments).
+/// corners and depth times the normals, the arguments of the wall's ray crossing).
 pub fn seam_walls(ms: &MeshScene) -> Vec<[DVec3; 4]> {
     use std::collections::HashMap;
     let mesh = &ms.mesh;
     let depth = ms.scene.depth_scale as f64;
     let key = |i: u32| mesh.positions[i as usize].to_array().map(f32::to_bits);
-    let mut edges: HashMap<([u32; 3], [u32; 3]), Vec<(u32, u32)>> = HashMap::new();
+    // A position's key (its bits), an edge's key (its two ends, ordered) and the edges of the
+    // triangles that share it in space (vertex indices, in that order).
+    type Key = [u32; 3];
+    let mut edges: HashMap<(Key, Key), Vec<(u32, u32)>> = HashMap::new();
     for tri in &mesh.triangles {
         for (a, b) in [(tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])] {
             let (a, b) = if key(a) <= key(b) { (a, b) } else { (b, a) };

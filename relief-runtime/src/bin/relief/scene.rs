@@ -53,7 +53,9 @@ pub enum SceneCommand {
         out: Option<PathBuf>,
         /// Also sort prism's missing pixels by cause (no face of the hit's prism met, first
         /// crossing before the entry or after the exit, the search, other;
-        /// `mesh_measure::prism_miss_causes`); the pipeline must be `linear(n)+binary(m)`.
+        /// `mesh_measure::prism_miss_causes`) and its pixels whose t is off by more than
+        /// 1e-3 depths (`mesh_measure::prism_t_causes`, with a second prism probe at
+        /// `linear(256)+binary(8)`); the pipeline must be `linear(n)+binary(m)`.
         #[arg(long)]
         causes: bool,
     },
