@@ -561,7 +561,8 @@ fn emulate_fragment(
     let (f, _, _) = residual(t, b);
     let inside = b.x >= -PRISM_FACE_SLACK && b.y >= -PRISM_FACE_SLACK && b.x + b.y <= 1.0 + PRISM_FACE_SLACK;
     let polished = f.length() <= depth * POLISH_TOLERANCE && inside && (t - t0).abs() <= depth;
-    if rule.discard && !polished {
+    let converged_outside = f.length() <= depth * POLISH_TOLERANCE && !inside;
+    if (rule.discard && !polished) || (rule.discard_outside && converged_outside) {
         return None;
     }
     Some(PrismFragment {
@@ -619,11 +620,14 @@ pub struct PolishRule {
     pub steps: usize,
     /// Discard where the polish is not kept.
     pub discard: bool,
+    /// Discard where Newton converged onto S outside the triangle (the crossing it found is
+    /// a neighbour's), keep the search's hit where it did not converge.
+    pub discard_outside: bool,
 }
 
 impl PolishRule {
     /// The shader's: [`POLISH_STEPS`] steps, the search's hit drawn where the polish is not kept.
-    pub const SHADER: PolishRule = PolishRule { steps: POLISH_STEPS, discard: false };
+    pub const SHADER: PolishRule = PolishRule { steps: POLISH_STEPS, discard: false, discard_outside: false };
 }
 
 /// Whether the chord meets the height field between its entry and its exit, by a dense march

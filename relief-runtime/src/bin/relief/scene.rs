@@ -243,9 +243,10 @@ fn prism_t_report(
     let depth = ms.scene.depth_scale as f64;
     for rule in [
         PolishRule::SHADER,
-        PolishRule { steps: 6, discard: false },
-        PolishRule { steps: 3, discard: true },
-        PolishRule { steps: 6, discard: true },
+        PolishRule { steps: 6, ..PolishRule::SHADER },
+        PolishRule { discard: true, ..PolishRule::SHADER },
+        PolishRule { steps: 6, discard: true, ..PolishRule::SHADER },
+        PolishRule { discard_outside: true, ..PolishRule::SHADER },
     ] {
         let (mut extra, mut missing, mut sum, mut both, mut over, mut gpu_differ) = (0, 0, 0.0, 0usize, 0, 0);
         for (i, ray) in rays.iter().enumerate() {
@@ -268,7 +269,13 @@ fn prism_t_report(
         println!(
             "emulated polish {} steps{}: extra {extra}, missing {missing}, rms_t {:.2e}, over the bound {over}, coverage unlike the GPU's {gpu_differ}",
             rule.steps,
-            if rule.discard { ", discard where not kept" } else { "" },
+            if rule.discard {
+                ", discard where not kept"
+            } else if rule.discard_outside {
+                ", discard where converged outside the triangle"
+            } else {
+                ""
+            },
             (sum / both.max(1) as f64).sqrt()
         );
     }
