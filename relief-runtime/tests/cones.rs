@@ -4,7 +4,8 @@
 //! ones refine to it, on hard maps (boxes on a low floor with one-texel walls and
 //! single-texel pillars, white noise, smooth fBm), random rays from 0° to 89°, both edge
 //! modes, and the same maps as the surface of a mip level the stages sample
-//! (`lod=level(k)`). The `form=textbook` methods are measured, not trusted: one test records that they
+//! (`lod=level(k)`), and rays that start on a height-1 summit (their first hit at t = 0) where
+//! the surface falls away. The `form=textbook` methods are measured, not trusted: one test records that they
 //! do pass the first hit on the same maps (the finding behind the safe form).
 
 use relief_runtime::gpu::{self, Gpu, GpuHit, Program, SceneTextures};
@@ -415,6 +416,143 @@ fn safe_marches_take_no_empty_pass_on_a_1024_map_at_grazing_views() {
                     &stalled[..stalled.len().min(3)],
                     past.len(),
                     &past[..past.len().min(3)]
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Where a ray of [`summit_rays`] may start: on top of a height-1 texel or of the patch
+/// between two of them, in texel-centre coordinates (`X = u·N − ½`).
+#[derive(Clone, Copy)]
+enum Summit {
+    /// The centre of texel (i, j).
+    Texel(usize, usize),
+    /// The segment from texel (i, j) to texel (i + 1, j): both at height 1, so the patch is 1
+    /// all along it.
+    Ridge(usize, usize),
+    /// A point `(u, v)` on a map's edge (u or v exactly 0 or 1) at a height-1 texel of that
+    /// edge: under clamp the border strip's height there is the texel's, under repeat the
+    /// texel facing it across the seam is 1 too ([`summit_map`]).
+    Edge([f32; 2]),
+}
+
+/// A floor at 0 with one-texel pillars of height 1 (every fourth texel of every fourth row,
+/// shifted from row to row), one two-texel wall of height 1 (a ridge), and on the borders
+/// pillars in pairs facing each other across the seam (texel (0, j) and (N − 1, j), (i, 0)
+/// and (i, N − 1), and the four corners), with the points on them where [`summit_rays`] start.
+fn summit_map(n: usize) -> (HeightMap, Vec<Summit>) {
+    let mut tall = vec![false; n * n];
+    let mut summits = vec![];
+    for j in (2..n - 2).step_by(4) {
+        for i in ((2 + j % 8 / 2)..n - 2).step_by(4) {
+            tall[j * n + i] = true;
+            summits.push(Summit::Texel(i, j));
+        }
+    }
+    let (wi, wj) = (n / 2 + 1, n / 2 - 1);
+    tall[wj * n + wi] = true;
+    tall[wj * n + wi + 1] = true;
+    summits.push(Summit::Ridge(wi, wj));
+    let last = n - 1;
+    let edge = |k: usize| (k as f32 + 0.5) / n as f32;
+    for k in [0, 5, 13, last] {
+        for (a, b) in [((0, k), (last, k)), ((k, 0), (k, last))] {
+            tall[a.1 * n + a.0] = true;
+            tall[b.1 * n + b.0] = true;
+        }
+        summits.push(Summit::Edge([0.0, edge(k)]));
+        summits.push(Summit::Edge([1.0, edge(k)]));
+        summits.push(Summit::Edge([edge(k), 0.0]));
+        summits.push(Summit::Edge([edge(k), 1.0]));
+    }
+    (HeightMap::from_fn(n, n, |x, y| if tall[y * n + x] { 1.0 } else { 0.0 }), summits)
+}
+
+/// Rays that start on a summit of [`summit_map`] (the top of the volume, z = 1, is the top of
+/// the pillar there, so the first hit is at t = 0), 0° to 89° from the normal, any azimuth;
+/// the origins are exact in f32, so the shader's point and the patch at t = 0 are exact too.
+/// Steeper than about 17° (at a depth scale of 0.1 over 32 texels) the surface falls away
+/// from the summit faster than the ray descends.
+fn summit_rays(summits: &[Summit], n: usize, count: usize, depth: f32, seed: u64) -> Vec<ProbeRay> {
+    let mut next = lcg(seed);
+    let centre = |k: usize| (k as f32 + 0.5) / n as f32;
+    (0..count)
+        .map(|k| {
+            let origin = match summits[k % summits.len()] {
+                Summit::Texel(i, j) => [centre(i), centre(j)],
+                // A point of the segment between the two centres, a multiple of 1/64 of a
+                // texel: exact in f32.
+                Summit::Ridge(i, j) => [centre(i) + (64.0 * next()).floor() / 64.0 / n as f32, centre(j)],
+                Summit::Edge(uv) => uv,
+            };
+            let reach = (89.0 * next()).to_radians().tan() * depth;
+            let az = next() * std::f32::consts::TAU;
+            ProbeRay { origin, dir: [reach * az.cos(), reach * az.sin(), -1.0], x: k as u32, y: 0, pixel_size: 0.0 }
+        })
+        .collect()
+}
+
+#[test]
+fn safe_methods_stop_at_once_on_a_summit_where_the_surface_falls_away() {
+    // A ray entering a cell at or under its patch has its first hit where it enters: the
+    // patch's decision sees it only through `C ≥ 0` (`Patch::meets_within`), since where the
+    // surface falls away faster than the ray descends, the ray is above the patch at the
+    // cell's exit (`g(s_e) < 0`) and the gap only widens (`B < 0`, no hump inside). Every
+    // march starts at the top of the volume, z = 1, so a ray whose first point is on the top
+    // of a height-1 pillar, of a ridge of two, or of a border pillar (on the border strip
+    // under clamp, on the seam between two pillars under repeat) is such a ray: its first hit
+    // is at t = 0 by the reference, and the march must stop there.
+    let g = Gpu::new().unwrap();
+    let texels = 32;
+    let (map, summits) = summit_map(texels);
+    let mut failures = vec![];
+    for (i, edge) in [EdgeMode::Repeat, EdgeMode::Clamp].into_iter().enumerate() {
+        let mut probe = Probe::new("summits", map.clone(), edge, 70 + i as u64);
+        probe.rays = summit_rays(&summits, texels, 4096, probe.scene.depth_scale, 72 + i as u64);
+        probe.refs = reference_hits(&probe.scene, &probe.rays, Sampling::Bilinear).unwrap();
+        // The case is the one meant: every ray's first hit is where it starts.
+        let at_entry = probe.refs.iter().filter(|r| r.expect("every ray hits").t == 0.0).count();
+        assert_eq!(at_entry, probe.rays.len(), "{}: rays whose first hit is at t = 0", probe.label);
+        for method in [
+            "csm(24)",
+            "qcsm(24)",
+            "cns(24)",
+            "mcns(24, 3)",
+            "pcns(24, 3)",
+            "sphere(24)",
+            "maxmip(64)",
+            "csm_relax(24)",
+            "sphere_relax(24)",
+            "rcs(24)+binary(8)",
+            "rcns(24)+binary(8)",
+        ] {
+            let hits = probe.run(&g, method);
+            let past = probe.past(&hits, |_| T_SLACK);
+            // t at the reference's: no ray may stop short of it either.
+            let off: Vec<(usize, f64)> = hits
+                .iter()
+                .zip(&probe.refs)
+                .enumerate()
+                .map(|(k, (h, rf))| (k, h.t as f64 - rf.unwrap().t))
+                .filter(|(_, dt)| dt.abs() > T_SLACK)
+                .collect();
+            eprintln!(
+                "{method} on {}: {} of {} past the first hit, {} with t off the reference's",
+                probe.label,
+                past.len(),
+                hits.len(),
+                off.len()
+            );
+            if !past.is_empty() || !off.is_empty() {
+                failures.push(format!(
+                    "{method} on {}: {} rays past the first hit {:?}, {} with t off the reference's {:?}",
+                    probe.label,
+                    past.len(),
+                    &past[..past.len().min(3)],
+                    off.len(),
+                    &off[..off.len().min(3)]
                 ));
             }
         }

@@ -330,56 +330,60 @@ pub(crate) struct Chord<'a> {
     search: Ray<'a>,
 }
 
-/// The crossing of the ray `t·v` (from the origin, v unit) with the triangle `q`: t, whether
-/// it lies in the triangle (within [`PRISM_FACE_SLACK`]) and the barycentrics of corners 0
-/// and 1 there (Möller & Trumbore 1997).
-fn ray_triangle<'a>(
-    s: &'a FnBuilder<'a>,
-    v: Val<'a, Vec3>,
-    q: [Val<'a, Vec3>; 3],
-) -> (Val<'a, f32>, Val<'a, bool>, Val<'a, Vec2>) {
-    let (e1, e2) = (q[1] - q[0], q[2] - q[0]);
-    let pv = v.cross(e2);
-    let det = e1.dot(pv);
+/// A point of the prism in the ray's frame: `xy` its components along `n1` and `n2` (two unit
+/// vectors orthogonal to the view ray and to each other), `z` along the unit view ray `v`.
+/// The ray from the fragment's point is the line `xy = 0` there, and a point on it is `z` away.
+type RayFramed<'a> = (Val<'a, Vec2>, Val<'a, f32>);
+
+/// The 2D cross product `a.x·b.y − a.y·b.x`.
+fn cross2<'a>(a: Val<'a, Vec2>, b: Val<'a, Vec2>) -> Val<'a, f32> {
+    a.x() * b.y() - a.y() * b.x()
+}
+
+/// The crossing of the ray with the triangle `q` (its corners in the ray's frame,
+/// [`RayFramed`]): t, whether it lies in the triangle (within [`PRISM_FACE_SLACK`]) and the
+/// barycentrics of corners 0 and 1 there. The ray is the line `xy = 0`, so the crossing's
+/// barycentrics are the origin's in the projected triangle, `bₖ` the signed area of the
+/// triangle the origin makes with the other two corners over the whole's (the same numbers as
+/// Möller & Trumbore 1997's: their determinant is the whole's doubled signed area, the sum of
+/// the three 2D cross products here), and t their blend of the corners' `z`.
+fn ray_triangle<'a>(s: &'a FnBuilder<'a>, q: [RayFramed<'a>; 3]) -> (Val<'a, f32>, Val<'a, bool>, Val<'a, Vec2>) {
+    let [(p0, z0), (p1, z1), (p2, z2)] = q;
+    let (a0, a1, a2) = (cross2(p1, p2), cross2(p2, p0), cross2(p0, p1));
+    let det = a0 + a1 + a2;
     let usable = det.abs().gt(1e-20);
     let inv = 1.0 / s.select(usable, det, s.lit(1.0));
-    let tv = -q[0];
-    let b1 = tv.dot(pv) * inv;
-    let qv = tv.cross(e1);
-    let b2 = v.dot(qv) * inv;
-    let t = e2.dot(qv) * inv;
+    let (b0, b1, b2) = (a0 * inv, a1 * inv, a2 * inv);
+    let t = b0 * z0 + b1 * z1 + b2 * z2;
     let ok = usable & b1.ge(-PRISM_FACE_SLACK) & b2.ge(-PRISM_FACE_SLACK) & (b1 + b2).le(1.0 + PRISM_FACE_SLACK);
-    (t, ok, s.vec2(1.0 - b1 - b2, b1))
+    (t, ok, s.vec2(b0, b1))
 }
 
 /// A root of [`ray_bilinear_wall`]: the crossing's t along the ray, whether it lies on the
 /// wall, its σ along the edge and its layer w.
 type WallRoot<'a> = (Val<'a, f32>, Val<'a, bool>, Val<'a, f32>, Val<'a, f32>);
 
-/// The crossings of the ray `t·v` (from the origin, v unit) with a prism's side wall: the
-/// ruled surface `W(σ, w) = F_i + σ(F_j − F_i) + w·D_i + σw·(D_j − D_i)`, σ along the edge
-/// from corner i to j and w the layer, `F` the floor corners and `D = depth·N`. This is the
-/// exact wall of the prism's map `X(b, w) = Σ bₖ (Pₖ − depth·(1 − w)·Nₖ)` where the third
-/// corner's barycentric is 0: bilinear in (σ, w), not planar where `N_i ≠ N_j` (Hoetzlein
-/// 2025's side walls), so the rasterized wall (two flat triangles) is not where the prism
-/// ends, and the fragment's own frame is not the prism's map. Why a quadratic: the ray is the
-/// meet of two planes through it (normals `n1`, `n2` ⊥ v), each plane's equation in (σ, w)
-/// is bilinear, `a + bσ + cw + fσw = 0`; eliminating w leaves a quadratic in σ (Ramsey,
-/// Potter & Hansen 2004). Returns each root's t, whether it lies on the wall, σ and w.
-#[allow(clippy::too_many_arguments)]
+/// The crossings of the ray with a prism's side wall: the ruled surface
+/// `W(σ, w) = F_i + σ(F_j − F_i) + w·D_i + σw·(D_j − D_i)`, σ along the edge from corner i
+/// to j and w the layer, `F` the floor corners and `D = depth·N`, each given in the ray's
+/// frame ([`RayFramed`]). This is the exact wall of the prism's map
+/// `X(b, w) = Σ bₖ (Pₖ − depth·(1 − w)·Nₖ)` where the third corner's barycentric is 0:
+/// bilinear in (σ, w), not planar where `N_i ≠ N_j` (Hoetzlein 2025's side walls), so the
+/// rasterized wall (two flat triangles) is not where the prism ends, and the fragment's own
+/// frame is not the prism's map. Why a quadratic: the ray is the meet of the two planes
+/// `x = 0` and `y = 0` of its frame, each plane's equation in (σ, w) is bilinear,
+/// `a + bσ + cw + fσw = 0`; eliminating w leaves a quadratic in σ (Ramsey, Potter & Hansen
+/// 2004). Returns each root's t (the wall's `z` there), whether it lies on the wall, σ and w.
 fn ray_bilinear_wall<'a>(
     s: &'a FnBuilder<'a>,
-    v: Val<'a, Vec3>,
-    n1: Val<'a, Vec3>,
-    n2: Val<'a, Vec3>,
-    fi: Val<'a, Vec3>,
-    fj: Val<'a, Vec3>,
-    di: Val<'a, Vec3>,
-    dj: Val<'a, Vec3>,
+    fi: RayFramed<'a>,
+    fj: RayFramed<'a>,
+    di: RayFramed<'a>,
+    dj: RayFramed<'a>,
 ) -> [WallRoot<'a>; 2] {
-    let (e, dd) = (fj - fi, dj - di);
-    let on = |x: Val<'a, Vec3>| s.vec2(n1.dot(x), n2.dot(x));
-    let (a, b, c, f) = (on(fi), on(e), on(di), on(dd));
+    let (a, c) = (fi.0, di.0);
+    let (b, f) = (fj.0 - fi.0, dj.0 - di.0);
+    let (za, zb, zc, zf) = (fi.1, fj.1 - fi.1, di.1, dj.1 - di.1);
     // (a₁ + b₁σ)(c₂ + f₂σ) − (a₂ + b₂σ)(c₁ + f₁σ) = qa·σ² + qb·σ + qc.
     let qa = b.x() * f.y() - b.y() * f.x();
     let qb = a.x() * f.y() + b.x() * c.y() - a.y() * f.x() - b.y() * c.x();
@@ -398,8 +402,7 @@ fn ray_bilinear_wall<'a>(
         let d = s.select(first, den.x(), den.y());
         let usable = d.abs().gt(1e-20);
         let w = -s.select(first, num.x(), num.y()) / s.select(usable, d, s.lit(1.0));
-        let point = fi + e * sigma + di * w + dd * (sigma * w);
-        let t = point.dot(v);
+        let t = za + zb * sigma + (zc + zf * sigma) * w;
         let inside = |x: Val<'a, f32>| x.ge(-PRISM_FACE_SLACK) & x.le(1.0 + PRISM_FACE_SLACK);
         (t, disc.ge(0.0) & usable & inside(sigma) & inside(w), sigma, w)
     })
@@ -408,12 +411,14 @@ fn ray_bilinear_wall<'a>(
 /// The view ray (unit `view`, from the fragment's point) through the prism's exact volume:
 /// the crossings of its top (layer 1) and floor (layer 0), which are flat triangles, and of its
 /// three side walls ([`ray_bilinear_wall`]); the first crossing is the entry, the last the
-/// exit, each with its exact (b₀, b₁, w) and so its (u, v, w). The chord between them in
-/// texture space is what the stages search: from the entry's uv at height 1, over heights
-/// lifted by the affine function that makes the stages' descending ray meet the lifted field
-/// where the chord meets the true one (`stage::sampling`'s `PRISM_LIFT`). The chord is defined
-/// whatever the fragment's normal, so a ray level with or rising against the fragment's
-/// tangent plane is traced like any other.
+/// exit, each with its exact (b₀, b₁, w) and so its (u, v, w). The corners are taken into the
+/// ray's frame once ([`RayFramed`]: three dot products each for the three points and the
+/// three depth-scaled normals), and the five crossings are solved there. The chord between
+/// entry and exit in texture space is what the stages search: from the entry's uv at height 1,
+/// over heights lifted by the affine function that makes the stages' descending ray meet the
+/// lifted field where the chord meets the true one (`stage::sampling`'s `PRISM_LIFT`). The
+/// chord is defined whatever the fragment's normal, so a ray level with or rising against the
+/// fragment's tangent plane is traced like any other.
 fn prism_chord<'a>(
     s: &'a FnBuilder<'a>,
     view: Val<'a, Vec3>,
@@ -434,17 +439,19 @@ fn prism_chord<'a>(
         t_out.set(s.select(last, t, t_out.get()));
         at_out.set(s.select(last, at, at_out.get()));
     };
-    let d = [0, 1, 2].map(|k| c.n[k] * depth);
-    let floor = [0, 1, 2].map(|k| c.p[k] - d[k]);
-    for (q, layer) in [(c.p, 1.0), (floor, 0.0)] {
-        let (t, ok, b) = ray_triangle(s, view, q);
-        consider(t, ok, s.vec3(b, layer));
-    }
     let axis = s.select(view.x().abs().lt(0.6), s.vec3(s.vec2(1.0, 0.0), 0.0), s.vec3(s.vec2(0.0, 1.0), 0.0));
     let n1 = view.cross(axis).normalize();
     let n2 = view.cross(n1);
+    let framed = |x: Val<'a, Vec3>| -> RayFramed<'a> { (s.vec2(n1.dot(x), n2.dot(x)), view.dot(x)) };
+    let top = [0, 1, 2].map(|k| framed(c.p[k]));
+    let d = [0, 1, 2].map(|k| framed(c.n[k] * depth));
+    let floor = [0, 1, 2].map(|k| (top[k].0 - d[k].0, top[k].1 - d[k].1));
+    for (q, layer) in [(top, 1.0), (floor, 0.0)] {
+        let (t, ok, b) = ray_triangle(s, q);
+        consider(t, ok, s.vec3(b, layer));
+    }
     for (i, j) in [(0usize, 1usize), (1, 2), (2, 0)] {
-        for (t, ok, sigma, w) in ray_bilinear_wall(s, view, n1, n2, floor[i], floor[j], d[i], d[j]) {
+        for (t, ok, sigma, w) in ray_bilinear_wall(s, floor[i], floor[j], d[i], d[j]) {
             // Barycentrics on the wall: corner i has 1 − σ, corner j σ, the third 0.
             let bary = |k: usize| -> Val<'a, f32> {
                 if k == i {

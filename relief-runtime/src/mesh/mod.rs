@@ -17,6 +17,7 @@ use glam::{Vec2, Vec3, Vec4};
 
 pub mod builtin;
 pub mod file;
+pub mod fragments;
 pub mod reference;
 pub mod scene;
 pub mod surface;

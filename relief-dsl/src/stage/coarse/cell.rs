@@ -330,6 +330,11 @@ impl<'a> Patch<'a> {
     /// `max3`/`min3`): where B = 0 or `g′(span)` = 0 with g negative at both ends, the maximum
     /// is at an end and `B² − 4AC` is negative, so the inner term's `≥ 0` in place of `> 0`
     /// changes nothing. Written with `|` and `&` the compiler branched around the inner test.
+    ///
+    /// The `C` operand alone sees a ray that enters the cell on or under its patch where the
+    /// surface then falls away faster than the ray descends (g < 0 at the end, B < 0): a ray
+    /// starting, at the volume's top, on a height-1 summit (relief-runtime's cones test
+    /// `safe_methods_stop_at_once_on_a_summit_…`, red without it).
     pub(super) fn meets_within(&self, span: Val<'a, f32>) -> Val<'a, bool> {
         let (a, b, c) = (self.a, self.b, self.c);
         // Horner: `u = A·span + B`, `g(span) = u·span + C`, `g′(span) = 2A·span + B = u + A·span`.

@@ -6,6 +6,9 @@
 //! `prism` on the scene's mesh against the exact reference, one table row per mode
 //! (`relief_runtime::mesh_measure`), and with `--out DIR` each mode's coverage picture and
 //! picture (docs/meshes.md, "Measuring").
+//!
+//! `relief scene fragments FILE`: per mode, the fragments the mesh's draw runs per pixel,
+//! counted on the CPU (`relief_runtime::mesh::fragments`), against the reference's coverage.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -59,6 +62,16 @@ pub enum SceneCommand {
         #[arg(long)]
         causes: bool,
     },
+    /// Count the fragments the scene's mesh draw runs per pixel under curved=none, quadric
+    /// and prism (a CPU emulation of the rasterizer: the triangles each pixel-centre ray
+    /// meets, prism's back faces culled), per pixel the exact reference covers.
+    Fragments {
+        /// The scene file (`.toml`), which names a mesh.
+        file: PathBuf,
+        /// Frame side in pixels.
+        #[arg(long, default_value_t = 128)]
+        size: u32,
+    },
 }
 
 pub fn run(a: &SceneArgs) -> anyhow::Result<()> {
@@ -67,6 +80,7 @@ pub fn run(a: &SceneArgs) -> anyhow::Result<()> {
         SceneCommand::Measure { file, pipeline, size, pairs, out, causes } => {
             return measure(file, pipeline, *size, *pairs, out.as_deref(), *causes)
         }
+        SceneCommand::Fragments { file, size } => return fragments(file, *size),
     };
     let scene = relief_runtime::load_scene_file(file)?;
     println!("{scene}");
@@ -91,6 +105,38 @@ pub fn run(a: &SceneArgs) -> anyhow::Result<()> {
             r.patch_count(),
             total - built,
             hits.len()
+        );
+    }
+    Ok(())
+}
+
+/// `relief scene fragments` (the module doc).
+fn fragments(file: &Path, size: u32) -> anyhow::Result<()> {
+    use relief_dsl::spec::Curved;
+    anyhow::ensure!((8..=2048).contains(&size), "--size {size}: expected a frame side from 8 to 2048");
+    let ms = MeshScene::from_scene(relief_runtime::load_scene_file(file)?)?;
+    if let Some(w) = ms.notes.warning() {
+        eprintln!("{w}");
+    }
+    let reference = ms.reference_hits(size, size).context("the exact reference")?;
+    println!("{} at {size}x{size}: fragments per pixel, CPU emulation of the rasterizer", ms.mesh.name);
+    println!(
+        "{:<8} {:>8} {:>10} {:>8} {:>12} {:>14} {:>10} {:>7} {:>5}",
+        "curved", "drawn", "fragments", "covered", "on covered", "per covered", "before hit", "floors", "most"
+    );
+    for mode in [Curved::None, Curved::Quadric, Curved::Prism] {
+        let c = relief_runtime::mesh::fragments::fragment_counts(&ms, mode, size, &reference);
+        println!(
+            "{:<8} {:>8} {:>10} {:>8} {:>12} {:>14.3} {:>10} {:>7} {:>5}",
+            mode.to_string(),
+            c.drawn,
+            c.fragments,
+            c.covered,
+            c.on_covered,
+            c.per_covered(),
+            c.before_hit,
+            c.floors,
+            c.most
         );
     }
     Ok(())
