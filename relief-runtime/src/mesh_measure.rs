@@ -323,53 +323,63 @@ pub fn prism_crossings(
             all.push(PrismCrossing { t: e2.dot(qv) / det, b: DVec2::new(1.0 - b1 - b2, b1), w });
         }
     }
-    // Each wall W(σ, w) = F_i + σ(F_j − F_i) + w·D_i + σw·(D_j − D_i) against the ray:
-    // W − o = t·d, three equations; with the two planes through the ray (normals ⊥ d) a
-    // quadratic in σ, as the shader solves it.
-    let dn = d.normalize();
-    let axis = if dn.x.abs() < 0.6 { DVec3::X } else { DVec3::Y };
-    let n1 = dn.cross(axis).normalize();
-    let n2 = dn.cross(n1);
     for (i, j) in [(0usize, 1usize), (1, 2), (2, 0)] {
-        let (fi, e, di, dd) = (floor[i] - o, floor[j] - floor[i], n[i] * depth, (n[j] - n[i]) * depth);
-        let on = |x: DVec3| DVec2::new(n1.dot(x), n2.dot(x));
-        let (a, b, c, f) = (on(fi), on(e), on(di), on(dd));
-        let qa = b.x * f.y - b.y * f.x;
-        let qb = a.x * f.y + b.x * c.y - a.y * f.x - b.y * c.x;
-        let qc = a.x * c.y - a.y * c.x;
-        let disc = qb * qb - 4.0 * qa * qc;
-        if disc < 0.0 {
-            continue;
-        }
-        let q = -0.5 * (qb + qb.signum() * disc.sqrt());
-        let mut roots = Vec::new();
-        if qa != 0.0 {
-            roots.push(q / qa);
-        }
-        if q != 0.0 {
-            roots.push(qc / q);
-        }
-        for sigma in roots {
-            let (den, num) = (c + f * sigma, a + b * sigma);
-            let (dv, nv) = if den.x.abs() >= den.y.abs() { (den.x, num.x) } else { (den.y, num.y) };
-            if dv.abs() <= 1e-300 {
-                continue;
-            }
-            let w = -nv / dv;
-            let inside = |x: f64| (-PRISM_FACE_SLACK..=1.0 + PRISM_FACE_SLACK).contains(&x);
-            if !(inside(sigma) && inside(w)) {
-                continue;
-            }
-            let point = fi + e * sigma + di * w + dd * (sigma * w);
+        for (t, sigma, w) in wall_crossings(o, d, floor[i], floor[j], n[i] * depth, n[j] * depth) {
             let mut bary = [0.0; 3];
             bary[i] = 1.0 - sigma;
             bary[j] = sigma;
-            all.push(PrismCrossing { t: point.dot(d) / d.length_squared(), b: DVec2::new(bary[0], bary[1]), w });
+            all.push(PrismCrossing { t, b: DVec2::new(bary[0], bary[1]), w });
         }
     }
     let first = all.iter().copied().min_by(|x, y| x.t.total_cmp(&y.t))?;
     let last = all.iter().copied().max_by(|x, y| x.t.total_cmp(&y.t))?;
     (first.t < last.t).then_some((first, last))
+}
+
+/// The crossings `(t, σ, w)` of the ray `o + t·d` with the bilinear side wall
+/// `W(σ, w) = F_i + σ(F_j − F_i) + w·D_i + σw·(D_j − D_i)` (`fi`, `fj` the floor corners,
+/// `di`, `dj` depth times the corner normals), σ and w within [`PRISM_FACE_SLACK`] of
+/// [0, 1]: with the two planes through the ray (normals ⊥ d) a quadratic in σ, as the
+/// shader's `ray_bilinear_wall` solves it.
+fn wall_crossings(o: DVec3, d: DVec3, fi: DVec3, fj: DVec3, di: DVec3, dj: DVec3) -> Vec<(f64, f64, f64)> {
+    let dn = d.normalize();
+    let axis = if dn.x.abs() < 0.6 { DVec3::X } else { DVec3::Y };
+    let n1 = dn.cross(axis).normalize();
+    let n2 = dn.cross(n1);
+    let (fi, e, dd) = (fi - o, fj - fi, dj - di);
+    let on = |x: DVec3| DVec2::new(n1.dot(x), n2.dot(x));
+    let (a, b, c, f) = (on(fi), on(e), on(di), on(dd));
+    let qa = b.x * f.y - b.y * f.x;
+    let qb = a.x * f.y + b.x * c.y - a.y * f.x - b.y * c.x;
+    let qc = a.x * c.y - a.y * c.x;
+    let disc = qb * qb - 4.0 * qa * qc;
+    let mut out = Vec::new();
+    if disc < 0.0 {
+        return out;
+    }
+    let q = -0.5 * (qb + qb.signum() * disc.sqrt());
+    let mut roots = Vec::new();
+    if qa != 0.0 {
+        roots.push(q / qa);
+    }
+    if q != 0.0 {
+        roots.push(qc / q);
+    }
+    for sigma in roots {
+        let (den, num) = (c + f * sigma, a + b * sigma);
+        let (dv, nv) = if den.x.abs() >= den.y.abs() { (den.x, num.x) } else { (den.y, num.y) };
+        if dv.abs() <= 1e-300 {
+            continue;
+        }
+        let w = -nv / dv;
+        let inside = |x: f64| (-PRISM_FACE_SLACK..=1.0 + PRISM_FACE_SLACK).contains(&x);
+        if !(inside(sigma) && inside(w)) {
+            continue;
+        }
+        let point = fi + e * sigma + di * w + dd * (sigma * w);
+        out.push((point.dot(d) / d.length_squared(), sigma, w));
+    }
+    out
 }
 
 /// The prism's chord as the shader searches it: from the entry's uv at height 1, `dir.xy` the
@@ -418,9 +428,9 @@ fn height_at(ms: &MeshScene, uv: DVec2) -> f64 {
 }
 
 /// The search `linear(steps)` then `binary(refine)` on the chord, as the stages write it
-/// (`stage/coarse/linear.rs`, `stage/refine/binary.rs`), and whether the shader draws its
-/// result: not above the lifted field by more than its slack, not after the exit.
-fn emulate_linear_binary(ms: &MeshScene, c: &Chord, steps: u32, refine: u32) -> bool {
+/// (`stage/coarse/linear.rs`, `stage/refine/binary.rs`): its t, and whether the shader draws
+/// its result: not above the lifted field by more than its slack, not after the exit.
+fn search_linear_binary(ms: &MeshScene, c: &Chord, steps: u32, refine: u32) -> (f64, bool) {
     let step = 1.0 / steps as f64;
     let mut t = 0.0;
     for _ in 0..steps {
@@ -444,7 +454,180 @@ fn emulate_linear_binary(ms: &MeshScene, c: &Chord, steps: u32, refine: u32) -> 
     };
     let uv = c.origin + c.dir * t;
     let lifted = height_at(ms, uv) + c.lift0 + c.slope.dot(uv - c.origin);
-    (1.0 - t) - lifted <= PRISM_ABOVE_SLACK && t <= c.k + PRISM_SLACK
+    (t, (1.0 - t) - lifted <= PRISM_ABOVE_SLACK && t <= c.k + PRISM_SLACK)
+}
+
+/// Whether the shader draws the search's result on the chord (`search_linear_binary`).
+fn emulate_linear_binary(ms: &MeshScene, c: &Chord, steps: u32, refine: u32) -> bool {
+    search_linear_binary(ms, c, steps, refine).1
+}
+
+/// The shader's polish constants (`compose/mesh.rs`: `POLISH_STEPS`, `POLISH_TOLERANCE`).
+pub const POLISH_STEPS: usize = 3;
+const POLISH_TOLERANCE: f64 = 1e-4;
+
+/// The height map bilinear at `uv` and its gradient in texture units, from the four texels
+/// (the shader's `height_and_gradient`, one gather, the scene's edge mode).
+fn height_and_gradient(ms: &MeshScene, uv: DVec2) -> (f64, DVec2) {
+    let map = &ms.scene.height;
+    let size = DVec2::new(map.width as f64, map.height as f64);
+    let g = uv * size - 0.5;
+    let (i, j) = (g.x.floor() as i64, g.y.floor() as i64);
+    let f = g - g.floor();
+    let t = |x: i64, y: i64| map.texel(x, y, ms.scene.edge) as f64;
+    let (h00, h10, h01, h11) = (t(i, j), t(i + 1, j), t(i, j + 1), t(i + 1, j + 1));
+    let low = h00 + (h10 - h00) * f.x;
+    let high = h01 + (h11 - h01) * f.x;
+    let du = ((h10 - h00) * (1.0 - f.y) + (h11 - h01) * f.y) * size.x;
+    let dv = ((h01 - h00) * (1.0 - f.x) + (h11 - h10) * f.x) * size.y;
+    (low + (high - low) * f.y, DVec2::new(du, dv))
+}
+
+/// One prism's fragment as the CPU emulates it (f64): the hit it draws.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PrismFragment {
+    /// The triangle whose prism it is.
+    pub triangle: usize,
+    /// The drawn hit's distance along the ray (the polished point's where the polish was kept).
+    pub t: f64,
+    /// The search's hit on the chord, before the polish (its linear estimate along the ray).
+    pub t_search: f64,
+    /// Whether the polish was kept (converged to S within the prism, within a depth).
+    pub polished: bool,
+    /// What the polish ended at: `|F|` in depths, whether in the triangle, how far it moved
+    /// along the ray in depths.
+    pub polish_end: (f64, bool, f64),
+    /// The search's resolution along the ray, in depths: its last bracket,
+    /// `(t_exit − t_entry) / (k · steps · 2^refine)` (k the exit's t on the chord), how far an
+    /// unpolished hit may move where f32 and f64 decide one step of the search differently.
+    pub resolution: f64,
+}
+
+/// The fragment of the prism whose records include `v` on the ray `o + t·d` (d unit), as
+/// `compose/mesh.rs` traces it: the exact entry and exit, the chord, `linear(steps)` then
+/// `binary(refine)` on it, the discards, the search's hit carried to the view ray and
+/// Newton's polish onto S (three steps from the search's (t, b), kept where it converges to
+/// 1e-4 depths, stays in the triangle and moves at most a depth). `None`: discarded.
+fn emulate_fragment(
+    ms: &MeshScene,
+    v: &MeshVertex,
+    triangle: usize,
+    o: DVec3,
+    d: DVec3,
+    (steps, refine): (u32, u32),
+    rule: PolishRule,
+) -> Option<PrismFragment> {
+    let depth = ms.scene.depth_scale as f64;
+    let v3 = |a: [f32; 4]| DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64);
+    let p = [v.prism_p0, v.prism_p1, v.prism_p2].map(v3);
+    let n = [v.prism_n0, v.prism_n1, v.prism_n2].map(v3);
+    let (pa, pb) = (v.prism_a, v.prism_b);
+    let uv = [
+        DVec2::new(pa[0] as f64, pa[1] as f64),
+        DVec2::new(pa[2] as f64, pa[3] as f64),
+        DVec2::new(pb[0] as f64, pb[1] as f64),
+    ];
+    let (entry, exit) = prism_crossings(o, d, p, n, depth)?;
+    let chord = Chord::new(entry, exit, uv)?;
+    let (ts, drawn) = search_linear_binary(ms, &chord, steps, refine);
+    if !drawn {
+        return None;
+    }
+    let tau = (ts / chord.k).clamp(0.0, 1.0);
+    let t0 = entry.t + (exit.t - entry.t) * tau;
+    let b0 = entry.b + (exit.b - entry.b) * tau;
+    let (duv0, duv1) = (uv[0] - uv[2], uv[1] - uv[2]);
+    let residual = |t: f64, b: DVec2| {
+        let w = [b.x, b.y, 1.0 - b.x - b.y];
+        let (h, grad) = height_and_gradient(ms, uv[2] + duv0 * b.x + duv1 * b.y);
+        let pp = p[0] * w[0] + p[1] * w[1] + p[2] * w[2];
+        let nn = n[0] * w[0] + n[1] * w[1] + n[2] * w[2];
+        let sink = depth * (1.0 - h);
+        let f = o + d * t - (pp - nn * sink);
+        let column = |k: usize, duv: DVec2| -((p[k] - p[2]) - (n[k] - n[2]) * sink + nn * (depth * grad.dot(duv)));
+        (f, column(0, duv0), column(1, duv1))
+    };
+    let (mut t, mut b) = (t0, b0);
+    for _ in 0..rule.steps {
+        let (f, c1, c2) = residual(t, b);
+        let cross = c1.cross(c2);
+        let det = d.dot(cross);
+        if det.abs() > 1e-30 {
+            let rhs = -f;
+            t += rhs.dot(cross) / det;
+            b += DVec2::new(d.dot(rhs.cross(c2)), d.dot(c1.cross(rhs))) / det;
+        }
+    }
+    let (f, _, _) = residual(t, b);
+    let inside = b.x >= -PRISM_FACE_SLACK && b.y >= -PRISM_FACE_SLACK && b.x + b.y <= 1.0 + PRISM_FACE_SLACK;
+    let polished = f.length() <= depth * POLISH_TOLERANCE && inside && (t - t0).abs() <= depth;
+    let converged_outside = f.length() <= depth * POLISH_TOLERANCE && !inside;
+    if (rule.discard && !polished) || (rule.discard_outside && converged_outside) {
+        return None;
+    }
+    Some(PrismFragment {
+        triangle,
+        t: if polished { t } else { t0 },
+        t_search: t0,
+        polished,
+        polish_end: (f.length() / depth, inside, (t - t0) / depth),
+        resolution: (exit.t - entry.t) / (chord.k * steps as f64 * 2f64.powi(refine as i32)) / depth,
+    })
+}
+
+/// The nearest hit the prisms draw on the ray `o + t·d` (d unit) by the CPU's emulation of
+/// every prism's fragment (`emulate_fragment`; the depth test keeps the nearest), or `None`.
+/// Every prism the ray crosses is tried (the rasterized faces are not: a prism whose drawn
+/// faces the ray misses counts too).
+#[allow(clippy::too_many_arguments)]
+pub fn emulate_prism_pixel(
+    ms: &MeshScene,
+    vertices: &[MeshVertex],
+    indices: &[u32],
+    o: DVec3,
+    d: DVec3,
+    search: (u32, u32),
+    rule: PolishRule,
+) -> Option<PrismFragment> {
+    let depth = ms.scene.depth_scale as f64;
+    (0..indices.len() / 24)
+        .filter(|&tri| {
+            // The prism's box (its six corners), widened by a hundredth of the depth: a ray that
+            // misses it crosses no face of the prism.
+            let v = &vertices[indices[tri * 24] as usize];
+            let mut b =
+                crate::mesh::surface::Aabb { lo: DVec3::splat(f64::INFINITY), hi: DVec3::splat(f64::NEG_INFINITY) };
+            for (p, n) in [(v.prism_p0, v.prism_n0), (v.prism_p1, v.prism_n1), (v.prism_p2, v.prism_n2)] {
+                let p = DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
+                let n = DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64);
+                for c in [p, p - n * depth] {
+                    b.lo = b.lo.min(c - 0.01 * depth);
+                    b.hi = b.hi.max(c + 0.01 * depth);
+                }
+            }
+            b.entry(o, d).is_some()
+        })
+        .filter_map(|tri| emulate_fragment(ms, &vertices[indices[tri * 24] as usize], tri, o, d, search, rule))
+        .min_by(|a, b| a.t.total_cmp(&b.t))
+}
+
+/// The polish an emulated prism fragment runs: Newton's step count, and whether a fragment
+/// whose polish is not kept is discarded (`false`: the shader's rule, the search's hit is
+/// drawn; [`PolishRule::SHADER`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PolishRule {
+    /// Newton steps.
+    pub steps: usize,
+    /// Discard where the polish is not kept.
+    pub discard: bool,
+    /// Discard where Newton converged onto S outside the triangle (the crossing it found is
+    /// a neighbour's), keep the search's hit where it did not converge.
+    pub discard_outside: bool,
+}
+
+impl PolishRule {
+    /// The shader's: [`POLISH_STEPS`] steps, the search's hit drawn where the polish is not kept.
+    pub const SHADER: PolishRule = PolishRule { steps: POLISH_STEPS, discard: false, discard_outside: false };
 }
 
 /// Whether the chord meets the height field between its entry and its exit, by a dense march
@@ -522,5 +705,231 @@ fn classify(ms: &MeshScene, v: &MeshVertex, o: DVec3, d: DVec3, depth: f64, step
         PrismMiss::Search
     } else {
         PrismMiss::AfterExit
+    }
+}
+
+/// The t error a prism hit may carry and count as on the reference's: issue 38's RMS goal,
+/// 1e-3 depths, taken per pixel ([`prism_t_causes`]).
+pub const T_BOUND: f64 = 1e-3;
+
+/// Why a pixel both hit has `|t_gpu − t_ref| > `[`T_BOUND`] depths under `curved=prism`
+/// (docs/notes/meshes.md, "The t error by cause"); the first that holds, in this order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum PrismTCause {
+    /// (iii) The GPU's hit or the reference's lies within [`T_BOUND`] depths, along the ray,
+    /// of the ray's crossing with the wall of a uv seam (an edge two triangles share in space
+    /// with different uvs, where the heights on its two sides may differ and S be open,
+    /// [`seam_walls`]).
+    Seam,
+    /// (ii) The CPU's emulation of the prisms' fragments ([`emulate_prism_pixel`]) gives the
+    /// GPU's t (within [`emulation_bound`]), and the prism that draws it did not keep its
+    /// polish: the hit is the chord's estimate, off S.
+    Polish,
+    /// (i) The same pixel under a denser search (the `dense` probe of [`prism_t_causes`])
+    /// meets the reference within [`T_BOUND`] depths: the search stepped over a crossing.
+    Search,
+    /// (i) Not that, but the prism of the reference's triangle, emulated with a search that
+    /// cannot step over a crossing of its chord wider than 1/4096 of it (a dense march, then
+    /// bisection), draws a hit within [`T_BOUND`] depths of the reference's: the crossing is
+    /// narrower than the dense probe's steps, and both searches stepped over it.
+    ThinSearch,
+    /// The prism of the reference's triangle, emulated with that dense march, draws no hit
+    /// within [`T_BOUND`] depths of the reference's: its chord, straight in texture space, does
+    /// not meet the relief where the view ray does (prism's own).
+    Chord,
+    /// (iv) The CPU's emulation does not give the GPU's t (beyond [`emulation_bound`]), so the
+    /// causes above, which read it, cannot be decided; or none of them holds.
+    Other,
+}
+
+impl PrismTCause {
+    /// Every cause, in the order they are decided.
+    pub const ALL: [PrismTCause; 6] = [
+        PrismTCause::Seam,
+        PrismTCause::Polish,
+        PrismTCause::Search,
+        PrismTCause::ThinSearch,
+        PrismTCause::Chord,
+        PrismTCause::Other,
+    ];
+
+    /// The cause's short name (`relief scene measure --causes`).
+    pub fn name(self) -> &'static str {
+        match self {
+            PrismTCause::Seam => "seam",
+            PrismTCause::Polish => "polish",
+            PrismTCause::Search => "search",
+            PrismTCause::ThinSearch => "search-thin",
+            PrismTCause::Chord => "chord",
+            PrismTCause::Other => "other",
+        }
+    }
+}
+
+/// One pixel of [`prism_t_causes`]: its index, its error and what each check found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PrismTError {
+    /// The pixel (row-major).
+    pub index: usize,
+    /// `(t_gpu − t_ref) / depth`.
+    pub dt: f64,
+    /// The same for the dense probe (`None`: it does not hit the pixel).
+    pub dense_dt: Option<f64>,
+    /// `(t_emulated − t_ref) / depth` of the CPU's emulation (`None`: it draws nothing).
+    pub emulated_dt: Option<f64>,
+    /// Whether the emulation's drawing prism kept its polish (`None`: it draws nothing).
+    pub polished: Option<bool>,
+    /// The emulation's drawing fragment (`None`: it draws nothing).
+    pub fragment: Option<PrismFragment>,
+    /// Whether a hit lies at a seam wall ([`PrismTCause::Seam`]).
+    pub seam: bool,
+    /// The first cause that holds.
+    pub cause: PrismTCause,
+}
+
+/// The side walls of the mesh's uv seams where S is open: each edge two triangles share in
+/// space (positions equal to the bit) whose uvs differ on the two sides by other than whole
+/// tiles under repeat edges (by anything under clamp), as `(F_i, F_j, D_i, D_j)` (the floor
+/// corners and depth times the normals, the arguments of the wall's ray crossing).
+pub fn seam_walls(ms: &MeshScene) -> Vec<[DVec3; 4]> {
+    use std::collections::HashMap;
+    let mesh = &ms.mesh;
+    let depth = ms.scene.depth_scale as f64;
+    let key = |i: u32| mesh.positions[i as usize].to_array().map(f32::to_bits);
+    // A position's key (its bits), an edge's key (its two ends, ordered) and the edges of the
+    // triangles that share it in space (vertex indices, in that order).
+    type Key = [u32; 3];
+    let mut edges: HashMap<(Key, Key), Vec<(u32, u32)>> = HashMap::new();
+    for tri in &mesh.triangles {
+        for (a, b) in [(tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])] {
+            let (a, b) = if key(a) <= key(b) { (a, b) } else { (b, a) };
+            edges.entry((key(a), key(b))).or_default().push((a, b));
+        }
+    }
+    let differ = |x: f32, y: f32| {
+        let d = (x - y) as f64;
+        let d = if ms.scene.edge == EdgeMode::Repeat { d - d.round() } else { d };
+        d.abs() > 1e-6
+    };
+    let mut out = Vec::new();
+    for sides in edges.values() {
+        let uv = |i: u32| mesh.uvs[i as usize];
+        let open = sides.iter().any(|&(a, b)| {
+            let (a0, b0) = sides[0];
+            [(uv(a), uv(a0)), (uv(b), uv(b0))].iter().any(|(x, y)| differ(x.x, y.x) || differ(x.y, y.y))
+        });
+        if open {
+            let (a, b) = sides[0];
+            let (pa, pb) = (mesh.positions[a as usize].as_dvec3(), mesh.positions[b as usize].as_dvec3());
+            let (na, nb) = (mesh.normals[a as usize].as_dvec3() * depth, mesh.normals[b as usize].as_dvec3() * depth);
+            out.push([pa - na, pb - nb, na, nb]);
+        }
+    }
+    out
+}
+
+/// For each pixel that `reference` and `probe` (a `curved=prism` measurement of `ms` with
+/// `linear(steps)+binary(refine)`, `size²`) both hit with `|t_gpu − t_ref| > `[`T_BOUND`]
+/// depths, its cause ([`PrismTCause`]); `dense` is a `curved=prism` measurement of the same
+/// scene and size with a denser search (e.g. `linear(256)+binary(8)`), the check of
+/// [`PrismTCause::Search`]. The polish is decided by the CPU's emulation of every prism's
+/// fragment on the pixel's ray ([`emulate_prism_pixel`]), the seams by [`seam_walls`].
+pub fn prism_t_causes(
+    ms: &MeshScene,
+    reference: &[Option<MeshHit>],
+    probe: &MeshProbe,
+    dense: &MeshProbe,
+    size: u32,
+    steps: u32,
+    refine: u32,
+) -> Vec<PrismTError> {
+    let (vertices, indices) = crate::mesh::vertices::mesh_vertices(&ms.mesh, Curved::Prism);
+    let rays = ms.rays(size, size);
+    let depth = ms.scene.depth_scale as f64;
+    let walls = seam_walls(ms);
+    let mut out = Vec::new();
+    for (i, (g, r)) in probe.hits.iter().zip(reference).enumerate() {
+        let (true, Some(r)) = (g[3] > 0.5, r) else { continue };
+        let dt = (g[2] as f64 - r.t) / depth;
+        if dt.abs() <= T_BOUND {
+            continue;
+        }
+        let ray = &rays[i];
+        let (o, d) = (DVec3::from(ray.origin.map(|c| c as f64)), DVec3::from(ray.dir.map(|c| c as f64)));
+        let at_wall = |t: f64| {
+            walls.iter().any(|w| {
+                wall_crossings(o, d, w[0], w[1], w[2], w[3]).iter().any(|c| (c.0 - t).abs() <= T_BOUND * depth)
+            })
+        };
+        let seam = at_wall(g[2] as f64) || at_wall(r.t);
+        let emulated = emulate_prism_pixel(ms, &vertices, &indices, o, d, (steps, refine), PolishRule::SHADER);
+        let emulated_dt = emulated.map(|e| (e.t - r.t) / depth);
+        let dense_dt = dense.hits.get(i).filter(|h| h[3] > 0.5).map(|h| (h[2] as f64 - r.t) / depth);
+        let agrees = emulated.is_some_and(|e| ((e.t - r.t) / depth - dt).abs() <= emulation_bound(&e));
+        let tri = r.triangle as usize;
+        let cause = if seam {
+            PrismTCause::Seam
+        } else if !agrees {
+            PrismTCause::Other
+        } else if emulated.is_some_and(|e| !e.polished) {
+            PrismTCause::Polish
+        } else if dense_dt.is_some_and(|x| x.abs() <= T_BOUND) {
+            PrismTCause::Search
+        } else if chord_draws(ms, &vertices[indices[tri * 24] as usize], tri, o, d, r.t) {
+            PrismTCause::ThinSearch
+        } else {
+            PrismTCause::Chord
+        };
+        out.push(PrismTError {
+            index: i,
+            dt,
+            dense_dt,
+            emulated_dt,
+            polished: emulated.map(|e| e.polished),
+            fragment: emulated,
+            seam,
+            cause,
+        });
+    }
+    out
+}
+
+/// How far (depths) the GPU's t may lie from the CPU's emulation of the fragment `e` that
+/// draws it: [`T_BOUND`], and for an unpolished hit two of the search's last brackets
+/// ([`PrismFragment::resolution`]: f32 and f64 may decide a step differently).
+pub fn emulation_bound(e: &PrismFragment) -> f64 {
+    if e.polished {
+        T_BOUND
+    } else {
+        T_BOUND + 2.0 * e.resolution
+    }
+}
+
+/// Whether the prism of `triangle` (its records include `v`), its chord searched by a march
+/// of [`DENSE_STEPS`] steps then 12 bisections, draws a hit within [`T_BOUND`] depths of
+/// `t_ref` on the ray `o + t·d`.
+fn chord_draws(ms: &MeshScene, v: &MeshVertex, triangle: usize, o: DVec3, d: DVec3, t_ref: f64) -> bool {
+    let depth = ms.scene.depth_scale as f64;
+    emulate_fragment(ms, v, triangle, o, d, (DENSE_STEPS, 12), PolishRule::SHADER)
+        .is_some_and(|f| (f.t - t_ref).abs() <= T_BOUND * depth)
+}
+
+/// The RMS of `(t_gpu − t_ref) / depth` over the pixels `gpu` and `reference` both hit but
+/// those in `leave_out` (NaN when none is left): [`MeshScore::rms_t`] without some pixels.
+pub fn rms_t_without(gpu: &MeshProbe, reference: &[Option<MeshHit>], ms: &MeshScene, leave_out: &[usize]) -> f64 {
+    let depth = ms.scene.depth_scale as f64;
+    let skip: std::collections::HashSet<usize> = leave_out.iter().copied().collect();
+    let (mut sum, mut n) = (0.0, 0usize);
+    for (i, (g, r)) in gpu.hits.iter().zip(reference).enumerate() {
+        if let (true, Some(r), false) = (g[3] > 0.5, r, skip.contains(&i)) {
+            let dt = (g[2] as f64 - r.t) / depth;
+            sum += dt * dt;
+            n += 1;
+        }
+    }
+    if n > 0 {
+        (sum / n as f64).sqrt()
+    } else {
+        f64::NAN
     }
 }

@@ -29,12 +29,12 @@ fn noise_map(n: usize, seed: u64) -> HeightMap {
 
 /// The displaced surface tessellated on k × k squares per bilinear cell, and the bound `e` on
 /// its distance from S (docs/meshes.md): `e = M / k²`, M = depth·(|c|max·|N|max + 2·|∇h|max·|∇N|max).
-struct Twin {
+pub(crate) struct Twin {
     tris: Vec<[DVec3; 3]>,
-    e: f64,
+    pub(crate) e: f64,
 }
 
-fn twin(mesh: &Mesh, map: &HeightMap, edge: EdgeMode, depth: f64, k: usize) -> Twin {
+pub(crate) fn twin(mesh: &Mesh, map: &HeightMap, edge: EdgeMode, depth: f64, k: usize) -> Twin {
     let (w, h) = (map.width as f64, map.height as f64);
     let t = |x: i64, y: i64| map.texel(x, y, edge) as f64;
     let (mut dmax, mut cmax) = (0.0f64, 0.0f64);
@@ -118,7 +118,7 @@ fn twin(mesh: &Mesh, map: &HeightMap, edge: EdgeMode, depth: f64, k: usize) -> T
 
 impl Twin {
     /// The first hit over every triangle: `(t, unit normal of the triangle hit)`.
-    fn hit(&self, o: DVec3, d: DVec3) -> Option<(f64, DVec3)> {
+    pub(crate) fn hit(&self, o: DVec3, d: DVec3) -> Option<(f64, DVec3)> {
         let mut best: Option<(f64, DVec3)> = None;
         for [a, b, c] in &self.tris {
             let (e1, e2) = (*b - *a, *c - *a);
@@ -146,7 +146,7 @@ impl Twin {
 /// (e + ε)/cos θ), or the ray is within e + ε of changing the twin's answer to the
 /// reference's (moved by that much across it, in 8 directions). Returns (rays that hit,
 /// rays that miss, ambiguous rays).
-fn compare(r: &MeshReference, tw: &Twin, rays: &[(DVec3, DVec3)]) -> (usize, usize, usize) {
+pub(crate) fn compare(r: &MeshReference, tw: &Twin, rays: &[(DVec3, DVec3)]) -> (usize, usize, usize) {
     let tol = tw.e + r.tolerance();
     let agrees = |o: DVec3, d: DVec3, ref_t: Option<f64>| match (ref_t, tw.hit(o, d)) {
         (None, None) => true,

@@ -56,7 +56,9 @@ pub enum SceneCommand {
         out: Option<PathBuf>,
         /// Also sort prism's missing pixels by cause (no face of the hit's prism met, first
         /// crossing before the entry or after the exit, the search, other;
-        /// `mesh_measure::prism_miss_causes`); the pipeline must be `linear(n)+binary(m)`.
+        /// `mesh_measure::prism_miss_causes`) and its pixels whose t is off by more than
+        /// 1e-3 depths (`mesh_measure::prism_t_causes`, with a second prism probe at
+        /// `linear(256)+binary(8)`); the pipeline must be `linear(n)+binary(m)`.
         #[arg(long)]
         causes: bool,
     },
@@ -212,6 +214,7 @@ fn measure(file: &Path, pipeline: &str, size: u32, pairs: u32, out: Option<&Path
             .map(|c| format!("{} {}", c.name(), found.iter().filter(|(_, f)| f == c).count()))
             .collect();
         println!("prism missing {}: {}", found.len(), counts.join(", "));
+        prism_t_report(&gpu, &ms, &base, &reference, prism.unwrap(), size, steps, refine)?;
     }
     if let Some(dir) = out {
         std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create the folder", dir.display()))?;
@@ -224,6 +227,118 @@ fn measure(file: &Path, pipeline: &str, size: u32, pairs: u32, out: Option<&Path
             relief_runtime::io::png::write_rgba8(&dir.join(format!("frame_{mode}.png")), size, size, f.rgba)?;
         }
         println!("pictures in {}", dir.display());
+    }
+    Ok(())
+}
+
+/// `--causes`: prism's pixels whose t is off by more than `mesh_measure::T_BOUND` depths, by
+/// cause (`mesh_measure::prism_t_causes`, against a `linear(256)+binary(8)` probe of the same
+/// scene), the RMS t with and without each cause's pixels, and the dense probe's own figures.
+#[allow(clippy::too_many_arguments)]
+fn prism_t_report(
+    gpu: &relief_runtime::Gpu,
+    ms: &MeshScene,
+    base: &relief_dsl::Pipeline,
+    reference: &[Option<relief_runtime::mesh::MeshHit>],
+    probe: &relief_runtime::gpu::mesh::MeshProbe,
+    size: u32,
+    steps: u32,
+    refine: u32,
+) -> anyhow::Result<()> {
+    use relief_dsl::spec::Curved;
+    use relief_runtime::mesh_measure::{
+        emulate_prism_pixel, measure_modes, prism_t_causes, rms_t_without, score, PolishRule, PrismTCause,
+    };
+    let mut dense: relief_dsl::Pipeline = "linear(256)+binary(8)".parse().map_err(|e| anyhow::anyhow!("{e}"))?;
+    dense.shadow = base.shadow.clone();
+    dense.ao = base.ao.clone();
+    let dense_rows = measure_modes(gpu, ms, &dense, &[Curved::Prism], reference, size, 0)?;
+    let d = &dense_rows[0].score;
+    println!(
+        "prism with linear(256)+binary(8): coverage {:.3} %, rms_t {:.2e}, median_t {:.2e}, far {}, earliest {:.2e}, extra {}, missing {}",
+        100.0 * d.coverage_error,
+        d.rms_t,
+        d.median_t,
+        d.far,
+        d.earliest,
+        d.extra,
+        d.missing
+    );
+    let found = prism_t_causes(ms, reference, probe, &dense_rows[0].probe, size, steps, refine);
+    let all = score(probe, reference, ms).rms_t;
+    let every: Vec<usize> = found.iter().map(|f| f.index).collect();
+    println!(
+        "prism t over {}: {} pixels, rms_t {all:.2e}, without them {:.2e}",
+        relief_runtime::mesh_measure::T_BOUND,
+        found.len(),
+        rms_t_without(probe, reference, ms, &every)
+    );
+    for c in PrismTCause::ALL {
+        let those: Vec<usize> = found.iter().filter(|f| f.cause == c).map(|f| f.index).collect();
+        println!(
+            "  {:<7} {:>4} pixels, rms_t without them {:.2e}",
+            c.name(),
+            those.len(),
+            rms_t_without(probe, reference, ms, &those)
+        );
+    }
+    // The CPU's emulation of every pixel under the shader's polish and under others: what a
+    // change of the polish would do (coverage and t against the reference), before it is made.
+    let (vertices, indices) = relief_runtime::mesh::vertices::mesh_vertices(&ms.mesh, Curved::Prism);
+    let rays = ms.rays(size, size);
+    let depth = ms.scene.depth_scale as f64;
+    for rule in [
+        PolishRule::SHADER,
+        PolishRule { steps: 6, ..PolishRule::SHADER },
+        PolishRule { discard: true, ..PolishRule::SHADER },
+        PolishRule { steps: 6, discard: true, ..PolishRule::SHADER },
+        PolishRule { discard_outside: true, ..PolishRule::SHADER },
+    ] {
+        let (mut extra, mut missing, mut sum, mut both, mut over, mut gpu_differ) = (0, 0, 0.0, 0usize, 0, 0);
+        for (i, ray) in rays.iter().enumerate() {
+            let (o, d) =
+                (glam::DVec3::from(ray.origin.map(|c| c as f64)), glam::DVec3::from(ray.dir.map(|c| c as f64)));
+            let e = emulate_prism_pixel(ms, &vertices, &indices, o, d, (steps, refine), rule);
+            gpu_differ += usize::from(e.is_some() != (probe.hits[i][3] > 0.5));
+            match (e, &reference[i]) {
+                (Some(e), Some(r)) => {
+                    let dt = (e.t - r.t) / depth;
+                    sum += dt * dt;
+                    both += 1;
+                    over += usize::from(dt.abs() > relief_runtime::mesh_measure::T_BOUND);
+                }
+                (Some(_), None) => extra += 1,
+                (None, Some(_)) => missing += 1,
+                (None, None) => {}
+            }
+        }
+        println!(
+            "emulated polish {} steps{}: extra {extra}, missing {missing}, rms_t {:.2e}, over the bound {over}, coverage unlike the GPU's {gpu_differ}",
+            rule.steps,
+            if rule.discard {
+                ", discard where not kept"
+            } else if rule.discard_outside {
+                ", discard where converged outside the triangle"
+            } else {
+                ""
+            },
+            (sum / both.max(1) as f64).sqrt()
+        );
+    }
+    for f in &found {
+        let fmt = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{x:.3e}"));
+        println!(
+            "  pixel ({}, {}): dt {:.3e}, dense {}, emulated {} polished {:?} {:?}, seam {}: {}",
+            f.index as u32 % size,
+            f.index as u32 / size,
+            f.dt,
+            fmt(f.dense_dt),
+            fmt(f.emulated_dt),
+            f.polished,
+            f.fragment.map(|e| e.polish_end),
+            f.seam,
+            f.cause.name()
+        );
     }
     Ok(())
 }
