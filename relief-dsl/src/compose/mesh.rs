@@ -94,7 +94,7 @@ pub struct MeshVertex {
     /// the same at all six vertices of the prism.
     pub prism_a: [f32; 4],
     /// `prism`: xy the texture coordinates of corner 2; z: which faces of the prism allow the
-    /// early-out behind the hit ([`PRISM_EARLY_EPSILON`], docs/notes/meshes.md), a bitmask held
+    /// early-out behind the hit (docs/meshes-shaders.md, "The modes"), a bitmask held
     /// as a float: bit k (k = 0, 1, 2) the side wall over the edge from corner k to corner
     /// k + 1 (mod 3) when that wall is *sealed* (shared with exactly one other triangle whose
     /// two ends carry bitwise the same point, normal and uv), bit 3 the floor. 0 (no face):
