@@ -46,3 +46,35 @@ fn the_spheres_sealed_walls_are_the_edges_two_triangles_share_but_the_seam_and_t
         }
     }
 }
+
+/// The early-out changes no pixel: on the sphere (face-on and at its limb) and the grazing torus (64², the
+/// goals' pipeline under `curved=prism`), the probe with the early-out and the probe with its
+/// mask zeroed (every fragment runs the whole trace) cover the same pixels and give each the
+/// same hit (uv and distance along the view ray, bit for bit: the discarded fragments lie
+/// strictly behind a nearer one that the depth test keeps either way).
+#[test]
+fn the_early_out_leaves_the_prism_picture_as_it_was() {
+    use relief_dsl::Pipeline;
+    use relief_runtime::gpu::mesh::{mesh_textures, MeshProber, MeshProgram};
+    use relief_runtime::mesh::MeshScene;
+    let g = relief_runtime::Gpu::new().unwrap_or_else(|e| panic!("{e}"));
+    let pipeline = "linear(32)+binary(5)".parse::<Pipeline>().unwrap().with_curved(Some(Curved::Prism));
+    let prog = MeshProgram::new(&pipeline).unwrap();
+    let prober = MeshProber::new(&g, &prog).unwrap();
+    for name in ["sphere_rocks", "torus_grazing", "sphere_limb"] {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("scenes/meshes/{name}.toml"));
+        let ms = MeshScene::from_scene(relief_runtime::load_scene_file(&path).unwrap()).unwrap();
+        let tex = mesh_textures(&g, &ms, &prog).unwrap();
+        let with = prober.probe(&g, &ms, &tex, 64).unwrap();
+        let without = prober.probe_without_early_out(&g, &ms, &tex, 64).unwrap();
+        let covered = without.hits.iter().filter(|h| h[3] > 0.0).count();
+        assert!(covered > 64 * 64 / 10, "{name}: {covered} pixels covered");
+        let differ: Vec<usize> = (0..with.hits.len()).filter(|&i| with.hits[i] != without.hits[i]).collect();
+        assert!(
+            differ.is_empty(),
+            "{name}: {} pixels differ, first {:?}",
+            differ.len(),
+            differ.first().map(|&i| (with.hits[i], without.hits[i]))
+        );
+    }
+}
