@@ -13,6 +13,7 @@ mod gpu;
 mod heightmap;
 mod lod;
 mod maps;
+mod mesh_early;
 mod mesh_fragments;
 mod mesh_grid;
 mod meshes;

@@ -545,6 +545,8 @@ fn mesh_trace_fn(
             p: [8, 9, 10].map(|k| s.arg::<Vec3>(k) - point),
             n: [11, 12, 13].map(|k| s.arg::<Vec3>(k)),
             uv: [a.xy(), a.zw(), s.arg::<Vec2>(6)],
+            // The library form passes no sealed walls: no early-out (docs/meshes-shaders.md).
+            early: None,
         }
     });
     let inputs = MeshInputs {

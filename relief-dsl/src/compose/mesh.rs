@@ -37,7 +37,9 @@
 //!   renormalized, as S): its flat top and floor and its three bilinear side walls
 //!   (`ray_bilinear_wall`); the first crossing is the entry, the last the exit, each with
 //!   its exact (u, v, w), so every face of a prism computes the same answer (`prism_chord`).
-//!   No crossing: discarded (a neighbour's prism owns the ray). The stages search the straight
+//!   No crossing: discarded (a neighbour's prism owns the ray). An entry strictly below S
+//!   through a sealed side wall or the floor: discarded before the search, exactly, a nearer
+//!   fragment draws the pixel (`early_out`). The stages search the straight
 //!   texture-space chord from the entry to the exit (over heights lifted by an affine function
 //!   of uv so that their descending ray from height 1 is the chord); a hit that is not on the
 //!   lifted surface (the search met nothing) or after the exit is discarded; the hit is then
@@ -91,7 +93,13 @@ pub struct MeshVertex {
     /// `prism`: the texture coordinates of the prism's triangle, corners 0 (xy) and 1 (zw),
     /// the same at all six vertices of the prism.
     pub prism_a: [f32; 4],
-    /// `prism`: xy the texture coordinates of corner 2; zw: 0.
+    /// `prism`: xy the texture coordinates of corner 2; z: which faces of the prism allow the
+    /// early-out behind the hit (docs/meshes-shaders.md, "The modes"), a bitmask held
+    /// as a float: bit k (k = 0, 1, 2) the side wall over the edge from corner k to corner
+    /// k + 1 (mod 3) when that wall is *sealed* (shared with exactly one other triangle whose
+    /// two ends carry bitwise the same point, normal and uv), bit 3 the floor. 0 (no face):
+    /// no early-out, every fragment runs the whole trace (the behaviour before the early-out).
+    /// w: 0.
     pub prism_b: [f32; 4],
     /// `prism`: xyz corner 0's point on the base surface (object space, as its `position`);
     /// w: 0. The same at all six vertices of the prism; read only under `curved=prism` (the
@@ -305,6 +313,26 @@ pub(crate) struct PrismCorners<'a> {
     pub(crate) p: [Val<'a, Vec3>; 3],
     pub(crate) n: [Val<'a, Vec3>; 3],
     pub(crate) uv: [Val<'a, Vec2>; 3],
+    /// The faces that allow the early-out behind the hit ([`MeshVertex::prism_b`]'s z, the
+    /// bitmask as a float); `None`: no early-out code at all (the library form).
+    pub(crate) early: Option<Val<'a, f32>>,
+}
+
+/// How far (in units of the relief's depth, the layer w's unit) the prism's entry must lie
+/// below S (`h(uv_in) − w_in > ε`) for the early-out behind the hit ([`early_out`]). The
+/// neighbouring prism computes the same wall point from its own fragment's point, in its own
+/// ray frame: the two (uv, w) agree up to f32 rounding of object-space values of order 1
+/// (a few ulps, ~1e-7 object units) divided by the relief's depth (0.01‥0.1 object units in
+/// the scenes: ~1e-5 of the depth at worst), and h moves by its gradient times the uv's
+/// rounding (~1e-7 texture units times a few hundred texels: ~1e-5); 1e-4 of the depth is ten
+/// times both. Its only effect: a fragment whose entry lies within ε below S runs the whole
+/// trace as before.
+pub(crate) const PRISM_EARLY_EPSILON: f32 = 1e-4;
+
+/// Whether bit `bit` of the float bitmask `mask` (an integer 0‥15 held exactly) is set.
+fn mask_bit<'a>(mask: Val<'a, f32>, bit: u32) -> Val<'a, bool> {
+    let shifted = (mask * (1.0 / (1u32 << bit) as f32)).floor() * 0.5;
+    (shifted - shifted.floor()).gt(0.25)
 }
 
 /// The view ray inside the prism: where it enters and leaves the prism's exact volume
@@ -323,6 +351,11 @@ pub(crate) struct Chord<'a> {
     b_out: Val<'a, Vec2>,
     /// The layer at the entry and its drop to the exit (`r = w_in − w_out`).
     w_in: Val<'a, f32>,
+    /// The entry's texture coordinates.
+    uv_in: Val<'a, Vec2>,
+    /// Whether the entry's face allows the early-out (a sealed wall or the floor,
+    /// [`PrismCorners::early`]); `None` without the early-out.
+    early_in: Option<Val<'a, bool>>,
     r: Val<'a, f32>,
     /// The lift while the search runs: `(at the entry, slope along u, slope along v)`.
     lift: Val<'a, Vec3>,
@@ -431,10 +464,15 @@ fn prism_chord<'a>(
     let at_in = s.var("prism_at_in", zero3);
     let t_out = s.var("prism_t_out", -1e30);
     let at_out = s.var("prism_at_out", zero3);
-    let consider = |t: Val<'a, f32>, ok: Val<'a, bool>, at: Val<'a, Vec3>| {
+    // The entry face's early-out flag (1: a sealed wall or the floor), with the early-out only.
+    let early_in = c.early.map(|_| s.var("prism_early_in", 0.0f32));
+    let consider = |t: Val<'a, f32>, ok: Val<'a, bool>, at: Val<'a, Vec3>, early: Option<Val<'a, bool>>| {
         let first = ok & t.lt(t_in.get());
         t_in.set(s.select(first, t, t_in.get()));
         at_in.set(s.select(first, at, at_in.get()));
+        if let (Some(var), Some(early)) = (&early_in, early) {
+            var.set(s.select(first, s.select(early, 1.0f32, 0.0f32), var.get()));
+        }
         let last = ok & t.gt(t_out.get());
         t_out.set(s.select(last, t, t_out.get()));
         at_out.set(s.select(last, at, at_out.get()));
@@ -446,11 +484,14 @@ fn prism_chord<'a>(
     let top = [0, 1, 2].map(|k| framed(c.p[k]));
     let d = [0, 1, 2].map(|k| framed(c.n[k] * depth));
     let floor = [0, 1, 2].map(|k| (top[k].0 - d[k].0, top[k].1 - d[k].1));
-    for (q, layer) in [(top, 1.0), (floor, 0.0)] {
+    for (q, layer, bit) in [(top, 1.0, None), (floor, 0.0, Some(3))] {
         let (t, ok, b) = ray_triangle(s, q);
-        consider(t, ok, s.vec3(b, layer));
+        // The top is never entered below S (w = 1 ≥ h): it carries no flag.
+        let early = c.early.map(|m| bit.map_or(s.lit_bool(false), |bit| mask_bit(m, bit)));
+        consider(t, ok, s.vec3(b, layer), early);
     }
     for (i, j) in [(0usize, 1usize), (1, 2), (2, 0)] {
+        let early = c.early.map(|m| mask_bit(m, i as u32));
         for (t, ok, sigma, w) in ray_bilinear_wall(s, floor[i], floor[j], d[i], d[j]) {
             // Barycentrics on the wall: corner i has 1 − σ, corner j σ, the third 0.
             let bary = |k: usize| -> Val<'a, f32> {
@@ -462,10 +503,11 @@ fn prism_chord<'a>(
                     s.lit(0.0)
                 }
             };
-            consider(t, ok, s.vec3(s.vec2(bary(0), bary(1)), w));
+            consider(t, ok, s.vec3(s.vec2(bary(0), bary(1)), w), early);
         }
     }
     let (t_in, at_in, t_out, at_out) = (t_in.get(), at_in.get(), t_out.get(), at_out.get());
+    let early_in = early_in.map(|var| var.get().gt(0.5));
     let uv_at = |at: Val<'a, Vec3>| c.uv[2] + (c.uv[0] - c.uv[2]) * at.x() + (c.uv[1] - c.uv[2]) * at.y();
     let (uv_in, uv_out) = (uv_at(at_in), uv_at(at_out));
     let duv = uv_out - uv_in;
@@ -483,7 +525,20 @@ fn prism_chord<'a>(
     let dir = s.vec3(duv / k, -1.0);
     let crosses = t_in.lt(t_out) & (long | r.gt(0.0));
     let (b_in, b_out) = (at_in.xy(), at_out.xy());
-    Chord { crosses, t_in, t_out, k, b_in, b_out, w_in, r, lift, search: Ray { origin: uv_in, dir, cos_view } }
+    Chord {
+        crosses,
+        t_in,
+        t_out,
+        k,
+        b_in,
+        b_out,
+        w_in,
+        uv_in,
+        early_in,
+        r,
+        lift,
+        search: Ray { origin: uv_in, dir, cos_view },
+    }
 }
 
 /// What a mesh fragment traces: its ray, where the ray enters the relief volume in t (0 for
@@ -573,6 +628,7 @@ fn varying_inputs<'a>(s: &'a FnBuilder<'a>, curved: Curved) -> (MeshInputs<'a>, 
             p: [7, 8, 9].map(|k| s.arg::<Vec4>(k).xyz() - point.xyz()),
             n: [10, 11, 12].map(|k| s.arg::<Vec4>(k).xyz()),
             uv: [a.xy(), a.zw(), b.xy()],
+            early: Some(b.z()),
         }
     });
     let inputs = MeshInputs { view, normal, tangent, uv, curvature: curvature.xy(), depth, prism };
@@ -639,6 +695,9 @@ const PRISM_ABOVE_SLACK: f32 = 1.0 / 32.0;
 /// exit.
 pub(crate) fn prism_trace<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, mr: &MeshRay<'a>) -> (Hit<'a>, Val<'a, bool>) {
     let ch = mr.chord.as_ref().expect("prism_trace needs the prism's chord");
+    if let Some(early_in) = ch.early_in {
+        s.if_(early_out(s, ch, early_in), |s| s.discard());
+    }
     let m = s.module();
     let lift = s.global_ptr(m.private::<Vec3>(PRISM_LIFT));
     s.store(lift, ch.lift.handle());
@@ -658,6 +717,31 @@ pub(crate) fn prism_trace<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, mr: &MeshRay
     let (corners, depth) = mr.corners.as_ref().expect("prism_trace needs the prism's corners");
     let b = ch.b_in + (ch.b_out - ch.b_in) * tau;
     (polish_on_s(s, mr.view, corners, *depth, hit, b), drawn)
+}
+
+/// The exact early-out behind the hit: whether the prism's entry lies strictly inside the
+/// relief solid (`h(uv_in) − w_in > ε`, [`PRISM_EARLY_EPSILON`], h bilinear as S takes it) on a
+/// face that allows it (`early_in`: a sealed wall or the floor, [`MeshVertex::prism_b`]). Such
+/// a fragment is discarded before the search and the polish, and the picture does not change:
+///
+/// - A sealed wall is shared with exactly one neighbouring triangle whose two ends carry the
+///   same points, normals and uvs, so S (and the prism's map) is continuous across the wall
+///   and both prisms give the wall point the same (uv, w), up to the rounding ε covers. Just
+///   before the entry the ray was inside the neighbour's prism and below S there too; the eye
+///   lies outside the solid, so the ray crossed S before it reached the wall. That crossing is
+///   another fragment's hit, nearer along the same pixel's ray, and the depth test would have
+///   thrown this fragment's (farther) hit away.
+/// - A ray entering through the floor comes from behind the base surface: on a closed mesh
+///   seen from outside it has already crossed S on the near side (again a nearer fragment);
+///   on an open mesh it looks at the relief from its back, which relief does not draw
+///   (docs/meshes-shaders.md).
+///
+/// Unsealed walls (uv seams, a sphere's poles, open boundaries) run the whole trace.
+fn early_out<'a>(s: &'a FnBuilder<'a>, ch: &Chord<'a>, early_in: Val<'a, bool>) -> Val<'a, bool> {
+    // The lift is 0 here (set only for the search, and back to 0 after it), so the gather
+    // reads h itself.
+    let (h, _) = height_and_gradient(s, ch.uv_in);
+    early_in & ch.crosses & (h - ch.w_in).gt(PRISM_EARLY_EPSILON)
 }
 
 /// Newton steps of [`polish_on_s`]: the search's hit starts within its last bracket of S (a

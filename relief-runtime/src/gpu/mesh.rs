@@ -62,9 +62,13 @@ const ATTRIBUTES: [wgpu::VertexAttribute; 13] = wgpu::vertex_attr_array![
     7 => Float32x4, 8 => Float32x4, 9 => Float32x4, 10 => Float32x4, 11 => Float32x4, 12 => Float32x4
 ];
 
-/// The mesh of `ms` as `curved`'s vertices, uploaded.
-fn upload(gpu: &Gpu, ms: &MeshScene, curved: Curved) -> Result<MeshBuffers, GpuError> {
-    let (vertices, indices) = mesh_vertices(&ms.mesh, curved);
+/// The mesh of `ms` as `curved`'s vertices, uploaded; without `early_out`, `prism`'s
+/// early-out mask (`prism_b.z`) zeroed.
+fn upload(gpu: &Gpu, ms: &MeshScene, curved: Curved, early_out: bool) -> Result<MeshBuffers, GpuError> {
+    let (mut vertices, indices) = mesh_vertices(&ms.mesh, curved);
+    if !early_out {
+        vertices.iter_mut().for_each(|v| v.prism_b[2] = 0.0);
+    }
     let count = u32::try_from(indices.len())
         .map_err(|_| GpuError::Device(format!("{} indices: more than one draw takes", indices.len())))?;
     let buffer = |label, contents: &[u8], usage| {
@@ -93,7 +97,7 @@ fn renderer(
     probe: bool,
 ) -> Result<Renderer, GpuError> {
     let pipeline = mesh_pipeline(gpu, prog, probe)?;
-    renderer_with(gpu, prog, pipeline, ms, tex, size, probe)
+    renderer_with(gpu, prog, pipeline, ms, tex, size, probe, true)
 }
 
 /// The target format, its clear colour and the bindings of `prog`'s picture or, with `probe`,
@@ -132,7 +136,9 @@ fn mesh_pipeline(gpu: &Gpu, prog: &MeshProgram, probe: bool) -> Result<wgpu::Ren
 }
 
 /// [`renderer`] with its pipeline already built ([`mesh_pipeline`] of the same `prog` and
-/// `probe`): the scene's parameters, bind group, target and vertices.
+/// `probe`): the scene's parameters, bind group, target and vertices (`prism`'s early-out
+/// mask zeroed without `early_out`).
+#[allow(clippy::too_many_arguments)]
 fn renderer_with(
     gpu: &Gpu,
     prog: &MeshProgram,
@@ -141,13 +147,14 @@ fn renderer_with(
     tex: &SceneTextures,
     size: u32,
     probe: bool,
+    early_out: bool,
 ) -> Result<Renderer, GpuError> {
     let (_, format, clear, bindings) = output(prog, probe);
     // Object space is world space: the scene's camera, light and depth are the mesh's Params.
     let params = SceneTextures::params(gpu, &ms.scene, 1.0, 0.0);
     let bind_group = tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), bindings, &prog.program, &params, &[])?;
     let target = Target::with_format(gpu, size, true, clear, format);
-    Ok(Renderer { pipeline, bind_group, target, mesh: Some(upload(gpu, ms, prog.curved)?) })
+    Ok(Renderer { pipeline, bind_group, target, mesh: Some(upload(gpu, ms, prog.curved, early_out)?) })
 }
 
 /// The scene's textures with the maps `prog` reads.
@@ -211,7 +218,30 @@ impl<'a> MeshProber<'a> {
 
     /// The measurement of `ms`, `size²`, as [`probe_mesh`] (`gpu` the device it was compiled on).
     pub fn probe(&self, gpu: &Gpu, ms: &MeshScene, tex: &SceneTextures, size: u32) -> Result<MeshProbe, GpuError> {
-        let r = renderer_with(gpu, self.prog, self.pipeline.clone(), ms, tex, size, true)?;
+        self.probe_with(gpu, ms, tex, size, true)
+    }
+
+    /// As [`MeshProber::probe`], with `prism`'s early-out behind the hit turned off
+    /// (`prism_b.z` zeroed): the picture the early-out must not change (a check's hook).
+    pub fn probe_without_early_out(
+        &self,
+        gpu: &Gpu,
+        ms: &MeshScene,
+        tex: &SceneTextures,
+        size: u32,
+    ) -> Result<MeshProbe, GpuError> {
+        self.probe_with(gpu, ms, tex, size, false)
+    }
+
+    fn probe_with(
+        &self,
+        gpu: &Gpu,
+        ms: &MeshScene,
+        tex: &SceneTextures,
+        size: u32,
+        early_out: bool,
+    ) -> Result<MeshProbe, GpuError> {
+        let r = renderer_with(gpu, self.prog, self.pipeline.clone(), ms, tex, size, true, early_out)?;
         r.target.untimed(gpu, 1, &|p| r.draw(p))?;
         let f = r.target.read(gpu, Vec::new())?;
         let floats: Vec<f32> = bytemuck::pod_collect_to_vec(&f.rgba);

@@ -194,10 +194,14 @@ fn solve3(a: [[f64; 3]; 3], y: [f64; 3]) -> Option<[f64; 3]> {
 /// `prism_a`, `prism_b` the triangle's three uvs and `prism_p*`, `prism_n*` its three points and
 /// normals (for the exact entry and exit), and eight triangles: the top cap, the
 /// bottom cap and two per side wall (corners k, k+1 at the top and at the floor).
+/// `prism_b.z` holds the faces that allow the early-out behind the hit: the sealed walls
+/// ([`sealed_walls`]) and the floor (bit 3), as `MeshVertex::prism_b` documents.
 pub fn prism_vertices(mesh: &Mesh, base: &[MeshVertex]) -> (Vec<MeshVertex>, Vec<u32>) {
     let mut vertices = Vec::with_capacity(mesh.triangles.len() * 6);
     let mut indices = Vec::with_capacity(mesh.triangles.len() * 24);
-    for t in &mesh.triangles {
+    let sealed = sealed_walls(mesh);
+    for (t, &sealed) in mesh.triangles.iter().zip(&sealed) {
+        let early = f32::from(sealed | FLOOR_EARLY_OUT);
         let uv = t.map(|i| mesh.uvs[i as usize]);
         let first = vertices.len() as u32;
         let point = |k: usize| {
@@ -213,7 +217,7 @@ pub fn prism_vertices(mesh: &Mesh, base: &[MeshVertex]) -> (Vec<MeshVertex>, Vec
                 let mut v = base[i as usize];
                 v.position[3] = w;
                 v.prism_a = [uv[0].x, uv[0].y, uv[1].x, uv[1].y];
-                v.prism_b = [uv[2].x, uv[2].y, 0.0, 0.0];
+                v.prism_b = [uv[2].x, uv[2].y, early, 0.0];
                 [v.prism_p0, v.prism_p1, v.prism_p2] = [point(0), point(1), point(2)];
                 [v.prism_n0, v.prism_n1, v.prism_n2] = [normal(0), normal(1), normal(2)];
                 vertices.push(v);
@@ -227,6 +231,41 @@ pub fn prism_vertices(mesh: &Mesh, base: &[MeshVertex]) -> (Vec<MeshVertex>, Vec
         }
     }
     (vertices, indices)
+}
+
+/// The bit of `prism_b.z` that lets a fragment entering its prism through the floor below S
+/// stop before the search (relief-dsl's `compose::mesh::early_out`).
+pub const FLOOR_EARLY_OUT: u8 = 8;
+
+/// One end of an edge as S sees it: the bits of its point, normal and uv.
+type EdgeEnd = [u32; 8];
+
+/// Per triangle, which of its three side walls are *sealed*: bit k for the wall over the edge
+/// from corner k to corner k + 1 (mod 3), set where exactly two triangles of the mesh have an
+/// edge whose two ends carry bitwise the same point, normal and uv as this one's (in either
+/// order). There S and the prisms' map are continuous across the wall, which the early-out
+/// behind the hit needs; a uv seam, a pole's fan, an open boundary or an edge of three or more
+/// triangles leaves the wall unsealed.
+pub fn sealed_walls(mesh: &Mesh) -> Vec<u8> {
+    let end = |i: u32| -> EdgeEnd {
+        let (p, n, uv) = (mesh.positions[i as usize], mesh.normals[i as usize], mesh.uvs[i as usize]);
+        [p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y].map(f32::to_bits)
+    };
+    let key = |t: &[u32; 3], k: usize| {
+        let (a, b) = (end(t[k]), end(t[(k + 1) % 3]));
+        if a <= b {
+            (a, b)
+        } else {
+            (b, a)
+        }
+    };
+    let mut count = std::collections::HashMap::<(EdgeEnd, EdgeEnd), u32>::new();
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            *count.entry(key(t, k)).or_default() += 1;
+        }
+    }
+    mesh.triangles.iter().map(|t| (0..3).filter(|&k| count[&key(t, k)] == 2).fold(0u8, |m, k| m | 1 << k)).collect()
 }
 
 #[cfg(test)]
