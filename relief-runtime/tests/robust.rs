@@ -419,6 +419,10 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
                 let mut a = os(&["scene", "check", "--reference", "8"]);
                 a.push(sc.clone().into());
                 add(format!("scene check {name} {mesh_name:?}"), a);
+                // The fragment count reads the same mesh (8² frames).
+                let mut a = os(&["scene", "fragments", "--size", "8"]);
+                a.push(sc.clone().into());
+                add(format!("scene fragments {name} {mesh_name:?}"), a);
                 // The same scene under the mesh grid: failed rows or measured ones, never a
                 // panic or a hang (8² frames, so a mesh that loads is traced quickly).
                 let mut a = os(&["sweep", "--grid", "meshes", "--size", "8", "--frames", "1", "--scene"]);
@@ -465,6 +469,18 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
             a.push(file.clone().into());
             a.extend(os(&args));
             add(format!("scene measure {what}"), a);
+        }
+        // `relief scene fragments`: a bad size, a flat scene (no mesh).
+        for (what, file, args) in [
+            ("size 0", &good, vec!["--size", "0"]),
+            ("size nan", &good, vec!["--size", "nan"]),
+            ("size huge", &good, vec!["--size", "99999999"]),
+            ("flat scene", &flat, vec!["--size", "8"]),
+        ] {
+            let mut a = os(&["scene", "fragments"]);
+            a.push(file.clone().into());
+            a.extend(os(&args));
+            add(format!("scene fragments {what}"), a);
         }
         // `relief export` with meshes: a curved= pipeline on a flat scene (file or built-in), a
         // mesh scene with a flat pipeline or with a target that has no mesh form, mesh files
