@@ -518,15 +518,7 @@ fn emulate_fragment(
     rule: PolishRule,
 ) -> Option<PrismFragment> {
     let depth = ms.scene.depth_scale as f64;
-    let v3 = |a: [f32; 4]| DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64);
-    let p = [v.prism_p0, v.prism_p1, v.prism_p2].map(v3);
-    let n = [v.prism_n0, v.prism_n1, v.prism_n2].map(v3);
-    let (pa, pb) = (v.prism_a, v.prism_b);
-    let uv = [
-        DVec2::new(pa[0] as f64, pa[1] as f64),
-        DVec2::new(pa[2] as f64, pa[3] as f64),
-        DVec2::new(pb[0] as f64, pb[1] as f64),
-    ];
+    let (p, n, uv) = prism_corners(v);
     let (entry, exit) = prism_crossings(o, d, p, n, depth)?;
     let chord = Chord::new(entry, exit, uv)?;
     let (ts, drawn) = search_linear_binary(ms, &chord, steps, refine);
@@ -684,18 +676,26 @@ pub fn prism_miss_causes(
     out
 }
 
+/// The prism's triangle as a prism record `v` carries it, in f64: its corners' points,
+/// normals and uvs (`prism_p*`, `prism_n*`, `prism_a`/`prism_b.xy`).
+fn prism_corners(v: &MeshVertex) -> ([DVec3; 3], [DVec3; 3], [DVec2; 3]) {
+    let v3 = |a: [f32; 4]| DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64);
+    let (pa, pb) = (v.prism_a, v.prism_b);
+    (
+        [v.prism_p0, v.prism_p1, v.prism_p2].map(v3),
+        [v.prism_n0, v.prism_n1, v.prism_n2].map(v3),
+        [
+            DVec2::new(pa[0] as f64, pa[1] as f64),
+            DVec2::new(pa[2] as f64, pa[3] as f64),
+            DVec2::new(pb[0] as f64, pb[1] as f64),
+        ],
+    )
+}
+
 /// The cause of a missing pixel whose ray meets a face of the prism whose records include
 /// `v` ([`prism_miss_causes`]).
 fn classify(ms: &MeshScene, v: &MeshVertex, o: DVec3, d: DVec3, depth: f64, steps: u32, refine: u32) -> PrismMiss {
-    let v3 = |a: [f32; 4]| DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64);
-    let p = [v.prism_p0, v.prism_p1, v.prism_p2].map(v3);
-    let n = [v.prism_n0, v.prism_n1, v.prism_n2].map(v3);
-    let (pa, pb) = (v.prism_a, v.prism_b);
-    let uv = [
-        DVec2::new(pa[0] as f64, pa[1] as f64),
-        DVec2::new(pa[2] as f64, pa[3] as f64),
-        DVec2::new(pb[0] as f64, pb[1] as f64),
-    ];
+    let (p, n, uv) = prism_corners(v);
     let Some(chord) = prism_crossings(o, d, p, n, depth).and_then(|(entry, exit)| Chord::new(entry, exit, uv)) else {
         return PrismMiss::AfterExit;
     };

@@ -1,25 +1,10 @@
 //! The CPU count of a mesh draw's fragments per pixel (`relief_runtime::mesh::fragments`),
 //! against an independent count on a flat square.
 
-use glam::{DVec2, Vec2, Vec3, Vec4};
+use glam::DVec2;
 use relief_dsl::spec::Curved;
 use relief_runtime::mesh::fragments::{fragment_counts, fragments_per_pixel};
-use relief_runtime::mesh::{Mesh, MeshScene};
-use relief_runtime::HeightMap;
-
-/// The square [−1, 1]² in the plane z = 0 as two triangles (A below the diagonal y = x, B
-/// above it), normals +z.
-fn square() -> Mesh {
-    let corners = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]].map(|[x, y]| Vec3::new(x, y, 0.0));
-    Mesh {
-        name: "square".into(),
-        positions: corners.to_vec(),
-        normals: vec![Vec3::Z; 4],
-        tangents: vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 4],
-        uvs: corners.iter().map(|c| Vec2::new(c.x + 1.0, c.y + 1.0) * 0.5).collect(),
-        triangles: vec![[0, 1, 2], [0, 2, 3]],
-    }
-}
+use relief_runtime::mesh::MeshScene;
 
 /// With the normals along +z, each prism is its triangle extruded straight down by the depth,
 /// a convex column, and a ray from above enters each column it passes through once, through
@@ -31,19 +16,10 @@ fn square() -> Mesh {
 /// give exactly these counts, pixel by pixel.
 #[test]
 fn a_flat_squares_prisms_run_one_fragment_per_column_the_ray_crosses() {
-    let mut sc = {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/meshes/sphere_rocks.toml");
-        relief_runtime::load_scene_file(&path).unwrap()
-    };
-    sc.height = HeightMap::new(8, 8, vec![0.5; 64]);
-    sc.depth_scale = 0.3;
-    sc.camera.angle_deg = 50.0;
-    sc.camera.azimuth_deg = -60.0;
-    sc.camera.distance = 3.0;
-    sc.camera.fov_deg = 40.0;
-    sc.camera.target = Vec3::ZERO;
+    let sc = crate::meshes::level_scene(0.3, 50.0, -60.0, 3.0);
     let depth = sc.depth_scale as f64;
-    let ms = MeshScene { scene: sc, mesh: square(), notes: Default::default() };
+    // The square [−1, 1]² in z = 0: triangle A below the diagonal y = x, B above it.
+    let ms = MeshScene { scene: sc, mesh: crate::meshes::flat_square(), notes: Default::default() };
     let size = 40u32;
     let in_tri = |p: DVec2, k: usize, m: f64| {
         let inside = p.x.abs() < 1.0 + m && p.y.abs() < 1.0 + m;

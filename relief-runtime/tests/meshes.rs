@@ -414,6 +414,24 @@ pub(crate) fn glb(meshes: &[GlbMesh]) -> Vec<u8> {
     out
 }
 
+/// The scene of the flat-square tests: `sphere_rocks.toml`'s settings with an 8² map of
+/// constant height ½ (so S is the plane z = −depth/2 over [`flat_square`]), the given depth
+/// and a 40° camera at `angle_deg` from the normal, `azimuth_deg`, `distance` from the origin.
+pub(crate) fn level_scene(depth: f32, angle_deg: f32, azimuth_deg: f32, distance: f32) -> relief_runtime::Scene {
+    let mut sc = {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/meshes/sphere_rocks.toml");
+        relief_runtime::load_scene_file(&path).unwrap()
+    };
+    sc.height = HeightMap::new(8, 8, vec![0.5; 64]);
+    sc.depth_scale = depth;
+    sc.camera.angle_deg = angle_deg;
+    sc.camera.azimuth_deg = azimuth_deg;
+    sc.camera.distance = distance;
+    sc.camera.fov_deg = 40.0;
+    sc.camera.target = Vec3::ZERO;
+    sc
+}
+
 /// The square (−1..1)² in z = 0 as a mesh: two triangles, A = (0, 1, 2) below the diagonal
 /// y = x and B = (0, 2, 3) above it, normal +z, tangent +x, uv = (p + 1)/2.
 pub(crate) fn flat_square() -> Mesh {
@@ -575,18 +593,7 @@ fn prism_miss_causes_follow_the_prisms_geometry_on_a_flat_square() {
     use relief_runtime::gpu::mesh::MeshProbe;
     use relief_runtime::mesh::MeshHit;
     use relief_runtime::mesh_measure::{prism_miss_causes, PrismMiss};
-    let mut sc = {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/meshes/sphere_rocks.toml");
-        relief_runtime::load_scene_file(&path).unwrap()
-    };
-    sc.height = HeightMap::new(8, 8, vec![0.5; 64]);
-    sc.depth_scale = 0.1;
-    sc.camera.angle_deg = 60.0;
-    sc.camera.azimuth_deg = -90.0;
-    sc.camera.distance = 4.0;
-    sc.camera.fov_deg = 40.0;
-    sc.camera.target = Vec3::ZERO;
-    let ms = MeshScene { scene: sc, mesh: flat_square(), notes: Default::default() };
+    let ms = MeshScene { scene: level_scene(0.1, 60.0, -90.0, 4.0), mesh: flat_square(), notes: Default::default() };
     let depth = ms.scene.depth_scale as f64;
     let size = 48u32;
     // Where a point lies: in A or B by more than `m` from the diagonal and the square's border.
