@@ -713,7 +713,8 @@ fn prism_covers_a_one_texel_wall_at_the_silhouette_as_the_reference_does() {
 /// Against the exact reference on the grazing torus (`rocks`, 48², both edge modes): coverage
 /// error within the prism's goal, 0.5 % of the pixels. Printed, not asserted: the pixels past
 /// the reference and the sphere's limb, where the goal is missed (0.6–1.0 %,
-/// docs/notes/meshes.md). Seen to fail on main's tilted lift of every long chord.
+/// docs/notes/meshes.md). Seen to fail on main's tilted lift of every long chord (471585f): `csm(15)+binary(5)`
+/// on the torus, repeat, 4.5 % wrong and 96 pixels past (0.39 % and 1 after).
 #[test]
 fn map_based_coarse_stages_under_prism_keep_their_bounds_at_grazing_views() {
     let g = gpu();

@@ -104,7 +104,7 @@ impl<'a> FnBuilder<'a> {
 
     /// A height read from a map other than the height map (a bilinear cell's apex `A_C` stored
     /// in its cell map, a max-mip node's maximum), raised as every read of the height map is
-    /// under the prism's lift ([`PRISM_LIFT`]): the map bounds the unlifted field, and the
+    /// under the prism's lift (`PRISM_LIFT`): the map bounds the unlifted field, and the
     /// stages compare it with a ray that descends over the lifted one. Raised by the lift's
     /// constant term only, which is the whole lift where the pipeline's coarse stage reads maps
     /// and the chord descends (`Policy::prism_untilted`): a vertical shift keeps every cone
