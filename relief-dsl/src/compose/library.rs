@@ -45,6 +45,8 @@ struct LibraryPolicy {
     quadric: bool,
     /// Heights carry the prism's lift (`curved=prism`).
     lift: bool,
+    /// Under the lift, the coarse stage reads maps (`Policy::prism_untilted`).
+    untilted: bool,
 }
 
 impl Policy for LibraryPolicy {
@@ -56,6 +58,9 @@ impl Policy for LibraryPolicy {
     }
     fn prism_lift(&self) -> bool {
         self.lift
+    }
+    fn prism_untilted(&self) -> bool {
+        self.untilted
     }
 }
 
@@ -278,8 +283,13 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
             .constants
             .append(naga::Constant { name: Some(format!("{prefix}_edge_clamp")), ty, init }, naga::Span::UNDEFINED)
     };
-    let policy =
-        LibraryPolicy { edge, quadric: p.curved == Some(Curved::Quadric), lift: p.curved == Some(Curved::Prism) };
+    let lift = p.curved == Some(Curved::Prism);
+    let policy = LibraryPolicy {
+        edge,
+        quadric: p.curved == Some(Curved::Quadric),
+        lift,
+        untilted: lift && super::mesh::coarse_reads_maps(p),
+    };
     let fns = write_stage_fns(&m, p, &policy, false)?;
     let f32_ty = m.ty(f32::inner());
     let vec2_ty = m.ty(Vec2::inner());

@@ -134,6 +134,8 @@ struct MeshPolicy {
     plain: Plain,
     quadric: bool,
     lift: bool,
+    /// The coarse stage reads maps: descending chords are searched untilted ([`prism_chord`]).
+    untilted: bool,
 }
 
 impl Policy for MeshPolicy {
@@ -146,6 +148,16 @@ impl Policy for MeshPolicy {
     fn prism_lift(&self) -> bool {
         self.lift
     }
+    fn prism_untilted(&self) -> bool {
+        self.untilted
+    }
+}
+
+/// Whether `p`'s chord is searched untilted wherever it descends under `curved=prism`
+/// ([`prism_chord`], `Policy::prism_untilted`): its coarse stage reads a precomputed map,
+/// whose bounds hold for the unlifted field shifted by a constant but not under a tilt.
+pub(crate) fn coarse_reads_maps(p: &Pipeline) -> bool {
+    !p.maps_of(crate::spec::Slot::Coarse).is_empty()
 }
 
 /// The pipeline options a mesh module cannot honour, as the one-line error that names both:
@@ -515,8 +527,15 @@ fn prism_chord<'a>(
     let len2 = duv.dot(duv);
     // A chord long enough in texture space is searched whole (the stages' t from 0 to
     // k = [`PRISM_CHORD_END`] spans entry to exit) over a tilted lift; a shorter one descends
-    // untilted (k = r).
-    let long = len2.ge(PRISM_SHORT_CHORD * PRISM_SHORT_CHORD) | r.le(1e-4);
+    // untilted (k = r). Where the coarse stage reads maps (`Policy::prism_untilted`) every
+    // descending chord is searched untilted, whatever its length: the lift is then the
+    // constant 1 − w_in, which keeps the maps' bounds ([`FnBuilder::map_height`]); a chord
+    // that does not descend (r ≤ 1e-4, near the silhouette) keeps the tilt, where they fail.
+    let long = if s.policy().prism_untilted() {
+        r.le(1e-4)
+    } else {
+        len2.ge(PRISM_SHORT_CHORD * PRISM_SHORT_CHORD) | r.le(1e-4)
+    };
     let k = s.select(long, s.lit(PRISM_CHORD_END), r);
     // The stages' ray at t is 1 − t high; the chord there is w_in − r·t/k high; the lift is
     // the difference, 1 − w_in − t·(1 − r/k), as a function of uv (uv − uv_in = Δuv·t/k).
@@ -954,8 +973,12 @@ fn probe_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curve
 pub(crate) fn compose_mesh(p: &Pipeline, curved: Curved, probe: bool) -> Result<(Module, Bindings), CompileError> {
     check_mesh_options(p, curved)?;
     let m = ModuleCtx::new();
-    let policy =
-        MeshPolicy { plain: Plain { lod: p.lod }, quadric: curved == Curved::Quadric, lift: curved == Curved::Prism };
+    let policy = MeshPolicy {
+        plain: Plain { lod: p.lod },
+        quadric: curved == Curved::Quadric,
+        lift: curved == Curved::Prism,
+        untilted: curved == Curved::Prism && coarse_reads_maps(p),
+    };
     let fns = write_stage_fns(&m, p, &policy, false)?;
     let vs = vertex_entry(&m, &policy, curved);
     let fs = fragment_entry(&m, &policy, &fns, curved);

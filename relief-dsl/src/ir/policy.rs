@@ -47,6 +47,14 @@ pub(crate) trait Policy {
     fn prism_lift(&self) -> bool {
         false
     }
+    /// Whether, under the prism's lift, the coarse stage reads a precomputed map (cone
+    /// ratios, a cell's apex, max-mip levels, the distance field): the chord is then searched
+    /// untilted wherever it descends (`compose::mesh`'s `prism_chord`), so that the lift is a
+    /// constant there and the maps' bounds, made for the unlifted field, still hold once their
+    /// absolute heights carry the same constant ([`crate::ir::FnBuilder::map_height`]).
+    fn prism_untilted(&self) -> bool {
+        false
+    }
 }
 
 /// Where a policy declares a texture: its name and binding in the module, and the room wall
@@ -102,5 +110,8 @@ impl Policy for Counting<'_> {
     }
     fn prism_lift(&self) -> bool {
         self.inner.prism_lift()
+    }
+    fn prism_untilted(&self) -> bool {
+        self.inner.prism_untilted()
     }
 }

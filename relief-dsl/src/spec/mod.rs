@@ -262,6 +262,16 @@ impl Pipeline {
         out
     }
 
+    /// The maps the stage in `slot` reads (with the stages it nests), besides the height map,
+    /// without duplicates, in a stable order: [`Pipeline::required_maps`] for one slot.
+    pub fn maps_of(&self, slot: Slot) -> Vec<MapReq> {
+        let mut out = Vec::new();
+        collect_maps(slot, self.slot(slot), &mut out);
+        out.sort();
+        out.dedup();
+        out
+    }
+
     /// The canonical text made safe as a file name: `(` → `_`, `)` dropped, `,` → `_`,
     /// `=` → `-`, `+` → `__`, spaces dropped. `linear(10)+binary(5)+shadow=soft(30)` becomes
     /// `linear_10__binary_5__shadow-soft_30`.

@@ -102,6 +102,24 @@ impl<'a> FnBuilder<'a> {
         Some(l.x() + self.vec2(l.y(), l.z()).dot(uv - o))
     }
 
+    /// A height read from a map other than the height map (a bilinear cell's apex `A_C` stored
+    /// in its cell map, a max-mip node's maximum), raised as every read of the height map is
+    /// under the prism's lift (`PRISM_LIFT`): the map bounds the unlifted field, and the
+    /// stages compare it with a ray that descends over the lifted one. Raised by the lift's
+    /// constant term only, which is the whole lift where the pipeline's coarse stage reads maps
+    /// and the chord descends (`Policy::prism_untilted`): a vertical shift keeps every cone
+    /// and every maximum a bound, so cone ratios and distances need no change. Where the chord
+    /// does not descend (level or rising, near the silhouette) the lift keeps its tilt and the
+    /// raised value is no bound. Without the lift, `h` unchanged.
+    pub fn map_height(&'a self, h: Val<'a, f32>) -> Val<'a, f32> {
+        if !self.policy().prism_lift() {
+            return h;
+        }
+        let m = self.module();
+        let l = self.load::<Vec3>(self.global_ptr(m.private::<Vec3>(PRISM_LIFT)));
+        h + l.x()
+    }
+
     /// The level 2D samples are taken at: `None` under `lod=zero` (level 0, the explicit
     /// `SampleLevel::Zero` of every sample before the option), else the stage-wide level in
     /// [`SAMPLE_LEVEL`]. Stage bodies never see it: every sampling method below reads it.
@@ -315,6 +333,9 @@ impl<'a> FnBuilder<'a> {
         let map = MapReq::DistanceField;
         self.no_level(map.name());
         let tex = texture_of(self, Image::Map(map), Filter::Linear, ImageDimension::D3, false);
+        // Under the prism's lift the field is the unlifted surface's: the lifted surface lies
+        // as far from p as the unlifted one from p lowered by the lift ([`FnBuilder::map_height`]).
+        let p = if self.policy().prism_lift() { self.vec3(p.xy(), p.z() - self.map_height(self.lit(0.0))) } else { p };
         self.image_sample(tex, p.handle(), Filter::Linear, false, SampleLevel::Zero, true).x()
     }
 

@@ -213,7 +213,8 @@ impl<'a> Cell<'a> {
         let texel = self.cones(s, map);
         let n = map.channels();
         let apex = if crate::abi::cell_apex_on_device(n) {
-            [texel.x(), texel.y(), texel.z(), texel.w()][n - 1]
+            // A height of the unlifted field: raised as the gathered corners are.
+            s.map_height([texel.x(), texel.y(), texel.z(), texel.w()][n - 1])
         } else {
             let c = self.keep_corners(s);
             c.x().max(c.y()).max(c.z().max(c.w()))

@@ -52,7 +52,7 @@ pub(crate) fn maxmip<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bra
         let wrapped = node - nodes * (node / nodes).floor();
         let clamped = node.clamp(0.0, nodes - 1.0);
         let at = s.vec2(s.select(g.clamp, clamped.x(), wrapped.x()), s.select(g.clamp, clamped.y(), wrapped.y()));
-        let node_max = s.map_texel(MapReq::MaxMip, at.to_u32(), level.get()).x().named("node_max");
+        let node_max = s.map_height(s.map_texel(MapReq::MaxMip, at.to_u32(), level.get()).x()).named("node_max");
         let to_side = ((node + g.side) * span - x) * g.inv_speed;
         let (exit_x, exit_y) = (to_side.x().abs(), to_side.y().abs());
         let exit = t + exit_x.min(exit_y).min(g.t_max - t);
