@@ -197,6 +197,7 @@ fn the_binding_table_names_every_bound_global() {
                     let want = if e.resource == Resource::Rays { binding::RAYS } else { binding::HITS };
                     assert_eq!(b, want, "{pipe}");
                 }
+                Resource::PrismCells => panic!("{pipe}: the prism walk's buffer in a flat-tile module"),
                 Resource::RoomParams => panic!("{pipe}: a room block outside a room"),
             }
         }

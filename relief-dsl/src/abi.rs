@@ -68,6 +68,9 @@ pub mod binding {
     pub const RAYS: u32 = 64;
     /// Probe output, `array<ProbeHit>` (storage, read_write).
     pub const HITS: u32 = 65;
+    /// A mesh module's prism walk, `array<PrismCell>` (storage, read): one record per
+    /// triangle (`compose::Options::prism_walk`).
+    pub const PRISM_CELLS: u32 = 66;
 }
 
 /// Workgroup size of the probe entry.

@@ -214,19 +214,33 @@ pub fn measure_modes(
     let none_tex = mesh_textures(gpu, ms, &none)?;
     let mut out = Vec::new();
     for &mode in modes {
-        let p = base.clone().with_curved(Some(mode));
-        let prog = MeshProgram::new(&p)?;
-        let tex = mesh_textures(gpu, ms, &prog)?;
-        let probe = probe_mesh(gpu, &prog, ms, &tex, size)?;
-        let score = score(&probe, reference, ms);
-        let time = if pairs > 0 && mode != Curved::None {
-            Some(paired_mesh_time(gpu, (&prog, &tex), (&none, &none_tex), ms, size, pairs)?.ratio())
-        } else {
-            None
-        };
-        out.push(ModeFigures { pipeline: p, score, probe, time });
+        let prog = MeshProgram::new(&base.clone().with_curved(Some(mode)))?;
+        out.push(measure_program(gpu, ms, &prog, (&none, &none_tex), reference, size, pairs)?);
     }
     Ok(out)
+}
+
+/// [`measure_modes`] for one compiled program `prog` (e.g. [`MeshProgram::unwalked`]): its
+/// figures against `reference` and, with `pairs` > 0 and `prog` not `curved=none`, its frame
+/// time over `none`'s (the `curved=none` program of the same stages, with its textures).
+pub fn measure_program(
+    gpu: &Gpu,
+    ms: &MeshScene,
+    prog: &MeshProgram,
+    none: (&MeshProgram, &crate::gpu::SceneTextures),
+    reference: &[Option<MeshHit>],
+    size: u32,
+    pairs: u32,
+) -> crate::Result<ModeFigures> {
+    let tex = mesh_textures(gpu, ms, prog)?;
+    let probe = probe_mesh(gpu, prog, ms, &tex, size)?;
+    let score = score(&probe, reference, ms);
+    let time = if pairs > 0 && prog.curved != Curved::None {
+        Some(paired_mesh_time(gpu, (prog, &tex), none, ms, size, pairs)?.ratio())
+    } else {
+        None
+    };
+    Ok(ModeFigures { pipeline: prog.pipeline.clone(), score, probe, time })
 }
 
 /// Why `curved=prism` left out a pixel the reference hits (issue 38's separation of its

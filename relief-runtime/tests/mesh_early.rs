@@ -48,7 +48,8 @@ fn the_spheres_sealed_walls_are_the_edges_two_triangles_share_but_the_seam_and_t
 }
 
 /// The early-out changes no pixel: on the sphere (face-on and at its limb) and the grazing torus (64², the
-/// goals' pipeline under `curved=prism`), the probe with the early-out and the probe with its
+/// goals' pipeline under `curved=prism`, drawn unwalked: every face of every prism, where the
+/// early-out acts), the probe with the early-out and the probe with its
 /// mask zeroed (every fragment runs the whole trace) cover the same pixels and give each the
 /// same hit (uv and distance along the view ray, bit for bit: the discarded fragments lie
 /// strictly behind a nearer one that the depth test keeps either way).
@@ -59,7 +60,7 @@ fn the_early_out_leaves_the_prism_picture_as_it_was() {
     use relief_runtime::mesh::MeshScene;
     let g = relief_runtime::Gpu::new().unwrap_or_else(|e| panic!("{e}"));
     let pipeline = "linear(32)+binary(5)".parse::<Pipeline>().unwrap().with_curved(Some(Curved::Prism));
-    let prog = MeshProgram::new(&pipeline).unwrap();
+    let prog = MeshProgram::unwalked(&pipeline).unwrap();
     let prober = MeshProber::new(&g, &prog).unwrap();
     for name in ["sphere_rocks", "torus_grazing", "sphere_limb"] {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("scenes/meshes/{name}.toml"));

@@ -16,6 +16,7 @@ mod maps;
 mod mesh_early;
 mod mesh_fragments;
 mod mesh_grid;
+mod mesh_walk;
 mod meshes;
 mod meshes_gpu;
 mod reference;

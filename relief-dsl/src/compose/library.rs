@@ -567,6 +567,7 @@ fn mesh_trace_fn(
         curvature: if curved == Curved::Quadric { s.arg::<Vec2>(5) } else { s.vec2(0.0, 0.0) },
         depth,
         prism,
+        walk: None,
     };
     let mr = mesh::mesh_ray(&s, curved, inputs);
     let (hit, covered) = if curved == Curved::Prism {

@@ -118,6 +118,76 @@ pub struct MeshVertex {
 }
 }
 
+abi_record! {
+/// One triangle of the prism walk (`compose::Options::prism_walk`; 208 bytes, thirteen
+/// `vec4<f32>`): the prism's corners, as [`MeshVertex`]'s `prism_*` members carry them, the
+/// triangles across its joined side walls, and its corners' tangents and scales. The runtime uploads one per triangle, in the
+/// order the vertices' `prism_b.w` names them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct PrismCell {
+    /// xyz: corner 0's point on the base surface (object space). w: the triangle across the
+    /// side wall over the edge from corner 0 to corner 1 when that wall is sealed (the index,
+    /// a float, exact below 2²⁴), −1 where it is not ([`MeshVertex::prism_b`]'s sealed walls).
+    pub p0: [f32; 4],
+    /// Corner 1's point; w: the triangle across the wall from corner 1 to corner 2, as `p0`.
+    pub p1: [f32; 4],
+    /// Corner 2's point; w: the triangle across the wall from corner 2 to corner 0, as `p0`.
+    pub p2: [f32; 4],
+    /// xyz: corner 0's normal (as its vertex's, the one S interpolates); w: 0.
+    pub n0: [f32; 4],
+    /// Corner 1's normal, as `n0`.
+    pub n1: [f32; 4],
+    /// Corner 2's normal, as `n0`.
+    pub n2: [f32; 4],
+    /// xy: corner 0's texture coordinates, zw: corner 1's.
+    pub uv01: [f32; 4],
+    /// xy: corner 2's texture coordinates. z: the prism's headroom, 1 minus the largest
+    /// height of the texels a bilinear read anywhere in the triangle's uv blends (level 0),
+    /// for the walk's skip of prisms the ray crosses above the relief (`prism_walk`);
+    /// 0 never skips. w: 0.
+    pub uv2: [f32; 4],
+    /// Corner 0's tangent, as its vertex's [`MeshVertex::tangent`] (w the handedness): with
+    /// `t1`, `t2` and the scales, the shading frame at the hit (`walk_frame`).
+    pub t0: [f32; 4],
+    /// Corner 1's tangent, as `t0`.
+    pub t1: [f32; 4],
+    /// Corner 2's tangent, as `t0`.
+    pub t2: [f32; 4],
+    /// xy: corner 0's texture units per object unit along T and B (its vertex's `uv.zw`);
+    /// zw: corner 1's.
+    pub scale01: [f32; 4],
+    /// xy: corner 2's texture units per object unit, as `scale01`; zw: 0.
+    pub scale2: [f32; 4],
+}
+}
+
+/// The global of the prism walk's triangles, `array<PrismCell>` at
+/// [`crate::abi::binding::PRISM_CELLS`].
+const PRISM_CELLS: &str = "prism_cells";
+
+/// The most prisms one fragment's walk visits. A walk that reaches it without a hit or an
+/// end is discarded (its pixel lost; the probe marks it, `WalkOut::at_limit`). The goal
+/// cells' walks search 1.5–3.5 prisms per pixel on average and at most 56 (a ray along the
+/// built-in sphere's pole, whose fan has 96 thin triangles; docs/notes/meshes.md, "One
+/// fragment walks the prisms"), so 128 is a bound, not a setting: a pixel that reaches it is
+/// counted, not hidden.
+pub const PRISM_WALK_LIMIT: u32 = 128;
+
+/// The depth the probe writes for a pixel whose walk reached [`PRISM_WALK_LIMIT`]: the
+/// farthest below the cleared 1.0, so that any fragment with a hit at the pixel wins the
+/// depth test over the mark.
+const PRISM_WALK_LIMIT_DEPTH: f32 = 1.0 - 1.0 / (1u32 << 24) as f32;
+
+/// How far (in units of the relief's depth) the lower end of a prism's chord must lie above
+/// the prism's highest texel ([`PrismCell::uv2`]'s headroom) for the walk to skip its search.
+/// The search's hit is drawn only at t ≤ k + [`PRISM_SLACK`] and no more than
+/// [`PRISM_ABOVE_SLACK`] (1/32) above S; on the chord from the entry to there the layer is at
+/// least the chord's lower end less 1.1e-4 (its slope is at most 16/15 of the depth per unit
+/// of t), and the device's heights exceed the host's by at most the R16Float rounding (5e-4).
+/// 1/32 + 1/256 is more than all three, so a skipped prism's search could not have been drawn:
+/// the skip changes no pixel.
+const PRISM_SKIP_MARGIN: f32 = 1.0 / 32.0 + 1.0 / 256.0;
+
 /// How many of [`MeshVertex`]'s members the vertex entry of `curved` reads (at locations
 /// 0‥n−1): the first seven for `none` and `quadric`, all thirteen for `prism` (its triangle's
 /// corners for the exact entry and exit).
@@ -125,6 +195,17 @@ pub fn vertex_members(curved: Curved) -> usize {
     match curved {
         Curved::None | Curved::Quadric => 7,
         Curved::Prism => MeshVertex::MEMBERS.len(),
+    }
+}
+
+/// [`vertex_members`] of a `curved=prism` module that walks (`compose::Options::prism_walk`):
+/// the first seven, as `none`'s (the walk reads the corners from its buffer; `prism_b.w`
+/// names the triangle); `curved`'s own count otherwise.
+pub fn vertex_members_for(curved: Curved, walk: bool) -> usize {
+    if walk && curved == Curved::Prism {
+        7
+    } else {
+        vertex_members(curved)
     }
 }
 
@@ -218,9 +299,9 @@ fn vertex_input(n: u32) -> Binding {
 }
 
 /// `vs_mesh`: the vertex, moved to its prism layer, in clip space, and the varyings.
-fn vertex_entry(m: &ModuleCtx, policy: &dyn Policy, curved: Curved) -> naga::EntryPoint {
+fn vertex_entry(m: &ModuleCtx, policy: &dyn Policy, curved: Curved, walk: bool) -> naga::EntryPoint {
     let v4 = m.ty(Vec4::inner());
-    let n = vertex_members(curved);
+    let n = vertex_members_for(curved, walk);
     let args: Vec<(&str, _, _)> =
         MeshVertex::MEMBERS[..n].iter().enumerate().map(|(i, (n, _))| (*n, v4, Some(vertex_input(i as u32)))).collect();
     let s = m.function("vs_mesh", &args, policy);
@@ -368,6 +449,12 @@ pub(crate) struct Chord<'a> {
     /// Whether the entry's face allows the early-out (a sealed wall or the floor,
     /// [`PrismCorners::early`]); `None` without the early-out.
     early_in: Option<Val<'a, bool>>,
+    /// The walk's: the exit's face, 0, 1, 2 the side wall from corner k to k + 1, 3 the floor,
+    /// 4 the top (a float holding the integer); `None` outside a walk.
+    exit_face: Option<Val<'a, f32>>,
+    /// The walk's: the barycentrics of corners 0 and 1 where the ray meets the top's plane,
+    /// inside the top or not; `None` outside a walk.
+    top_b: Option<Val<'a, Vec2>>,
     r: Val<'a, f32>,
     /// The lift while the search runs: `(at the entry, slope along u, slope along v)`.
     lift: Val<'a, Vec3>,
@@ -464,12 +551,15 @@ fn ray_bilinear_wall<'a>(
 /// lifted field where the chord meets the true one (`stage::sampling`'s `PRISM_LIFT`). The
 /// chord is defined whatever the fragment's normal, so a ray level with or rising against the
 /// fragment's tangent plane is traced like any other.
+///
+/// In a walk (`walk`) the exit's face is kept ([`Chord::exit_face`]).
 fn prism_chord<'a>(
     s: &'a FnBuilder<'a>,
     view: Val<'a, Vec3>,
     c: &PrismCorners<'a>,
     depth: Val<'a, f32>,
     cos_view: Val<'a, f32>,
+    walk: bool,
 ) -> Chord<'a> {
     let zero3 = s.vec3(s.vec2(0.0, 0.0), 0.0);
     let t_in = s.var("prism_t_in", 1e30);
@@ -478,7 +568,8 @@ fn prism_chord<'a>(
     let at_out = s.var("prism_at_out", zero3);
     // The entry face's early-out flag (1: a sealed wall or the floor), with the early-out only.
     let early_in = c.early.map(|_| s.var("prism_early_in", 0.0f32));
-    let consider = |t: Val<'a, f32>, ok: Val<'a, bool>, at: Val<'a, Vec3>, early: Option<Val<'a, bool>>| {
+    let exit_face = walk.then(|| s.var("prism_exit_face", -1.0f32));
+    let consider = |t: Val<'a, f32>, ok: Val<'a, bool>, at: Val<'a, Vec3>, early: Option<Val<'a, bool>>, face: f32| {
         let first = ok & t.lt(t_in.get());
         t_in.set(s.select(first, t, t_in.get()));
         at_in.set(s.select(first, at, at_in.get()));
@@ -488,6 +579,9 @@ fn prism_chord<'a>(
         let last = ok & t.gt(t_out.get());
         t_out.set(s.select(last, t, t_out.get()));
         at_out.set(s.select(last, at, at_out.get()));
+        if let Some(var) = &exit_face {
+            var.set(s.select(last, s.lit(face), var.get()));
+        }
     };
     let axis = s.select(view.x().abs().lt(0.6), s.vec3(s.vec2(1.0, 0.0), 0.0), s.vec3(s.vec2(0.0, 1.0), 0.0));
     let n1 = view.cross(axis).normalize();
@@ -496,11 +590,15 @@ fn prism_chord<'a>(
     let top = [0, 1, 2].map(|k| framed(c.p[k]));
     let d = [0, 1, 2].map(|k| framed(c.n[k] * depth));
     let floor = [0, 1, 2].map(|k| (top[k].0 - d[k].0, top[k].1 - d[k].1));
-    for (q, layer, bit) in [(top, 1.0, None), (floor, 0.0, Some(3))] {
+    let mut top_b = None;
+    for (q, layer, bit, face) in [(top, 1.0, None, 4.0), (floor, 0.0, Some(3), 3.0)] {
         let (t, ok, b) = ray_triangle(s, q);
+        if walk && layer == 1.0 {
+            top_b = Some(b);
+        }
         // The top is never entered below S (w = 1 ≥ h): it carries no flag.
         let early = c.early.map(|m| bit.map_or(s.lit_bool(false), |bit| mask_bit(m, bit)));
-        consider(t, ok, s.vec3(b, layer), early);
+        consider(t, ok, s.vec3(b, layer), early, face);
     }
     for (i, j) in [(0usize, 1usize), (1, 2), (2, 0)] {
         let early = c.early.map(|m| mask_bit(m, i as u32));
@@ -515,11 +613,12 @@ fn prism_chord<'a>(
                     s.lit(0.0)
                 }
             };
-            consider(t, ok, s.vec3(s.vec2(bary(0), bary(1)), w), early);
+            consider(t, ok, s.vec3(s.vec2(bary(0), bary(1)), w), early, i as f32);
         }
     }
     let (t_in, at_in, t_out, at_out) = (t_in.get(), at_in.get(), t_out.get(), at_out.get());
     let early_in = early_in.map(|var| var.get().gt(0.5));
+    let exit_face = exit_face.map(|var| var.get());
     let uv_at = |at: Val<'a, Vec3>| c.uv[2] + (c.uv[0] - c.uv[2]) * at.x() + (c.uv[1] - c.uv[2]) * at.y();
     let (uv_in, uv_out) = (uv_at(at_in), uv_at(at_out));
     let duv = uv_out - uv_in;
@@ -554,6 +653,8 @@ fn prism_chord<'a>(
         w_in,
         uv_in,
         early_in,
+        exit_face,
+        top_b,
         r,
         lift,
         search: Ray { origin: uv_in, dir, cos_view },
@@ -578,6 +679,17 @@ pub(crate) struct MeshRay<'a> {
     chord: Option<Chord<'a>>,
     /// `prism`: the triangle's corners and the relief's depth (object units), for the polish.
     corners: Option<(PrismCorners<'a>, Val<'a, f32>)>,
+    /// `prism` walking: where the walk starts and the relief's depth (object units); the
+    /// chord and the corners are then the walk's, one prism at a time ([`prism_walk`]).
+    walk: Option<(WalkStart<'a>, Val<'a, f32>)>,
+}
+
+/// Where a fragment's prism walk starts: the walk's buffer, the fragment's triangle and its
+/// point (the corners are taken relative to it, as the varyings' are).
+pub(crate) struct WalkStart<'a> {
+    cells: naga::Handle<naga::GlobalVariable>,
+    first: Val<'a, u32>,
+    point: Val<'a, Vec3>,
 }
 
 /// What the fragment knows of its place on the mesh, from the vertex entry's varyings or a
@@ -596,6 +708,9 @@ pub(crate) struct MeshInputs<'a> {
     pub(crate) depth: Val<'a, f32>,
     /// `prism`: the prism's triangle, relative to the fragment's point.
     pub(crate) prism: Option<PrismCorners<'a>>,
+    /// `prism` walking (`compose::Options::prism_walk`): where the walk starts; `prism` is then
+    /// `None`.
+    pub(crate) walk: Option<WalkStart<'a>>,
 }
 
 /// The fragment's ray, in the flat tile's convention (ARCHITECTURE.md, "Rays"): the view ray
@@ -609,7 +724,7 @@ pub(crate) fn mesh_ray<'a>(s: &'a FnBuilder<'a>, curved: Curved, i: MeshInputs<'
     let (v_uv, v_n) = frame.to_texture(i.view);
     let cos_view = descent(v_n);
     if let (Curved::Prism, Some(corners)) = (curved, i.prism) {
-        let chord = prism_chord(s, i.view, &corners, i.depth, cos_view);
+        let chord = prism_chord(s, i.view, &corners, i.depth, cos_view, false);
         let ray = chord.search;
         return MeshRay {
             ray,
@@ -619,7 +734,15 @@ pub(crate) fn mesh_ray<'a>(s: &'a FnBuilder<'a>, curved: Curved, i: MeshInputs<'
             depth,
             chord: Some(chord),
             corners: Some((corners, i.depth)),
+            walk: None,
         };
+    }
+    if let (Curved::Prism, Some(start)) = (curved, i.walk) {
+        // The walk makes its chords one prism at a time; `ray` is the flat tile's, unused.
+        let dir = s.vec3(v_uv * (depth / cos_view), -1.0);
+        let ray = Ray { origin: i.uv.xy(), dir, cos_view };
+        let walk = Some((start, i.depth));
+        return MeshRay { ray, t_entry: s.lit(0.0), view: i.view, frame, depth, chord: None, corners: None, walk };
     }
     let dir = s.vec3(v_uv * (depth / cos_view), -1.0);
     let t_entry = s.lit(0.0);
@@ -628,11 +751,15 @@ pub(crate) fn mesh_ray<'a>(s: &'a FnBuilder<'a>, curved: Curved, i: MeshInputs<'
         set_quadric(s, i.curvature / depth, i.uv.xy());
     }
     let ray = Ray { origin, dir, cos_view };
-    MeshRay { ray, t_entry, view: i.view, frame, depth, chord: None, corners: None }
+    MeshRay { ray, t_entry, view: i.view, frame, depth, chord: None, corners: None, walk: None }
 }
 
 /// The fragment entries' inputs: the varyings and the `Params` block.
-fn varying_inputs<'a>(s: &'a FnBuilder<'a>, curved: Curved) -> (MeshInputs<'a>, Val<'a, Vec3>) {
+fn varying_inputs<'a>(
+    s: &'a FnBuilder<'a>,
+    curved: Curved,
+    walk: Option<naga::Handle<naga::GlobalVariable>>,
+) -> (MeshInputs<'a>, Val<'a, Vec3>) {
     let [point, normal, tangent, uv, curvature] = [0, 1, 2, 3, 4].map(|i| s.arg::<Vec4>(i));
     let camera = s.param::<Vec4>(Param::Camera);
     let depth = s.name("depth_scale", camera.w());
@@ -641,7 +768,14 @@ fn varying_inputs<'a>(s: &'a FnBuilder<'a>, curved: Curved) -> (MeshInputs<'a>, 
     // is still made, so that the `none` and `quadric` modules keep their text to the byte
     // (naga numbers the temporaries by expression).
     let _ = point.w();
-    let prism = (curved == Curved::Prism).then(|| {
+    let walking = curved == Curved::Prism && walk.is_some();
+    // The fragment's triangle, `prism_b.w`: interpolated like any varying 0‥6, so rounded.
+    let walk = walk.filter(|_| walking).map(|cells| WalkStart {
+        cells,
+        first: s.arg::<Vec4>(6).w().round().to_u32(),
+        point: point.xyz(),
+    });
+    let prism = (curved == Curved::Prism && !walking).then(|| {
         let (a, b) = (s.arg::<Vec4>(5), s.arg::<Vec4>(6));
         PrismCorners {
             p: [7, 8, 9].map(|k| s.arg::<Vec4>(k).xyz() - point.xyz()),
@@ -650,7 +784,7 @@ fn varying_inputs<'a>(s: &'a FnBuilder<'a>, curved: Curved) -> (MeshInputs<'a>, 
             early: Some(b.z()),
         }
     });
-    let inputs = MeshInputs { view, normal, tangent, uv, curvature: curvature.xy(), depth, prism };
+    let inputs = MeshInputs { view, normal, tangent, uv, curvature: curvature.xy(), depth, prism, walk };
     (inputs, point.xyz())
 }
 
@@ -717,6 +851,16 @@ pub(crate) fn prism_trace<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, mr: &MeshRay
     if let Some(early_in) = ch.early_in {
         s.if_(early_out(s, ch, early_in), |s| s.discard());
     }
+    let (hit, drawn, b) = chord_search(s, fns, ch);
+    let (corners, depth) = mr.corners.as_ref().expect("prism_trace needs the prism's corners");
+    (polish_on_s(s, mr.view, corners, *depth, hit, b).0, drawn)
+}
+
+/// The stages' search on one prism's chord ([`prism_trace`] without the polish): the hit on
+/// the chord (`t` along the view ray from the fragment's point, `z` the layer), whether it is
+/// drawn (the ray crosses the prism, the search met the lifted surface, not after the exit)
+/// and the barycentrics of corners 0 and 1 there.
+fn chord_search<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, ch: &Chord<'a>) -> (Hit<'a>, Val<'a, bool>, Val<'a, Vec2>) {
     let m = s.module();
     let lift = s.global_ptr(m.private::<Vec3>(PRISM_LIFT));
     s.store(lift, ch.lift.handle());
@@ -733,9 +877,185 @@ pub(crate) fn prism_trace<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, mr: &MeshRay
     let layer = ch.w_in - ch.r * tau;
     let dist = ch.t_in + (ch.t_out - ch.t_in) * tau;
     let hit = Hit { t: dist, uv, z: layer, found: traced.found };
-    let (corners, depth) = mr.corners.as_ref().expect("prism_trace needs the prism's corners");
     let b = ch.b_in + (ch.b_out - ch.b_in) * tau;
-    (polish_on_s(s, mr.view, corners, *depth, hit, b), drawn)
+    (hit, drawn, b)
+}
+
+/// What a walk reports besides its hit: whether it stopped at [`PRISM_WALK_LIMIT`] still
+/// walking, how many prisms it searched, and the shading frame at the hit with the relief's
+/// depth along its normal ([`walk_frame`]).
+pub(crate) struct WalkOut<'a> {
+    pub(crate) drawn: Val<'a, bool>,
+    pub(crate) at_limit: Val<'a, bool>,
+    pub(crate) passes: Val<'a, u32>,
+    pub(crate) frame: Frame<'a>,
+    pub(crate) depth: Val<'a, f32>,
+}
+
+/// The shading frame at a walk's hit: the hit prism's corners' normals, tangents and scales
+/// blended by the hit's barycentrics `b` (b₀, b₁; b₂ = 1 − b₀ − b₁), as a fragment of that
+/// prism at the hit would get them interpolated, then [`frame`]; and the relief's depth
+/// along its normal there (`depth · |N|`, as [`MeshRay::depth`]). The walk's fragment is the
+/// entry prism's, often several prisms from the hit, and its own varyings would shade the
+/// hit with the entry's frame, where the full draw shades it with the hit prism's.
+fn walk_frame<'a>(
+    s: &'a FnBuilder<'a>,
+    cells: naga::Handle<naga::GlobalVariable>,
+    cell: Val<'a, u32>,
+    uv: Val<'a, Vec2>,
+    b: Val<'a, Vec2>,
+    depth: Val<'a, f32>,
+) -> (Frame<'a>, Val<'a, f32>) {
+    let record = s.element_ptr(s.global_ptr(cells), cell.handle());
+    let get = |name: &str| s.load::<Vec4>(s.member_ptr::<PrismCell>(record, name));
+    let w = [b.x(), b.y(), 1.0 - b.x() - b.y()];
+    let blend = |v: [Val<'a, Vec4>; 3]| v[0] * w[0] + v[1] * w[1] + v[2] * w[2];
+    let normal = blend(["n0", "n1", "n2"].map(get));
+    let tangent = blend(["t0", "t1", "t2"].map(get));
+    let (s01, s2) = (get("scale01"), get("scale2"));
+    let scale = s01.xy() * w[0] + s01.zw() * w[1] + s2.xy() * w[2];
+    let frame = frame(s, s.vec4(normal.xyz(), 0.0), tangent, s.vec4(s.vec3(uv, scale.x()), scale.y()));
+    (frame, depth * normal.xyz().length())
+}
+
+/// Triangle `cell` of the walk's buffer: its corners relative to `point` (no early-out: a
+/// walk enters its prisms only through drawn faces, the tops and unsealed walls, or from a
+/// neighbour), its neighbours across walls 0, 1, 2 (−1: none) and its headroom.
+fn walk_cell<'a>(
+    s: &'a FnBuilder<'a>,
+    cells: naga::Handle<naga::GlobalVariable>,
+    cell: Val<'a, u32>,
+    point: Val<'a, Vec3>,
+) -> (PrismCorners<'a>, Val<'a, Vec3>, Val<'a, f32>) {
+    let record = s.element_ptr(s.global_ptr(cells), cell.handle());
+    let get = |name: &str| s.load::<Vec4>(s.member_ptr::<PrismCell>(record, name));
+    let [p0, p1, p2] = ["p0", "p1", "p2"].map(get);
+    let [n0, n1, n2] = ["n0", "n1", "n2"].map(get);
+    let (uv01, uv2) = (get("uv01"), get("uv2"));
+    let corners = PrismCorners {
+        p: [p0, p1, p2].map(|p| p.xyz() - point),
+        n: [n0, n1, n2].map(|n| n.xyz()),
+        uv: [uv01.xy(), uv01.zw(), uv2.xy()],
+        early: None,
+    };
+    (corners, s.vec3(s.vec2(p0.w(), p1.w()), p2.w()), uv2.z())
+}
+
+/// Where the ray does not cross the fragment's own prism (`missed`, the caller's): the
+/// neighbour across the edge of the top that the ray passes outside of, the one opposite the
+/// corner whose barycentric at the top's plane is the most negative; moves the walk's `cell`
+/// there and says whether there was one (the walk then starts there). The rasterizer gives
+/// a pixel whose centre lies on or near an edge two triangles share to one of them, deciding
+/// with its own fixed-point snapping (a 256th of a pixel, much coarser than the crossings'
+/// slack), so the drawn top can be the neighbour of the one the ray enters through. The
+/// unwalked draw did not need this: the entered prism's walls were drawn too. (A pixel near a
+/// vertex that several triangles share can still go to one that is no neighbour; its walk
+/// finds no crossing and the pixel is lost, counted in the coverage.)
+fn start_at_a_neighbour<'a>(
+    s: &'a FnBuilder<'a>,
+    missed: Val<'a, bool>,
+    ch: &Chord<'a>,
+    across: Val<'a, Vec3>,
+    cell: crate::ir::Var<'a, u32>,
+) -> Val<'a, bool> {
+    let b = ch.top_b.expect("a walk's chord keeps the top's barycentrics");
+    let (b0, b1) = (b.x(), b.y());
+    let b2 = 1.0 - b0 - b1;
+    // Corner k most negative: the edge from corner k + 1 to k + 2, wall (k + 1) mod 3.
+    let next = s.select(b0.le(b1) & b0.le(b2), across.y(), s.select(b1.le(b2), across.z(), across.x()));
+    let there = missed & next.ge(0.0);
+    cell.set(s.select(there, next.max(0.0).round().to_u32(), cell.get()));
+    there
+}
+
+/// Whether the walk goes on into the prism of `ch`: the ray crosses it and leaves it beyond
+/// `before`, the exit of the prism the walk came from (−10³⁰ for the fragment's own). Just
+/// past that exit the ray is inside this prism, so with exact arithmetic this prism's last
+/// crossing lies beyond it; where rounding says otherwise (a ray through an edge that
+/// several prisms share) the walk stops there, and never goes back and forth between two
+/// prisms.
+fn advances<'a>(ch: &Chord<'a>, before: Val<'a, f32>) -> Val<'a, bool> {
+    ch.crosses & ch.t_out.gt(before)
+}
+
+/// Whether the walk may skip the search of the prism `ch` crosses (its headroom from the
+/// walk's buffer): the chord's lower end lies more than [`PRISM_SKIP_MARGIN`] above every
+/// height the search could read, so that search could not draw the pixel. Only where heights
+/// are read at level 0 (`lod=zero`), which the headroom bounds; elsewhere never.
+fn skip_search<'a>(s: &'a FnBuilder<'a>, ch: &Chord<'a>, headroom: Val<'a, f32>) -> Option<Val<'a, bool>> {
+    if s.policy().lod() != Lod::Zero {
+        return None;
+    }
+    let low = ch.w_in.min(ch.w_in - ch.r);
+    Some((low - (1.0 - headroom)).gt(PRISM_SKIP_MARGIN))
+}
+
+/// `prism`'s trace as a walk (`compose::Options::prism_walk`): the fragment's own prism is
+/// searched from its entry to its exit as [`prism_trace`] searches it; where the search
+/// meets nothing and the ray leaves through a side wall joined to another triangle's, the
+/// search goes on in that triangle's prism (from the walk's buffer, [`PrismCell`]), and so
+/// on, until a prism's search meets S (then polished, [`polish_on_s`]), the ray leaves
+/// through the top, the floor or a wall joined to nothing (the pixel is another fragment's,
+/// or no one's), or [`PRISM_WALK_LIMIT`] prisms were searched. Each prism's chord (its first
+/// to its last crossing) and search are those a fragment of that prism runs in the unwalked
+/// draw, so the walk meets, in the ray's order, the prisms whose fragments that draw ran one
+/// per prism crossed, with one fragment. Two rules the walk adds, each in a named helper: a
+/// next prism must take the ray farther ([`advances`]), and a prism whose chord passes above
+/// its highest texel is crossed without its search ([`skip_search`], which changes no pixel).
+fn prism_walk<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, mr: &MeshRay<'a>) -> (Hit<'a>, WalkOut<'a>) {
+    let (start, depth) = mr.walk.as_ref().expect("prism_walk needs its start");
+    let (view, cos_view, point, cells) = (mr.view, mr.ray.cos_view, start.point, start.cells);
+    let zero2 = s.vec2(0.0, 0.0);
+    let cell = s.var("walk_cell", start.first);
+    let from = s.var("walk_from", -1e30f32);
+    let drawn = s.var("walk_drawn", s.lit_bool(false));
+    let going = s.var("walk_going", s.lit_bool(true));
+    let passes = s.var("walk_passes", 0u32);
+    let (hit_t, hit_uv, hit_z, hit_b) =
+        (s.var("walk_t", 0.0f32), s.var("walk_uv", zero2), s.var("walk_z", 0.0f32), s.var("walk_b", zero2));
+    let found = s.var("walk_found", s.lit_bool(false));
+    let first = s.var("walk_first", s.lit_bool(true));
+    s.repeat(PRISM_WALK_LIMIT, |l| {
+        let s: &'a FnBuilder<'a> = l;
+        passes.set(passes.get() + 1u32);
+        let (corners, across, headroom) = walk_cell(s, cells, cell.get(), point);
+        let ch = prism_chord(s, view, &corners, *depth, cos_view, true);
+        let missed = first.get() & !ch.crosses;
+        first.set(s.lit_bool(false));
+        l.continue_if(start_at_a_neighbour(s, missed, &ch, across, cell));
+        let onward = advances(&ch, from.get());
+        going.set(onward);
+        l.break_if(!onward);
+        let search = |s: &'a FnBuilder<'a>| {
+            let (hit, ok, b) = chord_search(s, fns, &ch);
+            hit_t.set(hit.t);
+            hit_uv.set(hit.uv);
+            hit_z.set(hit.z);
+            hit_b.set(b);
+            found.set(hit.found);
+            drawn.set(ok);
+        };
+        match skip_search(s, &ch, headroom) {
+            Some(skip) => s.if_(!skip, search),
+            None => search(s),
+        }
+        l.break_if(drawn.get());
+        let face = ch.exit_face.expect("a walk's chord keeps its exit face");
+        let next = s.select(face.lt(0.5), across.x(), s.select(face.lt(1.5), across.y(), across.z()));
+        let on = ch.crosses & face.lt(2.5) & next.ge(0.0);
+        going.set(on);
+        l.break_if(!on);
+        cell.set(next.round().to_u32());
+        from.set(ch.t_out);
+    });
+    let drawn = drawn.get();
+    let at_limit = !drawn & going.get();
+    let (corners, _, _) = walk_cell(s, cells, cell.get(), point);
+    let hit = Hit { t: hit_t.get(), uv: hit_uv.get(), z: hit_z.get(), found: found.get() };
+    let (polished, newton_b, kept) = polish_on_s(s, view, &corners, *depth, hit, hit_b.get());
+    let b = s.select(kept, newton_b, hit_b.get());
+    let (frame, along) = walk_frame(s, cells, cell.get(), polished.uv, b, *depth);
+    (polished, WalkOut { drawn, at_limit, passes: passes.get(), frame, depth: along })
 }
 
 /// The exact early-out behind the hit: whether the prism's entry lies strictly inside the
@@ -801,7 +1121,8 @@ fn height_and_gradient<'a>(s: &'a FnBuilder<'a>, uv: Val<'a, Vec2>) -> (Val<'a, 
 /// point of S on the ray near it; the 3 × 3 step by Cramer's rule. The search's hit is kept
 /// where Newton leaves the prism (a barycentric below −[`PRISM_FACE_SLACK`]), moves more than
 /// one depth along the ray (another crossing of S), or does not converge to
-/// [`POLISH_TOLERANCE`].
+/// [`POLISH_TOLERANCE`]. Returns the hit, Newton's barycentrics (b₀, b₁) and whether Newton's
+/// point was kept.
 fn polish_on_s<'a>(
     s: &'a FnBuilder<'a>,
     v: Val<'a, Vec3>,
@@ -809,7 +1130,7 @@ fn polish_on_s<'a>(
     depth: Val<'a, f32>,
     hit: Hit<'a>,
     b: Val<'a, Vec2>,
-) -> Hit<'a> {
+) -> (Hit<'a>, Val<'a, Vec2>, Val<'a, bool>) {
     let (duv0, duv1) = (c.uv[0] - c.uv[2], c.uv[1] - c.uv[2]);
     let uv_at = |b: Val<'a, Vec2>| c.uv[2] + duv0 * b.x() + duv1 * b.y();
     // F at (t, b), with what the step needs: the residual, h, and the columns ∂F/∂b₀, ∂F/∂b₁.
@@ -844,22 +1165,40 @@ fn polish_on_s<'a>(
         bb.x().ge(-PRISM_FACE_SLACK) & bb.y().ge(-PRISM_FACE_SLACK) & (bb.x() + bb.y()).le(1.0 + PRISM_FACE_SLACK);
     let near = (t - hit.t).abs().le(depth);
     let keep = converged & inside & near;
-    Hit {
+    let polished = Hit {
         t: s.select(keep, t, hit.t),
         uv: s.select(keep, uv_at(bb), hit.uv),
         z: s.select(keep, h, hit.z),
         found: hit.found,
-    }
+    };
+    // Newton's barycentrics and whether they were kept, for a caller that needs the hit's b.
+    (polished, bb, keep)
 }
 
 /// The trace both fragment entries share: the search, then the discards of the mode; returns
 /// the hit, kept inside the volume as relief's own fragment keeps it (`prism`: its `t` the
 /// distance along the view ray, [`prism_trace`]).
-fn mesh_trace<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, curved: Curved, mr: &MeshRay<'a>) -> Hit<'a> {
+///
+/// A walk's fragment (`prism_walk`) is discarded where the walk found no hit; with
+/// `keep_limit` (the probe) not where it stopped at [`PRISM_WALK_LIMIT`], which the caller
+/// marks ([`WalkOut`]).
+fn mesh_trace<'a>(
+    s: &'a FnBuilder<'a>,
+    fns: &StageFns,
+    curved: Curved,
+    mr: &MeshRay<'a>,
+    keep_limit: bool,
+) -> (Hit<'a>, Option<WalkOut<'a>>) {
+    if curved == Curved::Prism && mr.walk.is_some() {
+        let (hit, out) = prism_walk(s, fns, mr);
+        let lost = if keep_limit { !out.drawn & !out.at_limit } else { !out.drawn };
+        s.if_(lost, |s| s.discard());
+        return (hit, Some(out));
+    }
     if curved == Curved::Prism {
         let (hit, drawn) = prism_trace(s, fns, mr);
         s.if_(!drawn, |s| s.discard());
-        return hit;
+        return (hit, None);
     }
     let traced = search(s, fns, mr);
     if curved != Curved::None {
@@ -869,7 +1208,7 @@ fn mesh_trace<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, curved: Curved, mr: &Mes
         let _ = [s.arg::<Vec4>(5).xy(), s.arg::<Vec4>(5).zw(), s.arg::<Vec4>(6).xy()];
         s.if_(!covered(s, curved, mr, &traced), |s| s.discard());
     }
-    Hit::at_found(&mr.ray, traced.t.clamp(0.0, mr.ray.t_max()), traced.found)
+    (Hit::at_found(&mr.ray, traced.t.clamp(0.0, mr.ray.t_max()), traced.found), None)
 }
 
 /// The NDC depth of the hit: the point the unit view ray reaches after descending
@@ -884,15 +1223,19 @@ fn hit_depth<'a>(s: &'a FnBuilder<'a>, mr: &MeshRay<'a>, point: Val<'a, Vec3>, h
 /// below the entry along the unit normal (`depth` the ray's, [`MeshRay::depth`]), and the view
 /// ray descends `cos_view` per unit length; under `prism` the hit's `t` itself.
 pub(crate) fn depth_offset<'a>(mr: &MeshRay<'a>, hit: &Hit<'a>) -> Val<'a, f32> {
-    if mr.chord.is_some() {
+    if mr.chord.is_some() || mr.walk.is_some() {
         return hit.t;
     }
     (hit.t - mr.t_entry) * mr.depth / mr.ray.cos_view
 }
 
-fn fragment_args(m: &ModuleCtx, curved: Curved) -> Vec<(&'static str, naga::Handle<naga::Type>, Option<Binding>)> {
+fn fragment_args(
+    m: &ModuleCtx,
+    curved: Curved,
+    walk: bool,
+) -> Vec<(&'static str, naga::Handle<naga::Type>, Option<Binding>)> {
     let v4 = m.ty(Vec4::inner());
-    VARYINGS[..vertex_members(curved)]
+    VARYINGS[..vertex_members_for(curved, walk)]
         .iter()
         .enumerate()
         .map(|(i, n)| (*n, v4, Some(varying_binding(i as u32))))
@@ -901,20 +1244,24 @@ fn fragment_args(m: &ModuleCtx, curved: Curved) -> Vec<(&'static str, naga::Hand
 
 /// `fs_mesh`: trace, shade (albedo, the normal map's normal in the fragment's frame, the
 /// shadow stage's visibility, ambient × ao) and write colour and depth.
-fn fragment_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curved) -> naga::EntryPoint {
-    let s = m.function("fs_mesh", &fragment_args(m, curved), policy);
-    let (inputs, point) = varying_inputs(&s, curved);
+fn fragment_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curved, walk: Walk) -> naga::EntryPoint {
+    let s = m.function("fs_mesh", &fragment_args(m, curved, walk.is_some()), policy);
+    let (inputs, point) = varying_inputs(&s, curved, walk);
     let mr = mesh_ray(&s, curved, inputs);
-    let hit = mesh_trace(&s, fns, curved, &mr);
+    let (hit, walked) = mesh_trace(&s, fns, curved, &mr, false);
     let depth_out = hit_depth(&s, &mr, point, &hit);
+    // The shading frame: the fragment's, or under a walk the hit prism's ([`walk_frame`]).
+    let (frame, depth) = match walked {
+        Some(w) => (w.frame, w.depth),
+        None => (mr.frame, mr.depth),
+    };
     if curved == Curved::Quadric {
         // The shadow and ao stages search from the hit: the quadric is centred there.
         recentre_quadric(&s, hit.uv);
     }
     let hv = s.pack(&hit);
     let light = s.param::<Vec4>(Param::Light);
-    let depth = mr.depth;
-    let (l_uv, l_n) = mr.frame.to_texture(light.xyz());
+    let (l_uv, l_n) = frame.to_texture(light.xyz());
     let visibility = match fns.shadow {
         Some(f) => {
             let light_n = s.vec3(l_uv * (depth / l_n.max(1e-3)), 1.0);
@@ -926,7 +1273,7 @@ fn fragment_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Cu
         Some(f) => s.wrap::<f32>(s.call(f, &[hv], true).unwrap()),
         None => s.lit(1.0),
     };
-    let normal = mr.frame.to_object(s.normal(hit.uv));
+    let normal = frame.to_object(s.normal(hit.uv));
     let albedo = s.sample(Image::Albedo, hit.uv, Filter::Linear).xyz();
     let ambient = light.w();
     let diffuse = normal.dot(light.xyz()).max(0.0);
@@ -939,11 +1286,11 @@ fn fragment_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Cu
 
 /// `fs_mesh_depth`: the same trace and discards, only the depth written (the depth pre-pass
 /// and the shadow caster).
-fn depth_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curved) -> naga::EntryPoint {
-    let s = m.function(DEPTH_ENTRY, &fragment_args(m, curved), policy);
-    let (inputs, point) = varying_inputs(&s, curved);
+fn depth_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curved, walk: Walk) -> naga::EntryPoint {
+    let s = m.function(DEPTH_ENTRY, &fragment_args(m, curved, walk.is_some()), policy);
+    let (inputs, point) = varying_inputs(&s, curved, walk);
     let mr = mesh_ray(&s, curved, inputs);
-    let hit = mesh_trace(&s, fns, curved, &mr);
+    let (hit, _) = mesh_trace(&s, fns, curved, &mr, false);
     let depth = hit_depth(&s, &mr, point, &hit);
     let f = s.finish(Some((m.ty(f32::inner()), Some(Binding::BuiltIn(BuiltIn::FragDepth)), depth.handle())));
     entry_point(DEPTH_ENTRY, ShaderStage::Fragment, f, [0; 3])
@@ -953,24 +1300,61 @@ fn depth_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curve
 /// and the hit's depth. The distance is the fragment's own distance from the eye plus
 /// [`depth_offset`], the hit's place along the same unit view ray that `fs_mesh`'s depth
 /// is taken at, so the probe's distance and the frame's depth are one point.
-fn probe_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curved) -> naga::EntryPoint {
-    let s = m.function(PROBE_ENTRY, &fragment_args(m, curved), policy);
-    let (inputs, point) = varying_inputs(&s, curved);
+///
+/// Walking (`prism_walk`), the record's w is the number of prisms the walk searched (≥ 1, so
+/// still > 0.5 where the pixel is drawn), and a walk that stopped at [`PRISM_WALK_LIMIT`]
+/// writes `(0, 0, 0, −1)` at the depth [`PRISM_WALK_LIMIT_DEPTH`]: not drawn, as the picture
+/// discards it, but counted where no other fragment of the pixel has a hit.
+fn probe_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curved, walk: Walk) -> naga::EntryPoint {
+    let s = m.function(PROBE_ENTRY, &fragment_args(m, curved, walk.is_some()), policy);
+    let (inputs, point) = varying_inputs(&s, curved, walk);
     let mr = mesh_ray(&s, curved, inputs);
-    let hit = mesh_trace(&s, fns, curved, &mr);
+    let (hit, out) = mesh_trace(&s, fns, curved, &mr, true);
+    let out_ty = super::fragment_output_with_depth(m);
+    if let Some(out) = &out {
+        s.if_(out.at_limit, |s| {
+            let mark = s.vec4(s.vec3(s.vec2(0.0, 0.0), 0.0), -1.0);
+            let v = s.make_struct(out_ty, &[mark.handle(), s.lit(PRISM_WALK_LIMIT_DEPTH).handle()]);
+            s.ret_handle(Some(v));
+        });
+    }
     let depth_out = hit_depth(&s, &mr, point, &hit);
     let camera = s.param::<Vec4>(Param::Camera);
     let distance = (point - camera.xyz()).length() + depth_offset(&mr, &hit);
-    let out_ty = super::fragment_output_with_depth(m);
-    let record = s.vec4(s.vec3(hit.uv, distance), 1.0);
+    let w = match &out {
+        Some(out) => out.passes.to_f32(),
+        None => s.lit(1.0),
+    };
+    let record = s.vec4(s.vec3(hit.uv, distance), w);
     let v = s.make_struct(out_ty, &[record.handle(), depth_out.handle()]);
     let f = s.finish(Some((out_ty, None, v)));
     entry_point(PROBE_ENTRY, ShaderStage::Fragment, f, [0; 3])
 }
 
+/// The prism walk's buffer, where a module walks (`compose::Options::prism_walk` under
+/// `curved=prism`).
+type Walk = Option<naga::Handle<naga::GlobalVariable>>;
+
+/// Declares the prism walk's buffer, `array<PrismCell>` at [`crate::abi::binding::PRISM_CELLS`].
+fn walk_buffer(m: &ModuleCtx) -> naga::Handle<naga::GlobalVariable> {
+    let item = m.record_ty::<PrismCell>();
+    let access = naga::StorageAccess::LOAD;
+    let space = naga::AddressSpace::Storage { access };
+    m.bound(PRISM_CELLS, space, crate::abi::binding::PRISM_CELLS, crate::ir::Resource::PrismCells, |m| {
+        let stride = std::mem::size_of::<PrismCell>() as u32;
+        m.ty(TypeInner::Array { base: item, size: naga::ArraySize::Dynamic, stride })
+    })
+}
+
 /// Builds the mesh module of `p` (`p.curved` is `Some`), not yet validated, with its binding
-/// table; `probe` adds the measurement entry `fs_mesh_probe`.
-pub(crate) fn compose_mesh(p: &Pipeline, curved: Curved, probe: bool) -> Result<(Module, Bindings), CompileError> {
+/// table; `probe` adds the measurement entry `fs_mesh_probe`, `walk` makes `curved=prism`'s
+/// fragments walk from prism to prism ([`prism_walk`]).
+pub(crate) fn compose_mesh(
+    p: &Pipeline,
+    curved: Curved,
+    probe: bool,
+    walk: bool,
+) -> Result<(Module, Bindings), CompileError> {
     check_mesh_options(p, curved)?;
     let m = ModuleCtx::new();
     let policy = MeshPolicy {
@@ -980,11 +1364,12 @@ pub(crate) fn compose_mesh(p: &Pipeline, curved: Curved, probe: bool) -> Result<
         untilted: curved == Curved::Prism && coarse_reads_maps(p),
     };
     let fns = write_stage_fns(&m, p, &policy, false)?;
-    let vs = vertex_entry(&m, &policy, curved);
-    let fs = fragment_entry(&m, &policy, &fns, curved);
-    let ds = depth_entry(&m, &policy, &fns, curved);
+    let walk = (walk && curved == Curved::Prism).then(|| walk_buffer(&m));
+    let vs = vertex_entry(&m, &policy, curved, walk.is_some());
+    let fs = fragment_entry(&m, &policy, &fns, curved, walk);
+    let ds = depth_entry(&m, &policy, &fns, curved, walk);
     // The probe shares the stage functions; the other entries are the same without it.
-    let ps = probe.then(|| probe_entry(&m, &policy, &fns, curved));
+    let ps = probe.then(|| probe_entry(&m, &policy, &fns, curved, walk));
     let (mut module, bindings) = super::finish(m)?;
     module.entry_points.extend([vs, fs, ds]);
     module.entry_points.extend(ps);

@@ -327,6 +327,12 @@ pub struct Options {
     /// [`mesh::PROBE_ENTRY`] (`fs_mesh_probe`, docs/meshes-shaders.md); the other entries are
     /// the same with or without it. Ignored for a flat-tile module.
     pub mesh_probe: bool,
+    /// A `curved=prism` module walks from prism to prism along the ray (the runtime's form,
+    /// `compose::mesh`'s "The prism walk"): it reads the triangles' corners and neighbours from
+    /// a storage buffer ([`crate::abi::binding::PRISM_CELLS`], [`mesh::PrismCell`]), and the
+    /// runtime draws only the prisms' tops and unsealed walls. Off: every face of every
+    /// prism is drawn and runs its own trace (the library form). Ignored for other modules.
+    pub prism_walk: bool,
 }
 
 /// Whether the hit's (u, v) lies outside the quad's square `[0, tiling]²` (`params.quad.x`
@@ -589,7 +595,7 @@ pub(crate) fn finish(m: ModuleCtx) -> Result<(Module, Bindings), CompileError> {
 /// Builds the module for `p` with `options` (not yet validated), with its binding table.
 pub(crate) fn compose_module_with(p: &Pipeline, options: &Options) -> Result<(Module, Bindings), CompileError> {
     if let Some(curved) = p.curved {
-        return mesh::compose_mesh(p, curved, options.mesh_probe);
+        return mesh::compose_mesh(p, curved, options.mesh_probe, options.prism_walk);
     }
     let m = ModuleCtx::new();
     let policy = Plain { lod: p.lod };

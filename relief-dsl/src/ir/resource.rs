@@ -94,6 +94,9 @@ pub enum Resource {
     Rays,
     /// The probe's hits (storage, read and write).
     Hits,
+    /// A mesh module's prism walk: its triangles' corners and neighbours (storage, read;
+    /// `compose::mesh::PrismCell`).
+    PrismCells,
 }
 
 /// One binding of a module (group 0).

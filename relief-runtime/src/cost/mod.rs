@@ -694,18 +694,20 @@ impl MeshCost {
 }
 
 /// The mesh module's two graphics jobs, from the WGSL the runtime loads
-/// ([`crate::gpu::mesh::MeshProgram`]): `vs_mesh` + `fs_mesh`, and `vs_mesh` + `fs_mesh_depth`,
-/// the vertex shader reading [`relief_dsl::compose::mesh::MeshVertex`]'s `vec4` members (as many
-/// as the mode reads, `vertex_members`).
+/// ([`crate::gpu::mesh::MeshProgram`]; `curved=prism` as the walk): `vs_mesh` + `fs_mesh`, and
+/// `vs_mesh` + `fs_mesh_depth`, the vertex shader reading
+/// [`relief_dsl::compose::mesh::MeshVertex`]'s `vec4` members (as many as the mode reads,
+/// `vertex_members_for`).
 fn mesh_jobs(p: &Pipeline) -> Result<[radv::Job; 2], CostError> {
-    use relief_dsl::compose::mesh::{vertex_members, DEPTH_ENTRY};
+    use relief_dsl::compose::mesh::{vertex_members_for, DEPTH_ENTRY};
     let text = p.to_string();
     let err = |m: String| CostError::Spirv { pipeline: text.clone(), message: relief_dsl::spec::one_line(&m) };
-    let program = crate::gpu::mesh::MeshProgram::new(p).map_err(|e| err(e.to_string()))?.program;
-    let spirv = Spirv::of(&text, &program.wgsl)?;
+    let mesh = crate::gpu::mesh::MeshProgram::new(p).map_err(|e| err(e.to_string()))?;
+    let spirv = Spirv::of(&text, &mesh.program.wgsl)?;
     let entry = |stage, name: &str| spirv.entry(stage, name);
-    // The members `vs_mesh` reads (`prism` reads its triangle's corners too).
-    let attributes = vertex_members(p.curved.unwrap_or(relief_dsl::spec::Curved::None)) as u32;
+    // The members `vs_mesh` reads (the unwalked `prism` reads its triangle's corners too; the
+    // runtime's walk reads them from its buffer).
+    let attributes = vertex_members_for(mesh.curved, mesh.walk) as u32;
     let vert = entry(naga::ShaderStage::Vertex, "vs_mesh")?;
     let bindings = descriptors(&spirv.module);
     let job = |frag: &str| -> Result<radv::Job, CostError> {

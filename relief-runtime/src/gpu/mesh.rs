@@ -3,11 +3,17 @@
 //! maps as the flat tile binds them ([`SceneTextures`]), a depth buffer with the depth test
 //! `Less` (the fragment writes the hit's depth), every pipeline from the runtime's one `Draw`.
 //!
+//! `curved=prism` is drawn as a walk (relief-dsl's `compose::Options::prism_walk`): the
+//! prisms' tops and unsealed walls, each fragment walking on from prism to prism through the
+//! sealed walls ([`crate::mesh::vertices::prism_walk`]); [`MeshProgram::unwalked`] draws every
+//! face of every prism, each running its own trace (the library form's arrangement).
+//!
 //! Three draws of the same vertices: the picture (`vs_mesh` + `fs_mesh`), the measurement
 //! (`fs_mesh_probe` into an `Rgba32Float` target: hit u, v, distance along the view ray, 1;
 //! cleared to 0, so w = 0 is a miss) and the paired timing of two modes' pictures.
 
-use relief_dsl::compose::mesh::{vertex_members, MeshVertex, PROBE_ENTRY};
+use relief_dsl::abi::binding::PRISM_CELLS;
+use relief_dsl::compose::mesh::{vertex_members_for, MeshVertex, PROBE_ENTRY};
 use relief_dsl::spec::{Curved, Lod};
 use relief_dsl::{CompileError, Pipeline};
 use wgpu::util::DeviceExt;
@@ -15,7 +21,7 @@ use wgpu::util::DeviceExt;
 use super::render::{MeshBuffers, Target};
 use super::{paired_blocks, render_pipeline, Clock, Draw, Frames, Gpu, GpuError, PairedBlocks, Program, Renderer};
 use super::{SceneTextures, CLEAR, FORMAT};
-use crate::mesh::vertices::mesh_vertices;
+use crate::mesh::vertices::{mesh_vertices, prism_walk};
 use crate::mesh::MeshScene;
 
 /// A `curved=` pipeline compiled for the device, with its measurement entry.
@@ -27,18 +33,34 @@ pub struct MeshProgram {
     pub curved: Curved,
     /// The pipeline's `lod` (the level its maps are read at).
     pub lod: Lod,
+    /// `curved=prism` drawn as a walk (the module doc); false for the other modes.
+    pub walk: bool,
+    /// The pipeline compiled.
+    pub pipeline: Pipeline,
 }
 
 impl MeshProgram {
-    /// Compiles `p`, which must have a `curved=` option (else a one-line error).
+    /// Compiles `p`, which must have a `curved=` option (else a one-line error); under
+    /// `curved=prism` its fragments walk from prism to prism (the module doc).
     pub fn new(p: &Pipeline) -> Result<MeshProgram, CompileError> {
+        MeshProgram::with_walk(p, true)
+    }
+
+    /// As [`MeshProgram::new`], but `curved=prism` draws every face of every prism, each
+    /// fragment tracing its own prism only (what the library form does; the walk's check).
+    pub fn unwalked(p: &Pipeline) -> Result<MeshProgram, CompileError> {
+        MeshProgram::with_walk(p, false)
+    }
+
+    fn with_walk(p: &Pipeline, walk: bool) -> Result<MeshProgram, CompileError> {
         let Some(curved) = p.curved else {
             return Err(CompileError {
                 stage: "mesh".into(),
                 message: format!("`{p}` has no curved= option: a mesh is drawn with curved=none, quadric or prism"),
             });
         };
-        let options = relief_dsl::compose::Options { mesh_probe: true, ..Default::default() };
+        let walk = walk && curved == Curved::Prism;
+        let options = relief_dsl::compose::Options { mesh_probe: true, prism_walk: walk, ..Default::default() };
         let c = relief_dsl::compose::compile_with(p, &options)?;
         let wgsl = relief_dsl::emit::wgsl(&c)?;
         let used = |names: &[&str]| super::used_bindings(&c, names);
@@ -51,21 +73,37 @@ impl MeshProgram {
             writes_depth: true,
             map_levels: p.lod != Lod::Zero,
         };
-        Ok(MeshProgram { program, curved, lod: p.lod })
+        Ok(MeshProgram { program, curved, lod: p.lod, walk, pipeline: p.clone() })
     }
 }
 
 /// The vertex layout of [`MeshVertex`]: member k at location k, each a `vec4<f32>`; a mode's
-/// pipeline takes the first [`vertex_members`] of them.
+/// pipeline takes the first [`vertex_members_for`] of them.
 const ATTRIBUTES: [wgpu::VertexAttribute; 13] = wgpu::vertex_attr_array![
     0 => Float32x4, 1 => Float32x4, 2 => Float32x4, 3 => Float32x4, 4 => Float32x4, 5 => Float32x4, 6 => Float32x4,
     7 => Float32x4, 8 => Float32x4, 9 => Float32x4, 10 => Float32x4, 11 => Float32x4, 12 => Float32x4
 ];
 
-/// The mesh of `ms` as `curved`'s vertices, uploaded; without `early_out`, `prism`'s
-/// early-out mask (`prism_b.z`) zeroed.
-fn upload(gpu: &Gpu, ms: &MeshScene, curved: Curved, early_out: bool) -> Result<MeshBuffers, GpuError> {
-    let (mut vertices, indices) = mesh_vertices(&ms.mesh, curved);
+/// The mesh of `ms` as `curved`'s vertices, uploaded; without `early_out`, `prism`'s exact
+/// early-outs off: the mask of the early-out behind the hit (`prism_b.z`) and the walk's
+/// headrooms (`PrismCell::uv2.z`, its skip of prisms above the relief) zeroed. With `walk`
+/// (`curved=prism` only) the walk's draw and its buffer of triangles, the second value.
+fn upload(
+    gpu: &Gpu,
+    ms: &MeshScene,
+    curved: Curved,
+    early_out: bool,
+    walk: bool,
+) -> Result<(MeshBuffers, Option<wgpu::Buffer>), GpuError> {
+    let (mut vertices, indices, cells) = if walk {
+        let base = mesh_vertices(&ms.mesh, Curved::None).0;
+        let heights = early_out.then_some((&ms.scene.height, ms.scene.edge));
+        let w = prism_walk(&ms.mesh, &base, heights).map_err(GpuError::Device)?;
+        (w.vertices, w.indices, Some(w.cells))
+    } else {
+        let (v, i) = mesh_vertices(&ms.mesh, curved);
+        (v, i, None)
+    };
     if !early_out {
         vertices.iter_mut().for_each(|v| v.prism_b[2] = 0.0);
     }
@@ -74,7 +112,8 @@ fn upload(gpu: &Gpu, ms: &MeshScene, curved: Curved, early_out: bool) -> Result<
     let buffer = |label, contents: &[u8], usage| {
         gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
     };
-    Ok(MeshBuffers {
+    let cells = cells.map(|c| buffer("prism cells", bytemuck::cast_slice(&c), wgpu::BufferUsages::STORAGE));
+    let buffers = MeshBuffers {
         vertices: buffer(
             "mesh vertices",
             bytemuck::cast_slice::<MeshVertex, u8>(&vertices),
@@ -82,7 +121,8 @@ fn upload(gpu: &Gpu, ms: &MeshScene, curved: Curved, early_out: bool) -> Result<
         ),
         indices: buffer("mesh indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX),
         count,
-    })
+    };
+    Ok((buffers, cells))
 }
 
 /// The renderer of `prog`'s picture (`fs_mesh` into [`FORMAT`] over [`CLEAR`]) or, with
@@ -118,7 +158,7 @@ fn mesh_pipeline(gpu: &Gpu, prog: &MeshProgram, probe: bool) -> Result<wgpu::Ren
     let layout = [Some(wgpu::VertexBufferLayout {
         array_stride: std::mem::size_of::<MeshVertex>() as u64,
         step_mode: wgpu::VertexStepMode::Vertex,
-        attributes: &ATTRIBUTES[..vertex_members(prog.curved)],
+        attributes: &ATTRIBUTES[..vertex_members_for(prog.curved, prog.walk)],
     })];
     render_pipeline(
         gpu,
@@ -152,9 +192,12 @@ fn renderer_with(
     let (_, format, clear, bindings) = output(prog, probe);
     // Object space is world space: the scene's camera, light and depth are the mesh's Params.
     let params = SceneTextures::params(gpu, &ms.scene, 1.0, 0.0);
-    let bind_group = tex.bind_group(gpu, &pipeline.get_bind_group_layout(0), bindings, &prog.program, &params, &[])?;
+    let (mesh, cells) = upload(gpu, ms, prog.curved, early_out, prog.walk)?;
+    let storage: Vec<(u32, &wgpu::Buffer)> = cells.iter().map(|c| (PRISM_CELLS, c)).collect();
+    let layout = pipeline.get_bind_group_layout(0);
+    let bind_group = tex.bind_group(gpu, &layout, bindings, &prog.program, &params, &storage)?;
     let target = Target::with_format(gpu, size, true, clear, format);
-    Ok(Renderer { pipeline, bind_group, target, mesh: Some(upload(gpu, ms, prog.curved, early_out)?) })
+    Ok(Renderer { pipeline, bind_group, target, mesh: Some(mesh) })
 }
 
 /// The scene's textures with the maps `prog` reads.
@@ -180,9 +223,30 @@ pub fn render_mesh(
 /// The measurement of one frame: per pixel, row-major from the top.
 pub struct MeshProbe {
     /// `(u, v, distance, 1)` where the frame shows relief, `(0, 0, 0, 0)` where it does not.
+    /// A walking `curved=prism` program writes the number of prisms the pixel's walk searched
+    /// for the 1, and `(0, 0, 0, −1)` where the only walks at the pixel stopped at the walk's
+    /// limit (not drawn: the picture discards them).
     pub hits: Vec<[f32; 4]>,
     /// The depth buffer (NDC depth, cleared to 1).
     pub depth: Vec<f32>,
+}
+
+impl MeshProbe {
+    /// The pixels whose walk stopped at relief-dsl's `PRISM_WALK_LIMIT` and that no other
+    /// fragment draws (0 for a program that does not walk).
+    pub fn walk_limit_pixels(&self) -> usize {
+        self.hits.iter().filter(|h| h[3] < -0.5).count()
+    }
+
+    /// Over the drawn pixels, the mean and the largest number of prisms the drawn
+    /// fragment's walk searched (`None` when no pixel is drawn; 1 for a program that does
+    /// not walk).
+    pub fn walk_passes(&self) -> Option<(f64, u32)> {
+        let drawn: Vec<f32> = self.hits.iter().map(|h| h[3]).filter(|&w| w > 0.5).collect();
+        let max = drawn.iter().copied().fold(0.0f32, f32::max);
+        (!drawn.is_empty())
+            .then(|| (drawn.iter().map(|&w| w as f64).sum::<f64>() / drawn.len() as f64, max.round() as u32))
+    }
 }
 
 /// `prog`'s measurement entry on `ms`, `size²` (the same trace, discards and depth test as
@@ -221,8 +285,9 @@ impl<'a> MeshProber<'a> {
         self.probe_with(gpu, ms, tex, size, true)
     }
 
-    /// As [`MeshProber::probe`], with `prism`'s early-out behind the hit turned off
-    /// (`prism_b.z` zeroed): the picture the early-out must not change (a check's hook).
+    /// As [`MeshProber::probe`], with `prism`'s exact early-outs turned off (the early-out
+    /// behind the hit's mask `prism_b.z` and the walk's headrooms zeroed): the picture they
+    /// must not change (a check's hook).
     pub fn probe_without_early_out(
         &self,
         gpu: &Gpu,

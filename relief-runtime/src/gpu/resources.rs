@@ -361,7 +361,7 @@ impl SceneTextures {
                 }),
                 Resource::Sampler(Filter::Linear) => wgpu::BindingResource::Sampler(&self.linear),
                 Resource::Sampler(Filter::Nearest) => wgpu::BindingResource::Sampler(&self.nearest),
-                Resource::Rays | Resource::Hits => match storage.iter().find(|(n, _)| *n == b) {
+                Resource::Rays | Resource::Hits | Resource::PrismCells => match storage.iter().find(|(n, _)| *n == b) {
                     Some((_, buf)) => buf.as_entire_binding(),
                     None => {
                         return Err(super::GpuError::Pipeline(format!(

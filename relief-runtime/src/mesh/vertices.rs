@@ -6,13 +6,15 @@
 //!   `P₁ − P₀ = ∂P/∂u·Δu₁ + ∂P/∂v·Δv₁`, `P₂ − P₀ = ∂P/∂u·Δu₂ + ∂P/∂v·Δv₂` (the linear map
 //!   the triangle is); a vertex takes the mean of its triangles', weighted by their uv area.
 //! - **Curvature** (`curvature.xy`, `quadric` only): see [`curvature`].
-//! - **Prisms** (`prism` only): see [`prism_vertices`].
+//! - **Prisms** (`prism` only): see [`prism_vertices`]; the walk's draw and buffer,
+//!   [`prism_walk`].
 
 use glam::{DMat2, DVec3, Vec3};
-use relief_dsl::compose::mesh::MeshVertex;
+use relief_dsl::compose::mesh::{MeshVertex, PrismCell};
 use relief_dsl::spec::Curved;
 
 use super::Mesh;
+use crate::heightmap::{EdgeMode, HeightMap};
 
 /// The vertices and triangle indices of `mesh` for the mode `curved`: one record per mesh
 /// vertex and the mesh's triangles for `none` and `quadric`, the prisms for `prism`.
@@ -233,6 +235,199 @@ pub fn prism_vertices(mesh: &Mesh, base: &[MeshVertex]) -> (Vec<MeshVertex>, Vec
     (vertices, indices)
 }
 
+/// The prism walk's draw and buffer (relief-dsl's `compose::Options::prism_walk`): the
+/// vertices of [`prism_vertices`] with `prism_b.w` the triangle's index, the indices of the
+/// faces a ray can enter the relief's shell through, each prism's top cap and its side walls
+/// that are not [joined](joined_walls) to another triangle's (a joined wall is entered from
+/// the prism across it, whose fragment walks on; the floors face the inside of the shell),
+/// and one [`PrismCell`] per triangle: its corners, across each joined wall the other
+/// triangle, and with `heights` (the scene's height map and edge mode) its headroom
+/// ([`headroom`]; 0 without). The joined walls that are not [sealed](sealed_walls) (uv
+/// seams, a pole's fan) are drawn too: few, and each a second way into the shell where the
+/// rasterizer and the exact crossings disagree at an edge.
+///
+/// Fails with a one-line error when the mesh has more triangles than a float names exactly
+/// (2²⁴): the shader reads the indices as floats.
+pub fn prism_walk(
+    mesh: &Mesh,
+    base: &[MeshVertex],
+    heights: Option<(&HeightMap, EdgeMode)>,
+) -> Result<PrismWalk, String> {
+    const EXACT: usize = 1 << 24;
+    if mesh.triangles.len() > EXACT {
+        return Err(format!(
+            "mesh `{}` has {} triangles; the prism walk names at most 2^24 (use the unwalked draw)",
+            mesh.name,
+            mesh.triangles.len()
+        ));
+    }
+    let (mut vertices, _) = prism_vertices(mesh, base);
+    let across = joined_walls(mesh);
+    let sealed = sealed_walls(mesh);
+    let mut indices = Vec::with_capacity(mesh.triangles.len() * 9);
+    let mut cells = Vec::with_capacity(mesh.triangles.len());
+    for (i, t) in mesh.triangles.iter().enumerate() {
+        let first = 6 * i as u32;
+        for v in &mut vertices[6 * i..6 * i + 6] {
+            v.prism_b[3] = i as f32;
+        }
+        let (top, floor) = (|k: u32| first + k % 3, |k: u32| first + 3 + k % 3);
+        indices.extend([top(0), top(1), top(2)]);
+        for k in 0..3u32 {
+            if sealed[i] & (1 << k) == 0 {
+                indices.extend([top(k), floor(k), floor(k + 1), top(k), floor(k + 1), top(k + 1)]);
+            }
+        }
+        let corner = |k: usize, w: f32| {
+            let p = mesh.positions[t[k] as usize];
+            [p.x, p.y, p.z, w]
+        };
+        let normal = |k: usize| {
+            let n = mesh.normals[t[k] as usize];
+            [n.x, n.y, n.z, 0.0]
+        };
+        let uv = t.map(|k| mesh.uvs[k as usize]);
+        let next = |k: usize| across[i][k].map_or(-1.0, |j| j as f32);
+        let room = heights.map_or(0.0, |(map, edge)| headroom(map, edge, uv));
+        let scale = |k: usize| [base[t[k] as usize].uv[2], base[t[k] as usize].uv[3]];
+        cells.push(PrismCell {
+            p0: corner(0, next(0)),
+            p1: corner(1, next(1)),
+            p2: corner(2, next(2)),
+            n0: normal(0),
+            n1: normal(1),
+            n2: normal(2),
+            uv01: [uv[0].x, uv[0].y, uv[1].x, uv[1].y],
+            uv2: [uv[2].x, uv[2].y, room, 0.0],
+            t0: base[t[0] as usize].tangent,
+            t1: base[t[1] as usize].tangent,
+            t2: base[t[2] as usize].tangent,
+            scale01: [scale(0)[0], scale(0)[1], scale(1)[0], scale(1)[1]],
+            scale2: [scale(2)[0], scale(2)[1], 0.0, 0.0],
+        });
+    }
+    Ok(PrismWalk { vertices, indices, cells })
+}
+
+/// The prism walk's draw and buffer ([`prism_walk`]).
+pub struct PrismWalk {
+    /// The prisms' vertices ([`prism_vertices`]'s, `prism_b.w` the triangle's index).
+    pub vertices: Vec<MeshVertex>,
+    /// The faces drawn: the tops and the unsealed walls.
+    pub indices: Vec<u32>,
+    /// One record per triangle.
+    pub cells: Vec<PrismCell>,
+}
+
+/// A prism's headroom for the walk's skip (relief-dsl's `PrismCell::uv2`): 1 minus the
+/// largest texel of `map` that a bilinear read (texel centres at half-integers, `edge`'s
+/// wrap or clamp) anywhere in the triangle with texture coordinates `uv` blends. A read at
+/// `uv` blends texels `⌊uv·size − ½⌋` and the next along each axis; the box of the triangle's
+/// uv is widened by one more texel each way, for the barycentric slack of the prism's
+/// crossings. A box as wide as the map takes the whole map.
+pub fn headroom(map: &HeightMap, edge: EdgeMode, uv: [glam::Vec2; 3]) -> f32 {
+    if !uv.iter().all(|p| p.is_finite() && p.abs().max_element() < 1e9) {
+        return 0.0;
+    }
+    let span = |a: f32, b: f32, c: f32, n: usize| {
+        let lo = (a.min(b).min(c) as f64 * n as f64 - 0.5).floor() as i64 - 1;
+        let hi = (a.max(b).max(c) as f64 * n as f64 - 0.5).floor() as i64 + 2;
+        let last = n as i64 - 1;
+        match edge {
+            // Any n consecutive texels are the whole map.
+            EdgeMode::Repeat => (lo, hi.min(lo + last)),
+            EdgeMode::Clamp => (lo.clamp(0, last), hi.clamp(0, last)),
+        }
+    };
+    let (x0, x1) = span(uv[0].x, uv[1].x, uv[2].x, map.width);
+    let (y0, y1) = span(uv[0].y, uv[1].y, uv[2].y, map.height);
+    let mut top = f32::NEG_INFINITY;
+    for y in y0..=y1 {
+        for x in x0..=x1 {
+            top = top.max(map.texel(x, y, edge));
+        }
+    }
+    (1.0 - top).max(0.0)
+}
+
+/// Per triangle, the triangle across each of its side walls where the two prisms share the
+/// wall, `None` elsewhere: the wall over the edge from corner k to corner k + 1 (mod 3) is
+/// *joined* where exactly one other triangle has an edge whose ends carry the same points and
+/// normals (`weld`; the uvs may differ, as across a uv seam or in a pole's fan). The two
+/// prisms' walls are then one ruled surface (a wall depends on its ends' points and normals
+/// only), so a ray leaving one prism through it enters the other. A walk recomputes each
+/// prism's chord from that prism's own corners, so a seam's jump in uv does not matter to it.
+/// Sealed walls ([`sealed_walls`], the uvs equal too) are joined; an open boundary, a crease
+/// (normals differ) or an edge of three or more triangles is not.
+pub fn joined_walls(mesh: &Mesh) -> Vec<[Option<u32>; 3]> {
+    let id = weld(mesh);
+    let key = |t: &[u32; 3], k: usize| {
+        let (a, b) = (id[t[k] as usize], id[t[(k + 1) % 3] as usize]);
+        (a.min(b), a.max(b))
+    };
+    let mut owners = std::collections::HashMap::<(u32, u32), Vec<u32>>::new();
+    for (i, t) in mesh.triangles.iter().enumerate() {
+        for k in 0..3 {
+            owners.entry(key(t, k)).or_default().push(i as u32);
+        }
+    }
+    mesh.triangles
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            [0, 1, 2].map(|k| match owners[&key(t, k)].as_slice() {
+                [a, b] if *a == i as u32 => Some(*b),
+                [a, b] if *b == i as u32 => Some(*a),
+                _ => None,
+            })
+        })
+        .collect()
+}
+
+/// How far apart (object units, per unit of the mesh's largest coordinate) two vertices'
+/// points, and their unit normals, may lie and still be one vertex to [`joined_walls`]: the
+/// built-in meshes make a seam's two columns from angles 0 and 2π, whose f32 sines and
+/// cosines differ by ~2e-7, and a pole's vertices with ±0; 1e-5 joins those, and is a
+/// tenth of a thousandth of the smallest relief depth the scenes use (0.01) per unit size.
+const WELD: f32 = 1e-5;
+
+/// Each vertex's representative: the first vertex (in index order) whose point and normal
+/// both lie within [`WELD`] of its own in every coordinate (the points' tolerance scaled by
+/// the mesh's size), found through a grid of cells [`WELD`] wide and their 27 neighbours.
+fn weld(mesh: &Mesh) -> Vec<u32> {
+    let size = mesh.positions.iter().fold(1.0f32, |m, p| m.max(p.abs().max_element()));
+    let eps = WELD * size;
+    let cell = |p: Vec3| (p / eps).floor().as_ivec3();
+    let mut grid = std::collections::HashMap::<glam::IVec3, Vec<u32>>::new();
+    let mut id = Vec::with_capacity(mesh.positions.len());
+    for (v, (&p, &n)) in mesh.positions.iter().zip(&mesh.normals).enumerate() {
+        let c = cell(p);
+        let near = |r: u32| {
+            let (q, m) = (mesh.positions[r as usize], mesh.normals[r as usize]);
+            (q - p).abs().max_element() <= eps && (m - n).abs().max_element() <= WELD
+        };
+        let mut found = None;
+        'search: for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    if let Some(rs) = grid.get(&(c + glam::IVec3::new(dx, dy, dz))) {
+                        if let Some(&r) = rs.iter().find(|&&r| near(r)) {
+                            found = Some(r);
+                            break 'search;
+                        }
+                    }
+                }
+            }
+        }
+        let r = found.unwrap_or_else(|| {
+            grid.entry(c).or_default().push(v as u32);
+            v as u32
+        });
+        id.push(r);
+    }
+    id
+}
+
 /// The bit of `prism_b.z` that lets a fragment entering its prism through the floor below S
 /// stop before the search (relief-dsl's `compose::mesh::early_out`).
 pub const FLOOR_EARLY_OUT: u8 = 8;
@@ -247,25 +442,31 @@ type EdgeEnd = [u32; 8];
 /// behind the hit needs; a uv seam, a pole's fan, an open boundary or an edge of three or more
 /// triangles leaves the wall unsealed.
 pub fn sealed_walls(mesh: &Mesh) -> Vec<u8> {
+    let mut count = std::collections::HashMap::<(EdgeEnd, EdgeEnd), u32>::new();
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            *count.entry(edge_key(mesh, t, k)).or_default() += 1;
+        }
+    }
+    mesh.triangles
+        .iter()
+        .map(|t| (0..3).filter(|&k| count[&edge_key(mesh, t, k)] == 2).fold(0u8, |m, k| m | 1 << k))
+        .collect()
+}
+
+/// The edge of triangle `t` from corner k to corner k + 1 (mod 3) as S sees it: its two
+/// ends' bits ([`EdgeEnd`]), in either order.
+fn edge_key(mesh: &Mesh, t: &[u32; 3], k: usize) -> (EdgeEnd, EdgeEnd) {
     let end = |i: u32| -> EdgeEnd {
         let (p, n, uv) = (mesh.positions[i as usize], mesh.normals[i as usize], mesh.uvs[i as usize]);
         [p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y].map(f32::to_bits)
     };
-    let key = |t: &[u32; 3], k: usize| {
-        let (a, b) = (end(t[k]), end(t[(k + 1) % 3]));
-        if a <= b {
-            (a, b)
-        } else {
-            (b, a)
-        }
-    };
-    let mut count = std::collections::HashMap::<(EdgeEnd, EdgeEnd), u32>::new();
-    for t in &mesh.triangles {
-        for k in 0..3 {
-            *count.entry(key(t, k)).or_default() += 1;
-        }
+    let (a, b) = (end(t[k]), end(t[(k + 1) % 3]));
+    if a <= b {
+        (a, b)
+    } else {
+        (b, a)
     }
-    mesh.triangles.iter().map(|t| (0..3).filter(|&k| count[&key(t, k)] == 2).fold(0u8, |m, k| m | 1 << k)).collect()
 }
 
 #[cfg(test)]

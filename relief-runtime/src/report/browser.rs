@@ -133,7 +133,8 @@ fn resource_json(resource: Resource) -> Option<Value> {
         Resource::Sampler(Filter::Nearest) => json!("nearest"),
         Resource::Rays => json!("rays"),
         Resource::Hits => json!("hits"),
-        Resource::Texture { wall: Some(_), .. } | Resource::RoomParams => return None,
+        // The page draws flat tiles; the prism walk's buffer belongs to the runtime's mesh draw.
+        Resource::Texture { wall: Some(_), .. } | Resource::RoomParams | Resource::PrismCells => return None,
     })
 }
 

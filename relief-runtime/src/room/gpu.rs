@@ -194,7 +194,7 @@ fn bind_group(
             Resource::RoomParams => room.as_entire_binding(),
             Resource::Sampler(Filter::Linear) => wgpu::BindingResource::Sampler(&shared.linear),
             Resource::Sampler(Filter::Nearest) => wgpu::BindingResource::Sampler(&shared.nearest),
-            Resource::Rays | Resource::Hits => match storage.iter().find(|(n, _)| *n == b) {
+            Resource::Rays | Resource::Hits | Resource::PrismCells => match storage.iter().find(|(n, _)| *n == b) {
                 Some((_, buf)) => buf.as_entire_binding(),
                 None => {
                     return Err(GpuError::Pipeline(format!(

@@ -61,6 +61,11 @@ pub enum SceneCommand {
         /// `linear(256)+binary(8)`); the pipeline must be `linear(n)+binary(m)`.
         #[arg(long)]
         causes: bool,
+        /// Also measure curved=prism drawn unwalked (every face of every prism drawn, each
+        /// fragment tracing its own prism: the library form's arrangement), as a fourth row
+        /// `prism-unwalked`, timed against curved=none in the same run.
+        #[arg(long)]
+        unwalked: bool,
     },
     /// Count the fragments the scene's mesh draw runs per pixel under curved=none, quadric
     /// and prism (a CPU emulation of the rasterizer: the triangles each pixel-centre ray
@@ -77,8 +82,8 @@ pub enum SceneCommand {
 pub fn run(a: &SceneArgs) -> anyhow::Result<()> {
     let (file, reference) = match &a.command {
         SceneCommand::Check { file, reference } => (file, reference),
-        SceneCommand::Measure { file, pipeline, size, pairs, out, causes } => {
-            return measure(file, pipeline, *size, *pairs, out.as_deref(), *causes)
+        SceneCommand::Measure { file, pipeline, size, pairs, out, causes, unwalked } => {
+            return measure(file, pipeline, *size, *pairs, out.as_deref(), *causes, *unwalked)
         }
         SceneCommand::Fragments { file, size } => return fragments(file, *size),
     };
@@ -143,7 +148,15 @@ fn fragments(file: &Path, size: u32) -> anyhow::Result<()> {
 }
 
 /// `relief scene measure` (the module doc).
-fn measure(file: &Path, pipeline: &str, size: u32, pairs: u32, out: Option<&Path>, causes: bool) -> anyhow::Result<()> {
+fn measure(
+    file: &Path,
+    pipeline: &str,
+    size: u32,
+    pairs: u32,
+    out: Option<&Path>,
+    causes: bool,
+    unwalked: bool,
+) -> anyhow::Result<()> {
     use relief_dsl::spec::Curved;
     use relief_runtime::gpu::mesh::{mesh_textures, render_mesh, MeshProgram};
     anyhow::ensure!((8..=2048).contains(&size), "--size {size}: expected a frame side from 8 to 2048");
@@ -168,7 +181,16 @@ fn measure(file: &Path, pipeline: &str, size: u32, pairs: u32, out: Option<&Path
     let gpu = relief_runtime::Gpu::new()?;
     let reference = ms.reference_hits(size, size).context("the exact reference")?;
     let modes = [Curved::None, Curved::Quadric, Curved::Prism];
-    let rows = relief_runtime::mesh_measure::measure_modes(&gpu, &ms, &base, &modes, &reference, size, pairs)?;
+    let mut rows = relief_runtime::mesh_measure::measure_modes(&gpu, &ms, &base, &modes, &reference, size, pairs)?;
+    let mut names: Vec<String> = modes.iter().map(|m| m.to_string()).collect();
+    if unwalked {
+        let none = MeshProgram::new(&base.clone().with_curved(Some(Curved::None)))?;
+        let none_tex = mesh_textures(&gpu, &ms, &none)?;
+        let prog = MeshProgram::unwalked(&base.clone().with_curved(Some(Curved::Prism)))?;
+        let none = (&none, &none_tex);
+        rows.push(relief_runtime::mesh_measure::measure_program(&gpu, &ms, &prog, none, &reference, size, pairs)?);
+        names.push("prism-unwalked".into());
+    }
     println!("{} with {} at {size}x{size} on {}", ms.mesh.name, base, gpu.adapter);
     println!(
         "{:<8} {:>10} {:>7} {:>10} {:>10} {:>6} {:>10} {:>9} {:>9} {:>7} {:>7}  time/none (95 %)",
@@ -184,7 +206,7 @@ fn measure(file: &Path, pipeline: &str, size: u32, pairs: u32, out: Option<&Path
         "extra",
         "missing"
     );
-    for (mode, r) in modes.iter().zip(&rows) {
+    for (mode, r) in names.iter().zip(&rows) {
         let s = &r.score;
         let time = match &r.time {
             Some(t) => format!("{:.3} [{:.3}, {:.3}]", t.ratio, t.lo, t.hi),
@@ -192,7 +214,7 @@ fn measure(file: &Path, pipeline: &str, size: u32, pairs: u32, out: Option<&Path
         };
         println!(
             "{:<8} {:>10.3} {:>7.4} {:>10.2e} {:>10.2e} {:>6} {:>10.2e} {:>9.3} {:>9.2e} {:>7} {:>7}  {time}",
-            mode.to_string(),
+            mode,
             100.0 * s.coverage_error,
             s.iou,
             s.rms_t,
@@ -204,6 +226,17 @@ fn measure(file: &Path, pipeline: &str, size: u32, pairs: u32, out: Option<&Path
             s.extra,
             s.missing
         );
+    }
+    let prism = &rows[modes.iter().position(|&m| m == Curved::Prism).expect("prism is measured")].probe;
+    if let Some((mean, most)) = prism.walk_passes() {
+        println!(
+            "prism walk: {mean:.2} prisms searched per drawn pixel (most {most}), {} pixels stopped at the limit of {}",
+            prism.walk_limit_pixels(),
+            relief_dsl::compose::mesh::PRISM_WALK_LIMIT
+        );
+    }
+    if unwalked {
+        walk_against_unwalked(&rows[2].probe, &rows[3].probe, &reference, ms.scene.depth_scale as f64, size);
     }
     if let (true, Some((steps, refine))) = (causes, search) {
         let prism = modes.iter().position(|&m| m == Curved::Prism).map(|k| &rows[k].probe);
@@ -218,10 +251,14 @@ fn measure(file: &Path, pipeline: &str, size: u32, pairs: u32, out: Option<&Path
     }
     if let Some(dir) = out {
         std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create the folder", dir.display()))?;
-        for (mode, r) in modes.iter().zip(&rows) {
+        for (mode, r) in names.iter().zip(&rows) {
             let pic = relief_runtime::mesh_measure::coverage_picture(&r.probe, &reference);
             relief_runtime::io::png::write_rgba8(&dir.join(format!("coverage_{mode}.png")), size, size, pic)?;
-            let prog = MeshProgram::new(&r.pipeline)?;
+            let prog = if mode == "prism-unwalked" {
+                MeshProgram::unwalked(&r.pipeline)?
+            } else {
+                MeshProgram::new(&r.pipeline)?
+            };
             let tex = mesh_textures(&gpu, &ms, &prog)?;
             let f = render_mesh(&gpu, &prog, &ms, &tex, size)?;
             relief_runtime::io::png::write_rgba8(&dir.join(format!("frame_{mode}.png")), size, size, f.rgba)?;
@@ -229,6 +266,36 @@ fn measure(file: &Path, pipeline: &str, size: u32, pairs: u32, out: Option<&Path
         println!("pictures in {}", dir.display());
     }
     Ok(())
+}
+
+/// `--unwalked`: the pixels where the walk's probe and the unwalked one disagree, in
+/// coverage or by more than 1e-3 depths along the ray, with the first few of them.
+fn walk_against_unwalked(
+    walk: &relief_runtime::gpu::mesh::MeshProbe,
+    unwalked: &relief_runtime::gpu::mesh::MeshProbe,
+    reference: &[Option<relief_runtime::mesh::MeshHit>],
+    depth: f64,
+    size: u32,
+) {
+    let mut differ = Vec::new();
+    for (i, (a, b)) in walk.hits.iter().zip(&unwalked.hits).enumerate() {
+        let (ha, hb) = (a[3] > 0.5, b[3] > 0.5);
+        if ha != hb || (ha && ((a[2] - b[2]) as f64).abs() > 1e-3 * depth) {
+            differ.push(i);
+        }
+    }
+    println!("walk against unwalked: {} pixels differ (coverage, or t by more than 1e-3 depths)", differ.len());
+    for &i in differ.iter().take(8) {
+        let r = reference[i].as_ref().map_or("miss".to_string(), |r| format!("t {:.5}", r.t));
+        let (a, b) = (walk.hits[i], unwalked.hits[i]);
+        println!(
+            "  pixel ({}, {}): walk {:?}, unwalked {:?}, reference {r}",
+            i as u32 % size,
+            i as u32 / size,
+            a.map(|x| (x * 1e5).round() / 1e5),
+            b.map(|x| (x * 1e5).round() / 1e5)
+        );
+    }
 }
 
 /// `--causes`: prism's pixels whose t is off by more than `mesh_measure::T_BOUND` depths, by
