@@ -322,33 +322,71 @@ pub struct PrismWalk {
 /// A prism's headroom for the walk's skip (relief-dsl's `PrismCell::uv2`): 1 minus the
 /// largest texel of `map` that a bilinear read (texel centres at half-integers, `edge`'s
 /// wrap or clamp) anywhere in the triangle with texture coordinates `uv` blends. A read at
-/// `uv` blends texels `⌊uv·size − ½⌋` and the next along each axis; the box of the triangle's
-/// uv is widened by one more texel each way, for the barycentric slack of the prism's
-/// crossings. A box as wide as the map takes the whole map.
+/// `uv` blends texels `⌊uv·size − ½⌋` and the next along each axis, so a texel counts where
+/// its support square (one texel each way from its centre) meets the triangle (`touches`),
+/// within the box of the triangle's uv widened by one more texel each way. A box that wraps
+/// to the whole map or reaches past a clamped border takes every texel in it.
 pub fn headroom(map: &HeightMap, edge: EdgeMode, uv: [glam::Vec2; 3]) -> f32 {
     if !uv.iter().all(|p| p.is_finite() && p.abs().max_element() < 1e9) {
         return 0.0;
     }
+    // Each axis's texel range, and whether it is the triangle's own (not wrapped to the whole
+    // map, not clamped to the border).
     let span = |a: f32, b: f32, c: f32, n: usize| {
         let lo = (a.min(b).min(c) as f64 * n as f64 - 0.5).floor() as i64 - 1;
         let hi = (a.max(b).max(c) as f64 * n as f64 - 0.5).floor() as i64 + 2;
         let last = n as i64 - 1;
-        match edge {
+        let range = match edge {
             // Any n consecutive texels are the whole map.
             EdgeMode::Repeat => (lo, hi.min(lo + last)),
             EdgeMode::Clamp => (lo.clamp(0, last), hi.clamp(0, last)),
-        }
+        };
+        (range, range == (lo, hi))
     };
-    let (x0, x1) = span(uv[0].x, uv[1].x, uv[2].x, map.width);
-    let (y0, y1) = span(uv[0].y, uv[1].y, uv[2].y, map.height);
+    let ((x0, x1), own_x) = span(uv[0].x, uv[1].x, uv[2].x, map.width);
+    let ((y0, y1), own_y) = span(uv[0].y, uv[1].y, uv[2].y, map.height);
+    // The triangle in texel coordinates (texel (x, y)'s centre at (x, y)); texel (x, y)
+    // weighs in a bilinear read only inside the square (x ± 1, y ± 1). Where the range is
+    // not the triangle's own (wrapped or clamped), every texel in it counts.
+    let g = uv.map(|p| glam::DVec2::new(p.x as f64 * map.width as f64 - 0.5, p.y as f64 * map.height as f64 - 0.5));
+    let whole = !(own_x && own_y);
     let mut top = f32::NEG_INFINITY;
     for y in y0..=y1 {
         for x in x0..=x1 {
-            top = top.max(map.texel(x, y, edge));
+            if whole || touches(g, glam::DVec2::new(x as f64, y as f64)) {
+                top = top.max(map.texel(x, y, edge));
+            }
         }
+    }
+    // A range always holds a texel whose square meets the triangle; 0 (no skip) otherwise.
+    if top == f32::NEG_INFINITY {
+        return 0.0;
     }
     (1.0 - top).max(0.0)
 }
+
+/// Whether the triangle `g` (texel coordinates) meets the square of half-width
+/// 1 + [`TOUCH_SLACK`] around `c`: no separating axis among the square's two and the
+/// triangle's three edge normals.
+fn touches(g: [glam::DVec2; 3], c: glam::DVec2) -> bool {
+    let half = 1.0 + TOUCH_SLACK;
+    let mut axes = vec![glam::DVec2::X, glam::DVec2::Y];
+    axes.extend((0..3).map(|k| (g[(k + 1) % 3] - g[k]).perp()));
+    axes.iter().all(|&a| {
+        let reach = half * (a.x.abs() + a.y.abs());
+        let (lo, hi) = g
+            .iter()
+            .map(|p| (*p - c).dot(a))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), d| (l.min(d), h.max(d)));
+        lo <= reach && hi >= -reach
+    })
+}
+
+/// How far (texels) beyond a texel's support square [`headroom`] still counts a triangle as
+/// touching it: the prism's crossings may lie outside the triangle by 1e-5 in barycentrics and
+/// the search's hit 1e-4 of the chord past the exit, both below 1e-3 texels on triangles a
+/// few hundred texels wide; 0.01 texels is ten times that.
+const TOUCH_SLACK: f64 = 0.01;
 
 /// Per triangle, the triangle across each of its side walls where the two prisms share the
 /// wall, `None` elsewhere: the wall over the edge from corner k to corner k + 1 (mod 3) is
