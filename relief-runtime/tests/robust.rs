@@ -455,6 +455,8 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
         let good = m.join("good.toml");
         let flat = m.join("flat.toml");
         std::fs::write(&flat, "[height_map]\npath = \"h.png\"\n").unwrap();
+        // The OBJ whose uvs are 1e30 (the walk's headroom refuses to bound them).
+        let huge_uv = m.join("o4.obj0.toml");
         for (what, file, args) in [
             ("size 0", &good, vec!["--pipeline", "linear(8)", "--size", "0"]),
             ("size nan", &good, vec!["--pipeline", "linear(8)", "--size", "nan"]),
@@ -464,6 +466,13 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
             ("flat scene", &flat, vec!["--pipeline", "linear(8)"]),
             ("causes of a cone march", &good, vec!["--pipeline", "csm(8)", "--causes", "--size", "8"]),
             ("causes", &good, vec!["--pipeline", "linear(8)+binary(2)", "--causes", "--size", "8", "--pairs", "1"]),
+            ("unwalked", &good, vec!["--pipeline", "linear(8)+binary(2)", "--unwalked", "--size", "8", "--pairs", "1"]),
+            (
+                "unwalked, huge uvs",
+                &huge_uv,
+                vec!["--pipeline", "linear(8)", "--unwalked", "--size", "8", "--pairs", "0"],
+            ),
+            ("unwalked, flat", &flat, vec!["--pipeline", "linear(8)", "--unwalked"]),
         ] {
             let mut a = os(&["scene", "measure"]);
             a.push(file.clone().into());

@@ -900,22 +900,20 @@ pub(crate) struct WalkOut<'a> {
 /// hit with the entry's frame, where the full draw shades it with the hit prism's.
 fn walk_frame<'a>(
     s: &'a FnBuilder<'a>,
-    cells: naga::Handle<naga::GlobalVariable>,
-    cell: Val<'a, u32>,
+    get: impl Fn(&str) -> Val<'a, Vec4>,
+    normals: [Val<'a, Vec3>; 3],
     uv: Val<'a, Vec2>,
     b: Val<'a, Vec2>,
     depth: Val<'a, f32>,
 ) -> (Frame<'a>, Val<'a, f32>) {
-    let record = s.element_ptr(s.global_ptr(cells), cell.handle());
-    let get = |name: &str| s.load::<Vec4>(s.member_ptr::<PrismCell>(record, name));
     let w = [b.x(), b.y(), 1.0 - b.x() - b.y()];
-    let blend = |v: [Val<'a, Vec4>; 3]| v[0] * w[0] + v[1] * w[1] + v[2] * w[2];
-    let normal = blend(["n0", "n1", "n2"].map(get));
-    let tangent = blend(["t0", "t1", "t2"].map(get));
+    let normal = normals[0] * w[0] + normals[1] * w[1] + normals[2] * w[2];
+    let tangent = ["t0", "t1", "t2"].map(&get);
+    let tangent = tangent[0] * w[0] + tangent[1] * w[1] + tangent[2] * w[2];
     let (s01, s2) = (get("scale01"), get("scale2"));
     let scale = s01.xy() * w[0] + s01.zw() * w[1] + s2.xy() * w[2];
-    let frame = frame(s, s.vec4(normal.xyz(), 0.0), tangent, s.vec4(s.vec3(uv, scale.x()), scale.y()));
-    (frame, depth * normal.xyz().length())
+    let frame = frame(s, s.vec4(normal, 0.0), tangent, s.vec4(s.vec3(uv, scale.x()), scale.y()));
+    (frame, depth * normal.length())
 }
 
 /// Triangle `cell` of the walk's buffer: its corners relative to `point` (no early-out: a
@@ -927,10 +925,9 @@ fn walk_cell<'a>(
     cell: Val<'a, u32>,
     point: Val<'a, Vec3>,
 ) -> (PrismCorners<'a>, Val<'a, Vec3>, Val<'a, f32>) {
-    let record = s.element_ptr(s.global_ptr(cells), cell.handle());
-    let get = |name: &str| s.load::<Vec4>(s.member_ptr::<PrismCell>(record, name));
-    let [p0, p1, p2] = ["p0", "p1", "p2"].map(get);
-    let [n0, n1, n2] = ["n0", "n1", "n2"].map(get);
+    let get = cell_member(s, cells, cell);
+    let [p0, p1, p2] = ["p0", "p1", "p2"].map(&get);
+    let [n0, n1, n2] = ["n0", "n1", "n2"].map(&get);
     let (uv01, uv2) = (get("uv01"), get("uv2"));
     let corners = PrismCorners {
         p: [p0, p1, p2].map(|p| p.xyz() - point),
@@ -966,6 +963,16 @@ fn start_at_a_neighbour<'a>(
     let there = missed & next.ge(0.0);
     cell.set(s.select(there, next.max(0.0).round().to_u32(), cell.get()));
     there
+}
+
+/// A reader of triangle `cell`'s [`PrismCell`] in the walk's buffer, member by name.
+fn cell_member<'a>(
+    s: &'a FnBuilder<'a>,
+    cells: naga::Handle<naga::GlobalVariable>,
+    cell: Val<'a, u32>,
+) -> impl Fn(&str) -> Val<'a, Vec4> {
+    let record = s.element_ptr(s.global_ptr(cells), cell.handle());
+    move |name| s.load::<Vec4>(s.member_ptr::<PrismCell>(record, name))
 }
 
 /// Whether the walk goes on into the prism of `ch`: the ray crosses it and leaves it beyond
@@ -1054,7 +1061,8 @@ fn prism_walk<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, mr: &MeshRay<'a>) -> (Hi
     let hit = Hit { t: hit_t.get(), uv: hit_uv.get(), z: hit_z.get(), found: found.get() };
     let (polished, newton_b, kept) = polish_on_s(s, view, &corners, *depth, hit, hit_b.get());
     let b = s.select(kept, newton_b, hit_b.get());
-    let (frame, along) = walk_frame(s, cells, cell.get(), polished.uv, b, *depth);
+    let get = cell_member(s, cells, cell.get());
+    let (frame, along) = walk_frame(s, get, corners.n, polished.uv, b, *depth);
     (polished, WalkOut { drawn, at_limit, passes: passes.get(), frame, depth: along })
 }
 

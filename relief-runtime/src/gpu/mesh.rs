@@ -5,7 +5,7 @@
 //!
 //! `curved=prism` is drawn as a walk (relief-dsl's `compose::Options::prism_walk`): the
 //! prisms' tops and unsealed walls, each fragment walking on from prism to prism through the
-//! sealed walls ([`crate::mesh::vertices::prism_walk`]); [`MeshProgram::unwalked`] draws every
+//! joined walls ([`crate::mesh::vertices::prism_walk`]); [`MeshProgram::unwalked`] draws every
 //! face of every prism, each running its own trace (the library form's arrangement).
 //!
 //! Three draws of the same vertices: the picture (`vs_mesh` + `fs_mesh`), the measurement

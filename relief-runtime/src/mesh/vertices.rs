@@ -206,14 +206,7 @@ pub fn prism_vertices(mesh: &Mesh, base: &[MeshVertex]) -> (Vec<MeshVertex>, Vec
         let early = f32::from(sealed | FLOOR_EARLY_OUT);
         let uv = t.map(|i| mesh.uvs[i as usize]);
         let first = vertices.len() as u32;
-        let point = |k: usize| {
-            let p = mesh.positions[t[k] as usize];
-            [p.x, p.y, p.z, 0.0]
-        };
-        let normal = |k: usize| {
-            let n = mesh.normals[t[k] as usize];
-            [n.x, n.y, n.z, 0.0]
-        };
+        let (point, normal) = (|k: usize| corner_point(mesh, t, k, 0.0), |k: usize| corner_normal(mesh, t, k));
         for w in [1.0, 0.0] {
             for &i in t {
                 let mut v = base[i as usize];
@@ -278,14 +271,7 @@ pub fn prism_walk(
                 indices.extend([top(k), floor(k), floor(k + 1), top(k), floor(k + 1), top(k + 1)]);
             }
         }
-        let corner = |k: usize, w: f32| {
-            let p = mesh.positions[t[k] as usize];
-            [p.x, p.y, p.z, w]
-        };
-        let normal = |k: usize| {
-            let n = mesh.normals[t[k] as usize];
-            [n.x, n.y, n.z, 0.0]
-        };
+        let (corner, normal) = (|k: usize, w: f32| corner_point(mesh, t, k, w), |k: usize| corner_normal(mesh, t, k));
         let uv = t.map(|k| mesh.uvs[k as usize]);
         let next = |k: usize| across[i][k].map_or(-1.0, |j| j as f32);
         let room = heights.map_or(0.0, |(map, edge)| headroom(map, edge, uv));
@@ -307,6 +293,18 @@ pub fn prism_walk(
         });
     }
     Ok(PrismWalk { vertices, indices, cells })
+}
+
+/// Corner `k`'s point of triangle `t`, with `w` for the fourth component.
+fn corner_point(mesh: &Mesh, t: &[u32; 3], k: usize, w: f32) -> [f32; 4] {
+    let p = mesh.positions[t[k] as usize];
+    [p.x, p.y, p.z, w]
+}
+
+/// Corner `k`'s normal of triangle `t`, 0 for the fourth component.
+fn corner_normal(mesh: &Mesh, t: &[u32; 3], k: usize) -> [f32; 4] {
+    let n = mesh.normals[t[k] as usize];
+    [n.x, n.y, n.z, 0.0]
 }
 
 /// The prism walk's draw and buffer ([`prism_walk`]).
