@@ -516,10 +516,22 @@ fn splayed_triangle(alpha: f32, angle: f32, azimuth: f32, fov: f32, distance: f3
     MeshScene { scene: sc, mesh, notes: Default::default() }
 }
 
-/// `curved=prism`'s measurement of `ms` at `size²` with the stages `stages`.
+/// `curved=prism`'s measurement of `ms` at `size²` with the stages `stages`, drawn as the
+/// runtime draws it (the walk, each chord searched with its share of the layers).
 fn prism_probe(g: &Gpu, ms: &MeshScene, stages: &str, size: u32) -> relief_runtime::gpu::mesh::MeshProbe {
+    prism_probe_of(g, ms, stages, size, MeshProgram::new)
+}
+
+/// [`prism_probe`] with the program `make` compiles.
+fn prism_probe_of(
+    g: &Gpu,
+    ms: &MeshScene,
+    stages: &str,
+    size: u32,
+    make: fn(&Pipeline) -> Result<MeshProgram, relief_dsl::CompileError>,
+) -> relief_runtime::gpu::mesh::MeshProbe {
     let p = stages.parse::<Pipeline>().unwrap().with_curved(Some(Curved::Prism));
-    let prog = MeshProgram::new(&p).unwrap();
+    let prog = make(&p).unwrap();
     let tex = mesh_textures(g, ms, &prog).unwrap();
     probe_mesh(g, &prog, ms, &tex, size).unwrap()
 }
@@ -531,8 +543,14 @@ fn prism_probe(g: &Gpu, ms: &MeshScene, stages: &str, size: u32) -> relief_runti
 /// stepping over a crossing that `linear(256)+binary(8)` finds, the chord missing the
 /// crossing the view ray makes), never "other"; and the CPU's emulation of the prisms'
 /// fragments gives the GPU's t on each such pixel (within `mesh_measure::emulation_bound`:
-/// 1e-3 depths, and two of the search's last brackets where the polish was not kept). Returns (pixels both hit, pixels over the
-/// bound).
+/// 1e-3 depths, and two of the search's last brackets where the polish was not kept). The
+/// emulation searches every chord with all of its layers, as the full draw does, so these
+/// causes are decided on the walk with all its layers (`MeshProgram::walked_with_all_layers`,
+/// `BASE`'s stages); `probe`, the runtime's walk (each chord with its share of the layers),
+/// may in addition step over a crossing those layers catch: each of its pixels over the bound
+/// is over it in the walk with all layers too, or the dense probe meets the reference there
+/// (the shared layers stepped over a crossing). Returns (pixels both hit, pixels over the
+/// bound) of `probe`.
 fn prism_t_is_within_the_bound_or_explained(
     g: &Gpu,
     ms: &MeshScene,
@@ -544,9 +562,10 @@ fn prism_t_is_within_the_bound_or_explained(
     use relief_runtime::mesh_measure::{prism_t_causes, PrismTCause, T_BOUND};
     let depth = ms.scene.depth_scale as f64;
     let dense = prism_probe(g, ms, "linear(256)+binary(8)", size);
-    let causes = prism_t_causes(ms, reference, probe, &dense, size, 32, 5);
+    let whole = prism_probe_of(g, ms, BASE, size, MeshProgram::walked_with_all_layers);
+    let causes = prism_t_causes(ms, reference, &whole, &dense, size, 32, 5);
     let (mut both, mut over) = (0, Vec::new());
-    for (i, (h, r)) in probe.hits.iter().zip(reference).enumerate() {
+    for (i, (h, r)) in whole.hits.iter().zip(reference).enumerate() {
         if let (true, Some(r)) = (h[3] > 0.5, r) {
             both += 1;
             if ((h[2] as f64 - r.t) / depth).abs() > T_BOUND {
@@ -566,11 +585,35 @@ fn prism_t_is_within_the_bound_or_explained(
         assert!((e - c.dt).abs() <= bound, "{what}: pixel {}: emulated {e}, GPU {} (bound {bound})", c.index, c.dt);
     }
     println!(
-        "{what}: {both} pixels both hit, {} over {T_BOUND} depths: {:?}",
+        "{what}: with all layers, {both} pixels both hit, {} over {T_BOUND} depths: {:?}",
         over.len(),
         causes.iter().map(|c| c.cause.name()).collect::<Vec<_>>()
     );
-    (both, over.len())
+    let depth = ms.scene.depth_scale as f64;
+    let (mut both, mut shared_over, mut searched) = (0, 0, 0);
+    for (i, (h, r)) in probe.hits.iter().zip(reference).enumerate() {
+        let (true, Some(r)) = (h[3] > 0.5, r) else { continue };
+        both += 1;
+        if ((h[2] as f64 - r.t) / depth).abs() <= T_BOUND {
+            continue;
+        }
+        shared_over += 1;
+        if over.contains(&i) {
+            continue;
+        }
+        let dense_dt = dense.hits[i].map(f64::from);
+        let met = dense_dt[3] > 0.5 && ((dense_dt[2] - r.t) / depth).abs() <= T_BOUND;
+        assert!(
+            met,
+            "{what}: pixel {i} of the walk over the bound, unexplained (dense {dense_dt:?}, reference {})",
+            r.t
+        );
+        searched += 1;
+    }
+    println!(
+        "{what}: the walk, {both} pixels both hit, {shared_over} over the bound, {searched} of them its shared layers'"
+    );
+    (both, shared_over)
 }
 
 /// Issue 38's "Done means" on a real map at grazing views, in both edge modes: `curved=prism`

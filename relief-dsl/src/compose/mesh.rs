@@ -61,7 +61,7 @@ use super::{entry_point, location, write_stage_fns, StageFns};
 use crate::abi::{abi_record, Param};
 use crate::ir::{Bindings, FnBuilder, Image, Mat4, ModuleCtx, Plain, Policy, Ty, Val, Vec2, Vec3, Vec4};
 use crate::spec::{Curved, Lod, Pipeline, Silhouette};
-use crate::stage::sampling::{PRISM_LIFT, PRISM_ORIGIN, QUADRIC_COEFFS, QUADRIC_ORIGIN};
+use crate::stage::sampling::{LAYER_SHARE, PRISM_LIFT, PRISM_ORIGIN, QUADRIC_COEFFS, QUADRIC_ORIGIN};
 use crate::stage::{Filter, Hit, Ray};
 use crate::CompileError;
 
@@ -217,6 +217,8 @@ struct MeshPolicy {
     lift: bool,
     /// The coarse stage reads maps: descending chords are searched untilted ([`prism_chord`]).
     untilted: bool,
+    /// The walk gives each chord its share of the linear searches' layers ([`chord_share`]).
+    share: bool,
 }
 
 impl Policy for MeshPolicy {
@@ -231,6 +233,9 @@ impl Policy for MeshPolicy {
     }
     fn prism_untilted(&self) -> bool {
         self.untilted
+    }
+    fn layer_share(&self) -> bool {
+        self.share
     }
 }
 
@@ -456,6 +461,9 @@ pub(crate) struct Chord<'a> {
     /// inside the top or not; `None` outside a walk.
     top_b: Option<Val<'a, Vec2>>,
     r: Val<'a, f32>,
+    /// The chord's share of the linear searches' layers ([`chord_share`]); `None` outside a
+    /// walk.
+    share: Option<Val<'a, f32>>,
     /// The lift while the search runs: `(at the entry, slope along u, slope along v)`.
     lift: Val<'a, Vec3>,
     /// The stages' ray: from the entry's uv at height 1 toward the exit's (`dir.xy = Δuv / k`).
@@ -559,8 +567,10 @@ fn prism_chord<'a>(
     c: &PrismCorners<'a>,
     depth: Val<'a, f32>,
     cos_view: Val<'a, f32>,
-    walk: bool,
+    walk: Option<Val<'a, f32>>,
 ) -> Chord<'a> {
+    let flat_drop = walk;
+    let walk = walk.is_some();
     let zero3 = s.vec3(s.vec2(0.0, 0.0), 0.0);
     let t_in = s.var("prism_t_in", 1e30);
     let at_in = s.var("prism_at_in", zero3);
@@ -642,6 +652,7 @@ fn prism_chord<'a>(
     let lift = s.vec3(s.vec2(1.0 - w_in, slope.x()), slope.y());
     let dir = s.vec3(duv / k, -1.0);
     let crosses = t_in.lt(t_out) & (long | r.gt(0.0));
+    let share = flat_drop.map(|drop| s.select(long, chord_share(r, len2.sqrt() * drop, k), s.lit(1.0)));
     let (b_in, b_out) = (at_in.xy(), at_out.xy());
     Chord {
         crosses,
@@ -656,6 +667,7 @@ fn prism_chord<'a>(
         exit_face,
         top_b,
         r,
+        share,
         lift,
         search: Ray { origin: uv_in, dir, cos_view },
     }
@@ -724,7 +736,7 @@ pub(crate) fn mesh_ray<'a>(s: &'a FnBuilder<'a>, curved: Curved, i: MeshInputs<'
     let (v_uv, v_n) = frame.to_texture(i.view);
     let cos_view = descent(v_n);
     if let (Curved::Prism, Some(corners)) = (curved, i.prism) {
-        let chord = prism_chord(s, i.view, &corners, i.depth, cos_view, false);
+        let chord = prism_chord(s, i.view, &corners, i.depth, cos_view, None);
         let ray = chord.search;
         return MeshRay {
             ray,
@@ -865,7 +877,14 @@ fn chord_search<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, ch: &Chord<'a>) -> (Hi
     let lift = s.global_ptr(m.private::<Vec3>(PRISM_LIFT));
     s.store(lift, ch.lift.handle());
     s.store(s.global_ptr(m.private::<Vec2>(PRISM_ORIGIN)), ch.search.origin.handle());
+    let share = ch.share.filter(|_| s.policy().layer_share()).map(|v| (s.global_ptr(m.private::<f32>(LAYER_SHARE)), v));
+    if let Some((share, v)) = share {
+        s.store(share, v.handle());
+    }
     let traced: Hit = s.unpack(s.call(fns.trace, &[s.pack(&ch.search)], true).unwrap());
+    if let Some((share, _)) = share {
+        s.store(share, s.lit(1.0f32).handle());
+    }
     let p = ch.search.at(traced.t);
     let above = (p.z() - s.height(p.xy())).gt(PRISM_ABOVE_SLACK);
     s.store(lift, s.vec3(s.vec2(0.0, 0.0), 0.0).handle());
@@ -985,6 +1004,29 @@ fn advances<'a>(ch: &Chord<'a>, before: Val<'a, f32>) -> Val<'a, bool> {
     ch.crosses & ch.t_out.gt(before)
 }
 
+/// The flat tile's layer drop per unit of texture-space length for the walk's fragment: the
+/// inverse length of its tangent-space ray's step per layer (`mr.ray`, the flat tile's ray
+/// from the fragment's own frame, which the walk otherwise leaves unused). [`chord_share`]
+/// measures each chord's texture-space length against it.
+fn flat_drop_per_texture_unit<'a>(mr: &MeshRay<'a>) -> Val<'a, f32> {
+    let along = mr.ray.dir.xy();
+    1.0 / along.dot(along).sqrt().max(1e-12)
+}
+
+/// A walk's chord's share of the linear searches' layers ([`LAYER_SHARE`]), for a chord
+/// searched over the stages' t from 0 to `k` (its exit) that drops `r` (in units of the
+/// relief's depth) and whose texture-space length a flat tile would cover in a drop of
+/// `flat`: `max(r, flat)/k`, at most 1. The unwalked draw searches every prism's chord with
+/// all of the stage's layers, so a ray that crosses three prisms before its hit is sampled
+/// three times as densely as the flat tile samples it, and pays three searches; with its
+/// share, the walk samples a ray about as densely as the flat tile (one layer per
+/// `1/steps` of the depth it descends). The flat drop is the floor for chords that hardly
+/// descend (near the silhouette the ray runs level or rises through a prism), which the
+/// flat tile would still sample along their length.
+fn chord_share<'a>(r: Val<'a, f32>, flat: Val<'a, f32>, k: Val<'a, f32>) -> Val<'a, f32> {
+    (r.max(flat) / k).clamp(0.0, 1.0)
+}
+
 /// Whether the walk may skip the search of the prism `ch` crosses (its headroom from the
 /// walk's buffer): the chord's lower end lies more than [`PRISM_SKIP_MARGIN`] above every
 /// height the search could read, so that search could not draw the pixel. Only where heights
@@ -1022,11 +1064,17 @@ fn prism_walk<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, mr: &MeshRay<'a>) -> (Hi
         (s.var("walk_t", 0.0f32), s.var("walk_uv", zero2), s.var("walk_z", 0.0f32), s.var("walk_b", zero2));
     let found = s.var("walk_found", s.lit_bool(false));
     let first = s.var("walk_first", s.lit_bool(true));
+    let flat_drop = flat_drop_per_texture_unit(mr);
+    // Every linear search takes all its layers but a chord's (the shadow's and ao's included):
+    // the share is 1 until a chord's search sets it, and back to 1 after.
+    if s.policy().layer_share() {
+        s.store(s.global_ptr(s.module().private::<f32>(LAYER_SHARE)), s.lit(1.0f32).handle());
+    }
     s.repeat(PRISM_WALK_LIMIT, |l| {
         let s: &'a FnBuilder<'a> = l;
         passes.set(passes.get() + 1u32);
         let (corners, across, headroom) = walk_cell(s, cells, cell.get(), point);
-        let ch = prism_chord(s, view, &corners, *depth, cos_view, true);
+        let ch = prism_chord(s, view, &corners, *depth, cos_view, Some(flat_drop));
         let missed = first.get() & !ch.crosses;
         first.set(s.lit_bool(false));
         l.continue_if(start_at_a_neighbour(s, missed, &ch, across, cell));
@@ -1362,6 +1410,7 @@ pub(crate) fn compose_mesh(
     curved: Curved,
     probe: bool,
     walk: bool,
+    share: bool,
 ) -> Result<(Module, Bindings), CompileError> {
     check_mesh_options(p, curved)?;
     let m = ModuleCtx::new();
@@ -1370,6 +1419,7 @@ pub(crate) fn compose_mesh(
         quadric: curved == Curved::Quadric,
         lift: curved == Curved::Prism,
         untilted: curved == Curved::Prism && coarse_reads_maps(p),
+        share: curved == Curved::Prism && walk && share,
     };
     let fns = write_stage_fns(&m, p, &policy, false)?;
     let walk = (walk && curved == Curved::Prism).then(|| walk_buffer(&m));

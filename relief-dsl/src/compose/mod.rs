@@ -333,6 +333,11 @@ pub struct Options {
     /// runtime draws only the prisms' tops and unsealed walls. Off: every face of every
     /// prism is drawn and runs its own trace (the library form). Ignored for other modules.
     pub prism_walk: bool,
+    /// A walking module searches every prism's chord with all of its linear search's layers,
+    /// as the unwalked draw does, instead of the chord's share of them (`compose::mesh`'s
+    /// `chord_share`): the check that the walk meets what the unwalked draw meets. Ignored
+    /// where the module does not walk.
+    pub prism_walk_all_layers: bool,
 }
 
 /// Whether the hit's (u, v) lies outside the quad's square `[0, tiling]²` (`params.quad.x`
@@ -595,7 +600,7 @@ pub(crate) fn finish(m: ModuleCtx) -> Result<(Module, Bindings), CompileError> {
 /// Builds the module for `p` with `options` (not yet validated), with its binding table.
 pub(crate) fn compose_module_with(p: &Pipeline, options: &Options) -> Result<(Module, Bindings), CompileError> {
     if let Some(curved) = p.curved {
-        return mesh::compose_mesh(p, curved, options.mesh_probe, options.prism_walk);
+        return mesh::compose_mesh(p, curved, options.mesh_probe, options.prism_walk, !options.prism_walk_all_layers);
     }
     let m = ModuleCtx::new();
     let policy = Plain { lod: p.lod };

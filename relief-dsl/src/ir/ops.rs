@@ -199,6 +199,10 @@ impl<'a, T: Float> Val<'a, T> {
     pub fn floor(self) -> Self {
         self.math(MathFunction::Floor, &[])
     }
+    /// `ceil(self)`
+    pub fn ceil(self) -> Self {
+        self.math(MathFunction::Ceil, &[])
+    }
     /// `round(self)`, halves to even (WGSL's `round`).
     pub fn round(self) -> Self {
         self.math(MathFunction::Round, &[])

@@ -55,6 +55,12 @@ pub(crate) trait Policy {
     fn prism_untilted(&self) -> bool {
         false
     }
+    /// Whether the linear searches scale their layer count by the private
+    /// [`crate::stage::sampling::LAYER_SHARE`] (the prism walk's chords, each given its share
+    /// of the relief's layers).
+    fn layer_share(&self) -> bool {
+        false
+    }
 }
 
 /// Where a policy declares a texture: its name and binding in the module, and the room wall
@@ -113,5 +119,8 @@ impl Policy for Counting<'_> {
     }
     fn prism_untilted(&self) -> bool {
         self.inner.prism_untilted()
+    }
+    fn layer_share(&self) -> bool {
+        self.inner.layer_share()
     }
 }

@@ -72,6 +72,14 @@ pub(crate) const PRISM_LIFT: &str = "relief_prism_lift";
 /// The private `vec2` global of the texture point the prism's lift ([`PRISM_LIFT`]) is
 /// centred on: the chord's entry.
 pub(crate) const PRISM_ORIGIN: &str = "relief_prism_origin";
+/// The private `f32` global of the share of the relief's layers a linear search takes
+/// where the policy asks ([`crate::ir::Policy::layer_share`]): the prism walk searches
+/// each prism's chord over the stages' whole t from 0 to 1, and the chord's share (its drop,
+/// in units of the relief's depth, or the drop a flat tile would give its length in texture
+/// space, whichever is larger; at most 1) sets how many of the search's layers it gets, so
+/// that a ray crossing several prisms is sampled as densely as on the flat tile and not once
+/// per prism. The walk stores it before each search and sets it back to 1 after.
+pub(crate) const LAYER_SHARE: &str = "relief_layer_share";
 
 impl<'a> FnBuilder<'a> {
     /// The quadric's height at `uv` ([`QUADRIC_COEFFS`]) where the function's policy warps
@@ -118,6 +126,17 @@ impl<'a> FnBuilder<'a> {
         let m = self.module();
         let l = self.load::<Vec3>(self.global_ptr(m.private::<Vec3>(PRISM_LIFT)));
         h + l.x()
+    }
+
+    /// A linear search's layer count `n` (whole, ≥ 1) scaled by the chord's share of the
+    /// layers ([`LAYER_SHARE`]) where the policy asks: `ceil(n·share)` clamped to `1..=max`;
+    /// else `None`, and the search keeps its own count.
+    pub(crate) fn shared_layers(&'a self, n: Val<'a, f32>, max: u32) -> Option<Val<'a, f32>> {
+        if !self.policy().layer_share() {
+            return None;
+        }
+        let share = self.load::<f32>(self.global_ptr(self.module().private::<f32>(LAYER_SHARE)));
+        Some((n * share).ceil().clamp(1.0, max as f32))
     }
 
     /// The level 2D samples are taken at: `None` under `lod=zero` (level 0, the explicit

@@ -43,16 +43,24 @@ impl MeshProgram {
     /// Compiles `p`, which must have a `curved=` option (else a one-line error); under
     /// `curved=prism` its fragments walk from prism to prism (the module doc).
     pub fn new(p: &Pipeline) -> Result<MeshProgram, CompileError> {
-        MeshProgram::with_walk(p, true)
+        MeshProgram::with_walk(p, true, false)
+    }
+
+    /// As [`MeshProgram::new`], but the walk searches every prism's chord with all of its
+    /// linear search's layers, as the unwalked draw does, not the chord's share of them
+    /// (relief-dsl's `compose::Options::prism_walk_all_layers`): the walk's check against
+    /// the unwalked draw.
+    pub fn walked_with_all_layers(p: &Pipeline) -> Result<MeshProgram, CompileError> {
+        MeshProgram::with_walk(p, true, true)
     }
 
     /// As [`MeshProgram::new`], but `curved=prism` draws every face of every prism, each
     /// fragment tracing its own prism only (what the library form does; the walk's check).
     pub fn unwalked(p: &Pipeline) -> Result<MeshProgram, CompileError> {
-        MeshProgram::with_walk(p, false)
+        MeshProgram::with_walk(p, false, false)
     }
 
-    fn with_walk(p: &Pipeline, walk: bool) -> Result<MeshProgram, CompileError> {
+    fn with_walk(p: &Pipeline, walk: bool, all_layers: bool) -> Result<MeshProgram, CompileError> {
         let Some(curved) = p.curved else {
             return Err(CompileError {
                 stage: "mesh".into(),
@@ -60,7 +68,12 @@ impl MeshProgram {
             });
         };
         let walk = walk && curved == Curved::Prism;
-        let options = relief_dsl::compose::Options { mesh_probe: true, prism_walk: walk, ..Default::default() };
+        let options = relief_dsl::compose::Options {
+            mesh_probe: true,
+            prism_walk: walk,
+            prism_walk_all_layers: all_layers,
+            ..Default::default()
+        };
         let c = relief_dsl::compose::compile_with(p, &options)?;
         let wgsl = relief_dsl::emit::wgsl(&c)?;
         let used = |names: &[&str]| super::used_bindings(&c, names);

@@ -7,9 +7,25 @@ use crate::stage::{Bracket, Ray, StageFn};
 /// Linear search (Burger 2018, Algorithm 1): `steps` equal steps that reach the bottom of the
 /// volume after the last one; stop at the first point at or below the surface.
 pub(crate) fn linear<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
+    if s.policy().layer_share() {
+        let n = s.shared_layers(s.lit(steps as f32), steps).expect("the policy shares layers");
+        return linear_up_to(s, ray, n, steps);
+    }
     let step = 1.0 / steps as f32;
     let t = s.var("t", 0.0);
     s.repeat(steps, |s| {
+        let p = ray.at(t.get());
+        s.break_if(s.height(p.xy()).ge(p.z()));
+        t.set(t.get() + step);
+    });
+    one_step_back(t.get(), step)
+}
+
+/// [`linear`] with `n` steps (a whole number ≥ 1 known only at run time, at most `bound`).
+fn linear_up_to<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, n: Val<'a, f32>, bound: u32) -> Bracket<'a> {
+    let step = 1.0 / n;
+    let t = s.var("t", 0.0);
+    s.repeat_up_to(bound, n.to_u32(), |s| {
         let p = ray.at(t.get());
         s.break_if(s.height(p.xy()).ge(p.z()));
         t.set(t.get() + step);
@@ -41,14 +57,8 @@ fn one_step_back<'a>(t: Val<'a, f32>, step: impl IntoVal<'a, f32>) -> Bracket<'a
 /// term): `n = mix(max, min, cos θ)`, many steps at grazing angles, few head-on.
 pub(crate) fn linear_dynamic<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, min: u32, max: u32) -> Bracket<'a> {
     let n = s.lit(max as f32).mix(min as f32, ray.cos_view).floor().max(1.0);
-    let step = 1.0 / n;
-    let t = s.var("t", 0.0);
-    s.repeat_up_to(max, n.to_u32(), |s| {
-        let p = ray.at(t.get());
-        s.break_if(s.height(p.xy()).ge(p.z()));
-        t.set(t.get() + step);
-    });
-    one_step_back(t.get(), step)
+    let n = s.shared_layers(n, max).unwrap_or(n);
+    linear_up_to(s, ray, n, max)
 }
 
 /// `linear_dynamic(min, max)`: [`linear_dynamic`] in the catalogue.
@@ -101,14 +111,8 @@ pub(crate) fn linear_distance<'a>(
     let layers = (1.0 - c) * far_near + c * theta_min as f32;
     let bound = min.max(max).max(theta_min);
     let n = s.name("layers", layers.floor().clamp(1.0, bound as f32));
-    let step = 1.0 / n;
-    let t = s.var("t", 0.0);
-    s.repeat_up_to(bound, n.to_u32(), |s| {
-        let p = ray.at(t.get());
-        s.break_if(s.height(p.xy()).ge(p.z()));
-        t.set(t.get() + step);
-    });
-    one_step_back(t.get(), step)
+    let n = s.shared_layers(n, bound).unwrap_or(n);
+    linear_up_to(s, ray, n, bound)
 }
 
 /// `linear_distance(min, max, theta_min)`: [`linear_distance`] in the catalogue.
