@@ -239,15 +239,20 @@ fn measure(
         walk_against_unwalked(&rows[2].probe, &rows[3].probe, &reference, ms.scene.depth_scale as f64, size);
     }
     if let (true, Some((steps, refine))) = (causes, search) {
-        let prism = modes.iter().position(|&m| m == Curved::Prism).map(|k| &rows[k].probe);
-        let found =
-            relief_runtime::mesh_measure::prism_miss_causes(&ms, &reference, prism.unwrap(), size, steps, refine);
+        // The emulation searches every prism's chord with all of the stage's layers, as the
+        // full draw does; the walk the runtime draws gives each chord its share of them, so
+        // the causes are decided on the walk with all its layers.
+        let whole = MeshProgram::walked_with_all_layers(&base.clone().with_curved(Some(Curved::Prism)))?;
+        let whole_tex = mesh_textures(&gpu, &ms, &whole)?;
+        let whole = relief_runtime::gpu::mesh::probe_mesh(&gpu, &whole, &ms, &whole_tex, size)?;
+        println!("the causes below are of the walk with all its layers (the emulation's search)");
+        let found = relief_runtime::mesh_measure::prism_miss_causes(&ms, &reference, &whole, size, steps, refine);
         let counts: Vec<String> = relief_runtime::mesh_measure::PrismMiss::ALL
             .iter()
             .map(|c| format!("{} {}", c.name(), found.iter().filter(|(_, f)| f == c).count()))
             .collect();
         println!("prism missing {}: {}", found.len(), counts.join(", "));
-        prism_t_report(&gpu, &ms, &base, &reference, prism.unwrap(), size, steps, refine)?;
+        prism_t_report(&gpu, &ms, &base, &reference, &whole, size, steps, refine)?;
     }
     if let Some(dir) = out {
         std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create the folder", dir.display()))?;
