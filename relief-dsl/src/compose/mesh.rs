@@ -560,17 +560,18 @@ fn ray_bilinear_wall<'a>(
 /// chord is defined whatever the fragment's normal, so a ray level with or rising against the
 /// fragment's tangent plane is traced like any other.
 ///
-/// In a walk (`walk`) the exit's face is kept ([`Chord::exit_face`]).
+/// In a walk (`flat_drop` given: the flat tile's drop per texture unit,
+/// [`flat_drop_per_texture_unit`]) the exit's face is kept ([`Chord::exit_face`]) and the
+/// chord's share of the linear searches' layers computed ([`chord_share`]).
 fn prism_chord<'a>(
     s: &'a FnBuilder<'a>,
     view: Val<'a, Vec3>,
     c: &PrismCorners<'a>,
     depth: Val<'a, f32>,
     cos_view: Val<'a, f32>,
-    walk: Option<Val<'a, f32>>,
+    flat_drop: Option<Val<'a, f32>>,
 ) -> Chord<'a> {
-    let flat_drop = walk;
-    let walk = walk.is_some();
+    let walk = flat_drop.is_some();
     let zero3 = s.vec3(s.vec2(0.0, 0.0), 0.0);
     let t_in = s.var("prism_t_in", 1e30);
     let at_in = s.var("prism_at_in", zero3);

@@ -7,7 +7,7 @@ use naga::{Expression, ImageClass, ImageDimension, SampleLevel, ScalarKind, Type
 
 use crate::abi::{binding, Param, Params};
 pub use crate::ir::Filter;
-use crate::ir::{FnBuilder, Image, Resource, Val, Vec2, Vec3, Vec4};
+use crate::ir::{FnBuilder, Image, IntoVal, Resource, Val, Vec2, Vec3, Vec4};
 use crate::spec::MapReq;
 
 /// The float texture of `image` of dimension `dim` (`arrayed`: an array of layers), declared
@@ -131,10 +131,11 @@ impl<'a> FnBuilder<'a> {
     /// A linear search's layer count `n` (whole, ≥ 1) scaled by the chord's share of the
     /// layers ([`LAYER_SHARE`]) where the policy asks: `ceil(n·share)` clamped to `1..=max`;
     /// else `None`, and the search keeps its own count.
-    pub(crate) fn shared_layers(&'a self, n: Val<'a, f32>, max: u32) -> Option<Val<'a, f32>> {
+    pub(crate) fn shared_layers(&'a self, n: impl IntoVal<'a, f32>, max: u32) -> Option<Val<'a, f32>> {
         if !self.policy().layer_share() {
             return None;
         }
+        let n = n.into_val(self);
         let share = self.load::<f32>(self.global_ptr(self.module().private::<f32>(LAYER_SHARE)));
         Some((n * share).ceil().clamp(1.0, max as f32))
     }

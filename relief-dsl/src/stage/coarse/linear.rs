@@ -7,8 +7,7 @@ use crate::stage::{Bracket, Ray, StageFn};
 /// Linear search (Burger 2018, Algorithm 1): `steps` equal steps that reach the bottom of the
 /// volume after the last one; stop at the first point at or below the surface.
 pub(crate) fn linear<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bracket<'a> {
-    if s.policy().layer_share() {
-        let n = s.shared_layers(s.lit(steps as f32), steps).expect("the policy shares layers");
+    if let Some(n) = s.shared_layers(steps as f32, steps) {
         return linear_up_to(s, ray, n, steps);
     }
     let step = 1.0 / steps as f32;
