@@ -76,6 +76,7 @@ fn nothing_unread_is_declared() {
             MapReq::CellQuadCone,
             MapReq::CellRelaxedCone,
             MapReq::CellConeNormal,
+            MapReq::CellPatch,
         ] {
             let declared_map = declared.iter().any(|d| d.starts_with(&m.texture_name()));
             assert_eq!(declared_map, pipe.required_maps().contains(&m), "{pipe}: {}", m.name());
@@ -116,6 +117,7 @@ fn required_maps_match_what_the_probe_and_shading_read() {
             MapReq::CellQuadCone,
             MapReq::CellRelaxedCone,
             MapReq::CellConeNormal,
+            MapReq::CellPatch,
         ] {
             assert_eq!(reads(m), pipe.required_maps().contains(&m), "{pipe}: {}", m.name());
         }

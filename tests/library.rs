@@ -924,12 +924,19 @@ fn wgsl_reads_other_levels(src: &str, name: &str) -> Option<bool> {
 fn the_header_says_at_which_levels_each_texture_is_read() {
     let mut all = pipelines();
     all.extend(["csm(64)", "maxmip(96)", "linear(32)+binary(5)+shadow=soft(16)"].map(|s| s.parse().unwrap()));
-    let (mut zero, mut chain) = (0, 0);
+    let (mut zero, mut chain, mut sized) = (0, 0, 0);
     for p in &all {
         let lib = forms(p, &LibraryOptions::default(), &[LibraryForm::Wgsl]);
         let src = file(&lib, ".lib.wgsl");
         for line in src.lines().filter(|l| l.starts_with("//   group ") && l.contains("texture_")) {
             let name = line.split(": ").nth(1).and_then(|r| r.split(' ').next()).unwrap_or_else(|| panic!("{line}"));
+            if line.contains(relief::dsl::compose::library::SIZE_ONLY) {
+                // Only its size: queried, and no texel of it read.
+                assert!(wgsl_reads_other_levels(src, name).is_none(), "{p}: {line}, yet `{name}` is read");
+                assert!(src.contains(&format!("textureDimensions({name}")), "{p}: {line}, yet no size is asked");
+                sized += 1;
+                continue;
+            }
             let other = wgsl_reads_other_levels(src, name).unwrap_or_else(|| panic!("{p}: `{name}` is never read"));
             if other {
                 chain += 1;
@@ -946,12 +953,19 @@ fn the_header_says_at_which_levels_each_texture_is_read() {
                 src.lines().any(|l| l.contains("relief_cell_cone_nearest texture_2d") && l.contains("at level 0 only")),
                 "{src}"
             );
+            // Its cells' patches come from the patch map: no texel of the height map is read.
+            assert!(
+                src.lines()
+                    .any(|l| l.contains("relief_height texture_2d")
+                        && l.contains(relief::dsl::compose::library::SIZE_ONLY)),
+                "{src}"
+            );
         }
         if p.to_string() == "maxmip(96)" {
             assert!(src.lines().any(|l| l.contains("relief_max_mip texture_2d") && l.contains("mip chain")), "{src}");
         }
     }
-    assert!(zero > 10 && chain >= 2, "level 0: {zero}, chain: {chain}");
+    assert!(zero > 10 && chain >= 2 && sized >= 1, "level 0: {zero}, chain: {chain}, size only: {sized}");
 }
 
 /// Runs `relief ARGS… DIR` and returns its output (status and stderr unchecked).

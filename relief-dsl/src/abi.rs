@@ -55,6 +55,9 @@ pub mod binding {
     pub const CELL_MULTI_CONE: u32 = 19;
     /// Cell piecewise cone slopes as `n_z`, then the apex where K ≤ 3 (rgba).
     pub const CELL_PIECEWISE_CONE: u32 = 20;
+    /// Cell patch coefficients (rgba: `h00`, `h10 − h00`, `h01 − h00`, `(h11 − h10) − (h01 −
+    /// h00)`), one texel per bilinear cell, on the cell maps' grid.
+    pub const CELL_PATCH: u32 = 21;
     /// A 2D map read with nearest filtering is bound a second time at its binding plus this
     /// offset (`cone_map_nearest` at 38 for `cone_map` at 6): GLSL combines a texture with one
     /// sampler.
@@ -335,6 +338,18 @@ pub const TEXEL_CHANNELS: usize = 4;
 /// stacked or piecewise cones) has its apex taken from the gathered corners.
 pub fn cell_apex_on_device(channels: usize) -> bool {
     channels <= TEXEL_CHANNELS
+}
+
+/// Whether a safe cell march over the cell map `cells` reads its cells' patches from the patch
+/// map ([`crate::spec::MapReq::CellPatch`]: one load at the cell map's coordinate) instead of
+/// gathering the four corners: the cell cone and the cell cone normal, which carry their
+/// apex on the device, so that their pass reads no corner at all outside the patch. The
+/// maps without the apex (quad, stacked and piecewise cones) gather the corners every pass
+/// for the apex and reuse them for the patch, and the relaxed cone's march tests the point's
+/// height from gathered corners every pass: both keep the gather
+/// (`docs/notes/safe-step.md`, rounds 10 and 11).
+pub fn cell_patch_read_with(cells: crate::spec::MapReq) -> bool {
+    matches!(cells, crate::spec::MapReq::CellCone | crate::spec::MapReq::CellConeNormal)
 }
 
 #[cfg(test)]

@@ -9,6 +9,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use relief_runtime::maps::cell::cone::cell_cone;
+use relief_runtime::maps::cell::patch::cell_patch;
 use relief_runtime::maps::cell::relaxed_cone::cell_relaxed_cone;
 use relief_runtime::maps::cone::cone_ratios;
 use relief_runtime::maps::relaxed_cone::relaxed_cone_ratios;
@@ -103,6 +104,9 @@ fn bench_cells(c: &mut Criterion) {
         g.bench_function(format!("cell_cone_hard_{e}"), |b| b.iter(|| cell_cone(&hard, edge)));
         g.bench_function(format!("cell_relaxed_cone_fbm_{e}"), |b| b.iter(|| cell_relaxed_cone(&hills, edge)));
         g.bench_function(format!("cell_relaxed_cone_hard_{e}"), |b| b.iter(|| cell_relaxed_cone(&hard, edge)));
+        // The patch map the safe csm, cns and csm_relax read beside their cell map: one pass over
+        // the cells, next to the cone's search.
+        g.bench_function(format!("cell_patch_fbm_{e}"), |b| b.iter(|| cell_patch(&hills, edge)));
     }
     g.finish();
 }

@@ -346,6 +346,60 @@ fn assert_bits(name: &str, fast: &[f32], brute: &[f32]) {
 
 const SIZES: [(usize, usize); 3] = [(16, 16), (24, 20), (32, 32)];
 
+/// `cell_patch` per cell, from the test's own corner resolver ([`corner_heights`], written
+/// from the docs of `maps::cell`): `[h00, h10 − h00, h01 − h00, (h11 − h10) − (h01 − h00)]` in
+/// f32, in the order the shader's `Coeffs::of_corners` computes it from a gather (relief-dsl
+/// `stage/coarse/cell.rs`), so the map's patch is the gathered one bit for bit.
+fn brute_patch(m: &HeightMap, edge: EdgeMode) -> Vec<f32> {
+    let mut out = Vec::new();
+    for j in 0..cells(m.height, edge) {
+        for i in 0..cells(m.width, edge) {
+            let [h00, h10, h01, h11] = corner_heights(m, edge, i, j);
+            let dy = h01 - h00;
+            out.extend([h00, h10 - h00, dy, (h11 - h10) - dy]);
+        }
+    }
+    out
+}
+
+/// The patch map holds, per cell of the grid (border strips included under clamp), the
+/// coefficients the shader would compute from the cell's four corners, bit for bit; and those
+/// coefficients reproduce the four corners. The bound of the second check is derived: heights
+/// lie in [0, 1], so each f32 difference is rounded by at most 2⁻²⁴·2 (|h10 − h00| ≤ 1, and
+/// `(h11 − h10) − dy` is two roundings of values ≤ 2 in magnitude), and the patch at a corner
+/// sums at most three coefficients each off by at most two such roundings: ≤ 6·2⁻²³ ≈ 7.2e-7.
+#[test]
+fn cell_patch_is_the_gathered_patch_bit_for_bit() {
+    let bound = 6.0 * 2f64.powi(-23);
+    for (w, h) in SIZES {
+        for (name, m) in suite(w, h) {
+            for edge in EDGES {
+                let map = relief_runtime::maps::cell::patch::cell_patch(&m, edge);
+                assert_bits(&format!("cell_patch {name} {w}x{h} {edge:?}"), &map, &brute_patch(&m, edge));
+                let built = maps::build(&m, MapKind::CellPatch, &MapParams::default(), edge).unwrap();
+                assert_eq!((built.width, built.height, built.channels), (cells(w, edge), cells(h, edge), 4));
+                assert_bits(&format!("cell_patch via build {name}"), &built.data, &map);
+                for j in 0..cells(h, edge) {
+                    for i in 0..cells(w, edge) {
+                        let c = &map[(j * cells(w, edge) + i) * 4..][..4];
+                        let at = |fx: f64, fy: f64| {
+                            c[0] as f64 + c[1] as f64 * fx + c[2] as f64 * fy + c[3] as f64 * fx * fy
+                        };
+                        let [h00, h10, h01, h11] = corner_heights(&m, edge, i, j);
+                        for (got, want) in [(at(0., 0.), h00), (at(1., 0.), h10), (at(0., 1.), h01), (at(1., 1.), h11)]
+                        {
+                            assert!(
+                                (got - want as f64).abs() <= bound,
+                                "{name} {edge:?} cell ({i}, {j}): {got} vs {want}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn cell_cone_matches_brute_force_bit_for_bit() {
     for (w, h) in SIZES {

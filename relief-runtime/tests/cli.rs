@@ -177,14 +177,28 @@ fn maps_writes_png_and_npy_from_a_scene_or_a_file() {
     let decoded = image::open(&png).unwrap();
     assert_eq!((decoded.width(), decoded.height()), (16, 16));
     assert!(matches!(decoded, image::DynamicImage::ImageLuma16(_)));
-    // Bad input: a kind that does not exist, a file that does not exist.
+    // The patch map in f32: [h, w, 4] on the cell grid (256² cells under the scene's repeat).
+    let patch = out.join("patch.npy");
+    let o = relief().args(["maps", "scene:step", "--kind", "cell_patch", "--out"]).arg(&patch).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bytes = std::fs::read(&patch).unwrap();
+    let header = String::from_utf8_lossy(&bytes[10..128.min(bytes.len())]).to_string();
+    assert!(header.contains("'<f4'") && header.contains("(256, 256, 4)"), "{header}");
+    // Bad input: a kind that does not exist, a file that does not exist, the patch map
+    // quantised (png's default unorm16, or f16 asked for).
     for args in [
         vec!["maps", "scene:step", "--kind", "cones", "--out", "/tmp/x.npy"],
         vec!["maps", "/no/such.png", "--kind", "cone", "--out", "/tmp/x.npy"],
+        vec!["maps", "scene:step", "--kind", "cell_patch", "--out", "/tmp/x.png"],
+        vec!["maps", "scene:step", "--kind", "cell_patch", "--encoding", "f16", "--out", "/tmp/x.npy"],
     ] {
         let o = relief().args(&args).output().unwrap();
-        assert!(!o.status.success());
-        assert_eq!(String::from_utf8_lossy(&o.stderr).trim().lines().count(), 1);
+        assert!(!o.status.success(), "{args:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        if args.contains(&"cell_patch") {
+            assert!(err.contains("--encoding f32"), "{err}");
+        }
     }
     std::fs::remove_dir_all(&out).ok();
 }

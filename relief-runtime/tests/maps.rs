@@ -464,7 +464,7 @@ fn build_dispatches_every_kind() {
     for kind in MapKind::ALL {
         let map = maps::build(&m, kind, &p, EdgeMode::Clamp).unwrap();
         assert_eq!(map.channels, kind.channels(&p), "{kind}");
-        let cells = if kind.is_cell() { 17 * 17 } else { 16 * 16 };
+        let cells = if kind.per_cell() { 17 * 17 } else { 16 * 16 };
         assert_eq!((map.data.len(), map.width * map.height), (cells * map.depth * map.channels, cells), "{kind}");
         assert_eq!(kind.name().parse::<MapKind>().unwrap(), kind);
         // `relief maps --list` states the same count in words ("1 channel", "K+1 channels").
@@ -741,6 +741,7 @@ fn map_kinds_and_requests_name_each_other() {
         MapReq::CellConeNormal,
         MapReq::CellMultiCone(5),
         MapReq::CellPiecewiseCone(2),
+        MapReq::CellPatch,
     ];
     assert!(MapKind::of(MapReq::Normal).is_none());
     let mut seen = Vec::new();

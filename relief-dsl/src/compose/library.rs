@@ -191,9 +191,16 @@ pub const LEVEL_ZERO: &str = " at level 0 only (one level suffices)";
 /// The end of a texture's description when some read of it is at a level other than 0.
 pub const LEVELS_CHAIN: &str = " at every level of its mip chain (upload all levels)";
 
+/// The description of a texture the library's functions only ask the size of (no texel is
+/// read: the height map of the safe `csm`, `cns` and `csm_relax`, whose cells' patches come
+/// from the patch map): its size sets the cell grid.
+pub const SIZE_ONLY: &str = ", only its size read (textureDimensions at level 0; no texel)";
+
 /// How a library's functions read one texture.
 #[derive(Default)]
 struct Reads {
+    /// Its size is queried.
+    sized: bool,
     /// Some read is a texel load.
     loaded: bool,
     /// Some read goes through a sampler.
@@ -440,6 +447,11 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
                         };
                     }
                 }
+                naga::Expression::ImageQuery { image, .. } => {
+                    if let Some(g) = gv(image) {
+                        reads.entry(g).or_default().sized = true;
+                    }
+                }
                 _ => {}
             }
         }
@@ -457,10 +469,14 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
         };
         let all_levels = reads.get(&h).is_some_and(|r| r.other_levels);
         if let Some(r) = reads.get(&h) {
-            if r.loaded && !r.sampled {
-                what = format!("{}, read texel by texel (textureLoad)", what.split(", read").next().unwrap_or(""));
+            if !r.loaded && !r.sampled {
+                what = format!("{}{SIZE_ONLY}", what.split(", read").next().unwrap_or(""));
+            } else {
+                if r.loaded && !r.sampled {
+                    what = format!("{}, read texel by texel (textureLoad)", what.split(", read").next().unwrap_or(""));
+                }
+                what.push_str(if r.other_levels { LEVELS_CHAIN } else { LEVEL_ZERO });
             }
-            what.push_str(if r.other_levels { LEVELS_CHAIN } else { LEVEL_ZERO });
         }
         let name = format!("{prefix}_{base}");
         let binding = u32::try_from(i).ok().and_then(|i| opts.binding.checked_add(i)).ok_or_else(|| CompileError {

@@ -360,6 +360,10 @@ pub enum MapReq {
     CellMultiCone(u32),
     /// Per bilinear cell: `n_z` of K piecewise cone slopes, K channels.
     CellPiecewiseCone(u32),
+    /// Per bilinear cell: the coefficients `(h00, h10 − h00, h01 − h00, (h11 − h10) −
+    /// (h01 − h00))` of its bilinear patch, read by the safe cone marches whose cell map
+    /// carries its apex in place of a gather of the four corners.
+    CellPatch,
 }
 
 impl MapReq {
@@ -382,6 +386,7 @@ impl MapReq {
             MapReq::CellConeNormal => "cell_cone_normal",
             MapReq::CellMultiCone(_) => "cell_multi_cone",
             MapReq::CellPiecewiseCone(_) => "cell_piecewise_cone",
+            MapReq::CellPatch => "cell_patch",
         }
     }
 
@@ -405,6 +410,7 @@ impl MapReq {
             MapReq::CellConeNormal => b::CELL_CONE_NORMAL,
             MapReq::CellMultiCone(_) => b::CELL_MULTI_CONE,
             MapReq::CellPiecewiseCone(_) => b::CELL_PIECEWISE_CONE,
+            MapReq::CellPatch => b::CELL_PATCH,
         }
     }
 
@@ -431,7 +437,8 @@ impl MapReq {
             | MapReq::CellRelaxedCone
             | MapReq::CellConeNormal
             | MapReq::CellMultiCone(_)
-            | MapReq::CellPiecewiseCone(_) => false,
+            | MapReq::CellPiecewiseCone(_)
+            | MapReq::CellPatch => false,
         }
     }
 
@@ -452,6 +459,7 @@ impl MapReq {
             MapReq::MultiCone(k) | MapReq::PiecewiseCone(k) => k as usize,
             MapReq::CellCone | MapReq::CellRelaxedCone | MapReq::CellConeNormal => 2,
             MapReq::CellQuadCone => 5,
+            MapReq::CellPatch => 4,
             MapReq::CellMultiCone(k) | MapReq::CellPiecewiseCone(k) => k as usize + 1,
         }
     }
@@ -475,14 +483,17 @@ impl MapReq {
             | MapReq::CellCone
             | MapReq::CellQuadCone
             | MapReq::CellRelaxedCone
-            | MapReq::CellConeNormal => None,
+            | MapReq::CellConeNormal
+            | MapReq::CellPatch => None,
         }
     }
 
     /// Whether the map holds one entry per bilinear cell of the height map, its apex last
-    /// (the cell maps), rather than one per texel or a pyramid or a volume.
+    /// (the cell maps), rather than one per texel or a pyramid or a volume. Not the patch
+    /// map ([`MapReq::CellPatch`]): one entry per cell too, but no apex ([`MapReq::per_cell`]).
     pub fn is_cell(self) -> bool {
         match self {
+            MapReq::CellPatch => false,
             MapReq::CellCone
             | MapReq::CellQuadCone
             | MapReq::CellRelaxedCone
@@ -500,6 +511,13 @@ impl MapReq {
             | MapReq::MaxMip
             | MapReq::DistanceField => false,
         }
+    }
+
+    /// Whether the map holds one entry per bilinear cell, on the cell grid (the cell maps
+    /// and the patch map): read by cell index, uploaded under a `lod` as an atlas of every
+    /// level's cells.
+    pub fn per_cell(self) -> bool {
+        self.is_cell() || self == MapReq::CellPatch
     }
 
     /// The map's texture name in the generated shader.

@@ -307,6 +307,23 @@ impl<'a> FnBuilder<'a> {
         }
     }
 
+    /// A height of the height map read from elsewhere (the `h00` of a cell's patch in the
+    /// patch map, [`MapReq::CellPatch`]), raised as [`FnBuilder::height_gather`] raises the
+    /// four corners it gathers at `uv`: by the quadric, then by the prism's lift, both taken
+    /// at `uv` for all four corners. So a patch read from the patch map is the gathered one
+    /// raised by one constant, which leaves its differences unchanged (and, without a
+    /// quadric or a lift, it is the gathered patch bit for bit).
+    pub fn height_raised_at(&'a self, h: Val<'a, f32>, uv: Val<'a, Vec2>) -> Val<'a, f32> {
+        let h = match self.quadric_at(uv) {
+            Some(q) => h + q,
+            None => h,
+        };
+        match self.lift(uv) {
+            Some(l) => h + l,
+            None => h,
+        }
+    }
+
     /// Only maps with a mip chain of their own level's data ([`MapReq::has_levels`]) may be
     /// read at a level: every other map is built over level 0 of the height map (cells, the
     /// max-mip pyramid), so reading it at another level would mix two surfaces; it is

@@ -282,10 +282,12 @@ impl SceneTextures {
                         .map(|h| crate::maps::build(h, kind, &params, scene.edge))
                         .collect::<Result<Vec<_>, _>>()?;
                     upload_layers(gpu, &pyramids)
-                } else if kind.is_cell() {
-                    // Cell maps: every level's cells in one atlas (see `maps::cell::level_atlas`).
+                } else if kind.per_cell() {
+                    // Cell maps and the patch map: every level's cells in one atlas (see
+                    // `maps::cell::level_atlas`).
                     let atlas = crate::maps::cell::level_atlas(&chain, kind, &params, scene.edge)?;
-                    upload_map(gpu, &atlas, cell_channels_uploaded(atlas.channels), kind.is_ratio())
+                    let used = if kind.is_cell() { cell_channels_uploaded(atlas.channels) } else { atlas.channels };
+                    upload_map(gpu, &atlas, used, kind.is_ratio())
                 } else {
                     if !req.has_levels() {
                         return Err(crate::maps::MapError::Params {

@@ -66,11 +66,14 @@ pub enum MapKind {
     /// `cell_piecewise_cone`: per cell K piecewise slopes as `n_z` + apex (K + 1 channels),
     /// [`cell::multi_cone`].
     CellPiecewiseCone,
+    /// `cell_patch`: per cell the bilinear patch's coefficients `[h00, h10 − h00, h01 − h00,
+    /// (h11 − h10) − (h01 − h00)]` (4 channels, cell grid), [`cell::patch`].
+    CellPatch,
 }
 
 impl MapKind {
     /// Every kind, in the order `relief maps --list` prints them.
-    pub const ALL: [MapKind; 15] = [
+    pub const ALL: [MapKind; 16] = [
         MapKind::Cone,
         MapKind::QuadCone,
         MapKind::RelaxedCone,
@@ -86,6 +89,7 @@ impl MapKind {
         MapKind::CellConeNormal,
         MapKind::CellMultiCone,
         MapKind::CellPiecewiseCone,
+        MapKind::CellPatch,
     ];
 
     /// The map request this kind answers (with the default parameters): see
@@ -115,6 +119,7 @@ impl MapKind {
             MapKind::CellConeNormal => MapReq::CellConeNormal,
             MapKind::CellMultiCone => MapReq::CellMultiCone(k),
             MapKind::CellPiecewiseCone => MapReq::CellPiecewiseCone(k),
+            MapKind::CellPatch => MapReq::CellPatch,
         }
     }
 
@@ -155,6 +160,7 @@ impl MapKind {
             MapKind::CellConeNormal => "n_z of the cell cone (Burger 2018 §3.1) per bilinear cell; 2 channels: n_z, apex",
             MapKind::CellMultiCone => "K stacked cell cones at apex + (1-apex) k/K as n_z (Burger 2018 §3.4 method 1); K+1 channels: n_z x K, apex; param cones=K",
             MapKind::CellPiecewiseCone => "K piecewise cell-cone slopes as n_z (Burger 2018 §3.4 method 2); K+1 channels: n_z x K, apex; param cones=K",
+            MapKind::CellPatch => "bilinear patch coefficients per cell, in the shader's own order, read by the safe csm, cns and csm_relax in place of a gather; cell grid; 4 channels: h00, h10-h00, h01-h00, (h11-h10)-(h01-h00); f32 only",
         }
     }
 
@@ -172,6 +178,12 @@ impl MapKind {
     /// [`MapReq::is_cell`]).
     pub fn is_cell(self) -> bool {
         self.request().is_cell()
+    }
+
+    /// Whether the map holds one entry per bilinear cell (the cell kinds and `cell_patch`):
+    /// [`MapReq::per_cell`].
+    pub fn per_cell(self) -> bool {
+        self.request().per_cell()
     }
 
     /// The safe quantisation direction of this kind's values: up for the heights of the
@@ -193,7 +205,8 @@ impl MapKind {
             | MapKind::CellRelaxedCone
             | MapKind::CellConeNormal
             | MapKind::CellMultiCone
-            | MapKind::CellPiecewiseCone => Rounding::Down,
+            | MapKind::CellPiecewiseCone
+            | MapKind::CellPatch => Rounding::Down,
         }
     }
 
@@ -214,7 +227,8 @@ impl MapKind {
             | MapKind::DistanceField
             | MapKind::CellConeNormal
             | MapKind::CellMultiCone
-            | MapKind::CellPiecewiseCone => false,
+            | MapKind::CellPiecewiseCone
+            | MapKind::CellPatch => false,
         }
     }
 }
@@ -266,7 +280,8 @@ impl MapParams {
             | MapKind::CellCone
             | MapKind::CellQuadCone
             | MapKind::CellRelaxedCone
-            | MapKind::CellConeNormal => d,
+            | MapKind::CellConeNormal
+            | MapKind::CellPatch => d,
         }
     }
 }
@@ -430,6 +445,7 @@ pub fn build(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode) 
         MapKind::CellConeNormal => cells(cell::cone::cell_cone_normal(hm, edge)),
         MapKind::CellMultiCone => cells(cell::multi_cone::cell_multi_cone(hm, edge, k)),
         MapKind::CellPiecewiseCone => cells(cell::multi_cone::cell_piecewise_cone(hm, edge, k)),
+        MapKind::CellPatch => cells(cell::patch::cell_patch(hm, edge)),
     };
     Ok(map)
 }
@@ -602,7 +618,7 @@ impl MapCache {
             shape.push(map.depth);
         }
         shape.extend([map.height, map.width]);
-        if map.channels > 1 || key.kind.reads_cones() || key.kind.is_cell() {
+        if map.channels > 1 || key.kind.reads_cones() || key.kind.per_cell() {
             shape.push(map.channels);
         }
         // A cache: a map that cannot be stored is built again next time.

@@ -449,7 +449,8 @@ fn computed_in_page(scene: &Scene, k: MapKey) -> Option<Value> {
         | MapKind::CellRelaxedCone
         | MapKind::CellConeNormal
         | MapKind::CellMultiCone
-        | MapKind::CellPiecewiseCone => None,
+        | MapKind::CellPiecewiseCone
+        | MapKind::CellPatch => None,
     }
 }
 

@@ -85,6 +85,10 @@ pub(super) struct Grid<'a> {
     cell_scale: Val<'a, Vec2>,
     /// See `cell_scale`.
     cell_bias: Val<'a, Vec2>,
+    /// Whether a cell's patch is read from the patch map (one load at the cell map's
+    /// coordinate, [`Cell::patch`]) rather than gathered from the height map
+    /// ([`crate::abi::cell_patch_read_with`]).
+    patches: bool,
 }
 
 impl<'a> Grid<'a> {
@@ -118,6 +122,7 @@ impl<'a> Grid<'a> {
             t_max: ray.t_max().named("t_max"),
             cell_scale: cell_scale.named("cell_scale"),
             cell_bias: (cell_scale * s.select(clamp, 1.5, 0.5)).named("cell_bias"),
+            patches: cells.is_some_and(crate::abi::cell_patch_read_with),
         }
     }
 }
@@ -191,6 +196,12 @@ impl<'a> Cell<'a> {
     /// arithmetic in the shader. Under a `lod` the maps of all levels share one atlas, which
     /// no address mode wraps, so the entry's index is computed and loaded ([`Cell::index`]).
     fn cones(&self, s: &'a FnBuilder<'a>, map: MapReq) -> Val<'a, Vec4> {
+        self.entry(s, map)
+    }
+
+    /// The cell's entry in a map on the cell grid (a cell map or the patch map), as
+    /// [`Cell::cones`] reads it.
+    fn entry(&self, s: &'a FnBuilder<'a>, map: MapReq) -> Val<'a, Vec4> {
         match s.sample_level() {
             None => s.sample(Image::of(map), self.cell * self.grid.cell_scale + self.grid.cell_bias, Filter::Nearest),
             Some(_) => s.cell_map_texel(map, self.index(s)),
@@ -226,16 +237,33 @@ impl<'a> Cell<'a> {
     /// gathered in `s` and kept for the rest of the pass: `s` must be the pass's own block
     /// (a value made inside a branch does not exist after it).
     pub(super) fn keep_corners(&self, s: &'a FnBuilder<'a>) -> Val<'a, Vec4> {
-        let c = self.corners(s);
+        let c = match self.kept.get() {
+            Some(c) => c,
+            None => s.height_gather(self.centre()).named("corners"),
+        };
         self.kept.set(Some(c));
         c
     }
 
-    /// The corners kept for the pass, or a gather in `s` (at the cell's centre) not kept.
-    fn corners(&self, s: &'a FnBuilder<'a>) -> Val<'a, Vec4> {
+    /// The cell's centre in texture coordinates, where a gather reads its four corners
+    /// (one `fma` per axis: a centre's rounding does not matter).
+    fn centre(&self) -> Val<'a, Vec2> {
+        self.cell.mul_add(self.grid.inv_size, self.grid.inv_size)
+    }
+
+    /// The cell's patch: from the corners kept for the pass; else, where the march reads the
+    /// patch map ([`crate::abi::cell_patch_read_with`]), from the cell's entry there (one load
+    /// at the cell map's coordinate, which the pass has already computed for the cone, in
+    /// place of a gather and the corners' differences; `docs/notes/safe-step.md`, round 11);
+    /// else from a gather in `s` at the cell's centre, not kept.
+    /// `after` names what is read for the solve after the loop (`hit_…`) rather than a pass.
+    fn patch(&self, s: &'a FnBuilder<'a>, after: bool) -> Coeffs<'a> {
+        let centre = self.centre();
+        let (patch, corners) = if after { ("hit_patch", "hit_corners") } else { ("patch", "corners") };
         match self.kept.get() {
-            Some(c) => c,
-            None => s.height_gather(self.cell.mul_add(self.grid.inv_size, self.grid.inv_size)).named("corners"),
+            Some(c) => Coeffs::of_corners(c),
+            None if self.grid.patches => Coeffs::of_entry(s, self.entry(s, MapReq::CellPatch).named(patch), centre),
+            None => Coeffs::of_corners(s.height_gather(centre).named(corners)),
         }
     }
 
@@ -266,7 +294,7 @@ impl<'a> Cell<'a> {
     /// Whether the ray meets the cell's patch between `from` and the cell's exit
     /// ([`Patch::meets_within`]: no root, no division).
     pub(super) fn holds_hit(&self, s: &'a FnBuilder<'a>, ray: &Ray<'a>, from: Val<'a, f32>) -> Val<'a, bool> {
-        Patch::of(ray, &self.grid, self.cell, self.corners(s), from).meets_within(self.exit - from)
+        Patch::of(ray, &self.grid, self.cell, self.patch(s, false), from).meets_within(self.exit - from)
     }
 
     /// Where a pass at `t` goes when its cone step stays in this cell: the patch decides
@@ -287,6 +315,34 @@ fn fraction<'a>(g: &Grid<'a>, cell: Val<'a, Vec2>, t: Val<'a, f32>) -> Val<'a, V
     (g.x0 - cell) + g.speed * t
 }
 
+/// A cell's bilinear patch in the cell's own coordinates (the fractions `f` in [0, 1]²):
+/// `h = h00 + dx·f.x + dy·f.y + k·f.x·f.y`, with `dx = h10 − h00`, `dy = h01 − h00` and
+/// `k = (h11 − h10) − dy`, in that order of operations (the patch map,
+/// relief-runtime's `maps::cell::patch`, stores them computed in the same order, so a patch
+/// read from it is the gathered one bit for bit).
+#[derive(Clone, Copy)]
+pub(super) struct Coeffs<'a> {
+    h00: Val<'a, f32>,
+    dx: Val<'a, f32>,
+    dy: Val<'a, f32>,
+    k: Val<'a, f32>,
+}
+
+impl<'a> Coeffs<'a> {
+    /// From the four corners in gather order `(i, j+1), (i+1, j+1), (i+1, j), (i, j)`.
+    pub(super) fn of_corners(corners: Val<'a, Vec4>) -> Coeffs<'a> {
+        let (h01, h11, h10, h00) = (corners.x(), corners.y(), corners.z(), corners.w());
+        let (dx, dy) = (h10 - h00, h01 - h00);
+        Coeffs { h00, dx, dy, k: h11 - h10 - dy }
+    }
+
+    /// From a patch-map entry `(h00, dx, dy, k)`, its `h00` raised as a gather at `centre`
+    /// (the cell's centre) raises the corners ([`FnBuilder::height_raised_at`]).
+    fn of_entry(s: &'a FnBuilder<'a>, entry: Val<'a, Vec4>, centre: Val<'a, Vec2>) -> Coeffs<'a> {
+        Coeffs { h00: s.height_raised_at(entry.x(), centre), dx: entry.y(), dy: entry.z(), k: entry.w() }
+    }
+}
+
 /// The ray over a cell's bilinear patch from `from`: along the ray the patch height is
 /// quadratic in t. With the corner heights h00, h10, h01, h11 and the fractions (fx, fy)
 /// moving at (ax, ay) per unit t, `h − z = A s² + B s + C`, `s = t − from`.
@@ -298,21 +354,12 @@ pub(super) struct Patch<'a> {
 }
 
 impl<'a> Patch<'a> {
-    /// The quadratic of the ray from `from` over `cell` (corner heights `corners` in gather
-    /// order).
-    pub(super) fn of(
-        ray: &Ray<'a>,
-        g: &Grid<'a>,
-        cell: Val<'a, Vec2>,
-        corners: Val<'a, Vec4>,
-        from: Val<'a, f32>,
-    ) -> Patch<'a> {
+    /// The quadratic of the ray from `from` over `cell`, whose patch is `q`.
+    pub(super) fn of(ray: &Ray<'a>, g: &Grid<'a>, cell: Val<'a, Vec2>, q: Coeffs<'a>, from: Val<'a, f32>) -> Patch<'a> {
         let f = fraction(g, cell, from);
         let z = 1.0 + ray.dir.z() * from;
-        let (h01, h11, h10, h00) = (corners.x(), corners.y(), corners.z(), corners.w());
+        let Coeffs { h00, dx, dy, k } = q;
         let a = g.speed;
-        let (dx, dy) = (h10 - h00, h01 - h00);
-        let k = h11 - h10 - dy;
         Patch {
             a: k * g.speed_xy,
             b: dx * a.x() + dy * a.y() + k * (f.x() * a.y() + f.y() * a.x()) - ray.dir.z(),
@@ -370,23 +417,16 @@ impl<'a> Patch<'a> {
     }
 }
 
-/// The first hit in the cell `cell` that a march found, by [`Patch::meets_within`], to hold
-/// the ray's first hit between `from` and `to` (call once, after the loop): the patch's first
-/// root ([`Patch::first_root`]), kept within `[from, to]` (rounding can put the root a little
-/// outside where the decision was made at the edge: at `to`, or at the vertex of a ray that
-/// only touches the patch), and `from` itself where the ray is already under the patch.
-pub(super) fn hit_in<'a>(
-    s: &'a FnBuilder<'a>,
-    ray: &Ray<'a>,
-    g: &Grid<'a>,
-    cell: Val<'a, Vec2>,
-    from: Val<'a, f32>,
-    to: Val<'a, f32>,
-) -> Val<'a, f32> {
-    let corners = s.height_gather(cell.mul_add(g.inv_size, g.inv_size)).named("hit_corners");
-    let q = Patch::of(ray, g, cell, corners, from);
+/// The first hit in the cell `c` that a march found, by [`Patch::meets_within`], to hold
+/// the ray's first hit between `from` and the cell's exit (call once, after the loop): the
+/// patch's first root ([`Patch::first_root`]), kept within `[from, exit]` (rounding can put the
+/// root a little outside where the decision was made at the edge: at the exit, or at the
+/// vertex of a ray that only touches the patch), and `from` itself where the ray is already
+/// under the patch. The patch is read as the loop read it ([`Cell::patch`]).
+pub(super) fn hit_in<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, c: &Cell<'a>, from: Val<'a, f32>) -> Val<'a, f32> {
+    let q = Patch::of(ray, &c.grid, c.cell, c.patch(s, true), from);
     let (root, _) = q.first_root(s);
-    let at = (from + root.max(0.0)).min(to);
+    let at = (from + root.max(0.0)).min(c.exit);
     s.select(q.c.ge(0.0), from, at)
 }
 
@@ -487,7 +527,7 @@ impl<'a> Sentinel<'a> {
         s.if_(in_cell, |s| {
             let from = -t;
             let c = cell_at(self.grid, from);
-            end.set(hit_in(s, ray, &self.grid, c.cell, from, c.exit));
+            end.set(hit_in(s, ray, &c, from));
         });
         (end.get(), in_cell)
     }

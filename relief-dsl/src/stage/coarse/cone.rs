@@ -85,7 +85,17 @@ fn by_form(s: &StageSpec, textbook: MapReq, safe: MapReq) -> Vec<MapReq> {
     // form's map is as good a guess as any for it.
     match ConeForm::from_word(s.word("form")) {
         Some(ConeForm::Textbook) => vec![textbook],
-        Some(ConeForm::Safe) | None => vec![safe],
+        Some(ConeForm::Safe) | None => with_patches(safe),
+    }
+}
+
+/// A safe march's cell map, and the patch map where the march reads its cells' patches
+/// there ([`crate::abi::cell_patch_read_with`]).
+pub(super) fn with_patches(cells: MapReq) -> Vec<MapReq> {
+    if crate::abi::cell_patch_read_with(cells) {
+        vec![cells, MapReq::CellPatch]
+    } else {
+        vec![cells]
     }
 }
 

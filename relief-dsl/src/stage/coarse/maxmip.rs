@@ -8,7 +8,7 @@
 //! descends; in a single cell it meets the bilinear patch exactly (a quadratic in t).
 //! Each pass through the loop is one node visit.
 
-use super::cell::{Grid, Patch, Sentinel};
+use super::cell::{Coeffs, Grid, Patch, Sentinel};
 use crate::ir::{FnBuilder, Val, Vec2};
 use crate::spec::{MapReq, MethodDef, ParamDef};
 use crate::stage::{Bracket, Ray, StageFn};
@@ -79,7 +79,7 @@ pub(crate) fn maxmip<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32) -> Bra
         let cell = (g.x0 + g.speed * down + g.ahead).floor();
         // The four corners in one gather at the cell's centre: (i, j+1), (i+1, j+1), (i+1, j), (i, j).
         let corners = s.height_gather(cell.mul_add(g.inv_size, g.inv_size));
-        let holds = Patch::of(ray, &g, cell, corners, down).meets_within(exit - down);
+        let holds = Patch::of(ray, &g, cell, Coeffs::of_corners(corners), down).meets_within(exit - down);
         t.set(s.select(holds, -down, exit));
     });
     // The first hit in the cell found, exactly, once. Reaching the floor is a hit (every

@@ -123,7 +123,7 @@ pub(crate) fn csm_relax_def() -> MethodDef {
         StageFn::Coarse(|s, ray, a| Ok(csm_relax(s, ray, a.int("steps")?))),
     )
     .param(ParamDef::steps("steps", 15))
-    .reads(|_| vec![MapReq::CellCone])
+    .reads(|_| super::cone::with_patches(MapReq::CellCone))
 }
 
 /// Sphere tracing (`sphere`) with exact step relaxation (Bán & Valasek 2023): see

@@ -168,7 +168,10 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
     let kind: MapKind = kind.parse()?;
     let hm = scene.height;
     let params = MapParams { cones: args.cones, z_resolution: args.z_resolution };
-    if kind.is_cell() && args.min3x3 {
+    if kind == MapKind::CellPatch && format != encode::Format::F32 {
+        bail!("{kind} holds heights and their differences, which the safe marches must read exactly as the height map gives them: use --encoding f32");
+    }
+    if kind.per_cell() && args.min3x3 {
         bail!("--min3x3 does not apply to {kind}: a cell map is read at one cell, unfiltered, so no blend is formed (see the docs of relief_runtime::maps::cell)");
     }
     if kind.is_cell() && matches!(format, encode::Format::Unorm8 | encode::Format::Unorm16) && args.max_value < 1.0 {

@@ -89,6 +89,7 @@
 
 pub mod cone;
 pub mod multi_cone;
+pub mod patch;
 pub mod relaxed_cone;
 
 mod atlas;
