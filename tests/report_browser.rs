@@ -320,19 +320,22 @@ fn the_page_inflates_the_browser_data_to_the_runtimes_bytes() {
         let bytes = &want[what];
         assert_eq!(f["len"].as_u64(), Some(bytes.len() as u64), "{what}");
         assert_eq!(f["fnv"].as_u64(), Some(fnv(bytes)), "{what}: the page's bytes differ from the runtime's");
-        // The distance field is computed by the page, not shipped; every other map is a file.
-        let field = what.starts_with("map:distance_field");
-        assert_eq!(f["computed"].as_str(), field.then_some("distance_field"), "{what}: {f}");
+        // The distance field and the patch map are computed by the page, not shipped; every
+        // other map is a file.
+        let computed = ["distance_field", "cell_patch"].into_iter().find(|k| what.starts_with(&format!("map:{k}_")));
+        assert_eq!(f["computed"].as_str(), computed, "{what}: {f}");
         if what.starts_with("map:") {
-            assert_eq!(f["name"].is_null(), field, "{what}: {f}");
+            assert_eq!(f["name"].is_null(), computed.is_some(), "{what}: {f}");
         }
-        if field {
+        if computed.is_some() {
             eprintln!("the page computed {what} of rocks in {:.0} ms", f["ms"].as_f64().unwrap());
         }
     }
+    assert!(want.keys().any(|k| k.starts_with("map:cell_patch")), "{got:?}");
     let shipped: Vec<String> = walk(&dir.join("browser")).iter().map(|p| p.display().to_string()).collect();
     assert!(shipped.iter().any(|p| p.contains("/map_")), "{shipped:?}");
     assert!(!shipped.iter().any(|p| p.contains("distance_field")), "a distance field was shipped: {shipped:?}");
+    assert!(!shipped.iter().any(|p| p.contains("cell_patch")), "a patch map was shipped: {shipped:?}");
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -384,8 +387,11 @@ fn spiky(w: usize, h: usize) -> relief::runtime::HeightMap {
 /// walls ([`spiky`], non-square), with both edge modes, at z resolutions 64 (the main job's
 /// 256² × 64) and others. The page compares the values as bit patterns and reports the hash of
 /// its bytes, checked here against the runtime's. The page's time at 256² × 64 is printed.
+/// The same for the patch map (`cellPatch`, `maps::build` of `cell_patch`) on every one of
+/// those maps and edge modes: its border strips under clamp, the wrap under repeat, a one-texel
+/// wide map.
 #[test]
-fn the_page_computes_the_runtimes_distance_field_bit_for_bit() {
+fn the_page_computes_the_runtimes_distance_field_and_patch_map_bit_for_bit() {
     use relief::runtime::{maps, scene_from_arg, EdgeMode, HeightMap, MapKind, MapParams};
     let dir = std::env::temp_dir().join(format!("relief-field-page-{}", std::process::id()));
     std::fs::remove_dir_all(&dir).ok();
@@ -419,6 +425,16 @@ fn the_page_computes_the_runtimes_distance_field_bit_for_bit() {
             cases.push(serde_json::json!({
                 "name": case, "width": hm.width, "height": hm.height, "depth": depth, "edge": edge_name,
                 "heights": format!("h{i}.bin"), "want": format!("w{i}{edge_name}.bin"),
+            }));
+            // The patch map the page computes for the safe csm, cns and csm_relax.
+            let patch = maps::build(hm, MapKind::CellPatch, &MapParams::default(), edge).unwrap();
+            let bytes = bytemuck::cast_slice::<f32, u8>(&patch.data);
+            let case = format!("{name} {edge_name} cell_patch");
+            std::fs::write(dir.join(format!("p{i}{edge_name}.bin")), bytes).unwrap();
+            want_fnv.insert(case.clone(), fnv(bytes));
+            cases.push(serde_json::json!({
+                "name": case, "kind": "cell_patch", "width": hm.width, "height": hm.height, "edge": edge_name,
+                "heights": format!("h{i}.bin"), "want": format!("p{i}{edge_name}.bin"),
             }));
         }
     }

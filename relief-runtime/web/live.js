@@ -390,8 +390,40 @@
     return out;
   }
 
+  // The patch map (relief-runtime's maps/cell/patch.rs) of `heights` (w × h f32 values,
+  // row-major) under `edge`: per cell of the cell grid (w × h under repeat; (w + 1) × (h + 1)
+  // under clamp, whose first and last columns and rows are the border strips with both corners
+  // on the border texel), [h00, h10 − h00, h01 − h00, (h11 − h10) − (h01 − h00)], row-major.
+  // Each difference is taken in double and rounded once to f32 (Math.fround): the difference
+  // of two f32 values rounded to double and then to f32 is the correctly rounded f32
+  // difference (double has more than 2·24 + 2 bits), so the values are the runtime's bit for bit.
+  function cellPatch(heights, w, h, edge) {
+    if (edge !== "repeat" && edge !== "clamp") throw new Error("edge mode " + edge + " is neither repeat nor clamp");
+    if (heights.length !== w * h || w < 1 || h < 1) throw new Error("a " + w + " × " + h + " patch map from " + heights.length + " heights");
+    var wrap = edge === "repeat", cw = wrap ? w : w + 1, ch = wrap ? h : h + 1;
+    var ends = function (i, n) {
+      return wrap ? [i, (i + 1) % n] : [Math.min(Math.max(i - 1, 0), n - 1), Math.min(i, n - 1)];
+    };
+    var out = new Float32Array(cw * ch * 4);
+    for (var j = 0; j < ch; j++) {
+      var y = ends(j, h);
+      for (var i = 0; i < cw; i++) {
+        var x = ends(i, w), o = (j * cw + i) * 4;
+        var h00 = heights[y[0] * w + x[0]], h10 = heights[y[0] * w + x[1]];
+        var h01 = heights[y[1] * w + x[0]], h11 = heights[y[1] * w + x[1]];
+        var dy = Math.fround(h01 - h00);
+        out[o] = h00;
+        out[o + 1] = Math.fround(h10 - h00);
+        out[o + 2] = dy;
+        out[o + 3] = Math.fround(Math.fround(h11 - h10) - dy);
+      }
+    }
+    return out;
+  }
+
   // A scene's map by its slug: its data file, or, for a map the manifest marks
-  // `computed_in_page` (the distance field), computed here from the scene's height file, once.
+  // `computed_in_page` (the distance field, the patch map), computed here from the scene's
+  // height file, once.
   var computed = {};
   function loadMap(scene, slug) {
     var m = scene.maps[slug];
@@ -399,13 +431,19 @@
     if (typeof m === "string") return load(m);
     var key = scene.label + "|" + slug;
     if (!computed[key]) computed[key] = (async function () {
-      if (m.computed_in_page !== "distance_field") throw new Error("the page cannot compute a map of kind " + m.computed_in_page);
-      var hd = await load(scene.textures.height), w = m.size[0], h = m.size[1], depth = m.size[2];
+      var kind = m.computed_in_page;
+      if (kind !== "distance_field" && kind !== "cell_patch") throw new Error("the page cannot compute a map of kind " + kind);
+      var hs = kind === "cell_patch" ? m.height_size : m.size, w = hs[0], h = hs[1];
+      var hd = await load(scene.textures.height);
       if (hd.meta.format !== "r32float" || hd.meta.width !== w || hd.meta.height !== h)
         throw new Error(scene.label + ": the height file is " + hd.meta.width + " × " + hd.meta.height + " " + hd.meta.format + ", the " + slug + " map wants " + w + " × " + h + " r32float");
       // Level 0 of the height file: the heights the runtime builds its maps from.
       var heights = new Float32Array(hd.bytes.buffer.slice(hd.bytes.byteOffset, hd.bytes.byteOffset + w * h * 4));
-      var field = distanceField(heights, w, h, m.edge, depth), dim = depth > 1 ? "3d" : "2d";
+      if (kind === "cell_patch") {
+        var patch = cellPatch(heights, w, h, m.edge);
+        return { meta: { width: m.size[0], height: m.size[1], depth: 1, format: "rgba32float", dimension: "2d", view: "2d", levels: [patch.byteLength] }, bytes: new Uint8Array(patch.buffer) };
+      }
+      var depth = m.size[2], field = distanceField(heights, w, h, m.edge, depth), dim = depth > 1 ? "3d" : "2d";
       return { meta: { width: w, height: h, depth: depth, format: "r32float", dimension: dim, view: dim, levels: [field.byteLength] }, bytes: new Uint8Array(field.buffer) };
     })();
     return computed[key];
@@ -599,7 +637,7 @@
       user_agent: navigator.userAgent, rows: rows };
   }
 
-  window.reliefLive = { gpu: gpu, frame: frame, time: time, probe: probe, measureAll: measureAll, manifest: M, load: load, loadMap: loadMap, probeRays: probeRays, distanceField: distanceField };
+  window.reliefLive = { gpu: gpu, frame: frame, time: time, probe: probe, measureAll: measureAll, manifest: M, load: load, loadMap: loadMap, probeRays: probeRays, distanceField: distanceField, cellPatch: cellPatch };
 
   // ---------------------------------------------------------------------------------------
   // The section: two pipelines side by side.

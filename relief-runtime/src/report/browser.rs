@@ -18,6 +18,9 @@
 //!   level 0 (`distanceField` in `web/live.js`, the generator's f64 operations in its order,
 //!   rounded down to f32: the runtime's values bit for bit), when a pipeline that reads it is
 //!   first drawn or probed;
+//! - no patch map (`cell_patch`, read by the safe `csm`, `cns`, `csm_relax`): computed in the
+//!   page the same way (`cellPatch`: per cell the f32 differences of the corners, in the
+//!   generator's order, bit for bit), 4 floats a cell that would be a scene's largest file;
 //! - no probe rays: the manifest gives what [`Scene::rays`] computes them from ([`rays_from`])
 //!   and the page computes them bit for bit (`probeRays`, every `stride`-th ray). Their exact
 //!   hits are not shipped: the page reads none, and `--add` traces them again ([`probe_set`]).
@@ -419,7 +422,9 @@ pub(crate) fn rays_from(scene: &Scene) -> Value {
 }
 
 /// The manifest entry of a map the page computes itself from the scene's height file instead
-/// of loading it, or `None` for a map shipped as a data file. The distance field is computed
+/// of loading it, or `None` for a map shipped as a data file. The patch map is computed too
+/// (`cellPatch` in `web/live.js`; its entry gives the cell grid's size and the height map's).
+/// The distance field is computed
 /// (`distanceField` in `web/live.js`, a port of [`crate::maps::distance_field`] that gives its
 /// f32 values bit for bit): at 256² × 64 it was a third of `browser/` in the main job (21.2 of
 /// 67.9 MB), and headless Chromium rebuilds it from the heights in 0.3 to 2 s (on a loaded
@@ -436,6 +441,16 @@ fn computed_in_page(scene: &Scene, k: MapKey) -> Option<Value> {
                 "size": [scene.height.width, scene.height.height, z],
             }))
         }
+        MapKind::CellPatch => {
+            // One pass over the cells of level 0 (`cellPatch` in `web/live.js`, the f32
+            // differences of `maps::cell::patch` in the same order, bit for bit): the
+            // largest of a scene's maps as a data file (4 floats a cell), a loop in the page.
+            let grid = crate::maps::cell::CellGrid::new(scene.height.width, scene.height.height, scene.edge);
+            Some(json!({
+                "computed_in_page": k.kind.name(), "edge": edge_name(scene.edge),
+                "size": [grid.cw, grid.ch], "height_size": [scene.height.width, scene.height.height],
+            }))
+        }
         MapKind::Cone
         | MapKind::QuadCone
         | MapKind::RelaxedCone
@@ -449,8 +464,7 @@ fn computed_in_page(scene: &Scene, k: MapKey) -> Option<Value> {
         | MapKind::CellRelaxedCone
         | MapKind::CellConeNormal
         | MapKind::CellMultiCone
-        | MapKind::CellPiecewiseCone
-        | MapKind::CellPatch => None,
+        | MapKind::CellPiecewiseCone => None,
     }
 }
 
