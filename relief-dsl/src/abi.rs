@@ -340,18 +340,6 @@ pub fn cell_apex_on_device(channels: usize) -> bool {
     channels <= TEXEL_CHANNELS
 }
 
-/// Whether a safe cell march over the cell map `cells` reads its cells' patches from the patch
-/// map ([`crate::spec::MapReq::CellPatch`]: one load at the cell map's coordinate) instead of
-/// gathering the four corners: the cell cone and the cell cone normal, which carry their
-/// apex on the device, so that their pass reads no corner at all outside the patch. The
-/// maps without the apex (quad, stacked and piecewise cones) gather the corners every pass
-/// for the apex and reuse them for the patch, and the relaxed cone's march tests the point's
-/// height from gathered corners every pass: both keep the gather
-/// (`docs/notes/safe-step.md`, rounds 10 and 11).
-pub fn cell_patch_read_with(cells: crate::spec::MapReq) -> bool {
-    matches!(cells, crate::spec::MapReq::CellCone | crate::spec::MapReq::CellConeNormal)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

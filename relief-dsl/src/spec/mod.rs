@@ -520,6 +520,18 @@ impl MapReq {
         self.is_cell() || self == MapReq::CellPatch
     }
 
+    /// Whether a safe cell march over this cell map reads its cells' patches from the patch
+    /// map ([`MapReq::CellPatch`]: one load at the cell map's coordinate) instead of gathering
+    /// the four corners: the cell cone and the cell cone normal, which carry their apex on the
+    /// device, so that their pass reads no corner at all outside the patch. The maps without
+    /// the apex (quad, stacked and piecewise cones) gather the corners every pass for the apex
+    /// and reuse them for the patch, and the relaxed cone's march tests the point's height
+    /// from gathered corners every pass: both keep the gather (`docs/notes/safe-step.md`,
+    /// rounds 10 and 11).
+    pub fn patches_read_with(self) -> bool {
+        matches!(self, MapReq::CellCone | MapReq::CellConeNormal)
+    }
+
     /// The map's texture name in the generated shader.
     pub fn texture_name(self) -> String {
         format!("{}_map", self.name())

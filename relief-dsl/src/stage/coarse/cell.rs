@@ -87,7 +87,7 @@ pub(super) struct Grid<'a> {
     cell_bias: Val<'a, Vec2>,
     /// Whether a cell's patch is read from the patch map (one load at the cell map's
     /// coordinate, [`Cell::patch`]) rather than gathered from the height map
-    /// ([`crate::abi::cell_patch_read_with`]).
+    /// ([`MapReq::patches_read_with`]).
     patches: bool,
 }
 
@@ -122,7 +122,7 @@ impl<'a> Grid<'a> {
             t_max: ray.t_max().named("t_max"),
             cell_scale: cell_scale.named("cell_scale"),
             cell_bias: (cell_scale * s.select(clamp, 1.5, 0.5)).named("cell_bias"),
-            patches: cells.is_some_and(crate::abi::cell_patch_read_with),
+            patches: cells.is_some_and(MapReq::patches_read_with),
         }
     }
 }
@@ -252,7 +252,7 @@ impl<'a> Cell<'a> {
     }
 
     /// The cell's patch: from the corners kept for the pass; else, where the march reads the
-    /// patch map ([`crate::abi::cell_patch_read_with`]), from the cell's entry there (one load
+    /// patch map ([`MapReq::patches_read_with`]), from the cell's entry there (one load
     /// at the cell map's coordinate, which the pass has already computed for the cone, in
     /// place of a gather and the corners' differences; `docs/notes/safe-step.md`, round 11);
     /// else from a gather in `s` at the cell's centre, not kept.

@@ -90,9 +90,9 @@ fn by_form(s: &StageSpec, textbook: MapReq, safe: MapReq) -> Vec<MapReq> {
 }
 
 /// A safe march's cell map, and the patch map where the march reads its cells' patches
-/// there ([`crate::abi::cell_patch_read_with`]).
+/// there ([`MapReq::patches_read_with`]).
 pub(super) fn with_patches(cells: MapReq) -> Vec<MapReq> {
-    if crate::abi::cell_patch_read_with(cells) {
+    if cells.patches_read_with() {
         vec![cells, MapReq::CellPatch]
     } else {
         vec![cells]
