@@ -33,10 +33,12 @@
 //! stopped in is solved once, after the loop ([`hit_in`]).
 //!
 //! A pass that leaves its cell by the cone step needs only the cone and `A_C`, which the cell
-//! map carries in one texel where they fit ([`crate::abi::cell_apex_on_device`]); the four
-//! corners are gathered only in a pass that meets the patch. So a pass costs one fetch, two
-//! where it meets a patch (a map without the apex gathers the corners every pass, as the
-//! patch's pass then reuses them).
+//! map carries in one texel where they fit ([`crate::abi::cell_apex_on_device`]); the patch
+//! is read only in a pass that meets it: one load from the patch map (`cell_patch`, the
+//! patch's coefficients per cell, [`MapReq::patches_read_with`]) for the cell cone and the
+//! cell cone normal, else a gather of the four corners. So a pass costs one fetch, two where
+//! it meets a patch (a map without the apex gathers the corners every pass, as the patch's
+//! pass then reuses them).
 
 use crate::ir::{FnBuilder, Image, Val, Var, Vec2, Vec3, Vec4};
 use crate::spec::MapReq;
@@ -258,12 +260,13 @@ impl<'a> Cell<'a> {
     /// else from a gather in `s` at the cell's centre, not kept.
     /// `after` names what is read for the solve after the loop (`hit_…`) rather than a pass.
     fn patch(&self, s: &'a FnBuilder<'a>, after: bool) -> Coeffs<'a> {
-        let centre = self.centre();
         let (patch, corners) = if after { ("hit_patch", "hit_corners") } else { ("patch", "corners") };
         match self.kept.get() {
             Some(c) => Coeffs::of_corners(c),
-            None if self.grid.patches => Coeffs::of_entry(s, self.entry(s, MapReq::CellPatch).named(patch), centre),
-            None => Coeffs::of_corners(s.height_gather(centre).named(corners)),
+            None if self.grid.patches => {
+                Coeffs::of_entry(s, self.entry(s, MapReq::CellPatch).named(patch), self.centre())
+            }
+            None => Coeffs::of_corners(s.height_gather(self.centre()).named(corners)),
         }
     }
 
