@@ -184,6 +184,46 @@ fn safe_conservative_methods_never_end_past_the_first_hit() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// The safe marches that read their cells' patches from the patch map (`cell_patch`: `csm`,
+/// `cns`, `csm_relax`) give, ray for ray, the hits they gave when they gathered the four
+/// corners (the module built with `compose::Options::cell_patch_gather`, the form before the
+/// patch map): t, u, v, z, steps, fetches and convergence bit for bit, on every probe of
+/// [`probes`] (boxes, white noise, rock_bump, one-texel walls, both edge modes, and the hard
+/// maps as a mip level the stages sample, where the patch map is an atlas of every level).
+#[test]
+fn the_patch_map_gives_the_gathered_patches_hits_bit_for_bit() {
+    let g = Gpu::new().unwrap();
+    let mut failures = vec![];
+    for probe in probes() {
+        for method in ["csm(24)", "cns(24)", "csm_relax(24)", "csm(4)"] {
+            let text = match probe.level {
+                Some(k) => format!("{method}+lod=level({k})"),
+                None => method.to_string(),
+            };
+            let p: relief_dsl::Pipeline = text.parse().unwrap();
+            assert!(p.required_maps().contains(&relief_dsl::spec::MapReq::CellPatch), "{text}");
+            let read = probe.run(&g, method);
+            let gathered = Program::with_patches_gathered(&p).unwrap();
+            assert!(!gathered.wgsl.contains("cell_patch"), "{text}: the gathering module reads the patch map");
+            let mut tex = SceneTextures::new(&g, &probe.scene);
+            tex.add_maps_lod(&g, &probe.scene, &p.required_maps(), p.lod).unwrap();
+            let want = gpu::probe(&g, &gathered, &probe.scene, &tex, &probe.rays).unwrap();
+            let differ: Vec<usize> =
+                (0..read.len()).filter(|&i| bytemuck::bytes_of(&read[i]) != bytemuck::bytes_of(&want[i])).collect();
+            eprintln!("{method} on {}: {} of {} rays differ", probe.label, differ.len(), read.len());
+            if read.len() != want.len() || !differ.is_empty() {
+                failures.push(format!(
+                    "{method} on {}: {} rays differ, e.g. {:?}",
+                    probe.label,
+                    differ.len(),
+                    differ.first().map(|&i| (read[i], want[i]))
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
 /// A clamp-edge comb: a low, slightly rough floor, and along all four borders one-texel-wide
 /// walls of height 0.95 on about a third of the border texels (runs of tall and low texels).
 /// Under clamp the surface beyond the map is the border's constant extension, so every tall

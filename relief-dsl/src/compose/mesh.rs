@@ -1416,7 +1416,7 @@ pub(crate) fn compose_mesh(
     check_mesh_options(p, curved)?;
     let m = ModuleCtx::new();
     let policy = MeshPolicy {
-        plain: Plain { lod: p.lod },
+        plain: Plain { lod: p.lod, gather_patches: false },
         quadric: curved == Curved::Quadric,
         lift: curved == Curved::Prism,
         untilted: curved == Curved::Prism && coarse_reads_maps(p),

@@ -338,6 +338,12 @@ pub struct Options {
     /// `chord_share`): the check that the walk meets what the unwalked draw meets. Ignored
     /// where the module does not walk.
     pub prism_walk_all_layers: bool,
+    /// The safe marches that read the patch map (`cell_patch`, `MapReq::patches_read_with`)
+    /// gather their cells' corners instead, as they did before the patch map: the check that
+    /// both give the same hits bit for bit (relief-runtime's `cones` tests). The pipeline's
+    /// `required_maps` still name the patch map; this module does not read it. Ignored for a
+    /// mesh module.
+    pub cell_patch_gather: bool,
 }
 
 /// Whether the hit's (u, v) lies outside the quad's square `[0, tiling]²` (`params.quad.x`
@@ -603,7 +609,7 @@ pub(crate) fn compose_module_with(p: &Pipeline, options: &Options) -> Result<(Mo
         return mesh::compose_mesh(p, curved, options.mesh_probe, options.prism_walk, !options.prism_walk_all_layers);
     }
     let m = ModuleCtx::new();
-    let policy = Plain { lod: p.lod };
+    let policy = Plain { lod: p.lod, gather_patches: options.cell_patch_gather };
     let plain = write_stage_fns(&m, p, &policy, false)?;
     let counted = write_stage_fns(&m, p, &policy, true)?;
     let lod = lod_level_fn(&m, &policy);

@@ -61,6 +61,13 @@ pub(crate) trait Policy {
     fn layer_share(&self) -> bool {
         false
     }
+    /// Whether the safe marches whose cell map carries its apex read their cells' patches
+    /// from the patch map (`MapReq::patches_read_with`); `false`: they gather the corners, the
+    /// form before the patch map (`compose::Options::cell_patch_gather`, for the check that
+    /// both give the same hits).
+    fn cell_patches(&self) -> bool {
+        true
+    }
 }
 
 /// Where a policy declares a texture: its name and binding in the module, and the room wall
@@ -81,11 +88,17 @@ pub(crate) struct TextureSite {
 pub(crate) struct Plain {
     /// The pipeline's `lod`.
     pub(crate) lod: Lod,
+    /// The safe marches gather their cells' corners instead of reading the patch map
+    /// ([`Policy::cell_patches`]).
+    pub(crate) gather_patches: bool,
 }
 
 impl Policy for Plain {
     fn lod(&self) -> Lod {
         self.lod
+    }
+    fn cell_patches(&self) -> bool {
+        !self.gather_patches
     }
 }
 
@@ -122,5 +135,8 @@ impl Policy for Counting<'_> {
     }
     fn layer_share(&self) -> bool {
         self.inner.layer_share()
+    }
+    fn cell_patches(&self) -> bool {
+        self.inner.cell_patches()
     }
 }

@@ -54,6 +54,14 @@ impl Program {
         Self::new_with(p, &relief_dsl::compose::Options::default())
     }
 
+    /// Compiles `p` with its safe marches gathering their cells' corners where they would
+    /// read the patch map (`compose::Options::cell_patch_gather`): the form before the patch
+    /// map, for the check that both give the same hits. Its [`Program::maps`] still name the
+    /// patch map (built, not bound).
+    pub fn with_patches_gathered(p: &relief_dsl::Pipeline) -> Result<Program, relief_dsl::CompileError> {
+        Self::new_with(p, &relief_dsl::compose::Options { cell_patch_gather: true, ..Default::default() })
+    }
+
     /// Compiles `p` with `options` (e.g. a fragment entry that writes depth).
     pub(crate) fn new_with(
         p: &relief_dsl::Pipeline,

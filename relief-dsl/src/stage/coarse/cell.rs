@@ -124,7 +124,7 @@ impl<'a> Grid<'a> {
             t_max: ray.t_max().named("t_max"),
             cell_scale: cell_scale.named("cell_scale"),
             cell_bias: (cell_scale * s.select(clamp, 1.5, 0.5)).named("cell_bias"),
-            patches: cells.is_some_and(MapReq::patches_read_with),
+            patches: cells.is_some_and(MapReq::patches_read_with) && s.policy().cell_patches(),
         }
     }
 }
