@@ -189,7 +189,9 @@ fn safe_conservative_methods_never_end_past_the_first_hit() {
 /// corners (the module built with `compose::Options::cell_patch_gather`, the form before the
 /// patch map): t, u, v, z, steps, fetches and convergence bit for bit, on every probe of
 /// [`probes`] (boxes, white noise, rock_bump, one-texel walls, both edge modes, and the hard
-/// maps as a mip level the stages sample, where the patch map is an atlas of every level).
+/// maps as a mip level the stages sample, where the patch map is an atlas of every level),
+/// and with the heights stored as f16 (the patch map is built from the heights the device
+/// holds, which the gather reads).
 #[test]
 fn the_patch_map_gives_the_gathered_patches_hits_bit_for_bit() {
     let g = Gpu::new().unwrap();
@@ -221,6 +223,31 @@ fn the_patch_map_gives_the_gathered_patches_hits_bit_for_bit() {
             }
         }
     }
+    // Heights stored as f16 (a device whose 32-bit float textures cannot be filtered): the
+    // gather reads the rounded heights, so the patch map must be built from them too.
+    let mut half = Gpu::new().unwrap();
+    half.float32_filterable = false;
+    // Probes whose heights f16 rounds (the walls' 0 and 1 are exact in f16).
+    let mut rounded = 0;
+    for probe in probes().into_iter().filter(|p| p.level.is_none()) {
+        let p: relief_dsl::Pipeline = "csm(24)".parse().unwrap();
+        let tex = |g: &Gpu| {
+            let mut tex = SceneTextures::new(g, &probe.scene);
+            tex.add_maps(g, &probe.scene, &p.required_maps()).unwrap();
+            tex
+        };
+        let t = tex(&half);
+        rounded += usize::from(t.heights_on_device != probe.scene.height.data);
+        let read = gpu::probe(&half, &Program::new(&p).unwrap(), &probe.scene, &t, &probe.rays).unwrap();
+        let want =
+            gpu::probe(&half, &Program::with_patches_gathered(&p).unwrap(), &probe.scene, &t, &probe.rays).unwrap();
+        let differ = (0..read.len()).filter(|&i| bytemuck::bytes_of(&read[i]) != bytemuck::bytes_of(&want[i])).count();
+        eprintln!("csm(24) on {} with f16 heights: {differ} of {} rays differ", probe.label, read.len());
+        if differ > 0 {
+            failures.push(format!("csm(24) on {} with f16 heights: {differ} rays differ", probe.label));
+        }
+    }
+    assert!(rounded >= 4, "only {rounded} probes have heights that f16 rounds");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 

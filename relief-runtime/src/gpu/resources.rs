@@ -284,8 +284,10 @@ impl SceneTextures {
                     upload_layers(gpu, &pyramids)
                 } else if kind.per_cell() {
                     // Cell maps and the patch map: every level's cells in one atlas (see
-                    // `maps::cell::level_atlas`).
-                    let atlas = crate::maps::cell::level_atlas(&chain, kind, &params, scene.edge)?;
+                    // `maps::cell::level_atlas`); the patch map from the chain as the device
+                    // stores it ([`SceneTextures::patch_heights`]).
+                    let chain = if kind == MapKind::CellPatch { &self.height_levels } else { &chain };
+                    let atlas = crate::maps::cell::level_atlas(chain, kind, &params, scene.edge)?;
                     let used = if kind.is_cell() { cell_channels_uploaded(atlas.channels) } else { atlas.channels };
                     upload_map(gpu, &atlas, used, kind.is_ratio())
                 } else {
@@ -312,10 +314,23 @@ impl SceneTextures {
             if self.maps.contains_key(&key) {
                 continue;
             }
-            let view = texture(gpu, "map", &map_upload_of(scene, key)?);
-            self.maps.insert(key, view);
+            let upload = if kind == MapKind::CellPatch {
+                let map = crate::maps::build(self.patch_heights(), kind, &params, scene.edge)?;
+                upload_of_map(&map, kind)?
+            } else {
+                map_upload_of(scene, key)?
+            };
+            self.maps.insert(key, texture(gpu, "map", &upload));
         }
         Ok(())
+    }
+
+    /// The heights the patch map (`cell_patch`) is built from: level 0 as the device stores it
+    /// (f32, or rounded to f16 where 32-bit float textures cannot be filtered), the heights a
+    /// gather would read, so that a patch read from the map is the gathered one bit for bit in
+    /// either case. (The cone maps are built from the scene's f32 heights.)
+    fn patch_heights(&self) -> &crate::heightmap::HeightMap {
+        &self.height_levels[0]
     }
 
     /// The uploaded map of `req` (with its per-level chain when `levels`).
