@@ -231,12 +231,8 @@ fn the_patch_map_gives_the_gathered_patches_hits_bit_for_bit() {
     let mut rounded = 0;
     for probe in probes().into_iter().filter(|p| p.level.is_none()) {
         let p: relief_dsl::Pipeline = "csm(24)".parse().unwrap();
-        let tex = |g: &Gpu| {
-            let mut tex = SceneTextures::new(g, &probe.scene);
-            tex.add_maps(g, &probe.scene, &p.required_maps()).unwrap();
-            tex
-        };
-        let t = tex(&half);
+        let mut t = SceneTextures::new(&half, &probe.scene);
+        t.add_maps(&half, &probe.scene, &p.required_maps()).unwrap();
         rounded += usize::from(t.heights_on_device != probe.scene.height.data);
         let read = gpu::probe(&half, &Program::new(&p).unwrap(), &probe.scene, &t, &probe.rays).unwrap();
         let want =

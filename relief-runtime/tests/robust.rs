@@ -137,7 +137,8 @@ impl Rng {
 /// The fuzz-and-fault test, bounded in count (a fixed list and a fixed number of
 /// seeded mutations) and in time (each command killed after 20 s, which counts as a hang):
 /// malformed pipelines and parameters, bad numbers for every numeric flag, FIFOs and
-/// folders given as inputs, damaged mesh files and mesh scenes (`relief scene check`, `relief
+/// folders given as inputs, the patch map (`relief maps --kind cell_patch`) from a folder and in
+/// encodings that would round it, damaged mesh files and mesh scenes (`relief scene check`, `relief
 /// sweep --grid meshes`, `relief export`, `relief scene measure --causes`), `relief stability`'s mesh
 /// names, corrupted results rows under `relief report`, and
 /// an older relief's damaged room rows under `relief report` and `relief sweep --grid rooms`. Every command must
@@ -268,6 +269,17 @@ fn fuzzed_and_faulty_inputs_never_hang_panic_or_give_an_error_of_two_lines() {
         a.push(input.into());
         a.extend(os(&["--error", "1e-2", "--size", "8"]));
         add(format!("tune {}", input.display()), a);
+    }
+    // The patch map: from a folder, and asked for in an encoding that would round it.
+    let mut a = os(&["maps"]);
+    a.push(folder.clone().into());
+    a.extend(os(&["--kind", "cell_patch", "--out"]));
+    a.push(d.join("p.npy").into());
+    add("maps --kind cell_patch (a folder)".into(), a);
+    for (enc, ext) in [("f16", "ktx2"), ("unorm8", "npy"), ("unorm16", "png"), ("nosuch", "npy")] {
+        let mut a = os(&["maps", "scene:step", "--kind", "cell_patch", "--encoding", enc, "--out"]);
+        a.push(d.join(format!("p.{ext}")).into());
+        add(format!("maps --kind cell_patch --encoding {enc} .{ext}"), a);
     }
     for g in [&fifo_grid, &folder] {
         let mut a = os(&["sweep", "--grid"]);

@@ -307,8 +307,8 @@ impl<'a> FnBuilder<'a> {
         }
     }
 
-    /// A height of the height map read from elsewhere (the `h00` of a cell's patch in the
-    /// patch map, [`MapReq::CellPatch`]), raised as [`FnBuilder::height_gather`] raises the
+    /// A height of the height map raised as every read of it is (the `h00` of a cell's patch
+    /// in the patch map, [`MapReq::CellPatch`], or a bilinear sample), as [`FnBuilder::height_gather`] raises the
     /// four corners it gathers at `uv`: by the quadric, then by the prism's lift, both taken
     /// at `uv` for all four corners. So a patch read from the patch map is the gathered one
     /// raised by one constant, which leaves its differences unchanged (and, without a
@@ -442,14 +442,7 @@ impl<'a> FnBuilder<'a> {
     /// GETHEIGHT of the algorithm boxes: the height map at `uv`, bilinear.
     pub fn height(&'a self, uv: Val<'a, Vec2>) -> Val<'a, f32> {
         let h = self.sample(Image::Height, uv, Filter::Linear).x();
-        let h = match self.quadric_at(uv) {
-            Some(q) => h + q,
-            None => h,
-        };
-        match self.lift(uv) {
-            Some(l) => h + l,
-            None => h,
-        }
+        self.height_raised_at(h, uv)
     }
 
     /// The member `p` of the `Params` uniform block ([`crate::abi::Params`]).

@@ -83,7 +83,7 @@ pub(super) struct Grid<'a> {
     pub horiz: Val<'a, f32>,
     /// The t at which the ray reaches the floor ([`Ray::t_max`]).
     pub t_max: Val<'a, f32>,
-    /// A cell's texture coordinate in a cell map is `cell·cell_scale + cell_bias` ([`Cell::cones`]).
+    /// A cell's texture coordinate in a cell map is `cell·cell_scale + cell_bias` ([`Cell::entry`]).
     cell_scale: Val<'a, Vec2>,
     /// See `cell_scale`.
     cell_bias: Val<'a, Vec2>,
@@ -98,7 +98,7 @@ impl<'a> Grid<'a> {
     /// `cells` the cell map the march reads, if any.
     ///
     /// The cell map's entry coordinate is scaled by its own size, queried here: N cells per
-    /// axis under repeat, N + 1 under clamp (see [`Cell::cones`]). Querying the map before
+    /// axis under repeat, N + 1 under clamp (see [`Cell::entry`]). Querying the map before
     /// the loop also loads its descriptor there, where AMD's compiler then reuses it in every
     /// pass instead of loading it again in each (`docs/notes/safe-step.md`, round 8).
     pub(super) fn of(s: &'a FnBuilder<'a>, ray: &Ray<'a>, cells: Option<MapReq>) -> Grid<'a> {
@@ -197,12 +197,7 @@ impl<'a> Cell<'a> {
     /// edge mode: it wraps the cell (repeat) or clamps it to the border strips (clamp) with no
     /// arithmetic in the shader. Under a `lod` the maps of all levels share one atlas, which
     /// no address mode wraps, so the entry's index is computed and loaded ([`Cell::index`]).
-    fn cones(&self, s: &'a FnBuilder<'a>, map: MapReq) -> Val<'a, Vec4> {
-        self.entry(s, map)
-    }
-
-    /// The cell's entry in a map on the cell grid (a cell map or the patch map), as
-    /// [`Cell::cones`] reads it.
+    /// The same for the patch map, which lies on the cell maps' grid.
     fn entry(&self, s: &'a FnBuilder<'a>, map: MapReq) -> Val<'a, Vec4> {
         match s.sample_level() {
             None => s.sample(Image::of(map), self.cell * self.grid.cell_scale + self.grid.cell_bias, Filter::Nearest),
@@ -211,7 +206,7 @@ impl<'a> Cell<'a> {
     }
 
     /// Where the cell's entry is stored in a cell map (whole texel coordinates): the cell
-    /// wrapped (repeat) or shifted by the border strip and clamped (clamp), see [`Cell::cones`].
+    /// wrapped (repeat) or shifted by the border strip and clamped (clamp), see [`Cell::entry`].
     fn index(&self, s: &'a FnBuilder<'a>) -> Val<'a, Vec2> {
         let (g, cell) = (&self.grid, self.cell);
         let wrapped = cell - g.size * (cell * g.inv_size).floor();
@@ -223,7 +218,7 @@ impl<'a> Cell<'a> {
     /// map carries it on the device, else the highest of the corners, gathered and kept for
     /// the pass (call in the pass's own block).
     pub(super) fn cones_and_apex(&self, s: &'a FnBuilder<'a>, map: MapReq) -> (Val<'a, Vec4>, Val<'a, f32>) {
-        let texel = self.cones(s, map);
+        let texel = self.entry(s, map);
         let n = map.channels();
         let apex = if crate::abi::cell_apex_on_device(n) {
             // A height of the unlifted field: raised as the gathered corners are.
