@@ -437,6 +437,41 @@ fn cell_quad_and_normal_match_brute_force_bit_for_bit() {
     }
 }
 
+/// The quad cone map as the GPU reads it (`maps::build` of the kind `cell_quad_cone`): cell
+/// `(i, j)` is the 2 × 2 texels `(2i + qx, 2j + qy)`, each `[ratio, apex]`, the ratio that of
+/// the quadrant a ray moving toward `+u` (`qx` = 1) or `−u` (`qx` = 0) and toward `+v`
+/// (`qy` = 1) or `−v` (`qy` = 0) heads into, against the brute-force quad cones (channels
+/// `+u+v, −u+v, −u−v, +u−v`, then the apex), bit for bit; the quadrant's channel written here
+/// from that order, not taken from the map's code.
+#[test]
+fn the_quad_cone_map_holds_each_quadrant_in_its_own_texel() {
+    let channel = |qx: usize, qy: usize| match (qx, qy) {
+        (1, 1) => 0,
+        (0, 1) => 1,
+        (0, 0) => 2,
+        _ => 3,
+    };
+    for (w, h) in [(8, 8), (5, 7)] {
+        for (name, m) in suite(w, h) {
+            for edge in EDGES {
+                let (cw, ch) = (cells(w, edge), cells(h, edge));
+                let want = brute_quad(&m, edge);
+                let map = maps::build(&m, MapKind::CellQuadCone, &MapParams::default(), edge).unwrap();
+                assert_eq!((map.width, map.height, map.channels), (2 * cw, 2 * ch, 2), "{name} {w}x{h} {edge:?}");
+                for (j, i, qx, qy) in
+                    (0..ch).flat_map(|j| (0..cw).flat_map(move |i| (0..4).map(move |q| (j, i, q % 2, q / 2))))
+                {
+                    let c = j * cw + i;
+                    let t = ((2 * j + qy) * 2 * cw + 2 * i + qx) * 2;
+                    let got = [map.data[t].to_bits(), map.data[t + 1].to_bits()];
+                    let expect = [want[5 * c + channel(qx, qy)].to_bits(), want[5 * c + 4].to_bits()];
+                    assert_eq!(got, expect, "{name} {w}x{h} {edge:?}: cell ({i}, {j}), qx {qx}, qy {qy}");
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn cell_multi_and_piecewise_match_brute_force_bit_for_bit() {
     for (w, h) in [(16, 16), (24, 20)] {
@@ -802,7 +837,13 @@ fn cell_kinds_build_list_and_round_safely() {
         for edge in EDGES {
             let g = CellGrid::new(16, 12, edge);
             let map = maps::build(&m, kind, &p, edge).unwrap();
-            assert_eq!((map.width, map.height, map.channels), (g.cw, g.ch, kind.channels(&p)), "{kind} {edge:?}");
+            // The quad cone map stores a cell as 2 × 2 texels (see the test below).
+            let k = if kind == MapKind::CellQuadCone { 2 } else { 1 };
+            assert_eq!(
+                (map.width, map.height, map.channels),
+                (k * g.cw, k * g.ch, kind.channels(&p)),
+                "{kind} {edge:?}"
+            );
             for (format, sqrt) in [
                 (Format::F16, false),
                 (Format::F16, true),

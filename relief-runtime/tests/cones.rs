@@ -185,7 +185,7 @@ fn safe_conservative_methods_never_end_past_the_first_hit() {
 }
 
 /// The safe marches that read their cells' patches from the patch map (`cell_patch`: `csm`,
-/// `cns`, `csm_relax`) give, ray for ray, the hits they gave when they gathered the four
+/// `cns`, `csm_relax`, `qcsm`) give, ray for ray, the hits they gave when they gathered the four
 /// corners (the module built with `compose::Options::cell_patch_gather`, the form before the
 /// patch map): t, u, v, z, steps, fetches and convergence bit for bit, on every probe of
 /// [`probes`] (boxes, white noise, rock_bump, one-texel walls, both edge modes, and the hard
@@ -197,7 +197,7 @@ fn the_patch_map_gives_the_gathered_patches_hits_bit_for_bit() {
     let g = Gpu::new().unwrap();
     let mut failures = vec![];
     for probe in probes() {
-        for method in ["csm(24)", "cns(24)", "csm_relax(24)", "csm(4)"] {
+        for method in ["csm(24)", "cns(24)", "csm_relax(24)", "csm(4)", "qcsm(24)"] {
             let text = match probe.level {
                 Some(k) => format!("{method}+lod=level({k})"),
                 None => method.to_string(),
@@ -300,6 +300,84 @@ fn border_rays(n: usize, texels: usize, depth: f32, seed: u64) -> Vec<ProbeRay> 
             ProbeRay { origin, dir: [reach * dir[0], reach * dir[1], -1.0], x: i as u32, y: 0, pixel_size: 0.0 }
         })
         .collect()
+}
+
+/// A clamp-edge map whose border is low and flat and whose one-texel pillars of height 0.95
+/// stand one to three texels inside each edge: beyond an edge the clamped surface is the low
+/// border's extension, so from there a cone that looks only outward (away from the map) meets
+/// nothing, and the cone that looks inward meets the pillars.
+fn inner_pillars(n: usize, seed: u64) -> HeightMap {
+    let mut next = lcg(seed);
+    HeightMap::from_fn(n, n, |x, y| {
+        let d = x.min(y).min(n - 1 - x).min(n - 1 - y);
+        if (1..=3).contains(&d) && (x + 2 * y) % 3 == 0 {
+            0.95
+        } else {
+            0.05 * next()
+        }
+    })
+}
+
+/// Rays that enter the map from outside: origins half a texel to four texels beyond one of the
+/// four edges, 60° to 85° from the normal, heading inward (at least 30% of the horizontal
+/// speed across the edge) with any share along it.
+fn inbound_rays(n: usize, texels: usize, depth: f32, seed: u64) -> Vec<ProbeRay> {
+    let mut next = lcg(seed);
+    let texel = 1.0 / texels as f32;
+    (0..n)
+        .map(|i| {
+            let edge = (4.0 * next()) as usize % 4;
+            let (along, beyond) = (next(), texel * (0.5 + 3.5 * next()));
+            let theta = (60.0 + 25.0 * next()).to_radians();
+            let reach = theta.tan() * depth;
+            let inward = 0.3 + 0.7 * next();
+            let sign = if next() < 0.5 { -1.0 } else { 1.0 };
+            let (a, o) = (sign * (1.0 - inward * inward).sqrt(), inward);
+            let (origin, dir) = match edge {
+                0 => ([-beyond, along], [o, a]),
+                1 => ([1.0 + beyond, along], [-o, a]),
+                2 => ([along, -beyond], [a, o]),
+                _ => ([along, 1.0 + beyond], [a, -o]),
+            };
+            ProbeRay { origin, dir: [reach * dir[0], reach * dir[1], -1.0], x: i as u32, y: 0, pixel_size: 0.0 }
+        })
+        .collect()
+}
+
+/// Rays entering a clamp-mode map from outside toward pillars just inside its edges. A point
+/// beyond the last cell reads the border strip's entry; the quad cone map keeps a cell's four
+/// quadrants side by side (2 × 2 texels), so there the march must clamp the cell before
+/// addressing its quadrant's texel: left to the sampler's clamp, a ray heading back into the
+/// map read the edge texel, the outward quadrant's cone, which sees no pillar.
+#[test]
+fn safe_methods_never_end_past_the_first_hit_entering_a_clamped_map() {
+    let g = Gpu::new().unwrap();
+    let texels = 32;
+    let mut probe = Probe::new("inner pillars", inner_pillars(texels, 17), EdgeMode::Clamp, 19);
+    probe.rays = inbound_rays(4096, texels, probe.scene.depth_scale, 23);
+    probe.refs = reference_hits(&probe.scene, &probe.rays, Sampling::Bilinear).unwrap();
+    // The case is the one meant: at least one ray in eight first meets a pillar, inside the map.
+    let on_pillars = probe
+        .refs
+        .iter()
+        .flatten()
+        .filter(|r| r.z > 0.5 && (0.0..=1.0).contains(&r.u) && (0.0..=1.0).contains(&r.v))
+        .count();
+    assert!(on_pillars * 8 > probe.rays.len(), "only {on_pillars} rays first meet a pillar");
+    let mut failures = vec![];
+    for method in ["csm(24)", "qcsm(24)", "cns(24)", "mcns(24, 3)", "pcns(24, 3)", "csm_relax(24)"] {
+        let hits = probe.run(&g, method);
+        let past = probe.past(&hits, |_| T_SLACK);
+        eprintln!("{method} on {}: {} of {} past the first hit", probe.label, past.len(), hits.len());
+        if !past.is_empty() {
+            failures.push(format!(
+                "{method}: {} rays end past the first hit, e.g. {:?}",
+                past.len(),
+                &past[..past.len().min(3)]
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 #[test]

@@ -464,7 +464,12 @@ fn build_dispatches_every_kind() {
     for kind in MapKind::ALL {
         let map = maps::build(&m, kind, &p, EdgeMode::Clamp).unwrap();
         assert_eq!(map.channels, kind.channels(&p), "{kind}");
-        let cells = if kind.per_cell() { 17 * 17 } else { 16 * 16 };
+        // Per cell: 17 × 17 cells under clamp, the quad cone map's 2 × 2 texels a cell.
+        let cells = match kind {
+            MapKind::CellQuadCone => 34 * 34,
+            _ if kind.per_cell() => 17 * 17,
+            _ => 16 * 16,
+        };
         assert_eq!((map.data.len(), map.width * map.height), (cells * map.depth * map.channels, cells), "{kind}");
         assert_eq!(kind.name().parse::<MapKind>().unwrap(), kind);
         // `relief maps --list` states the same count in words ("1 channel", "K+1 channels").

@@ -192,7 +192,7 @@ pub const LEVEL_ZERO: &str = " at level 0 only (one level suffices)";
 pub const LEVELS_CHAIN: &str = " at every level of its mip chain (upload all levels)";
 
 /// The description of a texture the library's functions only ask the size of (no texel is
-/// read: the height map of the safe `csm`, `cns` and `csm_relax`, whose cells' patches come
+/// read: the height map of the safe `csm`, `cns`, `csm_relax` and `qcsm`, whose cells' patches come
 /// from the patch map): its size sets the cell grid.
 pub const SIZE_ONLY: &str = ", only its size read (textureDimensions at level 0; no texel)";
 

@@ -350,7 +350,10 @@ pub enum MapReq {
     /// Per bilinear cell: the conservative cone ratio (the apex, the cell's highest corner,
     /// is read from the height map).
     CellCone,
-    /// Per bilinear cell: four quadrant cone ratios, channels `+u+v, -u+v, -u-v, +u-v`.
+    /// Per bilinear cell: four quadrant cone ratios, each with the cell's apex, one texel per
+    /// quadrant of the ray's direction: the cell `(i, j)` is the 2 × 2 texels `(2i + qx,
+    /// 2j + qy)`, `qx` = 1 for a ray moving toward +u (0 toward −u), `qy` likewise for v,
+    /// each `[ratio, apex]` ([`MapReq::cell_texels`]).
     CellQuadCone,
     /// Per bilinear cell: the relaxed cone ratio.
     CellRelaxedCone,
@@ -457,8 +460,7 @@ impl MapReq {
             | MapReq::DistanceField => 1,
             MapReq::QuadCone => 4,
             MapReq::MultiCone(k) | MapReq::PiecewiseCone(k) => k as usize,
-            MapReq::CellCone | MapReq::CellRelaxedCone | MapReq::CellConeNormal => 2,
-            MapReq::CellQuadCone => 5,
+            MapReq::CellCone | MapReq::CellRelaxedCone | MapReq::CellConeNormal | MapReq::CellQuadCone => 2,
             MapReq::CellPatch => 4,
             MapReq::CellMultiCone(k) | MapReq::CellPiecewiseCone(k) => k as usize + 1,
         }
@@ -521,15 +523,27 @@ impl MapReq {
     }
 
     /// Whether a safe cell march over this cell map reads its cells' patches from the patch
-    /// map ([`MapReq::CellPatch`]: one load at the cell map's coordinate) instead of gathering
-    /// the four corners: the cell cone and the cell cone normal, which carry their apex on the
-    /// device, so that their pass reads no corner at all outside the patch. The maps without
-    /// the apex (quad, stacked and piecewise cones) gather the corners every pass for the apex
-    /// and reuse them for the patch, and the relaxed cone's march tests the point's height
-    /// from gathered corners every pass: both keep the gather (`docs/notes/safe-step.md`,
-    /// rounds 10 and 11).
+    /// map ([`MapReq::CellPatch`]: one load at the cell's coordinate) instead of gathering
+    /// the four corners: the cell cone, the cell cone normal and the quad cone map, which
+    /// carry their apex on the device, so that their pass reads no corner at all outside the
+    /// patch. The maps without the apex (stacked and piecewise cones) gather the corners every
+    /// pass for the apex and reuse them for the patch, and the relaxed cone's march tests the
+    /// point's height from gathered corners every pass: both keep the gather
+    /// (`docs/notes/safe-step.md`, rounds 10 to 12).
     pub fn patches_read_with(self) -> bool {
-        matches!(self, MapReq::CellCone | MapReq::CellConeNormal)
+        matches!(self, MapReq::CellCone | MapReq::CellConeNormal | MapReq::CellQuadCone)
+    }
+
+    /// Texels per cell along each axis of a per-cell map ([`MapReq::per_cell`]): 2 for the
+    /// quad cone map, whose cell is 2 × 2 texels, one per quadrant of the ray's direction, so
+    /// that a pass reads its quadrant's ratio and the apex in one texel (a ray moves toward
+    /// one quadrant all its way: the texel is picked by a per-ray offset); 1 for the others.
+    pub fn cell_texels(self) -> usize {
+        if self == MapReq::CellQuadCone {
+            2
+        } else {
+            1
+        }
     }
 
     /// The map's texture name in the generated shader.

@@ -405,20 +405,32 @@ impl<'a> FnBuilder<'a> {
     /// under clamp, see `stage::coarse::cell`). Every level of the chain is half the one
     /// before (the chain stops before an odd side), so the rows above level k number
     /// `Σ_{j<k} h_j = 2·h_0 − 2·h_k`, plus k under clamp: the cell's row is offset by that.
-    pub fn cell_map_texel(&'a self, map: MapReq, index: Val<'a, Vec2>) -> Val<'a, Vec4> {
+    ///
+    /// A map of 2 × 2 texels a cell ([`MapReq::cell_texels`], the quad cone map) is read at
+    /// `2·(cell's texel) + quadrant`, its atlas stacked the same way in its own texels.
+    pub fn cell_map_texel(
+        &'a self,
+        map: MapReq,
+        index: Val<'a, Vec2>,
+        quadrant: Option<Val<'a, Vec2>>,
+    ) -> Val<'a, Vec4> {
         let tex = texture_2d(self, Image::of(map), Filter::Linear);
         if self.counting() {
             self.count(crate::ir::counter::FETCHES);
         }
-        let coords = match self.sample_level() {
-            None => index.to_u32(),
+        let cell = match self.sample_level() {
+            None => index,
             Some(l) => {
                 let hk = self.level_size(Image::Height, l).y();
                 let h0 = hk * l.exp2();
                 let borders = self.select(self.edge_is_clamp(), l, self.lit(0.0));
                 let rows = h0 * 2.0 - hk * 2.0 + borders;
-                self.vec2(index.x(), index.y() + rows).to_u32()
+                self.vec2(index.x(), index.y() + rows)
             }
+        };
+        let coords = match quadrant {
+            None => cell.to_u32(),
+            Some(q) => cell.mul_add(2.0, q).to_u32(),
         };
         let image = self.expr(Expression::GlobalVariable(tex));
         let level = self.lit_u32(0);

@@ -55,7 +55,8 @@ pub enum MapKind {
     DistanceField,
     /// `cell_cone`: per bilinear cell `[ratio, apex]` (2 channels, cell grid), [`cell::cone`].
     CellCone,
-    /// `cell_quad_cone`: per cell 4 quadrant ratios + apex (5 channels), [`cell::cone`].
+    /// `cell_quad_cone`: per cell 4 quadrant ratios, each with the apex (2 × 2 texels of 2
+    /// channels a cell), [`cell::cone`].
     CellQuadCone,
     /// `cell_relaxed_cone`: per cell `[relaxed ratio, apex]` (2 channels), [`cell::relaxed_cone`].
     CellRelaxedCone,
@@ -155,12 +156,12 @@ impl MapKind {
             MapKind::MaxMip => "maximum-height pyramid over bilinear cells (Tevs et al. 2008); 1 channel + mip levels",
             MapKind::DistanceField => "3D distance lower bound to the bilinear surface, safe under trilinear filtering (Donnelly 2005); width x height x z_resolution; param z_resolution",
             MapKind::CellCone => "cone per bilinear cell, conservative for the bilinear surface; cell grid (w x h repeat, (w+1) x (h+1) clamp); 2 channels: ratio, apex",
-            MapKind::CellQuadCone => "quad-directional cone per bilinear cell; 5 channels: ratios +u+v, -u+v, -u-v, +u-v, apex",
+            MapKind::CellQuadCone => "quad-directional cone per bilinear cell, 2x2 texels a cell (2i+qx, 2j+qy; qx = 1 for a ray toward +u, qy = 1 toward +v); 2 channels: the quadrant's ratio, apex",
             MapKind::CellRelaxedCone => "relaxed cone per bilinear cell (at most one crossing inside the cone, proven rule); 2 channels: ratio, apex",
             MapKind::CellConeNormal => "n_z of the cell cone (Burger 2018 §3.1) per bilinear cell; 2 channels: n_z, apex",
             MapKind::CellMultiCone => "K stacked cell cones at apex + (1-apex) k/K as n_z (Burger 2018 §3.4 method 1); K+1 channels: n_z x K, apex; param cones=K",
             MapKind::CellPiecewiseCone => "K piecewise cell-cone slopes as n_z (Burger 2018 §3.4 method 2); K+1 channels: n_z x K, apex; param cones=K",
-            MapKind::CellPatch => "bilinear patch coefficients per cell, in the shader's own order, read by the safe csm, cns and csm_relax in place of a gather; cell grid; 4 channels: h00, h10-h00, h01-h00, (h11-h10)-(h01-h00); f32 only",
+            MapKind::CellPatch => "bilinear patch coefficients per cell, in the shader's own order, read by the safe csm, cns, csm_relax and qcsm in place of a gather; cell grid; 4 channels: h00, h10-h00, h01-h00, (h11-h10)-(h01-h00); f32 only",
         }
     }
 
@@ -440,7 +441,11 @@ pub fn build(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode) 
             }
         }
         MapKind::CellCone => cells(cell::cone::cell_cone(hm, edge)),
-        MapKind::CellQuadCone => cells(cell::cone::cell_quad_cone(hm, edge)),
+        MapKind::CellQuadCone => {
+            let g = cell::CellGrid::new(w, h, edge);
+            let texels = cell::cone::quadrant_texels(&cell::cone::cell_quad_cone(hm, edge), g.cw, g.ch);
+            Map::new_2d(2 * g.cw, 2 * g.ch, n, texels)
+        }
         MapKind::CellRelaxedCone => cells(cell::relaxed_cone::cell_relaxed_cone(hm, edge)),
         MapKind::CellConeNormal => cells(cell::cone::cell_cone_normal(hm, edge)),
         MapKind::CellMultiCone => cells(cell::multi_cone::cell_multi_cone(hm, edge, k)),
@@ -493,6 +498,11 @@ pub fn kind_rounding(map: &Map, kind: MapKind) -> Vec<Rounding> {
     r
 }
 
+/// The maps' stored layout, in the on-disk cache's file names ([`CacheKey::file_stem`]):
+/// raised whenever a kind's values or texel layout change. 2: `cell_quad_cone` as 2 × 2
+/// texels of `[ratio, apex]` a cell (it was one texel of 5 channels).
+const MAPS_LAYOUT: u32 = 2;
+
 /// What identifies a built map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub(crate) struct CacheKey {
@@ -521,10 +531,11 @@ impl CacheKey {
         CacheKey { content: hm.content_hash(), kind, params: params.relevant(kind), edge, encoding: *encoding }
     }
 
-    /// A file name that identifies the key (for the on-disk cache).
+    /// A file name that identifies the key (for the on-disk cache), with the maps' layout
+    /// ([`MAPS_LAYOUT`]), so that a map a former layout stored is built again, not read.
     pub(crate) fn file_stem(&self) -> String {
         let mut f = crate::heightmap::Fnv::new();
-        f.write(format!("{:?}", (self.kind, self.params, self.edge, self.encoding)).as_bytes());
+        f.write(format!("{:?}", (MAPS_LAYOUT, self.kind, self.params, self.edge, self.encoding)).as_bytes());
         format!("{:016x}-{}-{:016x}", self.content, self.kind.name(), f.finish())
     }
 }
@@ -600,7 +611,7 @@ impl MapCache {
             MapKind::DistanceField => (*hdr.shape.first()?, *hdr.shape.get(1)?, *hdr.shape.get(2)?, 1),
             _ => (1, *hdr.shape.first()?, *hdr.shape.get(1)?, *hdr.shape.get(2).unwrap_or(&1)),
         };
-        if w * h * depth * c != n {
+        if w * h * depth * c != n || c != key.kind.channels(&key.params) {
             return None;
         }
         let map = Map { width: w, height: h, depth, channels: c, data, mips: Vec::new() };

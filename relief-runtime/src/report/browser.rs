@@ -18,7 +18,7 @@
 //!   level 0 (`distanceField` in `web/live.js`, the generator's f64 operations in its order,
 //!   rounded down to f32: the runtime's values bit for bit), when a pipeline that reads it is
 //!   first drawn or probed;
-//! - no patch map (`cell_patch`, read by the safe `csm`, `cns`, `csm_relax`): computed in the
+//! - no patch map (`cell_patch`, read by the safe `csm`, `cns`, `csm_relax`, `qcsm`): computed in the
 //!   page the same way (`cellPatch`: per cell the f32 differences of the corners, in the
 //!   generator's order, bit for bit), 4 floats a cell that would be a scene's largest file;
 //! - no probe rays: the manifest gives what [`Scene::rays`] computes them from ([`rays_from`])

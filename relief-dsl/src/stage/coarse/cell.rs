@@ -87,6 +87,9 @@ pub(super) struct Grid<'a> {
     cell_scale: Val<'a, Vec2>,
     /// See `cell_scale`.
     cell_bias: Val<'a, Vec2>,
+    /// Where the march reads a map of 2 × 2 texels a cell (the quad cone map,
+    /// [`MapReq::cell_texels`]): the texel of the ray's quadrant, see [`Quadrant`].
+    quadrant: Option<Quadrant<'a>>,
     /// Whether a cell's patch is read from the patch map (one load at the cell map's
     /// coordinate, [`Cell::patch`]) rather than gathered from the height map
     /// ([`MapReq::patches_read_with`]).
@@ -105,12 +108,17 @@ impl<'a> Grid<'a> {
         let size = s.height_map_size().named("size");
         let speed = (ray.dir.xy() * size).named("speed");
         let clamp = s.edge_is_clamp();
+        // A map of 2 × 2 texels a cell read at level 0 (under a `lod` its texel is loaded by
+        // index, [`Cell::entry`]).
+        let quadrants = cells.filter(|m| m.cell_texels() == 2 && s.sample_level().is_none());
+        // Cells stored per axis.
         let stored = match (cells, s.sample_level()) {
+            (Some(map), None) if quadrants.is_some() => s.image_size(Image::of(map), Filter::Nearest) * 0.5,
             (Some(map), None) => s.image_size(Image::of(map), Filter::Nearest),
             _ => size + s.select(clamp, 1.0, 0.0),
         };
         let cell_scale = 1.0 / stored;
-        Grid {
+        let mut g = Grid {
             size,
             inv_size: (1.0 / size).named("inv_size"),
             x0: (ray.origin * size - 0.5).named("x0"),
@@ -124,7 +132,53 @@ impl<'a> Grid<'a> {
             t_max: ray.t_max().named("t_max"),
             cell_scale: cell_scale.named("cell_scale"),
             cell_bias: (cell_scale * s.select(clamp, 1.5, 0.5)).named("cell_bias"),
+            quadrant: None,
             patches: cells.is_some_and(MapReq::patches_read_with) && s.policy().cell_patches(),
+        };
+        g.quadrant = quadrants.map(|_| Quadrant::of(s, &g, stored));
+        g
+    }
+}
+
+/// How a pass finds its texel in a map of 2 × 2 texels a cell (the quad cone map): the cell
+/// `(i, j)`, stored at `(i, j) + border`, is the texels `2·(i, j) + 2·border + side`, where
+/// `side` (per axis 1 where the ray moves up the axis) is the quadrant the ray heads into, the
+/// same all along the ray. So the texel's coordinate is the cell's times the cell scale plus a
+/// per-ray bias, `(2·border + side + ½)/texels`. Under clamp the cell is first clamped to the
+/// stored ones, `[−1, N − 1]`: the sampler's clamp to the map's edge would otherwise give a
+/// point beyond the last cell the edge texel, the other quadrant's for one side (under repeat
+/// the sampler's wrap of `2N` texels is a wrap of N cells, each keeping its quadrant).
+///
+/// The bias is divided by the texels, not multiplied by the cell scale: with the scale in both
+/// terms, the shader compiler (Mesa's NIR) factors `cell·scale + bias` into
+/// `(cell + bias/scale)·scale`, an add and a multiply where one `fma` does.
+#[derive(Clone, Copy)]
+struct Quadrant<'a> {
+    /// The per-ray bias of the quadrant's texel.
+    bias: Val<'a, Vec2>,
+    /// From the quadrant's texel coordinate to the cell's in a map of one texel a cell (the
+    /// patch map): `cell_bias − bias`, per ray.
+    to_cell: Val<'a, Vec2>,
+    /// The lowest stored cell (−1 under clamp; −[`NO_EXIT`] under repeat, no bound).
+    lo: Val<'a, Vec2>,
+    /// The highest stored cell (N − 1 under clamp; [`NO_EXIT`] under repeat).
+    hi: Val<'a, Vec2>,
+}
+
+impl<'a> Quadrant<'a> {
+    /// The quadrant of the rays of `g`, whose map stores `stored` cells per axis.
+    fn of(s: &'a FnBuilder<'a>, g: &Grid<'a>, stored: Val<'a, Vec2>) -> Quadrant<'a> {
+        let (clamp, size) = (g.clamp, g.size);
+        let lo = s.select(clamp, -1.0, -NO_EXIT);
+        let border = s.select(clamp, 2.0, 0.0);
+        let bias = ((g.side + 0.5 + border) / (stored * 2.0)).named("quadrant_bias");
+        Quadrant {
+            bias,
+            to_cell: (g.cell_bias - bias).named("quadrant_to_cell"),
+            lo: s.vec2(lo, lo).named("cell_lo"),
+            hi: s
+                .vec2(s.select(clamp, size.x() - 1.0, NO_EXIT), s.select(clamp, size.y() - 1.0, NO_EXIT))
+                .named("cell_hi"),
         }
     }
 }
@@ -147,6 +201,9 @@ pub(super) struct Cell<'a> {
     /// The corners gathered in the pass's own block ([`Cell::keep_corners`]), for every later
     /// use in the pass; `None` until then.
     kept: Kept<Option<Val<'a, Vec4>>>,
+    /// The coordinate of the cell's quadrant texel ([`Quadrant`]) where the pass's own block
+    /// read it, for the patch map's coordinate later in the pass; `None` until then.
+    quadrant_at: Kept<Option<Val<'a, Vec2>>>,
     /// The t at which the ray leaves the cell (at most the floor's t).
     pub exit: Val<'a, f32>,
 }
@@ -163,7 +220,7 @@ pub(super) fn cell_at<'a>(g: Grid<'a>, t: Val<'a, f32>) -> Cell<'a> {
     let x = g.x0 + g.speed * t;
     let cell = (x + g.ahead).floor().named("cell");
     let exit = g.exit(cell, x, t);
-    Cell { grid: g, cell, kept: Kept::new(None), exit: exit.named("exit") }
+    Cell { grid: g, cell, kept: Kept::new(None), quadrant_at: Kept::new(None), exit: exit.named("exit") }
 }
 
 impl<'a> Grid<'a> {
@@ -198,10 +255,25 @@ impl<'a> Cell<'a> {
     /// arithmetic in the shader. Under a `lod` the maps of all levels share one atlas, which
     /// no address mode wraps, so the entry's index is computed and loaded ([`Cell::index`]).
     /// The same for the patch map, which lies on the cell maps' grid.
+    /// A map of 2 × 2 texels a cell (the quad cone map) is read at the texel of the ray's
+    /// quadrant ([`Quadrant`], its coordinate kept for the pass: call in the pass's own block);
+    /// the patch map, on a march over such a map, at that coordinate moved to the cell's
+    /// (one add per axis where the pass has read the quadrant).
     fn entry(&self, s: &'a FnBuilder<'a>, map: MapReq) -> Val<'a, Vec4> {
-        match s.sample_level() {
-            None => s.sample(Image::of(map), self.cell * self.grid.cell_scale + self.grid.cell_bias, Filter::Nearest),
-            Some(_) => s.cell_map_texel(map, self.index(s)),
+        let g = &self.grid;
+        let quad = map.cell_texels() == 2;
+        match (s.sample_level(), g.quadrant) {
+            (None, Some(q)) if quad => {
+                let at = self.cell.clamp(q.lo, q.hi).mul_add(g.cell_scale, q.bias).named("quadrant_at");
+                self.quadrant_at.set(Some(at));
+                s.sample(Image::of(map), at, Filter::Nearest)
+            }
+            (None, Some(q)) if self.quadrant_at.get().is_some() => {
+                let at = self.quadrant_at.get().expect("tested") + q.to_cell;
+                s.sample(Image::of(map), at, Filter::Nearest)
+            }
+            (None, _) => s.sample(Image::of(map), self.cell * g.cell_scale + g.cell_bias, Filter::Nearest),
+            (Some(_), _) => s.cell_map_texel(map, self.index(s), quad.then_some(g.side)),
         }
     }
 

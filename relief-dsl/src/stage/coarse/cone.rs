@@ -231,12 +231,15 @@ fn quadrant<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, q: Val<'a, crate::ir::Vec4>
 }
 
 /// Quad-directional cone stepping (Policarpo & Oliveira 2007, GPU Gems 3 §18.4.1): as CSM, with
-/// the cone of the quadrant the ray is heading into (channels `+u+v, -u+v, -u-v, +u-v`).
+/// the cone of the quadrant the ray is heading into (channels `+u+v, -u+v, -u-v, +u-v`). The
+/// safe form's cell map holds each cell's quadrants in 2 × 2 texels of `[ratio, apex]`, and the
+/// cell's entry is read at the ray's quadrant (`cell::Quadrant`): the texel is that quadrant's
+/// cone.
 pub(crate) fn qcsm<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
     match form {
         ConeForm::Safe => safe_march(s, ray, steps, Some(MapReq::CellQuadCone), |s, p, c| {
-            let (cones, apex) = c.cones_and_apex(s, MapReq::CellQuadCone);
-            let r = quadrant(s, ray, cones).named("r");
+            let (cone, apex) = c.cones_and_apex(s, MapReq::CellQuadCone);
+            let r = cone.x().named("r");
             cone_step(c.grid.horiz, ray, r, c.over(p.z(), apex))
         }),
         ConeForm::Textbook => textbook_march(s, ray, steps, |s, p, h| {

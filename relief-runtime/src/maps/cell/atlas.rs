@@ -6,7 +6,8 @@ use crate::heightmap::{EdgeMode, HeightMap};
 /// texture, for stages that sample at a level (`lod` other than zero): the levels stacked by
 /// rows from level 0 down, each at the left edge, as relief-dsl's `FnBuilder::cell_map_texel`
 /// addresses them (the rows above level k are `Σ_{j<k}` of the levels' cell rows). Texels
-/// right of a narrower level are 0 and never read. An error if a level's cell grid is not
+/// right of a narrower level are 0 and never read. A map of 2 × 2 texels a cell (the quad
+/// cone map) stacks its levels the same way in its own texels. An error if a level's cell grid is not
 /// the one that addressing assumes (`h_k` rows, `h_k + 1` under clamp).
 pub fn level_atlas(
     chain: &[HeightMap],
@@ -16,11 +17,12 @@ pub fn level_atlas(
 ) -> Result<crate::maps::Map, crate::maps::MapError> {
     let levels = chain.iter().map(|h| crate::maps::build(h, kind, params, edge)).collect::<Result<Vec<_>, _>>()?;
     let border = (edge == EdgeMode::Clamp) as usize;
+    let k = kind.request_with(params).cell_texels();
     for (h, m) in chain.iter().zip(&levels) {
-        if m.height != h.height + border || m.width != h.width + border {
+        if m.height != (h.height + border) * k || m.width != (h.width + border) * k {
             return Err(crate::maps::MapError::Params {
                 kind,
-                message: format!("a {}×{} level has a {}×{} cell map; the atlas assumes one cell per texel (plus a border under clamp)", h.width, h.height, m.width, m.height),
+                message: format!("a {}×{} level has a {}×{} cell map; the atlas assumes {k}×{k} texels a cell (plus a border under clamp)", h.width, h.height, m.width, m.height),
             });
         }
     }

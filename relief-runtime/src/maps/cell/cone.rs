@@ -32,6 +32,12 @@
 //! farther is dominated as above), and the same for the other signs. A ray exactly along an
 //! axis may use either neighbouring channel. Every channel is ≥ the `cell_cone` ratio.
 //!
+//! The map kind `cell_quad_cone` stores these per cell as 2 × 2 texels of 2 channels
+//! ([`quadrant_texels`]): texel `(2i + qx, 2j + qy)` of cell `(i, j)` holds `[R_q, A_C]` for
+//! the quadrant `q` a ray moving toward `+u` (`qx` = 1) or `−u` (`qx` = 0), `+v` (`qy` = 1) or
+//! `−v` (`qy` = 0) reads, so that a pass of the safe march reads its ratio and the apex in one
+//! texel (relief-dsl's `MapReq::cell_texels`).
+//!
 //! # `cell_cone_normal` (2 channels)
 //!
 //! Channel 0: `n_z = R / sqrt(1 + R²)` of the `cell_cone` ratio, rounded down
@@ -85,6 +91,27 @@ pub fn cell_quad_cone(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
             row[5 * i + 4] = a;
         }
     })
+}
+
+/// The quad cones `quad` ([`cell_quad_cone`]: 5 values per cell of a `cw × ch` cell grid) as
+/// the map kind `cell_quad_cone` stores them: `2cw × 2ch` texels of `[R_q, A_C]`, texel
+/// `(2i + qx, 2j + qy)` the quadrant with `qx` = 1 toward `+u` and `qy` = 1 toward `+v` (the
+/// channel of [`QUADRANTS`] with those directions).
+pub fn quadrant_texels(quad: &[f32], cw: usize, ch: usize) -> Vec<f32> {
+    assert_eq!(quad.len(), 5 * cw * ch, "5 values a cell of a {cw} × {ch} grid");
+    let w = 2 * cw;
+    let mut out = vec![0.0f32; 2 * w * 2 * ch];
+    for (q, &(ax, ay)) in QUADRANTS.iter().enumerate() {
+        let (qx, qy) = ((ax == Dir::Forward) as usize, (ay == Dir::Forward) as usize);
+        for j in 0..ch {
+            for i in 0..cw {
+                let (c, t) = (j * cw + i, (2 * j + qy) * w + 2 * i + qx);
+                out[2 * t] = quad[5 * c + q];
+                out[2 * t + 1] = quad[5 * c + 4];
+            }
+        }
+    }
+    out
 }
 
 /// `cell_cone_normal`: `[n_z(R_C), A_C]` per cell.

@@ -8,7 +8,7 @@
 //! `h00 + dx·fx + dy·fy + k·fx·fy`. Each is computed in f32 in exactly the order the shader's
 //! `Coeffs::of_corners` (relief-dsl's `stage::coarse::cell`) computes it from the four
 //! corners it gathers, so a patch read from this map is the gathered patch bit for bit, and
-//! the safe marches that read it (`csm`, `cns`, `csm_relax`) give the same answers as with
+//! the safe marches that read it (`csm`, `cns`, `csm_relax`, `qcsm`) give the same answers as with
 //! the gather. Not to be quantised (the CLI refuses any encoding but f32): a rounded
 //! coefficient is another surface.
 
