@@ -442,7 +442,10 @@ fn cell_quad_and_normal_match_brute_force_bit_for_bit() {
 /// the quadrant a ray moving toward `+u` (`qx` = 1) or `−u` (`qx` = 0) and toward `+v`
 /// (`qy` = 1) or `−v` (`qy` = 0) heads into, against the brute-force quad cones (channels
 /// `+u+v, −u+v, −u−v, +u−v`, then the apex), bit for bit; the quadrant's channel written here
-/// from that order, not taken from the map's code.
+/// from that order, not taken from the map's code. Under clamp the outermost texel columns
+/// (rows) hold the smaller ratio of their cell's two quadrants across u (v), a corner the
+/// smallest of the four: what a point beyond the edge reads through the sampler's clamp,
+/// heading either way.
 #[test]
 fn the_quad_cone_map_holds_each_quadrant_in_its_own_texel() {
     let channel = |qx: usize, qy: usize| match (qx, qy) {
@@ -451,6 +454,7 @@ fn the_quad_cone_map_holds_each_quadrant_in_its_own_texel() {
         (0, 0) => 2,
         _ => 3,
     };
+    let mut narrowed = 0;
     for (w, h) in [(8, 8), (5, 7)] {
         for (name, m) in suite(w, h) {
             for edge in EDGES {
@@ -458,18 +462,31 @@ fn the_quad_cone_map_holds_each_quadrant_in_its_own_texel() {
                 let want = brute_quad(&m, edge);
                 let map = maps::build(&m, MapKind::CellQuadCone, &MapParams::default(), edge).unwrap();
                 assert_eq!((map.width, map.height, map.channels), (2 * cw, 2 * ch, 2), "{name} {w}x{h} {edge:?}");
+                let clamp = edge == EdgeMode::Clamp;
                 for (j, i, qx, qy) in
                     (0..ch).flat_map(|j| (0..cw).flat_map(move |i| (0..4).map(move |q| (j, i, q % 2, q / 2))))
                 {
                     let c = j * cw + i;
-                    let t = ((2 * j + qy) * 2 * cw + 2 * i + qx) * 2;
-                    let got = [map.data[t].to_bits(), map.data[t + 1].to_bits()];
-                    let expect = [want[5 * c + channel(qx, qy)].to_bits(), want[5 * c + 4].to_bits()];
+                    let (tx, ty) = (2 * i + qx, 2 * j + qy);
+                    let got =
+                        [map.data[(ty * 2 * cw + tx) * 2].to_bits(), map.data[(ty * 2 * cw + tx) * 2 + 1].to_bits()];
+                    // The quadrants the texel serves: both across u in the first and last
+                    // column under clamp, both across v in the first and last row.
+                    let xs = if clamp && (tx == 0 || tx == 2 * cw - 1) { vec![0, 1] } else { vec![qx] };
+                    let ys = if clamp && (ty == 0 || ty == 2 * ch - 1) { vec![0, 1] } else { vec![qy] };
+                    let mut ratio = f32::INFINITY;
+                    for (&x, &y) in xs.iter().flat_map(|x| ys.iter().map(move |y| (x, y))) {
+                        ratio = ratio.min(want[5 * c + channel(x, y)]);
+                    }
+                    narrowed += usize::from(ratio != want[5 * c + channel(qx, qy)]);
+                    let expect = [ratio.to_bits(), want[5 * c + 4].to_bits()];
                     assert_eq!(got, expect, "{name} {w}x{h} {edge:?}: cell ({i}, {j}), qx {qx}, qy {qy}");
                 }
             }
         }
     }
+    // The edge rule is exercised: some edge texel holds a ratio narrower than its own.
+    assert!(narrowed > 0, "no edge texel was narrowed");
 }
 
 #[test]

@@ -443,7 +443,7 @@ pub fn build(hm: &HeightMap, kind: MapKind, params: &MapParams, edge: EdgeMode) 
         MapKind::CellCone => cells(cell::cone::cell_cone(hm, edge)),
         MapKind::CellQuadCone => {
             let g = cell::CellGrid::new(w, h, edge);
-            let texels = cell::cone::quadrant_texels(&cell::cone::cell_quad_cone(hm, edge), g.cw, g.ch);
+            let texels = cell::cone::quadrant_texels(&cell::cone::cell_quad_cone(hm, edge), g.cw, g.ch, edge);
             Map::new_2d(2 * g.cw, 2 * g.ch, n, texels)
         }
         MapKind::CellRelaxedCone => cells(cell::relaxed_cone::cell_relaxed_cone(hm, edge)),

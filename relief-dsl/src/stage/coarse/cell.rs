@@ -144,10 +144,13 @@ impl<'a> Grid<'a> {
 /// `(i, j)`, stored at `(i, j) + border`, is the texels `2·(i, j) + 2·border + side`, where
 /// `side` (per axis 1 where the ray moves up the axis) is the quadrant the ray heads into, the
 /// same all along the ray. So the texel's coordinate is the cell's times the cell scale plus a
-/// per-ray bias, `(2·border + side + ½)/texels`. Under clamp the cell is first clamped to the
-/// stored ones, `[−1, N − 1]`: the sampler's clamp to the map's edge would otherwise give a
-/// point beyond the last cell the edge texel, the other quadrant's for one side (under repeat
-/// the sampler's wrap of `2N` texels is a wrap of N cells, each keeping its quadrant).
+/// per-ray bias, `(2·border + side + ½)/texels`, and the sampler's address mode does the rest:
+/// under repeat its wrap of `2N` texels is a wrap of N cells, each keeping its quadrant; under
+/// clamp its clamp to the edge gives a point beyond the map the outermost texel whichever
+/// quadrant the ray heads into, which the map makes right by storing there the narrower of the
+/// two quadrants' cones across that edge (relief-runtime's `maps::cell::cone`). A clamp of the
+/// cell in the shader instead cost four `min`/`max` a pass (about 5 % of a pass on lavapipe;
+/// `docs/notes/safe-step.md`, round 12).
 ///
 /// The bias is divided by the texels, not multiplied by the cell scale: with the scale in both
 /// terms, the shader compiler (Mesa's NIR) factors `cell·scale + bias` into
@@ -159,27 +162,14 @@ struct Quadrant<'a> {
     /// From the quadrant's texel coordinate to the cell's in a map of one texel a cell (the
     /// patch map): `cell_bias − bias`, per ray.
     to_cell: Val<'a, Vec2>,
-    /// The lowest stored cell (−1 under clamp; −[`NO_EXIT`] under repeat, no bound).
-    lo: Val<'a, Vec2>,
-    /// The highest stored cell (N − 1 under clamp; [`NO_EXIT`] under repeat).
-    hi: Val<'a, Vec2>,
 }
 
 impl<'a> Quadrant<'a> {
     /// The quadrant of the rays of `g`, whose map stores `stored` cells per axis.
     fn of(s: &'a FnBuilder<'a>, g: &Grid<'a>, stored: Val<'a, Vec2>) -> Quadrant<'a> {
-        let (clamp, size) = (g.clamp, g.size);
-        let lo = s.select(clamp, -1.0, -NO_EXIT);
-        let border = s.select(clamp, 2.0, 0.0);
+        let border = s.select(g.clamp, 2.0, 0.0);
         let bias = ((g.side + 0.5 + border) / (stored * 2.0)).named("quadrant_bias");
-        Quadrant {
-            bias,
-            to_cell: (g.cell_bias - bias).named("quadrant_to_cell"),
-            lo: s.vec2(lo, lo).named("cell_lo"),
-            hi: s
-                .vec2(s.select(clamp, size.x() - 1.0, NO_EXIT), s.select(clamp, size.y() - 1.0, NO_EXIT))
-                .named("cell_hi"),
-        }
+        Quadrant { bias, to_cell: (g.cell_bias - bias).named("quadrant_to_cell") }
     }
 }
 
@@ -264,7 +254,7 @@ impl<'a> Cell<'a> {
         let quad = map.cell_texels() == 2;
         match (s.sample_level(), g.quadrant) {
             (None, Some(q)) if quad => {
-                let at = self.cell.clamp(q.lo, q.hi).mul_add(g.cell_scale, q.bias).named("quadrant_at");
+                let at = self.cell.mul_add(g.cell_scale, q.bias).named("quadrant_at");
                 self.quadrant_at.set(Some(at));
                 s.sample(Image::of(map), at, Filter::Nearest)
             }

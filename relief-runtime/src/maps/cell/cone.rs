@@ -97,7 +97,10 @@ pub fn cell_quad_cone(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
 /// the map kind `cell_quad_cone` stores them: `2cw × 2ch` texels of `[R_q, A_C]`, texel
 /// `(2i + qx, 2j + qy)` the quadrant with `qx` = 1 toward `+u` and `qy` = 1 toward `+v` (the
 /// channel of [`QUADRANTS`] with those directions).
-pub fn quadrant_texels(quad: &[f32], cw: usize, ch: usize) -> Vec<f32> {
+///
+/// Under clamp ([`edge_texels_hold_both_quadrants`]) the outermost columns and rows hold the
+/// narrower of their cell's two quadrants across that edge.
+pub fn quadrant_texels(quad: &[f32], cw: usize, ch: usize, edge: EdgeMode) -> Vec<f32> {
     assert_eq!(quad.len(), 5 * cw * ch, "5 values a cell of a {cw} × {ch} grid");
     let w = 2 * cw;
     let mut out = vec![0.0f32; 2 * w * 2 * ch];
@@ -111,7 +114,33 @@ pub fn quadrant_texels(quad: &[f32], cw: usize, ch: usize) -> Vec<f32> {
             }
         }
     }
+    if edge == EdgeMode::Clamp {
+        edge_texels_hold_both_quadrants(&mut out, w, 2 * ch);
+    }
     out
+}
+
+/// Under clamp, the ratio of each texel in the outermost columns and rows of the quad cone map
+/// (`w × h` texels of `[ratio, apex]`) becomes the smaller of its own and that of its cell's
+/// other quadrant across the edge (the texel beside it): columns first, then rows, so that a
+/// corner texel holds the smallest of its cell's four.
+///
+/// Why: a point beyond the map's edge reads its border strip's entry, and the shader lets the
+/// sampler's clamp to the edge find it, with no clamp of its own (four `min`/`max` a pass;
+/// about 5 % of a pass on lavapipe, `docs/notes/safe-step.md`, round 12). That clamp gives
+/// such a point the outermost texel whichever quadrant the ray heads into, and the narrower
+/// of the two cones is valid for both (a narrower cone is contained in the wider one, so the
+/// surface stays outside it). The cells inside, and every cell under repeat, keep their own.
+fn edge_texels_hold_both_quadrants(texels: &mut [f32], w: usize, h: usize) {
+    let mut narrow = |a: usize, b: usize| texels[2 * a] = texels[2 * a].min(texels[2 * b]);
+    for y in 0..h {
+        narrow(y * w, y * w + 1);
+        narrow(y * w + w - 1, y * w + w - 2);
+    }
+    for x in 0..w {
+        narrow(x, w + x);
+        narrow((h - 1) * w + x, (h - 2) * w + x);
+    }
 }
 
 /// `cell_cone_normal`: `[n_z(R_C), A_C]` per cell.
