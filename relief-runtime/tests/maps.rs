@@ -632,6 +632,28 @@ fn cache_builds_each_key_once() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A map on disk whose channels are not the kind's (a file of a former layout: `cell_quad_cone`
+/// held 5 channels a cell before it held 2 × 2 texels of 2) is built again, not read.
+#[test]
+fn cache_builds_again_a_map_stored_in_another_layout() {
+    let dir = temp_dir("cache-layout");
+    let (m, p) = (noise(8, 8, 2), MapParams::default());
+    let f32e = Encoding::F32;
+    let fresh = MapCache::with_dir(&dir).get(&m, MapKind::CellQuadCone, &p, EdgeMode::Repeat, &f32e).unwrap();
+    let file = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|f| f.to_string_lossy().contains("cell_quad_cone"))
+        .expect("the cache stored the map");
+    // The former layout's shape, 8 × 8 cells of 5 values, at the same file.
+    std::fs::write(&file, npy::npy_bytes(&[8, 8, 5], &[0.5; 320])).unwrap();
+    let again = MapCache::with_dir(&dir);
+    let read = again.get(&m, MapKind::CellQuadCone, &p, EdgeMode::Repeat, &f32e).unwrap();
+    assert_eq!(again.builds(), 1, "a map of another layout was read from disk");
+    assert_eq!(*read, *fresh);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 // ------------------------------------------------------------------------------------------
 // Rays stepped with conservative cones never pass through the surface
 // ------------------------------------------------------------------------------------------
