@@ -262,7 +262,10 @@ impl<'a> Cell<'a> {
                 let at = self.quadrant_at.get().expect("tested") + q.to_cell;
                 s.sample(Image::of(map), at, Filter::Nearest)
             }
-            (None, _) => s.sample(Image::of(map), self.cell * g.cell_scale + g.cell_bias, Filter::Nearest),
+            (None, _) => {
+                assert!(!quad, "{}: a map of 2 × 2 texels a cell read on a grid made for another", map.name());
+                s.sample(Image::of(map), self.cell * g.cell_scale + g.cell_bias, Filter::Nearest)
+            }
             (Some(_), _) => s.cell_map_texel(map, self.index(s), quad.then_some(g.side)),
         }
     }
