@@ -98,7 +98,7 @@ pub fn cell_quad_cone(map: &HeightMap, edge: EdgeMode) -> Vec<f32> {
 /// `(2i + qx, 2j + qy)` the quadrant with `qx` = 1 toward `+u` and `qy` = 1 toward `+v` (the
 /// channel of [`QUADRANTS`] with those directions).
 ///
-/// Under clamp ([`edge_texels_hold_both_quadrants`]) the outermost columns and rows hold the
+/// Under clamp (`edge_texels_hold_both_quadrants`) the outermost columns and rows hold the
 /// narrower of their cell's two quadrants across that edge.
 pub fn quadrant_texels(quad: &[f32], cw: usize, ch: usize, edge: EdgeMode) -> Vec<f32> {
     assert_eq!(quad.len(), 5 * cw * ch, "5 values a cell of a {cw} × {ch} grid");
