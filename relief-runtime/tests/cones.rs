@@ -320,7 +320,7 @@ fn inner_pillars(n: usize, seed: u64) -> HeightMap {
 
 /// Rays that enter the map from outside: origins half a texel to four texels beyond one of the
 /// four edges, 60° to 85° from the normal, heading inward (at least 30% of the horizontal
-/// speed across the edge) with any share along it.
+/// speed across the edge) with any share along it, one in eight exactly across it.
 fn inbound_rays(n: usize, texels: usize, depth: f32, seed: u64) -> Vec<ProbeRay> {
     let mut next = lcg(seed);
     let texel = 1.0 / texels as f32;
@@ -330,7 +330,9 @@ fn inbound_rays(n: usize, texels: usize, depth: f32, seed: u64) -> Vec<ProbeRay>
             let (along, beyond) = (next(), texel * (0.5 + 3.5 * next()));
             let theta = (60.0 + 25.0 * next()).to_radians();
             let reach = theta.tan() * depth;
-            let inward = 0.3 + 0.7 * next();
+            // Every eighth ray exactly across the edge, along an axis (the other component
+            // 0: the quadrant's texel is then picked on the edge between two, either valid).
+            let inward = if i % 8 == 0 { 1.0 } else { 0.3 + 0.7 * next() };
             let sign = if next() < 0.5 { -1.0 } else { 1.0 };
             let (a, o) = (sign * (1.0 - inward * inward).sqrt(), inward);
             let (origin, dir) = match edge {

@@ -87,9 +87,10 @@ pub(super) struct Grid<'a> {
     cell_scale: Val<'a, Vec2>,
     /// See `cell_scale`.
     cell_bias: Val<'a, Vec2>,
-    /// Where the march reads a map of 2 × 2 texels a cell (the quad cone map,
-    /// [`MapReq::cell_texels`]): the texel of the ray's quadrant, see [`Quadrant`].
-    quadrant: Option<Quadrant<'a>>,
+    /// Whether the march reads a map of 2 × 2 texels a cell (the quad cone map,
+    /// [`MapReq::cell_texels`]) at level 0, at the texel of the ray's quadrant
+    /// ([`quadrant_texel`]).
+    quadrants: bool,
     /// Whether a cell's patch is read from the patch map (one load at the cell map's
     /// coordinate, [`Cell::patch`]) rather than gathered from the height map
     /// ([`MapReq::patches_read_with`]).
@@ -110,15 +111,15 @@ impl<'a> Grid<'a> {
         let clamp = s.edge_is_clamp();
         // A map of 2 × 2 texels a cell read at level 0 (under a `lod` its texel is loaded by
         // index, [`Cell::entry`]).
-        let quadrants = cells.filter(|m| m.cell_texels() == 2 && s.sample_level().is_none());
+        let quadrants = cells.is_some_and(|m| m.cell_texels() == 2) && s.sample_level().is_none();
         // Cells stored per axis.
         let stored = match (cells, s.sample_level()) {
-            (Some(map), None) if quadrants.is_some() => s.image_size(Image::of(map), Filter::Nearest) * 0.5,
+            (Some(map), None) if quadrants => s.image_size(Image::of(map), Filter::Nearest) * 0.5,
             (Some(map), None) => s.image_size(Image::of(map), Filter::Nearest),
             _ => size + s.select(clamp, 1.0, 0.0),
         };
         let cell_scale = 1.0 / stored;
-        let mut g = Grid {
+        Grid {
             size,
             inv_size: (1.0 / size).named("inv_size"),
             x0: (ray.origin * size - 0.5).named("x0"),
@@ -132,45 +133,34 @@ impl<'a> Grid<'a> {
             t_max: ray.t_max().named("t_max"),
             cell_scale: cell_scale.named("cell_scale"),
             cell_bias: (cell_scale * s.select(clamp, 1.5, 0.5)).named("cell_bias"),
-            quadrant: None,
+            quadrants,
             patches: cells.is_some_and(MapReq::patches_read_with) && s.policy().cell_patches(),
-        };
-        g.quadrant = quadrants.map(|_| Quadrant::of(s, &g, stored));
-        g
+        }
     }
 }
 
-/// How a pass finds its texel in a map of 2 × 2 texels a cell (the quad cone map): the cell
+/// Where a pass reads a map of 2 × 2 texels a cell (the quad cone map) at level 0: the cell
 /// `(i, j)`, stored at `(i, j) + border`, is the texels `2·(i, j) + 2·border + side`, where
 /// `side` (per axis 1 where the ray moves up the axis) is the quadrant the ray heads into, the
-/// same all along the ray. So the texel's coordinate is the cell's times the cell scale plus a
-/// per-ray bias, `(2·border + side + ½)/texels`, and the sampler's address mode does the rest:
-/// under repeat its wrap of `2N` texels is a wrap of N cells, each keeping its quadrant; under
-/// clamp its clamp to the edge gives a point beyond the map the outermost texel whichever
-/// quadrant the ray heads into, which the map makes right by storing there the narrower of the
-/// two quadrants' cones across that edge (relief-runtime's `maps::cell::cone`). A clamp of the
-/// cell in the shader instead cost four `min`/`max` a pass (about 5 % of a pass on lavapipe;
-/// `docs/notes/safe-step.md`, round 12).
+/// same all along the ray. The cell's coordinate in a map of one texel a cell (the patch map),
+/// `at = cell·scale + bias`, is the corner between its four texels; the quadrant's texel is a
+/// quarter of a cell from it toward the ray's direction, `± scale/4` per axis, written as the
+/// [`ahead`] nudge (`±AHEAD_CELLS`, which the pass keeps anyway) times `scale/(4·AHEAD_CELLS)`
+/// (where the ray does not move along an axis the nudge is 0 and the coordinate lies on the
+/// edge between the two quadrants' texels: either is that ray's cone). The sampler's address
+/// mode does the rest: under repeat its wrap of `2N` texels is a wrap of N cells, each keeping
+/// its quadrant; under clamp its clamp to the edge gives a point beyond the map the outermost
+/// texel whichever quadrant the ray heads into, which the map makes right by storing there the
+/// narrower of the two quadrants' cones across that edge (relief-runtime's `maps::cell::cone`).
 ///
-/// The bias is divided by the texels, not multiplied by the cell scale: with the scale in both
-/// terms, the shader compiler (Mesa's NIR) factors `cell·scale + bias` into
-/// `(cell + bias/scale)·scale`, an add and a multiply where one `fma` does.
-#[derive(Clone, Copy)]
-struct Quadrant<'a> {
-    /// The per-ray bias of the quadrant's texel.
-    bias: Val<'a, Vec2>,
-    /// From the quadrant's texel coordinate to the cell's in a map of one texel a cell (the
-    /// patch map): `cell_bias − bias`, per ray.
-    to_cell: Val<'a, Vec2>,
-}
-
-impl<'a> Quadrant<'a> {
-    /// The quadrant of the rays of `g`, whose map stores `stored` cells per axis.
-    fn of(s: &'a FnBuilder<'a>, g: &Grid<'a>, stored: Val<'a, Vec2>) -> Quadrant<'a> {
-        let border = s.select(g.clamp, 2.0, 0.0);
-        let bias = ((g.side + 0.5 + border) / (stored * 2.0)).named("quadrant_bias");
-        Quadrant { bias, to_cell: (g.cell_bias - bias).named("quadrant_to_cell") }
-    }
+/// The factor is computed in the pass (two multiplies) rather than once per ray: a per-ray pair
+/// stays live through the loop, and the forms that kept one (this factor, or a per-ray
+/// quadrant bias with its offset to the patch map's coordinate) took 40 VGPRs on RDNA2 where
+/// this one takes 32. Also measured: a clamp of the cell in the shader instead of the map's
+/// edge rule cost four `min`/`max` a pass, about 5 % of a pass on lavapipe
+/// (`docs/notes/safe-step.md`, round 12).
+fn quadrant_texel<'a>(g: &Grid<'a>, at: Val<'a, Vec2>) -> Val<'a, Vec2> {
+    g.ahead.mul_add(g.cell_scale * (0.25 / AHEAD_CELLS), at)
 }
 
 /// `1 / v` for an axis the ray moves along at `v` cells per unit t; where it does not
@@ -191,8 +181,9 @@ pub(super) struct Cell<'a> {
     /// The corners gathered in the pass's own block ([`Cell::keep_corners`]), for every later
     /// use in the pass; `None` until then.
     kept: Kept<Option<Val<'a, Vec4>>>,
-    /// The coordinate of the cell's quadrant texel ([`Quadrant`]) where the pass's own block
-    /// read it, for the patch map's coordinate later in the pass; `None` until then.
+    /// The cell's coordinate in a map of one texel a cell, where the pass's own block read its
+    /// quadrant's texel ([`quadrant_texel`]), for the patch map later in the pass; `None` until
+    /// then.
     quadrant_at: Kept<Option<Val<'a, Vec2>>>,
     /// The t at which the ray leaves the cell (at most the floor's t).
     pub exit: Val<'a, f32>,
@@ -246,27 +237,25 @@ impl<'a> Cell<'a> {
     /// no address mode wraps, so the entry's index is computed and loaded ([`Cell::index`]).
     /// The same for the patch map, which lies on the cell maps' grid.
     /// A map of 2 × 2 texels a cell (the quad cone map) is read at the texel of the ray's
-    /// quadrant ([`Quadrant`], its coordinate kept for the pass: call in the pass's own block);
-    /// the patch map, on a march over such a map, at that coordinate moved to the cell's
-    /// (one add per axis where the pass has read the quadrant).
+    /// quadrant ([`quadrant_texel`]; call in the pass's own block), and the patch map later in the
+    /// pass at the cell's coordinate computed for it.
     fn entry(&self, s: &'a FnBuilder<'a>, map: MapReq) -> Val<'a, Vec4> {
         let g = &self.grid;
         let quad = map.cell_texels() == 2;
-        match (s.sample_level(), g.quadrant) {
-            (None, Some(q)) if quad => {
-                let at = self.cell.mul_add(g.cell_scale, q.bias).named("quadrant_at");
+        match s.sample_level() {
+            None if quad && g.quadrants => {
+                let at = (self.cell * g.cell_scale + g.cell_bias).named("cell_at");
                 self.quadrant_at.set(Some(at));
-                s.sample(Image::of(map), at, Filter::Nearest)
+                s.sample(Image::of(map), quadrant_texel(g, at), Filter::Nearest)
             }
-            (None, Some(q)) if self.quadrant_at.get().is_some() => {
-                let at = self.quadrant_at.get().expect("tested") + q.to_cell;
-                s.sample(Image::of(map), at, Filter::Nearest)
+            None if self.quadrant_at.get().is_some() => {
+                s.sample(Image::of(map), self.quadrant_at.get().expect("tested"), Filter::Nearest)
             }
-            (None, _) => {
+            None => {
                 assert!(!quad, "{}: a map of 2 × 2 texels a cell read on a grid made for another", map.name());
                 s.sample(Image::of(map), self.cell * g.cell_scale + g.cell_bias, Filter::Nearest)
             }
-            (Some(_), _) => s.cell_map_texel(map, self.index(s), quad.then_some(g.side)),
+            Some(_) => s.cell_map_texel(map, self.index(s), quad.then_some(g.side)),
         }
     }
 
