@@ -537,7 +537,7 @@ impl MapReq {
     /// Texels per cell along each axis of a per-cell map ([`MapReq::per_cell`]): 2 for the
     /// quad cone map, whose cell is 2 × 2 texels, one per quadrant of the ray's direction, so
     /// that a pass reads its quadrant's ratio and the apex in one texel (a ray moves toward
-    /// one quadrant all its way: the texel is picked by a per-ray offset); 1 for the others.
+    /// one quadrant all its way: the texel is picked by its direction); 1 for the others.
     pub fn cell_texels(self) -> usize {
         if self == MapReq::CellQuadCone {
             2

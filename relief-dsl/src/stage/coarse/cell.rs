@@ -181,10 +181,6 @@ pub(super) struct Cell<'a> {
     /// The corners gathered in the pass's own block ([`Cell::keep_corners`]), for every later
     /// use in the pass; `None` until then.
     kept: Kept<Option<Val<'a, Vec4>>>,
-    /// The cell's coordinate in a map of one texel a cell, where the pass's own block read its
-    /// quadrant's texel ([`quadrant_texel`]), for the patch map later in the pass; `None` until
-    /// then.
-    quadrant_at: Kept<Option<Val<'a, Vec2>>>,
     /// The t at which the ray leaves the cell (at most the floor's t).
     pub exit: Val<'a, f32>,
 }
@@ -201,7 +197,7 @@ pub(super) fn cell_at<'a>(g: Grid<'a>, t: Val<'a, f32>) -> Cell<'a> {
     let x = g.x0 + g.speed * t;
     let cell = (x + g.ahead).floor().named("cell");
     let exit = g.exit(cell, x, t);
-    Cell { grid: g, cell, kept: Kept::new(None), quadrant_at: Kept::new(None), exit: exit.named("exit") }
+    Cell { grid: g, cell, kept: Kept::new(None), exit: exit.named("exit") }
 }
 
 impl<'a> Grid<'a> {
@@ -237,23 +233,20 @@ impl<'a> Cell<'a> {
     /// no address mode wraps, so the entry's index is computed and loaded ([`Cell::index`]).
     /// The same for the patch map, which lies on the cell maps' grid.
     /// A map of 2 × 2 texels a cell (the quad cone map) is read at the texel of the ray's
-    /// quadrant ([`quadrant_texel`]; call in the pass's own block), and the patch map later in the
-    /// pass at the cell's coordinate computed for it.
+    /// quadrant ([`quadrant_texel`]).
     fn entry(&self, s: &'a FnBuilder<'a>, map: MapReq) -> Val<'a, Vec4> {
         let g = &self.grid;
         let quad = map.cell_texels() == 2;
         match s.sample_level() {
-            None if quad && g.quadrants => {
-                let at = (self.cell * g.cell_scale + g.cell_bias).named("cell_at");
-                self.quadrant_at.set(Some(at));
-                s.sample(Image::of(map), quadrant_texel(g, at), Filter::Nearest)
-            }
-            None if self.quadrant_at.get().is_some() => {
-                s.sample(Image::of(map), self.quadrant_at.get().expect("tested"), Filter::Nearest)
-            }
             None => {
-                assert!(!quad, "{}: a map of 2 × 2 texels a cell read on a grid made for another", map.name());
-                s.sample(Image::of(map), self.cell * g.cell_scale + g.cell_bias, Filter::Nearest)
+                assert!(
+                    !quad || g.quadrants,
+                    "{}: a map of 2 × 2 texels a cell read on a grid made for another",
+                    map.name()
+                );
+                let at = self.cell * g.cell_scale + g.cell_bias;
+                let at = if quad { quadrant_texel(g, at) } else { at };
+                s.sample(Image::of(map), at, Filter::Nearest)
             }
             Some(_) => s.cell_map_texel(map, self.index(s), quad.then_some(g.side)),
         }

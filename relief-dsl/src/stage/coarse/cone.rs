@@ -233,8 +233,8 @@ fn quadrant<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, q: Val<'a, crate::ir::Vec4>
 /// Quad-directional cone stepping (Policarpo & Oliveira 2007, GPU Gems 3 §18.4.1): as CSM, with
 /// the cone of the quadrant the ray is heading into (channels `+u+v, -u+v, -u-v, +u-v`). The
 /// safe form's cell map holds each cell's quadrants in 2 × 2 texels of `[ratio, apex]`, and the
-/// cell's entry is read at the ray's quadrant (`cell::Quadrant`): the texel is that quadrant's
-/// cone.
+/// cell's entry is read at the ray's quadrant (`cell::quadrant_texel`): the texel is that
+/// quadrant's cone.
 pub(crate) fn qcsm<'a>(s: &'a FnBuilder<'a>, ray: &Ray<'a>, steps: u32, form: ConeForm) -> Bracket<'a> {
     match form {
         ConeForm::Safe => safe_march(s, ray, steps, Some(MapReq::CellQuadCone), |s, p, c| {
