@@ -398,14 +398,108 @@ fn wall_crossings(o: DVec3, d: DVec3, fi: DVec3, fj: DVec3, di: DVec3, dj: DVec3
 
 /// The prism's chord as the shader searches it: from the entry's uv at height 1, `dir.xy` the
 /// uv change per unit of the search's t, over heights lifted by `lift0 + slope·(uv − origin)`;
-/// the exit at the search's t = `k`.
+/// the exit at the search's t = `k`. With a [`PrismPath`] other than the chord, the search's
+/// point at t is moved onto (or toward) the view ray's curve through the prism's map.
 struct Chord {
     origin: DVec2,
     dir: DVec2,
     lift0: f64,
     slope: DVec2,
     k: f64,
+    path: Path,
+    b_in: DVec2,
+    b_out: DVec2,
 }
+
+/// What the emulated search's point at a chord parameter is bent by: nothing (the chord), the
+/// shader's quadratic through the curve's middle (`duv`, `dw`, `db` its offsets there, `axis`
+/// turns a texture point into its fraction of the chord), or the exact inversion at every
+/// point.
+enum Path {
+    Chord,
+    Bent { duv: DVec2, dw: f64, db: DVec2, axis: DVec2 },
+    Exact(Box<Inversion>),
+}
+
+/// The prism's map and the view ray, for the exact inversion of a point of the ray.
+struct Inversion {
+    p: [DVec3; 3],
+    n: [DVec3; 3],
+    uv: [DVec2; 3],
+    depth: f64,
+    o: DVec3,
+    d: DVec3,
+    entry: PrismCrossing,
+    exit: PrismCrossing,
+}
+
+impl Inversion {
+    /// The point `(b₀, b₁, w)` of the prism's map `X(b, w)` on the view ray at the chord's
+    /// fraction `s` (t linear between entry and exit), by `steps` of Newton's method from the
+    /// chord's point.
+    fn at(&self, s: f64, steps: usize) -> (DVec2, f64) {
+        let target = self.o + self.d * (self.entry.t + (self.exit.t - self.entry.t) * s);
+        let mut b = self.entry.b + (self.exit.b - self.entry.b) * s;
+        let mut w = self.entry.w + (self.exit.w - self.entry.w) * s;
+        let (p, n, depth) = (self.p, self.n, self.depth);
+        for _ in 0..steps {
+            let bb = [b.x, b.y, 1.0 - b.x - b.y];
+            let nn = n[0] * bb[0] + n[1] * bb[1] + n[2] * bb[2];
+            let sink = depth * (1.0 - w);
+            let x = (p[0] - n[0] * sink) * bb[0] + (p[1] - n[1] * sink) * bb[1] + (p[2] - n[2] * sink) * bb[2];
+            let f = x - target;
+            let c0 = (p[0] - p[2]) - (n[0] - n[2]) * sink;
+            let c1 = (p[1] - p[2]) - (n[1] - n[2]) * sink;
+            let c2 = nn * depth;
+            let det = c0.dot(c1.cross(c2));
+            if det.abs() <= 1e-30 {
+                continue;
+            }
+            let rhs = -f;
+            b.x += rhs.dot(c1.cross(c2)) / det;
+            b.y += c0.dot(rhs.cross(c2)) / det;
+            w += c0.dot(c1.cross(rhs)) / det;
+        }
+        (b, w)
+    }
+
+    fn uv(&self, b: DVec2) -> DVec2 {
+        self.uv[2] + (self.uv[0] - self.uv[2]) * b.x + (self.uv[1] - self.uv[2]) * b.y
+    }
+}
+
+/// How the emulation's search follows the view ray through a prism.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PrismPath {
+    /// The straight texture-space chord from the entry to the exit (the shader before the
+    /// bend, and the shader's path where the coarse stage reads maps).
+    Chord,
+    /// The chord bent by the quadratic through the view ray's point at its middle, found by
+    /// [`PRISM_BEND_STEPS`] Newton steps from the chord's middle (the shader's `prism_bend`).
+    Bent,
+    /// The view ray's exact point at every read (Newton's inversion of the prism's map to
+    /// convergence): what the bend approximates.
+    Exact,
+}
+
+impl PrismPath {
+    /// The path's name in `relief scene measure --causes`'s lines.
+    pub fn name(self) -> &'static str {
+        match self {
+            PrismPath::Chord => "chord",
+            PrismPath::Bent => "bent chord",
+            PrismPath::Exact => "exact curve",
+        }
+    }
+}
+
+/// The shader's constants of the chord's bend (`compose/mesh.rs`: `PRISM_BEND_STEPS`,
+/// `PRISM_BEND_MAX`, `PRISM_BEND_SHORT`).
+pub const PRISM_BEND_STEPS: usize = 2;
+const PRISM_BEND_MAX: f64 = 0.25;
+const PRISM_BEND_SHORT: f64 = 1e-5;
+/// Newton's steps of [`PrismPath::Exact`]: from the chord's point, far more than converge.
+const EXACT_STEPS: usize = 8;
 
 impl Chord {
     /// The chord between the crossings `entry` and `exit` of the prism with corner uvs `uv`,
@@ -422,13 +516,68 @@ impl Chord {
         }
         let k = if long { PRISM_CHORD_END } else { r };
         let slope = duv * (-(k - r) / duv.length_squared().max(1e-12));
-        Some(Chord { origin: uv_in, dir: duv / k, lift0: 1.0 - entry.w, slope, k })
+        Some(Chord {
+            origin: uv_in,
+            dir: duv / k,
+            lift0: 1.0 - entry.w,
+            slope,
+            k,
+            path: Path::Chord,
+            b_in: entry.b,
+            b_out: exit.b,
+        })
     }
 
-    /// Whether the search's point at t lies on or below the lifted height field.
-    fn below(&self, ms: &MeshScene, t: f64) -> bool {
+    /// The chord bent along `path` for the view ray `o + t·d` through the prism `p`, `n`.
+    #[allow(clippy::too_many_arguments)]
+    fn bent(mut self, path: PrismPath, inv: Inversion) -> Chord {
+        self.path = match path {
+            PrismPath::Chord => Path::Chord,
+            PrismPath::Bent => {
+                let (b, w) = inv.at(0.5, PRISM_BEND_STEPS);
+                let (bc, wc) = ((inv.entry.b + inv.exit.b) * 0.5, (inv.entry.w + inv.exit.w) * 0.5);
+                let (db, dw) = (b - bc, w - wc);
+                let chord = inv.uv(inv.exit.b) - inv.uv(inv.entry.b);
+                let len2 = chord.length_squared();
+                let tame = db.x.abs() <= PRISM_BEND_MAX && db.y.abs() <= PRISM_BEND_MAX && dw.abs() <= PRISM_BEND_MAX;
+                if tame && len2 >= PRISM_BEND_SHORT * PRISM_BEND_SHORT && db.is_finite() && dw.is_finite() {
+                    Path::Bent { duv: inv.uv(b) - inv.uv(bc), dw, db, axis: chord / len2 }
+                } else {
+                    Path::Chord
+                }
+            }
+            PrismPath::Exact => Path::Exact(Box::new(inv)),
+        };
+        self
+    }
+
+    /// The search's point at t: its uv and layer (on the chord, or bent), and its barycentrics
+    /// where the path knows them.
+    fn point(&self, t: f64) -> (DVec2, f64, Option<DVec2>) {
         let uv = self.origin + self.dir * t;
-        height_at(ms, uv) + self.lift0 + self.slope.dot(uv - self.origin) >= 1.0 - t
+        let w = 1.0 - t - self.lift0 - self.slope.dot(uv - self.origin);
+        match &self.path {
+            Path::Chord => (uv, w, None),
+            Path::Bent { duv, dw, db, axis } => {
+                // The read's fraction from its texture point, as the shader's `bend` has it;
+                // the barycentrics at the search's fraction, as `chord_search` carries them.
+                let f = (uv - self.origin).dot(*axis);
+                let bend = (4.0 * f * (1.0 - f)).max(0.0);
+                let tau = (t / self.k).clamp(0.0, 1.0);
+                let b = self.b_in + (self.b_out - self.b_in) * tau + *db * (4.0 * tau * (1.0 - tau));
+                (uv + *duv * bend, w + dw * bend, Some(b))
+            }
+            Path::Exact(inv) => {
+                let (b, w) = inv.at(t / self.k, EXACT_STEPS);
+                (inv.uv(b), w, Some(b))
+            }
+        }
+    }
+
+    /// Whether the search's point at t lies on or below the height field.
+    fn below(&self, ms: &MeshScene, t: f64) -> bool {
+        let (uv, w, _) = self.point(t);
+        height_at(ms, uv) >= w
     }
 }
 
@@ -466,9 +615,8 @@ fn search_linear_binary(ms: &MeshScene, c: &Chord, steps: u32, refine: u32) -> (
         }
         t
     };
-    let uv = c.origin + c.dir * t;
-    let lifted = height_at(ms, uv) + c.lift0 + c.slope.dot(uv - c.origin);
-    (t, (1.0 - t) - lifted <= PRISM_ABOVE_SLACK && t <= c.k + PRISM_SLACK)
+    let (uv, w, _) = c.point(t);
+    (t, w - height_at(ms, uv) <= PRISM_ABOVE_SLACK && t <= c.k + PRISM_SLACK)
 }
 
 /// Whether the shader draws the search's result on the chord (`search_linear_binary`).
@@ -534,14 +682,14 @@ fn emulate_fragment(
     let depth = ms.scene.depth_scale as f64;
     let (p, n, uv) = prism_corners(v);
     let (entry, exit) = prism_crossings(o, d, p, n, depth)?;
-    let chord = Chord::new(entry, exit, uv)?;
+    let chord = Chord::new(entry, exit, uv)?.bent(rule.path, Inversion { p, n, uv, depth, o, d, entry, exit });
     let (ts, drawn) = search_linear_binary(ms, &chord, steps, refine);
     if !drawn {
         return None;
     }
     let tau = (ts / chord.k).clamp(0.0, 1.0);
     let t0 = entry.t + (exit.t - entry.t) * tau;
-    let b0 = entry.b + (exit.b - entry.b) * tau;
+    let b0 = chord.point(ts).2.unwrap_or(entry.b + (exit.b - entry.b) * tau);
     let (duv0, duv1) = (uv[0] - uv[2], uv[1] - uv[2]);
     let residual = |t: f64, b: DVec2| {
         let w = [b.x, b.y, 1.0 - b.x - b.y];
@@ -629,11 +777,14 @@ pub struct PolishRule {
     /// Discard where Newton converged onto S outside the triangle (the crossing it found is
     /// a neighbour's), keep the search's hit where it did not converge.
     pub discard_outside: bool,
+    /// The path the search follows through the prism.
+    pub path: PrismPath,
 }
 
 impl PolishRule {
     /// The shader's: [`POLISH_STEPS`] steps, the search's hit drawn where the polish is not kept.
-    pub const SHADER: PolishRule = PolishRule { steps: POLISH_STEPS, discard: false, discard_outside: false };
+    pub const SHADER: PolishRule =
+        PolishRule { steps: POLISH_STEPS, discard: true, discard_outside: false, path: PrismPath::Bent };
 }
 
 /// Whether the chord meets the height field between its entry and its exit, by a dense march
@@ -710,7 +861,9 @@ fn prism_corners(v: &MeshVertex) -> ([DVec3; 3], [DVec3; 3], [DVec2; 3]) {
 /// `v` ([`prism_miss_causes`]).
 fn classify(ms: &MeshScene, v: &MeshVertex, o: DVec3, d: DVec3, depth: f64, steps: u32, refine: u32) -> PrismMiss {
     let (p, n, uv) = prism_corners(v);
-    let Some(chord) = prism_crossings(o, d, p, n, depth).and_then(|(entry, exit)| Chord::new(entry, exit, uv)) else {
+    let Some(chord) = prism_crossings(o, d, p, n, depth).and_then(|(entry, exit)| {
+        Chord::new(entry, exit, uv).map(|c| c.bent(PrismPath::Bent, Inversion { p, n, uv, depth, o, d, entry, exit }))
+    }) else {
         return PrismMiss::AfterExit;
     };
     if emulate_linear_binary(ms, &chord, steps, refine) {
@@ -748,8 +901,9 @@ pub enum PrismTCause {
     /// narrower than the dense probe's steps, and both searches stepped over it.
     ThinSearch,
     /// The prism of the reference's triangle, emulated with that dense march, draws no hit
-    /// within [`T_BOUND`] depths of the reference's: its chord, straight in texture space, does
-    /// not meet the relief where the view ray does (prism's own).
+    /// within [`T_BOUND`] depths of the reference's: its chord, bent by a quadratic in texture
+    /// space ([`PrismPath::Bent`]), does not meet the relief where the view ray does (prism's
+    /// own).
     Chord,
     /// (iv) The CPU's emulation does not give the GPU's t (beyond [`emulation_bound`]), so the
     /// causes above, which read it, cannot be decided; or none of them holds.
@@ -842,6 +996,20 @@ pub fn seam_walls(ms: &MeshScene) -> Vec<[DVec3; 4]> {
     out
 }
 
+/// Whether the point at `t` of the ray `o + t·d` lies within [`T_BOUND`] depths, along the
+/// ray, of its crossing with one of the seam walls `walls` ([`seam_walls`]).
+pub fn near_seam(walls: &[[DVec3; 4]], o: DVec3, d: DVec3, t: f64, depth: f64) -> bool {
+    walls
+        .iter()
+        .any(|w| wall_crossings(o, d, w[0], w[1], w[2], w[3]).iter().any(|c| (c.0 - t).abs() <= T_BOUND * depth))
+}
+
+/// Whether the ray `o + t·d` crosses one of the seam walls `walls` ([`seam_walls`]) before
+/// `t` (or within [`T_BOUND`] depths after it): a ray that passes S's crack at a uv seam.
+pub fn crosses_a_seam_before(walls: &[[DVec3; 4]], o: DVec3, d: DVec3, t: f64, depth: f64) -> bool {
+    walls.iter().any(|w| wall_crossings(o, d, w[0], w[1], w[2], w[3]).iter().any(|c| c.0 <= t + T_BOUND * depth))
+}
+
 /// For each pixel that `reference` and `probe` (a `curved=prism` measurement of `ms` with
 /// `linear(steps)+binary(refine)`, `size²`) both hit with `|t_gpu − t_ref| > `[`T_BOUND`]
 /// depths, its cause ([`PrismTCause`]); `dense` is a `curved=prism` measurement of the same
@@ -870,12 +1038,7 @@ pub fn prism_t_causes(
         }
         let ray = &rays[i];
         let (o, d) = (DVec3::from(ray.origin.map(|c| c as f64)), DVec3::from(ray.dir.map(|c| c as f64)));
-        let at_wall = |t: f64| {
-            walls.iter().any(|w| {
-                wall_crossings(o, d, w[0], w[1], w[2], w[3]).iter().any(|c| (c.0 - t).abs() <= T_BOUND * depth)
-            })
-        };
-        let seam = at_wall(g[2] as f64) || at_wall(r.t);
+        let seam = near_seam(&walls, o, d, g[2] as f64, depth) || near_seam(&walls, o, d, r.t, depth);
         let emulated = emulate_prism_pixel(ms, &vertices, &indices, o, d, (steps, refine), PolishRule::SHADER);
         let emulated_dt = emulated.map(|e| (e.t - r.t) / depth);
         let dense_dt = dense.hits.get(i).filter(|h| h[3] > 0.5).map(|h| (h[2] as f64 - r.t) / depth);

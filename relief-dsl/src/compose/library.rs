@@ -505,10 +505,12 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
 /// The name of a quadric or prism-lift global after `relief_` (`quadric`, `quadric_origin`,
 /// `prism_lift`), if `g` is one.
 fn quadric_global(g: &naga::GlobalVariable) -> Option<String> {
-    use crate::stage::sampling::{PRISM_LIFT, PRISM_ORIGIN, QUADRIC_COEFFS, QUADRIC_ORIGIN};
+    use crate::stage::sampling::{
+        PRISM_BEND, PRISM_BEND_AXIS, PRISM_LIFT, PRISM_ORIGIN, QUADRIC_COEFFS, QUADRIC_ORIGIN,
+    };
     let name = g.name.as_deref()?;
     let private = matches!(g.space, naga::AddressSpace::Private);
-    (private && [QUADRIC_COEFFS, QUADRIC_ORIGIN, PRISM_LIFT, PRISM_ORIGIN].contains(&name))
+    (private && [QUADRIC_COEFFS, QUADRIC_ORIGIN, PRISM_LIFT, PRISM_ORIGIN, PRISM_BEND, PRISM_BEND_AXIS].contains(&name))
         .then(|| name.trim_start_matches("relief_").to_string())
 }
 
@@ -587,7 +589,7 @@ fn mesh_trace_fn(
     };
     let mr = mesh::mesh_ray(&s, curved, inputs);
     let (hit, covered) = if curved == Curved::Prism {
-        let (hit, drawn) = mesh::prism_trace(&s, fns, &mr);
+        let (hit, drawn, _) = mesh::prism_trace(&s, fns, &mr);
         (hit, s.select(drawn, 1.0f32, 0.0f32))
     } else {
         let traced = mesh::search(&s, fns, &mr);

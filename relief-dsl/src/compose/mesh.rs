@@ -39,17 +39,18 @@
 //!   its exact (u, v, w), so every face of a prism computes the same answer (`prism_chord`).
 //!   No crossing: discarded (a neighbour's prism owns the ray). An entry strictly below S
 //!   through a sealed side wall or the floor: discarded before the search, exactly, a nearer
-//!   fragment draws the pixel (`early_out`). The stages search the straight
-//!   texture-space chord from the entry to the exit (over heights lifted by an affine function
-//!   of uv so that their descending ray from height 1 is the chord); a hit that is not on the
-//!   lifted surface (the search met nothing) or after the exit is discarded; the hit is then
-//!   polished onto S along the true view ray by Newton's method (`polish_on_s`), and colour,
-//!   depth and the probe take the polished point.
+//!   fragment draws the pixel (`early_out`). The stages search the texture-space chord from
+//!   the entry to the exit (over heights lifted by an affine function of uv so that their
+//!   descending ray from height 1 is the chord), bent onto the quadratic through the view
+//!   ray's exact point at its middle (`prism_bend`); a hit that is not on the lifted surface
+//!   (the search met nothing) or after the exit is discarded; the hit is then polished onto S
+//!   along the true view ray by Newton's method (`polish_on_s`), a hit the polish does not keep
+//!   is discarded too, and colour, depth and the probe take the polished point.
 //!
-//! Limitation of `prism`: the search runs on the chord, straight in texture space, where the
-//! view ray through the prism's map is a curve; a hit the chord passes (the ray dips below the
-//! relief where the chord does not, or the reverse) is lost or gained before the polish, which
-//! only moves the chord's hit onto S nearby. The rasterized faces are flat (two triangles per
+//! Limitation of `prism`: the view ray through the prism's map is a curve in texture space,
+//! and the search follows the quadratic through three of its points (or, where the coarse
+//! stage reads maps, the straight chord); a hit the path passes where the curve does not (or
+//! the reverse) is lost or gained before the polish. The rasterized faces are flat (two triangles per
 //! bilinear wall), so a ray through the exact prism may meet none of its drawn faces (and no
 //! fragment runs) where a wall twists. Every face of a prism runs the same trace, so a runtime
 //! may cull the back faces (the prisms are wound outward; relief's runtime culls them).
@@ -61,7 +62,9 @@ use super::{entry_point, location, write_stage_fns, StageFns};
 use crate::abi::{abi_record, Param};
 use crate::ir::{Bindings, FnBuilder, Image, Mat4, ModuleCtx, Plain, Policy, Ty, Val, Vec2, Vec3, Vec4};
 use crate::spec::{Curved, Lod, Pipeline, Silhouette};
-use crate::stage::sampling::{LAYER_SHARE, PRISM_LIFT, PRISM_ORIGIN, QUADRIC_COEFFS, QUADRIC_ORIGIN};
+use crate::stage::sampling::{
+    LAYER_SHARE, PRISM_BEND, PRISM_BEND_AXIS, PRISM_LIFT, PRISM_ORIGIN, QUADRIC_COEFFS, QUADRIC_ORIGIN,
+};
 use crate::stage::{Filter, Hit, Ray};
 use crate::CompileError;
 
@@ -404,6 +407,23 @@ const PRISM_SHORT_CHORD: f32 = 1e-3;
 /// the exit; 1/16 of the search's steps fall past the exit.
 const PRISM_CHORD_END: f32 = 15.0 / 16.0;
 
+/// Newton's steps of the inversion of the chord's middle ([`prism_bend`]), from the chord's
+/// own middle: the chord is the curve's secant, so its middle lies off the curve by the
+/// curve's sag (a few hundredths of a barycentric at most on the goal scenes), and Newton's
+/// method squares that error each step.
+const PRISM_BEND_STEPS: usize = 2;
+
+/// The largest bend kept, in barycentrics and in layers: a Newton's step that moves the middle
+/// further has not met the curve (a ray grazing the prism's volume), and the chord is
+/// searched straight, as before the bend.
+const PRISM_BEND_MAX: f32 = 0.25;
+
+/// The texture-space length (`|Δuv|`) under which a chord is not bent: the bend reads each
+/// point's fraction of the chord from its texture coordinates, `(uv − uv_in)·Δuv/|Δuv|²`,
+/// good to ~1e-7/|Δuv| (texture coordinates of order 1 in f32); a chord shorter than 1e-5 is
+/// nearly along the prism's normals, where the curve's sag is smaller than that rounding.
+const PRISM_BEND_SHORT: f32 = 1e-5;
+
 /// The prism's triangle as the fragment gets it (`curved=prism`): each corner's point on the
 /// base surface relative to the fragment's point, its normal (N, not renormalized, as S
 /// interpolates it) and its texture coordinates, object space.
@@ -466,8 +486,83 @@ pub(crate) struct Chord<'a> {
     share: Option<Val<'a, f32>>,
     /// The lift while the search runs: `(at the entry, slope along u, slope along v)`.
     lift: Val<'a, Vec3>,
+    /// The chord's bend ([`prism_bend`]) where the chord is searched tilted; `None` where the
+    /// coarse stage reads maps (`Policy::prism_untilted`: the maps bound the unbent field).
+    bend: Option<Bend<'a>>,
     /// The stages' ray: from the entry's uv at height 1 toward the exit's (`dir.xy = Δuv / k`).
     search: Ray<'a>,
+}
+
+/// The view ray's curve through a prism's map against the chord ([`prism_bend`]).
+struct Bend<'a> {
+    /// [`crate::stage::sampling`]'s `PRISM_BEND`: xy the texture offset, z the layer offset of
+    /// the curve's middle from the chord's, w 0.
+    offset: Val<'a, Vec4>,
+    /// `PRISM_BEND_AXIS`: `Δuv/|Δuv|²`, or 0 for a chord not bent.
+    axis: Val<'a, Vec2>,
+    /// The barycentrics' offset (b₀, b₁) of the curve's middle from the chord's.
+    b: Val<'a, Vec2>,
+}
+
+impl<'a> Bend<'a> {
+    /// The bend's weight at the fraction `tau` of the chord (0 at the entry, 1 at the exit):
+    /// `4τ(1 − τ)`, the quadratic that is 1 at the middle and 0 at both ends.
+    fn weight(tau: Val<'a, f32>) -> Val<'a, f32> {
+        (tau * (1.0 - tau) * 4.0).max(0.0)
+    }
+}
+
+/// The chord's bend: the view ray through the prism's map `X(b, w)` is a curve in (b, w), and
+/// so in texture space, that meets the chord at the entry and the exit. Its point at the middle
+/// of the ray's segment (t halfway between entry and exit) is found by Newton's method on
+/// `X(b, w) = ray(t_mid)` from the chord's middle ([`PRISM_BEND_STEPS`], in the ray's frame,
+/// [`RayFramed`]: `X`'s Jacobian columns are `∂X/∂b₀`, `∂X/∂b₁` and `depth·N(b)`, solved by
+/// Cramer's rule); the search then follows the quadratic through entry, middle and exit
+/// (`stage::sampling`'s `PRISM_BEND`). The quadratic is not the curve: what is left between
+/// them is third order in the segment's length, measured against the exact curve by the
+/// runtime's emulation (docs/notes/meshes.md, "The chord bent").
+#[allow(clippy::too_many_arguments)]
+fn prism_bend<'a>(
+    s: &'a FnBuilder<'a>,
+    top: [Val<'a, Vec3>; 3],
+    d: [Val<'a, Vec3>; 3],
+    (at_in, at_out): (Val<'a, Vec3>, Val<'a, Vec3>),
+    (t_in, t_out): (Val<'a, f32>, Val<'a, f32>),
+    uv: [Val<'a, Vec2>; 3],
+    duv: Val<'a, Vec2>,
+    len2: Val<'a, f32>,
+) -> Bend<'a> {
+    let zero3 = s.vec3(s.vec2(0.0, 0.0), 0.0);
+    let mid = (at_in + at_out) * 0.5;
+    let target = s.vec3(s.vec2(0.0, 0.0), (t_in + t_out) * 0.5);
+    let mut x = mid;
+    for _ in 0..PRISM_BEND_STEPS {
+        let (b0, b1, sink) = (x.x(), x.y(), 1.0 - x.z());
+        let b2 = 1.0 - b0 - b1;
+        let at = |k: usize| top[k] - d[k] * sink;
+        let f = at(0) * b0 + at(1) * b1 + at(2) * b2 - target;
+        let c0 = (top[0] - top[2]) - (d[0] - d[2]) * sink;
+        let c1 = (top[1] - top[2]) - (d[1] - d[2]) * sink;
+        let c2 = d[0] * b0 + d[1] * b1 + d[2] * b2;
+        let n = c1.cross(c2);
+        let det = c0.dot(n);
+        let usable = det.abs().gt(1e-30);
+        let inv = 1.0 / s.select(usable, det, s.lit(1.0));
+        let rhs = -f;
+        let step = s.vec3(s.vec2(rhs.dot(n), c0.dot(rhs.cross(c2))), c0.dot(c1.cross(rhs))) * inv;
+        x = x + s.select(usable, step, zero3);
+    }
+    let delta = x - mid;
+    let tame =
+        delta.x().abs().le(PRISM_BEND_MAX) & delta.y().abs().le(PRISM_BEND_MAX) & delta.z().abs().le(PRISM_BEND_MAX);
+    let bends = tame & len2.ge(PRISM_BEND_SHORT * PRISM_BEND_SHORT);
+    let delta = s.select(bends, delta, zero3);
+    let duv_bend = (uv[0] - uv[2]) * delta.x() + (uv[1] - uv[2]) * delta.y();
+    Bend {
+        offset: s.vec4(s.vec3(duv_bend, delta.z()), 0.0),
+        axis: s.select(bends, duv / len2.max(1e-30), s.vec2(0.0, 0.0)),
+        b: delta.xy(),
+    }
 }
 
 /// A point of the prism in the ray's frame: `xy` its components along `n1` and `n2` (two unit
@@ -654,6 +749,10 @@ fn prism_chord<'a>(
     let dir = s.vec3(duv / k, -1.0);
     let crosses = t_in.lt(t_out) & (long | r.gt(0.0));
     let share = flat_drop.map(|drop| s.select(long, chord_share(r, len2.sqrt() * drop, k), s.lit(1.0)));
+    let bend = (!s.policy().prism_untilted()).then(|| {
+        let v3 = |q: RayFramed<'a>| s.vec3(q.0, q.1);
+        prism_bend(s, top.map(v3), d.map(v3), (at_in, at_out), (t_in, t_out), c.uv, duv, len2)
+    });
     let (b_in, b_out) = (at_in.xy(), at_out.xy());
     Chord {
         crosses,
@@ -670,6 +769,7 @@ fn prism_chord<'a>(
         r,
         share,
         lift,
+        bend,
         search: Ray { origin: uv_in, dir, cos_view },
     }
 }
@@ -859,14 +959,40 @@ const PRISM_ABOVE_SLACK: f32 = 1.0 / 32.0;
 /// the hit) and whether it is drawn: the ray crosses the prism, the search found the surface
 /// (its point not above the lifted field by more than [`PRISM_ABOVE_SLACK`]), and not after the
 /// exit.
-pub(crate) fn prism_trace<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, mr: &MeshRay<'a>) -> (Hit<'a>, Val<'a, bool>) {
+pub(crate) fn prism_trace<'a>(
+    s: &'a FnBuilder<'a>,
+    fns: &StageFns,
+    mr: &MeshRay<'a>,
+) -> (Hit<'a>, Val<'a, bool>, Val<'a, Vec2>) {
     let ch = mr.chord.as_ref().expect("prism_trace needs the prism's chord");
     if let Some(early_in) = ch.early_in {
         s.if_(early_out(s, ch, early_in), |s| s.discard());
     }
     let (hit, drawn, b) = chord_search(s, fns, ch);
     let (corners, depth) = mr.corners.as_ref().expect("prism_trace needs the prism's corners");
-    (polish_on_s(s, mr.view, corners, *depth, hit, b).0, drawn)
+    let (polished, newton_b, kept) = polish_on_s(s, mr.view, corners, *depth, hit, b);
+    (polished, drawn & kept, newton_b)
+}
+
+/// The shading frame of a full draw's prism hit at its barycentrics `b` (b₀, b₁): the prism's
+/// corner normals blended there, the fragment's interpolated tangent made orthogonal to that
+/// normal with its handedness, and the fragment's texture units per object unit; and the
+/// relief's depth along that normal (`depth · |N|`). Every face of the prism traces the same
+/// hit, and the frame is the hit's whichever face was rasterized, as the walk's is
+/// ([`walk_frame`]).
+fn prism_hit_frame<'a>(s: &'a FnBuilder<'a>, mr: &MeshRay<'a>, b: Val<'a, Vec2>) -> (Frame<'a>, Val<'a, f32>) {
+    let (corners, depth) = mr.corners.as_ref().expect("a prism hit's frame needs the prism's corners");
+    let w = [b.x(), b.y(), 1.0 - b.x() - b.y()];
+    let normal = corners.n[0] * w[0] + corners.n[1] * w[1] + corners.n[2] * w[2];
+    let f = &mr.frame;
+    let handedness = f.b.dot(f.n.cross(f.t));
+    let frame = frame(
+        s,
+        s.vec4(normal, 0.0),
+        s.vec4(f.t, handedness),
+        s.vec4(s.vec3(s.vec2(0.0, 0.0), f.scale.x()), f.scale.y()),
+    );
+    (frame, *depth * normal.length())
 }
 
 /// The stages' search on one prism's chord ([`prism_trace`] without the polish): the hit on
@@ -878,6 +1004,13 @@ fn chord_search<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, ch: &Chord<'a>) -> (Hi
     let lift = s.global_ptr(m.private::<Vec3>(PRISM_LIFT));
     s.store(lift, ch.lift.handle());
     s.store(s.global_ptr(m.private::<Vec2>(PRISM_ORIGIN)), ch.search.origin.handle());
+    let bend = ch.bend.as_ref().map(|b| {
+        let (offset, axis) =
+            (s.global_ptr(m.private::<Vec4>(PRISM_BEND)), s.global_ptr(m.private::<Vec2>(PRISM_BEND_AXIS)));
+        s.store(offset, b.offset.handle());
+        s.store(axis, b.axis.handle());
+        (offset, axis, b)
+    });
     let share = ch.share.filter(|_| s.policy().layer_share()).map(|v| (s.global_ptr(m.private::<f32>(LAYER_SHARE)), v));
     if let Some((share, v)) = share {
         s.store(share, v.handle());
@@ -889,15 +1022,24 @@ fn chord_search<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, ch: &Chord<'a>) -> (Hi
     let p = ch.search.at(traced.t);
     let above = (p.z() - s.height(p.xy())).gt(PRISM_ABOVE_SLACK);
     s.store(lift, s.vec3(s.vec2(0.0, 0.0), 0.0).handle());
+    if let Some((offset, axis, _)) = &bend {
+        s.store(*offset, s.vec4(s.vec3(s.vec2(0.0, 0.0), 0.0), 0.0).handle());
+        s.store(*axis, s.vec2(0.0, 0.0).handle());
+    }
     let after = traced.t.gt(ch.k + PRISM_SLACK);
     let drawn = ch.crosses & traced.found & !above & !after;
     // Along the chord: τ = t/k from the entry (0) to the exit (1).
     let tau = (traced.t / ch.k).clamp(0.0, 1.0);
-    let uv = p.xy();
-    let layer = ch.w_in - ch.r * tau;
+    let (mut uv, mut layer, mut b) = (p.xy(), ch.w_in - ch.r * tau, ch.b_in + (ch.b_out - ch.b_in) * tau);
+    if let Some((_, _, bend)) = bend {
+        // The point on the bent chord (the curve's quadratic), as the search's reads took it.
+        let weight = Bend::weight(tau);
+        uv = uv + bend.offset.xy() * weight;
+        layer = layer + bend.offset.z() * weight;
+        b = b + bend.b * weight;
+    }
     let dist = ch.t_in + (ch.t_out - ch.t_in) * tau;
     let hit = Hit { t: dist, uv, z: layer, found: traced.found };
-    let b = ch.b_in + (ch.b_out - ch.b_in) * tau;
     (hit, drawn, b)
 }
 
@@ -1084,12 +1226,17 @@ fn prism_walk<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, mr: &MeshRay<'a>) -> (Hi
         l.break_if(!onward);
         let search = |s: &'a FnBuilder<'a>| {
             let (hit, ok, b) = chord_search(s, fns, &ch);
-            hit_t.set(hit.t);
-            hit_uv.set(hit.uv);
-            hit_z.set(hit.z);
-            hit_b.set(b);
-            found.set(hit.found);
-            drawn.set(ok);
+            // The polish decides whether the hit is drawn: a hit it cannot put on this
+            // prism's S is not one (the walk goes on, as the full draw discards it).
+            s.if_(ok, |s| {
+                let (polished, newton_b, kept) = polish_on_s(s, view, &corners, *depth, hit, b);
+                hit_t.set(polished.t);
+                hit_uv.set(polished.uv);
+                hit_z.set(polished.z);
+                hit_b.set(newton_b);
+                found.set(polished.found);
+                drawn.set(kept);
+            });
         };
         match skip_search(s, &ch, headroom) {
             Some(skip) => s.if_(!skip, search),
@@ -1108,11 +1255,9 @@ fn prism_walk<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, mr: &MeshRay<'a>) -> (Hi
     let at_limit = !drawn & going.get();
     let (corners, _, _) = walk_cell(s, cells, cell.get(), point);
     let hit = Hit { t: hit_t.get(), uv: hit_uv.get(), z: hit_z.get(), found: found.get() };
-    let (polished, newton_b, kept) = polish_on_s(s, view, &corners, *depth, hit, hit_b.get());
-    let b = s.select(kept, newton_b, hit_b.get());
     let get = cell_member(s, cells, cell.get());
-    let (frame, along) = walk_frame(s, get, corners.n, polished.uv, b, *depth);
-    (polished, WalkOut { drawn, at_limit, passes: passes.get(), frame, depth: along })
+    let (frame, along) = walk_frame(s, get, corners.n, hit.uv, hit_b.get(), *depth);
+    (hit, WalkOut { drawn, at_limit, passes: passes.get(), frame, depth: along })
 }
 
 /// The exact early-out behind the hit: whether the prism's entry lies strictly inside the
@@ -1168,10 +1313,11 @@ fn height_and_gradient<'a>(s: &'a FnBuilder<'a>, uv: Val<'a, Vec2>) -> (Val<'a, 
     (h, s.vec2(du, dv))
 }
 
-/// Polishes the search's hit onto S along the true view ray. The search ran on a straight
-/// chord in texture space, which the view ray is not (the prism's map bends it), so its hit is
-/// on the chord, off S by up to the chord's bulge, and its distance along the ray is the
-/// chord's linear estimate. Newton's method on
+/// Polishes the search's hit onto S along the true view ray. The search ran on the bent
+/// chord ([`prism_bend`]; the straight chord where the coarse stage reads maps), which is not
+/// the view ray's curve through the prism's map, so its hit is off S by the search's last
+/// bracket and the path's departure from the curve, and its distance along the ray is the
+/// path's linear estimate. Newton's method on
 /// `F(t, b₀, b₁) = t·v − Σ bᵢ (Pᵢ − depth·(1 − h(uv(b)))·Nᵢ)` (the view ray from the
 /// fragment's point against S over this triangle; b₂ = 1 − b₀ − b₁, h bilinear with its
 /// gradient from the four texels, [`height_and_gradient`]) from the search's (t, b) finds the
@@ -1232,9 +1378,28 @@ fn polish_on_s<'a>(
     (polished, bb, keep)
 }
 
+/// What [`mesh_trace`] knows of its hit besides the hit: a walk's report, a full draw's prism
+/// hit's barycentrics (b₀, b₁; for its shading frame, [`prism_hit_frame`]), or nothing
+/// (`none`, `quadric`: the fragment's own frame shades).
+pub(crate) enum Traced<'a> {
+    Walk(WalkOut<'a>),
+    Prism(Val<'a, Vec2>),
+    Flat,
+}
+
+impl<'a> Traced<'a> {
+    /// The walk's report, where the trace walked.
+    fn walk(&self) -> Option<&WalkOut<'a>> {
+        match self {
+            Traced::Walk(w) => Some(w),
+            _ => None,
+        }
+    }
+}
+
 /// The trace both fragment entries share: the search, then the discards of the mode; returns
 /// the hit, kept inside the volume as relief's own fragment keeps it (`prism`: its `t` the
-/// distance along the view ray, [`prism_trace`]).
+/// distance along the view ray, [`prism_trace`]), and what else it knows ([`Traced`]).
 ///
 /// A walk's fragment (`prism_walk`) is discarded where the walk found no hit; with
 /// `keep_limit` (the probe) not where it stopped at [`PRISM_WALK_LIMIT`], which the caller
@@ -1245,17 +1410,17 @@ fn mesh_trace<'a>(
     curved: Curved,
     mr: &MeshRay<'a>,
     keep_limit: bool,
-) -> (Hit<'a>, Option<WalkOut<'a>>) {
+) -> (Hit<'a>, Traced<'a>) {
     if curved == Curved::Prism && mr.walk.is_some() {
         let (hit, out) = prism_walk(s, fns, mr);
         let lost = if keep_limit { !out.drawn & !out.at_limit } else { !out.drawn };
         s.if_(lost, |s| s.discard());
-        return (hit, Some(out));
+        return (hit, Traced::Walk(out));
     }
     if curved == Curved::Prism {
-        let (hit, drawn) = prism_trace(s, fns, mr);
+        let (hit, drawn, b) = prism_trace(s, fns, mr);
         s.if_(!drawn, |s| s.discard());
-        return (hit, None);
+        return (hit, Traced::Prism(b));
     }
     let traced = search(s, fns, mr);
     if curved != Curved::None {
@@ -1265,7 +1430,7 @@ fn mesh_trace<'a>(
         let _ = [s.arg::<Vec4>(5).xy(), s.arg::<Vec4>(5).zw(), s.arg::<Vec4>(6).xy()];
         s.if_(!covered(s, curved, mr, &traced), |s| s.discard());
     }
-    (Hit::at_found(&mr.ray, traced.t.clamp(0.0, mr.ray.t_max()), traced.found), None)
+    (Hit::at_found(&mr.ray, traced.t.clamp(0.0, mr.ray.t_max()), traced.found), Traced::Flat)
 }
 
 /// The NDC depth of the hit: the point the unit view ray reaches after descending
@@ -1307,10 +1472,12 @@ fn fragment_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Cu
     let mr = mesh_ray(&s, curved, inputs);
     let (hit, walked) = mesh_trace(&s, fns, curved, &mr, false);
     let depth_out = hit_depth(&s, &mr, point, &hit);
-    // The shading frame: the fragment's, or under a walk the hit prism's ([`walk_frame`]).
+    // The shading frame: the fragment's, or the hit prism's at the hit ([`walk_frame`],
+    // [`prism_hit_frame`]).
     let (frame, depth) = match walked {
-        Some(w) => (w.frame, w.depth),
-        None => (mr.frame, mr.depth),
+        Traced::Walk(w) => (w.frame, w.depth),
+        Traced::Prism(b) => prism_hit_frame(&s, &mr, b),
+        Traced::Flat => (mr.frame, mr.depth),
     };
     if curved == Curved::Quadric {
         // The shadow and ao stages search from the hit: the quadric is centred there.
@@ -1366,7 +1533,8 @@ fn probe_entry(m: &ModuleCtx, policy: &dyn Policy, fns: &StageFns, curved: Curve
     let s = m.function(PROBE_ENTRY, &fragment_args(m, curved, walk.is_some()), policy);
     let (inputs, point) = varying_inputs(&s, curved, walk);
     let mr = mesh_ray(&s, curved, inputs);
-    let (hit, out) = mesh_trace(&s, fns, curved, &mr, true);
+    let (hit, traced) = mesh_trace(&s, fns, curved, &mr, true);
+    let out = traced.walk();
     let out_ty = super::fragment_output_with_depth(m);
     if let Some(out) = &out {
         s.if_(out.at_limit, |s| {

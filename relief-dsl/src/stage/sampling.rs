@@ -72,6 +72,21 @@ pub(crate) const PRISM_LIFT: &str = "relief_prism_lift";
 /// The private `vec2` global of the texture point the prism's lift ([`PRISM_LIFT`]) is
 /// centred on: the chord's entry.
 pub(crate) const PRISM_ORIGIN: &str = "relief_prism_origin";
+/// The private `vec4` global of the prism chord's bend under `curved=prism` where the chord is
+/// searched tilted (the coarse stage reads no map, `Policy::prism_untilted` false): xy the
+/// texture offset and z the layer offset of the view ray's exact point through the prism at
+/// the chord's middle from the chord's own middle, w unused. The view ray through the prism's
+/// map is a curve in texture space; the search follows the quadratic through its entry, its
+/// exact middle and its exit: a height read at the chord's texture point `uv`, a fraction
+/// `s = (uv − origin)·axis` ([`PRISM_BEND_AXIS`]) of the way from the entry, reads the height
+/// at `uv + xy·β` and compares it with a layer `z·β` lower, `β = max(0, 4s(1 − s))`
+/// (docs/meshes-shaders.md). The mesh module's fragment stores it with the lift and sets it
+/// back to 0 after the search.
+pub(crate) const PRISM_BEND: &str = "relief_prism_bend";
+/// The private `vec2` global that turns a chord's texture point into its fraction of the
+/// chord ([`PRISM_BEND`]): `Δuv / |Δuv|²`, Δuv the chord's texture-space length, or 0 for a
+/// chord too short in texture space to bend.
+pub(crate) const PRISM_BEND_AXIS: &str = "relief_prism_bend_axis";
 /// The private `f32` global of the share of the relief's layers a linear search takes
 /// where the policy asks ([`crate::ir::Policy::layer_share`]): the prism walk searches
 /// each prism's chord over the stages' whole t from 0 to 1, and the chord's share (its drop,
@@ -108,6 +123,23 @@ impl<'a> FnBuilder<'a> {
         let l = self.load::<Vec3>(self.global_ptr(m.private::<Vec3>(PRISM_LIFT)));
         let o = self.load::<Vec2>(self.global_ptr(m.private::<Vec2>(PRISM_ORIGIN)));
         Some(l.x() + self.vec2(l.y(), l.z()).dot(uv - o))
+    }
+
+    /// Where a height read at the chord's texture point `uv` reads under the prism chord's
+    /// bend ([`PRISM_BEND`]), and the layer offset it compares with (subtracted from the
+    /// height), where the function's policy bends the chord (it lifts heights and the
+    /// chord is searched tilted); else `None`.
+    fn bend(&'a self, uv: Val<'a, Vec2>) -> Option<(Val<'a, Vec2>, Val<'a, f32>)> {
+        if !self.policy().prism_lift() || self.policy().prism_untilted() {
+            return None;
+        }
+        let m = self.module();
+        let b = self.load::<Vec4>(self.global_ptr(m.private::<Vec4>(PRISM_BEND)));
+        let axis = self.load::<Vec2>(self.global_ptr(m.private::<Vec2>(PRISM_BEND_AXIS)));
+        let o = self.load::<Vec2>(self.global_ptr(m.private::<Vec2>(PRISM_ORIGIN)));
+        let f = (uv - o).dot(axis);
+        let beta = (f * (1.0 - f) * 4.0).max(0.0);
+        Some((uv + b.xy() * beta, b.z() * beta))
     }
 
     /// A height read from a map other than the height map (a bilinear cell's apex `A_C` stored
@@ -293,7 +325,10 @@ impl<'a> FnBuilder<'a> {
     /// The four heights a bilinear sample at `uv` blends (see [`FnBuilder::map_gather`]), at the
     /// stage-wide level.
     pub fn height_gather(&'a self, uv: Val<'a, Vec2>) -> Val<'a, Vec4> {
-        let g = self.gather_2d(Image::Height, uv);
+        let g = match self.bend(uv) {
+            Some((at, drop)) => self.gather_2d(Image::Height, at) - drop.splat::<Vec4>(),
+            None => self.gather_2d(Image::Height, uv),
+        };
         let g = match self.quadric_at(uv) {
             // The four corners take the quadric at `uv`, not at their own texel centres: an
             // approximation that moves a corner by at most the quadric's change over one
@@ -453,7 +488,10 @@ impl<'a> FnBuilder<'a> {
 
     /// GETHEIGHT of the algorithm boxes: the height map at `uv`, bilinear.
     pub fn height(&'a self, uv: Val<'a, Vec2>) -> Val<'a, f32> {
-        let h = self.sample(Image::Height, uv, Filter::Linear).x();
+        let h = match self.bend(uv) {
+            Some((at, drop)) => self.sample(Image::Height, at, Filter::Linear).x() - drop,
+            None => self.sample(Image::Height, uv, Filter::Linear).x(),
+        };
         self.height_raised_at(h, uv)
     }
 

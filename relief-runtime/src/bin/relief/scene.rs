@@ -319,7 +319,8 @@ fn prism_t_report(
 ) -> anyhow::Result<()> {
     use relief_dsl::spec::Curved;
     use relief_runtime::mesh_measure::{
-        emulate_prism_pixel, measure_modes, prism_t_causes, rms_t_without, score, PolishRule, PrismTCause,
+        emulate_prism_pixel, measure_modes, near_seam, prism_t_causes, rms_t_without, score, PolishRule, PrismPath,
+        PrismTCause,
     };
     let mut dense: relief_dsl::Pipeline = "linear(256)+binary(8)".parse().map_err(|e| anyhow::anyhow!("{e}"))?;
     dense.shadow = base.shadow.clone();
@@ -359,14 +360,19 @@ fn prism_t_report(
     let (vertices, indices) = relief_runtime::mesh::vertices::mesh_vertices(&ms.mesh, Curved::Prism);
     let rays = ms.rays(size, size);
     let depth = ms.scene.depth_scale as f64;
-    for rule in [
-        PolishRule::SHADER,
-        PolishRule { steps: 6, ..PolishRule::SHADER },
-        PolishRule { discard: true, ..PolishRule::SHADER },
-        PolishRule { steps: 6, discard: true, ..PolishRule::SHADER },
-        PolishRule { discard_outside: true, ..PolishRule::SHADER },
+    let walls = relief_runtime::mesh_measure::seam_walls(ms);
+    for (rule, (steps, refine)) in [
+        (PolishRule::SHADER, (steps, refine)),
+        (PolishRule { steps: 6, ..PolishRule::SHADER }, (steps, refine)),
+        (PolishRule { discard: false, ..PolishRule::SHADER }, (steps, refine)),
+        (PolishRule { discard: false, discard_outside: true, ..PolishRule::SHADER }, (steps, refine)),
+        (PolishRule { discard: false, path: PrismPath::Chord, ..PolishRule::SHADER }, (steps, refine)),
+        (PolishRule { path: PrismPath::Chord, ..PolishRule::SHADER }, (steps, refine)),
+        (PolishRule { path: PrismPath::Exact, ..PolishRule::SHADER }, (steps, refine)),
+        (PolishRule::SHADER, (256, 8)),
     ] {
         let (mut extra, mut missing, mut sum, mut both, mut over, mut gpu_differ) = (0, 0, 0.0, 0usize, 0, 0);
+        let (mut sum_off_seams, mut seam_pixels) = (0.0, 0usize);
         for (i, ray) in rays.iter().enumerate() {
             let (o, d) =
                 (glam::DVec3::from(ray.origin.map(|c| c as f64)), glam::DVec3::from(ray.dir.map(|c| c as f64)));
@@ -378,6 +384,13 @@ fn prism_t_report(
                     sum += dt * dt;
                     both += 1;
                     over += usize::from(dt.abs() > relief_runtime::mesh_measure::T_BOUND);
+                    if dt.abs() > relief_runtime::mesh_measure::T_BOUND
+                        && (near_seam(&walls, o, d, e.t, depth) || near_seam(&walls, o, d, r.t, depth))
+                    {
+                        seam_pixels += 1;
+                    } else {
+                        sum_off_seams += dt * dt;
+                    }
                 }
                 (Some(_), None) => extra += 1,
                 (None, Some(_)) => missing += 1,
@@ -385,7 +398,8 @@ fn prism_t_report(
             }
         }
         println!(
-            "emulated polish {} steps{}: extra {extra}, missing {missing}, rms_t {:.2e}, over the bound {over}, coverage unlike the GPU's {gpu_differ}",
+            "emulated linear({steps})+binary({refine}) {}, polish {} steps{}: extra {extra}, missing {missing}, rms_t {:.2e}, over the bound {over}, coverage unlike the GPU's {gpu_differ}; without the {seam_pixels} seam pixels over the bound rms_t {:.2e}",
+            rule.path.name(),
             rule.steps,
             if rule.discard {
                 ", discard where not kept"
@@ -394,7 +408,8 @@ fn prism_t_report(
             } else {
                 ""
             },
-            (sum / both.max(1) as f64).sqrt()
+            (sum / both.max(1) as f64).sqrt(),
+            (sum_off_seams / (both - seam_pixels).max(1) as f64).sqrt()
         );
     }
     for f in &found {
