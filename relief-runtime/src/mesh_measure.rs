@@ -495,7 +495,7 @@ impl PrismPath {
 
 /// The shader's constants of the chord's bend (`compose/mesh.rs`: `PRISM_BEND_STEPS`,
 /// `PRISM_BEND_MAX`, `PRISM_BEND_SHORT`).
-pub const PRISM_BEND_STEPS: usize = 2;
+pub const PRISM_BEND_STEPS: usize = 1;
 const PRISM_BEND_MAX: f64 = 0.25;
 const PRISM_BEND_SHORT: f64 = 1e-5;
 /// Newton's steps of [`PrismPath::Exact`]: from the chord's point, far more than converge.

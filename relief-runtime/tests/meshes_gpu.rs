@@ -622,7 +622,8 @@ fn prism_t_is_within_the_bound_or_explained(
 /// `mesh_measure::emulate_prism_pixel` (f64, every prism's exact entry and exit, the chord bent
 /// through the view ray's exact middle, the search, the polish and its discard) draw the same
 /// pixels and the same t, within `mesh_measure::emulation_bound` (1e-3 depths, the issue's
-/// per-pixel bound; every drawn hit is polished). Where they differ in coverage, the ray
+/// per-pixel bound, and two of the search's last brackets where the polish was not kept).
+/// Where they differ in coverage, the ray
 /// crosses a uv seam's wall before the pixel's hit (the emulation's or the reference's): S is
 /// open there, and the walk cannot follow the ray through the crack as the emulation of the
 /// full draw does (at the sphere's pole, one pixel of the 96² view at 30°).
@@ -650,7 +651,6 @@ fn the_emulation_draws_what_the_walk_with_all_layers_draws(
             (Some(e), true) => {
                 let bound = emulation_bound(&e);
                 let dt = (g[2] as f64 - e.t) / depth;
-                assert!(e.polished, "{what}: pixel {i}: the emulation drew an unpolished hit");
                 assert!(
                     dt.abs() <= bound,
                     "{what}: pixel {i}: GPU t off the emulation's by {dt} depths (bound {bound})"
@@ -705,7 +705,8 @@ fn prism_coverage_and_t_against_the_reference_at_grazing_views_in_both_edge_mode
 /// and 60° from its pole axis (two of the goals table's cells, docs/notes/meshes.md; 96²,
 /// repeat), where the chord, straight in texture space, passed crossings the view ray's curve
 /// makes (2 and 3 pixels over 1e-3 depths, cause "chord", before the bend). With the chord bent
-/// through the curve's exact middle and the polish's discard, the walk with all its layers has
+/// through the curve's exact middle, and a hit the polish does not keep discarded (the pole's
+/// uv-seam crack), the walk with all its layers has
 /// every pixel both hit within 1e-3 depths of the reference (so the RMS goal, 1e-3 depths, is
 /// met, asserted), the emulation giving its t on every pixel
 /// ([`prism_t_is_within_the_bound_or_explained`]). Seen to fail with the bend left out

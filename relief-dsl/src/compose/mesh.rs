@@ -176,6 +176,13 @@ const PRISM_CELLS: &str = "prism_cells";
 /// counted, not hidden.
 pub const PRISM_WALK_LIMIT: u32 = 128;
 
+/// The most prisms the walk's second try visits, after a hit the polish does not keep
+/// ([`prism_walk`]): the crossing Newton found outside the hit prism's triangle is in the next
+/// prism or the one after, and a ray that entered a uv seam's crack may wander the pole's
+/// fan below S. A second try that reaches it draws nothing: the pixel is lost (and counted in
+/// the coverage), not marked as at [`PRISM_WALK_LIMIT`].
+pub const PRISM_RETRY_LIMIT: u32 = 8;
+
 /// The depth the probe writes for a pixel whose walk reached [`PRISM_WALK_LIMIT`]: the
 /// farthest below the cleared 1.0, so that any fragment with a hit at the pixel wins the
 /// depth test over the mark.
@@ -410,8 +417,11 @@ const PRISM_CHORD_END: f32 = 15.0 / 16.0;
 /// Newton's steps of the inversion of the chord's middle ([`prism_bend`]), from the chord's
 /// own middle: the chord is the curve's secant, so its middle lies off the curve by the
 /// curve's sag (a few hundredths of a barycentric at most on the goal scenes), and Newton's
-/// method squares that error each step.
-const PRISM_BEND_STEPS: usize = 2;
+/// method squares that error each step: one step leaves an error of the order of the sag
+/// squared, below the quadratic's own departure from the curve. (Two steps cost 5 % more
+/// frame time on lavapipe; the emulation, with the same one step, gives the GPU's t on every
+/// pixel of the tests' views.)
+const PRISM_BEND_STEPS: usize = 1;
 
 /// The largest bend kept, in barycentrics and in layers: a Newton's step that moves the middle
 /// further has not met the curve (a ray grazing the prism's volume), and the chord is
@@ -1213,46 +1223,73 @@ fn prism_walk<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, mr: &MeshRay<'a>) -> (Hi
     if s.policy().layer_share() {
         s.store(s.global_ptr(s.module().private::<f32>(LAYER_SHARE)), s.lit(1.0f32).handle());
     }
-    s.repeat(PRISM_WALK_LIMIT, |l| {
-        let s: &'a FnBuilder<'a> = l;
-        passes.set(passes.get() + 1u32);
-        let (corners, across, headroom) = walk_cell(s, cells, cell.get(), point);
-        let ch = prism_chord(s, view, &corners, *depth, cos_view, Some(flat_drop));
-        let missed = first.get() & !ch.crosses;
-        first.set(s.lit_bool(false));
-        l.continue_if(start_at_a_neighbour(s, missed, &ch, across, cell));
-        let onward = advances(&ch, from.get());
-        going.set(onward);
-        l.break_if(!onward);
-        let search = |s: &'a FnBuilder<'a>| {
-            let (hit, ok, b) = chord_search(s, fns, &ch);
-            // The polish decides whether the hit is drawn: a hit it cannot put on this
-            // prism's S is not one (the walk goes on, as the full draw discards it).
-            s.if_(ok, |s| {
-                let (polished, newton_b, kept) = polish_on_s(s, view, &corners, *depth, hit, b);
-                hit_t.set(polished.t);
-                hit_uv.set(polished.uv);
-                hit_z.set(polished.z);
-                hit_b.set(newton_b);
-                found.set(polished.found);
-                drawn.set(kept);
-            });
-        };
-        match skip_search(s, &ch, headroom) {
-            Some(skip) => s.if_(!skip, search),
-            None => search(s),
-        }
-        l.break_if(drawn.get());
-        let face = ch.exit_face.expect("a walk's chord keeps its exit face");
-        let next = s.select(face.lt(0.5), across.x(), s.select(face.lt(1.5), across.y(), across.z()));
-        let on = ch.crosses & face.lt(2.5) & next.ge(0.0);
-        going.set(on);
-        l.break_if(!on);
-        cell.set(next.round().to_u32());
-        from.set(ch.t_out);
+    // Where the drawn prism's exit leads (the walk's next prism, whether there is one, and the
+    // exit's distance): where the polish does not keep the hit, the walk goes on from there once.
+    let (next_cell, next_on, next_from) =
+        (s.var("walk_next", 0u32), s.var("walk_next_on", s.lit_bool(false)), s.var("walk_next_from", 0.0f32));
+    // The walk, then the polish of its hit; where the polish does not keep it (a uv seam's
+    // crack, or a crossing that is the neighbour's part of S), once more from the next prism.
+    // The polish runs after each walk, not in its passes: lavapipe runs a block under `if` in
+    // every pass whatever its lanes decide, and the polish is four gathers.
+    let retried = s.var("walk_retried", s.lit_bool(false));
+    s.repeat(2, |outer| {
+        let s: &'a FnBuilder<'a> = outer;
+        let limit = s.select(retried.get(), s.lit_u32(PRISM_RETRY_LIMIT), s.lit_u32(PRISM_WALK_LIMIT));
+        s.repeat_up_to(PRISM_WALK_LIMIT, limit, |l| {
+            let s: &'a FnBuilder<'a> = l;
+            passes.set(passes.get() + 1u32);
+            let (corners, across, headroom) = walk_cell(s, cells, cell.get(), point);
+            let ch = prism_chord(s, view, &corners, *depth, cos_view, Some(flat_drop));
+            let missed = first.get() & !ch.crosses;
+            first.set(s.lit_bool(false));
+            l.continue_if(start_at_a_neighbour(s, missed, &ch, across, cell));
+            let onward = advances(&ch, from.get());
+            going.set(onward);
+            l.break_if(!onward);
+            let search = |s: &'a FnBuilder<'a>| {
+                let (hit, ok, b) = chord_search(s, fns, &ch);
+                hit_t.set(hit.t);
+                hit_uv.set(hit.uv);
+                hit_z.set(hit.z);
+                hit_b.set(b);
+                found.set(hit.found);
+                drawn.set(ok);
+            };
+            match skip_search(s, &ch, headroom) {
+                Some(skip) => s.if_(!skip, search),
+                None => search(s),
+            }
+            let face = ch.exit_face.expect("a walk's chord keeps its exit face");
+            let next = s.select(face.lt(0.5), across.x(), s.select(face.lt(1.5), across.y(), across.z()));
+            let on = ch.crosses & face.lt(2.5) & next.ge(0.0);
+            next_cell.set(next.max(0.0).round().to_u32());
+            next_on.set(on);
+            next_from.set(ch.t_out);
+            l.break_if(drawn.get());
+            going.set(on);
+            l.break_if(!on);
+            cell.set(next_cell.get());
+            from.set(ch.t_out);
+        });
+        let (corners, _, _) = walk_cell(s, cells, cell.get(), point);
+        let hit = Hit { t: hit_t.get(), uv: hit_uv.get(), z: hit_z.get(), found: found.get() };
+        let (polished, newton_b, kept) = polish_on_s(s, view, &corners, *depth, hit, hit_b.get());
+        let searched = drawn.get();
+        hit_t.set(polished.t);
+        hit_uv.set(polished.uv);
+        hit_z.set(polished.z);
+        hit_b.set(newton_b);
+        drawn.set(searched & kept);
+        // A walk that ended at a search did not end at its limit, kept or not.
+        going.set(going.get() & !searched);
+        outer.break_if(!searched | kept | !next_on.get());
+        cell.set(next_cell.get());
+        from.set(next_from.get());
+        going.set(s.lit_bool(true));
+        retried.set(s.lit_bool(true));
     });
     let drawn = drawn.get();
-    let at_limit = !drawn & going.get();
+    let at_limit = !drawn & going.get() & !retried.get();
     let (corners, _, _) = walk_cell(s, cells, cell.get(), point);
     let hit = Hit { t: hit_t.get(), uv: hit_uv.get(), z: hit_z.get(), found: found.get() };
     let get = cell_member(s, cells, cell.get());
