@@ -176,9 +176,9 @@ const PRISM_CELLS: &str = "prism_cells";
 /// counted, not hidden.
 pub const PRISM_WALK_LIMIT: u32 = 128;
 
-/// The most prisms the walk's second try visits, after a hit the polish does not keep
-/// ([`prism_walk`]): the crossing Newton found outside the hit prism's triangle is in the next
-/// prism or the one after, and a ray that entered a uv seam's crack may wander the pole's
+/// The most prisms the walk's second try visits, after a hit the polish does not keep: the
+/// crossing Newton found outside the hit prism's triangle is in the next prism or the one
+/// after, and a ray that entered a uv seam's crack may wander the pole's
 /// fan below S. A second try that reaches it draws nothing: the pixel is lost (and counted in
 /// the coverage), not marked as at [`PRISM_WALK_LIMIT`].
 pub const PRISM_RETRY_LIMIT: u32 = 8;
