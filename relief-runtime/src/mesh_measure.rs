@@ -528,8 +528,7 @@ impl Chord {
         })
     }
 
-    /// The chord bent along `path` for the view ray `o + t·d` through the prism `p`, `n`.
-    #[allow(clippy::too_many_arguments)]
+    /// The chord bent along `path`, for the view ray and the prism `inv` holds.
     fn bent(mut self, path: PrismPath, inv: Inversion) -> Chord {
         self.path = match path {
             PrismPath::Chord => Path::Chord,

@@ -627,8 +627,10 @@ fn prism_t_is_within_the_bound_or_explained(
 /// crosses a uv seam's wall before the pixel's hit (the emulation's or the reference's): S is
 /// open there, and the walk cannot follow the ray through the crack as the emulation of the
 /// full draw does (at the sphere's pole, one pixel of the 96² view at 30°).
-/// Seen to fail with the shader's bend left out (`PRISM_BEND_STEPS` 0: the straight chord):
-/// the GPU's t leaves the emulation's bound on the limb.
+/// With the shader's bend left out (`PRISM_BEND_STEPS` 0: the straight chord) the limb's and
+/// the torus's views still pass (there the straight chord's search, once polished, lands
+/// within 10⁻³ depths of the bent one's on every pixel); the sphere's at 30° fails first on
+/// its RMS goal (`prism_meets_the_t_goal_on_the_sphere_where_the_straight_chord_missed_it`).
 fn the_emulation_draws_what_the_walk_with_all_layers_draws(
     ms: &MeshScene,
     reference: &[Option<relief_runtime::mesh::MeshHit>],
