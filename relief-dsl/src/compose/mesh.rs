@@ -514,14 +514,6 @@ struct Bend<'a> {
     b: Val<'a, Vec2>,
 }
 
-impl<'a> Bend<'a> {
-    /// The bend's weight at the fraction `tau` of the chord (0 at the entry, 1 at the exit):
-    /// `4τ(1 − τ)`, the quadratic that is 1 at the middle and 0 at both ends.
-    fn weight(tau: Val<'a, f32>) -> Val<'a, f32> {
-        (tau * (1.0 - tau) * 4.0).max(0.0)
-    }
-}
-
 /// The chord's bend: the view ray through the prism's map `X(b, w)` is a curve in (b, w), and
 /// so in texture space, that meets the chord at the entry and the exit. Its point at the middle
 /// of the ray's segment (t halfway between entry and exit) is found by Newton's method on
@@ -1043,7 +1035,7 @@ fn chord_search<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, ch: &Chord<'a>) -> (Hi
     let (mut uv, mut layer, mut b) = (p.xy(), ch.w_in - ch.r * tau, ch.b_in + (ch.b_out - ch.b_in) * tau);
     if let Some((_, _, bend)) = bend {
         // The point on the bent chord (the curve's quadratic), as the search's reads took it.
-        let weight = Bend::weight(tau);
+        let weight = crate::stage::sampling::bend_weight(tau);
         uv = uv + bend.offset.xy() * weight;
         layer = layer + bend.offset.z() * weight;
         b = b + bend.b * weight;

@@ -87,6 +87,13 @@ pub(crate) const PRISM_BEND: &str = "relief_prism_bend";
 /// chord ([`PRISM_BEND`]): `Δuv / |Δuv|²`, Δuv the chord's texture-space length, or 0 for a
 /// chord too short in texture space to bend.
 pub(crate) const PRISM_BEND_AXIS: &str = "relief_prism_bend_axis";
+/// The prism chord's bend's weight at the fraction `f` of the chord (0 at the entry, 1 at the
+/// exit): `max(0, 4f(1 − f))`, the quadratic that is 1 at the middle and 0 at both ends
+/// ([`PRISM_BEND`]); the reads and the hit the mesh module carries take the same.
+pub(crate) fn bend_weight<'a>(f: Val<'a, f32>) -> Val<'a, f32> {
+    (f * (1.0 - f) * 4.0).max(0.0)
+}
+
 /// The private `f32` global of the share of the relief's layers a linear search takes
 /// where the policy asks ([`crate::ir::Policy::layer_share`]): the prism walk searches
 /// each prism's chord over the stages' whole t from 0 to 1, and the chord's share (its drop,
@@ -138,7 +145,7 @@ impl<'a> FnBuilder<'a> {
         let axis = self.load::<Vec2>(self.global_ptr(m.private::<Vec2>(PRISM_BEND_AXIS)));
         let o = self.load::<Vec2>(self.global_ptr(m.private::<Vec2>(PRISM_ORIGIN)));
         let f = (uv - o).dot(axis);
-        let beta = (f * (1.0 - f) * 4.0).max(0.0);
+        let beta = bend_weight(f);
         Some((uv + b.xy() * beta, b.z() * beta))
     }
 
