@@ -417,7 +417,14 @@ struct Chord {
 /// point.
 enum Path {
     Chord,
-    Bent { duv: DVec2, dw: f64, db: DVec2, axis: DVec2 },
+    /// `pieces`: 0 for the quadratic, else that many straight pieces through its points.
+    Bent {
+        duv: DVec2,
+        dw: f64,
+        db: DVec2,
+        axis: DVec2,
+        pieces: u32,
+    },
     Exact(Box<Inversion>),
 }
 
@@ -480,6 +487,10 @@ pub enum PrismPath {
     /// The view ray's exact point at every read (Newton's inversion of the prism's map to
     /// convergence): what the bend approximates.
     Exact,
+    /// The bent chord's quadratic followed by `n` straight pieces through its points at `i/n`:
+    /// the shader's path where the coarse stage reads maps (`compose/mesh.rs`'s piece search,
+    /// [`PRISM_PIECES`] pieces, a map's bounds holding along straight rays only).
+    Pieces(u32),
 }
 
 impl PrismPath {
@@ -489,6 +500,7 @@ impl PrismPath {
             PrismPath::Chord => "chord",
             PrismPath::Bent => "bent chord",
             PrismPath::Exact => "exact curve",
+            PrismPath::Pieces(_) => "pieces",
         }
     }
 }
@@ -498,6 +510,9 @@ impl PrismPath {
 pub const PRISM_BEND_STEPS: usize = 1;
 const PRISM_BEND_MAX: f64 = 0.25;
 const PRISM_BEND_SHORT: f64 = 1e-5;
+/// The straight pieces of the bent chord a coarse stage that reads maps follows
+/// (`compose/mesh.rs`: `PRISM_PIECES`; [`PrismPath::Pieces`]).
+pub const PRISM_PIECES: u32 = 4;
 /// Newton's steps of [`PrismPath::Exact`]: from the chord's point, far more than converge.
 const EXACT_STEPS: usize = 8;
 
@@ -532,7 +547,8 @@ impl Chord {
     fn bent(mut self, path: PrismPath, inv: Inversion) -> Chord {
         self.path = match path {
             PrismPath::Chord => Path::Chord,
-            PrismPath::Bent => {
+            PrismPath::Bent | PrismPath::Pieces(_) => {
+                let pieces = if let PrismPath::Pieces(n) = path { n } else { 0 };
                 let (b, w) = inv.at(0.5, PRISM_BEND_STEPS);
                 let (bc, wc) = ((inv.entry.b + inv.exit.b) * 0.5, (inv.entry.w + inv.exit.w) * 0.5);
                 let (db, dw) = (b - bc, w - wc);
@@ -540,7 +556,7 @@ impl Chord {
                 let len2 = chord.length_squared();
                 let tame = db.x.abs() <= PRISM_BEND_MAX && db.y.abs() <= PRISM_BEND_MAX && dw.abs() <= PRISM_BEND_MAX;
                 if tame && len2 >= PRISM_BEND_SHORT * PRISM_BEND_SHORT && db.is_finite() && dw.is_finite() {
-                    Path::Bent { duv: inv.uv(b) - inv.uv(bc), dw, db, axis: chord / len2 }
+                    Path::Bent { duv: inv.uv(b) - inv.uv(bc), dw, db, axis: chord / len2, pieces }
                 } else {
                     Path::Chord
                 }
@@ -557,13 +573,13 @@ impl Chord {
         let w = 1.0 - t - self.lift0 - self.slope.dot(uv - self.origin);
         match &self.path {
             Path::Chord => (uv, w, None),
-            Path::Bent { duv, dw, db, axis } => {
+            Path::Bent { duv, dw, db, axis, pieces } => {
                 // The read's fraction from its texture point, as the shader's `bend` has it;
                 // the barycentrics at the search's fraction, as `chord_search` carries them.
                 let f = (uv - self.origin).dot(*axis);
-                let bend = (4.0 * f * (1.0 - f)).max(0.0);
+                let bend = piece_weight(f, *pieces);
                 let tau = (t / self.k).clamp(0.0, 1.0);
-                let b = self.b_in + (self.b_out - self.b_in) * tau + *db * (4.0 * tau * (1.0 - tau));
+                let b = self.b_in + (self.b_out - self.b_in) * tau + *db * piece_weight(tau, *pieces);
                 (uv + *duv * bend, w + dw * bend, Some(b))
             }
             Path::Exact(inv) => {
@@ -578,6 +594,23 @@ impl Chord {
         let (uv, w, _) = self.point(t);
         height_at(ms, uv) >= w
     }
+}
+
+/// The bend's weight at the chord's fraction `f`: the quadratic `max(0, 4f(1 − f))`
+/// (`stage::sampling::bend_weight`), or with `pieces` > 0 its straight pieces through its
+/// values at `i/pieces` (0 outside the chord).
+fn piece_weight(f: f64, pieces: u32) -> f64 {
+    let q = |f: f64| (4.0 * f * (1.0 - f)).max(0.0);
+    if pieces == 0 {
+        return q(f);
+    }
+    if !(0.0..=1.0).contains(&f) {
+        return 0.0;
+    }
+    let n = pieces as f64;
+    let i = (f * n).floor().min(n - 1.0);
+    let (a, b) = (i / n, (i + 1.0) / n);
+    q(a) + (q(b) - q(a)) * (f - a) * n
 }
 
 /// The scene's height map, bilinear between texel centres under its edge mode (the

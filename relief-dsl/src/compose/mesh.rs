@@ -63,7 +63,7 @@ use crate::abi::{abi_record, Param};
 use crate::ir::{Bindings, FnBuilder, Image, Mat4, ModuleCtx, Plain, Policy, Ty, Val, Vec2, Vec3, Vec4};
 use crate::spec::{Curved, Lod, Pipeline, Silhouette};
 use crate::stage::sampling::{
-    LAYER_SHARE, PRISM_BEND, PRISM_BEND_AXIS, PRISM_LIFT, PRISM_ORIGIN, QUADRIC_COEFFS, QUADRIC_ORIGIN,
+    LAYER_SHARE, PRISM_BEND, PRISM_BEND_AXIS, PRISM_LIFT, PRISM_ORIGIN, PRISM_STOP, QUADRIC_COEFFS, QUADRIC_ORIGIN,
 };
 use crate::stage::{Filter, Hit, Ray};
 use crate::CompileError;
@@ -225,7 +225,8 @@ struct MeshPolicy {
     plain: Plain,
     quadric: bool,
     lift: bool,
-    /// The coarse stage reads maps: descending chords are searched untilted ([`prism_chord`]).
+    /// The coarse stage reads maps: the chord's straight pieces are searched, each untilted
+    /// where it descends ([`piece_search`]).
     untilted: bool,
     /// The walk gives each chord its share of the linear searches' layers ([`chord_share`]).
     share: bool,
@@ -249,9 +250,10 @@ impl Policy for MeshPolicy {
     }
 }
 
-/// Whether `p`'s chord is searched untilted wherever it descends under `curved=prism`
-/// ([`prism_chord`], `Policy::prism_untilted`): its coarse stage reads a precomputed map,
-/// whose bounds hold for the unlifted field shifted by a constant but not under a tilt.
+/// Whether `p`'s chord is searched as straight pieces, each untilted where it descends, under
+/// `curved=prism` ([`piece_search`], `Policy::prism_untilted`): its coarse stage reads a
+/// precomputed map, whose bounds hold for the unlifted field shifted by a constant, along
+/// straight rays, but not under a tilt or along a curve.
 pub(crate) fn coarse_reads_maps(p: &Pipeline) -> bool {
     !p.maps_of(crate::spec::Slot::Coarse).is_empty()
 }
@@ -428,6 +430,16 @@ const PRISM_BEND_STEPS: usize = 1;
 /// searched straight, as before the bend.
 const PRISM_BEND_MAX: f32 = 0.25;
 
+/// The straight pieces a chord searched untilted follows ([`piece_search`]): the bent
+/// chord's quadratic through its points at `i/4`. A map's bounds hold along straight rays
+/// only, so a coarse stage that reads maps cannot follow the quadratic read by read as the
+/// linear family does; four pieces leave a sixteenth of the straight chord's departure from
+/// the quadratic (its sag `|δ|`, the middle's offset, against `|δ|/16` at each piece's
+/// middle), and the runtime's emulation (f64, a dense search) puts the lion cells' t at the
+/// bent quadratic's figures with four pieces, not with two (docs/notes/meshes.md, "Safe
+/// marches along the bent chord").
+const PRISM_PIECES: u32 = 4;
+
 /// The texture-space length (`|Δuv|`) under which a chord is not bent: the bend reads each
 /// point's fraction of the chord from its texture coordinates, `(uv − uv_in)·Δuv/|Δuv|²`,
 /// good to ~1e-7/|Δuv| (texture coordinates of order 1 in f32); a chord shorter than 1e-5 is
@@ -479,8 +491,9 @@ pub(crate) struct Chord<'a> {
     b_out: Val<'a, Vec2>,
     /// The layer at the entry and its drop to the exit (`r = w_in − w_out`).
     w_in: Val<'a, f32>,
-    /// The entry's texture coordinates.
+    /// The entry's texture coordinates, and the chord's texture-space length to the exit.
     uv_in: Val<'a, Vec2>,
+    duv: Val<'a, Vec2>,
     /// Whether the entry's face allows the early-out (a sealed wall or the floor,
     /// [`PrismCorners::early`]); `None` without the early-out.
     early_in: Option<Val<'a, bool>>,
@@ -496,9 +509,10 @@ pub(crate) struct Chord<'a> {
     share: Option<Val<'a, f32>>,
     /// The lift while the search runs: `(at the entry, slope along u, slope along v)`.
     lift: Val<'a, Vec3>,
-    /// The chord's bend ([`prism_bend`]) where the chord is searched tilted; `None` where the
-    /// coarse stage reads maps (`Policy::prism_untilted`: the maps bound the unbent field).
-    bend: Option<Bend<'a>>,
+    /// The chord's bend ([`prism_bend`]): the reads follow it where the chord is searched
+    /// tilted, the pieces ([`piece_search`]) where the coarse stage reads maps
+    /// (`Policy::prism_untilted`: the maps bound the field along straight rays only).
+    bend: Bend<'a>,
     /// The stages' ray: from the entry's uv at height 1 toward the exit's (`dir.xy = Δuv / k`).
     search: Ray<'a>,
 }
@@ -734,10 +748,9 @@ fn prism_chord<'a>(
     let len2 = duv.dot(duv);
     // A chord long enough in texture space is searched whole (the stages' t from 0 to
     // k = [`PRISM_CHORD_END`] spans entry to exit) over a tilted lift; a shorter one descends
-    // untilted (k = r). Where the coarse stage reads maps (`Policy::prism_untilted`) every
-    // descending chord is searched untilted, whatever its length: the lift is then the
-    // constant 1 − w_in, which keeps the maps' bounds ([`FnBuilder::map_height`]); a chord
-    // that does not descend (r ≤ 1e-4, near the silhouette) keeps the tilt, where they fail.
+    // untilted (k = r). Where the coarse stage reads maps (`Policy::prism_untilted`) the
+    // chord's pieces are searched instead ([`piece_search`]), each untilted where it
+    // descends; `k`, the lift and the search ray below are then not used.
     let long = if s.policy().prism_untilted() {
         r.le(1e-4)
     } else {
@@ -751,10 +764,8 @@ fn prism_chord<'a>(
     let dir = s.vec3(duv / k, -1.0);
     let crosses = t_in.lt(t_out) & (long | r.gt(0.0));
     let share = flat_drop.map(|drop| s.select(long, chord_share(r, len2.sqrt() * drop, k), s.lit(1.0)));
-    let bend = (!s.policy().prism_untilted()).then(|| {
-        let v3 = |q: RayFramed<'a>| s.vec3(q.0, q.1);
-        prism_bend(s, top.map(v3), d.map(v3), (at_in, at_out), (t_in, t_out), c.uv, duv, len2)
-    });
+    let v3 = |q: RayFramed<'a>| s.vec3(q.0, q.1);
+    let bend = prism_bend(s, top.map(v3), d.map(v3), (at_in, at_out), (t_in, t_out), c.uv, duv, len2);
     let (b_in, b_out) = (at_in.xy(), at_out.xy());
     Chord {
         crosses,
@@ -765,6 +776,7 @@ fn prism_chord<'a>(
         b_out,
         w_in,
         uv_in,
+        duv,
         early_in,
         exit_face,
         top_b,
@@ -1002,11 +1014,14 @@ fn prism_hit_frame<'a>(s: &'a FnBuilder<'a>, mr: &MeshRay<'a>, b: Val<'a, Vec2>)
 /// drawn (the ray crosses the prism, the search met the lifted surface, not after the exit)
 /// and the barycentrics of corners 0 and 1 there.
 fn chord_search<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, ch: &Chord<'a>) -> (Hit<'a>, Val<'a, bool>, Val<'a, Vec2>) {
+    if s.policy().prism_untilted() {
+        return piece_search(s, fns, ch);
+    }
     let m = s.module();
     let lift = s.global_ptr(m.private::<Vec3>(PRISM_LIFT));
     s.store(lift, ch.lift.handle());
     s.store(s.global_ptr(m.private::<Vec2>(PRISM_ORIGIN)), ch.search.origin.handle());
-    let bend = ch.bend.as_ref().map(|b| {
+    let bend = Some(&ch.bend).map(|b| {
         let (offset, axis) =
             (s.global_ptr(m.private::<Vec4>(PRISM_BEND)), s.global_ptr(m.private::<Vec2>(PRISM_BEND_AXIS)));
         s.store(offset, b.offset.handle());
@@ -1043,6 +1058,130 @@ fn chord_search<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, ch: &Chord<'a>) -> (Hi
     let dist = ch.t_in + (ch.t_out - ch.t_in) * tau;
     let hit = Hit { t: dist, uv, z: layer, found: traced.found };
     (hit, drawn, b)
+}
+
+/// Layers of the search of a piece of the bent chord that does not descend
+/// ([`level_piece_search`]), and the bisections after it.
+const PRISM_LEVEL_STEPS: u32 = 16;
+const PRISM_LEVEL_BISECTIONS: u32 = 6;
+
+/// The search of a piece of the bent chord that does not descend (its drop `r` ≤ 1e-4: level
+/// or rising, near the silhouette), where the coarse stage reads maps ([`piece_search`]): a
+/// map's bounds hold for descending rays only, so the piece is searched by a linear search of
+/// its own ([`PRISM_LEVEL_STEPS`] points, the true heights at the piece's points against its
+/// layers) and bisections ([`PRISM_LEVEL_BISECTIONS`]). Not exact: a crossing narrower than a
+/// sixteenth of the piece can be stepped over. Returns the hit's fraction of the piece and
+/// whether the piece met the surface.
+fn level_piece_search<'a>(
+    s: &'a FnBuilder<'a>,
+    uv_a: Val<'a, Vec2>,
+    duv: Val<'a, Vec2>,
+    w_a: Val<'a, f32>,
+    r: Val<'a, f32>,
+) -> (Val<'a, f32>, Val<'a, bool>) {
+    let below = |s: &'a FnBuilder<'a>, tau: Val<'a, f32>| s.height(uv_a + duv * tau).ge(w_a - r * tau);
+    let step = 1.0 / PRISM_LEVEL_STEPS as f32;
+    let (tau, met) = (s.var("level_tau", 0.0f32), s.var("level_met", s.lit_bool(false)));
+    s.repeat(PRISM_LEVEL_STEPS, |l| {
+        let s: &'a FnBuilder<'a> = l;
+        tau.set(tau.get() + step);
+        let hit = below(s, tau.get());
+        met.set(hit);
+        l.break_if(hit);
+    });
+    let half = s.var("level_half", step * 0.5);
+    let at = s.var("level_at", tau.get() - step * 0.5);
+    s.repeat(PRISM_LEVEL_BISECTIONS, |l| {
+        let s: &'a FnBuilder<'a> = l;
+        half.set(half.get() * 0.5);
+        let b = below(s, at.get());
+        at.set(at.get() + s.select(b, -half.get(), half.get()));
+    });
+    (s.select(met.get(), at.get(), s.lit(1.0f32)), met.get())
+}
+
+/// [`chord_search`] where the coarse stage reads maps (`Policy::prism_untilted`): the bent
+/// chord ([`prism_bend`]) followed as [`PRISM_PIECES`] straight pieces through the quadratic's
+/// points at `i/PRISM_PIECES`, searched in order until one meets the surface before its end.
+/// A map bounds the field along a straight descending ray, so a coarse stage that reads one
+/// (a safe cone march) finds the first crossing of each descending piece exactly: the piece
+/// is searched as its own untilted chord (the lift the constant that puts the piece's start
+/// at the stages' height 1, [`FnBuilder::map_height`]), its march stopped at the piece's end
+/// (`PRISM_STOP`) instead of going on to the floor. A piece that does not descend (r ≤ 1e-4:
+/// level or rising, near the silhouette) has no such bound and is searched by
+/// [`level_piece_search`]. The hit: the piece's point, its fraction of the chord carried to
+/// the view ray and to the barycentrics as [`chord_search`] carries the bent chord's.
+fn piece_search<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, ch: &Chord<'a>) -> (Hit<'a>, Val<'a, bool>, Val<'a, Vec2>) {
+    use crate::stage::sampling::bend_weight;
+    let m = s.module();
+    let (lift, origin, stop) = (
+        s.global_ptr(m.private::<Vec3>(PRISM_LIFT)),
+        s.global_ptr(m.private::<Vec2>(PRISM_ORIGIN)),
+        s.global_ptr(m.private::<f32>(PRISM_STOP)),
+    );
+    let bend = &ch.bend;
+    // The bent chord's point at the fraction f: its texture point and its layer.
+    let point = |f: Val<'a, f32>| {
+        let beta = bend_weight(f);
+        (ch.uv_in + ch.duv * f + bend.offset.xy() * beta, ch.w_in - ch.r * f + bend.offset.z() * beta)
+    };
+    let zero2 = s.vec2(0.0, 0.0);
+    let piece = s.var("piece", 0.0f32);
+    let (found, hit_f, hit_uv, hit_w, hit_beta) = (
+        s.var("piece_found", s.lit_bool(false)),
+        s.var("piece_f", 0.0f32),
+        s.var("piece_uv", zero2),
+        s.var("piece_w", 0.0f32),
+        s.var("piece_beta", 0.0f32),
+    );
+    s.repeat(PRISM_PIECES, |l| {
+        let s: &'a FnBuilder<'a> = l;
+        let step = 1.0 / PRISM_PIECES as f32;
+        let fa = piece.get() * step;
+        let fb = fa + step;
+        let ((uv_a, w_a), (uv_b, w_b)) = (point(fa), point(fb));
+        let (duv, r) = (uv_b - uv_a, w_a - w_b);
+        // The hit's fraction of the piece, and whether the piece met the surface.
+        let (tau, here) = (s.var("piece_tau", 0.0f32), s.var("piece_here", s.lit_bool(false)));
+        s.if_else(
+            r.le(1e-4),
+            |s| {
+                let (t, met) = level_piece_search(s, uv_a, duv, w_a, r);
+                tau.set(t);
+                here.set(met);
+            },
+            |s| {
+                s.store(lift, s.vec3(s.vec2(1.0 - w_a, 0.0), 0.0).handle());
+                s.store(origin, uv_a.handle());
+                s.store(stop, (r + PRISM_SLACK).handle());
+                let ray = Ray { origin: uv_a, dir: s.vec3(duv / r, -1.0), cos_view: ch.search.cos_view };
+                let traced: Hit = s.unpack(s.call(fns.trace, &[s.pack(&ray)], true).unwrap());
+                let p = ray.at(traced.t);
+                let above = (p.z() - s.height(p.xy())).gt(PRISM_ABOVE_SLACK);
+                // A march stopped at the piece's end reports it as found: the end lies past r.
+                here.set(traced.found & !above & traced.t.le(r));
+                tau.set((traced.t / r).clamp(0.0, 1.0));
+                s.store(lift, s.vec3(s.vec2(0.0, 0.0), 0.0).handle());
+            },
+        );
+        let (tau, here) = (tau.get(), here.get());
+        s.if_(here, |s| {
+            found.set(s.lit_bool(true));
+            hit_f.set(fa + tau * step);
+            hit_uv.set(uv_a + duv * tau);
+            hit_w.set(w_a - r * tau);
+            hit_beta.set(bend_weight(fa) + (bend_weight(fb) - bend_weight(fa)) * tau);
+        });
+        l.break_if(here);
+        piece.set(piece.get() + 1.0);
+    });
+    s.store(lift, s.vec3(s.vec2(0.0, 0.0), 0.0).handle());
+    s.store(stop, s.lit(0.0f32).handle());
+    let f = hit_f.get();
+    let b = ch.b_in + (ch.b_out - ch.b_in) * f + bend.b * hit_beta.get();
+    let found = found.get();
+    let hit = Hit { t: ch.t_in + (ch.t_out - ch.t_in) * f, uv: hit_uv.get(), z: hit_w.get(), found };
+    (hit, ch.crosses & found, b)
 }
 
 /// What a walk reports besides its hit: whether it stopped at [`PRISM_WALK_LIMIT`] still

@@ -48,10 +48,11 @@ pub(crate) trait Policy {
         false
     }
     /// Whether, under the prism's lift, the coarse stage reads a precomputed map (cone
-    /// ratios, a cell's apex, max-mip levels, the distance field): the chord is then searched
-    /// untilted wherever it descends (`compose::mesh`'s `prism_chord`), so that the lift is a
-    /// constant there and the maps' bounds, made for the unlifted field, still hold once their
-    /// absolute heights carry the same constant ([`crate::ir::FnBuilder::map_height`]).
+    /// ratios, a cell's apex, max-mip levels, the distance field): the bent chord is then
+    /// searched as straight pieces, each untilted where it descends (`compose::mesh`'s
+    /// `piece_search`), so that the lift is a constant there and the maps' bounds, made for
+    /// the unlifted field, still hold once their absolute heights carry the same constant
+    /// ([`crate::ir::FnBuilder::map_height`]).
     fn prism_untilted(&self) -> bool {
         false
     }

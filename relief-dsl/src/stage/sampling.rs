@@ -87,6 +87,14 @@ pub(crate) const PRISM_BEND: &str = "relief_prism_bend";
 /// chord ([`PRISM_BEND`]): `Δuv / |Δuv|²`, Δuv the chord's texture-space length, or 0 for a
 /// chord too short in texture space to bend.
 pub(crate) const PRISM_BEND_AXIS: &str = "relief_prism_bend_axis";
+/// The private `f32` global of where a cell march ends under `curved=prism` where the coarse
+/// stage reads maps (`Policy::prism_untilted`): the t of the end of the straight piece of the
+/// bent chord being searched (`compose::mesh`'s piece search), or 0 for no end but the floor.
+/// A march that reaches it reports it as it reports the floor; the mesh module's fragment
+/// tells the two apart (the point there lies above the surface) and sets it back to 0 after
+/// the search, before the shadow and ao stages march.
+pub(crate) const PRISM_STOP: &str = "relief_prism_stop";
+
 /// The prism chord's bend's weight at the fraction `f` of the chord (0 at the entry, 1 at the
 /// exit): `max(0, 4f(1 − f))`, the quadratic that is 1 at the middle and 0 at both ends
 /// ([`PRISM_BEND`]); the reads and the hit the mesh module carries take the same.
@@ -149,15 +157,26 @@ impl<'a> FnBuilder<'a> {
         Some((uv + b.xy() * beta, b.z() * beta))
     }
 
+    /// Where a cell march along `ray` ends: at the floor (`t_max`), or earlier at the end of
+    /// the prism chord's piece being searched where the policy searches pieces
+    /// (`Policy::prism_untilted`, [`PRISM_STOP`], 0 for none).
+    pub(crate) fn march_end(&'a self, t_max: Val<'a, f32>) -> Val<'a, f32> {
+        if !self.policy().prism_lift() || !self.policy().prism_untilted() {
+            return t_max;
+        }
+        let stop = self.load::<f32>(self.global_ptr(self.module().private::<f32>(PRISM_STOP)));
+        self.select(stop.gt(0.0), t_max.min(stop), t_max)
+    }
+
     /// A height read from a map other than the height map (a bilinear cell's apex `A_C` stored
     /// in its cell map, a max-mip node's maximum), raised as every read of the height map is
     /// under the prism's lift (`PRISM_LIFT`): the map bounds the unlifted field, and the
     /// stages compare it with a ray that descends over the lifted one. Raised by the lift's
     /// constant term only, which is the whole lift where the pipeline's coarse stage reads maps
-    /// and the chord descends (`Policy::prism_untilted`): a vertical shift keeps every cone
-    /// and every maximum a bound, so cone ratios and distances need no change. Where the chord
-    /// does not descend (level or rising, near the silhouette) the lift keeps its tilt and the
-    /// raised value is no bound. Without the lift, `h` unchanged.
+    /// (`Policy::prism_untilted`: the mesh module searches only the descending straight pieces
+    /// of the bent chord with the stages, each untilted): a vertical shift keeps every cone
+    /// and every maximum a bound, so cone ratios and distances need no change. Without the
+    /// lift, `h` unchanged.
     pub fn map_height(&'a self, h: Val<'a, f32>) -> Val<'a, f32> {
         if !self.policy().prism_lift() {
             return h;

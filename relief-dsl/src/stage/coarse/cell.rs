@@ -130,7 +130,7 @@ impl<'a> Grid<'a> {
             inv_speed: s.vec2(inverse_speed(s, speed.x()), inverse_speed(s, speed.y())).named("inv_speed"),
             clamp,
             horiz: ray.dir.xy().length().named("horiz"),
-            t_max: ray.t_max().named("t_max"),
+            t_max: s.march_end(ray.t_max()).named("t_max"),
             cell_scale: cell_scale.named("cell_scale"),
             cell_bias: (cell_scale * s.select(clamp, 1.5, 0.5)).named("cell_bias"),
             quadrants,

@@ -320,7 +320,7 @@ fn prism_t_report(
     use relief_dsl::spec::Curved;
     use relief_runtime::mesh_measure::{
         emulate_prism_pixel, measure_modes, near_seam, prism_t_causes, rms_t_without, score, PolishRule, PrismPath,
-        PrismTCause,
+        PrismTCause, PRISM_PIECES,
     };
     let mut dense: relief_dsl::Pipeline = "linear(256)+binary(8)".parse().map_err(|e| anyhow::anyhow!("{e}"))?;
     dense.shadow = base.shadow.clone();
@@ -361,6 +361,10 @@ fn prism_t_report(
     let rays = ms.rays(size, size);
     let depth = ms.scene.depth_scale as f64;
     let walls = relief_runtime::mesh_measure::seam_walls(ms);
+    // The last three: a dense search (1024 layers, 16 bisections), as a coarse stage that reads
+    // maps (an exact march) finds crossings, on the straight chord (that shader before the
+    // pieces), on the pieces it follows now, and on the bent quadratic.
+    let dense = (1024, 16);
     for (rule, (steps, refine)) in [
         (PolishRule::SHADER, (steps, refine)),
         (PolishRule { steps: 6, ..PolishRule::SHADER }, (steps, refine)),
@@ -370,6 +374,9 @@ fn prism_t_report(
         (PolishRule { path: PrismPath::Chord, ..PolishRule::SHADER }, (steps, refine)),
         (PolishRule { path: PrismPath::Exact, ..PolishRule::SHADER }, (steps, refine)),
         (PolishRule::SHADER, (256, 8)),
+        (PolishRule { path: PrismPath::Chord, ..PolishRule::SHADER }, dense),
+        (PolishRule { path: PrismPath::Pieces(PRISM_PIECES), ..PolishRule::SHADER }, dense),
+        (PolishRule::SHADER, dense),
     ] {
         let (mut extra, mut missing, mut sum, mut both, mut over, mut gpu_differ) = (0, 0, 0.0, 0usize, 0, 0);
         let (mut sum_off_seams, mut seam_pixels) = (0.0, 0usize);
