@@ -503,15 +503,15 @@ pub(crate) fn compose_library(p: &Pipeline, opts: &LibraryOptions) -> Result<Lib
 }
 
 /// The name of a quadric or prism-lift global after `relief_` (`quadric`, `quadric_origin`,
-/// `prism_lift`), if `g` is one.
+/// `prism_lift`, `prism_stop`), if `g` is one.
 fn quadric_global(g: &naga::GlobalVariable) -> Option<String> {
     use crate::stage::sampling::{
-        PRISM_BEND, PRISM_BEND_AXIS, PRISM_LIFT, PRISM_ORIGIN, QUADRIC_COEFFS, QUADRIC_ORIGIN,
+        PRISM_BEND, PRISM_BEND_AXIS, PRISM_LIFT, PRISM_ORIGIN, PRISM_STOP, QUADRIC_COEFFS, QUADRIC_ORIGIN,
     };
     let name = g.name.as_deref()?;
     let private = matches!(g.space, naga::AddressSpace::Private);
-    (private && [QUADRIC_COEFFS, QUADRIC_ORIGIN, PRISM_LIFT, PRISM_ORIGIN, PRISM_BEND, PRISM_BEND_AXIS].contains(&name))
-        .then(|| name.trim_start_matches("relief_").to_string())
+    let ours = [QUADRIC_COEFFS, QUADRIC_ORIGIN, PRISM_LIFT, PRISM_ORIGIN, PRISM_BEND, PRISM_BEND_AXIS, PRISM_STOP];
+    (private && ours.contains(&name)).then(|| name.trim_start_matches("relief_").to_string())
 }
 
 /// The mesh form's arguments of `P_trace` under `curved`, after the first (`uv: vec2` or, for
