@@ -487,9 +487,11 @@ pub enum PrismPath {
     /// The view ray's exact point at every read (Newton's inversion of the prism's map to
     /// convergence): what the bend approximates.
     Exact,
-    /// The bent chord's quadratic followed by `n` straight pieces through its points at `i/n`:
-    /// the shader's path where the coarse stage reads maps (`compose/mesh.rs`'s piece search,
-    /// [`PRISM_PIECES`] pieces, a map's bounds holding along straight rays only).
+    /// The bent chord's quadratic followed by straight pieces through its points at `i/n`, n
+    /// the fewest (at most the given count) that depart from it by at most
+    /// 10⁻³ depths (`compose/mesh.rs`'s `piece_count`): the shader's path where
+    /// the coarse stage reads maps (its piece search, a map's bounds holding along straight
+    /// rays only).
     Pieces(u32),
 }
 
@@ -510,9 +512,11 @@ impl PrismPath {
 pub const PRISM_BEND_STEPS: usize = 1;
 const PRISM_BEND_MAX: f64 = 0.25;
 const PRISM_BEND_SHORT: f64 = 1e-5;
-/// The straight pieces of the bent chord a coarse stage that reads maps follows
-/// (`compose/mesh.rs`: `PRISM_PIECES`; [`PrismPath::Pieces`]).
+/// The most straight pieces of the bent chord a coarse stage that reads maps follows, and how
+/// far they may depart from its quadratic in the height comparison, in depths
+/// (`compose/mesh.rs`: `PRISM_PIECES`, `PRISM_PIECE_TOLERANCE`; [`PrismPath::Pieces`]).
 pub const PRISM_PIECES: u32 = 4;
+const PRISM_PIECE_TOLERANCE: f64 = 1e-3;
 /// Newton's steps of [`PrismPath::Exact`]: from the chord's point, far more than converge.
 const EXACT_STEPS: usize = 8;
 
@@ -543,12 +547,12 @@ impl Chord {
         })
     }
 
-    /// The chord bent along `path`, for the view ray and the prism `inv` holds.
-    fn bent(mut self, path: PrismPath, inv: Inversion) -> Chord {
+    /// The chord bent along `path`, for the view ray and the prism `inv` holds, over a height
+    /// map of `size` texels.
+    fn bent(mut self, path: PrismPath, inv: Inversion, size: DVec2) -> Chord {
         self.path = match path {
             PrismPath::Chord => Path::Chord,
             PrismPath::Bent | PrismPath::Pieces(_) => {
-                let pieces = if let PrismPath::Pieces(n) = path { n } else { 0 };
                 let (b, w) = inv.at(0.5, PRISM_BEND_STEPS);
                 let (bc, wc) = ((inv.entry.b + inv.exit.b) * 0.5, (inv.entry.w + inv.exit.w) * 0.5);
                 let (db, dw) = (b - bc, w - wc);
@@ -556,7 +560,17 @@ impl Chord {
                 let len2 = chord.length_squared();
                 let tame = db.x.abs() <= PRISM_BEND_MAX && db.y.abs() <= PRISM_BEND_MAX && dw.abs() <= PRISM_BEND_MAX;
                 if tame && len2 >= PRISM_BEND_SHORT * PRISM_BEND_SHORT && db.is_finite() && dw.is_finite() {
-                    Path::Bent { duv: inv.uv(b) - inv.uv(bc), dw, db, axis: chord / len2, pieces }
+                    let duv = inv.uv(b) - inv.uv(bc);
+                    // `compose/mesh.rs`'s `piece_count`: |δ|/n² ≤ the tolerance, |δ| in layers
+                    // plus texels along u and v.
+                    let pieces = match path {
+                        PrismPath::Pieces(most) => {
+                            let sag = dw.abs() + (duv * size).abs().element_sum();
+                            ((sag / PRISM_PIECE_TOLERANCE).sqrt().ceil() as u32).clamp(1, most)
+                        }
+                        _ => 0,
+                    };
+                    Path::Bent { duv, dw, db, axis: chord / len2, pieces }
                 } else {
                     Path::Chord
                 }
@@ -714,7 +728,8 @@ fn emulate_fragment(
     let depth = ms.scene.depth_scale as f64;
     let (p, n, uv) = prism_corners(v);
     let (entry, exit) = prism_crossings(o, d, p, n, depth)?;
-    let chord = Chord::new(entry, exit, uv)?.bent(rule.path, Inversion { p, n, uv, depth, o, d, entry, exit });
+    let size = DVec2::new(ms.scene.height.width as f64, ms.scene.height.height as f64);
+    let chord = Chord::new(entry, exit, uv)?.bent(rule.path, Inversion { p, n, uv, depth, o, d, entry, exit }, size);
     let (ts, drawn) = search_linear_binary(ms, &chord, steps, refine);
     if !drawn {
         return None;
@@ -894,7 +909,9 @@ fn prism_corners(v: &MeshVertex) -> ([DVec3; 3], [DVec3; 3], [DVec2; 3]) {
 fn classify(ms: &MeshScene, v: &MeshVertex, o: DVec3, d: DVec3, depth: f64, steps: u32, refine: u32) -> PrismMiss {
     let (p, n, uv) = prism_corners(v);
     let Some(chord) = prism_crossings(o, d, p, n, depth).and_then(|(entry, exit)| {
-        Chord::new(entry, exit, uv).map(|c| c.bent(PrismPath::Bent, Inversion { p, n, uv, depth, o, d, entry, exit }))
+        let size = DVec2::new(ms.scene.height.width as f64, ms.scene.height.height as f64);
+        Chord::new(entry, exit, uv)
+            .map(|c| c.bent(PrismPath::Bent, Inversion { p, n, uv, depth, o, d, entry, exit }, size))
     }) else {
         return PrismMiss::AfterExit;
     };

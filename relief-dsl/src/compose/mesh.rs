@@ -430,15 +430,17 @@ const PRISM_BEND_STEPS: usize = 1;
 /// searched straight, as before the bend.
 const PRISM_BEND_MAX: f32 = 0.25;
 
-/// The straight pieces a chord searched untilted follows ([`piece_search`]): the bent
-/// chord's quadratic through its points at `i/4`. A map's bounds hold along straight rays
-/// only, so a coarse stage that reads maps cannot follow the quadratic read by read as the
-/// linear family does; four pieces leave a sixteenth of the straight chord's departure from
-/// the quadratic (its sag `|δ|`, the middle's offset, against `|δ|/16` at each piece's
-/// middle), and the runtime's emulation (f64, a dense search) puts the lion cells' t at the
-/// bent quadratic's figures with four pieces, not with two (docs/notes/meshes.md, "Safe
-/// marches along the bent chord").
+/// The most straight pieces a chord searched untilted follows ([`piece_search`], [`piece_count`]):
+/// the bent chord's quadratic through its points at `i/n`. A map's bounds hold along straight
+/// rays only, so a coarse stage that reads maps cannot follow the quadratic read by read as the
+/// linear family does. Four pieces put the runtime's emulation (f64, a dense search) at the
+/// bent quadratic's figures on all twelve goal cells, two pieces not (docs/notes/meshes.md,
+/// "Safe marches along the bent chord").
 const PRISM_PIECES: u32 = 4;
+
+/// How far (in units of the relief's depth) the pieces may depart from the bent chord's
+/// quadratic ([`piece_count`]): 1e-3, issue 38's RMS t goal.
+const PRISM_PIECE_TOLERANCE: f32 = 1e-3;
 
 /// The texture-space length (`|Δuv|`) under which a chord is not bent: the bend reads each
 /// point's fraction of the chord from its texture coordinates, `(uv − uv_in)·Δuv/|Δuv|²`,
@@ -1100,9 +1102,26 @@ fn level_piece_search<'a>(
     (s.select(met.get(), at.get(), s.lit(1.0f32)), met.get())
 }
 
+/// How many straight pieces the bent chord is searched as ([`piece_search`]): the fewest `n`
+/// (at most [`PRISM_PIECES`]) whose pieces depart from the quadratic by at most
+/// [`PRISM_PIECE_TOLERANCE`] in the height comparison. The pieces through the quadratic's
+/// points at `i/n` depart from it by `|δ|/n²` at most (the bend's weight `4f(1 − f)` has second
+/// derivative −8, and a straight piece 1/n long departs from such a curve by `8·(1/n)²/8`), δ
+/// the middle's offset `(δuv, δw)`. A texture offset moves the height compared by at most its
+/// texels along u plus its texels along v (h is bilinear in heights 0‥1, so it changes by at
+/// most one depth per texel along each axis), so `|δ|` is taken as
+/// `|δw| + |δu|·W + |δv|·H` (W × H the height map's texels): `n = ⌈√(|δ|/tolerance)⌉`,
+/// clamped to 1‥[`PRISM_PIECES`].
+fn piece_count<'a>(s: &'a FnBuilder<'a>, bend: &Bend<'a>) -> Val<'a, u32> {
+    let texels = (bend.offset.xy() * s.height_map_size()).abs();
+    let sag = bend.offset.z().abs() + texels.x() + texels.y();
+    (sag * (1.0 / PRISM_PIECE_TOLERANCE)).sqrt().ceil().clamp(1.0, PRISM_PIECES as f32).to_u32()
+}
+
 /// [`chord_search`] where the coarse stage reads maps (`Policy::prism_untilted`): the bent
-/// chord ([`prism_bend`]) followed as [`PRISM_PIECES`] straight pieces through the quadratic's
-/// points at `i/PRISM_PIECES`, searched in order until one meets the surface before its end.
+/// chord ([`prism_bend`]) followed as straight pieces through the quadratic's points at `i/n`
+/// (n by [`piece_count`], at most [`PRISM_PIECES`]), searched in order until one meets the
+/// surface before its end.
 /// A map bounds the field along a straight descending ray, so a coarse stage that reads one
 /// (a safe cone march) finds the first crossing of each descending piece exactly: the piece
 /// is searched as its own untilted chord (the lift the constant that puts the piece's start
@@ -1134,9 +1153,10 @@ fn piece_search<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, ch: &Chord<'a>) -> (Hi
         s.var("piece_w", 0.0f32),
         s.var("piece_beta", 0.0f32),
     );
-    s.repeat(PRISM_PIECES, |l| {
+    let count = piece_count(s, bend);
+    let step = 1.0 / count.to_f32();
+    s.repeat_up_to(PRISM_PIECES, count, |l| {
         let s: &'a FnBuilder<'a> = l;
-        let step = 1.0 / PRISM_PIECES as f32;
         let fa = piece.get() * step;
         let fb = fa + step;
         let ((uv_a, w_a), (uv_b, w_b)) = (point(fa), point(fb));
