@@ -430,12 +430,12 @@ const PRISM_BEND_STEPS: usize = 1;
 /// searched straight, as before the bend.
 const PRISM_BEND_MAX: f32 = 0.25;
 
-/// The most straight pieces a chord searched untilted follows ([`piece_search`], [`piece_count`]):
-/// the bent chord's quadratic through its points at `i/n`. A map's bounds hold along straight
-/// rays only, so a coarse stage that reads maps cannot follow the quadratic read by read as the
-/// linear family does. Four pieces put the runtime's emulation (f64, a dense search) at the
-/// bent quadratic's figures on all twelve goal cells, two pieces not (docs/notes/meshes.md,
-/// "Safe marches along the bent chord").
+/// The most straight pieces a chord searched untilted follows ([`piece_search`],
+/// [`piece_count`]): the bent chord's quadratic through its points at `i/n`. A map's bounds
+/// hold along straight rays only, so a coarse stage that reads maps cannot follow the
+/// quadratic read by read as the linear family does. Four pieces put the runtime's emulation
+/// (f64, a dense search) at or below the bent quadratic's figures on all twelve goal cells,
+/// two pieces not (docs/notes/meshes.md, "Safe marches along the bent chord").
 const PRISM_PIECES: u32 = 4;
 
 /// How far (in units of the relief's depth) the pieces may depart from the bent chord's
@@ -1333,13 +1333,16 @@ fn chord_share<'a>(r: Val<'a, f32>, flat: Val<'a, f32>, k: Val<'a, f32>) -> Val<
 
 /// Whether the walk may skip the search of the prism `ch` crosses (its headroom from the
 /// walk's buffer): the chord's lower end lies more than [`PRISM_SKIP_MARGIN`] above every
-/// height the search could read, so that search could not draw the pixel. Only where heights
-/// are read at level 0 (`lod=zero`), which the headroom bounds; elsewhere never.
+/// height the search could read, so that search could not draw the pixel. The search follows
+/// the bent chord ([`prism_bend`]), whose layer is the chord's plus the middle's layer offset
+/// δw times a weight in 0‥1 (its pieces' too): the lower end is taken lower by δw where δw is
+/// negative. Only where heights are read at level 0 (`lod=zero`), which the headroom bounds;
+/// elsewhere never.
 fn skip_search<'a>(s: &'a FnBuilder<'a>, ch: &Chord<'a>, headroom: Val<'a, f32>) -> Option<Val<'a, bool>> {
     if s.policy().lod() != Lod::Zero {
         return None;
     }
-    let low = ch.w_in.min(ch.w_in - ch.r);
+    let low = ch.w_in.min(ch.w_in - ch.r) + ch.bend.offset.z().min(0.0);
     Some((low - (1.0 - headroom)).gt(PRISM_SKIP_MARGIN))
 }
 
