@@ -738,7 +738,7 @@ fn prism_meets_the_t_goal_on_the_sphere_where_the_straight_chord_missed_it() {
 /// Issue 38's RMS t goal on `lion` (the procedural stand-in: crossings narrower than any
 /// linear search's step, docs/notes/meshes.md), met with an exact coarse stage: the sphere at
 /// 30° and 60° from its pole axis and the torus at 30° (three of the goals table's cells; 96²,
-/// repeat), `qcsm(64)` under `curved=prism`, drawn as the runtime draws it (the walk). The safe march finds the
+/// repeat; the sphere at 60° under clamp too), `qcsm(64)` under `curved=prism`, drawn as the runtime draws it (the walk). The safe march finds the
 /// first crossing of a straight ray exactly, and follows the view ray's curve through each
 /// prism as up to four straight pieces of the bent chord (`compose::mesh`'s piece search):
 /// RMS t ≤ 1e-3 depths and coverage error ≤ 0.5 % against the reference, asserted. Seen to
@@ -750,10 +750,13 @@ fn prism_with_a_safe_march_meets_the_t_goal_on_lion() {
     let size = 96;
     let lion = relief_runtime::scene_from_arg("scene:lion").unwrap().height;
     // The goals table's scenes: the sphere 3 units away with depth 0.08, the torus 3.5 with 0.05.
-    for (mesh, angle, distance, depth) in
-        [("sphere", 30.0, 3.0, 0.08), ("sphere", 60.0, 3.0, 0.08), ("torus", 30.0, 3.5, 0.05)]
-    {
-        let what = format!("{mesh} with lion at {angle}°");
+    for (mesh, angle, distance, depth, edge) in [
+        ("sphere", 30.0, 3.0, 0.08, EdgeMode::Repeat),
+        ("sphere", 60.0, 3.0, 0.08, EdgeMode::Repeat),
+        ("sphere", 60.0, 3.0, 0.08, EdgeMode::Clamp),
+        ("torus", 30.0, 3.5, 0.05, EdgeMode::Repeat),
+    ] {
+        let what = format!("{mesh} with lion at {angle}° ({edge:?})");
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/meshes/sphere_rocks.toml");
         let mut sc = relief_runtime::load_scene_file(&path).unwrap();
         sc.mesh = Some(relief_runtime::MeshSource::Builtin(mesh.to_string()));
@@ -762,7 +765,7 @@ fn prism_with_a_safe_march_meets_the_t_goal_on_lion() {
         sc.height = lion.clone();
         sc.albedo = None;
         sc.normal = None;
-        sc.edge = EdgeMode::Repeat;
+        sc.edge = edge;
         sc.camera.angle_deg = angle;
         let ms = MeshScene::from_scene(sc).unwrap();
         let reference = ms.reference_hits(size, size).unwrap();

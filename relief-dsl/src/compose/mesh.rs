@@ -1195,7 +1195,7 @@ fn piece_search<'a>(s: &'a FnBuilder<'a>, fns: &StageFns, ch: &Chord<'a>) -> (Hi
         l.break_if(here);
         piece.set(piece.get() + 1.0);
     });
-    s.store(lift, s.vec3(s.vec2(0.0, 0.0), 0.0).handle());
+    // The lift is back to 0 after every pass (a level piece reads the true heights).
     s.store(stop, s.lit(0.0f32).handle());
     let f = hit_f.get();
     let b = ch.b_in + (ch.b_out - ch.b_in) * f + bend.b * hit_beta.get();
